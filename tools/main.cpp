@@ -1,0 +1,46 @@
+// ropecast: the command line over the libraries. Prints library errors and exits non-zero.
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+
+#include "loader/error.h"
+#include "tools/command.h"
+
+namespace ropecast::tools {
+std::vector<CommandEntry>& commandRegistry() {
+  static std::vector<CommandEntry> registry;
+  return registry;
+}
+}  // namespace ropecast::tools
+
+int main(int argc, char** argv) {
+  using namespace ropecast::tools;
+  CLI::App app{"ropecast: out-of-core GPU ray casting of massive volumes (rope octree, single pass)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "ropecast 0.1");
+
+  auto& registry = commandRegistry();
+  std::sort(registry.begin(), registry.end(), [](auto& a, auto& b) { return a.order < b.order; });
+  std::vector<std::pair<CLI::App*, std::function<int()>>> runs;
+  for (auto& entry : registry) {
+    auto* sub = app.add_subcommand(entry.name);
+    runs.emplace_back(sub, entry.setup(*sub));
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    for (auto& [sub, run] : runs)
+      if (sub->parsed()) return run();
+  } catch (const ropecast::Error& e) {
+    std::fprintf(stderr, "ropecast: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ropecast: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
