@@ -1,0 +1,45 @@
+// Camera: a pinhole camera in world units, as docs/ARCHITECTURE.md fixes it: eye, target, up and a vertical
+// field of view in degrees; pixel row 0 is the top of the image. Plain data plus pure functions; any thread.
+// Shared by refinement (projected voxel size, frustum), the CPU reference renderer and the GL ray caster, so
+// that every path generates exactly the same rays.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace ropecast {
+
+struct Camera {
+  glm::dvec3 eye{0.0, 0.0, 1.0};
+  glm::dvec3 target{0.0};
+  glm::dvec3 up{0.0, 0.0, 1.0};
+  double fovYDeg = 40.0;
+};
+
+struct Ray {
+  glm::dvec3 origin{0.0};
+  glm::dvec3 dir{0.0, 0.0, -1.0};  // unit length, world units
+};
+
+// The eye orbiting the center of the box [boxMin, boxMax]: azimuth around +z from +x, elevation above the xy
+// plane (degrees), distance in units of the box's bounding-sphere radius; up is +z.
+Camera orbitCamera(double azimuthDeg, double elevationDeg, double distance, glm::dvec3 boxMin, glm::dvec3 boxMax,
+                   double fovYDeg = 40.0);
+
+// Orthonormal camera frame: forward (eye -> target), right, and the true up.
+struct CameraFrame {
+  glm::dvec3 forward, right, up;
+};
+CameraFrame cameraFrame(const Camera& c);
+
+// The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
+Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
+
+// View and projection matrices (OpenGL conventions) for the GL path; near/far in world units.
+glm::dmat4 viewMatrix(const Camera& c);
+glm::dmat4 projectionMatrix(const Camera& c, double aspect, double nearDist, double farDist);
+
+}  // namespace ropecast
