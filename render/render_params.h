@@ -1,0 +1,37 @@
+// RenderParams: what a ray caster is asked to compute, independent of the data and the camera
+// (docs/RENDERING.md). Plain data, GL-free; shared by the GLSL ray caster (render/raycast_pass), the CPU
+// mirror and the reference renderer so that all three read the same settings. Any thread.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+namespace ropecast {
+
+enum class RenderMode { Iso, Dvr };
+enum class RenderBackend { Fragment, Compute };  // GL entry point; the CPU renderers ignore it
+
+// Phong headlight constants of docs/RENDERING.md ("Isosurface", "Direct volume rendering").
+struct LightingParams {
+  glm::dvec3 isoBaseColor{0.9, 0.85, 0.75};
+  double ambient = 0.15;   // ka
+  double diffuse = 0.75;   // kd
+  double specular = 0.25;  // ks
+  double shininess = 32.0;
+};
+
+// Gradient magnitude (times min spacing) below which DVR samples are left unshaded.
+inline constexpr double kDvrShadeGradientThreshold = 1e-4;
+// Bisection steps refining an isosurface crossing.
+inline constexpr int kIsoBisectionSteps = 8;
+
+struct RenderParams {
+  RenderMode mode = RenderMode::Iso;
+  double isoValue = 0.0;       // data units (mapped to stored values by the renderer)
+  double stepVoxels = 0.5;     // --step: sample distance in voxels of the level being crossed
+  double ert = 0.99;           // --ert: early ray termination opacity (DVR)
+  glm::dvec3 background{0.0};  // --background, linear RGB in [0, 1]
+  RenderBackend backend = RenderBackend::Fragment;
+  LightingParams lighting;
+};
+
+}  // namespace ropecast
