@@ -1,0 +1,151 @@
+#include "render/brick_pool.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <epoxy/gl.h>
+
+#include "loader/error.h"
+#include "loader/octree_layout.h"
+#include "render/gl_context.h"
+
+namespace ropecast {
+
+namespace {
+
+GLenum internalFormat(SampleType t) {
+  return t == SampleType::UInt8 ? GL_R8 : GL_R16;
+}
+GLenum pixelType(SampleType t) {
+  return t == SampleType::UInt8 ? GL_UNSIGNED_BYTE : GL_UNSIGNED_SHORT;
+}
+
+}  // namespace
+
+BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
+                                int max3DTextureSize) {
+  if (storedType != SampleType::UInt8 && storedType != SampleType::UInt16)
+    throw Error("planBrickPool: the pool holds uint8 or uint16 samples, got " +
+                std::string(sampleTypeName(storedType)));
+  BrickPoolGeometry g;
+  g.slotEdge = brickSize + 2 * kBrickBorder;
+  const uint64_t slotBytes = uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge * bytesPerSample(storedType);
+  const uint64_t maxPerAxis = uint64_t(std::max(max3DTextureSize, 0)) / g.slotEdge;
+  const uint64_t wanted = std::min(budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis);
+  if (wanted < 1)
+    throw Error("planBrickPool: --gpu-budget " + std::to_string(budgetBytes) +
+                " bytes holds no brick slot of " + std::to_string(slotBytes) +
+                " bytes (or GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3DTextureSize) +
+                " is below the slot edge)");
+  // Near-cubic: x and y from the cube root, z takes what remains.
+  uint64_t side = std::max<uint64_t>(1, uint64_t(std::floor(std::cbrt(double(wanted)) + 1e-9)));
+  side = std::min(side, maxPerAxis);
+  const uint64_t gx = side;
+  const uint64_t gy =
+      std::min(maxPerAxis, std::max<uint64_t>(1, uint64_t(std::floor(std::sqrt(double(wanted / gx))))));
+  const uint64_t gz = std::min(maxPerAxis, std::max<uint64_t>(1, wanted / (gx * gy)));
+  g.slotGrid = {uint32_t(gx), uint32_t(gy), uint32_t(gz)};
+  g.textureDims = g.slotGrid * g.slotEdge;
+  return g;
+}
+
+uint64_t defaultGpuBudgetBytes(const GlContextInfo& info) {
+  if (info.totalGpuMemoryBytes) return *info.totalGpuMemoryBytes / 2;
+  return 512ull << 20;
+}
+
+BrickPool::BrickPool(const BrickPoolConfig& config, int max3DTextureSize)
+    : config_(config),
+      geometry_(planBrickPool(config.brickSize, config.storedType, config.budgetBytes, max3DTextureSize)) {
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  glCreateTextures(GL_TEXTURE_3D, 1, &texture_);
+  glTextureStorage3D(texture_, 1, internalFormat(config_.storedType), GLsizei(geometry_.textureDims.x),
+                     GLsizei(geometry_.textureDims.y), GLsizei(geometry_.textureDims.z));
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR) {
+    glDeleteTextures(1, &texture_);
+    throw Error("BrickPool: allocating a " + std::to_string(geometry_.textureDims.x) + "x" +
+                std::to_string(geometry_.textureDims.y) + "x" + std::to_string(geometry_.textureDims.z) +
+                " 3D texture failed (GL error " + std::to_string(e) + "); lower --gpu-budget");
+  }
+  glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(texture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(texture_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(texture_, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  if (config_.uploadThroughPbo) glCreateBuffers(1, &pbo_);
+
+  const uint32_t n = slotCount();
+  freeSlots_.reserve(n);
+  for (uint32_t s = n; s-- > 0;) freeSlots_.push_back(s);
+  allocated_.assign(n, false);
+}
+
+BrickPool::~BrickPool() {
+  if (pbo_) glDeleteBuffers(1, &pbo_);
+  if (texture_) glDeleteTextures(1, &texture_);
+}
+
+size_t BrickPool::slotBytes() const {
+  const size_t e = geometry_.slotEdge;
+  return e * e * e * bytesPerSample(config_.storedType);
+}
+
+std::optional<uint32_t> BrickPool::allocate() {
+  if (freeSlots_.empty()) return std::nullopt;
+  const uint32_t s = freeSlots_.back();
+  freeSlots_.pop_back();
+  allocated_[s] = true;
+  return s;
+}
+
+void BrickPool::checkAllocated(uint32_t slot, const char* where) const {
+  if (slot >= slotCount())
+    throw Error(std::string(where) + ": slot " + std::to_string(slot) + " out of range (pool has " +
+                std::to_string(slotCount()) + " slots)");
+  if (!allocated_[slot])
+    throw Error(std::string(where) + ": slot " + std::to_string(slot) + " is not allocated");
+}
+
+void BrickPool::release(uint32_t slot) {
+  checkAllocated(slot, "BrickPool::release");
+  allocated_[slot] = false;
+  freeSlots_.push_back(slot);
+}
+
+void BrickPool::upload(uint32_t slot, std::span<const std::byte> brick) {
+  checkAllocated(slot, "BrickPool::upload");
+  if (brick.size() != slotBytes())
+    throw Error("BrickPool::upload: brick of " + std::to_string(brick.size()) + " bytes, expected " +
+                std::to_string(slotBytes()));
+  const glm::u32vec3 o = geometry_.slotOrigin(slot);
+  const GLsizei e = GLsizei(geometry_.slotEdge);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (pbo_) {
+    // Orphan, fill and upload from the buffer, so the driver may copy asynchronously.
+    glNamedBufferData(pbo_, GLsizeiptr(brick.size()), brick.data(), GL_STREAM_DRAW);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo_);
+    glTextureSubImage3D(texture_, 0, GLint(o.x), GLint(o.y), GLint(o.z), e, e, e, GL_RED,
+                        pixelType(config_.storedType), nullptr);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+  } else {
+    glTextureSubImage3D(texture_, 0, GLint(o.x), GLint(o.y), GLint(o.z), e, e, e, GL_RED,
+                        pixelType(config_.storedType), brick.data());
+  }
+}
+
+std::vector<std::byte> BrickPool::readSlot(uint32_t slot) const {
+  checkAllocated(slot, "BrickPool::readSlot");
+  std::vector<std::byte> out(slotBytes());
+  const glm::u32vec3 o = geometry_.slotOrigin(slot);
+  const GLsizei e = GLsizei(geometry_.slotEdge);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureSubImage(texture_, 0, GLint(o.x), GLint(o.y), GLint(o.z), e, e, e, GL_RED,
+                       pixelType(config_.storedType), GLsizei(out.size()), out.data());
+  checkGlError("BrickPool::readSlot");
+  return out;
+}
+
+}  // namespace ropecast

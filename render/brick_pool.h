@@ -1,0 +1,90 @@
+// BrickPool: the GPU brick pool, one large 3D texture (R8 or R16 UNORM by the store's sample type, LINEAR
+// filtering, CLAMP_TO_EDGE) cut into slots of storedBrickEdge()^3 texels (B + 2*kBrickBorder per axis) laid
+// out on a 3D slot grid, with a free-list slot allocator and uploads through glTexSubImage3D (optionally from
+// a PBO).
+//
+// BrickPoolGeometry and slotOrigin() are plain data and pure functions (any thread); the shader computes the
+// same slot -> texel origin from the uniforms uPoolSlotGrid / uPoolSlotEdge (shaders/raycast_common.glsl).
+// BrickPool owns a GL texture: render thread only, with the GlContext current.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "loader/sample_type.h"
+
+namespace ropecast {
+
+struct GlContextInfo;
+
+struct BrickPoolGeometry {
+  uint32_t slotEdge = 0;        // texels per slot per axis: brickSize + 2*kBrickBorder
+  glm::u32vec3 slotGrid{0};     // slots per axis
+  glm::u32vec3 textureDims{0};  // slotGrid * slotEdge
+
+  uint32_t slotCount() const { return slotGrid.x * slotGrid.y * slotGrid.z; }
+  // Texel origin of a slot: slots are numbered x fastest over the grid.
+  glm::u32vec3 slotOrigin(uint32_t slot) const {
+    return glm::u32vec3(slot % slotGrid.x, (slot / slotGrid.x) % slotGrid.y,
+                        slot / (slotGrid.x * slotGrid.y)) *
+           slotEdge;
+  }
+};
+
+// The largest near-cubic slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
+// max3DTextureSize per axis. Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
+BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
+                                int max3DTextureSize);
+
+// The default --gpu-budget: half the memory the driver reports, else 512 MiB.
+uint64_t defaultGpuBudgetBytes(const GlContextInfo& info);
+
+struct BrickPoolConfig {
+  uint32_t brickSize = 32;
+  SampleType storedType = SampleType::UInt8;  // UInt8 -> R8, UInt16 -> R16
+  uint64_t budgetBytes = 512ull << 20;
+  bool uploadThroughPbo = false;
+};
+
+class BrickPool {
+ public:
+  // Allocates the texture; throws ropecast::Error on a bad type, a budget too small for one slot or a GL
+  // failure.
+  BrickPool(const BrickPoolConfig& config, int max3DTextureSize);
+  ~BrickPool();
+  BrickPool(const BrickPool&) = delete;
+  BrickPool& operator=(const BrickPool&) = delete;
+
+  const BrickPoolGeometry& geometry() const { return geometry_; }
+  uint32_t slotCount() const { return geometry_.slotCount(); }
+  size_t freeSlotCount() const { return freeSlots_.size(); }
+  size_t slotBytes() const;
+  SampleType storedType() const { return config_.storedType; }
+  uint32_t texture() const { return texture_; }
+
+  // A free slot, or nullopt when the pool is full (the caller evicts and releases first).
+  std::optional<uint32_t> allocate();
+  // Returns a slot to the free list; throws ropecast::Error for a slot out of range or not allocated.
+  void release(uint32_t slot);
+  // Uploads one brick (storedBrickEdge()^3 samples, x fastest, border included) into an allocated slot.
+  void upload(uint32_t slot, std::span<const std::byte> brick);
+  // Reads a slot back (tests, verification); slow, synchronous.
+  std::vector<std::byte> readSlot(uint32_t slot) const;
+
+ private:
+  void checkAllocated(uint32_t slot, const char* where) const;
+
+  BrickPoolConfig config_;
+  BrickPoolGeometry geometry_;
+  uint32_t texture_ = 0;
+  uint32_t pbo_ = 0;
+  std::vector<uint32_t> freeSlots_;  // popped from the back: lowest slots first
+  std::vector<bool> allocated_;
+};
+
+}  // namespace ropecast

@@ -1,0 +1,34 @@
+// Image files: PNG (8-bit RGB or RGBA, clamped to [0,1], no gamma) and OpenEXR (float RGBA; a depth EXR with
+// one float channel "Z") through OpenImageIO, and reading either back as floats (tests, regression goldens).
+// Writes go to "<path>.tmp" and are renamed when complete, so a failure leaves nothing half-written.
+// GL-free; any thread (no shared state).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ropecast {
+
+// Float pixels, row 0 at the top, channels interleaved.
+struct FloatImage {
+  uint32_t width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;  // width * height * channels
+
+  float at(uint32_t x, uint32_t y, uint32_t c) const {
+    return pixels[(size_t(y) * width + x) * channels + c];
+  }
+  float& at(uint32_t x, uint32_t y, uint32_t c) { return pixels[(size_t(y) * width + x) * channels + c]; }
+};
+
+// Writes the first 3 (withAlpha false) or 4 channels of an image with >= 3 (>= 4) channels as 8-bit PNG:
+// round(clamp(v, 0, 1) * 255). Throws ropecast::Error naming the file.
+void writePng(const std::string& path, const FloatImage& image, bool withAlpha);
+// Writes all channels as 32-bit float EXR (channel names R, G, B, A for 4 channels). Throws naming the file.
+void writeExr(const std::string& path, const FloatImage& image);
+// Writes a 1-channel image as a float EXR with the channel "Z" (world units; +inf = miss).
+void writeDepthExr(const std::string& path, const FloatImage& depth);
+// Reads any image OpenImageIO knows as floats (8-bit PNG values become v / 255). Throws naming the file.
+FloatImage readImage(const std::string& path);
+
+}  // namespace ropecast

@@ -1,0 +1,96 @@
+// The GPU brick pool: slot planning within budget and texture limits, allocation, upload and readback.
+#include <cstdint>
+#include <cstring>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/vector_relational.hpp>
+
+#include "loader/error.h"
+#include "render/brick_pool.h"
+#include "tests/render/testutil_gl.h"
+
+namespace ropecast {
+namespace {
+
+TEST(BrickPoolPlan, StaysWithinBudgetAndTextureLimit) {
+  const BrickPoolGeometry g = planBrickPool(32, SampleType::UInt16, 64ull << 20, 2048);
+  EXPECT_EQ(g.slotEdge, 36u);
+  const uint64_t slotBytes = 36ull * 36 * 36 * 2;
+  EXPECT_LE(uint64_t(g.slotCount()) * slotBytes, 64ull << 20);
+  EXPECT_GE(uint64_t(g.slotCount()) * slotBytes, (64ull << 20) / 2);  // near-cubic, not wasteful
+  EXPECT_EQ(g.textureDims, g.slotGrid * 36u);
+  // A texture limit smaller than the budget's cube caps the grid.
+  const BrickPoolGeometry capped = planBrickPool(16, SampleType::UInt8, 1ull << 30, 100);
+  EXPECT_EQ(capped.slotGrid, glm::u32vec3(5));
+  EXPECT_THROW(planBrickPool(32, SampleType::UInt8, 1000, 2048), Error);
+  EXPECT_THROW(planBrickPool(32, SampleType::Float32, 1 << 20, 2048), Error);
+}
+
+TEST(BrickPoolPlan, SlotOriginsAreDistinctAndInside) {
+  const BrickPoolGeometry g = planBrickPool(8, SampleType::UInt8, 100 * 12 * 12 * 12, 1024);
+  std::set<std::tuple<uint32_t, uint32_t, uint32_t>> seen;
+  for (uint32_t s = 0; s < g.slotCount(); ++s) {
+    const glm::u32vec3 o = g.slotOrigin(s);
+    EXPECT_TRUE(glm::all(glm::lessThanEqual(o + g.slotEdge, g.textureDims)));
+    EXPECT_EQ(o.x % g.slotEdge, 0u);
+    seen.insert({o.x, o.y, o.z});
+  }
+  EXPECT_EQ(seen.size(), g.slotCount());
+}
+
+template <typename T>
+std::vector<std::byte> patternBrick(uint32_t edge, uint32_t seed) {
+  std::vector<T> v(size_t(edge) * edge * edge);
+  for (size_t i = 0; i < v.size(); ++i)
+    v[i] = T((i * 7919u + seed * 104729u) % (sizeof(T) == 1 ? 256u : 65536u));
+  std::vector<std::byte> bytes(v.size() * sizeof(T));
+  std::memcpy(bytes.data(), v.data(), bytes.size());
+  return bytes;
+}
+
+void roundTrip(SampleType type, bool pbo) {
+  test::sharedGlContext();
+  const uint32_t edge = 8 + 2 * 2;
+  BrickPoolConfig config{8, type, uint64_t(10) * edge * edge * edge * bytesPerSample(type), pbo};
+  BrickPool pool(config, test::sharedGlContext().info().max3DTextureSize);
+  ASSERT_GE(pool.slotCount(), 8u);
+  ASSERT_LE(pool.slotCount(), 10u);
+  std::vector<uint32_t> slots;
+  while (auto s = pool.allocate()) slots.push_back(*s);
+  EXPECT_EQ(slots.size(), pool.slotCount());
+  EXPECT_EQ(pool.freeSlotCount(), 0u);
+  for (uint32_t s : slots)
+    pool.upload(s,
+                type == SampleType::UInt8 ? patternBrick<uint8_t>(edge, s) : patternBrick<uint16_t>(edge, s));
+  for (uint32_t s : slots)
+    EXPECT_EQ(pool.readSlot(s),
+              type == SampleType::UInt8 ? patternBrick<uint8_t>(edge, s) : patternBrick<uint16_t>(edge, s))
+        << "slot " << s;
+  pool.release(slots[3]);
+  EXPECT_EQ(pool.freeSlotCount(), 1u);
+  EXPECT_THROW(pool.release(slots[3]), Error);
+  EXPECT_THROW(pool.upload(slots[3], patternBrick<uint8_t>(edge, 0)), Error);
+  EXPECT_THROW(pool.release(pool.slotCount()), Error);
+  EXPECT_EQ(pool.allocate(), slots[3]);
+  EXPECT_THROW(pool.upload(slots[3], std::vector<std::byte>(5)), Error);
+  checkGlError("BrickPool test");
+}
+
+TEST(BrickPool, RoundTripUInt8) {
+  roundTrip(SampleType::UInt8, false);
+}
+TEST(BrickPool, RoundTripUInt16ThroughPbo) {
+  roundTrip(SampleType::UInt16, true);
+}
+
+TEST(BrickPool, DefaultBudget) {
+  GlContextInfo info;
+  EXPECT_EQ(defaultGpuBudgetBytes(info), 512ull << 20);
+  info.totalGpuMemoryBytes = 80ull << 30;
+  EXPECT_EQ(defaultGpuBudgetBytes(info), 40ull << 30);
+}
+
+}  // namespace
+}  // namespace ropecast
