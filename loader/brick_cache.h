@@ -1,0 +1,57 @@
+// BrickCache: the CPU-side level-2 cache of decompressed bricks, keyed by node, evicted least recently used
+// first so that it never holds more than its bytes budget. Bricks are shared, immutable buffers: a brick
+// handed to the renderer for upload stays alive after eviction until the renderer drops it.
+//
+// Owned by the WorkingSet. Not thread-safe: only the thread that drives the WorkingSet (the render thread)
+// calls it; I/O workers hand their bricks over through the IoQueue, never into the cache directly.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "loader/octree_layout.h"
+
+namespace ropecast {
+
+using BrickBytes = std::vector<std::byte>;
+using SharedBrick = std::shared_ptr<const BrickBytes>;
+
+class BrickCache {
+ public:
+  // Throws ropecast::Error when budgetBytes cannot hold even one brick of brickBytes.
+  BrickCache(uint64_t budgetBytes, uint64_t brickBytes);
+
+  // The brick if cached (and marks it most recently used), else nullptr.
+  SharedBrick get(const NodeKey& key);
+  bool contains(const NodeKey& key) const { return entries_.count(key) != 0; }
+  // Adds or replaces the brick as most recently used, evicting least recently used bricks to stay in budget.
+  // A brick larger than the whole budget is not kept.
+  void put(const NodeKey& key, SharedBrick brick);
+  void erase(const NodeKey& key);
+
+  uint64_t bytes() const { return bytes_; }
+  uint64_t budgetBytes() const { return budgetBytes_; }
+  size_t size() const { return entries_.size(); }
+  uint64_t evictions() const { return evictions_; }
+  // Keys from most to least recently used (for tests and debugging).
+  std::vector<NodeKey> keysByRecency() const;
+
+ private:
+  struct Entry {
+    SharedBrick brick;
+    std::list<NodeKey>::iterator position;  // in recency_, front = most recent
+  };
+  void evictToFit(uint64_t incomingBytes);
+
+  uint64_t budgetBytes_;
+  uint64_t bytes_ = 0;
+  uint64_t evictions_ = 0;
+  std::list<NodeKey> recency_;
+  std::unordered_map<NodeKey, Entry, NodeKeyHash> entries_;
+};
+
+}  // namespace ropecast

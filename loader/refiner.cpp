@@ -1,0 +1,235 @@
+#include "loader/refiner.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <queue>
+#include <tuple>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+namespace ropecast {
+
+const char* leafReasonName(LeafReason r) {
+  switch (r) {
+    case LeafReason::Adequate:
+      return "adequate";
+    case LeafReason::Finest:
+      return "finest";
+    case LeafReason::Empty:
+      return "empty";
+    case LeafReason::Outside:
+      return "outside";
+    case LeafReason::Culled:
+      return "culled";
+    case LeafReason::Constant:
+      return "constant";
+    case LeafReason::Occluded:
+      return "occluded";
+    case LeafReason::NotInCore:
+      return "not-in-core";
+    case LeafReason::PoolFull:
+      return "pool-full";
+    case LeafReason::UploadBudget:
+      return "upload-budget";
+  }
+  return "?";
+}
+
+WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key) {
+  const double edgeSamples = double(layout.brickSize) * double(uint64_t(1) << layout.levelOfDepth(key.depth));
+  const glm::dvec3 dataHi = glm::dvec3(layout.dims) * spacing;
+  WorldBox b;
+  b.lo = glm::min(glm::dvec3(key.coord) * edgeSamples * spacing, dataHi);
+  b.hi = glm::min(glm::dvec3(key.coord + 1u) * edgeSamples * spacing, dataHi);
+  return b;
+}
+
+double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
+                            const RefineView& view) {
+  const WorldBox box = nodeWorldBox(layout, spacing, key);
+  const double minSpacing = std::min({spacing.x, spacing.y, spacing.z});
+  const double maxSpacing = std::max({spacing.x, spacing.y, spacing.z});
+  const glm::dvec3 nearest = glm::clamp(view.camera.eye, box.lo, box.hi);
+  const double distance = std::max(glm::length(nearest - view.camera.eye), 0.5 * minSpacing);
+  const double voxelWorld = double(uint64_t(1) << layout.levelOfDepth(key.depth)) * maxSpacing;
+  const double tanHalf = std::tan(glm::radians(view.camera.fovYDeg) * 0.5);
+  return voxelWorld / (2.0 * distance * tanHalf) * double(view.viewportHeight);
+}
+
+bool boxInFrustum(const WorldBox& box, const RefineView& view) {
+  const CameraFrame f = cameraFrame(view.camera);
+  const double ty = std::tan(glm::radians(view.camera.fovYDeg) * 0.5);
+  const double tx = ty * double(view.viewportWidth) / double(std::max(view.viewportHeight, 1u));
+  // Inward normals of the planes through the eye: behind, right, left, top, bottom.
+  const std::array<glm::dvec3, 5> normals = {f.forward, f.forward * tx - f.right, f.forward * tx + f.right,
+                                             f.forward * ty - f.up, f.forward * ty + f.up};
+  for (const glm::dvec3& n : normals) {
+    // The box corner farthest along n: if even it is behind the plane, the whole box is.
+    const glm::dvec3 corner(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
+                            n.z >= 0 ? box.hi.z : box.lo.z);
+    if (glm::dot(n, corner - view.camera.eye) < 0.0) return false;
+  }
+  return true;
+}
+
+namespace {
+
+struct Candidate {
+  NodeKey key;
+  double voxelPixels;
+  uint32_t slot;
+};
+
+// Larger projected voxels first; ties in a fixed node order so the cut does not depend on history.
+struct LowerPriority {
+  bool operator()(const Candidate& a, const Candidate& b) const {
+    if (a.voxelPixels != b.voxelPixels) return a.voxelPixels < b.voxelPixels;
+    return std::tie(b.key.depth, b.key.coord.z, b.key.coord.y, b.key.coord.x) <
+           std::tie(a.key.depth, a.key.coord.z, a.key.coord.y, a.key.coord.x);
+  }
+};
+
+enum class Class { NoBrick, ConstantBrick, DataBrick };
+
+struct Classified {
+  Class cls;
+  LeafReason reason;  // for NoBrick
+};
+
+class RefineRun {
+ public:
+  RefineRun(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
+            const PriorityHints& hints, BrickResidency& residency)
+      : nodes_(nodes),
+        layout_(nodes.info().layout),
+        spacing_(nodes.info().volume.spacing),
+        view_(view),
+        isEmpty_(isEmpty),
+        hints_(hints),
+        residency_(residency),
+        adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
+
+  RefineResult run() {
+    const NodeKey root{};
+    const Classified c = classify(root);
+    const double rootPixels = pixels(root);
+    if (c.cls == Class::NoBrick) {
+      leaf(root, LeafContent::Empty, c.reason, UINT32_MAX, 0.0);
+    } else {
+      uint32_t slot = UINT32_MAX;
+      const auto outcome =
+          residency_.acquire(std::span(&root, 1), std::nullopt, rootPixels, std::span(&slot, 1));
+      if (outcome != BrickResidency::Outcome::Ready) {
+        leaf(root, LeafContent::Missing, reasonOf(outcome), UINT32_MAX, rootPixels);
+      } else if (c.cls == Class::ConstantBrick) {
+        leaf(root, LeafContent::Brick, LeafReason::Constant, slot, rootPixels);
+      } else {
+        heap_.push({root, rootPixels, slot});
+      }
+    }
+    while (!heap_.empty()) {
+      const Candidate n = heap_.top();
+      heap_.pop();
+      refineOrStop(n);
+    }
+    result_.complete = complete_;
+    return std::move(result_);
+  }
+
+ private:
+  void refineOrStop(const Candidate& n) {
+    if (hints_.requested.count(n.key)) ++result_.hintedRequests;
+    if (n.voxelPixels <= adequatePixels_) return leaf(n, LeafReason::Adequate);
+    if (n.key.depth >= layout_.maxDepth) return leaf(n, LeafReason::Finest);
+    if (hints_.occluded.count(n.key)) return leaf(n, LeafReason::Occluded);
+
+    std::array<NodeKey, 8> children;
+    std::array<Classified, 8> classes;
+    std::array<NodeKey, 8> withBrick;
+    std::array<uint32_t, 8> slots;
+    size_t brickCount = 0;
+    for (uint32_t o = 0; o < 8; ++o) {
+      children[o] = n.key.child(o);
+      classes[o] = classify(children[o]);
+      if (classes[o].cls != Class::NoBrick) withBrick[brickCount++] = children[o];
+    }
+    const auto outcome = residency_.acquire(std::span(withBrick.data(), brickCount), n.slot, n.voxelPixels,
+                                            std::span(slots.data(), brickCount));
+    if (outcome != BrickResidency::Outcome::Ready) return leaf(n, reasonOf(outcome));
+
+    result_.refinedOrder.push_back(n.key);
+    size_t b = 0;
+    for (uint32_t o = 0; o < 8; ++o) {
+      const NodeKey& k = children[o];
+      if (classes[o].cls == Class::NoBrick) {
+        leaf(k, LeafContent::Empty, classes[o].reason, UINT32_MAX, 0.0);
+        continue;
+      }
+      const uint32_t slot = slots[b++];
+      const double px = pixels(k);
+      if (classes[o].cls == Class::ConstantBrick) {
+        leaf(k, LeafContent::Brick, LeafReason::Constant, slot, px);
+      } else {
+        heap_.push({k, px, slot});
+      }
+    }
+  }
+
+  Classified classify(const NodeKey& k) const {
+    const NodeInfo info = layout_.isInside(k) ? nodes_.node(k) : NodeInfo{};
+    if (info.kind == NodeKind::Outside) return {Class::NoBrick, LeafReason::Outside};
+    if (info.kind == NodeKind::Empty || (isEmpty_ && isEmpty_(info.minValue, info.maxValue))) {
+      return {Class::NoBrick, LeafReason::Empty};
+    }
+    if (!boxInFrustum(nodeWorldBox(layout_, spacing_, k), view_)) return {Class::NoBrick, LeafReason::Culled};
+    return {info.kind == NodeKind::Constant ? Class::ConstantBrick : Class::DataBrick, LeafReason::Adequate};
+  }
+
+  double pixels(const NodeKey& k) const { return projectedVoxelPixels(layout_, spacing_, k, view_); }
+
+  static LeafReason reasonOf(BrickResidency::Outcome o) {
+    switch (o) {
+      case BrickResidency::Outcome::NotInCore:
+        return LeafReason::NotInCore;
+      case BrickResidency::Outcome::PoolFull:
+        return LeafReason::PoolFull;
+      case BrickResidency::Outcome::UploadBudget:
+        return LeafReason::UploadBudget;
+      case BrickResidency::Outcome::Ready:
+        break;
+    }
+    return LeafReason::Adequate;
+  }
+
+  void leaf(const Candidate& n, LeafReason reason) {
+    leaf(n.key, LeafContent::Brick, reason, n.slot, n.voxelPixels);
+  }
+  void leaf(const NodeKey& k, LeafContent content, LeafReason reason, uint32_t slot, double px) {
+    if (reason == LeafReason::NotInCore || reason == LeafReason::UploadBudget) complete_ = false;
+    result_.leaves.push_back({k, content, reason, slot, px});
+  }
+
+  const BrickSource& nodes_;
+  const OctreeLayout& layout_;
+  glm::dvec3 spacing_;
+  const RefineView& view_;
+  const EmptinessPredicate& isEmpty_;
+  const PriorityHints& hints_;
+  BrickResidency& residency_;
+  double adequatePixels_;
+  std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;
+  RefineResult result_;
+  bool complete_ = true;
+};
+
+}  // namespace
+
+RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
+                    const PriorityHints& hints, BrickResidency& residency) {
+  return RefineRun(nodes, view, isEmpty, hints, residency).run();
+}
+
+}  // namespace ropecast

@@ -1,0 +1,117 @@
+// Refiner: the view- and transfer-function-dependent cut of the octree for one frame (seeds/002 Sect. 4).
+// From the root, a set of visible non-empty nodes sorted by decreasing projected voxel size is refined until
+// each node is adequate, or the bricks of its children are not in core, or the GPU pool has no room for them,
+// or the frame's upload budget is spent. Empty nodes (by the caller's predicate on the stored min/max, so
+// changing the isovalue or the transfer function needs no I/O), nodes outside the data or the view frustum,
+// and constant nodes are terminal. The data path is reached only through BrickResidency, which the WorkingSet
+// implements (and tests fake), so the refiner itself is pure CPU logic.
+//
+// Plain functions over plain data; any thread, given a BrickResidency used by that thread only.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <unordered_set>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "loader/brick_source.h"
+#include "loader/camera.h"
+
+namespace ropecast {
+
+struct RefineView {
+  Camera camera;
+  uint32_t viewportWidth = 1;   // pixels
+  uint32_t viewportHeight = 1;  // pixels
+  // Target density: a node is adequate when one of its voxels covers at most 1 / voxelsPerPixel pixels
+  // (1 = one voxel per pixel as in the paper; 2 = finer, 0.5 = coarser).
+  double voxelsPerPixel = 1.0;
+};
+
+// True when a node whose stored values span [storedMin, storedMax] cannot contribute to the image: for an
+// isosurface, the range misses the isovalue; for DVR, !transferFunction.hasOpacity(storedMin, storedMax).
+using EmptinessPredicate = std::function<bool(uint16_t storedMin, uint16_t storedMax)>;
+
+// Feedback from the renderer of previous frames. Both sets may be empty (the default: no feedback yet).
+struct PriorityHints {
+  // Occlusion queries (seeds/002 Sect. 6): a node seen as occluded stays a leaf (is not refined).
+  std::unordered_set<NodeKey, NodeKeyHash> occluded;
+  // Ray feedback (GigaVoxels): nodes whose finer data rays asked for. Carried through and counted; priority
+  // does not use it yet.
+  std::unordered_set<NodeKey, NodeKeyHash> requested;
+};
+
+enum class LeafContent : uint8_t {
+  Empty,    // nothing to sample (empty, outside the data, outside the frustum)
+  Brick,    // sample the brick in `slot` of the GPU pool
+  Missing,  // the root's brick is not in core yet (first frames of a cold start): render as empty
+};
+
+// Why a node is a leaf of the cut.
+enum class LeafReason : uint8_t {
+  Adequate,      // projected voxel size reached the target
+  Finest,        // full-resolution node
+  Empty,         // NodeKind::Empty or the emptiness predicate
+  Outside,       // no data there (NodeKind::Outside)
+  Culled,        // outside the view frustum
+  Constant,      // every sample equal: children would look the same
+  Occluded,      // PriorityHints::occluded
+  NotInCore,     // its children's bricks (or the root's) were requested and are not read yet
+  PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut
+  UploadBudget,  // this frame's upload budget cannot carry its children
+};
+const char* leafReasonName(LeafReason r);
+
+struct PlannedLeaf {
+  NodeKey key;
+  LeafContent content = LeafContent::Empty;
+  LeafReason reason = LeafReason::Empty;
+  uint32_t slot = UINT32_MAX;  // GPU pool slot when content == Brick
+  double voxelPixels = 0.0;    // projected voxel size that ordered it (0 when never measured)
+};
+
+// What the refiner asks of the data path.
+class BrickResidency {
+ public:
+  enum class Outcome { Ready, NotInCore, PoolFull, UploadBudget };
+  virtual ~BrickResidency() = default;
+  // Either every node of `keys` gets a GPU slot holding (or being uploaded with) its brick, pinned for this
+  // cut, written to slotsOut (same order) and the result is Ready; or nothing changes in the cut and the
+  // result says why (NotInCore also requests the missing bricks at `priority`). `leaving` is the slot of the
+  // parent that leaves the cut when this succeeds: it may be reused for the children. Called with an empty
+  // `keys` too (a node whose children are all empty), so the parent's slot is released.
+  virtual Outcome acquire(std::span<const NodeKey> keys, std::optional<uint32_t> leaving, double priority,
+                          std::span<uint32_t> slotsOut) = 0;
+};
+
+struct RefineResult {
+  std::vector<PlannedLeaf> leaves;    // the cut: a tiling of the octree's root cube
+  std::vector<NodeKey> refinedOrder;  // inner nodes, in the order they were refined
+  uint64_t hintedRequests = 0;        // PriorityHints::requested nodes met during refinement
+  // No leaf waits for data or for upload budget: the next frame with the same input gives the same cut.
+  bool complete = false;
+};
+
+// World-space box of a node, clipped to the data box [0, dims * spacing].
+struct WorldBox {
+  glm::dvec3 lo{0.0}, hi{0.0};
+};
+WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key);
+
+// Pixels covered by one voxel of the node's level, seen at the node's point nearest to the eye (distance
+// clamped to half a full-resolution voxel, so a node containing the eye gets a very large value).
+double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
+                            const RefineView& view);
+
+// False only when the box lies entirely outside the view frustum (behind the eye or beyond a side plane);
+// conservative, so a visible box is never culled.
+bool boxInFrustum(const WorldBox& box, const RefineView& view);
+
+RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
+                    const PriorityHints& hints, BrickResidency& residency);
+
+}  // namespace ropecast

@@ -1,0 +1,181 @@
+#include "loader/working_set.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "loader/error.h"
+
+namespace ropecast {
+
+namespace {
+
+std::string describe(const NodeKey& k) {
+  return "node (depth " + std::to_string(k.depth) + ", " + std::to_string(k.coord.x) + "," +
+         std::to_string(k.coord.y) + "," + std::to_string(k.coord.z) + ")";
+}
+
+}  // namespace
+
+SharedBrick makeConstantBrick(const BrickSourceInfo& info, uint16_t storedValue) {
+  const uint64_t samples = info.layout.storedBrickSamples();
+  auto brick = std::make_shared<BrickBytes>(samples * bytesPerSample(info.storedType));
+  if (info.storedType == SampleType::UInt8) {
+    std::memset(brick->data(), int(storedValue & 0xFF), brick->size());
+  } else {
+    const std::byte lo{uint8_t(storedValue & 0xFF)}, hi{uint8_t(storedValue >> 8)};  // little-endian
+    for (uint64_t i = 0; i < samples; ++i) {
+      (*brick)[2 * i] = lo;
+      (*brick)[2 * i + 1] = hi;
+    }
+  }
+  return brick;
+}
+
+// The data path as the refiner sees it during one update(): GPU slots, CPU cache, requests, upload budget.
+class WorkingSet::Residency final : public BrickResidency {
+ public:
+  Residency(WorkingSet& ws) : ws_(ws) {}
+
+  Outcome acquire(std::span<const NodeKey> keys, std::optional<uint32_t> leaving, double priority,
+                  std::span<uint32_t> slotsOut) override {
+    SlotTable& slots = ws_.slots_;
+    const uint32_t freedByParent = leaving && slots.isPinned(*leaving) ? 1 : 0;
+    if (keys.size() > slots.availableCount() + freedByParent) return Outcome::PoolFull;
+
+    bool missing = false;
+    uint64_t uploadCount = 0;
+    for (const NodeKey& k : keys) {
+      if (slots.find(k)) continue;
+      ++uploadCount;
+      if (ws_.cache_.contains(k)) {
+        ++stats.cacheHits;
+      } else if (ws_.source_.node(k).kind != NodeKind::Constant) {
+        ++stats.cacheMisses;
+        requests.push_back({k, priority});
+        missing = true;
+      }
+    }
+    if (missing) return Outcome::NotInCore;
+    if (uploadCount * ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
+      return Outcome::UploadBudget;
+    }
+
+    if (leaving) slots.unpin(*leaving);
+    // Pin the resident children first so that acquiring slots for the others cannot evict them.
+    std::vector<uint8_t> resident(keys.size(), 0);
+    for (size_t i = 0; i < keys.size(); ++i) {
+      if (const auto slot = slots.find(keys[i])) {
+        slots.pin(*slot);
+        slotsOut[i] = *slot;
+        resident[i] = 1;
+      }
+    }
+    for (size_t i = 0; i < keys.size(); ++i) {
+      if (resident[i]) continue;
+      const NodeKey& k = keys[i];
+      const std::optional<uint32_t> slot = slots.acquire(k);
+      if (!slot) throw Error("WorkingSet: internal error, no GPU slot left for " + describe(k));
+      slotsOut[i] = *slot;
+      SharedBrick brick = ws_.cache_.get(k);
+      if (!brick) brick = makeConstantBrick(ws_.source_.info(), ws_.source_.node(k).minValue);
+      uploads.push_back({*slot, k, std::move(brick)});
+      ++stats.bricksUploaded;
+      stats.bytesUploaded += ws_.brickBytes_;
+    }
+    return Outcome::Ready;
+  }
+
+  std::vector<BrickRequest> requests;
+  std::vector<BrickUpload> uploads;
+  FrameStats stats;
+
+ private:
+  WorkingSet& ws_;
+};
+
+WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config)
+    : source_(source),
+      config_(config),
+      brickBytes_(source.brickBytes()),
+      cache_(config.cpuCacheBytes, source.brickBytes()),
+      slots_(config.gpuSlots) {
+  if (config.uploadBudgetBytes < brickBytes_) {
+    throw Error("WorkingSet: --upload-budget " + std::to_string(config.uploadBudgetBytes) +
+                " bytes cannot carry one brick of " + std::to_string(brickBytes_) + " bytes");
+  }
+  io_ = std::make_unique<IoQueue>(source, config.ioThreads, config.maxReadyBricks);
+}
+
+WorkingSet::~WorkingSet() = default;
+
+void WorkingSet::takeLoadedBricks() {
+  std::string firstError;
+  for (LoadedBrick& b : io_->takeLoaded()) {
+    if (b.brick) {
+      cache_.put(b.key, std::move(b.brick));
+    } else if (firstError.empty()) {
+      firstError = "WorkingSet: reading the brick of " + describe(b.key) + " failed: " + b.error;
+    }
+  }
+  if (!firstError.empty()) throw Error(firstError);
+}
+
+WorkingSetFrame WorkingSet::update(const FrameInput& input) {
+  const auto start = std::chrono::steady_clock::now();
+  takeLoadedBricks();
+
+  slots_.beginCut();
+  Residency residency(*this);
+  RefineResult refined = refine(source_, input.view, input.isEmpty, input.hints, residency);
+  io_->replaceRequests(std::move(residency.requests));
+
+  WorkingSetFrame out;
+  out.leaves = std::move(refined.leaves);
+  out.uploads = std::move(residency.uploads);
+  out.converged = refined.complete;
+  FrameStats& s = out.stats;
+  s = residency.stats;
+  s.frame = frame_++;
+  s.leaves = out.leaves.size();
+  s.bricksResident = slots_.occupiedCount();
+  s.gpuPoolUsedBytes = uint64_t(slots_.occupiedCount()) * brickBytes_;
+  s.cpuCacheBytes = cache_.bytes();
+  s.requestsPending = io_->pendingCount();
+  s.converged = refined.complete;
+  s.refineMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32_t maxFrames) {
+  std::vector<BrickUpload> merged;
+  std::unordered_map<uint32_t, size_t> indexOfSlot;
+  double refineMs = 0.0;
+  WorkingSetFrame frame;
+  for (uint32_t i = 0; i < std::max(maxFrames, 1u); ++i) {
+    frame = update(input);
+    refineMs += frame.stats.refineMs;
+    for (BrickUpload& u : frame.uploads) {
+      const auto [it, inserted] = indexOfSlot.emplace(u.slot, merged.size());
+      if (inserted)
+        merged.push_back(std::move(u));
+      else
+        merged[it->second] = std::move(u);  // the slot was reused: only its last brick matters
+    }
+    if (frame.converged) break;
+    // Wait for a read only when the frame asked for some; an upload-budget stop just needs the next frame.
+    if (frame.stats.cacheMisses > 0 || io_->pendingCount() > 0) {
+      while (!io_->waitForLoaded(std::chrono::milliseconds(1000)) && io_->pendingCount() > 0) {
+      }
+    }
+  }
+  frame.uploads = std::move(merged);
+  frame.stats.bricksUploaded = frame.uploads.size();
+  frame.stats.bytesUploaded = frame.uploads.size() * brickBytes_;
+  frame.stats.refineMs = refineMs;
+  return frame;
+}
+
+}  // namespace ropecast

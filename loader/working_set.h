@@ -1,0 +1,93 @@
+// WorkingSet: the per-frame loader (seeds/002 Sect. 4, 7). Each update() drains the bricks the I/O workers
+// read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns GPU pool
+// slots (LRU, never one of the cut being built), asks the I/O workers for the bricks the refinement lacked
+// (dropping requests no longer wanted) and returns a plain plan: the cut with its slots, and the uploads to
+// do now within the upload budget. A frame always renders what is present: a node whose children are not all
+// ready stays a leaf at its coarser level, and update() never waits for the disk. updateUntilConverged() is
+// the synchronous mode (for `render` without progression, and tests): the same code, repeated until the cut
+// is complete.
+//
+// The loader never touches GL: the renderer uploads `uploads` into the pool slots, then builds the index over
+// `leaves`. Owned by the render thread, which alone calls it; the I/O workers are internal. The BrickSource
+// must outlive the WorkingSet.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "loader/brick_cache.h"
+#include "loader/brick_source.h"
+#include "loader/frame_stats.h"
+#include "loader/io_queue.h"
+#include "loader/refiner.h"
+#include "loader/slot_table.h"
+
+namespace ropecast {
+
+struct WorkingSetConfig {
+  uint64_t cpuCacheBytes = uint64_t(1) << 30;  // --cpu-cache: decompressed bricks kept in system memory
+  uint32_t gpuSlots = 0;                       // bricks the GPU pool holds (from --gpu-budget); required
+  uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();  // --upload-budget, per frame
+  uint32_t ioThreads = 2;
+  size_t maxReadyBricks = 64;  // bricks read by the workers and not yet taken into the cache
+};
+
+struct FrameInput {
+  RefineView view;
+  EmptinessPredicate isEmpty;  // null: only NodeKind::Empty/Outside nodes are empty
+  PriorityHints hints;
+};
+
+struct BrickUpload {
+  uint32_t slot = 0;
+  NodeKey key;
+  SharedBrick brick;  // storedBrickEdge()^3 samples of the stored type, kept alive by this pointer
+};
+
+struct WorkingSetFrame {
+  std::vector<PlannedLeaf> leaves;   // the cut, a tiling of the root cube
+  std::vector<BrickUpload> uploads;  // to upload before rendering this frame (at most one per slot)
+  FrameStats stats;                  // the loader's fields
+  bool converged = false;            // same as stats.converged
+};
+
+class WorkingSet {
+ public:
+  // Throws ropecast::Error for budgets that cannot work: no GPU slot, a CPU cache or an upload budget smaller
+  // than a brick.
+  WorkingSet(const BrickSource& source, const WorkingSetConfig& config);
+  ~WorkingSet();
+
+  // One frame, never waiting for I/O. Throws ropecast::Error when a brick read failed (naming the node).
+  WorkingSetFrame update(const FrameInput& input);
+
+  // Repeats update(), waiting for the reads it asked for, until the cut is complete or maxFrames updates were
+  // made. The uploads of all those updates are merged (the last one per slot).
+  WorkingSetFrame updateUntilConverged(const FrameInput& input, uint32_t maxFrames = 100000);
+
+  const BrickSourceInfo& info() const { return source_.info(); }
+  uint64_t brickBytes() const { return brickBytes_; }
+  const SlotTable& slots() const { return slots_; }
+  const BrickCache& cache() const { return cache_; }
+  const IoQueue& io() const { return *io_; }
+  uint64_t frameCount() const { return frame_; }
+
+ private:
+  class Residency;
+  void takeLoadedBricks();
+
+  const BrickSource& source_;
+  WorkingSetConfig config_;
+  uint64_t brickBytes_;
+  BrickCache cache_;
+  SlotTable slots_;
+  std::unique_ptr<IoQueue> io_;  // last member: its workers stop before the rest goes away
+  uint64_t frame_ = 0;
+};
+
+// The brick of a Constant node (every sample `storedValue`), made without I/O.
+SharedBrick makeConstantBrick(const BrickSourceInfo& info, uint16_t storedValue);
+
+}  // namespace ropecast

@@ -1,0 +1,279 @@
+// Refinement order and stopping rules on hand-made trees, with a fake data path (BrickResidency).
+#include "loader/refiner.h"
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "tests/loader/testutil_fake_brick_source.h"
+
+namespace ropecast {
+namespace {
+
+using testing::FakeBrickSource;
+using testing::isFullTiling;
+using testing::KeyLess;
+
+// A data path where everything is in core and the pool has `slotCapacity` slots; chosen nodes' children are
+// "not in core". Records every acquire.
+class FakeResidency : public BrickResidency {
+ public:
+  Outcome acquire(std::span<const NodeKey> keys, std::optional<uint32_t> leaving, double priority,
+                  std::span<uint32_t> slotsOut) override {
+    const uint32_t freed = leaving ? 1 : 0;
+    for (const NodeKey& k : keys) {
+      if (notInCore.count(k)) return Outcome::NotInCore;
+    }
+    if (pinned + keys.size() > slotCapacity + freed) return Outcome::PoolFull;
+    if (leaving) --pinned;
+    for (size_t i = 0; i < keys.size(); ++i) slotsOut[i] = nextSlot++;
+    pinned += keys.size();
+    acquired.insert(keys.begin(), keys.end());
+    return Outcome::Ready;
+  }
+  std::set<NodeKey, KeyLess> notInCore;
+  std::set<NodeKey, KeyLess> acquired;
+  size_t slotCapacity = 1u << 30;
+  size_t pinned = 0;
+  uint32_t nextSlot = 0;
+};
+
+// 64^3 samples, bricks of 16: depths 0..2.
+FakeBrickSource makeSource(FakeBrickSource::NodeFn fn = {}) {
+  return FakeBrickSource({64, 64, 64}, 16, fn);
+}
+
+RefineView viewFrom(glm::dvec3 eye, glm::dvec3 target, uint32_t heightPx = 100, double fovDeg = 90.0) {
+  RefineView v;
+  v.camera.eye = eye;
+  v.camera.target = target;
+  v.camera.up = {0, 1, 0};
+  v.camera.fovYDeg = fovDeg;
+  v.viewportWidth = heightPx;
+  v.viewportHeight = heightPx;
+  return v;
+}
+
+TEST(Refiner, ProjectedVoxelPixelsMatchesThePinholeFormula) {
+  const FakeBrickSource src = makeSource();
+  const RefineView v = viewFrom({32, 32, -100}, {32, 32, 32});
+  // Root: level 2 (voxel = 4 samples), nearest point (32,32,0) at distance 100, tan(45 deg) = 1, 100 px high.
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), NodeKey{}, v), 4.0 / 200.0 * 100.0,
+              1e-9);
+  // A child facing the eye at the same distance has half the voxel size.
+  const NodeKey child{1, {0, 0, 0}};  // box [0,32]^3, nearest point (32,32,0)
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, v), 1.0, 1e-9);
+  // Anisotropic spacing: the largest spacing counts.
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0, 1.0, 0.5), NodeKey{},
+                                   viewFrom({32, 32, -100}, {32, 32, 16})),
+              4.0 / 200.0 * 100.0, 1e-9);
+}
+
+TEST(Refiner, EyeInsideANodeGivesAHugeButFiniteSize) {
+  const FakeBrickSource src = makeSource();
+  const RefineView v = viewFrom({10, 10, 10}, {32, 32, 32});
+  const double px = projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), NodeKey{2, {0, 0, 0}}, v);
+  EXPECT_TRUE(std::isfinite(px));
+  EXPECT_GT(px, 50.0);
+}
+
+TEST(Refiner, FrustumCullingIsConservative) {
+  const RefineView v = viewFrom({0, 0, -10}, {0, 0, 0});  // looking along +z, 90 degrees
+  EXPECT_TRUE(boxInFrustum({{-1, -1, 0}, {1, 1, 1}}, v));
+  EXPECT_FALSE(boxInFrustum({{-1, -1, -20}, {1, 1, -11}}, v));          // behind the eye
+  EXPECT_FALSE(boxInFrustum({{30, -1, 0}, {31, 1, 1}}, v));             // right of the 45-degree side plane
+  EXPECT_TRUE(boxInFrustum({{5, -1, 0}, {31, 1, 1}}, v));               // straddles the side plane
+  EXPECT_TRUE(boxInFrustum({{-100, -100, -100}, {100, 100, 100}}, v));  // contains the eye
+}
+
+TEST(Refiner, FarCameraKeepsTheRootAndNearCameraRefinesToTheFinestLevel) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency far;
+  const RefineResult r1 = refine(src, viewFrom({32, 32, -1e5}, {32, 32, 32}), {}, {}, far);
+  ASSERT_EQ(r1.leaves.size(), 1u);
+  EXPECT_EQ(r1.leaves[0].reason, LeafReason::Adequate);
+  EXPECT_EQ(r1.leaves[0].content, LeafContent::Brick);
+  EXPECT_TRUE(r1.complete);
+
+  FakeResidency near;
+  RefineView v = viewFrom({32, 32, -1}, {32, 32, 32}, 4000);
+  const RefineResult r2 = refine(src, v, {}, {}, near);
+  EXPECT_TRUE(isFullTiling(r2.leaves, 2));
+  EXPECT_EQ(r2.leaves.size(), 64u);
+  for (const PlannedLeaf& l : r2.leaves) {
+    EXPECT_EQ(l.key.depth, 2u);
+    EXPECT_EQ(l.reason, LeafReason::Finest);
+    EXPECT_EQ(l.content, LeafContent::Brick);
+  }
+  // Every leaf has its own slot.
+  std::set<uint32_t> slots;
+  for (const PlannedLeaf& l : r2.leaves) slots.insert(l.slot);
+  EXPECT_EQ(slots.size(), r2.leaves.size());
+}
+
+TEST(Refiner, RefinesByDecreasingProjectedVoxelSize) {
+  // 256^3, bricks of 16: depths 0..4; an oblique camera near a corner gives many distinct priorities.
+  const FakeBrickSource src({256, 256, 256}, 16);
+  FakeResidency res;
+  const RefineView v = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
+  const RefineResult r = refine(src, v, {}, {}, res);
+  ASSERT_GT(r.refinedOrder.size(), 20u);
+  double previous = INFINITY;
+  for (const NodeKey& k : r.refinedOrder) {
+    const double px = projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), k, v);
+    EXPECT_LE(px, previous) << "depth " << k.depth;
+    EXPECT_GT(px, 1.0);  // only inadequate nodes are refined
+    previous = px;
+  }
+  EXPECT_TRUE(isFullTiling(r.leaves, 4));
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.reason == LeafReason::Adequate) {
+      EXPECT_LE(l.voxelPixels, 1.0);
+    }
+  }
+  // A coarser target refines less.
+  FakeResidency coarse;
+  RefineView v2 = v;
+  v2.voxelsPerPixel = 0.25;
+  const RefineResult r2 = refine(src, v2, {}, {}, coarse);
+  EXPECT_LT(r2.leaves.size(), r.leaves.size());
+  for (const PlannedLeaf& l : r2.leaves) {
+    if (l.reason == LeafReason::Adequate) EXPECT_LE(l.voxelPixels, 4.0);
+  }
+}
+
+TEST(Refiner, EmptyOutsideAndConstantNodesAreTerminalWithoutBricks) {
+  // 48^3 with bricks of 16: depth 2 has 3 inside nodes per axis, so x = 3 is outside the data.
+  // Node min/max: value range [0, 10] for x < 2 at depth 2 ("air"), constant 100 (the isovalue) for depth-2
+  // nodes at x = 2, NodeKind::Empty at depth 1 coord (0,1,1).
+  auto fn = [](const NodeKey& k) -> NodeInfo {
+    if (k.depth == 1 && k.coord == glm::u32vec3(0, 1, 1)) return {NodeKind::Empty, 0, 0};
+    if (k.depth == 2 && k.coord.x == 2) return {NodeKind::Constant, 100, 100};
+    if (k.depth == 2 && k.coord.x < 2 && k.coord.y == 0) return {NodeKind::Data, 0, 10};
+    return {NodeKind::Data, 0, 255};
+  };
+  const FakeBrickSource src({48, 48, 48}, 16, fn);
+  const auto isoEmpty = [](uint16_t lo, uint16_t hi) { return !(lo <= 100 && 100 <= hi); };  // iso 100
+  FakeResidency res;
+  const RefineResult r = refine(src, viewFrom({24, 24, -2}, {24, 24, 24}, 4000), isoEmpty, {}, res);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  EXPECT_TRUE(r.complete);
+  std::map<LeafReason, size_t> byReason;
+  for (const PlannedLeaf& l : r.leaves) ++byReason[l.reason];
+  EXPECT_GT(byReason[LeafReason::Outside], 0u);
+  EXPECT_GT(byReason[LeafReason::Empty], 1u);
+  EXPECT_GT(byReason[LeafReason::Constant], 0u);
+  EXPECT_GT(byReason[LeafReason::Finest], 0u);
+  for (const PlannedLeaf& l : r.leaves) {
+    const NodeInfo info = src.node(l.key);
+    if (!src.info().layout.isInside(l.key)) {
+      EXPECT_EQ(l.reason, LeafReason::Outside);
+      EXPECT_EQ(l.content, LeafContent::Empty);
+    } else if (info.kind == NodeKind::Empty || isoEmpty(info.minValue, info.maxValue)) {
+      EXPECT_EQ(l.reason, LeafReason::Empty);
+      EXPECT_EQ(l.content, LeafContent::Empty);
+    } else if (info.kind == NodeKind::Constant) {
+      EXPECT_EQ(l.reason, LeafReason::Constant);
+      EXPECT_EQ(l.content, LeafContent::Brick);
+    } else {
+      EXPECT_EQ(l.content, LeafContent::Brick);
+    }
+    // Empty leaves never asked for a brick.
+    EXPECT_EQ(res.acquired.count(l.key) != 0, l.content == LeafContent::Brick);
+  }
+  // The Empty node at depth 1 is a leaf; its children were never considered.
+  EXPECT_TRUE(std::any_of(r.leaves.begin(), r.leaves.end(), [](const PlannedLeaf& l) {
+    return l.key == NodeKey{1, {0, 1, 1}};
+  }));
+}
+
+TEST(Refiner, ChildrenNotInCoreKeepTheParentAsALeaf) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency res;
+  const NodeKey held{1, {1, 1, 0}};
+  res.notInCore.insert(held.child(0));  // one missing child is enough
+  const RefineResult r = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}, 4000), {}, {}, res);
+  EXPECT_FALSE(r.complete);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  bool found = false;
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.key == held) {
+      found = true;
+      EXPECT_EQ(l.reason, LeafReason::NotInCore);
+      EXPECT_EQ(l.content, LeafContent::Brick);  // renders at its coarser level: no hole
+    } else {
+      EXPECT_EQ(l.key.depth, 2u);
+    }
+  }
+  EXPECT_TRUE(found);
+  // Missing root: a Missing leaf and nothing else.
+  FakeResidency cold;
+  cold.notInCore.insert(NodeKey{});
+  const RefineResult r0 = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}), {}, {}, cold);
+  ASSERT_EQ(r0.leaves.size(), 1u);
+  EXPECT_EQ(r0.leaves[0].content, LeafContent::Missing);
+  EXPECT_FALSE(r0.complete);
+}
+
+TEST(Refiner, FullPoolStopsRefinementButTheCutIsComplete) {
+  const FakeBrickSource src({256, 256, 256}, 16);
+  FakeResidency res;
+  res.slotCapacity = 30;
+  const RefineResult r = refine(src, viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0), {}, {}, res);
+  EXPECT_TRUE(r.complete);
+  EXPECT_TRUE(isFullTiling(r.leaves, 4));
+  size_t bricks = 0, poolFull = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    bricks += l.content == LeafContent::Brick;
+    poolFull += l.reason == LeafReason::PoolFull;
+  }
+  EXPECT_LE(bricks, 30u);
+  EXPECT_GT(poolFull, 0u);
+}
+
+TEST(Refiner, OccludedNodesAreNotRefinedAndRequestedNodesAreCounted) {
+  const FakeBrickSource src = makeSource();
+  PriorityHints hints;
+  const NodeKey occluded{1, {0, 0, 0}};
+  hints.occluded.insert(occluded);
+  hints.requested.insert(NodeKey{});
+  hints.requested.insert(NodeKey{1, {1, 1, 1}});
+  FakeResidency res;
+  const RefineResult r = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}, 4000), {}, hints, res);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  EXPECT_EQ(r.hintedRequests, 2u);
+  size_t depth1 = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.key.depth == 1) {
+      ++depth1;
+      EXPECT_EQ(l.key, occluded);
+      EXPECT_EQ(l.reason, LeafReason::Occluded);
+    }
+  }
+  EXPECT_EQ(depth1, 1u);
+  EXPECT_EQ(r.leaves.size(), 1u + 7u * 8u);
+}
+
+TEST(Refiner, NodesOutsideTheFrustumAreCulled) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency res;
+  // Close to the x = 0 face, looking at -x away from most of the volume: only the half x < 32 at most is
+  // seen.
+  const RefineResult r = refine(src, viewFrom({8, 32, 32}, {-100, 32, 32}, 1000, 30.0), {}, {}, res);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  size_t culled = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.reason == LeafReason::Culled) {
+      ++culled;
+      EXPECT_EQ(l.content, LeafContent::Empty);
+      EXPECT_FALSE(boxInFrustum(nodeWorldBox(src.info().layout, glm::dvec3(1.0), l.key),
+                                viewFrom({8, 32, 32}, {-100, 32, 32}, 1000, 30.0)));
+    }
+  }
+  EXPECT_GT(culled, 0u);
+}
+
+}  // namespace
+}  // namespace ropecast
