@@ -1,4 +1,5 @@
-// CPU reference traversal. Keep it line for line with shaders/rope_traversal.glsl.
+// CPU reference traversal. Keep it step for step with shaders/rope_traversal.glsl (which does the per-axis
+// arithmetic as vec3 operations: the same operations, component by component).
 #include "index/rope_traversal.h"
 
 #include <algorithm>
