@@ -1,6 +1,8 @@
 #include "tests/render/testutil_gl.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -51,6 +53,100 @@ std::filesystem::path freshTempDir() {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+namespace {
+
+std::vector<std::byte> makeBrick(const SceneSpec& spec, const OctreeLayout& layout, const NodeKey& node) {
+  const uint32_t level = layout.levelOfDepth(node.depth);
+  const glm::u32vec3 levelDims = layout.levelDims(level);
+  const uint32_t e = layout.storedBrickEdge();
+  const double storedMax = spec.storedType == SampleType::UInt8 ? 255.0 : 65535.0;
+  const glm::dvec3 cell = spec.spacing * std::ldexp(1.0, int(level));
+  std::vector<std::byte> bytes(size_t(e) * e * e * bytesPerSample(spec.storedType));
+  for (uint32_t k = 0; k < e; ++k)
+    for (uint32_t j = 0; j < e; ++j)
+      for (uint32_t i = 0; i < e; ++i) {
+        glm::dvec3 n;
+        for (int a = 0; a < 3; ++a) {
+          const int64_t idx = int64_t(node.coord[a]) * layout.brickSize + int64_t(glm::u32vec3(i, j, k)[a]) -
+                              int64_t(kBrickBorder);
+          n[a] = double(std::clamp<int64_t>(idx, 0, int64_t(levelDims[a]) - 1));
+        }
+        const double v = std::clamp(spec.value((n + 0.5) * cell), 0.0, 1.0);
+        const size_t at = i + size_t(e) * (j + size_t(e) * k);
+        if (spec.storedType == SampleType::UInt8) {
+          const uint8_t q = uint8_t(std::lround(v * storedMax));
+          std::memcpy(&bytes[at], &q, 1);
+        } else {
+          const uint16_t q = uint16_t(std::lround(v * storedMax));
+          std::memcpy(&bytes[at * 2], &q, 2);
+        }
+      }
+  return bytes;
+}
+
+}  // namespace
+
+GlScene buildScene(const SceneSpec& spec) {
+  GlContext& ctx = sharedGlContext();
+  GlScene scene;
+  const OctreeLayout layout = OctreeLayout::forVolume(spec.dims, spec.brickSize);
+  scene.info.layout = layout;
+  scene.info.volume.dims = spec.dims;
+  scene.info.volume.spacing = spec.spacing;
+  scene.info.volume.type = spec.storedType;
+  scene.info.storedType = spec.storedType;
+  scene.geometry = VolumeGeometry::of(scene.info);
+
+  std::vector<NodeKey> leaves;
+  std::function<void(const NodeKey&)> visit = [&](const NodeKey& node) {
+    const bool inside = layout.isInside(node);
+    if (inside && node.depth < layout.maxDepth && (!spec.refine || spec.refine(node))) {
+      for (uint32_t o = 0; o < 8; ++o) visit(node.child(o));
+      return;
+    }
+    leaves.push_back(node);
+  };
+  visit(NodeKey{});
+
+  size_t dataCount = 0;
+  for (const NodeKey& k : leaves)
+    if (layout.isInside(k) && !(spec.emptyLeaf && spec.emptyLeaf(k))) ++dataCount;
+  const uint64_t slotBytes = uint64_t(layout.storedBrickSamples()) * bytesPerSample(spec.storedType);
+  scene.pool =
+      std::make_unique<BrickPool>(BrickPoolConfig{spec.brickSize, spec.storedType,
+                                                  std::max<uint64_t>(dataCount, 1) * slotBytes * 2, false},
+                                  ctx.info().max3DTextureSize);
+  scene.minLeafDepth = layout.maxDepth;
+  for (const NodeKey& k : leaves) {
+    CutLeaf leaf{k.depth, k.coord, LeafKind::Empty, 0};
+    if (layout.isInside(k) && !(spec.emptyLeaf && spec.emptyLeaf(k))) {
+      const std::optional<uint32_t> slot = scene.pool->allocate();
+      if (!slot) throw std::runtime_error("buildScene: pool too small");
+      leaf.kind = LeafKind::Data;
+      leaf.brickSlot = *slot;
+      std::vector<std::byte> brick = makeBrick(spec, layout, k);
+      scene.pool->upload(*slot, brick);
+      scene.bricks.emplace(*slot, std::move(brick));
+      ++scene.dataLeaves;
+      scene.minLeafDepth = std::min(scene.minLeafDepth, k.depth);
+      scene.maxLeafDepth = std::max(scene.maxLeafDepth, k.depth);
+    }
+    scene.cut.leaves.push_back(leaf);
+  }
+  scene.index = buildRopeIndex(scene.cut);
+  scene.indexTexture = std::make_unique<IndexTexture>(4, ctx.info().maxTextureBufferTexels);
+  scene.indexTexture->upload(std::span<const uint32_t>(
+      reinterpret_cast<const uint32_t*>(scene.index.texels.data()), scene.index.texels.size() * 4));
+  return scene;
+}
+
+void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame) {
+  frame.pool = scene.pool.get();
+  frame.index = scene.indexTexture.get();
+  frame.volume = scene.geometry;
+  pass.render(frame);
 }
 
 }  // namespace ropecast::test

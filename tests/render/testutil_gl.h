@@ -3,11 +3,22 @@
 // Test thread only.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
+#include "index/cut.h"
+#include "index/rope_index.h"
+#include "loader/brick_source.h"
+#include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/image_io.h"
+#include "render/index_texture.h"
+#include "render/raycast_pass.h"
 
 namespace ropecast::test {
 
@@ -21,5 +32,39 @@ double maxAbsDifference(const FloatImage& a, const FloatImage& b, uint32_t chann
 
 // A fresh empty folder under the system temporary folder, named after the running test.
 std::filesystem::path freshTempDir();
+
+// A small volume built directly as bricks for ray caster tests: a function of the world position gives the
+// normalized value of every level-L sample (at its center (n + 0.5) s 2^L, sample indices clamped to the
+// level's dims as the store's edge replication does), and `refine` chooses the cut: a node inside the data is
+// split while refine(node) says so (down to maxDepth); leaves inside the data get bricks, the others are
+// Empty.
+struct SceneSpec {
+  glm::u32vec3 dims{32};
+  glm::dvec3 spacing{1.0};
+  uint32_t brickSize = 8;
+  SampleType storedType = SampleType::UInt16;
+  std::function<double(glm::dvec3 world)> value;       // normalized to [0, 1]
+  std::function<bool(const NodeKey& node)> refine;     // default: split everything (full resolution)
+  std::function<bool(const NodeKey& leaf)> emptyLeaf;  // inside leaves to mark Empty (default: none)
+};
+
+struct GlScene {
+  BrickSourceInfo info;  // layout, dims, spacing, stored type (identity mapping)
+  VolumeGeometry geometry;
+  Cut cut;
+  RopeIndex index;
+  std::unordered_map<uint32_t, std::vector<std::byte>>
+      bricks;  // by pool slot (render/cpu_raycaster BricksBySlot)
+  std::unique_ptr<BrickPool> pool;
+  std::unique_ptr<IndexTexture> indexTexture;
+  size_t dataLeaves = 0;
+  uint32_t minLeafDepth = 0, maxLeafDepth = 0;
+};
+
+// Builds the bricks, the cut and its index, and uploads pool and index (needs the shared context).
+GlScene buildScene(const SceneSpec& spec);
+
+// Renders the scene with the pass; fills frame.pool/index/volume from the scene.
+void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame);
 
 }  // namespace ropecast::test

@@ -1,0 +1,257 @@
+#include "render/raycast_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "loader/error.h"
+#include "loader/octree_layout.h"
+#include "loader/transfer_function.h"
+#include "render/brick_pool.h"
+#include "render/gl_context.h"
+#include "render/index_texture.h"
+#include "render/shader_program.h"
+
+namespace ropecast {
+
+namespace {
+
+// Texture and image units of the pass.
+constexpr GLuint kPoolUnit = 0;
+constexpr GLuint kTfUnit = 1;
+constexpr GLuint kRopeIndexUnit = 2;
+constexpr GLuint kColorImageUnit = 0;  // match the binding = N of shaders/raycast.comp
+constexpr GLuint kDepthImageUnit = 1;
+constexpr uint32_t kWorkgroupSize = 8;
+
+std::string floatDefine(const char* name, double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s %.9g", name, value);
+  return buf;
+}
+
+void setVec3(GLuint program, GLint location, glm::dvec3 v) {
+  glProgramUniform3f(program, location, float(v.x), float(v.y), float(v.z));
+}
+
+}  // namespace
+
+VolumeGeometry VolumeGeometry::of(const BrickSourceInfo& info) {
+  VolumeGeometry g;
+  g.dims = info.layout.dims;
+  g.spacing = info.volume.spacing;
+  g.brickSize = info.layout.brickSize;
+  g.maxDepth = info.layout.maxDepth;
+  g.storedType = info.storedType;
+  g.mapping = info.mapping;
+  return g;
+}
+
+RaycastPass::RaycastPass() {
+  glCreateVertexArrays(1, &emptyVertexArray_);
+  glCreateFramebuffers(1, &framebuffer_);
+  glCreateTextures(GL_TEXTURE_1D, 1, &tfTexture_);
+  glTextureStorage1D(tfTexture_, 1, GL_RGBA32F, TfTable::kDefaultEntries);
+  tfEntries_ = TfTable::kDefaultEntries;
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glTextureParameteri(tfTexture_, p, GL_LINEAR);
+  glTextureParameteri(tfTexture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+}
+
+RaycastPass::~RaycastPass() {
+  GLuint textures[] = {colorTexture_, worldDepthTexture_, depthBuffer_, tfTexture_};
+  glDeleteTextures(4, textures);
+  glDeleteFramebuffers(1, &framebuffer_);
+  glDeleteVertexArrays(1, &emptyVertexArray_);
+}
+
+const ShaderProgram& RaycastPass::program(RenderBackend backend, RenderMode mode) {
+  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode}];
+  if (!p) {
+    const std::vector<std::string> defines = {
+        mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
+        "BRICK_BORDER " + std::to_string(kBrickBorder),
+        "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
+        floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
+    };
+    if (backend == RenderBackend::Compute)
+      p = std::make_unique<ShaderProgram>(
+          std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/raycast.comp"}}, defines);
+    else
+      p = std::make_unique<ShaderProgram>(
+          std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/raycast.vert"},
+                                  {ShaderStage::Fragment, "shaders/raycast.frag"}},
+          defines);
+  }
+  return *p;
+}
+
+void RaycastPass::resizeTargets(uint32_t width, uint32_t height) {
+  if (width == width_ && height == height_) return;
+  GLuint old[] = {colorTexture_, worldDepthTexture_, depthBuffer_};
+  glDeleteTextures(3, old);
+  glCreateTextures(GL_TEXTURE_2D, 1, &colorTexture_);
+  glTextureStorage2D(colorTexture_, 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
+  glCreateTextures(GL_TEXTURE_2D, 1, &worldDepthTexture_);
+  glTextureStorage2D(worldDepthTexture_, 1, GL_R32F, GLsizei(width), GLsizei(height));
+  glCreateTextures(GL_TEXTURE_2D, 1, &depthBuffer_);
+  glTextureStorage2D(depthBuffer_, 1, GL_DEPTH_COMPONENT32F, GLsizei(width), GLsizei(height));
+  for (GLuint t : {colorTexture_, worldDepthTexture_}) {
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, colorTexture_, 0);
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT1, worldDepthTexture_, 0);
+  glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, depthBuffer_, 0);
+  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(framebuffer_, 2, drawBuffers);
+  const GLenum status = glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw Error("RaycastPass: render targets incomplete (status 0x" + std::to_string(status) + ")");
+  width_ = width;
+  height_ = height;
+}
+
+void RaycastPass::setUniforms(const ShaderProgram& p, const RaycastFrame& f) {
+  const GLuint id = p.id();
+  const VolumeGeometry& vol = f.volume;
+  const CameraFrame cam = cameraFrame(f.camera);
+  const auto u = [&](const char* name) { return p.uniform(name); };
+
+  // Camera, exactly the terms of loader/camera.h pixelRay.
+  setVec3(id, u("uEye"), f.camera.eye);
+  setVec3(id, u("uForward"), cam.forward);
+  setVec3(id, u("uRight"), cam.right);
+  setVec3(id, u("uUp"), cam.up);
+  glProgramUniform1f(id, u("uTanHalfFov"), float(std::tan(glm::radians(f.camera.fovYDeg) * 0.5)));
+  glProgramUniform1f(id, u("uAspect"), float(double(f.width) / double(f.height)));
+  glProgramUniform2ui(id, u("uImageSize"), f.width, f.height);
+
+  // Volume.
+  const glm::dvec3 volumeMax = glm::dvec3(vol.dims) * vol.spacing;
+  const double cubeSamples = double(uint64_t(vol.brickSize) << vol.maxDepth);
+  setVec3(id, u("uVolumeMax"), volumeMax);
+  setVec3(id, u("uCubeWorld"), cubeSamples * vol.spacing);
+  setVec3(id, u("uSpacing"), vol.spacing);
+  glProgramUniform1f(id, u("uMinSpacing"), float(std::min({vol.spacing.x, vol.spacing.y, vol.spacing.z})));
+  glProgramUniform1f(id, u("uBrickSize"), float(vol.brickSize));
+  glProgramUniform1ui(id, u("uMaxDepth"), vol.maxDepth);
+
+  // Pool, index and transfer function.
+  const BrickPoolGeometry& pool = f.pool->geometry();
+  glProgramUniform3ui(id, u("uPoolSlotGrid"), pool.slotGrid.x, pool.slotGrid.y, pool.slotGrid.z);
+  glProgramUniform1f(id, u("uPoolSlotEdge"), float(pool.slotEdge));
+  setVec3(id, u("uPoolTexelSize"), 1.0 / glm::dvec3(pool.textureDims));
+  glProgramUniform1i(id, u("uPool"), GLint(kPoolUnit));
+  glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
+  glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
+  glProgramUniform1i(id, u("uRopeIndex"), GLint(kRopeIndexUnit));
+
+  // RenderParams.
+  const RenderParams& rp = f.params;
+  glProgramUniform1f(id, u("uStepVoxels"), float(rp.stepVoxels));
+  glProgramUniform1f(id, u("uErt"), float(rp.ert));
+  setVec3(id, u("uBackground"), rp.background);
+  glProgramUniform1f(id, u("uIsoValue"), float(vol.mapping.toStored(rp.isoValue) / vol.storedMax()));
+  setVec3(id, u("uIsoBaseColor"), rp.lighting.isoBaseColor);
+  glProgramUniform1f(id, u("uAmbient"), float(rp.lighting.ambient));
+  glProgramUniform1f(id, u("uDiffuse"), float(rp.lighting.diffuse));
+  glProgramUniform1f(id, u("uSpecular"), float(rp.lighting.specular));
+  glProgramUniform1f(id, u("uShininess"), float(rp.lighting.shininess));
+
+  // Window depth for gl_FragDepth: a perspective range enclosing the volume.
+  const double extent = glm::length(volumeMax);
+  const double farDist = glm::length(f.camera.eye - 0.5 * volumeMax) + extent;
+  glProgramUniform1f(id, u("uDepthNear"), float(std::max(1e-4 * extent, 1e-9)));
+  glProgramUniform1f(id, u("uDepthFar"), float(std::max(farDist, 2e-4 * extent)));
+}
+
+void RaycastPass::render(const RaycastFrame& f) {
+  if (!f.pool) throw Error("RaycastPass::render: no brick pool");
+  if (!f.index) throw Error("RaycastPass::render: no index texture");
+  if (f.index->componentsPerTexel() != 4)
+    throw Error("RaycastPass::render: the rope index needs 4-component texels (index/rope_layout.h)");
+  if (f.width == 0 || f.height == 0) throw Error("RaycastPass::render: image size must be positive");
+  if (f.pool->geometry().slotEdge != f.volume.brickSize + 2 * kBrickBorder)
+    throw Error("RaycastPass::render: the pool's slots are for another brick size than the volume's " +
+                std::to_string(f.volume.brickSize));
+  if (f.pool->storedType() != f.volume.storedType)
+    throw Error("RaycastPass::render: the pool's sample type differs from the volume's");
+  if (!(f.params.stepVoxels > 0.0)) throw Error("RaycastPass::render: --step must be positive");
+  if (f.params.mode == RenderMode::Dvr && !f.tf)
+    throw Error("RaycastPass::render: DVR mode needs a baked transfer function");
+  if (f.tf && f.tf->entryCount() != tfEntries_)
+    throw Error("RaycastPass::render: transfer function tables have " + std::to_string(tfEntries_) +
+                " entries, got " + std::to_string(f.tf->entryCount()));
+
+  const ShaderProgram& p = program(f.params.backend, f.params.mode);
+  resizeTargets(f.width, f.height);
+  if (f.tf)
+    glTextureSubImage1D(tfTexture_, 0, 0, GLsizei(tfEntries_), GL_RGBA, GL_FLOAT, f.tf->entries().data());
+  setUniforms(p, f);
+  glBindTextureUnit(kPoolUnit, f.pool->texture());
+  glBindTextureUnit(kTfUnit, tfTexture_);
+  f.index->bind(kRopeIndexUnit);
+  p.use();
+
+  timer_.begin();
+  if (f.params.backend == RenderBackend::Compute) {
+    glBindImageTexture(kColorImageUnit, colorTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(kDepthImageUnit, worldDepthTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glProgramUniform2ui(p.id(), p.uniform("uTileOrigin"), 0, 0);
+    glDispatchCompute((f.width + kWorkgroupSize - 1) / kWorkgroupSize,
+                      (f.height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                    GL_FRAMEBUFFER_BARRIER_BIT);
+  } else {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+    glViewport(0, 0, GLsizei(f.width), GLsizei(f.height));
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    const float clearDepth = 1.0f;
+    glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &clearDepth);
+    glBindVertexArray(emptyVertexArray_);
+    glProgramUniform2ui(p.id(), p.uniform("uTargetSize"), f.width, f.height);
+    const GLint tileRect = p.uniform("uTileRect");
+    for (uint32_t y = 0; y < f.height; y += kTileSize)
+      for (uint32_t x = 0; x < f.width; x += kTileSize) {
+        glProgramUniform4ui(p.id(), tileRect, x, y, std::min(kTileSize, f.width - x),
+                            std::min(kTileSize, f.height - y));
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+      }
+    glBindVertexArray(0);
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+  timer_.end();
+  checkGlError("RaycastPass::render");
+}
+
+FloatImage RaycastPass::readColor() const {
+  FloatImage img{width_, height_, 4, std::vector<float>(size_t(width_) * height_ * 4)};
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(colorTexture_, 0, GL_RGBA, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
+                    img.pixels.data());
+  checkGlError("RaycastPass::readColor");
+  return img;
+}
+
+FloatImage RaycastPass::readDepth() const {
+  FloatImage img{width_, height_, 1, std::vector<float>(size_t(width_) * height_)};
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(worldDepthTexture_, 0, GL_RED, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
+                    img.pixels.data());
+  checkGlError("RaycastPass::readDepth");
+  return img;
+}
+
+}  // namespace ropecast

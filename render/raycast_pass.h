@@ -1,0 +1,94 @@
+// RaycastPass: the single-pass stackless GPU ray caster (seeds/002 Sect. 5, docs/RENDERING.md). Given the
+// brick pool, the rope index texture, a camera, the volume's geometry, RenderParams and (DVR) a baked
+// transfer function, it renders W x H into its own RGBA32F color target and R32F world-depth target, through
+// either entry point over the one shared include shaders/raycast_common.glsl:
+//   fragment: screen tiles (kTileSize pixels square) drawn one by one as quads (occlusion queries go between
+//             tiles later), with gl_FragDepth written to a depth attachment;
+//   compute:  8x8 workgroups with imageStore.
+// Composition, not inheritance: the pass owns its programs and targets and is handed everything else.
+//
+// Owns GL objects: render thread only, with the GlContext current.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <utility>
+
+#include <glm/vec3.hpp>
+
+#include "loader/brick_source.h"
+#include "loader/camera.h"
+#include "loader/sample_type.h"
+#include "render/gpu_timer.h"
+#include "render/image_io.h"
+#include "render/render_params.h"
+
+namespace ropecast {
+
+class BrickPool;
+class IndexTexture;
+class ShaderProgram;
+class TfTable;
+
+// What the ray caster needs to know about the volume (docs/RENDERING.md "Spaces").
+struct VolumeGeometry {
+  glm::u32vec3 dims{0};     // level-0 samples per axis
+  glm::dvec3 spacing{1.0};  // world units per sample
+  uint32_t brickSize = 32;  // B
+  uint32_t maxDepth = 0;    // depth of the full-resolution leaves
+  SampleType storedType = SampleType::UInt8;
+  ValueMapping mapping;  // stored -> data units
+
+  static VolumeGeometry of(const BrickSourceInfo& info);
+  double storedMax() const { return storedType == SampleType::UInt8 ? 255.0 : 65535.0; }
+};
+
+struct RaycastFrame {
+  const BrickPool* pool = nullptr;
+  const IndexTexture* index = nullptr;  // uvec4 texels of index/rope_layout.h
+  Camera camera;
+  VolumeGeometry volume;
+  RenderParams params;          // params.backend picks the entry point
+  const TfTable* tf = nullptr;  // required in DVR mode
+  uint32_t width = 0, height = 0;
+};
+
+class RaycastPass {
+ public:
+  static constexpr uint32_t kTileSize = 64;  // fragment entry point: pixels per tile side
+
+  RaycastPass();
+  ~RaycastPass();
+  RaycastPass(const RaycastPass&) = delete;
+  RaycastPass& operator=(const RaycastPass&) = delete;
+
+  // Renders the frame into the targets (resized to width x height as needed). Programs compile on first use
+  // of a (backend, mode) variant. Throws ropecast::Error on bad inputs (naming the field), shader errors or
+  // GL errors.
+  void render(const RaycastFrame& frame);
+
+  // GPU time of the last render() (GL_TIME_ELAPSED; waits for the result).
+  double lastRaycastMs() const { return timer_.elapsedMs(); }
+  // The targets of the last render, row 0 at the top: RGBA (final color, alpha = coverage) and depth (world
+  // units along the camera axis, +inf = miss). Synchronous readback.
+  FloatImage readColor() const;
+  FloatImage readDepth() const;
+  uint32_t colorTexture() const { return colorTexture_; }
+  uint32_t depthTexture() const { return worldDepthTexture_; }
+
+ private:
+  const ShaderProgram& program(RenderBackend backend, RenderMode mode);
+  void resizeTargets(uint32_t width, uint32_t height);
+  void setUniforms(const ShaderProgram& program, const RaycastFrame& frame);
+
+  std::map<std::pair<RenderBackend, RenderMode>, std::unique_ptr<ShaderProgram>> programs_;
+  uint32_t width_ = 0, height_ = 0;
+  uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, depthBuffer_ = 0, framebuffer_ = 0;
+  uint32_t emptyVertexArray_ = 0;
+  uint32_t tfTexture_ = 0;
+  uint32_t tfEntries_ = 0;
+  GpuTimer timer_;
+};
+
+}  // namespace ropecast

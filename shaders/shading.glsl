@@ -1,0 +1,83 @@
+// Sampling and shading of the ray caster, exactly as docs/RENDERING.md fixes them: trilinear fetches from the
+// brick pool at a leaf's level, central-difference gradients, the transfer function lookup with opacity
+// correction, and the Phong headlight. The CPU mirror (render/cpu_raycaster.cpp) computes the same in double.
+// Included by shaders/raycast_common.glsl; no #version line. Needs the define BRICK_BORDER (kBrickBorder).
+
+uniform sampler3D uPool;        // render/brick_pool: R8/R16 UNORM, LINEAR, CLAMP_TO_EDGE
+uniform uvec3 uPoolSlotGrid;    // slots per axis
+uniform float uPoolSlotEdge;    // texels per slot per axis (B + 2 * BRICK_BORDER)
+uniform vec3 uPoolTexelSize;    // 1 / pool texture dims
+uniform sampler1D uTransferFunction;  // RGBA32F, straight color, LINEAR, CLAMP_TO_EDGE
+uniform float uTfEntries;       // N
+
+uniform vec3 uIsoBaseColor;
+uniform float uAmbient;
+uniform float uDiffuse;
+uniform float uSpecular;
+uniform float uShininess;
+
+// Texel origin of a pool slot; the twin of BrickPoolGeometry::slotOrigin.
+vec3 poolSlotOrigin(uint slot) {
+  uvec3 g = uvec3(slot % uPoolSlotGrid.x, (slot / uPoolSlotGrid.x) % uPoolSlotGrid.y,
+                  slot / (uPoolSlotGrid.x * uPoolSlotGrid.y));
+  return vec3(g) * uPoolSlotEdge;
+}
+
+// A data leaf's brick: where its slot lies and how root-cube coordinates map to its texels.
+struct BrickRef {
+  vec3 slotOrigin;      // texel origin of the slot in the pool
+  vec3 boxMin;          // leaf box in root-cube coordinates
+  float texelsPerCube;  // level-L samples per root-cube unit: B * 2^depth
+};
+
+// Texel coordinate (inside the slot, border included) of a root-cube point: the level-L sample coordinate
+// minus the node's first sample plus the border (docs/RENDERING.md "Level grid").
+vec3 brickTexel(BrickRef b, vec3 posCube) {
+  return (posCube - b.boxMin) * b.texelsPerCube + float(BRICK_BORDER);
+}
+
+// v at a texel coordinate of the brick, normalized to [0, 1]. Clamped to the slot's outer texel centers, which
+// is clamp-to-edge of this brick alone: never a neighbor slot's texels.
+float brickValue(BrickRef b, vec3 texel) {
+  vec3 p = clamp(texel, vec3(0.5), vec3(uPoolSlotEdge - 0.5));
+  return textureLod(uPool, (b.slotOrigin + p) * uPoolTexelSize, 0.0).r;
+}
+
+// Central differences with h_i = s_i * 2^L: one level-L texel along each axis. cellWorld = s * 2^L.
+vec3 brickGradient(BrickRef b, vec3 texel, vec3 cellWorld) {
+  vec3 g;
+  g.x = brickValue(b, texel + vec3(1.0, 0.0, 0.0)) - brickValue(b, texel - vec3(1.0, 0.0, 0.0));
+  g.y = brickValue(b, texel + vec3(0.0, 1.0, 0.0)) - brickValue(b, texel - vec3(0.0, 1.0, 0.0));
+  g.z = brickValue(b, texel + vec3(0.0, 0.0, 1.0)) - brickValue(b, texel - vec3(0.0, 0.0, 1.0));
+  return g / (2.0 * cellWorld);
+}
+
+// Transfer function at normalized value v: linear between entries, texcoord (v (N-1) + 0.5) / N.
+vec4 transferFunction(float v) {
+  float u = (clamp(v, 0.0, 1.0) * (uTfEntries - 1.0) + 0.5) / uTfEntries;
+  return textureLod(uTransferFunction, u, 0.0);
+}
+
+// Phong headlight (L = V = -dir, R = reflect(-L, N)): x = N.L, y = R.V.
+vec2 headlight(vec3 n, vec3 dir) {
+  vec3 l = -dir;
+  vec3 r = reflect(-l, n);
+  return vec2(dot(n, l), dot(r, l));
+}
+
+vec3 shadeIso(vec3 gradient, vec3 dir) {
+  float len = length(gradient);
+  vec3 n = len > 0.0 ? -gradient / len : -dir;
+  if (dot(n, -dir) < 0.0) n = -n;
+  vec2 nlrv = headlight(n, dir);
+  return uIsoBaseColor * (uAmbient + uDiffuse * max(nlrv.x, 0.0)) +
+         vec3(uSpecular * pow(max(nlrv.y, 0.0), uShininess));
+}
+
+// Two-sided shading of a DVR sample's color; unshaded where the gradient vanishes.
+vec3 shadeDvr(vec3 color, vec3 gradient, vec3 dir, float minSpacing) {
+  float len = length(gradient);
+  if (!(len * minSpacing > DVR_SHADE_GRADIENT_THRESHOLD)) return color;
+  vec2 nlrv = headlight(-gradient / len, dir);
+  return color * (uAmbient + uDiffuse * abs(nlrv.x)) + vec3(uSpecular * pow(abs(nlrv.y), uShininess));
+}
