@@ -84,15 +84,20 @@ class RayIntegrator {
       : fc_(fc), ray_(ray), t0_(t0), t1_(t1) {}
 
   // Samples [tEnter, tExit) at level `level` with `sampler`; false once the ray is finished (iso hit, ERT).
+  // `fromEntry`: the segment is the first the traversal reports, so it starts at t0 and its first sample is
+  // t0 itself even where the float traversal rounded tEnter just above t0 (as the shader does).
   template <class Sampler>
-  bool march(double tEnter, double tExit, uint32_t level, const Sampler& sampler) {
+  bool march(double tEnter, double tExit, uint32_t level, const Sampler& sampler, bool fromEntry) {
     const double levelScale = std::ldexp(1.0, int(level));
     const double dt = fc_.params.stepVoxels * levelScale * fc_.minSpacing;
     const glm::dvec3 cell = fc_.spacing * levelScale;
     const double tStop = std::min(tExit, t1_);
     // Samples t = t0 + k dt with tEnter <= t: the grid is anchored at the volume entry.
-    double k = std::ceil((tEnter - t0_) / dt);
-    if (t0_ + k * dt < tEnter) k += 1.0;
+    double k = 0.0;
+    if (!fromEntry) {
+      k = std::ceil((tEnter - t0_) / dt);
+      if (t0_ + k * dt < tEnter) k += 1.0;
+    }
     for (double t = t0_ + k * dt; t < tStop; k += 1.0, t = t0_ + k * dt) {
       const glm::dvec3 x = ray_.origin + t * ray_.dir;
       const double v = sampler.value(x);
@@ -262,7 +267,10 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
     RopeLeaf leaf;
     if (ropeBegin(cursor, index, glm::vec3(ray.origin / cubeWorld), glm::vec3(ray.dir / cubeWorld), float(t0),
                   float(t1))) {
+      bool entryLeaf = true;
       while (ropeNextLeaf(cursor, index, leaf)) {
+        const bool firstLeaf = entryLeaf;
+        entryLeaf = false;
         if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
         if (leaf.depth > layout.maxDepth)
           throw Error("renderMirror: a leaf at depth " + std::to_string(leaf.depth) +
@@ -273,7 +281,8 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
         const NodeKey node{
             leaf.depth, glm::u32vec3(glm::round(glm::dvec3(leaf.boxMin) * double(ropeBoxScale(leaf.depth))))};
         const BrickSampler sampler(it->second.data(), volume.storedType, layout, node, fc.spacing);
-        if (!rayLoop.march(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), sampler)) break;
+        if (!rayLoop.march(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), sampler, firstLeaf))
+          break;
       }
     }
     rayLoop.finish(rgba, depth);
@@ -297,7 +306,7 @@ CpuImage ReferenceRenderer::render(const CpuRenderInput& input) const {
     double t0, t1;
     if (!clipToBox(ray, fc.volumeMax, t0, t1)) return writeMiss(fc, rgba, depth);
     RayIntegrator rayLoop(fc, ray, t0, t1);
-    rayLoop.march(t0, t1, 0, sampler);
+    rayLoop.march(t0, t1, 0, sampler, true);
     rayLoop.finish(rgba, depth);
   });
 }
