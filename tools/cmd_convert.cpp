@@ -1,0 +1,90 @@
+// `ropecast convert INPUT -o OUT [options]`: builds an octree store from any volume source
+// (loader/converter.h). Main thread; the converter starts its own compression workers.
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "loader/converter.h"
+#include "loader/error.h"
+#include "loader/sample_type.h"
+#include "loader/volume_source.h"
+#include "tools/cli_values.h"
+#include "tools/command.h"
+#include "tools/progress_bar.h"
+
+namespace ropecast::tools {
+namespace {
+
+struct ConvertArgs {
+  std::string input, output, dims, type, spacing;
+  uint32_t brick = kDefaultBrickSize;
+  std::optional<double> discardBelow;
+  int zstdLevel = 3;
+  unsigned threads = 0;
+  bool quiet = false;
+};
+
+int runConvert(const ConvertArgs& a) {
+  SourceOptions sourceOptions;
+  if (!a.dims.empty()) sourceOptions.dims = parseDims(a.dims, "--dims");
+  if (!a.spacing.empty()) sourceOptions.spacing = parseTriple(a.spacing, "--spacing");
+  if (!a.type.empty()) {
+    sourceOptions.type = parseSampleType(a.type);
+    if (!sourceOptions.type)
+      throw Error("convert: --type '" + a.type + "': expected uint8, uint16, int16 or float32");
+  }
+  const auto source = openVolumeSource(a.input, sourceOptions);
+
+  ConvertOptions options;
+  options.brickSize = a.brick;
+  options.discardBelow = a.discardBelow;
+  options.zstdLevel = a.zstdLevel;
+  options.workerThreads = a.threads;
+  ProgressBar scan("scanning range", "B", a.quiet), bricks("converting", "B", a.quiet);
+  options.progress = [&](const ConvertProgress& p) {
+    if (p.phase == ConvertProgress::Phase::ValueRange) {
+      scan.update(p.bytesDone, p.bytesTotal);
+    } else {
+      scan.finish();
+      bricks.update(p.bytesDone, p.bytesTotal);
+    }
+  };
+  const ConvertStats stats = convertVolume(*source, a.output, options);
+  bricks.finish();
+  if (!a.quiet) {
+    const VolumeInfo& info = source->info();
+    const double rawBytes = double(info.sampleCount()) * double(bytesPerSample(info.type));
+    std::printf(
+        "wrote %s: %ux%ux%u %s, %llu nodes (%llu with data, %llu constant, %llu empty), %.1f MiB of "
+        "bricks = %.3f of the raw size\n",
+        a.output.c_str(), info.dims.x, info.dims.y, info.dims.z,
+        std::string(sampleTypeName(info.type)).c_str(), (unsigned long long)stats.nodes,
+        (unsigned long long)stats.dataNodes, (unsigned long long)stats.constantNodes,
+        (unsigned long long)stats.emptyNodes, double(stats.payloadBytes) / (1024.0 * 1024.0),
+        double(stats.payloadBytes) / rawBytes);
+  }
+  return 0;
+}
+
+const CommandRegistration registration("convert", 10, [](CLI::App& app) -> std::function<int()> {
+  app.description("build an octree store from a volume (raw, NRRD, image stack, procedural:NAME:SIZE)");
+  auto a = std::make_shared<ConvertArgs>();
+  app.add_option("input", a->input,
+                 "volume: file.raw (name_XxYxZ_type.raw or --dims/--type), .nrrd/.nhdr, "
+                 "directory or glob of slices, multi-page TIFF, procedural:NAME:SIZE")
+      ->required();
+  app.add_option("-o,--output", a->output, "the store file to write")->required();
+  app.add_option("--brick", a->brick, "brick edge in samples (power of two in [4, 256])")
+      ->capture_default_str();
+  app.add_option("--discard-below", a->discardBelow, "mark nodes whose max is below V (data units) empty");
+  app.add_option("--dims", a->dims, "X,Y,Z for raw files");
+  app.add_option("--type", a->type, "uint8, uint16, int16 or float32 for raw files");
+  app.add_option("--spacing", a->spacing, "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
+  app.add_option("--zstd-level", a->zstdLevel, "zstd compression level")->capture_default_str();
+  app.add_option("--threads", a->threads, "compression threads (0: one per core)")->capture_default_str();
+  app.add_flag("-q,--quiet", a->quiet, "no progress bar and no summary");
+  return [a] { return runConvert(*a); };
+});
+
+}  // namespace
+}  // namespace ropecast::tools

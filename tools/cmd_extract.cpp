@@ -1,0 +1,42 @@
+// `ropecast extract STORE --level L -o OUT.raw`: one resolution level as a raw volume in the original type
+// (loader/extract.h). Main thread.
+#include <cstdio>
+#include <memory>
+
+#include "loader/extract.h"
+#include "loader/store.h"
+#include "tools/command.h"
+
+namespace ropecast::tools {
+namespace {
+
+struct ExtractArgs {
+  std::string store, output;
+  uint32_t level = 0;
+  bool quiet = false;
+};
+
+int runExtract(const ExtractArgs& a) {
+  const auto store = Store::open(a.store);
+  extractLevelToFile(*store, a.level, a.output);
+  if (!a.quiet) {
+    const glm::u32vec3 d = store->info().layout.levelDims(a.level);
+    std::printf("wrote %s: level %u, %ux%ux%u %s, x fastest, little-endian\n", a.output.c_str(), a.level, d.x,
+                d.y, d.z, std::string(sampleTypeName(store->info().volume.type)).c_str());
+  }
+  return 0;
+}
+
+const CommandRegistration registration("extract", 40, [](CLI::App& app) -> std::function<int()> {
+  app.description("write one resolution level of a store as a raw volume in its original type");
+  auto a = std::make_shared<ExtractArgs>();
+  app.add_option("store", a->store, "store file")->required();
+  app.add_option("--level", a->level, "resolution level (0 = full, L has ceil(n / 2^L) samples per axis)")
+      ->capture_default_str();
+  app.add_option("-o,--output", a->output, "raw file to write")->required();
+  app.add_flag("-q,--quiet", a->quiet, "no summary");
+  return [a] { return runExtract(*a); };
+});
+
+}  // namespace
+}  // namespace ropecast::tools

@@ -1,0 +1,89 @@
+// `ropecast info STORE [--json]`: what a store holds (loader/store.h summarizeStore). Main thread.
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "loader/store.h"
+#include "loader/store_writer.h"
+#include "tools/command.h"
+
+namespace ropecast::tools {
+namespace {
+
+double ratio(uint64_t a, uint64_t b) {
+  return b > 0 ? double(a) / double(b) : 0.0;
+}
+double mib(uint64_t bytes) {
+  return double(bytes) / (1024.0 * 1024.0);
+}
+
+int runInfo(const std::string& path, bool json) {
+  const auto store = Store::open(path);
+  const StoreMetadata& m = store->metadata();
+  const StoreSummary s = summarizeStore(*store);
+  const VolumeInfo& v = m.volume;
+  if (json) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const auto& l : s.levels)
+      levels.push_back({{"level", l.level},
+                        {"depth", l.depth},
+                        {"dims", {l.dims.x, l.dims.y, l.dims.z}},
+                        {"nodesPerAxis", {l.nodes.x, l.nodes.y, l.nodes.z}},
+                        {"nodes", l.total},
+                        {"empty", l.empty},
+                        {"constant", l.constant},
+                        {"data", l.data},
+                        {"payloadBytes", l.payloadBytes}});
+    nlohmann::json j = nlohmann::json::parse(storeMetadataToJson(m));
+    j["file"] = path;
+    j["nodes"] = {{"total", s.total}, {"empty", s.empty}, {"constant", s.constant}, {"data", s.data}};
+    j["levelsDetail"] = levels;
+    j["bytes"] = {{"file", s.fileBytes},
+                  {"payload", s.payloadBytes},
+                  {"payloadUncompressed", s.uncompressedBytes},
+                  {"allBricksUncompressed", s.allBricksBytes},
+                  {"raw", s.rawBytes}};
+    j["compressionRatio"] = ratio(s.uncompressedBytes, s.payloadBytes);
+    j["fileToRawRatio"] = ratio(s.fileBytes, s.rawBytes);
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("store      %s\n", path.c_str());
+  std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
+              v.spacing.x, v.spacing.y, v.spacing.z);
+  std::printf("type       %s (stored as %s, data = stored * %g + %g)\n",
+              std::string(sampleTypeName(v.type)).c_str(), std::string(sampleTypeName(m.storedType)).c_str(),
+              m.mapping.scale, m.mapping.offset);
+  std::printf("values     [%g, %g]%s\n", v.valueMin.value_or(0), v.valueMax.value_or(0),
+              m.discardBelow ? (", discarded below " + std::to_string(*m.discardBelow)).c_str() : "");
+  std::printf("bricks     %u^3 + border %u, %u levels, zstd level %d\n", m.brickSize, m.border, m.levels,
+              m.zstdLevel);
+  std::printf("source     %s (by %s)\n", v.description.c_str(), m.creationTool.c_str());
+  std::printf("nodes      %llu total: %llu with data, %llu constant, %llu empty\n",
+              (unsigned long long)s.total, (unsigned long long)s.data, (unsigned long long)s.constant,
+              (unsigned long long)s.empty);
+  std::printf("  level depth        dims         nodes    data  constant   empty   payload MiB\n");
+  for (const auto& l : s.levels)
+    std::printf("  %5u %5u %5ux%5ux%5u %8llu %7llu %9llu %7llu %13.2f\n", l.level, l.depth, l.dims.x,
+                l.dims.y, l.dims.z, (unsigned long long)l.total, (unsigned long long)l.data,
+                (unsigned long long)l.constant, (unsigned long long)l.empty, mib(l.payloadBytes));
+  std::printf(
+      "size       file %.2f MiB; payload %.2f MiB compressed from %.2f MiB (ratio %.2f); raw volume %.2f MiB "
+      "(file/raw %.3f)\n",
+      mib(s.fileBytes), mib(s.payloadBytes), mib(s.uncompressedBytes),
+      ratio(s.uncompressedBytes, s.payloadBytes), mib(s.rawBytes), ratio(s.fileBytes, s.rawBytes));
+  return 0;
+}
+
+const CommandRegistration registration("info", 20, [](CLI::App& app) -> std::function<int()> {
+  app.description("print what a store holds: dims, type, value range, levels, node counts, sizes");
+  auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  app.add_option("store", *path, "store file")->required();
+  app.add_flag("--json", *json, "print JSON");
+  return [path, json] { return runInfo(*path, *json); };
+});
+
+}  // namespace
+}  // namespace ropecast::tools

@@ -1,0 +1,36 @@
+// ProgressBar: a one-line bar with percentage, rate and ETA on stderr, for long commands (convert, verify).
+// Draws only when enabled (stderr is a terminal and --quiet was not given), at most ~10 times a second.
+// Owned by the command that runs; update() from one thread at a time.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace ropecast::tools {
+
+class ProgressBar {
+ public:
+  // `unit` names what `done`/`total` count: "B" gives MiB/s, anything else "<unit>/s".
+  ProgressBar(std::string label, std::string unit, bool quiet);
+  ~ProgressBar();
+
+  void update(uint64_t done, uint64_t total);
+  void finish();  // ends the line (once)
+  bool enabled() const { return enabled_; }
+
+  // True when stderr is a terminal.
+  static bool stderrIsTerminal();
+
+ private:
+  void draw(uint64_t done, uint64_t total);
+
+  std::string label_, unit_;
+  bool enabled_ = false, drawn_ = false, finished_ = false;
+  std::chrono::steady_clock::time_point start_, lastDraw_;
+};
+
+// "1:02:03", "4:05".
+std::string formatDuration(double seconds);
+
+}  // namespace ropecast::tools
