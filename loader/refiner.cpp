@@ -120,8 +120,7 @@ class RefineRun {
       leaf(root, LeafContent::Empty, c.reason, UINT32_MAX, 0.0);
     } else {
       uint32_t slot = UINT32_MAX;
-      const auto outcome =
-          residency_.acquire(std::span(&root, 1), std::nullopt, rootPixels, std::span(&slot, 1));
+      const auto outcome = residency_.acquire(std::span(&root, 1), rootPixels, std::span(&slot, 1));
       if (outcome != BrickResidency::Outcome::Ready) {
         leaf(root, LeafContent::Missing, reasonOf(outcome), UINT32_MAX, rootPixels);
       } else if (c.cls == Class::ConstantBrick) {
@@ -156,7 +155,7 @@ class RefineRun {
       classes[o] = classify(children[o]);
       if (classes[o].cls != Class::NoBrick) withBrick[brickCount++] = children[o];
     }
-    const auto outcome = residency_.acquire(std::span(withBrick.data(), brickCount), n.slot, n.voxelPixels,
+    const auto outcome = residency_.acquire(std::span(withBrick.data(), brickCount), n.voxelPixels,
                                             std::span(slots.data(), brickCount));
     if (outcome != BrickResidency::Outcome::Ready) return leaf(n, reasonOf(outcome));
 

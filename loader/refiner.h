@@ -80,12 +80,12 @@ class BrickResidency {
   enum class Outcome { Ready, NotInCore, PoolFull, UploadBudget };
   virtual ~BrickResidency() = default;
   // Either every node of `keys` gets a GPU slot holding (or being uploaded with) its brick, pinned for this
-  // cut, written to slotsOut (same order) and the result is Ready; or nothing changes in the cut and the
-  // result says why (NotInCore also requests the missing bricks at `priority`). `leaving` is the slot of the
-  // parent that leaves the cut when this succeeds: it may be reused for the children. Called with an empty
-  // `keys` too (a node whose children are all empty), so the parent's slot is released.
-  virtual Outcome acquire(std::span<const NodeKey> keys, std::optional<uint32_t> leaving, double priority,
-                          std::span<uint32_t> slotsOut) = 0;
+  // frame's tree, written to slotsOut (same order) and the result is Ready; or nothing changes in the tree
+  // and the result says why (NotInCore also requests the missing bricks at `priority`). A refined node keeps
+  // its slot pinned: the whole refined tree (inner nodes and the cut) stays on the GPU, so a converged tree
+  // needs no upload in the next frame and zooming out needs none either. Called with an empty `keys` too (a
+  // node whose children are all empty).
+  virtual Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) = 0;
 };
 
 struct RefineResult {

@@ -1,8 +1,8 @@
 // SlotTable: which brick each slot of the GPU brick pool holds, and which slot to give the next brick. The
 // pool itself (one 3D texture of slots) belongs to render/; this table only decides. Slots whose brick is in
-// the cut being built are pinned and never reused; the others are reused least recently used first, free
-// slots before any of them. A brick that left the cut keeps its slot until it is reused, so it comes back
-// without an upload.
+// the tree being built (the cut and the inner nodes above it) are pinned and never reused; the others are
+// reused least recently used first, free slots before any of them. A brick that left the cut keeps its slot
+// until it is reused, so it comes back without an upload.
 //
 // Owned by the WorkingSet. Not thread-safe: the render thread only.
 #pragma once

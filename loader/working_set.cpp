@@ -39,11 +39,9 @@ class WorkingSet::Residency final : public BrickResidency {
  public:
   Residency(WorkingSet& ws) : ws_(ws) {}
 
-  Outcome acquire(std::span<const NodeKey> keys, std::optional<uint32_t> leaving, double priority,
-                  std::span<uint32_t> slotsOut) override {
+  Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
     SlotTable& slots = ws_.slots_;
-    const uint32_t freedByParent = leaving && slots.isPinned(*leaving) ? 1 : 0;
-    if (keys.size() > slots.availableCount() + freedByParent) return Outcome::PoolFull;
+    if (keys.size() + reservedSlots_ > slots.availableCount()) return Outcome::PoolFull;
 
     bool missing = false;
     uint64_t uploadCount = 0;
@@ -60,10 +58,10 @@ class WorkingSet::Residency final : public BrickResidency {
     }
     if (missing) return Outcome::NotInCore;
     if (uploadCount * ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
+      uploadAhead(keys);
       return Outcome::UploadBudget;
     }
 
-    if (leaving) slots.unpin(*leaving);
     // Pin the resident children first so that acquiring slots for the others cannot evict them.
     std::vector<uint8_t> resident(keys.size(), 0);
     for (size_t i = 0; i < keys.size(); ++i) {
@@ -79,11 +77,7 @@ class WorkingSet::Residency final : public BrickResidency {
       const std::optional<uint32_t> slot = slots.acquire(k);
       if (!slot) throw Error("WorkingSet: internal error, no GPU slot left for " + describe(k));
       slotsOut[i] = *slot;
-      SharedBrick brick = ws_.cache_.get(k);
-      if (!brick) brick = makeConstantBrick(ws_.source_.info(), ws_.source_.node(k).minValue);
-      uploads.push_back({*slot, k, std::move(brick)});
-      ++stats.bricksUploaded;
-      stats.bytesUploaded += ws_.brickBytes_;
+      upload(*slot, k);
     }
     return Outcome::Ready;
   }
@@ -93,7 +87,54 @@ class WorkingSet::Residency final : public BrickResidency {
   FrameStats stats;
 
  private:
+  // The children do not all fit in this frame's upload budget: upload those that fit now and the parent
+  // refines in a later frame, once all are on the GPU (without this, a budget under 8 bricks could never
+  // refine). For the rest of this frame their slots stay pinned and the missing ones reserved, so that
+  // lower-priority nodes do not take (and evict) them: the pool goes to nodes in priority order, as when
+  // nothing waits for the budget.
+  void uploadAhead(std::span<const NodeKey> keys) {
+    SlotTable& slots = ws_.slots_;
+    // Pin the resident ones first, so that acquiring slots for the others cannot evict them.
+    std::vector<uint8_t> resident(keys.size(), 0);
+    for (size_t i = 0; i < keys.size(); ++i) {
+      if (const auto slot = slots.find(keys[i])) {
+        slots.pin(*slot);
+        resident[i] = 1;
+      }
+    }
+    for (size_t i = 0; i < keys.size(); ++i) {
+      if (resident[i]) continue;
+      const NodeKey& k = keys[i];
+      if (ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
+        ++reservedSlots_;
+        continue;
+      }
+      const std::optional<uint32_t> slot = slots.acquire(k);
+      if (!slot) {
+        ++reservedSlots_;
+        continue;
+      }
+      upload(*slot, k);
+    }
+  }
+
+  void upload(uint32_t slot, const NodeKey& k) {
+    SharedBrick brick = ws_.cache_.get(k);
+    if (!brick) {
+      const NodeInfo info = ws_.source_.node(k);
+      if (info.kind != NodeKind::Constant) {
+        throw Error("WorkingSet: internal error, the brick of " + describe(k) +
+                    " left the CPU cache before upload");
+      }
+      brick = makeConstantBrick(ws_.source_.info(), info.minValue);
+    }
+    uploads.push_back({slot, k, std::move(brick)});
+    ++stats.bricksUploaded;
+    stats.bytesUploaded += ws_.brickBytes_;
+  }
+
   WorkingSet& ws_;
+  uint64_t reservedSlots_ = 0;  // children held back by the upload budget that have no slot yet
 };
 
 WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config)
@@ -102,6 +143,11 @@ WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config
       brickBytes_(source.brickBytes()),
       cache_(config.cpuCacheBytes, source.brickBytes()),
       slots_(config.gpuSlots) {
+  if (config.cpuCacheBytes < kMinCpuCacheBricks * brickBytes_) {
+    throw Error("WorkingSet: --cpu-cache " + std::to_string(config.cpuCacheBytes) + " bytes is below " +
+                std::to_string(kMinCpuCacheBricks) + " bricks of " + std::to_string(brickBytes_) +
+                " bytes (the children of a few nodes must fit at once)");
+  }
   if (config.uploadBudgetBytes < brickBytes_) {
     throw Error("WorkingSet: --upload-budget " + std::to_string(config.uploadBudgetBytes) +
                 " bytes cannot carry one brick of " + std::to_string(brickBytes_) + " bytes");
@@ -130,7 +176,14 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   slots_.beginCut();
   Residency residency(*this);
   RefineResult refined = refine(source_, input.view, input.isEmpty, input.hints, residency);
-  io_->replaceRequests(std::move(residency.requests));
+  // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
+  // needs all children of a node at once) could use them.
+  std::vector<BrickRequest>& requests = residency.requests;
+  std::stable_sort(requests.begin(), requests.end(),
+                   [](const BrickRequest& a, const BrickRequest& b) { return a.priority > b.priority; });
+  const size_t maxRequests = std::max<uint64_t>(cache_.budgetBytes() / brickBytes_ / 2, 1);
+  if (requests.size() > maxRequests) requests.resize(maxRequests);
+  io_->replaceRequests(std::move(requests));
 
   WorkingSetFrame out;
   out.leaves = std::move(refined.leaves);

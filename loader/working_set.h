@@ -26,6 +26,9 @@
 
 namespace ropecast {
 
+// The smallest CPU cache a WorkingSet accepts, in bricks: refinement needs all 8 children of a node in core.
+inline constexpr uint64_t kMinCpuCacheBricks = 16;
+
 struct WorkingSetConfig {
   uint64_t cpuCacheBytes = uint64_t(1) << 30;  // --cpu-cache: decompressed bricks kept in system memory
   uint32_t gpuSlots = 0;                       // bricks the GPU pool holds (from --gpu-budget); required

@@ -20,14 +20,11 @@ using testing::KeyLess;
 // "not in core". Records every acquire.
 class FakeResidency : public BrickResidency {
  public:
-  Outcome acquire(std::span<const NodeKey> keys, std::optional<uint32_t> leaving, double priority,
-                  std::span<uint32_t> slotsOut) override {
-    const uint32_t freed = leaving ? 1 : 0;
+  Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
     for (const NodeKey& k : keys) {
       if (notInCore.count(k)) return Outcome::NotInCore;
     }
-    if (pinned + keys.size() > slotCapacity + freed) return Outcome::PoolFull;
-    if (leaving) --pinned;
+    if (pinned + keys.size() > slotCapacity) return Outcome::PoolFull;
     for (size_t i = 0; i < keys.size(); ++i) slotsOut[i] = nextSlot++;
     pinned += keys.size();
     acquired.insert(keys.begin(), keys.end());

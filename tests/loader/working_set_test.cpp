@@ -1,0 +1,307 @@
+// The per-frame loader end to end on a fake source: convergence from a cold cache to the synchronous cut,
+// budgets never exceeded, never a hole, no I/O for emptiness changes or revisited views, shutdown in flight.
+#include "loader/working_set.h"
+
+#include <chrono>
+#include <map>
+#include <set>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "loader/error.h"
+#include "tests/loader/testutil_fake_brick_source.h"
+
+namespace ropecast {
+namespace {
+
+using testing::FakeBrickSource;
+using testing::isFullTiling;
+using testing::KeyLess;
+
+// 128^3 with bricks of 16: depths 0..3. Depth-3 nodes with z = 7 hold only low values (empty for iso 100),
+// depth-2 node (3,3,3) is constant 150.
+NodeInfo sceneNode(const NodeKey& k) {
+  if (k.depth >= 2 && (k.coord >> (k.depth - 2)) == glm::u32vec3(3, 3, 3))
+    return {NodeKind::Constant, 150, 150};
+  if (k.depth == 3 && k.coord.z == 7) return {NodeKind::Data, 0, 20};
+  return {NodeKind::Data, 0, 255};
+}
+FakeBrickSource makeScene() {
+  return FakeBrickSource({128, 128, 128}, 16, sceneNode);
+}
+
+FrameInput frameFrom(glm::dvec3 eye, uint32_t heightPx = 600, glm::dvec3 target = {64, 64, 64}) {
+  FrameInput in;
+  in.view.camera.eye = eye;
+  in.view.camera.target = target;
+  in.view.camera.up = {0, 0, 1};
+  in.view.camera.fovYDeg = 40.0;
+  in.view.viewportWidth = heightPx;
+  in.view.viewportHeight = heightPx;
+  return in;
+}
+
+// The renderer's side: applies uploads to a simulated pool and checks every frame's plan.
+struct FakePool {
+  std::map<uint32_t, NodeKey> slotKey;
+
+  void check(const WorkingSetFrame& f, const FakeBrickSource& src, const WorkingSetConfig& cfg) {
+    EXPECT_LE(f.stats.bytesUploaded, cfg.uploadBudgetBytes);
+    EXPECT_EQ(f.stats.bytesUploaded, f.uploads.size() * src.brickBytes());
+    EXPECT_LE(f.stats.cpuCacheBytes, cfg.cpuCacheBytes);
+    EXPECT_LE(f.stats.bricksResident, cfg.gpuSlots);
+    std::set<uint32_t> uploadedSlots;
+    for (const BrickUpload& u : f.uploads) {
+      EXPECT_LT(u.slot, cfg.gpuSlots);
+      EXPECT_TRUE(uploadedSlots.insert(u.slot).second) << "two uploads to slot " << u.slot;
+      ASSERT_TRUE(u.brick);
+      ASSERT_EQ(u.brick->size(), src.brickBytes());
+      const NodeInfo info = src.node(u.key);
+      const uint8_t expected =
+          info.kind == NodeKind::Constant ? uint8_t(info.minValue) : testing::patternByte(u.key, 1234);
+      EXPECT_EQ((*u.brick)[1234], std::byte(expected));
+      slotKey[u.slot] = u.key;
+    }
+    EXPECT_TRUE(isFullTiling(f.leaves, src.info().layout.maxDepth));
+    std::set<uint32_t> cutSlots;
+    for (const PlannedLeaf& l : f.leaves) {
+      if (l.content != LeafContent::Brick) continue;
+      EXPECT_TRUE(cutSlots.insert(l.slot).second) << "slot " << l.slot << " twice in the cut";
+      ASSERT_TRUE(slotKey.count(l.slot)) << "leaf in a slot never uploaded";
+      EXPECT_EQ(slotKey[l.slot], l.key) << "leaf's slot holds another brick";
+    }
+  }
+};
+
+void debugPrint(const WorkingSetFrame& f) {
+  if (!getenv("DBG")) return;
+  std::map<LeafReason, int> m;
+  for (auto& l : f.leaves) ++m[l.reason];
+  fprintf(stderr, "%s |", toJsonLine(f.stats).c_str());
+  for (auto [r, c] : m) fprintf(stderr, " %s=%d", leafReasonName(r), c);
+  fprintf(stderr, "\n");
+}
+
+std::map<NodeKey, LeafContent, KeyLess> cutOf(const WorkingSetFrame& f) {
+  std::map<NodeKey, LeafContent, KeyLess> m;
+  for (const PlannedLeaf& l : f.leaves) m[l.key] = l.content;
+  return m;
+}
+
+WorkingSetConfig config(uint32_t slots = 400) {
+  WorkingSetConfig c;
+  c.gpuSlots = slots;
+  c.cpuCacheBytes = 200 * 46656;  // 200 bricks of 36^3 bytes
+  c.ioThreads = 2;
+  return c;
+}
+
+const auto isoEmpty = [](uint16_t lo, uint16_t hi) { return !(lo <= 100 && 100 <= hi); };
+
+TEST(WorkingSet, ColdAsyncFramesConvergeToTheSynchronousCutWithinBudgets) {
+  const glm::dvec3 eye(64 + 150, 64 - 90, 64 + 60);
+  FrameInput in = frameFrom(eye);
+  in.isEmpty = isoEmpty;
+
+  FakeBrickSource syncSrc = makeScene();
+  WorkingSet sync(syncSrc, config());
+  const WorkingSetFrame reference = sync.updateUntilConverged(in);
+  ASSERT_TRUE(reference.converged);
+  FakePool syncPool;
+  syncPool.check(reference, syncSrc, config());
+  const auto referenceCut = cutOf(reference);
+  ASSERT_GT(referenceCut.size(), 100u);
+
+  FakeBrickSource fake = makeScene();
+  DelayedBrickSource slow(fake, 2.0);
+  WorkingSetConfig cfg = config();
+  cfg.uploadBudgetBytes = 6 * fake.brickBytes();
+  WorkingSet ws(slow, cfg);
+  FakePool pool;
+  bool converged = false;
+  int frames = 0;
+  for (; frames < 2000 && !converged; ++frames) {
+    const WorkingSetFrame f = ws.update(in);
+    pool.check(f, fake, cfg);
+    if (frames == 0) {
+      ASSERT_EQ(f.leaves.size(), 1u);  // cold: the root is not read yet, and update() did not wait for it
+      EXPECT_EQ(f.leaves[0].content, LeafContent::Missing);
+      EXPECT_GE(f.stats.requestsPending, 1u);
+      EXPECT_FALSE(f.converged);
+    }
+    converged = f.converged;
+    debugPrint(f);
+    if (converged) EXPECT_EQ(cutOf(f), referenceCut);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_TRUE(converged);
+  EXPECT_GT(frames, 5);  // the upload budget spread the work over frames
+  // Constant and empty nodes were never read.
+  for (const NodeKey& k : fake.readOrder()) {
+    EXPECT_NE(fake.node(k).kind, NodeKind::Constant);
+  }
+}
+
+TEST(WorkingSet, EmptinessChangesAndRevisitedViewsNeedNoIo) {
+  FakeBrickSource src = makeScene();
+  WorkingSetConfig cfg = config(600);
+  cfg.cpuCacheBytes = 600 * src.brickBytes();
+  WorkingSet ws(src, cfg);
+  FrameInput a = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  const WorkingSetFrame all = ws.updateUntilConverged(a);  // nothing empty but the source's own
+  ASSERT_TRUE(all.converged);
+  const uint64_t reads = src.reads();
+
+  a.isEmpty = isoEmpty;  // a narrower selection: every node it keeps was already read
+  const WorkingSetFrame iso = ws.updateUntilConverged(a);
+  EXPECT_TRUE(iso.converged);
+  EXPECT_EQ(src.reads(), reads);
+  EXPECT_NE(cutOf(iso), cutOf(all));
+  EXPECT_TRUE(iso.uploads.empty());  // all on the GPU already
+
+  FrameInput b = frameFrom({64 - 120, 64 + 150, 64 - 40});
+  b.isEmpty = isoEmpty;
+  ws.updateUntilConverged(b);
+  const uint64_t readsAfterB = src.reads();
+  EXPECT_GT(readsAfterB, reads);
+  const WorkingSetFrame back = ws.updateUntilConverged(a);  // back to the first view: from the caches
+  EXPECT_TRUE(back.converged);
+  EXPECT_EQ(src.reads(), readsAfterB);
+  EXPECT_EQ(cutOf(back), cutOf(iso));
+  EXPECT_EQ(back.stats.cacheMisses, 0u);
+}
+
+TEST(WorkingSet, SmallPoolAndSmallCpuCacheStayWithinBudget) {
+  FakeBrickSource fake = makeScene();
+  WorkingSetConfig cfg = config(/*slots=*/40);
+  cfg.cpuCacheBytes = 16 * fake.brickBytes();
+  cfg.uploadBudgetBytes = 5 * fake.brickBytes();
+  WorkingSet ws(fake, cfg);
+  FakePool pool;
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  in.isEmpty = isoEmpty;
+  bool converged = false;
+  for (int i = 0; i < 2000 && !converged; ++i) {
+    const WorkingSetFrame f = ws.update(in);
+    pool.check(f, fake, cfg);
+    debugPrint(f);
+    EXPECT_LE(ws.cache().bytes(), cfg.cpuCacheBytes);
+    converged = f.converged;
+    if (converged) {
+      size_t poolFull = 0;
+      for (const PlannedLeaf& l : f.leaves) poolFull += l.reason == LeafReason::PoolFull;
+      EXPECT_GT(poolFull, 0u);
+    }
+    if (!converged)
+      ws.io().pendingCount() ? (void)std::this_thread::sleep_for(std::chrono::milliseconds(1)) : void();
+  }
+  EXPECT_TRUE(converged);
+  // The same budgets synchronously give the same cut: the pool limit does not depend on load timing.
+  FakeBrickSource fake2 = makeScene();
+  WorkingSet sync(fake2, cfg);
+  const WorkingSetFrame ref = sync.updateUntilConverged(in);
+  const WorkingSetFrame last = ws.update(in);
+  EXPECT_EQ(cutOf(ref), cutOf(last));
+}
+
+TEST(WorkingSet, ConstantNodesAreUploadedAsFilledBricksWithoutReads) {
+  // Everything is constant below the root: only the root is read.
+  FakeBrickSource src({64, 64, 64}, 16, [](const NodeKey& k) -> NodeInfo {
+    if (k.depth == 0) return {NodeKind::Data, 7, 150};
+    return {NodeKind::Constant, 7, 7};
+  });
+  WorkingSet ws(src, config(100));
+  const WorkingSetFrame f = ws.updateUntilConverged(frameFrom({32, 32, -10}, 2000, {32, 32, 32}));
+  ASSERT_TRUE(f.converged);
+  EXPECT_EQ(src.reads(), 1u);
+  size_t constants = 0;
+  for (const PlannedLeaf& l : f.leaves) {
+    if (l.reason != LeafReason::Constant) continue;
+    ++constants;
+    EXPECT_EQ(l.key.depth, 1u);  // constant nodes are not refined
+  }
+  EXPECT_EQ(constants, 8u);
+  for (const BrickUpload& u : f.uploads) {
+    if (u.key.depth == 1) EXPECT_EQ((*u.brick)[100], std::byte{7});
+  }
+}
+
+TEST(WorkingSet, ShutsDownWithReadsInFlight) {
+  FakeBrickSource fake = makeScene();
+  DelayedBrickSource slow(fake, 30.0);
+  const auto start = std::chrono::steady_clock::now();
+  {
+    WorkingSet ws(slow, config());
+    FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+    for (int i = 0; i < 3; ++i) {
+      ws.update(in);
+      std::this_thread::sleep_for(std::chrono::milliseconds(35));
+    }
+    EXPECT_GT(ws.io().pendingCount(), 0u);
+  }
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(ms, 1000.0);
+}
+
+TEST(WorkingSet, AFailedReadIsReportedWithTheNode) {
+  FakeBrickSource src = makeScene();
+  src.failOn(NodeKey{1, {1, 0, 1}});
+  WorkingSet ws(src, config());
+  try {
+    ws.updateUntilConverged(frameFrom({64 + 150, 64 - 90, 64 + 60}));
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("depth 1, 1,0,1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(WorkingSet, RejectsBudgetsThatCannotWork) {
+  FakeBrickSource src = makeScene();
+  WorkingSetConfig c = config();
+  c.uploadBudgetBytes = src.brickBytes() - 1;
+  EXPECT_THROW(WorkingSet(src, c), Error);
+  c = config(0);
+  EXPECT_THROW(WorkingSet(src, c), Error);
+  c = config();
+  c.cpuCacheBytes = 10;
+  EXPECT_THROW(WorkingSet(src, c), Error);
+}
+
+TEST(WorkingSet, HintsArePlumbedThrough) {
+  FakeBrickSource src = makeScene();
+  WorkingSet ws(src, config());
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  const WorkingSetFrame plain = ws.updateUntilConverged(in);
+  in.hints.occluded.insert(NodeKey{});  // everything occluded: the root is not refined
+  const WorkingSetFrame occluded = ws.update(in);
+  ASSERT_EQ(occluded.leaves.size(), 1u);
+  EXPECT_EQ(occluded.leaves[0].reason, LeafReason::Occluded);
+  EXPECT_GT(plain.leaves.size(), 1u);
+}
+
+TEST(FrameStats, WritesOneJsonObjectPerLine) {
+  FrameStats s;
+  s.frame = 3;
+  s.refineMs = 1.5;
+  s.cacheHits = 4;
+  s.gpuPoolUsedBytes = 1 << 20;
+  s.converged = true;
+  const std::string line = toJsonLine(s);
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(line);
+  EXPECT_EQ(j.at("frame"), 3);
+  EXPECT_EQ(j.at("refine_ms"), 1.5);
+  EXPECT_EQ(j.at("cache_hits"), 4);
+  EXPECT_EQ(j.at("gpu_pool_used"), 1 << 20);
+  EXPECT_EQ(j.at("converged"), true);
+  for (const char* field :
+       {"frame_ms", "raycast_ms", "index_ms", "leaves", "bricks_resident", "bricks_uploaded",
+        "bytes_uploaded", "requests_pending", "cache_misses", "cpu_cache_bytes"}) {
+    EXPECT_TRUE(j.contains(field)) << field;
+  }
+}
+
+}  // namespace
+}  // namespace ropecast
