@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Bad input for convert/info/verify/extract: an exit code in 1..127, a message naming the file, no output left.
+# Usage: bash store_errors.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failures=0
+
+# expect_failure NAME PATTERN COMMAND...: the command must fail with 1..127 and print PATTERN on stderr.
+expect_failure() {
+  local name="$1" pattern="$2"
+  shift 2
+  "$@" > "$dir/out.txt" 2> "$dir/err.txt"
+  local rc=$?
+  if [ "$rc" -lt 1 ] || [ "$rc" -gt 127 ]; then
+    echo "FAIL $name: exit code $rc"; failures=$((failures + 1)); return
+  fi
+  if ! grep -qF -- "$pattern" "$dir/err.txt"; then
+    echo "FAIL $name: stderr does not name '$pattern':"; cat "$dir/err.txt"; failures=$((failures + 1)); return
+  fi
+  echo "ok   $name (exit $rc): $(head -c 200 "$dir/err.txt")"
+}
+expect_absent() {
+  if [ -e "$1" ] || [ -n "$(find "$(dirname "$1")" -name "$(basename "$1").tmp-*")" ]; then
+    echo "FAIL: $1 (or a temporary of it) was left behind"; failures=$((failures + 1))
+  fi
+}
+
+head -c $((24 * 20 * 16 * 2)) /dev/urandom > "$dir/v_24x20x16_uint16.raw"
+"$ropecast" convert "$dir/v_24x20x16_uint16.raw" --brick 8 -o "$dir/good.store" --quiet || exit 1
+size=$(stat -c %s "$dir/good.store")
+
+# Unwritable output: its parent is a regular file / does not exist.
+touch "$dir/plainfile"
+expect_failure "unwritable output" "$dir/plainfile/x.store" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" -o "$dir/plainfile/x.store" --quiet
+expect_failure "missing output directory" "$dir/nodir/x.store" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" -o "$dir/nodir/x.store" --quiet
+
+# A truncated raw source leaves no store.
+head -c 10000 "$dir/v_24x20x16_uint16.raw" > "$dir/cut_24x20x16_uint16.raw"
+expect_failure "truncated raw" "cut_24x20x16_uint16.raw" \
+  "$ropecast" convert "$dir/cut_24x20x16_uint16.raw" -o "$dir/cut.store" --quiet
+expect_absent "$dir/cut.store"
+expect_failure "bad brick size" "--brick" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --brick 12 -o "$dir/b12.store" --quiet
+expect_absent "$dir/b12.store"
+
+# Damaged header: one flipped byte in the header.
+cp "$dir/good.store" "$dir/header.store"
+printf '\x55' | dd of="$dir/header.store" bs=1 seek=20 conv=notrunc status=none
+expect_failure "damaged header (info)" "$dir/header.store" "$ropecast" info "$dir/header.store"
+expect_failure "damaged header (verify)" "$dir/header.store" "$ropecast" verify "$dir/header.store" --quiet
+
+# Not a store at all.
+expect_failure "not a store" "bad magic" "$ropecast" info "$dir/v_24x20x16_uint16.raw"
+
+# Truncated store.
+head -c $((size - 100)) "$dir/good.store" > "$dir/short.store"
+expect_failure "truncated store" "$dir/short.store" "$ropecast" info "$dir/short.store"
+
+# Damaged brick: a byte in the middle of the payloads; verify names the node.
+cp "$dir/good.store" "$dir/brick.store"
+printf '\x00\xff\x00\xff' | dd of="$dir/brick.store" bs=1 seek=200 conv=notrunc status=none
+"$ropecast" info "$dir/brick.store" > /dev/null || { echo "FAIL: info should still read a store with a bad brick"; failures=$((failures + 1)); }
+expect_failure "damaged brick (verify)" "node depth" "$ropecast" verify "$dir/brick.store" --quiet
+expect_failure "damaged brick (extract)" "node depth" "$ropecast" extract "$dir/brick.store" -o "$dir/brick.raw" --quiet
+expect_absent "$dir/brick.raw"
+
+# Extract: level out of range, unwritable output.
+expect_failure "extract level" "--level 9" "$ropecast" extract "$dir/good.store" --level 9 -o "$dir/l9.raw" --quiet
+expect_absent "$dir/l9.raw"
+expect_failure "extract unwritable" "$dir/plainfile/x.raw" \
+  "$ropecast" extract "$dir/good.store" -o "$dir/plainfile/x.raw" --quiet
+
+# The good store is still fine.
+"$ropecast" verify "$dir/good.store" --quiet > /dev/null || { echo "FAIL: good store does not verify"; failures=$((failures + 1)); }
+[ "$failures" -eq 0 ] && echo "store_errors: ok" || { echo "store_errors: $failures failure(s)"; exit 1; }
