@@ -42,35 +42,32 @@ Level0Sampler::Level0Sampler(const Level0BrickCache& cache)
       dims_(cache.source().info().layout.dims),
       invSpacing_(1.0 / cache.source().info().volume.spacing) {}
 
-Level0Sampler::AxisFetch Level0Sampler::fetch(int64_t i, int axis) const {
-  const uint32_t g = uint32_t(std::clamp<int64_t>(i, 0, int64_t(dims_[axis]) - 1));
-  const uint32_t b = g / brickSize_;
-  return {b, g - b * brickSize_ + kBrickBorder};
-}
-
 double Level0Sampler::value(glm::dvec3 world) const {
-  // Level-0 sample i is centered at q = i + 0.5 with q = x / s.
+  // Level-0 sample i is centered at q = i + 0.5 with q = x / s. The 2x2x2 samples from floor(q - 0.5) all lie
+  // in the brick of the first one, borders included (kBrickBorder >= 1), and the borders replicate the
+  // volume's edge samples, so one brick serves the whole trilinear fetch. Indices past the edges read
+  // replicated samples.
   const glm::dvec3 c = world * invSpacing_ - 0.5;
   const glm::dvec3 fl = glm::floor(c);
   const glm::dvec3 f = c - fl;
-  AxisFetch a[3][2];
+  glm::u32vec3 brickCoord, texel;
   for (int axis = 0; axis < 3; ++axis) {
-    a[axis][0] = fetch(int64_t(fl[axis]), axis);
-    a[axis][1] = fetch(int64_t(fl[axis]) + 1, axis);
+    const int64_t last = int64_t(dims_[axis]) - 1;
+    const int64_t i0 = std::clamp<int64_t>(int64_t(fl[axis]), -1, last);  // beyond, both corners are the edge
+    const uint32_t b = uint32_t(std::clamp<int64_t>(i0, 0, last)) / brickSize_;
+    brickCoord[axis] = b;
+    texel[axis] = uint32_t(i0 - int64_t(b) * brickSize_ + int64_t(kBrickBorder));
   }
+  const std::byte* brick = cache_.brick(brickCoord);
   const size_t e = edge_, e2 = size_t(edge_) * edge_;
-  double corner[2][2][2];
-  for (int z = 0; z < 2; ++z)
-    for (int y = 0; y < 2; ++y)
-      for (int x = 0; x < 2; ++x) {
-        const std::byte* brick = cache_.brick({a[0][x].brick, a[1][y].brick, a[2][z].brick});
-        corner[z][y][x] =
-            normalizedTexel(brick, type_, a[0][x].texel + e * a[1][y].texel + e2 * a[2][z].texel);
-      }
-  const double c00 = corner[0][0][0] * (1 - f.x) + corner[0][0][1] * f.x;
-  const double c10 = corner[0][1][0] * (1 - f.x) + corner[0][1][1] * f.x;
-  const double c01 = corner[1][0][0] * (1 - f.x) + corner[1][0][1] * f.x;
-  const double c11 = corner[1][1][0] * (1 - f.x) + corner[1][1][1] * f.x;
+  const size_t base = texel.x + e * texel.y + e2 * texel.z;
+  const auto t = [&](size_t dx, size_t dy, size_t dz) {
+    return normalizedTexel(brick, type_, base + dx + e * dy + e2 * dz);
+  };
+  const double c00 = t(0, 0, 0) * (1 - f.x) + t(1, 0, 0) * f.x;
+  const double c10 = t(0, 1, 0) * (1 - f.x) + t(1, 1, 0) * f.x;
+  const double c01 = t(0, 0, 1) * (1 - f.x) + t(1, 0, 1) * f.x;
+  const double c11 = t(0, 1, 1) * (1 - f.x) + t(1, 1, 1) * f.x;
   const double c0 = c00 * (1 - f.y) + c10 * f.y;
   const double c1 = c01 * (1 - f.y) + c11 * f.y;
   return c0 * (1 - f.z) + c1 * f.z;

@@ -112,12 +112,6 @@ class Level0Sampler {
   double value(glm::dvec3 world) const;
 
  private:
-  // Brick coordinate and in-brick texel index (border included) of level-0 sample index i along one axis.
-  struct AxisFetch {
-    uint32_t brick, texel;
-  };
-  AxisFetch fetch(int64_t i, int axis) const;
-
   const Level0BrickCache& cache_;
   SampleType type_;
   uint32_t brickSize_, edge_;
