@@ -270,6 +270,67 @@ TEST(Raycast, FragmentAndComputeAgree) {
   }
 }
 
+// Early ray termination stops compositing at the first sample that brings the opacity to ert or above.
+TEST(Raycast, EarlyRayTerminationAndEmptyLeaves) {
+  SceneSpec spec;
+  spec.dims = glm::u32vec3(24);
+  spec.value = [](glm::dvec3) { return 0.5; };
+  // The far half (x >= 16 at full resolution) is empty: skipped, so those rays see less opacity.
+  spec.emptyLeaf = [](const NodeKey& k) { return k.depth == 2 && k.coord.x >= 2; };
+  const test::GlScene scene = test::buildScene(spec);
+  const double alpha = 0.1;
+  const TfTable tf =
+      TfTable::bake(TransferFunction({TfPoint{0.0, {1.0, 1.0, 1.0, alpha}}}), ValueMapping{}, 65535);
+  const double alphaStep = 1.0 - std::pow(1.0 - alpha, 0.5);  // dt = half a voxel
+  RaycastPass pass;
+  RaycastFrame frame;
+  frame.camera.eye = {-30.0, 12.0, 12.0};  // looking down +x through the volume
+  frame.camera.target = {12.0, 12.0, 12.0};
+  frame.camera.fovYDeg = 20.0;
+  frame.width = frame.height = 16;
+  frame.params.mode = RenderMode::Dvr;
+  frame.params.backend = RenderBackend::Compute;
+  frame.tf = &tf;
+  for (const double ert : {0.5, 0.75, 1.5}) {
+    frame.params.ert = ert;
+    test::renderScene(pass, scene, frame);
+    const FloatImage color = pass.readColor();
+    const float a = color.at(8, 8, 3);
+    if (ert < 1.0) {
+      EXPECT_GE(a, ert);
+      EXPECT_LT(a, ert + (1.0 - ert) * alphaStep + 1e-6);
+    } else {
+      // No termination: samples t0 + k dt over the data (x in [0, 16)), none in the empty leaves beyond.
+      const Ray ray = pixelRay(frame.camera, 16, 16, 8, 8);
+      const double samples = std::ceil(16.0 / ray.dir.x / 0.5);
+      EXPECT_NEAR(a, 1.0 - std::pow(1.0 - alphaStep, samples), 1e-5);
+    }
+  }
+}
+
+TEST(Raycast, AllEmptyGivesTheBackground) {
+  SceneSpec spec;
+  spec.dims = glm::u32vec3(16);
+  spec.value = [](glm::dvec3) { return 1.0; };
+  spec.emptyLeaf = [](const NodeKey&) { return true; };
+  const test::GlScene scene = test::buildScene(spec);
+  ASSERT_EQ(scene.dataLeaves, 0u);
+  RaycastPass pass;
+  RaycastFrame frame;
+  frame.camera = orbitCamera(10, 10, 1.5, glm::dvec3(0), glm::dvec3(16));
+  frame.width = frame.height = 16;
+  frame.params.isoValue = 0.5 * 65535;
+  frame.params.background = {0.25, 0.5, 0.75};
+  test::renderScene(pass, scene, frame);
+  const FloatImage color = pass.readColor(), depth = pass.readDepth();
+  for (uint32_t y = 0; y < 16; ++y)
+    for (uint32_t x = 0; x < 16; ++x) {
+      EXPECT_EQ(color.at(x, y, 1), 0.5f);
+      EXPECT_EQ(color.at(x, y, 3), 0.0f);
+      EXPECT_EQ(depth.at(x, y, 0), std::numeric_limits<float>::infinity());
+    }
+}
+
 TEST(Raycast, RejectsInconsistentInputs) {
   SceneSpec spec;
   spec.dims = glm::u32vec3(16);
