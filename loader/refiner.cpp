@@ -59,18 +59,21 @@ double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, cons
   return voxelWorld / (2.0 * distance * tanHalf) * double(view.viewportHeight);
 }
 
-bool boxInFrustum(const WorldBox& box, const RefineView& view) {
+ViewFrustum viewFrustum(const RefineView& view) {
   const CameraFrame f = cameraFrame(view.camera);
   const double ty = std::tan(glm::radians(view.camera.fovYDeg) * 0.5);
   const double tx = ty * double(view.viewportWidth) / double(std::max(view.viewportHeight, 1u));
-  // Inward normals of the planes through the eye: behind, right, left, top, bottom.
-  const std::array<glm::dvec3, 5> normals = {f.forward, f.forward * tx - f.right, f.forward * tx + f.right,
-                                             f.forward * ty - f.up, f.forward * ty + f.up};
-  for (const glm::dvec3& n : normals) {
+  return {view.camera.eye,
+          {f.forward, f.forward * tx - f.right, f.forward * tx + f.right, f.forward * ty - f.up,
+           f.forward * ty + f.up}};
+}
+
+bool boxInFrustum(const WorldBox& box, const ViewFrustum& frustum) {
+  for (const glm::dvec3& n : frustum.inwardNormals) {
     // The box corner farthest along n: if even it is behind the plane, the whole box is.
     const glm::dvec3 corner(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
                             n.z >= 0 ? box.hi.z : box.lo.z);
-    if (glm::dot(n, corner - view.camera.eye) < 0.0) return false;
+    if (glm::dot(n, corner - frustum.eye) < 0.0) return false;
   }
   return true;
 }
@@ -110,6 +113,7 @@ class RefineRun {
         isEmpty_(isEmpty),
         hints_(hints),
         residency_(residency),
+        frustum_(viewFrustum(view)),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
 
   RefineResult run() {
@@ -183,7 +187,8 @@ class RefineRun {
     if (info.kind == NodeKind::Empty || (isEmpty_ && isEmpty_(info.minValue, info.maxValue))) {
       return {Class::NoBrick, LeafReason::Empty};
     }
-    if (!boxInFrustum(nodeWorldBox(layout_, spacing_, k), view_)) return {Class::NoBrick, LeafReason::Culled};
+    if (!boxInFrustum(nodeWorldBox(layout_, spacing_, k), frustum_))
+      return {Class::NoBrick, LeafReason::Culled};
     return {info.kind == NodeKind::Constant ? Class::ConstantBrick : Class::DataBrick, LeafReason::Adequate};
   }
 
@@ -218,6 +223,7 @@ class RefineRun {
   const EmptinessPredicate& isEmpty_;
   const PriorityHints& hints_;
   BrickResidency& residency_;
+  ViewFrustum frustum_;
   double adequatePixels_;
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;
   RefineResult result_;

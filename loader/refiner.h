@@ -9,6 +9,7 @@
 // Plain functions over plain data; any thread, given a BrickResidency used by that thread only.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -107,9 +108,20 @@ WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const Node
 double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
                             const RefineView& view);
 
+// The planes through the eye that bound what the view sees (behind, right, left, top, bottom), inward
+// normals.
+struct ViewFrustum {
+  glm::dvec3 eye{0.0};
+  std::array<glm::dvec3, 5> inwardNormals{};
+};
+ViewFrustum viewFrustum(const RefineView& view);
+
 // False only when the box lies entirely outside the view frustum (behind the eye or beyond a side plane);
 // conservative, so a visible box is never culled.
-bool boxInFrustum(const WorldBox& box, const RefineView& view);
+bool boxInFrustum(const WorldBox& box, const ViewFrustum& frustum);
+inline bool boxInFrustum(const WorldBox& box, const RefineView& view) {
+  return boxInFrustum(box, viewFrustum(view));
+}
 
 RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
                     const PriorityHints& hints, BrickResidency& residency);

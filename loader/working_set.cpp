@@ -56,9 +56,12 @@ class WorkingSet::Residency final : public BrickResidency {
         missing = true;
       }
     }
-    if (missing) return Outcome::NotInCore;
+    if (missing) {
+      holdForLater(keys, /*uploadWithinBudget=*/false);
+      return Outcome::NotInCore;
+    }
     if (uploadCount * ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
-      uploadAhead(keys);
+      holdForLater(keys, /*uploadWithinBudget=*/true);
       return Outcome::UploadBudget;
     }
 
@@ -87,12 +90,13 @@ class WorkingSet::Residency final : public BrickResidency {
   FrameStats stats;
 
  private:
-  // The children do not all fit in this frame's upload budget: upload those that fit now and the parent
-  // refines in a later frame, once all are on the GPU (without this, a budget under 8 bricks could never
-  // refine). For the rest of this frame their slots stay pinned and the missing ones reserved, so that
-  // lower-priority nodes do not take (and evict) them: the pool goes to nodes in priority order, as when
-  // nothing waits for the budget.
-  void uploadAhead(std::span<const NodeKey> keys) {
+  // The children cannot all be had this frame (not in core, or beyond the upload budget); the parent refines
+  // in a later frame. For the rest of this frame their slots stay pinned and the missing ones reserved, so
+  // that lower-priority nodes neither take (and evict) them nor request bricks the pool will have no room
+  // for: the pool goes to nodes in priority order, as when nothing waits. With uploadWithinBudget, those in
+  // core are uploaded now as far as the budget allows (without this, a budget under 8 bricks could never
+  // refine).
+  void holdForLater(std::span<const NodeKey> keys, bool uploadWithinBudget) {
     SlotTable& slots = ws_.slots_;
     // Pin the resident ones first, so that acquiring slots for the others cannot evict them.
     std::vector<uint8_t> resident(keys.size(), 0);
@@ -105,7 +109,7 @@ class WorkingSet::Residency final : public BrickResidency {
     for (size_t i = 0; i < keys.size(); ++i) {
       if (resident[i]) continue;
       const NodeKey& k = keys[i];
-      if (ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
+      if (!uploadWithinBudget || ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
         ++reservedSlots_;
         continue;
       }
@@ -218,10 +222,12 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
         merged[it->second] = std::move(u);  // the slot was reused: only its last brick matters
     }
     if (frame.converged) break;
-    // Wait for a read only when the frame asked for some; an upload-budget stop just needs the next frame.
-    if (frame.stats.cacheMisses > 0 || io_->pendingCount() > 0) {
-      while (!io_->waitForLoaded(std::chrono::milliseconds(1000)) && io_->pendingCount() > 0) {
-      }
+    // Wait for all the reads this frame asked for (they fit in the CPU cache: requests are capped), taking
+    // them into the cache as they come, so that each refinement pass gets a whole wave of bricks. An
+    // upload-budget stop needs no wait, just the next pass.
+    while (io_->pendingCount() > 0) {
+      io_->waitForLoaded(std::chrono::milliseconds(1000));
+      takeLoadedBricks();
     }
   }
   frame.uploads = std::move(merged);

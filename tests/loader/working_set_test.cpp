@@ -205,6 +205,20 @@ TEST(WorkingSet, SmallPoolAndSmallCpuCacheStayWithinBudget) {
   EXPECT_EQ(cutOf(ref), cutOf(last));
 }
 
+TEST(WorkingSet, ReadsOnlyWhatTheGpuPoolHasRoomFor) {
+  FakeBrickSource fake = makeScene();
+  WorkingSetConfig cfg = config(/*slots=*/40);
+  cfg.cpuCacheBytes = 400 * fake.brickBytes();  // no CPU eviction: every read is a first read
+  WorkingSet ws(fake, cfg);
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  const WorkingSetFrame f = ws.updateUntilConverged(in);
+  ASSERT_TRUE(f.converged);
+  // Requests beyond the pool's room are never made: slots wanted by waiting nodes are reserved in priority
+  // order. Allow one node's children of slack for the frame in which the pool fills.
+  EXPECT_LE(fake.reads(), cfg.gpuSlots + 8u);
+  EXPECT_EQ(ws.slots().occupiedCount(), f.stats.bricksResident);
+}
+
 TEST(WorkingSet, ConstantNodesAreUploadedAsFilledBricksWithoutReads) {
   // Everything is constant below the root: only the root is read.
   FakeBrickSource src({64, 64, 64}, 16, [](const NodeKey& k) -> NodeInfo {
