@@ -299,7 +299,9 @@ class Cascade {
         clampedAxis(xIndex, cx, lv.dims.x);
         std::vector<std::byte> bytes = pool_.recycledBuffer();
         bytes.resize(brickSamples * sizeof(T));
-        T* brick = reinterpret_cast<T*>(bytes.data());
+        // uint8 bricks are gathered in place; uint16 ones into scratch, then split into byte planes.
+        if (scratch_.size() != brickSamples) scratch_.resize(brickSamples);
+        T* brick = sizeof(T) == 1 ? reinterpret_cast<T*>(bytes.data()) : scratch_.data();
         T lo = std::numeric_limits<T>::max(), hi = 0;
         for (uint32_t k = 0; k < edge; ++k) {
           const T* s = slice(lv, zIndex[k]);
@@ -310,6 +312,7 @@ class Cascade {
             for (uint32_t i = 0; i < edge; ++i) lo = std::min(lo, out[i]), hi = std::max(hi, out[i]);
           }
         }
+        if constexpr (sizeof(T) == 2) splitBytePlanes(brick, brickSamples, bytes.data());
         finishNode({lv.depth, {cx, cy, row}}, lo, hi, std::move(bytes));
       }
     }
@@ -353,6 +356,7 @@ class Cascade {
   std::vector<StoreNodeEntry>& entries_;
   CompressPool& pool_;
   std::vector<Level> levels_;
+  std::vector<T> scratch_;  // one gathered uint16 brick before its byte-plane split
   uint64_t heldBytes_ = 0, peakHeldBytes_ = 0;
 };
 
@@ -407,6 +411,8 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   metadata.discardBelow = options.discardBelow;
   metadata.zstdLevel = options.zstdLevel;
   metadata.creationTool = options.creationTool;
+  metadata.payloadEncoding =
+      metadata.storedType == SampleType::UInt16 ? PayloadEncoding::ZstdBytePlanes : PayloadEncoding::Zstd;
   double lo = 0.0, hi = 0.0;
   if (info.type == SampleType::Float32) {
     if (info.valueMin && info.valueMax && std::isfinite(*info.valueMin) && std::isfinite(*info.valueMax))

@@ -23,7 +23,7 @@ constexpr uint32_t kMaxDimsPerAxis = 1u << 20;  // keeps every node count far fr
 // One zstd decompression context per thread, so concurrent readBrick calls share nothing.
 struct ThreadDecoder {
   ZSTD_DCtx* context = ZSTD_createDCtx();
-  std::vector<std::byte> compressed;
+  std::vector<std::byte> compressed, planes;
   ~ThreadDecoder() { ZSTD_freeDCtx(context); }
 };
 ThreadDecoder& threadDecoder() {
@@ -71,6 +71,11 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     m.levels = j.at("levels").get<uint32_t>();
     if (!j.at("discardBelow").is_null()) m.discardBelow = j.at("discardBelow").get<double>();
     m.zstdLevel = j.at("zstdLevel").get<int>();
+    const std::string encoding = j.at("payloadEncoding").get<std::string>();
+    if (encoding == "zstd-byteplanes")
+      m.payloadEncoding = PayloadEncoding::ZstdBytePlanes;
+    else if (encoding != "zstd")
+      throw std::runtime_error("unknown payloadEncoding '" + encoding + "'");
     m.volume.description = j.at("source").get<std::string>();
     m.creationTool = j.at("creationTool").get<std::string>();
   } catch (const nlohmann::json::exception& e) {
@@ -84,6 +89,8 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     throw Error("Store: '" + name + "': metadata dims must be in [1, 2^20] per axis");
   if (m.storedType != storedTypeFor(m.volume.type))
     throw Error("Store: '" + name + "': metadata storedType does not match originalType");
+  if (m.payloadEncoding == PayloadEncoding::ZstdBytePlanes && m.storedType != SampleType::UInt16)
+    throw Error("Store: '" + name + "': metadata payloadEncoding zstd-byteplanes needs storedType uint16");
   if (m.border != kBrickBorder)
     throw Error("Store: '" + name + "': metadata border " + std::to_string(m.border) + ", expected " +
                 std::to_string(kBrickBorder));
@@ -250,10 +257,14 @@ void Store::readBrick(const NodeKey& key, std::span<std::byte> out) const {
     return Error("Store::readBrick: '" + name_ + "': node " + describeNode(key) + ": " + what);
   };
   if (storeCrc32(decoder.compressed) != e.payloadCrc) throw fail("damaged brick (checksum mismatch)");
-  const size_t n = ZSTD_decompressDCtx(decoder.context, out.data(), out.size(), decoder.compressed.data(),
-                                       decoder.compressed.size());
+  const bool planes = metadata_.payloadEncoding == PayloadEncoding::ZstdBytePlanes;
+  if (planes) decoder.planes.resize(bytes);
+  const std::span<std::byte> target = planes ? std::span<std::byte>(decoder.planes) : out;
+  const size_t n = ZSTD_decompressDCtx(decoder.context, target.data(), target.size(),
+                                       decoder.compressed.data(), decoder.compressed.size());
   if (ZSTD_isError(n)) throw fail(std::string("damaged brick (") + ZSTD_getErrorName(n) + ")");
   if (n != bytes) throw fail("damaged brick (decompressed to " + std::to_string(n) + " bytes)");
+  if (planes) joinBytePlanes(decoder.planes.data(), bytes / 2, reinterpret_cast<uint16_t*>(out.data()));
 }
 
 StoreSummary summarizeStore(const Store& store) {

@@ -59,6 +59,25 @@ static_assert(offsetof(StoreNodeEntry, minValue) == 16);
 static_assert(offsetof(StoreNodeEntry, kind) == 20);
 static_assert(offsetof(StoreNodeEntry, fillValue) == 22);
 
+// How a brick payload encodes its samples before zstd. uint16 stores split the samples into two byte planes
+// (all low bytes, then all high bytes): the smooth high bytes then compress well and fast, and zstd wastes no
+// time looking for matches across the noisy low bytes (3x less CPU and ~20% smaller on noisy 12-bit CT-like
+// data).
+enum class PayloadEncoding : uint8_t {
+  Zstd = 0,            // the samples as they are (uint8 stores)
+  ZstdBytePlanes = 1,  // uint16 only: n low bytes, then n high bytes
+};
+
+inline void splitBytePlanes(const uint16_t* samples, size_t n, std::byte* out) {
+  for (size_t i = 0; i < n; ++i) {
+    out[i] = std::byte(samples[i] & 0xFF);
+    out[n + i] = std::byte(samples[i] >> 8);
+  }
+}
+inline void joinBytePlanes(const std::byte* planes, size_t n, uint16_t* samples) {
+  for (size_t i = 0; i < n; ++i) samples[i] = uint16_t(uint16_t(planes[i]) | uint16_t(planes[n + i]) << 8);
+}
+
 // What the metadata JSON holds (field names in docs/FORMAT.md).
 struct StoreMetadata {
   VolumeInfo volume;  // dims, spacing, original type, value range (data units), source description
@@ -69,6 +88,7 @@ struct StoreMetadata {
   ValueMapping mapping;                // stored -> data units
   std::optional<double> discardBelow;  // data units, when --discard-below was given
   int zstdLevel = 3;
+  PayloadEncoding payloadEncoding = PayloadEncoding::Zstd;
   std::string creationTool;
 };
 

@@ -47,6 +47,7 @@ std::string storeMetadataToJson(const StoreMetadata& m) {
   j["levels"] = m.levels;
   j["discardBelow"] = m.discardBelow ? nlohmann::json(*m.discardBelow) : nlohmann::json(nullptr);
   j["zstdLevel"] = m.zstdLevel;
+  j["payloadEncoding"] = m.payloadEncoding == PayloadEncoding::ZstdBytePlanes ? "zstd-byteplanes" : "zstd";
   j["source"] = m.volume.description;
   j["creationTool"] = m.creationTool;
   return j.dump(2);

@@ -29,8 +29,10 @@ void rewriteStore(const Store& in, const std::filesystem::path& out, const Edit&
     std::vector<uint16_t> brick = testing::widen(bytes, SampleType::UInt16);
     edit(key, brick, entries[i]);
     if (entries[i].payloadBytes == 0) continue;
-    std::vector<std::byte> compressed(ZSTD_compressBound(bytes.size()));
-    const size_t n = ZSTD_compress(compressed.data(), compressed.size(), brick.data(), bytes.size(), 1);
+    ASSERT_EQ(in.metadata().payloadEncoding, PayloadEncoding::ZstdBytePlanes);
+    std::vector<std::byte> planes(bytes.size()), compressed(ZSTD_compressBound(bytes.size()));
+    splitBytePlanes(brick.data(), brick.size(), planes.data());
+    const size_t n = ZSTD_compress(compressed.data(), compressed.size(), planes.data(), planes.size(), 1);
     ASSERT_FALSE(ZSTD_isError(n));
     compressed.resize(n);
     entries[i].payloadBytes = uint32_t(n);
