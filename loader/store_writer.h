@@ -38,8 +38,14 @@ class TemporaryFile {
   std::filesystem::path output_, temporary_;
   std::string who_;
   int fd_ = -1;
+  int signalSlot_ = -1;  // where removeTemporaryFilesOnSignals finds the temporary name
   bool committed_ = false;
 };
+
+// For the command-line tools: installs SIGINT/SIGTERM/SIGHUP handlers that remove every TemporaryFile still
+// open in the process (async-signal-safe: unlink only) and then die of the signal as before, so an
+// interrupted convert or extract leaves nothing behind either. Main thread, once.
+void removeTemporaryFilesOnSignals();
 
 class StoreWriter {
  public:

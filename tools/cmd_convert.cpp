@@ -7,6 +7,7 @@
 #include "loader/converter.h"
 #include "loader/error.h"
 #include "loader/sample_type.h"
+#include "loader/store_writer.h"
 #include "loader/volume_source.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
@@ -33,6 +34,7 @@ int runConvert(const ConvertArgs& a) {
     if (!sourceOptions.type)
       throw Error("convert: --type '" + a.type + "': expected uint8, uint16, int16 or float32");
   }
+  removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto source = openVolumeSource(a.input, sourceOptions);
 
   ConvertOptions options;

@@ -5,6 +5,7 @@
 
 #include "loader/extract.h"
 #include "loader/store.h"
+#include "loader/store_writer.h"
 #include "tools/command.h"
 
 namespace ropecast::tools {
@@ -17,6 +18,7 @@ struct ExtractArgs {
 };
 
 int runExtract(const ExtractArgs& a) {
+  removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto store = Store::open(a.store);
   extractLevelToFile(*store, a.level, a.output);
   if (!a.quiet) {
