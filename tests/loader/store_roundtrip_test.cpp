@@ -1,6 +1,8 @@
 // Round trips through convert -> Store -> extract for every sample type and odd sizes.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "loader/converter.h"
 #include "loader/error.h"
 #include "loader/extract.h"
@@ -84,6 +86,37 @@ TEST(StoreRoundTrip, Float32IsQuantizedWithinHalfAStepOverItsRange) {
   for (size_t i = 0; i < samples.size(); ++i)
     ASSERT_NEAR(back[i], samples[i], 0.5 * step + 1e-6) << "sample " << i;
   EXPECT_TRUE(verifyStore(*store).ok());
+}
+
+TEST(StoreRoundTrip, Float32WithAKnownRangeSkipsThePrePassAndClampsOutliers) {
+  TempDir dir;
+  const glm::u32vec3 dims{9, 8, 7};
+  std::vector<float> samples(size_t(dims.x) * dims.y * dims.z);
+  for (size_t i = 0; i < samples.size(); ++i) samples[i] = float(i % 50) * 0.1f;  // [0, 4.9]
+  samples[3] = -10.0f;                                                            // below the known range
+  samples[4] = 99.0f;                                                             // above it
+  samples[5] = std::numeric_limits<float>::quiet_NaN();  // no value: the range's low end
+  VolumeInfo info = testing::volumeInfo(dims, SampleType::Float32);
+  info.valueMin = 0.0;
+  info.valueMax = 4.0;
+  ArraySource source = ArraySource::fromSamples<float>(info, samples);
+  ConvertOptions options;
+  options.brickSize = 4;
+  std::vector<ConvertProgress::Phase> phases;
+  options.progress = [&](const ConvertProgress& p) { phases.push_back(p.phase); };
+  convertVolume(source, dir / "k.store", options);
+  EXPECT_EQ(std::count(phases.begin(), phases.end(), ConvertProgress::Phase::ValueRange), 0);
+  const auto store = Store::open(dir / "k.store");
+  EXPECT_EQ(*store->info().volume.valueMin, 0.0);
+  EXPECT_EQ(*store->info().volume.valueMax, 4.0);
+  const std::vector<std::byte> bytes = extractLevelBytes(*store, 0);
+  std::vector<float> back(samples.size());
+  std::memcpy(back.data(), bytes.data(), bytes.size());
+  EXPECT_FLOAT_EQ(back[3], 0.0f);
+  EXPECT_FLOAT_EQ(back[4], 4.0f);
+  EXPECT_FLOAT_EQ(back[5], 0.0f);
+  for (size_t i = 6; i < samples.size(); ++i)
+    ASSERT_NEAR(back[i], std::min(samples[i], 4.0f), 0.5 * 4.0 / 65535 + 1e-6) << "sample " << i;
 }
 
 TEST(StoreRoundTrip, EveryLevelMatchesTheDirectBoxFilter) {
