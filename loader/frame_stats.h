@@ -14,8 +14,11 @@ struct FrameStats {
   uint64_t frame = 0;
   // Filled by the renderer.
   double frameMs = 0.0;    // wall time of the whole frame
-  double raycastMs = 0.0;  // GL timer query around the ray-cast pass
-  double indexMs = 0.0;    // building and uploading the rope index
+  double raycastMs = 0.0;  // GL timestamp queries around the ray-cast pass (see GpuTimer)
+  bool raycastWallClock =
+      false;              // raycast_ms is the wall-clock bound: the driver's timestamps were implausible
+  double uploadMs = 0.0;  // handing this frame's bricks to the GPU pool (CPU side of the texture uploads)
+  double indexMs = 0.0;   // building and uploading the rope index
   // Filled by the loader (WorkingSet::update).
   double refineMs = 0.0;         // refinement, request submission and draining completed reads
   uint64_t leaves = 0;           // leaves of the cut (empty ones included)
@@ -34,6 +37,8 @@ inline nlohmann::json toJson(const FrameStats& s) {
   return nlohmann::json{{"frame", s.frame},
                         {"frame_ms", s.frameMs},
                         {"raycast_ms", s.raycastMs},
+                        {"raycast_timer", s.raycastWallClock ? "wall" : "gpu"},
+                        {"upload_ms", s.uploadMs},
                         {"index_ms", s.indexMs},
                         {"refine_ms", s.refineMs},
                         {"leaves", s.leaves},

@@ -7,31 +7,42 @@
 namespace ropecast {
 
 GpuTimer::GpuTimer() {
-  glCreateQueries(GL_TIME_ELAPSED, 1, &query_);
+  glCreateQueries(GL_TIMESTAMP, 2, queries_);
 }
 
 GpuTimer::~GpuTimer() {
-  if (query_) glDeleteQueries(1, &query_);
+  if (queries_[0]) glDeleteQueries(2, queries_);
 }
 
 void GpuTimer::begin() {
   if (running_) throw Error("GpuTimer::begin: a span is already running");
-  glBeginQuery(GL_TIME_ELAPSED, query_);
+  wallBegin_ = std::chrono::steady_clock::now();
+  glQueryCounter(queries_[0], GL_TIMESTAMP);
   running_ = true;
+  resolved_ = false;
 }
 
 void GpuTimer::end() {
   if (!running_) throw Error("GpuTimer::end: no span is running");
-  glEndQuery(GL_TIME_ELAPSED);
+  glQueryCounter(queries_[1], GL_TIMESTAMP);
   running_ = false;
   measured_ = true;
 }
 
-double GpuTimer::elapsedMs() const {
+double GpuTimer::elapsedMs() {
   if (!measured_ || running_) throw Error("GpuTimer::elapsedMs: no completed span to report");
-  GLuint64 ns = 0;
-  glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
-  return double(ns) * 1e-6;
+  if (resolved_) return resolvedMs_;
+  glFinish();
+  const double wallMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wallBegin_).count();
+  GLuint64 stamps[2] = {0, 0};
+  glGetQueryObjectui64v(queries_[0], GL_QUERY_RESULT, &stamps[0]);
+  glGetQueryObjectui64v(queries_[1], GL_QUERY_RESULT, &stamps[1]);
+  const double gpuMs = stamps[1] >= stamps[0] ? double(stamps[1] - stamps[0]) * 1e-6 : -1.0;
+  usedWallClock_ = !(gpuMs >= 0.0 && gpuMs <= wallMs);
+  resolvedMs_ = usedWallClock_ ? wallMs : gpuMs;
+  resolved_ = true;
+  return resolvedMs_;
 }
 
 }  // namespace ropecast

@@ -1,8 +1,12 @@
-// GpuTimer: GPU time of a span of GL commands through GL_TIME_ELAPSED queries (the frame's raycast_ms).
-// begin()/end() bracket the commands; elapsedMs() waits for the result. Spans may not nest (GL allows one
-// GL_TIME_ELAPSED query at a time). Owns a GL query object: render thread only, with the GlContext current.
+// GpuTimer: GPU time of a span of GL commands (the frame's raycast_ms).
+// begin()/end() bracket the commands with GL_TIMESTAMP queries; elapsedMs() waits for the results. Some
+// drivers report timestamps that cannot be right (llvmpipe stamps per rasterizer thread, so a span can read
+// as hours): a GPU span longer than the wall time from begin() to the result is replaced by that wall time,
+// which bounds it from above because elapsedMs() waits for the GPU. usedWallClock() says which one was
+// reported. Owns two GL query objects: render thread only, with the GlContext current.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 
 namespace ropecast {
@@ -16,14 +20,20 @@ class GpuTimer {
 
   void begin();
   void end();
-  // Milliseconds between begin() and end() on the GPU; blocks until the query result is available. Throws
-  // ropecast::Error when no span has been measured.
-  double elapsedMs() const;
+  // Milliseconds between begin() and end() on the GPU; blocks until the results are available (the first call
+  // after end() also glFinish()es, so the wall-clock bound is tight). Throws ropecast::Error when no span has
+  // been measured.
+  double elapsedMs();
+  bool usedWallClock() const { return usedWallClock_; }
 
  private:
-  uint32_t query_ = 0;
+  uint32_t queries_[2] = {0, 0};
   bool running_ = false;
   bool measured_ = false;
+  bool resolved_ = false;
+  double resolvedMs_ = 0.0;
+  bool usedWallClock_ = false;
+  std::chrono::steady_clock::time_point wallBegin_{};
 };
 
 }  // namespace ropecast

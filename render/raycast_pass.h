@@ -69,7 +69,8 @@ class RaycastPass {
   void render(const RaycastFrame& frame);
 
   // GPU time of the last render() (GL_TIME_ELAPSED; waits for the result).
-  double lastRaycastMs() const { return timer_.elapsedMs(); }
+  double lastRaycastMs() { return timer_.elapsedMs(); }
+  bool raycastTimerUsedWallClock() const { return timer_.usedWallClock(); }
   // The targets of the last render, row 0 at the top: RGBA (final color, alpha = coverage) and depth (world
   // units along the camera axis, +inf = miss). Synchronous readback.
   FloatImage readColor() const;

@@ -1,4 +1,5 @@
 // GL platform pieces: the headless context, the GPU timer and the index buffer texture.
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -48,11 +49,17 @@ TEST(GpuTimer, MeasuresNonNegativeTime) {
   GLuint buffer = 0;
   glCreateBuffers(1, &buffer);
   glNamedBufferStorage(buffer, 1 << 20, nullptr, 0);
+  const auto wallBegin = std::chrono::steady_clock::now();
   timer.begin();
   glClearNamedBufferData(buffer, GL_R8, GL_RED, GL_UNSIGNED_BYTE, nullptr);
   timer.end();
+  const double elapsed = timer.elapsedMs();
+  const double wallMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wallBegin).count();
   glDeleteBuffers(1, &buffer);
-  EXPECT_GE(timer.elapsedMs(), 0.0);
+  EXPECT_GE(elapsed, 0.0);
+  EXPECT_LE(elapsed, wallMs);  // elapsedMs() waits for the GPU, so the span fits in the wall time around it
+  EXPECT_EQ(timer.elapsedMs(), elapsed);
   EXPECT_THROW(timer.end(), Error);
 }
 

@@ -1,0 +1,113 @@
+#include "render/frame_renderer.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "loader/error.h"
+#include "render/brick_pool.h"
+#include "render/gl_context.h"
+#include "render/index_texture.h"
+
+namespace ropecast {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+}  // namespace
+
+EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInfo& info, const TfTable* tf) {
+  if (params.mode == RenderMode::Iso) {
+    const double isoStored = info.mapping.toStored(params.isoValue);
+    return [isoStored](uint16_t lo, uint16_t hi) { return double(hi) < isoStored || double(lo) > isoStored; };
+  }
+  if (!tf) throw Error("emptinessFor: DVR needs a transfer function");
+  return [tf](uint16_t lo, uint16_t hi) { return !tf->hasOpacity(lo, hi); };
+}
+
+FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
+                             const FrameRendererConfig& config)
+    : source_(source) {
+  const BrickSourceInfo& info = source.info();
+  BrickPoolConfig poolConfig;
+  poolConfig.brickSize = info.layout.brickSize;
+  poolConfig.storedType = info.storedType;
+  poolConfig.budgetBytes = config.gpuBudgetBytes ? config.gpuBudgetBytes : defaultGpuBudgetBytes(gl);
+  pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
+  // The loader's SlotTable decides which brick lives in which slot; the pool's own allocator is not used, so
+  // every slot is taken from it once.
+  while (pool_->allocate()) {
+  }
+  indexTexture_ = std::make_unique<IndexTexture>(kRopeTexelComponents, gl.maxTextureBufferTexels);
+
+  WorkingSetConfig wsConfig;
+  wsConfig.cpuCacheBytes = config.cpuCacheBytes;
+  wsConfig.gpuSlots = pool_->slotCount();
+  wsConfig.uploadBudgetBytes = config.uploadBudgetBytes;
+  wsConfig.ioThreads = config.ioThreads;
+  workingSet_ = std::make_unique<WorkingSet>(source, wsConfig);
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+FrameStats FrameRenderer::render(const FrameRequest& request) {
+  const auto frameStart = Clock::now();
+  if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
+
+  // Pass 1, refine: the loader plans the cut and the uploads of this frame.
+  FrameInput input;
+  input.view.camera = request.camera;
+  input.view.viewportWidth = request.width;
+  input.view.viewportHeight = request.height;
+  input.view.voxelsPerPixel = request.voxelsPerPixel;
+  input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
+  WorkingSetFrame plan =
+      request.synchronous ? workingSet_->updateUntilConverged(input) : workingSet_->update(input);
+
+  // Pass 2, upload: bricks into their pool slots.
+  const auto uploadStart = Clock::now();
+  for (const BrickUpload& upload : plan.uploads)
+    pool_->upload(upload.slot, std::span<const std::byte>(upload.brick->data(), upload.brick->size()));
+  const double uploadMs = msSince(uploadStart);
+
+  // Pass 3, build index: the rope octree over the cut, into the index texture.
+  const auto indexStart = Clock::now();
+  cut_.leaves.clear();
+  cut_.leaves.reserve(plan.leaves.size());
+  for (const PlannedLeaf& leaf : plan.leaves) {
+    CutLeaf cutLeaf;
+    cutLeaf.depth = leaf.key.depth;
+    cutLeaf.coord = leaf.key.coord;
+    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data : LeafKind::Empty;
+    cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
+    cut_.leaves.push_back(cutLeaf);
+  }
+  indexBuilder_.build(cut_, index_);
+  indexTexture_->upload(std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(index_.texels.data()),
+                                                  index_.texels.size() * kRopeTexelComponents));
+  const double indexMs = msSince(indexStart);
+
+  // Pass 4, ray cast.
+  RaycastFrame frame;
+  frame.pool = pool_.get();
+  frame.index = indexTexture_.get();
+  frame.camera = request.camera;
+  frame.volume = VolumeGeometry::of(source_.info());
+  frame.params = request.params;
+  frame.tf = request.tf;
+  frame.width = request.width;
+  frame.height = request.height;
+  raycast_.render(frame);
+
+  FrameStats stats = plan.stats;
+  stats.frame = frame_++;
+  stats.indexMs = indexMs;
+  stats.uploadMs = uploadMs;
+  stats.raycastMs = raycast_.lastRaycastMs();  // waits for the GPU: the frame time includes the ray cast
+  stats.raycastWallClock = raycast_.raycastTimerUsedWallClock();
+  stats.frameMs = msSince(frameStart);
+  return stats;
+}
+
+}  // namespace ropecast

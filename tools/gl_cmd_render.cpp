@@ -1,0 +1,271 @@
+// `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+
+#include "loader/camera_path.h"
+#include "loader/error.h"
+#include "loader/io_queue.h"
+#include "loader/procedural_bricks.h"
+#include "loader/store.h"
+#include "loader/transfer_function.h"
+#include "render/cpu_raycaster.h"
+#include "render/frame_renderer.h"
+#include "render/gl_context.h"
+#include "render/image_io.h"
+#include "tools/cli_values.h"
+#include "tools/command.h"
+
+namespace ropecast::tools {
+namespace {
+
+struct RenderOptions {
+  std::string input;
+  std::string mode = "iso";
+  std::optional<double> iso;
+  std::string tf;
+  std::string size = "512x512";
+  std::string orbit, eye, target, up = "0,0,1";
+  double fov = 40.0;
+  std::string background = "0,0,0";
+  std::string backend = "fragment";
+  std::string output, exr, depth, stats;
+  bool reference = false;
+  double step = 0.5;
+  double ert = 0.99;
+  double voxelsPerPixel = 1.0;
+  std::string gpuBudget, cpuCache = "1G", uploadBudget;
+  uint32_t frames = 1;
+  std::string path;
+  bool converge = false;
+  uint32_t maxFrames = 1000;
+  uint32_t every = 0;
+  double ioDelayMs = 0.0;
+  uint32_t brick = kDefaultBrickSize;  // procedural inputs only
+};
+
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
+  if (o.input.rfind("procedural:", 0) == 0) return openProceduralBricks(o.input, o.brick);
+  if (!std::filesystem::exists(o.input)) throw Error(o.input + ": no such store file");
+  return Store::open(o.input);
+}
+
+Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
+  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  if (!o.eye.empty() || !o.target.empty()) {
+    if (o.eye.empty() || o.target.empty()) throw Error("--eye and --target go together");
+    Camera c;
+    c.eye = parseTriple(o.eye, "--eye");
+    c.target = parseTriple(o.target, "--target");
+    c.up = parseTriple(o.up, "--up");
+    c.fovYDeg = o.fov;
+    if (c.eye == c.target) throw Error("--eye and --target must differ");
+    return c;
+  }
+  const glm::dvec3 orbit = o.orbit.empty() ? glm::dvec3(30.0, 20.0, 3.0) : parseTriple(o.orbit, "--orbit");
+  if (orbit.z <= 0.0) throw Error("--orbit: the distance must be positive, got " + o.orbit);
+  return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), boxMax, o.fov);
+}
+
+FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h, uint32_t channels) {
+  FloatImage image;
+  image.width = w;
+  image.height = h;
+  image.channels = channels;
+  image.pixels = values;
+  return image;
+}
+
+void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatImage& depth,
+                  const std::string& pngPath) {
+  writePng(pngPath, color, false);
+  if (!o.exr.empty()) writeExr(o.exr, color);
+  if (!o.depth.empty()) writeDepthExr(o.depth, depth);
+}
+
+// "out.png", frame 7 -> "out_0007.png".
+std::string framePath(const std::string& path, uint64_t frame) {
+  std::filesystem::path p(path);
+  char suffix[32];
+  std::snprintf(suffix, sizeof suffix, "_%04llu", static_cast<unsigned long long>(frame));
+  return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
+}
+
+// Writes the stats lines to a temporary file renamed at the end, so a failed run leaves no partial file.
+class StatsWriter {
+ public:
+  explicit StatsWriter(std::string path) : path_(std::move(path)) {
+    if (path_.empty()) return;
+    tmp_ = path_ + ".tmp";
+    out_.open(tmp_);
+    if (!out_) throw Error("--stats " + path_ + ": cannot write the file");
+  }
+  ~StatsWriter() {
+    if (!path_.empty() && !done_) {
+      out_.close();
+      std::filesystem::remove(tmp_);
+    }
+  }
+  void write(const FrameStats& s) {
+    if (!path_.empty()) out_ << toJsonLine(s) << '\n';
+  }
+  void finish() {
+    if (path_.empty()) return;
+    out_.close();
+    if (!out_) throw Error("--stats " + path_ + ": write failed");
+    std::filesystem::rename(tmp_, path_);
+    done_ = true;
+  }
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream out_;
+  bool done_ = false;
+};
+
+int runRender(const RenderOptions& o) {
+  if (o.output.empty()) throw Error("render: -o OUT.png is required");
+  std::unique_ptr<BrickSource> source = openBrickSource(o);
+  std::unique_ptr<BrickSource> delayed;
+  if (o.ioDelayMs > 0.0) delayed = std::make_unique<DelayedBrickSource>(*source, o.ioDelayMs);
+  const BrickSource& bricks = delayed ? *delayed : *source;
+  const BrickSourceInfo& info = bricks.info();
+
+  const glm::u32vec2 size = parseImageSize(o.size, "--size");
+  RenderParams params;
+  params.mode = o.mode == "dvr" ? RenderMode::Dvr : RenderMode::Iso;
+  const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
+  const double hi =
+      info.volume.valueMax.value_or(info.mapping.toData(info.storedType == SampleType::UInt8 ? 255 : 65535));
+  params.isoValue = o.iso.value_or(0.5 * (lo + hi));
+  params.stepVoxels = o.step;
+  params.ert = o.ert;
+  params.background = parseTriple(o.background, "--background");
+  params.backend = o.backend == "compute" ? RenderBackend::Compute : RenderBackend::Fragment;
+
+  std::optional<TfTable> tf;
+  if (params.mode == RenderMode::Dvr) {
+    const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
+    tf = TfTable::bake(function, info.mapping, info.storedType == SampleType::UInt8 ? 255 : 65535);
+  }
+
+  std::optional<CameraPath> path;
+  if (!o.path.empty()) path = loadCameraPath(o.path);
+  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  const uint32_t frames = std::max<uint32_t>(1, o.frames);
+  auto cameraOf = [&](uint32_t frame) {
+    return path ? sampleCameraPath(*path, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o, info);
+  };
+
+  StatsWriter stats(o.stats);
+  if (o.reference) {
+    ReferenceRenderer reference(bricks);
+    CpuRenderInput input;
+    input.camera = cameraOf(frames - 1);
+    input.width = size.x;
+    input.height = size.y;
+    input.params = params;
+    input.tf = tf ? &*tf : nullptr;
+    const CpuImage image = reference.render(input);
+    writeOutputs(o, toFloatImage(image.rgba, image.width, image.height, 4),
+                 toFloatImage(image.depth, image.width, image.height, 1), o.output);
+    stats.finish();
+    return 0;
+  }
+
+  GlContext gl;
+  FrameRendererConfig config;
+  if (!o.gpuBudget.empty()) config.gpuBudgetBytes = parseBytes(o.gpuBudget, "--gpu-budget");
+  config.cpuCacheBytes = parseBytes(o.cpuCache, "--cpu-cache");
+  if (!o.uploadBudget.empty()) config.uploadBudgetBytes = parseBytes(o.uploadBudget, "--upload-budget");
+  FrameRenderer renderer(gl.info(), bricks, config);
+
+  FrameRequest request;
+  request.width = size.x;
+  request.height = size.y;
+  request.params = params;
+  request.voxelsPerPixel = o.voxelsPerPixel;
+  request.tf = tf ? &*tf : nullptr;
+  // A single frame without --converge is issue 3's synchronous render: load what the view needs, then draw.
+  const bool progressive = o.converge || frames > 1 || path;
+  request.synchronous = !progressive;
+
+  const uint32_t frameCap = o.converge ? std::max(frames, o.maxFrames) : frames;
+  uint32_t frame = 0;
+  for (;; ++frame) {
+    request.camera = cameraOf(std::min(frame, frames - 1));
+    const FrameStats s = renderer.render(request);
+    stats.write(s);
+    const bool last =
+        o.converge ? (frame + 1 >= frames && s.converged) || frame + 1 >= frameCap : frame + 1 >= frames;
+    if (o.every > 0 && (frame % o.every == 0) && !last)
+      writeOutputs(o, renderer.readColor(), renderer.readDepth(), framePath(o.output, frame));
+    if (last) {
+      if (o.converge && !s.converged)
+        std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
+      break;
+    }
+  }
+  writeOutputs(o, renderer.readColor(), renderer.readDepth(), o.output);
+  stats.finish();
+  return 0;
+}
+
+const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::function<int()> {
+  auto o = std::make_shared<RenderOptions>();
+  app.description("Render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
+  app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
+  app.add_option("-o,--output", o->output, "output PNG")->required();
+  app.add_option("--mode", o->mode, "iso or dvr")
+      ->check(CLI::IsMember({"iso", "dvr"}))
+      ->capture_default_str();
+  app.add_option("--iso", o->iso, "isovalue in data units (default: middle of the value range)");
+  app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
+  app.add_option("--size", o->size, "image size WxH")->capture_default_str();
+  app.add_option("--orbit", o->orbit,
+                 "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
+  app.add_option("--eye", o->eye, "camera position X,Y,Z (world units)");
+  app.add_option("--target", o->target, "point looked at X,Y,Z");
+  app.add_option("--up", o->up, "up vector X,Y,Z")->capture_default_str();
+  app.add_option("--fov", o->fov, "vertical field of view, degrees")
+      ->check(CLI::Range(1.0, 179.0))
+      ->capture_default_str();
+  app.add_option("--background", o->background, "background R,G,B in [0,1]")->capture_default_str();
+  app.add_option("--backend", o->backend, "fragment or compute")
+      ->check(CLI::IsMember({"fragment", "compute"}))
+      ->capture_default_str();
+  app.add_option("--exr", o->exr, "also write float RGBA EXR (alpha = coverage)");
+  app.add_option("--depth", o->depth, "also write the depth (world units along the view axis) as EXR");
+  app.add_option("--stats", o->stats, "write one JSON object per frame, one per line");
+  app.add_flag("--reference", o->reference,
+               "brute-force CPU ray marching of the full-resolution data instead");
+  app.add_option("--step", o->step, "sample distance in voxels of the level crossed")
+      ->check(CLI::Range(0.01, 8.0))
+      ->capture_default_str();
+  app.add_option("--ert", o->ert, "early ray termination opacity (DVR)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--voxels-per-pixel", o->voxelsPerPixel, "refinement target: voxels per pixel")
+      ->check(CLI::Range(0.01, 64.0))
+      ->capture_default_str();
+  app.add_option("--gpu-budget", o->gpuBudget, "GPU brick pool bytes (e.g. 512M; default from the driver)");
+  app.add_option("--cpu-cache", o->cpuCache, "CPU brick cache bytes")->capture_default_str();
+  app.add_option("--upload-budget", o->uploadBudget, "brick upload bytes per frame (default: unlimited)");
+  app.add_option("--frames", o->frames, "frames to render (progressive loading)")
+      ->check(CLI::Range(1u, 1000000u));
+  app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes");
+  app.add_flag("--converge", o->converge, "render until the working set is complete and nothing is pending");
+  app.add_option("--max-frames", o->maxFrames, "frame cap for --converge")->capture_default_str();
+  app.add_option("--every", o->every, "also write every K-th frame as OUT_NNNN.png");
+  app.add_option("--io-delay-ms", o->ioDelayMs, "added latency per brick read (shows asynchrony)")
+      ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--brick", o->brick, "brick size for procedural inputs")
+      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
+  return [o] { return runRender(*o); };
+});
+
+}  // namespace
+}  // namespace ropecast::tools
