@@ -17,6 +17,7 @@ std::vector<double> parseNumbers(const std::string& text, char separator, size_t
   std::stringstream in(text);
   std::string part;
   while (std::getline(in, part, separator)) {
+    while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back()))) part.pop_back();
     size_t used = 0;
     double v = 0.0;
     try {
