@@ -122,11 +122,11 @@ RayResult castRay(uvec2 pixel) {
 #ifdef RAYCAST_MODE_ISO
       float f = v - uIsoValue;
       if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
-        // Bisection between the previous and this sample, at this leaf's level.
+        // Bisection between the previous and this sample, at this leaf's level, in exact interpolation.
         float ta = tPrev, fa = fPrev, tb = t;
         for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
           float tm = 0.5 * (ta + tb);
-          float fm = brickValue(brick, brickTexel(brick, originCube + tm * dirCube)) - uIsoValue;
+          float fm = brickValueExact(brick, brickTexel(brick, originCube + tm * dirCube)) - uIsoValue;
           if ((fm >= 0.0) == (fa >= 0.0)) {
             ta = tm;
             fa = fm;
@@ -136,7 +136,7 @@ RayResult castRay(uvec2 pixel) {
         }
         float tHit = 0.5 * (ta + tb);
         vec3 hitTexel = brickTexel(brick, originCube + tHit * dirCube);
-        color = shadeIso(brickGradient(brick, hitTexel, cellWorld), dir);
+        color = shadeIso(brickGradientExact(brick, hitTexel, cellWorld), dir);
         alpha = 1.0;
         depth = tHit * depthPerT;
         done = true;

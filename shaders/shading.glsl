@@ -43,6 +43,36 @@ float brickValue(BrickRef b, vec3 texel) {
   return textureLod(uPool, (b.slotOrigin + p) * uPoolTexelSize, 0.0).r;
 }
 
+// v as brickValue() gives it, but interpolated in float from eight texelFetch()es. Hardware LINEAR filtering of
+// 8-bit textures uses 8-bit weights (llvmpipe, most GPUs): fine for marching, but central-difference gradients
+// and the bisected hit of an isosurface then come out blocky and speckled. The iso hit uses this form.
+float brickValueExact(BrickRef b, vec3 texel) {
+  vec3 q = clamp(texel, vec3(0.5), vec3(uPoolSlotEdge - 0.5)) - 0.5;
+  vec3 base = min(floor(q), vec3(uPoolSlotEdge - 2.0));  // the upper corner stays inside the slot
+  vec3 f = q - base;
+  ivec3 i = ivec3(b.slotOrigin + base);
+  float c000 = texelFetch(uPool, i, 0).r;
+  float c100 = texelFetch(uPool, i + ivec3(1, 0, 0), 0).r;
+  float c010 = texelFetch(uPool, i + ivec3(0, 1, 0), 0).r;
+  float c110 = texelFetch(uPool, i + ivec3(1, 1, 0), 0).r;
+  float c001 = texelFetch(uPool, i + ivec3(0, 0, 1), 0).r;
+  float c101 = texelFetch(uPool, i + ivec3(1, 0, 1), 0).r;
+  float c011 = texelFetch(uPool, i + ivec3(0, 1, 1), 0).r;
+  float c111 = texelFetch(uPool, i + ivec3(1, 1, 1), 0).r;
+  float c00 = mix(c000, c100, f.x), c10 = mix(c010, c110, f.x);
+  float c01 = mix(c001, c101, f.x), c11 = mix(c011, c111, f.x);
+  return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+}
+
+// brickGradient() from brickValueExact(): the isosurface normal.
+vec3 brickGradientExact(BrickRef b, vec3 texel, vec3 cellWorld) {
+  vec3 g;
+  g.x = brickValueExact(b, texel + vec3(1.0, 0.0, 0.0)) - brickValueExact(b, texel - vec3(1.0, 0.0, 0.0));
+  g.y = brickValueExact(b, texel + vec3(0.0, 1.0, 0.0)) - brickValueExact(b, texel - vec3(0.0, 1.0, 0.0));
+  g.z = brickValueExact(b, texel + vec3(0.0, 0.0, 1.0)) - brickValueExact(b, texel - vec3(0.0, 0.0, 1.0));
+  return g / (2.0 * cellWorld);
+}
+
 // Central differences with h_i = s_i * 2^L: one level-L texel along each axis. cellWorld = s * 2^L.
 vec3 brickGradient(BrickRef b, vec3 texel, vec3 cellWorld) {
   vec3 g;
