@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Bad input for `ropecast render`: an exit code in 1..127, a message naming the file or option, no output left.
+# Usage: bash render_errors.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+failures=0
+
+# expect_failure NAME PATTERN ARGS...: `ropecast render ARGS -o $dir/x.png` must fail with 1..127, print PATTERN
+# on stderr and leave no x.png (nor a temporary of it).
+expect_failure() {
+  local name="$1" pattern="$2"
+  shift 2
+  "$ropecast" render "$@" -o "$dir/x.png" > "$dir/out.txt" 2> "$dir/err.txt"
+  local rc=$?
+  if [ "$rc" -lt 1 ] || [ "$rc" -gt 127 ]; then
+    echo "FAIL $name: exit code $rc"; failures=$((failures + 1)); return
+  fi
+  if ! grep -qF -- "$pattern" "$dir/err.txt"; then
+    echo "FAIL $name: stderr does not name '$pattern':"; cat "$dir/err.txt"; failures=$((failures + 1)); return
+  fi
+  if [ -n "$(find "$dir" -name 'x.png*')" ]; then
+    echo "FAIL $name: left $(find "$dir" -name 'x.png*')"; failures=$((failures + 1)); return
+  fi
+  echo "ok   $name (exit $rc): $(head -c 160 "$dir/err.txt" | tr '\n' ' ')"
+}
+
+vol="procedural:sphere:32"
+printf 'not a store at all' > "$dir/bogus.rcast"
+printf '{"points": [[0, 0, 0, 0]]}' > "$dir/short_point.json"
+printf '{"points": ' > "$dir/truncated.json"
+printf '[{"eye": [1, 2]}]' > "$dir/bad_path.json"
+
+expect_failure "missing store" "$dir/none.rcast" "$dir/none.rcast"
+expect_failure "not a store" "$dir/bogus.rcast" "$dir/bogus.rcast"
+expect_failure "unknown procedural" "bogus" procedural:bogus:32
+expect_failure "bad size" "--size" "$vol" --size 0x4
+expect_failure "size not WxH" "--size" "$vol" --size 512
+expect_failure "bad mode" "--mode" "$vol" --mode foo
+expect_failure "bad backend" "--backend" "$vol" --backend vulkan
+expect_failure "unknown tf preset" "--tf" "$vol" --mode dvr --tf nopreset
+expect_failure "tf point not 5 numbers" "short_point.json" "$vol" --mode dvr --tf "$dir/short_point.json"
+expect_failure "tf not JSON" "truncated.json" "$vol" --mode dvr --tf "$dir/truncated.json"
+expect_failure "orbit needs 3 numbers" "--orbit" "$vol" --orbit 1,2
+expect_failure "eye equals target" "--eye" "$vol" --eye 1,1,1 --target 1,1,1
+expect_failure "gpu budget too small" "--gpu-budget" "$vol" --gpu-budget 1K
+expect_failure "bad byte size" "--cpu-cache" "$vol" --cpu-cache lots
+expect_failure "missing camera path" "nofile.json" "$vol" --path "$dir/nofile.json"
+expect_failure "malformed camera path" "bad_path.json" "$vol" --path "$dir/bad_path.json"
+expect_failure "unwritable stats" "$dir/nodir/s.jsonl" "$vol" --stats "$dir/nodir/s.jsonl"
+
+# An unwritable image path fails the same way (it is not x.png, so check it by hand).
+"$ropecast" render "$vol" -o "$dir/nodir/y.png" > /dev/null 2> "$dir/err.txt"
+rc=$?
+if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF "$dir/nodir/y.png" "$dir/err.txt"; then
+  echo "ok   unwritable output (exit $rc)"
+else
+  echo "FAIL unwritable output: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+
+[ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# `ropecast render` end to end: every output it promises (PNG, EXR, depth EXR, --stats lines with their fields),
+# stores and procedural inputs, both backends, --reference, and the progressive modes (--frames, --converge,
+# --path, --every).
+# Usage: bash render_outputs.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+run() {  # run NAME COMMAND...: must exit 0
+  local name="$1"; shift
+  if "$@" > "$dir/out.txt" 2> "$dir/err.txt"; then echo "ok   $name"; else fail "$name: exit $?: $(cat "$dir/err.txt")"; fi
+}
+# Mean of a channel over the image, from oiiotool --stats ("Stats Avg: r g b a (float)").
+channel_avg() { oiiotool --stats "$1" 2>/dev/null | awk -v c="$2" '/Stats Avg/ {print $(3 + c); exit}'; }
+# psnr A B: PSNR of two images of the same size, from oiiotool --diff ("Peak SNR = X"; absent when identical).
+psnr() { oiiotool "$1" "$2" --diff 2>/dev/null | awk '/Peak SNR/ {print $4; exit}'; }
+at_least() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a >= b) }'; }
+
+small="procedural:sphere:48 --size 64x64 --brick 16"
+run "png+exr+depth+stats" "$ropecast" render $small -o "$dir/a.png" --exr "$dir/a.exr" --depth "$dir/a_depth.exr" \
+  --stats "$dir/a.jsonl"
+for f in a.png a.exr a_depth.exr a.jsonl; do [ -s "$dir/$f" ] || fail "missing output $f"; done
+oiiotool --info -v "$dir/a.exr" 2>/dev/null | grep -q "4 channel" || fail "a.exr is not float RGBA"
+oiiotool --info -v "$dir/a.exr" 2>/dev/null | grep -q "float" || fail "a.exr is not float"
+# The sphere covers the middle of the image: coverage (EXR alpha) strictly between 0 and 1 on average.
+alpha=$(channel_avg "$dir/a.exr" 3)
+at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"
+[ "$(wc -l < "$dir/a.jsonl")" -eq 1 ] || fail "one frame should give one stats line"
+for field in frame frame_ms raycast_ms index_ms leaves bricks_resident bricks_uploaded bytes_uploaded refine_ms \
+    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used converged; do
+  grep -q "\"$field\":" "$dir/a.jsonl" || fail "stats line lacks $field: $(cat "$dir/a.jsonl")"
+done
+grep -q '"converged":true' "$dir/a.jsonl" || fail "a synchronous frame should be converged"
+
+# The compute backend gives the fragment backend's image.
+run "compute backend" "$ropecast" render $small -o "$dir/c.png" --backend compute
+p=$(psnr "$dir/a.png" "$dir/c.png")
+[ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50 || fail "fragment vs compute PSNR $p dB < 50"
+
+# A converted store renders, and --reference (CPU brute force) agrees with the octree image.
+run "convert" "$ropecast" convert procedural:sphere:48 --brick 16 -o "$dir/s.rcast" --quiet
+run "render store" "$ropecast" render "$dir/s.rcast" --size 64x64 -o "$dir/s.png"
+run "reference" "$ropecast" render "$dir/s.rcast" --size 64x64 -o "$dir/s_ref.png" --reference
+p=$(psnr "$dir/s.png" "$dir/s_ref.png")
+[ -z "$p" ] || at_least "$p" 30 || fail "store image vs --reference PSNR '$p' dB < 30"
+echo "     store vs reference: ${p:-identical} dB"
+
+# DVR with a preset and with a transfer-function file.
+run "dvr preset" "$ropecast" render $small --mode dvr --tf ct-soft -o "$dir/d.png"
+cat > "$dir/tf.json" <<'TF'
+{"points": [[0, 0, 0, 0, 0], [100, 0, 0, 0, 0], [255, 1, 0.5, 0.2, 0.1]]}
+TF
+if "$ropecast" render $small --mode dvr --tf "$dir/tf.json" -o "$dir/d2.png" 2> "$dir/err.txt"; then
+  echo "ok   dvr tf file"
+else
+  fail "dvr tf file: $(cat "$dir/err.txt")"
+fi
+
+# Progressive: N frames give N lines; --converge ends converged; --every writes intermediate frames.
+run "frames" "$ropecast" render $small -o "$dir/f.png" --frames 3 --stats "$dir/f.jsonl"
+[ "$(wc -l < "$dir/f.jsonl")" -eq 3 ] || fail "--frames 3 gave $(wc -l < "$dir/f.jsonl") stats lines"
+run "converge" "$ropecast" render $small -o "$dir/v.png" --converge --io-delay-ms 5 --upload-budget 64K \
+  --stats "$dir/v.jsonl" --every 1
+tail -n 1 "$dir/v.jsonl" | grep -q '"converged":true' || fail "--converge: last frame not converged"
+[ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -ge 1 ] || fail "--every 1 wrote no intermediate frames"
+p=$(psnr "$dir/a.png" "$dir/v.png")
+[ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50 || fail "converged image differs from the synchronous one ($p dB)"
+cat > "$dir/path.json" <<'PATH'
+[{"orbit": [0, 20, 3]}, {"orbit": [90, 20, 2.5]}]
+PATH
+if "$ropecast" render $small -o "$dir/p.png" --path "$dir/path.json" --frames 4 --stats "$dir/p.jsonl" 2> "$dir/err.txt"; then
+  [ "$(wc -l < "$dir/p.jsonl")" -eq 4 ] && echo "ok   path" || fail "--path --frames 4 gave $(wc -l < "$dir/p.jsonl") lines"
+else
+  fail "path: $(cat "$dir/err.txt")"
+fi
+
+[ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
+[ "$failures" -eq 0 ]
