@@ -51,7 +51,10 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
 }
 
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info) {
-  if (info.totalGpuMemoryBytes) return *info.totalGpuMemoryBytes / 2;
+  // Half of what the driver reports, but no more than 4 GiB: the pool is allocated whole at start-up, and a
+  // renderer that takes 40 GB of an H100 by default surprises whoever shares the card. --gpu-budget overrides.
+  constexpr uint64_t kDefaultCap = 4ull << 30;
+  if (info.totalGpuMemoryBytes) return std::min(*info.totalGpuMemoryBytes / 2, kDefaultCap);
   return 512ull << 20;
 }
 

@@ -41,7 +41,7 @@ struct BrickPoolGeometry {
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
                                 int max3DTextureSize);
 
-// The default --gpu-budget: half the memory the driver reports, else 512 MiB.
+// The default --gpu-budget: half the memory the driver reports, at most 4 GiB; else 512 MiB.
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info);
 
 struct BrickPoolConfig {
