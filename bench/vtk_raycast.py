@@ -5,7 +5,14 @@ Renders offscreen (run under xvfb-run) at the given size with half-voxel samplin
 each frame so nothing is cached between frames, and prints one JSON line with the median frame time.
 
   xvfb-run -a /usr/bin/python3 bench/vtk_raycast.py VOLUME.raw --dims 256,256,256 --mode iso --iso 127.5
+
+--orbit AZ,EL,DIST and --fov place the camera exactly as `ropecast render --orbit` does (loader/camera.cpp
+orbitCamera: around the box [0, n] with voxel i's center at i + 0.5, distance in bounding-sphere radii, z up);
+each measured frame then turns the azimuth by --turn degrees. --tf FILE reads a ropecast transfer function
+JSON ({"points": [[value, r, g, b, a], ...]}, values in stored units for uint8/uint16 data) so both renderers
+use the same color and opacity (opacity per unit length = per voxel at spacing 1, as ropecast's correction).
 """
+import math
 import argparse
 import json
 import statistics
@@ -25,6 +32,10 @@ def main():
     ap.add_argument("--size", default="512x512")
     ap.add_argument("--frames", type=int, default=20)
     ap.add_argument("--warmup", type=int, default=3)
+    ap.add_argument("--orbit", help="AZ,EL,DIST as ropecast render --orbit (default: VTK's ResetCamera framing)")
+    ap.add_argument("--fov", type=float, default=40.0)
+    ap.add_argument("--turn", type=float, default=1.0, help="azimuth degrees added per frame")
+    ap.add_argument("--tf", help="ropecast transfer function JSON for --mode dvr")
     ap.add_argument("--screenshot", help="write the last frame as PNG, to check what was measured")
     args = ap.parse_args()
     nx, ny, nz = (int(v) for v in args.dims.split(","))
@@ -37,6 +48,7 @@ def main():
     reader.SetFileDimensionality(3)
     reader.SetDataExtent(0, nx - 1, 0, ny - 1, 0, nz - 1)
     reader.SetNumberOfScalarComponents(1)
+    reader.SetDataOrigin(0.5, 0.5, 0.5)  # voxel i's center at i + 0.5, as in ropecast's world
     reader.Update()
 
     mapper = vtk.vtkGPUVolumeRayCastMapper()
@@ -62,6 +74,12 @@ def main():
         color.AddRGBPoint(vmax, 0.9, 0.85, 0.75)
         opacity.AddPoint(0, 1.0)
         opacity.AddPoint(vmax, 1.0)
+    elif args.tf:
+        mapper.SetBlendModeToComposite()
+        with open(args.tf) as f:
+            for value, r, g, b, a in json.load(f)["points"]:
+                color.AddRGBPoint(value, r, g, b)
+                opacity.AddPoint(value, a)
     else:
         mapper.SetBlendModeToComposite()
         color.AddRGBPoint(0, 0.0, 0.0, 0.0)
@@ -85,16 +103,31 @@ def main():
     window.SetOffScreenRendering(1)
     window.SetSize(w, h)
     window.AddRenderer(renderer)
-    renderer.ResetCamera()
     camera = renderer.GetActiveCamera()
-    camera.SetViewAngle(40)
-    camera.Azimuth(30)
-    camera.Elevation(20)
-    renderer.ResetCameraClippingRange()
+
+    def place_camera(frame):
+        if not args.orbit:
+            if frame == 0:
+                renderer.ResetCamera()
+                camera.SetViewAngle(args.fov)
+                camera.Azimuth(30)
+                camera.Elevation(20)
+            camera.Azimuth(args.turn)
+        else:
+            az, el, dist = (float(v) for v in args.orbit.split(","))
+            az, el = math.radians(az + args.turn * frame), math.radians(el)
+            center = (0.5 * nx, 0.5 * ny, 0.5 * nz)
+            radius = 0.5 * math.sqrt(nx * nx + ny * ny + nz * nz)
+            d = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
+            camera.SetFocalPoint(*center)
+            camera.SetPosition(*(c + dist * radius * di for c, di in zip(center, d)))
+            camera.SetViewUp(0, 0, 1)
+            camera.SetViewAngle(args.fov)
+        renderer.ResetCameraClippingRange()
 
     times = []
     for i in range(args.warmup + args.frames):
-        camera.Azimuth(1.0)
+        place_camera(i)
         t0 = time.perf_counter()
         window.Render()
         window.WaitForCompletion()
