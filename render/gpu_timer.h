@@ -2,8 +2,10 @@
 // begin()/end() bracket the commands with GL_TIMESTAMP queries; elapsedMs() waits for the results. Some
 // drivers report timestamps that cannot be right (llvmpipe stamps per rasterizer thread, so a span can read
 // as hours): a GPU span longer than the wall time from begin() to the result is replaced by that wall time,
-// which bounds it from above because elapsedMs() waits for the GPU. usedWallClock() says which one was
-// reported. Owns two GL query objects: render thread only, with the GlContext current.
+// which bounds it from above because elapsedMs() waits for the GPU. On llvmpipe/softpipe the stamps can
+// also read far too short (a piece of the work), so there begin() drains the pipeline and the wall time is
+// always reported. usedWallClock() says which one was reported. Owns two GL query objects: render thread
+// only, with the GlContext current.
 #pragma once
 
 #include <chrono>
@@ -33,6 +35,7 @@ class GpuTimer {
   bool resolved_ = false;
   double resolvedMs_ = 0.0;
   bool usedWallClock_ = false;
+  bool softwareRenderer_ = false;  // llvmpipe/softpipe: timestamps are not trustworthy, use the wall clock
   std::chrono::steady_clock::time_point wallBegin_{};
 };
 
