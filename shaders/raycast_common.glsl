@@ -87,6 +87,10 @@ RayResult castRay(uvec2 pixel) {
   bool hasPrev = false;
   float tPrev = 0.0;
   float fPrev = 0.0;
+  bool hit = false;
+  BrickRef hitBrick;
+  vec3 hitCellWorld = vec3(0.0);
+  float tHitB = 0.0;
 #endif
 
   RopeCursor cursor;
@@ -122,23 +126,12 @@ RayResult castRay(uvec2 pixel) {
 #ifdef RAYCAST_MODE_ISO
       float f = v - uIsoValue;
       if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
-        // Bisection between the previous and this sample, at this leaf's level, in exact interpolation.
-        float ta = tPrev, fa = fPrev, tb = t;
-        for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
-          float tm = 0.5 * (ta + tb);
-          float fm = brickValueExact(brick, brickTexel(brick, originCube + tm * dirCube)) - uIsoValue;
-          if ((fm >= 0.0) == (fa >= 0.0)) {
-            ta = tm;
-            fa = fm;
-          } else {
-            tb = tm;
-          }
-        }
-        float tHit = 0.5 * (ta + tb);
-        vec3 hitTexel = brickTexel(brick, originCube + tHit * dirCube);
-        color = shadeIso(brickGradientExact(brick, hitTexel, cellWorld), dir);
-        alpha = 1.0;
-        depth = tHit * depthPerT;
+        // A crossing between the previous and this sample: refined after the walk (below), so that the SIMD
+        // lanes of a software rasterizer run the bisection once together rather than once per lane.
+        hitBrick = brick;
+        hitCellWorld = cellWorld;
+        tHitB = t;
+        hit = true;
         done = true;
         break;
       }
@@ -160,6 +153,29 @@ RayResult castRay(uvec2 pixel) {
 #endif
     }
   }
+
+#ifdef RAYCAST_MODE_ISO
+  if (hit) {
+    // Bisection between the previous sample and the first one across the isovalue, at the level of the leaf
+    // holding the latter, in exact interpolation; then the gradient there.
+    float ta = tPrev, fa = fPrev, tb = tHitB;
+    for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
+      float tm = 0.5 * (ta + tb);
+      float fm = brickValueExact(hitBrick, brickTexel(hitBrick, originCube + tm * dirCube)) - uIsoValue;
+      if ((fm >= 0.0) == (fa >= 0.0)) {
+        ta = tm;
+        fa = fm;
+      } else {
+        tb = tm;
+      }
+    }
+    float tHit = 0.5 * (ta + tb);
+    vec3 hitTexel = brickTexel(hitBrick, originCube + tHit * dirCube);
+    color = shadeIso(brickGradientExact(hitBrick, hitTexel, hitCellWorld), dir);
+    alpha = 1.0;
+    depth = tHit * depthPerT;
+  }
+#endif
 
   result.color = vec4(color + (1.0 - alpha) * uBackground, alpha);
   result.depth = depth;
