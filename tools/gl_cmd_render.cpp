@@ -1,4 +1,5 @@
 // `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "loader/procedural_bricks.h"
 #include "loader/store.h"
 #include "loader/transfer_function.h"
+#include "render/brute_force_pass.h"
 #include "render/cpu_raycaster.h"
 #include "render/frame_renderer.h"
 #include "render/gl_context.h"
@@ -176,6 +178,33 @@ int runRender(const RenderOptions& o) {
     return 0;
   }
 
+  if (o.backend == "brute") {
+    // The baseline of bench/render_vs_brute.sh: level 0 in one 3D texture, no index
+    // (render/brute_force_pass).
+    GlContext gl;
+    BruteForcePass brute(bricks);
+    BruteForceFrame bf;
+    bf.params = params;
+    bf.tf = tf ? &*tf : nullptr;
+    bf.width = size.x;
+    bf.height = size.y;
+    for (uint32_t frame = 0; frame < frames; ++frame) {
+      const auto start = std::chrono::steady_clock::now();
+      bf.camera = cameraOf(frame);
+      brute.render(bf);
+      FrameStats s;
+      s.frame = frame;
+      s.raycastMs = brute.lastRaycastMs();
+      s.raycastWallClock = brute.raycastTimerUsedWallClock();
+      s.frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      s.converged = true;
+      stats.write(s);
+    }
+    writeOutputs(o, brute.readColor(), brute.readDepth(), o.output);
+    stats.finish();
+    return 0;
+  }
+
   GlContext gl;
   FrameRendererConfig config;
   if (!o.gpuBudget.empty()) config.gpuBudgetBytes = parseBytes(o.gpuBudget, "--gpu-budget");
@@ -234,8 +263,9 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
       ->check(CLI::Range(1.0, 179.0))
       ->capture_default_str();
   app.add_option("--background", o->background, "background R,G,B in [0,1]")->capture_default_str();
-  app.add_option("--backend", o->backend, "fragment or compute")
-      ->check(CLI::IsMember({"fragment", "compute"}))
+  app.add_option("--backend", o->backend,
+                 "fragment or compute; brute: level 0 in one 3D texture, no index (a benchmark baseline)")
+      ->check(CLI::IsMember({"fragment", "compute", "brute"}))
       ->capture_default_str();
   app.add_option("--exr", o->exr, "also write float RGBA EXR (alpha = coverage)");
   app.add_option("--depth", o->depth, "also write the depth (world units along the view axis) as EXR");

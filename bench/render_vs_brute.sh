@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# ropecast's ray caster against a brute-force single-3D-texture ray caster (`ropecast render --backend brute`:
+# level 0 in one texture, every ray marched entry to exit at half a voxel, no index) on the same in-core
+# volume, image size and camera orbit, measured in one run; prints median ray-cast times and the ratios
+# brute / ropecast (> 1: ropecast is faster).
+#
+#   bench/render_vs_brute.sh [BUILD_DIR]            (default build/perf)
+#
+# Two ropecast figures per case: "full" refines to level 0 everywhere (--voxels-per-pixel 64: the same
+# samples as brute force, so the ratio is the cost or gain of the index and of skipping empty leaves) and
+# "adaptive" at --voxels-per-pixel 1 (the method: coarser levels where a voxel is smaller than a pixel).
+# Environment: DENSE (default "marschner-lobb"), SPARSE (default "sphere menger"), SIZE (256), IMAGE
+# (512x512), FRAMES (6 measured), WORK (scratch dir). Volumes are converted once into WORK and reused.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${1:-build/perf}
+ROPECAST=$BUILD/tools/ropecast
+DENSE=${DENSE:-"marschner-lobb"}
+SPARSE=${SPARSE:-"sphere menger"}
+SIZE=${SIZE:-256}
+IMAGE=${IMAGE:-512x512}
+FRAMES=${FRAMES:-6}
+STILL=${STILL:-6}
+WORK=${WORK:-$(mktemp -d /tmp/render_vs_brute.XXXXXX)}
+mkdir -p "$WORK"
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+[ -x "$ROPECAST" ] || { echo "render_vs_brute: $ROPECAST not built" >&2; exit 1; }
+
+cat > "$WORK/tf.json" <<'EOF2'
+{"points": [[0, 0.0, 0.0, 0.0, 0.0], [25.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
+EOF2
+last=$((STILL + FRAMES - 1))
+cat > "$WORK/path.json" <<EOF2
+[{"orbit": [30, 20, 3], "time": 0}, {"orbit": [30, 20, 3], "time": $STILL},
+ {"orbit": [$((30 + FRAMES - 1)), 20, 3], "time": $last}]
+EOF2
+
+# median STATS: median raycast_ms over the measured frames (the last FRAMES, which must have had nothing
+# to upload and nothing pending).
+median() {
+  python3 - "$1" "$FRAMES" <<'EOF2'
+import json, statistics, sys
+rows = [json.loads(l) for l in open(sys.argv[1])][-int(sys.argv[2]):]
+bad = [r["frame"] for r in rows if r["bricks_uploaded"] or r["requests_pending"]]
+if bad:
+    sys.exit("render_vs_brute: frames %s still loading; raise STILL" % bad)
+print("%.1f" % statistics.median(r["raycast_ms"] for r in rows))
+EOF2
+}
+
+printf '%-15s %-6s %-4s %10s %10s %10s %8s %8s\n' volume kind mode brute_ms full_ms adapt_ms "b/full" "b/adapt"
+for name in $DENSE $SPARSE; do
+  kind=sparse; case " $DENSE " in *" $name "*) kind=dense;; esac
+  store=$WORK/$name.rcast
+  [ -f "$store" ] || "$ROPECAST" convert "procedural:$name:$SIZE" -o "$store" -q
+  for mode in iso dvr; do
+    args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$WORK/tf.json" --path "$WORK/path.json"
+          --frames $((last + 1)))
+    "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
+      -o "$WORK/$name-$mode-brute.png"
+    "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
+      -o "$WORK/$name-$mode-full.png"
+    "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 1 --stats "$WORK/$name-$mode-adaptive.jsonl" \
+      -o "$WORK/$name-$mode-adaptive.png"
+    b=$(median "$WORK/$name-$mode-brute.jsonl")
+    f=$(median "$WORK/$name-$mode-full.jsonl")
+    a=$(median "$WORK/$name-$mode-adaptive.jsonl")
+    printf '%-15s %-6s %-4s %10s %10s %10s %7.2fx %7.2fx\n' "$name" "$kind" "$mode" "$b" "$f" "$a" \
+      "$(echo "$b / $f" | bc -l)" "$(echo "$b / $a" | bc -l)"
+    "$ROPECAST" compare "$WORK/$name-$mode-brute.png" "$WORK/$name-$mode-full.png" |
+      sed "s/^/  brute vs full-resolution ropecast image: /"
+  done
+done
+echo "images and stats in $WORK"

@@ -1,0 +1,213 @@
+#include "render/brute_force_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "loader/error.h"
+#include "loader/octree_layout.h"
+#include "loader/transfer_function.h"
+#include "render/gl_context.h"
+#include "render/shader_program.h"
+
+namespace ropecast {
+
+namespace {
+
+constexpr GLuint kVolumeUnit = 0;
+constexpr GLuint kTfUnit = 1;
+
+void setVec3(GLuint program, GLint location, glm::dvec3 v) {
+  glProgramUniform3f(program, location, float(v.x), float(v.y), float(v.z));
+}
+
+std::string floatDefine(const char* name, double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s %.9g", name, value);
+  return buf;
+}
+
+}  // namespace
+
+BruteForcePass::BruteForcePass(const BrickSource& source) : info_(source.info()) {
+  const OctreeLayout& layout = info_.layout;
+  const glm::u32vec3 n = layout.dims;
+  GLint max3d = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+  if (std::max({n.x, n.y, n.z}) > uint32_t(max3d))
+    throw Error("BruteForcePass: the volume (" + std::to_string(n.x) + "x" + std::to_string(n.y) + "x" +
+                std::to_string(n.z) + ") exceeds GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3d));
+  const bool u8 = info_.storedType == SampleType::UInt8;
+  const GLenum type = u8 ? GL_UNSIGNED_BYTE : GL_UNSIGNED_SHORT;
+  glCreateTextures(GL_TEXTURE_3D, 1, &volumeTexture_);
+  glTextureStorage3D(volumeTexture_, 1, u8 ? GL_R8 : GL_R16, GLsizei(n.x), GLsizei(n.y), GLsizei(n.z));
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glTextureParameteri(volumeTexture_, p, GL_LINEAR);
+  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTextureParameteri(volumeTexture_, p, GL_CLAMP_TO_EDGE);
+  volumeBytes_ = uint64_t(n.x) * n.y * n.z * (u8 ? 1 : 2);
+
+  // Level-0 bricks straight from their stored layout: the unpack state skips the border.
+  const uint32_t edge = layout.storedBrickEdge(), b = layout.brickSize;
+  std::vector<std::byte> brick(source.brickBytes());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, GLint(edge));
+  glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, GLint(edge));
+  glPixelStorei(GL_UNPACK_SKIP_PIXELS, GLint(kBrickBorder));
+  glPixelStorei(GL_UNPACK_SKIP_ROWS, GLint(kBrickBorder));
+  glPixelStorei(GL_UNPACK_SKIP_IMAGES, GLint(kBrickBorder));
+  const glm::u32vec3 nodes = layout.insideNodes(layout.maxDepth);
+  for (uint32_t z = 0; z < nodes.z; ++z)
+    for (uint32_t y = 0; y < nodes.y; ++y)
+      for (uint32_t x = 0; x < nodes.x; ++x) {
+        const NodeKey key{layout.maxDepth, {x, y, z}};
+        source.readBrick(key, brick);
+        const glm::u32vec3 origin = key.coord * b;
+        const glm::u32vec3 extent = glm::min(glm::u32vec3(b), n - origin);
+        glTextureSubImage3D(volumeTexture_, 0, GLint(origin.x), GLint(origin.y), GLint(origin.z),
+                            GLsizei(extent.x), GLsizei(extent.y), GLsizei(extent.z), GL_RED, type,
+                            brick.data());
+      }
+  for (GLenum p : {GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
+                   GL_UNPACK_SKIP_IMAGES})
+    glPixelStorei(p, 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+
+  glCreateTextures(GL_TEXTURE_1D, 1, &tfTexture_);
+  glTextureStorage1D(tfTexture_, 1, GL_RGBA32F, TfTable::kDefaultEntries);
+  tfEntries_ = TfTable::kDefaultEntries;
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glTextureParameteri(tfTexture_, p, GL_LINEAR);
+  glTextureParameteri(tfTexture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glCreateFramebuffers(1, &framebuffer_);
+  glCreateVertexArrays(1, &emptyVertexArray_);
+  checkGlError("BruteForcePass: volume upload");
+}
+
+BruteForcePass::~BruteForcePass() {
+  GLuint textures[] = {volumeTexture_, tfTexture_, colorTexture_, worldDepthTexture_};
+  glDeleteTextures(4, textures);
+  glDeleteFramebuffers(1, &framebuffer_);
+  glDeleteVertexArrays(1, &emptyVertexArray_);
+}
+
+const ShaderProgram& BruteForcePass::program(RenderMode mode) {
+  std::unique_ptr<ShaderProgram>& p = programs_[mode == RenderMode::Iso ? 0 : 1];
+  if (!p)
+    p = std::make_unique<ShaderProgram>(
+        std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
+                                {ShaderStage::Fragment, "shaders/brute_force.frag"}},
+        std::vector<std::string>{
+            mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
+            "BRICK_BORDER " + std::to_string(kBrickBorder),
+            "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
+            floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
+        });
+  return *p;
+}
+
+void BruteForcePass::resizeTargets(uint32_t width, uint32_t height) {
+  if (width == width_ && height == height_) return;
+  GLuint old[] = {colorTexture_, worldDepthTexture_};
+  glDeleteTextures(2, old);
+  glCreateTextures(GL_TEXTURE_2D, 1, &colorTexture_);
+  glTextureStorage2D(colorTexture_, 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
+  glCreateTextures(GL_TEXTURE_2D, 1, &worldDepthTexture_);
+  glTextureStorage2D(worldDepthTexture_, 1, GL_R32F, GLsizei(width), GLsizei(height));
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, colorTexture_, 0);
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT1, worldDepthTexture_, 0);
+  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(framebuffer_, 2, drawBuffers);
+  if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error("BruteForcePass: render targets incomplete");
+  width_ = width;
+  height_ = height;
+}
+
+void BruteForcePass::render(const BruteForceFrame& f) {
+  if (f.width == 0 || f.height == 0) throw Error("BruteForcePass::render: image size must be positive");
+  if (!(f.params.stepVoxels > 0.0)) throw Error("BruteForcePass::render: --step must be positive");
+  if (f.params.mode == RenderMode::Dvr && !f.tf)
+    throw Error("BruteForcePass::render: DVR mode needs a baked transfer function");
+  if (f.tf && f.tf->entryCount() != tfEntries_)
+    throw Error("BruteForcePass::render: transfer function tables have " + std::to_string(tfEntries_) +
+                " entries, got " + std::to_string(f.tf->entryCount()));
+  const ShaderProgram& p = program(f.params.mode);
+  resizeTargets(f.width, f.height);
+  if (f.tf)
+    glTextureSubImage1D(tfTexture_, 0, 0, GLsizei(tfEntries_), GL_RGBA, GL_FLOAT, f.tf->entries().data());
+
+  // Uniforms: the names of shaders/raycast_common.glsl and shading.glsl, which brute_force.frag includes.
+  const GLuint id = p.id();
+  const auto u = [&](const char* name) { return p.uniform(name); };
+  const CameraFrame cam = cameraFrame(f.camera);
+  setVec3(id, u("uEye"), f.camera.eye);
+  setVec3(id, u("uForward"), cam.forward);
+  setVec3(id, u("uRight"), cam.right);
+  setVec3(id, u("uUp"), cam.up);
+  glProgramUniform1f(id, u("uTanHalfFov"), float(std::tan(glm::radians(f.camera.fovYDeg) * 0.5)));
+  glProgramUniform1f(id, u("uAspect"), float(double(f.width) / double(f.height)));
+  glProgramUniform2ui(id, u("uImageSize"), f.width, f.height);
+  const glm::dvec3 spacing = info_.volume.spacing;
+  setVec3(id, u("uVolumeMax"), glm::dvec3(info_.layout.dims) * spacing);
+  setVec3(id, u("uSpacing"), spacing);
+  glProgramUniform1f(id, u("uMinSpacing"), float(std::min({spacing.x, spacing.y, spacing.z})));
+  glProgramUniform3i(id, u("uVolumeDims"), GLint(info_.layout.dims.x), GLint(info_.layout.dims.y),
+                     GLint(info_.layout.dims.z));
+  glProgramUniform1i(id, u("uVolume"), GLint(kVolumeUnit));
+  glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
+  glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
+  const RenderParams& rp = f.params;
+  const double storedMax = info_.storedType == SampleType::UInt8 ? 255.0 : 65535.0;
+  glProgramUniform1f(id, u("uStepVoxels"), float(rp.stepVoxels));
+  glProgramUniform1f(id, u("uErt"), float(rp.ert));
+  setVec3(id, u("uBackground"), rp.background);
+  glProgramUniform1f(id, u("uIsoValue"), float(info_.mapping.toStored(rp.isoValue) / storedMax));
+  setVec3(id, u("uIsoBaseColor"), rp.lighting.isoBaseColor);
+  glProgramUniform1f(id, u("uAmbient"), float(rp.lighting.ambient));
+  glProgramUniform1f(id, u("uDiffuse"), float(rp.lighting.diffuse));
+  glProgramUniform1f(id, u("uSpecular"), float(rp.lighting.specular));
+  glProgramUniform1f(id, u("uShininess"), float(rp.lighting.shininess));
+
+  glBindTextureUnit(kVolumeUnit, volumeTexture_);
+  glBindTextureUnit(kTfUnit, tfTexture_);
+  p.use();
+  timer_.begin();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, GLsizei(f.width), GLsizei(f.height));
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glBindVertexArray(emptyVertexArray_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  timer_.end();
+  checkGlError("BruteForcePass::render");
+}
+
+FloatImage BruteForcePass::readColor() const {
+  FloatImage img{width_, height_, 4, std::vector<float>(size_t(width_) * height_ * 4)};
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(colorTexture_, 0, GL_RGBA, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
+                    img.pixels.data());
+  checkGlError("BruteForcePass::readColor");
+  return img;
+}
+
+FloatImage BruteForcePass::readDepth() const {
+  FloatImage img{width_, height_, 1, std::vector<float>(size_t(width_) * height_)};
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(worldDepthTexture_, 0, GL_RED, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
+                    img.pixels.data());
+  checkGlError("BruteForcePass::readDepth");
+  return img;
+}
+
+}  // namespace ropecast

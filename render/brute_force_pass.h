@@ -1,0 +1,63 @@
+// BruteForcePass: the baseline ray caster of bench/render_vs_brute.sh. It holds the whole level-0 volume in
+// one 3D texture and marches every ray from the volume entry to its exit at a fixed half-voxel step, with no
+// index, no levels and no empty-space skipping; everything else is the rendering contract of
+// docs/RENDERING.md at level 0 (same rays, same sample grid t0 + k dt, same interpolation, bisection,
+// gradients, transfer function, shading and early ray termination), so on a cut of level-0 leaves its image
+// equals RaycastPass's up to rounding (tests/render/brute_force_gltest.cpp). Fragment shader
+// shaders/brute_force.frag, one full-screen draw.
+//
+// Owns GL objects: render thread only, with the GlContext current.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "loader/brick_source.h"
+#include "loader/camera.h"
+#include "render/gpu_timer.h"
+#include "render/image_io.h"
+#include "render/render_params.h"
+
+namespace ropecast {
+
+class ShaderProgram;
+class TfTable;
+
+struct BruteForceFrame {
+  Camera camera;
+  RenderParams params;          // params.backend is ignored (one fragment entry point)
+  const TfTable* tf = nullptr;  // required in DVR mode
+  uint32_t width = 0, height = 0;
+};
+
+class BruteForcePass {
+ public:
+  // Reads every level-0 brick of `source` and uploads the interiors into one R8/R16 3D texture. Throws
+  // ropecast::Error when the volume exceeds GL_MAX_3D_TEXTURE_SIZE or on a read error.
+  explicit BruteForcePass(const BrickSource& source);
+  ~BruteForcePass();
+  BruteForcePass(const BruteForcePass&) = delete;
+  BruteForcePass& operator=(const BruteForcePass&) = delete;
+
+  void render(const BruteForceFrame& frame);
+  double lastRaycastMs() { return timer_.elapsedMs(); }
+  bool raycastTimerUsedWallClock() const { return timer_.usedWallClock(); }
+  // As RaycastPass: RGBA (alpha = coverage) and world depth (+inf = miss), row 0 at the top.
+  FloatImage readColor() const;
+  FloatImage readDepth() const;
+  uint64_t volumeBytes() const { return volumeBytes_; }
+
+ private:
+  const ShaderProgram& program(RenderMode mode);
+  void resizeTargets(uint32_t width, uint32_t height);
+
+  BrickSourceInfo info_;
+  std::unique_ptr<ShaderProgram> programs_[2];  // by RenderMode
+  uint32_t volumeTexture_ = 0, tfTexture_ = 0, tfEntries_ = 0;
+  uint64_t volumeBytes_ = 0;
+  uint32_t width_ = 0, height_ = 0;
+  uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, framebuffer_ = 0, emptyVertexArray_ = 0;
+  GpuTimer timer_;
+};
+
+}  // namespace ropecast

@@ -1,0 +1,122 @@
+#version 450 core
+// Brute-force ray caster (render/brute_force_pass.h): the whole level-0 volume in one 3D texture, every ray
+// marched from the volume entry t0 to its exit t1 on the grid t0 + k dt, dt = step * min(s), with no index and no
+// empty-space skipping. Rays, sampling, bisection, gradients, transfer function, shading and early ray
+// termination are docs/RENDERING.md's at level 0, written as castRay in shaders/raycast_common.glsl does, whose
+// uniforms, ray setup and shading functions this file reuses (its rope traversal is left unused).
+
+#include "shaders/raycast_common.glsl"
+
+uniform sampler3D uVolume;  // level 0: R8/R16 UNORM, LINEAR, CLAMP_TO_EDGE
+uniform ivec3 uVolumeDims;  // n
+
+layout(location = 0) out vec4 outColor;
+layout(location = 1) out float outDepth;
+
+// Level-0 sample coordinate (sample i centered at i + 0.5) of a world point.
+vec3 volumeCoord(vec3 x) { return x / uSpacing; }
+
+float volumeValue(vec3 q) { return textureLod(uVolume, q / vec3(uVolumeDims), 0.0).r; }
+
+// As brickValueExact: trilinear in float from eight texelFetch()es, clamped to the outer sample centers.
+float volumeValueExact(vec3 q) {
+  vec3 n = vec3(uVolumeDims);
+  vec3 c = clamp(q, vec3(0.5), n - 0.5) - 0.5;
+  vec3 base = min(floor(c), max(n - 2.0, vec3(0.0)));
+  vec3 f = c - base;
+  ivec3 i = ivec3(base);
+  ivec3 hi = min(i + 1, uVolumeDims - 1);
+  float c000 = texelFetch(uVolume, i, 0).r;
+  float c100 = texelFetch(uVolume, ivec3(hi.x, i.y, i.z), 0).r;
+  float c010 = texelFetch(uVolume, ivec3(i.x, hi.y, i.z), 0).r;
+  float c110 = texelFetch(uVolume, ivec3(hi.x, hi.y, i.z), 0).r;
+  float c001 = texelFetch(uVolume, ivec3(i.x, i.y, hi.z), 0).r;
+  float c101 = texelFetch(uVolume, ivec3(hi.x, i.y, hi.z), 0).r;
+  float c011 = texelFetch(uVolume, ivec3(i.x, hi.y, hi.z), 0).r;
+  float c111 = texelFetch(uVolume, hi, 0).r;
+  float c00 = mix(c000, c100, f.x), c10 = mix(c010, c110, f.x);
+  float c01 = mix(c001, c101, f.x), c11 = mix(c011, c111, f.x);
+  return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+}
+
+vec3 volumeGradientExact(vec3 q) {
+  vec3 g;
+  g.x = volumeValueExact(q + vec3(1.0, 0.0, 0.0)) - volumeValueExact(q - vec3(1.0, 0.0, 0.0));
+  g.y = volumeValueExact(q + vec3(0.0, 1.0, 0.0)) - volumeValueExact(q - vec3(0.0, 1.0, 0.0));
+  g.z = volumeValueExact(q + vec3(0.0, 0.0, 1.0)) - volumeValueExact(q - vec3(0.0, 0.0, 1.0));
+  return g / (2.0 * uSpacing);
+}
+
+vec3 volumeGradient(vec3 q) {
+  vec3 g;
+  g.x = volumeValue(q + vec3(1.0, 0.0, 0.0)) - volumeValue(q - vec3(1.0, 0.0, 0.0));
+  g.y = volumeValue(q + vec3(0.0, 1.0, 0.0)) - volumeValue(q - vec3(0.0, 1.0, 0.0));
+  g.z = volumeValue(q + vec3(0.0, 0.0, 1.0)) - volumeValue(q - vec3(0.0, 0.0, 1.0));
+  return g / (2.0 * uSpacing);
+}
+
+RayResult castBrute(uvec2 pixel) {
+  RayResult result;
+  result.color = vec4(uBackground, 0.0);
+  result.depth = kInfinity;
+  vec3 dir = pixelRayDir(pixel);
+  float t0, t1;
+  if (!clipToVolume(uEye, dir, t0, t1)) return result;
+
+  float depthPerT = dot(dir, uForward);
+  float dt = uStepVoxels * uMinSpacing;
+  vec3 color = vec3(0.0);
+  float alpha = 0.0;
+  float depth = kInfinity;
+#ifdef RAYCAST_MODE_ISO
+  bool hasPrev = false;
+  float tPrev = 0.0, fPrev = 0.0;
+#endif
+  float k = 0.0;
+  for (float t = t0; t < t1; k += 1.0, t = t0 + k * dt) {
+    vec3 q = volumeCoord(uEye + t * dir);
+    float v = volumeValue(q);
+#ifdef RAYCAST_MODE_ISO
+    float f = v - uIsoValue;
+    if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
+      float ta = tPrev, fa = fPrev, tb = t;
+      for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
+        float tm = 0.5 * (ta + tb);
+        float fm = volumeValueExact(volumeCoord(uEye + tm * dir)) - uIsoValue;
+        if ((fm >= 0.0) == (fa >= 0.0)) {
+          ta = tm;
+          fa = fm;
+        } else {
+          tb = tm;
+        }
+      }
+      float tHit = 0.5 * (ta + tb);
+      color = shadeIso(volumeGradientExact(volumeCoord(uEye + tHit * dir)), dir);
+      alpha = 1.0;
+      depth = tHit * depthPerT;
+      break;
+    }
+    hasPrev = true;
+    tPrev = t;
+    fPrev = f;
+#else
+    vec4 tf = transferFunction(v);
+    float a = 1.0 - pow(1.0 - tf.a, dt / uMinSpacing);
+    if (!(a > 0.0)) continue;
+    vec3 c = shadeDvr(tf.rgb, volumeGradient(q), dir, uMinSpacing);
+    color += (1.0 - alpha) * a * c;
+    alpha += (1.0 - alpha) * a;
+    depth = t * depthPerT;
+    if (alpha >= uErt) break;
+#endif
+  }
+  result.color = vec4(color + (1.0 - alpha) * uBackground, alpha);
+  result.depth = depth;
+  return result;
+}
+
+void main() {
+  RayResult r = castBrute(uvec2(gl_FragCoord.xy));
+  outColor = r.color;
+  outDepth = r.depth;
+}
