@@ -1,0 +1,53 @@
+// `ropecast compare A B`: PSNR and absolute differences of two images (PNG/EXR, read as floats in [0, 1] for
+// 8-bit files), e.g. an adaptive render against `render --reference` (bench/quality_vs_reference.sh).
+// Prints one JSON line; with --min-psnr, exits 1 when the PSNR is lower. In the GL build because the image
+// reader lives in render/.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "loader/error.h"
+#include "render/image_io.h"
+#include "tools/command.h"
+#include "tools/image_compare.h"
+
+namespace ropecast::tools {
+namespace {
+
+struct CompareOptions {
+  std::string a, b;
+  uint32_t channels = 3;
+  double minPsnr = -1.0;
+};
+
+int runCompare(const CompareOptions& o) {
+  const FloatImage a = readImage(o.a), b = readImage(o.b);
+  if (a.width != b.width || a.height != b.height)
+    throw Error("compare: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
+                o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
+  const ImageDifference d = compareImages(a.pixels, a.channels, b.pixels, b.channels, o.channels);
+  nlohmann::json j{{"psnr_db", std::isinf(d.psnrDb) ? nlohmann::json("inf") : nlohmann::json(d.psnrDb)},
+                   {"max_abs", d.maxAbs},
+                   {"mean_abs", d.meanAbs},
+                   {"channels", o.channels},
+                   {"pixels", a.width * a.height}};
+  std::printf("%s\n", j.dump().c_str());
+  return o.minPsnr >= 0.0 && d.psnrDb < o.minPsnr ? 1 : 0;
+}
+
+const CommandRegistration registration("compare", 70, [](CLI::App& app) -> std::function<int()> {
+  auto o = std::make_shared<CompareOptions>();
+  app.description("PSNR (peak 1) and absolute differences of two images of the same size, as one JSON line");
+  app.add_option("a", o->a, "first image (PNG, EXR, ...)")->required();
+  app.add_option("b", o->b, "second image")->required();
+  app.add_option("--channels", o->channels, "channels compared: 3 = RGB, 4 = RGBA, 1 = the first")
+      ->check(CLI::Range(1u, 4u))
+      ->capture_default_str();
+  app.add_option("--min-psnr", o->minPsnr, "exit with status 1 when the PSNR is below this (dB)");
+  return [o] { return runCompare(*o); };
+});
+
+}  // namespace
+}  // namespace ropecast::tools
