@@ -88,8 +88,10 @@ TEST(BrickPool, RoundTripUInt16ThroughPbo) {
 TEST(BrickPool, DefaultBudget) {
   GlContextInfo info;
   EXPECT_EQ(defaultGpuBudgetBytes(info), 512ull << 20);
+  info.totalGpuMemoryBytes = 4ull << 30;
+  EXPECT_EQ(defaultGpuBudgetBytes(info), 2ull << 30);  // half of what the driver reports
   info.totalGpuMemoryBytes = 80ull << 30;
-  EXPECT_EQ(defaultGpuBudgetBytes(info), 40ull << 30);
+  EXPECT_EQ(defaultGpuBudgetBytes(info), 4ull << 30);  // capped: the pool is allocated whole
 }
 
 }  // namespace
