@@ -70,7 +70,8 @@ RayResult castBrute(uvec2 pixel) {
   float depth = kInfinity;
 #ifdef RAYCAST_MODE_ISO
   bool hasPrev = false;
-  float tPrev = 0.0, fPrev = 0.0;
+  float tPrev = 0.0, fPrev = 0.0, tHitB = 0.0;
+  bool hit = false;
 #endif
   float k = 0.0;
   for (float t = t0; t < t1; k += 1.0, t = t0 + k * dt) {
@@ -79,21 +80,9 @@ RayResult castBrute(uvec2 pixel) {
 #ifdef RAYCAST_MODE_ISO
     float f = v - uIsoValue;
     if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
-      float ta = tPrev, fa = fPrev, tb = t;
-      for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
-        float tm = 0.5 * (ta + tb);
-        float fm = volumeValueExact(volumeCoord(uEye + tm * dir)) - uIsoValue;
-        if ((fm >= 0.0) == (fa >= 0.0)) {
-          ta = tm;
-          fa = fm;
-        } else {
-          tb = tm;
-        }
-      }
-      float tHit = 0.5 * (ta + tb);
-      color = shadeIso(volumeGradientExact(volumeCoord(uEye + tHit * dir)), dir);
-      alpha = 1.0;
-      depth = tHit * depthPerT;
+      // Refined after the march, as castRay does (once per SIMD group of rays on a software rasterizer).
+      tHitB = t;
+      hit = true;
       break;
     }
     hasPrev = true;
@@ -110,6 +99,25 @@ RayResult castBrute(uvec2 pixel) {
     if (alpha >= uErt) break;
 #endif
   }
+#ifdef RAYCAST_MODE_ISO
+  if (hit) {
+    float ta = tPrev, fa = fPrev, tb = tHitB;
+    for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
+      float tm = 0.5 * (ta + tb);
+      float fm = volumeValueExact(volumeCoord(uEye + tm * dir)) - uIsoValue;
+      if ((fm >= 0.0) == (fa >= 0.0)) {
+        ta = tm;
+        fa = fm;
+      } else {
+        tb = tm;
+      }
+    }
+    float tHit = 0.5 * (ta + tb);
+    color = shadeIso(volumeGradientExact(volumeCoord(uEye + tHit * dir)), dir);
+    alpha = 1.0;
+    depth = tHit * depthPerT;
+  }
+#endif
   result.color = vec4(color + (1.0 - alpha) * uBackground, alpha);
   result.depth = depth;
   return result;
