@@ -37,7 +37,7 @@ SharedBrick makeConstantBrick(const BrickSourceInfo& info, uint16_t storedValue)
 // The data path as the refiner sees it during one update(): GPU slots, CPU cache, requests, upload budget.
 class WorkingSet::Residency final : public BrickResidency {
  public:
-  Residency(WorkingSet& ws) : ws_(ws) {}
+  Residency(WorkingSet& ws, uint64_t uploadBudgetBytes) : ws_(ws), uploadBudgetBytes_(uploadBudgetBytes) {}
 
   Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
     SlotTable& slots = ws_.slots_;
@@ -60,7 +60,7 @@ class WorkingSet::Residency final : public BrickResidency {
       holdForLater(keys, /*uploadWithinBudget=*/false);
       return Outcome::NotInCore;
     }
-    if (uploadCount * ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
+    if (uploadCount * ws_.brickBytes_ > uploadBudgetBytes_ - stats.bytesUploaded) {
       holdForLater(keys, /*uploadWithinBudget=*/true);
       return Outcome::UploadBudget;
     }
@@ -109,7 +109,7 @@ class WorkingSet::Residency final : public BrickResidency {
     for (size_t i = 0; i < keys.size(); ++i) {
       if (resident[i]) continue;
       const NodeKey& k = keys[i];
-      if (!uploadWithinBudget || ws_.brickBytes_ > ws_.config_.uploadBudgetBytes - stats.bytesUploaded) {
+      if (!uploadWithinBudget || ws_.brickBytes_ > uploadBudgetBytes_ - stats.bytesUploaded) {
         ++reservedSlots_;
         continue;
       }
@@ -138,6 +138,7 @@ class WorkingSet::Residency final : public BrickResidency {
   }
 
   WorkingSet& ws_;
+  uint64_t uploadBudgetBytes_;  // this frame's: config and FrameInput, at least one brick
   uint64_t reservedSlots_ = 0;  // children held back by the upload budget that have no slot yet
 };
 
@@ -178,7 +179,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   takeLoadedBricks();
 
   slots_.beginCut();
-  Residency residency(*this);
+  const uint64_t uploadBudgetBytes =
+      std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);
+  Residency residency(*this, uploadBudgetBytes);
   RefineResult refined = refine(source_, input.view, input.isEmpty, input.hints, residency);
   // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
   // needs all children of a node at once) could use them.

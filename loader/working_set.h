@@ -41,6 +41,9 @@ struct FrameInput {
   RefineView view;
   EmptinessPredicate isEmpty;  // null: only NodeKind::Empty/Outside nodes are empty
   PriorityHints hints;
+  // This frame's upload limit on top of WorkingSetConfig::uploadBudgetBytes (the smaller one applies, never
+  // less than one brick): the renderer's time budget (loader/upload_pacer.h) arrives here as bytes.
+  uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
 };
 
 struct BrickUpload {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include <epoxy/gl.h>
@@ -52,7 +53,8 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
 
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info) {
   // Half of what the driver reports, but no more than 4 GiB: the pool is allocated whole at start-up, and a
-  // renderer that takes 40 GB of an H100 by default surprises whoever shares the card. --gpu-budget overrides.
+  // renderer that takes 40 GB of an H100 by default surprises whoever shares the card. --gpu-budget
+  // overrides.
   constexpr uint64_t kDefaultCap = 4ull << 30;
   if (info.totalGpuMemoryBytes) return std::min(*info.totalGpuMemoryBytes / 2, kDefaultCap);
   return 512ull << 20;
@@ -137,6 +139,40 @@ void BrickPool::upload(uint32_t slot, std::span<const std::byte> brick) {
     glTextureSubImage3D(texture_, 0, GLint(o.x), GLint(o.y), GLint(o.z), e, e, e, GL_RED,
                         pixelType(config_.storedType), brick.data());
   }
+}
+
+void BrickPool::uploadBatch(std::span<const BrickPoolUpload> uploads) {
+  if (uploads.empty()) return;
+  if (!pbo_) {
+    for (const BrickPoolUpload& u : uploads) upload(u.slot, u.brick);
+    return;
+  }
+  for (const BrickPoolUpload& u : uploads) {
+    checkAllocated(u.slot, "BrickPool::uploadBatch");
+    if (u.brick.size() != slotBytes())
+      throw Error("BrickPool::uploadBatch: brick of " + std::to_string(u.brick.size()) + " bytes, expected " +
+                  std::to_string(slotBytes()));
+  }
+  const size_t total = uploads.size() * slotBytes();
+  // Orphan the buffer's previous storage (the GL may still read it), then fill the new one.
+  glNamedBufferData(pbo_, GLsizeiptr(total), nullptr, GL_STREAM_DRAW);
+  auto* mapped = static_cast<std::byte*>(
+      glMapNamedBufferRange(pbo_, 0, GLsizeiptr(total), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT));
+  if (!mapped)
+    throw Error("BrickPool::uploadBatch: mapping the pixel buffer of " + std::to_string(total) +
+                " bytes failed");
+  for (size_t i = 0; i < uploads.size(); ++i)
+    std::memcpy(mapped + i * slotBytes(), uploads[i].brick.data(), slotBytes());
+  glUnmapNamedBuffer(pbo_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo_);
+  const GLsizei e = GLsizei(geometry_.slotEdge);
+  for (size_t i = 0; i < uploads.size(); ++i) {
+    const glm::u32vec3 o = geometry_.slotOrigin(uploads[i].slot);
+    glTextureSubImage3D(texture_, 0, GLint(o.x), GLint(o.y), GLint(o.z), e, e, e, GL_RED,
+                        pixelType(config_.storedType), reinterpret_cast<const void*>(i * slotBytes()));
+  }
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
 std::vector<std::byte> BrickPool::readSlot(uint32_t slot) const {

@@ -1,7 +1,7 @@
 // BrickPool: the GPU brick pool, one large 3D texture (R8 or R16 UNORM by the store's sample type, LINEAR
 // filtering, CLAMP_TO_EDGE) cut into slots of storedBrickEdge()^3 texels (B + 2*kBrickBorder per axis) laid
-// out on a 3D slot grid, with a free-list slot allocator and uploads through glTexSubImage3D (optionally from
-// a PBO).
+// out on a 3D slot grid, with a free-list slot allocator and uploads through glTexSubImage3D, directly from
+// client memory or (uploadThroughPbo) a frame's bricks copied into one orphaned pixel buffer object first.
 //
 // BrickPoolGeometry and slotOrigin() are plain data and pure functions (any thread); the shader computes the
 // same slot -> texel origin from the uniforms uPoolSlotGrid / uPoolSlotEdge (shaders/raycast_common.glsl).
@@ -44,10 +44,18 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
 // The default --gpu-budget: half the memory the driver reports, at most 4 GiB; else 512 MiB.
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info);
 
+// One brick for BrickPool::uploadBatch.
+struct BrickPoolUpload {
+  uint32_t slot = 0;
+  std::span<const std::byte> brick;
+};
+
 struct BrickPoolConfig {
   uint32_t brickSize = 32;
   SampleType storedType = SampleType::UInt8;  // UInt8 -> R8, UInt16 -> R16
   uint64_t budgetBytes = 512ull << 20;
+  // Upload through a pixel buffer object. On Mesa llvmpipe this is slower (one more copy of every brick, see
+  // docs/BENCHMARKS.md "Asynchronous loader"), so the default is direct uploads; `--upload-pbo` turns it on.
   bool uploadThroughPbo = false;
 };
 
@@ -73,6 +81,10 @@ class BrickPool {
   void release(uint32_t slot);
   // Uploads one brick (storedBrickEdge()^3 samples, x fastest, border included) into an allocated slot.
   void upload(uint32_t slot, std::span<const std::byte> brick);
+  // Uploads a frame's bricks (each as upload() checks them). Through a PBO, all of them are copied into one
+  // buffer (orphaned, mapped once), then each slot is filled from its offset.
+  void uploadBatch(std::span<const BrickPoolUpload> uploads);
+  bool uploadsThroughPbo() const { return config_.uploadThroughPbo; }
   // Reads a slot back (tests, verification); slow, synchronous.
   std::vector<std::byte> readSlot(uint32_t slot) const;
 

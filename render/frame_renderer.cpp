@@ -28,12 +28,13 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
 
 FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
                              const FrameRendererConfig& config)
-    : source_(source) {
+    : source_(source), uploadPacer_(config.uploadTimeBudgetMs, source.brickBytes()) {
   const BrickSourceInfo& info = source.info();
   BrickPoolConfig poolConfig;
   poolConfig.brickSize = info.layout.brickSize;
   poolConfig.storedType = info.storedType;
   poolConfig.budgetBytes = config.gpuBudgetBytes ? config.gpuBudgetBytes : defaultGpuBudgetBytes(gl);
+  poolConfig.uploadThroughPbo = config.uploadThroughPbo;
   pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
   // The loader's SlotTable decides which brick lives in which slot; the pool's own allocator is not used, so
   // every slot is taken from it once.
@@ -62,14 +63,19 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.viewportHeight = request.height;
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
+  if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan =
       request.synchronous ? workingSet_->updateUntilConverged(input) : workingSet_->update(input);
 
   // Pass 2, upload: bricks into their pool slots.
   const auto uploadStart = Clock::now();
+  uploadBatch_.clear();
   for (const BrickUpload& upload : plan.uploads)
-    pool_->upload(upload.slot, std::span<const std::byte>(upload.brick->data(), upload.brick->size()));
+    uploadBatch_.push_back(
+        {upload.slot, std::span<const std::byte>(upload.brick->data(), upload.brick->size())});
+  pool_->uploadBatch(uploadBatch_);
   const double uploadMs = msSince(uploadStart);
+  if (!request.synchronous) uploadPacer_.record(plan.stats.bytesUploaded, uploadMs);
 
   // Pass 3, build index: the rope octree over the cut, into the index texture.
   const auto indexStart = Clock::now();

@@ -10,12 +10,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "index/rope_index.h"
 #include "loader/brick_source.h"
 #include "loader/camera.h"
 #include "loader/frame_stats.h"
 #include "loader/transfer_function.h"
+#include "loader/upload_pacer.h"
 #include "loader/working_set.h"
 #include "render/image_io.h"
 #include "render/raycast_pass.h"
@@ -24,6 +26,7 @@
 namespace ropecast {
 
 struct GlContextInfo;
+struct BrickPoolUpload;
 class BrickPool;
 class IndexTexture;
 
@@ -31,6 +34,10 @@ struct FrameRendererConfig {
   uint64_t gpuBudgetBytes = 0;                 // --gpu-budget; 0 = defaultGpuBudgetBytes() of the context
   uint64_t cpuCacheBytes = uint64_t(1) << 30;  // --cpu-cache
   uint64_t uploadBudgetBytes = UINT64_MAX;     // --upload-budget, per frame
+  // --upload-time-budget: milliseconds of uploads per asynchronous frame (0 = none), turned into bytes from
+  // the throughput of earlier frames (loader/upload_pacer.h); the smaller of the two budgets applies.
+  double uploadTimeBudgetMs = 0.0;
+  bool uploadThroughPbo = false;  // --upload-pbo (render/brick_pool.h)
   uint32_t ioThreads = 2;
 };
 
@@ -52,7 +59,8 @@ class FrameRenderer {
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
-  // Renders one frame; returns its stats (loader fields, index_ms, raycast_ms, frame_ms).
+  // Renders one frame; returns its stats (loader fields, index_ms, raycast_ms, frame_ms). The upload time
+  // budget applies to asynchronous frames only (a synchronous frame loads everything at once).
   FrameStats render(const FrameRequest& request);
 
   // The last frame's targets (row 0 at the top): RGBA and depth.
@@ -69,6 +77,8 @@ class FrameRenderer {
   std::unique_ptr<BrickPool> pool_;
   std::unique_ptr<IndexTexture> indexTexture_;
   std::unique_ptr<WorkingSet> workingSet_;
+  UploadPacer uploadPacer_;
+  std::vector<BrickPoolUpload> uploadBatch_;
   RaycastPass raycast_;
   RopeIndexBuilder indexBuilder_;
   RopeIndex index_;

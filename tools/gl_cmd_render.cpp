@@ -40,6 +40,8 @@ struct RenderOptions {
   double ert = 0.99;
   double voxelsPerPixel = 1.0;
   std::string gpuBudget, cpuCache = "1G", uploadBudget;
+  double uploadTimeBudgetMs = 0.0;
+  bool uploadPbo = false;
   uint32_t frames = 1;
   std::string path;
   bool converge = false;
@@ -210,6 +212,8 @@ int runRender(const RenderOptions& o) {
   if (!o.gpuBudget.empty()) config.gpuBudgetBytes = parseBytes(o.gpuBudget, "--gpu-budget");
   config.cpuCacheBytes = parseBytes(o.cpuCache, "--cpu-cache");
   if (!o.uploadBudget.empty()) config.uploadBudgetBytes = parseBytes(o.uploadBudget, "--upload-budget");
+  config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
+  config.uploadThroughPbo = o.uploadPbo;
   FrameRenderer renderer(gl.info(), bricks, config);
 
   FrameRequest request;
@@ -284,6 +288,10 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--gpu-budget", o->gpuBudget, "GPU brick pool bytes (e.g. 512M; default from the driver)");
   app.add_option("--cpu-cache", o->cpuCache, "CPU brick cache bytes")->capture_default_str();
   app.add_option("--upload-budget", o->uploadBudget, "brick upload bytes per frame (default: unlimited)");
+  app.add_option("--upload-time-budget", o->uploadTimeBudgetMs,
+                 "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
+      ->check(CLI::Range(0.0, 100000.0));
+  app.add_flag("--upload-pbo", o->uploadPbo, "upload bricks through a pixel buffer object");
   app.add_option("--frames", o->frames, "frames to render (progressive loading)")
       ->check(CLI::Range(1u, 1000000u));
   app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes");

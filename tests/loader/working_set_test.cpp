@@ -2,7 +2,9 @@
 // budgets never exceeded, never a hole, no I/O for emptiness changes or revisited views, shutdown in flight.
 #include "loader/working_set.h"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <map>
 #include <set>
 #include <thread>
@@ -203,6 +205,38 @@ TEST(WorkingSet, SmallPoolAndSmallCpuCacheStayWithinBudget) {
   const WorkingSetFrame ref = sync.updateUntilConverged(in);
   const WorkingSetFrame last = ws.update(in);
   EXPECT_EQ(cutOf(ref), cutOf(last));
+}
+
+TEST(WorkingSet, APerFrameUploadLimitIsNeverExceededAndStillConverges) {
+  // The renderer's time budget arrives as FrameInput::uploadBudgetBytes, changing every frame; the smaller of
+  // it and the configured budget applies, and never less than one brick (else nothing could ever refine).
+  FakeBrickSource fake = makeScene();
+  WorkingSetConfig cfg = config();
+  cfg.uploadBudgetBytes = 6 * fake.brickBytes();
+  WorkingSet ws(fake, cfg);
+  FakePool pool;
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  in.isEmpty = isoEmpty;
+  const uint64_t limitsInBricks[] = {0, 1, 3, 8, 2, 100};
+  bool converged = false;
+  uint64_t framesAtLimit = 0;
+  for (int i = 0; i < 3000 && !converged; ++i) {
+    const uint64_t limit = limitsInBricks[i % 6] * fake.brickBytes();
+    in.uploadBudgetBytes = limit;
+    const WorkingSetFrame f = ws.update(in);
+    pool.check(f, fake, cfg);
+    const uint64_t allowed = std::max(std::min(limit, cfg.uploadBudgetBytes), fake.brickBytes());
+    EXPECT_LE(f.stats.bytesUploaded, allowed) << "frame " << i;
+    framesAtLimit += f.stats.bytesUploaded == allowed;
+    converged = f.converged;
+    if (!converged && ws.io().pendingCount()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_TRUE(converged);
+  EXPECT_GT(framesAtLimit, 3u);  // the limits did bind
+  FakeBrickSource fake2 = makeScene();
+  WorkingSet sync(fake2, cfg);
+  in.uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
+  EXPECT_EQ(cutOf(sync.updateUntilConverged(in)), cutOf(ws.update(in)));
 }
 
 TEST(WorkingSet, ReadsOnlyWhatTheGpuPoolHasRoomFor) {

@@ -43,7 +43,9 @@ struct Case {
   double ioDelayMs = 0.0;
   uint32_t size = 64;  // procedural noise volume, size^3
   double voxelsPerPixel = 1.0;
-  bool expectPoolFull = false;  // the pool is too small for the view: the refinement stops at PoolFull
+  bool expectPoolFull = false;
+  double uploadTimeBudgetMs = 0.0;
+  bool uploadThroughPbo = false;  // the pool is too small for the view: the refinement stops at PoolFull
 };
 
 class ConvergeTest : public ::testing::Test {
@@ -57,6 +59,8 @@ class ConvergeTest : public ::testing::Test {
     config.gpuBudgetBytes = c.gpuBudgetBytes;
     config.cpuCacheBytes = c.cpuCacheBytes;
     config.uploadBudgetBytes = c.uploadBudgetBytes;
+    config.uploadTimeBudgetMs = c.uploadTimeBudgetMs;
+    config.uploadThroughPbo = c.uploadThroughPbo;
     FrameRenderer renderer(gl_->info(), source, config);
 
     const BrickSourceInfo& info = source.info();
@@ -169,6 +173,17 @@ TEST_F(ConvergeTest, ASlowSourceConvergesToTheSameImage) {
   c.mode = RenderMode::Dvr;
   c.uploadBudgetBytes = 6 * fast.brickBytes();
   expectConvergesToSynchronous(slow, c);
+}
+
+TEST_F(ConvergeTest, AnUploadTimeBudgetAndPboUploadsConvergeToTheSameImage) {
+  const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
+  Case c;
+  c.uploadTimeBudgetMs = 0.5;  // tens of small bricks per frame on llvmpipe
+  c.uploadThroughPbo = true;
+  expectConvergesToSynchronous(source, c);
+  c.mode = RenderMode::Dvr;
+  c.uploadThroughPbo = false;
+  expectConvergesToSynchronous(source, c);
 }
 
 TEST_F(ConvergeTest, ASmallPoolConvergesToTheSameCoarserImage) {
