@@ -121,9 +121,9 @@ RayResult castRay(uvec2 pixel) {
       if (t0 + k * dt < leaf.tEnter) k += 1.0;
     }
     for (float t = t0 + k * dt; t < tStop; k += 1.0, t = t0 + k * dt) {
+#ifdef RAYCAST_MODE_ISO
       vec3 texel = brickTexel(brick, originCube + t * dirCube);
       float v = brickValue(brick, texel);
-#ifdef RAYCAST_MODE_ISO
       float f = v - uIsoValue;
       if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
         // A crossing between the previous and this sample: refined after the walk (below), so that the SIMD
@@ -139,10 +139,12 @@ RayResult castRay(uvec2 pixel) {
       tPrev = t;
       fPrev = f;
 #else
+      vec3 poolCoord = brickPoolCoord(brick, brickTexel(brick, originCube + t * dirCube));
+      float v = poolValue(poolCoord);
       vec4 tf = transferFunction(v);
       float a = 1.0 - pow(1.0 - tf.a, dt / uMinSpacing);
       if (!(a > 0.0)) continue;
-      vec3 c = shadeDvr(tf.rgb, brickGradient(brick, texel, cellWorld), dir, uMinSpacing);
+      vec3 c = shadeDvr(tf.rgb, poolGradient(poolCoord, cellWorld), dir, uMinSpacing);
       color += (1.0 - alpha) * a * c;
       alpha += (1.0 - alpha) * a;
       depth = t * depthPerT;
