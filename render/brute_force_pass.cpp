@@ -14,6 +14,7 @@
 #include "loader/octree_layout.h"
 #include "loader/transfer_function.h"
 #include "render/gl_context.h"
+#include "render/raycast_uniforms.h"
 #include "render/shader_program.h"
 
 namespace ropecast {
@@ -22,16 +23,6 @@ namespace {
 
 constexpr GLuint kVolumeUnit = 0;
 constexpr GLuint kTfUnit = 1;
-
-void setVec3(GLuint program, GLint location, glm::dvec3 v) {
-  glProgramUniform3f(program, location, float(v.x), float(v.y), float(v.z));
-}
-
-std::string floatDefine(const char* name, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%s %.9g", name, value);
-  return buf;
-}
 
 }  // namespace
 
@@ -146,34 +137,13 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   // Uniforms: the names of shaders/raycast_common.glsl and shading.glsl, which brute_force.frag includes.
   const GLuint id = p.id();
   const auto u = [&](const char* name) { return p.uniform(name); };
-  const CameraFrame cam = cameraFrame(f.camera);
-  setVec3(id, u("uEye"), f.camera.eye);
-  setVec3(id, u("uForward"), cam.forward);
-  setVec3(id, u("uRight"), cam.right);
-  setVec3(id, u("uUp"), cam.up);
-  glProgramUniform1f(id, u("uTanHalfFov"), float(std::tan(glm::radians(f.camera.fovYDeg) * 0.5)));
-  glProgramUniform1f(id, u("uAspect"), float(double(f.width) / double(f.height)));
-  glProgramUniform2ui(id, u("uImageSize"), f.width, f.height);
-  const glm::dvec3 spacing = info_.volume.spacing;
-  setVec3(id, u("uVolumeMax"), glm::dvec3(info_.layout.dims) * spacing);
-  setVec3(id, u("uSpacing"), spacing);
-  glProgramUniform1f(id, u("uMinSpacing"), float(std::min({spacing.x, spacing.y, spacing.z})));
+  setSharedRaycastUniforms(p, f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing,
+                           info_.mapping, info_.storedType == SampleType::UInt8 ? 255.0 : 65535.0, f.params);
   glProgramUniform3i(id, u("uVolumeDims"), GLint(info_.layout.dims.x), GLint(info_.layout.dims.y),
                      GLint(info_.layout.dims.z));
   glProgramUniform1i(id, u("uVolume"), GLint(kVolumeUnit));
   glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
   glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
-  const RenderParams& rp = f.params;
-  const double storedMax = info_.storedType == SampleType::UInt8 ? 255.0 : 65535.0;
-  glProgramUniform1f(id, u("uStepVoxels"), float(rp.stepVoxels));
-  glProgramUniform1f(id, u("uErt"), float(rp.ert));
-  setVec3(id, u("uBackground"), rp.background);
-  glProgramUniform1f(id, u("uIsoValue"), float(info_.mapping.toStored(rp.isoValue) / storedMax));
-  setVec3(id, u("uIsoBaseColor"), rp.lighting.isoBaseColor);
-  glProgramUniform1f(id, u("uAmbient"), float(rp.lighting.ambient));
-  glProgramUniform1f(id, u("uDiffuse"), float(rp.lighting.diffuse));
-  glProgramUniform1f(id, u("uSpecular"), float(rp.lighting.specular));
-  glProgramUniform1f(id, u("uShininess"), float(rp.lighting.shininess));
 
   glBindTextureUnit(kVolumeUnit, volumeTexture_);
   glBindTextureUnit(kTfUnit, tfTexture_);
@@ -193,21 +163,11 @@ void BruteForcePass::render(const BruteForceFrame& f) {
 }
 
 FloatImage BruteForcePass::readColor() const {
-  FloatImage img{width_, height_, 4, std::vector<float>(size_t(width_) * height_ * 4)};
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(colorTexture_, 0, GL_RGBA, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
-                    img.pixels.data());
-  checkGlError("BruteForcePass::readColor");
-  return img;
+  return readFloatTexture(colorTexture_, width_, height_, 4, "BruteForcePass::readColor");
 }
 
 FloatImage BruteForcePass::readDepth() const {
-  FloatImage img{width_, height_, 1, std::vector<float>(size_t(width_) * height_)};
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(worldDepthTexture_, 0, GL_RED, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
-                    img.pixels.data());
-  checkGlError("BruteForcePass::readDepth");
-  return img;
+  return readFloatTexture(worldDepthTexture_, width_, height_, 1, "BruteForcePass::readDepth");
 }
 
 }  // namespace ropecast

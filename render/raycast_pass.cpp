@@ -16,6 +16,7 @@
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/index_texture.h"
+#include "render/raycast_uniforms.h"
 #include "render/shader_program.h"
 
 namespace ropecast {
@@ -29,16 +30,6 @@ constexpr GLuint kRopeIndexUnit = 2;
 constexpr GLuint kColorImageUnit = 0;  // match the binding = N of shaders/raycast.comp
 constexpr GLuint kDepthImageUnit = 1;
 constexpr uint32_t kWorkgroupSize = 8;
-
-std::string floatDefine(const char* name, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%s %.9g", name, value);
-  return buf;
-}
-
-void setVec3(GLuint program, GLint location, glm::dvec3 v) {
-  glProgramUniform3f(program, location, float(v.x), float(v.y), float(v.z));
-}
 
 }  // namespace
 
@@ -121,25 +112,16 @@ void RaycastPass::resizeTargets(uint32_t width, uint32_t height) {
 void RaycastPass::setUniforms(const ShaderProgram& p, const RaycastFrame& f) {
   const GLuint id = p.id();
   const VolumeGeometry& vol = f.volume;
-  const CameraFrame cam = cameraFrame(f.camera);
   const auto u = [&](const char* name) { return p.uniform(name); };
 
-  // Camera, exactly the terms of loader/camera.h pixelRay.
-  setVec3(id, u("uEye"), f.camera.eye);
-  setVec3(id, u("uForward"), cam.forward);
-  setVec3(id, u("uRight"), cam.right);
-  setVec3(id, u("uUp"), cam.up);
-  glProgramUniform1f(id, u("uTanHalfFov"), float(std::tan(glm::radians(f.camera.fovYDeg) * 0.5)));
-  glProgramUniform1f(id, u("uAspect"), float(double(f.width) / double(f.height)));
-  glProgramUniform2ui(id, u("uImageSize"), f.width, f.height);
-
-  // Volume.
+  // Camera, spacing and RenderParams (shared with BruteForcePass).
+  setSharedRaycastUniforms(p, f.camera, f.width, f.height, vol.dims, vol.spacing, vol.mapping,
+                           vol.storedMax(), f.params);
   const glm::dvec3 volumeMax = glm::dvec3(vol.dims) * vol.spacing;
+
+  // Volume: the root cube and the level grid.
   const double cubeSamples = double(uint64_t(vol.brickSize) << vol.maxDepth);
-  setVec3(id, u("uVolumeMax"), volumeMax);
-  setVec3(id, u("uCubeWorld"), cubeSamples * vol.spacing);
-  setVec3(id, u("uSpacing"), vol.spacing);
-  glProgramUniform1f(id, u("uMinSpacing"), float(std::min({vol.spacing.x, vol.spacing.y, vol.spacing.z})));
+  setVec3Uniform(id, u("uCubeWorld"), cubeSamples * vol.spacing);
   glProgramUniform1f(id, u("uBrickSize"), float(vol.brickSize));
   glProgramUniform1ui(id, u("uMaxDepth"), vol.maxDepth);
 
@@ -147,23 +129,11 @@ void RaycastPass::setUniforms(const ShaderProgram& p, const RaycastFrame& f) {
   const BrickPoolGeometry& pool = f.pool->geometry();
   glProgramUniform3ui(id, u("uPoolSlotGrid"), pool.slotGrid.x, pool.slotGrid.y, pool.slotGrid.z);
   glProgramUniform1f(id, u("uPoolSlotEdge"), float(pool.slotEdge));
-  setVec3(id, u("uPoolTexelSize"), 1.0 / glm::dvec3(pool.textureDims));
+  setVec3Uniform(id, u("uPoolTexelSize"), 1.0 / glm::dvec3(pool.textureDims));
   glProgramUniform1i(id, u("uPool"), GLint(kPoolUnit));
   glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
   glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
   glProgramUniform1i(id, u("uRopeIndex"), GLint(kRopeIndexUnit));
-
-  // RenderParams.
-  const RenderParams& rp = f.params;
-  glProgramUniform1f(id, u("uStepVoxels"), float(rp.stepVoxels));
-  glProgramUniform1f(id, u("uErt"), float(rp.ert));
-  setVec3(id, u("uBackground"), rp.background);
-  glProgramUniform1f(id, u("uIsoValue"), float(vol.mapping.toStored(rp.isoValue) / vol.storedMax()));
-  setVec3(id, u("uIsoBaseColor"), rp.lighting.isoBaseColor);
-  glProgramUniform1f(id, u("uAmbient"), float(rp.lighting.ambient));
-  glProgramUniform1f(id, u("uDiffuse"), float(rp.lighting.diffuse));
-  glProgramUniform1f(id, u("uSpecular"), float(rp.lighting.specular));
-  glProgramUniform1f(id, u("uShininess"), float(rp.lighting.shininess));
 
   // Window depth for gl_FragDepth: a perspective range enclosing the volume.
   const double extent = glm::length(volumeMax);
@@ -237,21 +207,11 @@ void RaycastPass::render(const RaycastFrame& f) {
 }
 
 FloatImage RaycastPass::readColor() const {
-  FloatImage img{width_, height_, 4, std::vector<float>(size_t(width_) * height_ * 4)};
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(colorTexture_, 0, GL_RGBA, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
-                    img.pixels.data());
-  checkGlError("RaycastPass::readColor");
-  return img;
+  return readFloatTexture(colorTexture_, width_, height_, 4, "RaycastPass::readColor");
 }
 
 FloatImage RaycastPass::readDepth() const {
-  FloatImage img{width_, height_, 1, std::vector<float>(size_t(width_) * height_)};
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(worldDepthTexture_, 0, GL_RED, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
-                    img.pixels.data());
-  checkGlError("RaycastPass::readDepth");
-  return img;
+  return readFloatTexture(worldDepthTexture_, width_, height_, 1, "RaycastPass::readDepth");
 }
 
 }  // namespace ropecast

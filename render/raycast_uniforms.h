@@ -1,0 +1,37 @@
+// What the ray casters over docs/RENDERING.md share on the GL side: the uniforms of the camera (the terms of
+// loader/camera.h pixelRay), of the volume's spacing and of RenderParams, named as
+// shaders/raycast_common.glsl and shading.glsl declare them; shader defines of floats; and the float readback
+// of a render target. Used by RaycastPass and BruteForcePass. Render thread only, with the GlContext current.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "loader/camera.h"
+#include "loader/sample_type.h"
+#include "render/image_io.h"
+#include "render/render_params.h"
+
+namespace ropecast {
+
+class ShaderProgram;
+
+void setVec3Uniform(uint32_t program, int location, glm::dvec3 v);
+
+// "NAME value" with enough digits that the float round-trips.
+std::string floatDefine(const char* name, double value);
+
+// uEye, uForward, uRight, uUp, uTanHalfFov, uAspect, uImageSize; uVolumeMax, uSpacing, uMinSpacing;
+// uStepVoxels, uErt, uBackground, uIsoValue (normalized stored value), uIsoBaseColor, uAmbient, uDiffuse,
+// uSpecular, uShininess.
+void setSharedRaycastUniforms(const ShaderProgram& program, const Camera& camera, uint32_t width,
+                              uint32_t height, glm::u32vec3 dims, glm::dvec3 spacing,
+                              const ValueMapping& mapping, double storedMax, const RenderParams& params);
+
+// A width x height texture with `channels` float channels (1: GL_RED, 4: GL_RGBA), row 0 as GL stores it.
+FloatImage readFloatTexture(uint32_t texture, uint32_t width, uint32_t height, uint32_t channels,
+                            const char* where);
+
+}  // namespace ropecast
