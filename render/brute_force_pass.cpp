@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
 
 #include "loader/error.h"
 #include "loader/octree_layout.h"
