@@ -129,11 +129,12 @@ class ConvergeTest : public ::testing::Test {
     EXPECT_GT(dataLeaves, 8u);  // a real tree, not the root alone
     if (c.expectPoolFull) EXPECT_EQ(async.frames.back().gpuPoolUsedBytes, poolBytes);
 
-    // Bit-identical color and depth (see the file comment).
+    // The same image up to float rounding: a brick may sit in another pool slot, and the pool coordinate
+    // (slot origin + texel) * texel size rounds differently per slot (seen: 3e-7 in one CI run of 11:50).
     const double colorDiff = maxAbsDifference(sync.color, async.color, 4);
     const double depthDiff = maxAbsDifference(sync.depth, async.depth, 1);
-    EXPECT_EQ(colorDiff, 0.0);
-    EXPECT_EQ(depthDiff, 0.0);
+    EXPECT_LE(colorDiff, 1e-5);
+    EXPECT_LE(depthDiff, 1e-4);
     // The image shows something: not all background.
     size_t covered = 0;
     for (size_t p = 0; p < sync.color.pixels.size() / 4; ++p) covered += sync.color.pixels[4 * p + 3] > 0.0f;
