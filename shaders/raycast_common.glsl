@@ -66,6 +66,166 @@ bool clipToVolume(vec3 origin, vec3 dir, out float t0, out float t1) {
   return t0 < t1;
 }
 
+// The first sample index k (t = t0 + k dt) of a leaf entered at tEnter: samples t0 + k dt with
+// tEnter <= t (k from 0 in the ray's first leaf, whose tEnter is t0 up to rounding in cube coordinates, so that
+// its first sample is t0 itself, never dropped by that rounding).
+float firstSampleIndex(float t0, float tEnter, float dt, bool firstLeaf) {
+  if (firstLeaf) return 0.0;
+  float k = ceil((tEnter - t0) / dt);
+  if (t0 + k * dt < tEnter) k += 1.0;
+  return k;
+}
+
+// A data leaf's brick and sampling: step dt = step * 2^L * min(s), one level-L cell in world units.
+struct LeafSampling {
+  BrickRef brick;
+  float dt;
+  vec3 cellWorld;
+};
+
+LeafSampling leafSampling(uint slot, uint depth, vec3 boxMin) {
+  LeafSampling ls;
+  float levelScale = ropeBoxScale(uMaxDepth - depth);  // 2^L, exact
+  ls.dt = uStepVoxels * levelScale * uMinSpacing;
+  ls.cellWorld = uSpacing * levelScale;
+  ls.brick.slotOrigin = poolSlotOrigin(slot);
+  ls.brick.boxMin = boxMin;
+  ls.brick.texelsPerCube = uBrickSize * ropeBoxScale(depth);
+  return ls;
+}
+
+#ifdef RAYCAST_MODE_ISO
+struct IsoHit {
+  bool hit;
+  BrickRef brick;  // the leaf holding the first sample across the isovalue
+  vec3 cellWorld;
+  float tPrev, fPrev;  // the sample before the crossing
+  float tHit;          // the first sample across
+};
+
+// March leaf by leaf to the first sample pair across the isovalue.
+IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
+  IsoHit h;
+  h.hit = false;
+  bool hasPrev = false;
+  RopeCursor cursor;
+  RopeLeaf leaf;
+  bool done = !ropeBegin(cursor, originCube, dirCube, t0, t1);
+  bool entryLeaf = true;
+  while (!done && ropeNextLeaf(cursor, leaf)) {
+    bool firstLeaf = entryLeaf;
+    entryLeaf = false;
+    if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
+    LeafSampling ls = leafSampling(leaf.brickSlot, leaf.depth, leaf.boxMin);
+    float tStop = min(leaf.tExit, t1);
+    float k = firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf);
+    for (float t = t0 + k * ls.dt; t < tStop; k += 1.0, t = t0 + k * ls.dt) {
+      float f = brickValue(ls.brick, brickTexel(ls.brick, originCube + t * dirCube)) - uIsoValue;
+      if (hasPrev && (f >= 0.0) != (h.fPrev >= 0.0)) {
+        // A crossing between the previous and this sample: refined after the walk (castRay), so that the SIMD
+        // lanes of a software rasterizer run the bisection once together rather than once per lane.
+        h.hit = true;
+        h.brick = ls.brick;
+        h.cellWorld = ls.cellWorld;
+        h.tHit = t;
+        done = true;
+        break;
+      }
+      hasPrev = true;
+      h.tPrev = t;
+      h.fPrev = f;
+    }
+  }
+  return h;
+}
+#else
+// The DVR walk gathers a few data leaves with the rope traversal, then samples all of them in one flat loop,
+// and repeats. With one sample loop per leaf, SIMD lanes (a GPU warp, llvmpipe's AVX lanes) that cross leaf
+// borders at different samples (an oblique border plane: neighbouring rays reach it several samples apart)
+// idle at every leaf until the lane with the longest leaf is done; in the flat loop a lane moves on to its next
+// gathered leaf at once. A batch is small because early ray termination usually ends the ray within a few
+// leaves, and leaves gathered beyond it are traversal wasted.
+#ifndef DVR_LEAF_BATCH
+#define DVR_LEAF_BATCH 4
+#endif
+
+struct DvrAccum {
+  vec3 color;  // premultiplied, front to back
+  float alpha;
+  float depth;
+};
+
+// Front-to-back compositing along the ray with early termination at uErt.
+DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, float depthPerT) {
+  DvrAccum acc;
+  acc.color = vec3(0.0);
+  acc.alpha = 0.0;
+  acc.depth = kInfinity;
+
+  // Per gathered leaf: the pool coordinate is affine in t inside a leaf, base + t * slope, with the slope fixed
+  // by the leaf's level; the first sample index k and the step dt; where the leaf's samples stop.
+  vec4 leafBase[DVR_LEAF_BATCH];   // base, tStop
+  vec4 leafSlope[DVR_LEAF_BATCH];  // slope, dt
+  float leafFirstK[DVR_LEAF_BATCH];
+
+  RopeCursor cursor;
+  RopeLeaf leaf;
+  bool more = ropeBegin(cursor, originCube, dirCube, t0, t1);
+  bool entryLeaf = true;
+  while (more) {
+    // Gather the next data leaves along the ray (empty leaves are skipped without sampling).
+    uint count = 0u;
+    while (count < uint(DVR_LEAF_BATCH)) {
+      if (!ropeNextLeaf(cursor, leaf)) {
+        more = false;
+        break;
+      }
+      bool firstLeaf = entryLeaf;
+      entryLeaf = false;
+      if (leaf.kind != kRopeTagDataLeaf) continue;
+      float dt = uStepVoxels * ropeBoxScale(uMaxDepth - leaf.depth) * uMinSpacing;
+      float texelsPerCube = uBrickSize * ropeBoxScale(leaf.depth);
+      vec3 base = (poolSlotOrigin(leaf.brickSlot) + float(BRICK_BORDER) +
+                   (originCube - leaf.boxMin) * texelsPerCube) * uPoolTexelSize;
+      leafBase[count] = vec4(base, min(leaf.tExit, t1));
+      leafSlope[count] = vec4(dirCube * texelsPerCube * uPoolTexelSize, dt);
+      leafFirstK[count] = firstSampleIndex(t0, leaf.tEnter, dt, firstLeaf);
+      ++count;
+    }
+
+    // Sample all gathered leaves in one flat loop.
+    uint next = 0u;
+    vec4 base = vec4(0.0, 0.0, 0.0, -kInfinity);
+    vec4 slope = vec4(0.0);
+    float k = 0.0, t = 0.0;
+    for (;;) {
+      while (!(t < base.w) && next < count) {
+        base = leafBase[next];
+        slope = leafSlope[next];
+        k = leafFirstK[next];
+        t = t0 + k * slope.w;
+        ++next;
+      }
+      if (!(t < base.w)) break;
+      vec3 poolCoord = base.xyz + t * slope.xyz;
+      vec4 tf = transferFunction(poolValue(poolCoord));
+      float a = 1.0 - pow(1.0 - tf.a, slope.w / uMinSpacing);
+      if (a > 0.0) {
+        vec3 cellWorld = uSpacing * (slope.w / (uStepVoxels * uMinSpacing));  // s * 2^L
+        vec3 c = shadeDvr(tf.rgb, poolGradient(poolCoord, cellWorld), dir, uMinSpacing);
+        acc.color += (1.0 - acc.alpha) * a * c;
+        acc.alpha += (1.0 - acc.alpha) * a;
+        acc.depth = t * depthPerT;
+        if (acc.alpha >= uErt) return acc;
+      }
+      k += 1.0;
+      t = t0 + k * slope.w;
+    }
+  }
+  return acc;
+}
+#endif
+
 RayResult castRay(uvec2 pixel) {
   RayResult result;
   result.color = vec4(uBackground, 0.0);
@@ -80,106 +240,30 @@ RayResult castRay(uvec2 pixel) {
   vec3 dirCube = dir / uCubeWorld;
   float depthPerT = dot(dir, uForward);
 
-  vec3 color = vec3(0.0);
-  float alpha = 0.0;
-  float depth = kInfinity;
 #ifdef RAYCAST_MODE_ISO
-  bool hasPrev = false;
-  float tPrev = 0.0;
-  float fPrev = 0.0;
-  bool hit = false;
-  BrickRef hitBrick;
-  vec3 hitCellWorld = vec3(0.0);
-  float tHitB = 0.0;
-#endif
-
-  RopeCursor cursor;
-  RopeLeaf leaf;
-  bool done = !ropeBegin(cursor, originCube, dirCube, t0, t1);
-  bool entryLeaf = true;
-  while (!done && ropeNextLeaf(cursor, leaf)) {
-    // The first leaf starts where the ray enters the volume (the cube holds the volume, so its tEnter is t0
-    // up to rounding in cube coordinates): its first sample is t0 itself, never dropped by that rounding.
-    bool firstLeaf = entryLeaf;
-    entryLeaf = false;
-    if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
-
-    uint level = uMaxDepth - leaf.depth;
-    float levelScale = ropeBoxScale(level);  // 2^L, exact
-    float dt = uStepVoxels * levelScale * uMinSpacing;
-    vec3 cellWorld = uSpacing * levelScale;
-    BrickRef brick;
-    brick.slotOrigin = poolSlotOrigin(leaf.brickSlot);
-    brick.boxMin = leaf.boxMin;
-    brick.texelsPerCube = uBrickSize * ropeBoxScale(leaf.depth);
-
-    // Samples t = t0 + k dt with tEnter <= t < min(tExit, t1) (k from 0 in the first leaf).
-    float tStop = min(leaf.tExit, t1);
-    float k = 0.0;
-    if (!firstLeaf) {
-      k = ceil((leaf.tEnter - t0) / dt);
-      if (t0 + k * dt < leaf.tEnter) k += 1.0;
+  IsoHit h = walkIso(originCube, dirCube, t0, t1);
+  if (!h.hit) return result;
+  // Bisection between the previous sample and the first one across the isovalue, at the level of the leaf
+  // holding the latter, in exact interpolation; then the gradient there.
+  float ta = h.tPrev, fa = h.fPrev, tb = h.tHit;
+  for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
+    float tm = 0.5 * (ta + tb);
+    float fm = brickValueExact(h.brick, brickTexel(h.brick, originCube + tm * dirCube)) - uIsoValue;
+    if ((fm >= 0.0) == (fa >= 0.0)) {
+      ta = tm;
+      fa = fm;
+    } else {
+      tb = tm;
     }
-    for (float t = t0 + k * dt; t < tStop; k += 1.0, t = t0 + k * dt) {
-#ifdef RAYCAST_MODE_ISO
-      vec3 texel = brickTexel(brick, originCube + t * dirCube);
-      float v = brickValue(brick, texel);
-      float f = v - uIsoValue;
-      if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
-        // A crossing between the previous and this sample: refined after the walk (below), so that the SIMD
-        // lanes of a software rasterizer run the bisection once together rather than once per lane.
-        hitBrick = brick;
-        hitCellWorld = cellWorld;
-        tHitB = t;
-        hit = true;
-        done = true;
-        break;
-      }
-      hasPrev = true;
-      tPrev = t;
-      fPrev = f;
+  }
+  float tHit = 0.5 * (ta + tb);
+  vec3 hitTexel = brickTexel(h.brick, originCube + tHit * dirCube);
+  result.color = vec4(shadeIso(brickGradientExact(h.brick, hitTexel, h.cellWorld), dir), 1.0);
+  result.depth = tHit * depthPerT;
 #else
-      vec3 poolCoord = brickPoolCoord(brick, brickTexel(brick, originCube + t * dirCube));
-      float v = poolValue(poolCoord);
-      vec4 tf = transferFunction(v);
-      float a = 1.0 - pow(1.0 - tf.a, dt / uMinSpacing);
-      if (!(a > 0.0)) continue;
-      vec3 c = shadeDvr(tf.rgb, poolGradient(poolCoord, cellWorld), dir, uMinSpacing);
-      color += (1.0 - alpha) * a * c;
-      alpha += (1.0 - alpha) * a;
-      depth = t * depthPerT;
-      if (alpha >= uErt) {
-        done = true;
-        break;
-      }
+  DvrAccum acc = walkDvr(originCube, dirCube, dir, t0, t1, depthPerT);
+  result.color = vec4(acc.color + (1.0 - acc.alpha) * uBackground, acc.alpha);
+  result.depth = acc.depth;
 #endif
-    }
-  }
-
-#ifdef RAYCAST_MODE_ISO
-  if (hit) {
-    // Bisection between the previous sample and the first one across the isovalue, at the level of the leaf
-    // holding the latter, in exact interpolation; then the gradient there.
-    float ta = tPrev, fa = fPrev, tb = tHitB;
-    for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
-      float tm = 0.5 * (ta + tb);
-      float fm = brickValueExact(hitBrick, brickTexel(hitBrick, originCube + tm * dirCube)) - uIsoValue;
-      if ((fm >= 0.0) == (fa >= 0.0)) {
-        ta = tm;
-        fa = fm;
-      } else {
-        tb = tm;
-      }
-    }
-    float tHit = 0.5 * (ta + tb);
-    vec3 hitTexel = brickTexel(hitBrick, originCube + tHit * dirCube);
-    color = shadeIso(brickGradientExact(hitBrick, hitTexel, hitCellWorld), dir);
-    alpha = 1.0;
-    depth = tHit * depthPerT;
-  }
-#endif
-
-  result.color = vec4(color + (1.0 - alpha) * uBackground, alpha);
-  result.depth = depth;
   return result;
 }

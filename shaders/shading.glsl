@@ -73,15 +73,10 @@ vec3 brickGradientExact(BrickRef b, vec3 texel, vec3 cellWorld) {
   return g / (2.0 * cellWorld);
 }
 
-// The DVR sample loop's form of brickValue() and brickGradient(): the pool coordinate is computed once per
-// sample and the six neighbours are one pool texel away from it. Clamping the center to [1.5, edge - 1.5]
-// keeps every neighbour inside the slot; samples of a leaf lie at texels [BRICK_BORDER, B + BRICK_BORDER], so
-// for BRICK_BORDER >= 2 the clamp never moves them and the values are brickValue()'s and brickGradient()'s
-// (up to float rounding), at a third of the arithmetic per fetch.
-vec3 brickPoolCoord(BrickRef b, vec3 texel) {
-  return (b.slotOrigin + clamp(texel, vec3(1.5), vec3(uPoolSlotEdge - 1.5))) * uPoolTexelSize;
-}
-
+// The DVR sample loop's form of brickValue() and brickGradient(), at a pool coordinate the walk computes once
+// per sample (affine in t inside a leaf): the six neighbours are one pool texel away. Samples of a leaf lie at
+// texels [BRICK_BORDER, B + BRICK_BORDER] of its slot, so for BRICK_BORDER >= 2 every neighbour stays inside
+// the slot without a clamp; h_i = s_i * 2^L (cellWorld), as docs/RENDERING.md fixes the gradient.
 float poolValue(vec3 poolCoord) {
   return textureLod(uPool, poolCoord, 0.0).r;
 }
@@ -93,15 +88,6 @@ vec3 poolGradient(vec3 poolCoord, vec3 cellWorld) {
   vec3 g = vec3(poolValue(poolCoord + dx) - poolValue(poolCoord - dx),
                 poolValue(poolCoord + dy) - poolValue(poolCoord - dy),
                 poolValue(poolCoord + dz) - poolValue(poolCoord - dz));
-  return g / (2.0 * cellWorld);
-}
-
-// Central differences with h_i = s_i * 2^L: one level-L texel along each axis. cellWorld = s * 2^L.
-vec3 brickGradient(BrickRef b, vec3 texel, vec3 cellWorld) {
-  vec3 g;
-  g.x = brickValue(b, texel + vec3(1.0, 0.0, 0.0)) - brickValue(b, texel - vec3(1.0, 0.0, 0.0));
-  g.y = brickValue(b, texel + vec3(0.0, 1.0, 0.0)) - brickValue(b, texel - vec3(0.0, 1.0, 0.0));
-  g.z = brickValue(b, texel + vec3(0.0, 0.0, 1.0)) - brickValue(b, texel - vec3(0.0, 0.0, 1.0));
   return g / (2.0 * cellWorld);
 }
 
