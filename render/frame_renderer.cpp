@@ -52,6 +52,26 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
 
 FrameRenderer::~FrameRenderer() = default;
 
+void FrameRenderer::prepare(const FrameRequest& request) {
+  Cut empty;
+  empty.leaves.push_back(CutLeaf{});  // the root, an empty leaf: rays traverse it and take no sample
+  RopeIndex index;
+  indexBuilder_.build(empty, index);
+  indexTexture_->upload(std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(index.texels.data()),
+                                                  index.texels.size() * kRopeTexelComponents));
+  RaycastFrame frame;
+  frame.pool = pool_.get();
+  frame.index = indexTexture_.get();
+  frame.camera = request.camera;
+  frame.volume = VolumeGeometry::of(source_.info());
+  frame.params = request.params;
+  frame.tf = request.tf;
+  frame.width = 1;
+  frame.height = 1;
+  raycast_.render(frame);
+  raycast_.lastRaycastMs();  // waits for the draw
+}
+
 FrameStats FrameRenderer::render(const FrameRequest& request) {
   const auto frameStart = Clock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");

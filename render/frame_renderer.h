@@ -63,6 +63,11 @@ class FrameRenderer {
   // budget applies to asynchronous frames only (a synchronous frame loads everything at once).
   FrameStats render(const FrameRequest& request);
 
+  // Compiles the ray-cast program of the request's backend and mode and draws it once, on a 1x1 image of an
+  // empty cut: drivers that compile at the first draw (llvmpipe's JIT, ~0.1-0.4 s) do it here rather than in
+  // the first frame's time. Leaves the working set, the pool and the frame counter as they were.
+  void prepare(const FrameRequest& request);
+
   // The last frame's targets (row 0 at the top): RGBA and depth.
   FloatImage readColor() const { return raycast_.readColor(); }
   FloatImage readDepth() const { return raycast_.readDepth(); }

@@ -4,11 +4,11 @@
 // budgets, for iso and DVR, with a small upload budget, a small GPU pool and a slow source
 // (DelayedBrickSource). Every asynchronous frame also stays within the upload budget and the pool.
 //
-// The images are compared up to float rounding: both renderers build the same cut (checked leaf by leaf); only
-// the pool slots may differ (the slot a brick gets depends on the order in which bricks arrived; in these runs
-// 7 to 21 of 408 data leaves sat in other slots). The pool coordinate (slot origin + texel) * texel size rounds
-// differently per slot, so the images usually agree bit for bit and sometimes differ by ~1e-7; a wrong cut or
-// a wrong slot would differ by far more.
+// The images are compared up to float rounding: both renderers build the same cut (checked leaf by leaf);
+// only the pool slots may differ (the slot a brick gets depends on the order in which bricks arrived; in
+// these runs 7 to 21 of 408 data leaves sat in other slots). The pool coordinate (slot origin + texel) *
+// texel size rounds differently per slot, so the images usually agree bit for bit and sometimes differ by
+// ~1e-7; a wrong cut or a wrong slot would differ by far more.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,9 +42,10 @@ struct Case {
   double ioDelayMs = 0.0;
   uint32_t size = 64;  // procedural noise volume, size^3
   double voxelsPerPixel = 1.0;
-  bool expectPoolFull = false;
+  bool expectPoolFull = false;  // the pool is too small for the view: the refinement stops at PoolFull
   double uploadTimeBudgetMs = 0.0;
-  bool uploadThroughPbo = false;  // the pool is too small for the view: the refinement stops at PoolFull
+  bool uploadThroughPbo = false;
+  bool prepare = false;  // FrameRenderer::prepare() before the first frame
 };
 
 class ConvergeTest : public ::testing::Test {
@@ -79,6 +80,7 @@ class ConvergeTest : public ::testing::Test {
     request.synchronous = synchronous;
 
     Rendered out;
+    if (c.prepare) renderer.prepare(request);
     for (uint32_t i = 0; i < (synchronous ? 1u : maxFrames); ++i) {
       out.frames.push_back(renderer.render(request));
       if (out.frames.back().converged) break;
@@ -126,7 +128,9 @@ class ConvergeTest : public ::testing::Test {
       dataLeaves += a.kind == LeafKind::Data;
     }
     EXPECT_GT(dataLeaves, 8u);  // a real tree, not the root alone
-    if (c.expectPoolFull) EXPECT_EQ(async.frames.back().gpuPoolUsedBytes, poolBytes);
+    if (c.expectPoolFull) {
+      EXPECT_EQ(async.frames.back().gpuPoolUsedBytes, poolBytes);
+    }
 
     // The same image up to float rounding: a brick may sit in another pool slot, and the pool coordinate
     // (slot origin + texel) * texel size rounds differently per slot (seen: 3e-7 in one CI run of 11:50).
@@ -184,6 +188,22 @@ TEST_F(ConvergeTest, AnUploadTimeBudgetAndPboUploadsConvergeToTheSameImage) {
   c.mode = RenderMode::Dvr;
   c.uploadThroughPbo = false;
   expectConvergesToSynchronous(source, c);
+}
+
+TEST_F(ConvergeTest, PreparingTheProgramBeforeTheFirstFrameChangesNothing) {
+  const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
+  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+    Case c;
+    c.mode = mode;
+    const Rendered plain = render(source, c, /*synchronous=*/true);
+    c.prepare = true;
+    const Rendered prepared = render(source, c, /*synchronous=*/true);
+    EXPECT_EQ(prepared.frames.front().frame, 0u);  // the warm-up draw is not a frame
+    EXPECT_EQ(prepared.frames.front().bricksUploaded, plain.frames.front().bricksUploaded);
+    EXPECT_EQ(maxAbsDifference(plain.color, prepared.color, 4), 0.0);
+    EXPECT_EQ(maxAbsDifference(plain.depth, prepared.depth, 1), 0.0);
+    expectConvergesToSynchronous(source, c);  // the asynchronous frames after prepare() too
+  }
 }
 
 TEST_F(ConvergeTest, ASmallPoolConvergesToTheSameCoarserImage) {
