@@ -25,13 +25,14 @@ GLenum pixelType(SampleType t) {
 }  // namespace
 
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
-                                int max3DTextureSize) {
+                                int max3DTextureSize, uint32_t extraBytesPerTexel) {
   if (storedType != SampleType::UInt8 && storedType != SampleType::UInt16)
     throw Error("planBrickPool: the pool holds uint8 or uint16 samples, got " +
                 std::string(sampleTypeName(storedType)));
   BrickPoolGeometry g;
   g.slotEdge = brickSize + 2 * kBrickBorder;
-  const uint64_t slotBytes = uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge * bytesPerSample(storedType);
+  const uint64_t slotBytes =
+      uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge * (bytesPerSample(storedType) + extraBytesPerTexel);
   const uint64_t maxPerAxis = uint64_t(std::max(max3DTextureSize, 0)) / g.slotEdge;
   const uint64_t wanted = std::min(budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis);
   if (wanted < 1)
@@ -62,7 +63,8 @@ uint64_t defaultGpuBudgetBytes(const GlContextInfo& info) {
 
 BrickPool::BrickPool(const BrickPoolConfig& config, int max3DTextureSize)
     : config_(config),
-      geometry_(planBrickPool(config.brickSize, config.storedType, config.budgetBytes, max3DTextureSize)) {
+      geometry_(planBrickPool(config.brickSize, config.storedType, config.budgetBytes, max3DTextureSize,
+                              config.extraBytesPerTexel)) {
   while (glGetError() != GL_NO_ERROR) {
   }
   glCreateTextures(GL_TEXTURE_3D, 1, &texture_);

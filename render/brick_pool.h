@@ -37,9 +37,11 @@ struct BrickPoolGeometry {
 };
 
 // The largest near-cubic slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
-// max3DTextureSize per axis. Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
+// max3DTextureSize per axis; `extraBytesPerTexel` are those of textures of the same dimensions kept beside
+// the pool (a GradientPool), which the budget pays for too. Throws ropecast::Error ("--gpu-budget ...") when
+// not even one slot fits.
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
-                                int max3DTextureSize);
+                                int max3DTextureSize, uint32_t extraBytesPerTexel = 0);
 
 // The default --gpu-budget: half the memory the driver reports, at most 4 GiB; else 512 MiB.
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info);
@@ -57,6 +59,7 @@ struct BrickPoolConfig {
   // Upload through a pixel buffer object. On Mesa llvmpipe this is slower (one more copy of every brick, see
   // docs/BENCHMARKS.md "Asynchronous loader"), so the default is direct uploads; `--upload-pbo` turns it on.
   bool uploadThroughPbo = false;
+  uint32_t extraBytesPerTexel = 0;  // planBrickPool's: textures beside the pool share the budget
 };
 
 class BrickPool {

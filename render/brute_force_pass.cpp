@@ -12,6 +12,7 @@
 #include "loader/octree_layout.h"
 #include "loader/transfer_function.h"
 #include "render/gl_context.h"
+#include "render/gradient_pool.h"
 #include "render/raycast_uniforms.h"
 #include "render/shader_program.h"
 
@@ -21,6 +22,7 @@ namespace {
 
 constexpr GLuint kVolumeUnit = 0;
 constexpr GLuint kTfUnit = 1;
+constexpr GLuint kVolumeSamplesUnit = 2;
 
 }  // namespace
 
@@ -86,18 +88,22 @@ BruteForcePass::~BruteForcePass() {
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
 
-const ShaderProgram& BruteForcePass::program(RenderMode mode) {
-  std::unique_ptr<ShaderProgram>& p = programs_[mode == RenderMode::Iso ? 0 : 1];
-  if (!p)
+const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
+  const bool storedGradients = usesStoredGradients(params);
+  std::unique_ptr<ShaderProgram>& p = programs_[params.mode == RenderMode::Iso ? 0 : storedGradients ? 2 : 1];
+  if (!p) {
+    std::vector<std::string> defines = {
+        params.mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
+        "BRICK_BORDER " + std::to_string(kBrickBorder),
+        "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
+        floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
+    };
+    if (storedGradients) defines.push_back("DVR_STORED_GRADIENTS");
     p = std::make_unique<ShaderProgram>(
         std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
                                 {ShaderStage::Fragment, "shaders/brute_force.frag"}},
-        std::vector<std::string>{
-            mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
-            "BRICK_BORDER " + std::to_string(kBrickBorder),
-            "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
-            floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
-        });
+        defines);
+  }
   return *p;
 }
 
@@ -127,7 +133,12 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   if (f.tf && f.tf->entryCount() != tfEntries_)
     throw Error("BruteForcePass::render: transfer function tables have " + std::to_string(tfEntries_) +
                 " entries, got " + std::to_string(f.tf->entryCount()));
-  const ShaderProgram& p = program(f.params.mode);
+  const ShaderProgram& p = program(f.params);
+  if (usesStoredGradients(f.params) && !gradients_) {
+    gradients_ = std::make_unique<GradientPool>(info_.layout.dims);
+    const glm::u32vec3 origin(0);
+    gradients_->derive(volumeTexture_, std::span(&origin, 1), info_.layout.dims);
+  }
   resizeTargets(f.width, f.height);
   if (f.tf)
     glTextureSubImage1D(tfTexture_, 0, 0, GLsizei(tfEntries_), GL_RGBA, GL_FLOAT, f.tf->entries().data());
@@ -140,11 +151,13 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   glProgramUniform3i(id, u("uVolumeDims"), GLint(info_.layout.dims.x), GLint(info_.layout.dims.y),
                      GLint(info_.layout.dims.z));
   glProgramUniform1i(id, u("uVolume"), GLint(kVolumeUnit));
+  glProgramUniform1i(id, u("uVolumeSamples"), GLint(kVolumeSamplesUnit));
   glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
   glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
 
   glBindTextureUnit(kVolumeUnit, volumeTexture_);
   glBindTextureUnit(kTfUnit, tfTexture_);
+  if (gradients_) glBindTextureUnit(kVolumeSamplesUnit, gradients_->texture());
   p.use();
   timer_.begin();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);

@@ -20,6 +20,7 @@
 
 namespace ropecast {
 
+class GradientPool;
 class ShaderProgram;
 class TfTable;
 
@@ -32,7 +33,9 @@ struct BruteForceFrame {
 
 class BruteForcePass {
  public:
-  // Reads every level-0 brick of `source` and uploads the interiors into one R8/R16 3D texture. Throws
+  // Reads every level-0 brick of `source` and uploads the interiors into one R8/R16 3D texture (and, for DVR
+  // with stored gradients, derives a GradientPool of it at the first such render, as the ray caster's pool
+  // has one; render/gradient_pool.h). Throws
   // ropecast::Error when the volume exceeds GL_MAX_3D_TEXTURE_SIZE or on a read error.
   explicit BruteForcePass(const BrickSource& source);
   ~BruteForcePass();
@@ -48,11 +51,12 @@ class BruteForcePass {
   uint64_t volumeBytes() const { return volumeBytes_; }
 
  private:
-  const ShaderProgram& program(RenderMode mode);
+  const ShaderProgram& program(const RenderParams& params);
   void resizeTargets(uint32_t width, uint32_t height);
 
   BrickSourceInfo info_;
-  std::unique_ptr<ShaderProgram> programs_[2];  // by RenderMode
+  std::unique_ptr<ShaderProgram> programs_[3];  // iso, DVR, DVR with stored gradients
+  std::unique_ptr<GradientPool> gradients_;     // derived from the volume at the first use
   uint32_t volumeTexture_ = 0, tfTexture_ = 0, tfEntries_ = 0;
   uint64_t volumeBytes_ = 0;
   uint32_t width_ = 0, height_ = 0;

@@ -6,6 +6,7 @@
 #include "loader/error.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
+#include "render/gradient_pool.h"
 #include "render/index_texture.h"
 
 namespace ropecast {
@@ -35,7 +36,9 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   poolConfig.storedType = info.storedType;
   poolConfig.budgetBytes = config.gpuBudgetBytes ? config.gpuBudgetBytes : defaultGpuBudgetBytes(gl);
   poolConfig.uploadThroughPbo = config.uploadThroughPbo;
+  if (config.storedGradients) poolConfig.extraBytesPerTexel = GradientPool::kBytesPerTexel;
   pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
+  if (config.storedGradients) gradients_ = std::make_unique<GradientPool>(pool_->geometry().textureDims);
   // The loader's SlotTable decides which brick lives in which slot; the pool's own allocator is not used, so
   // every slot is taken from it once.
   while (pool_->allocate()) {
@@ -52,6 +55,15 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
 
 FrameRenderer::~FrameRenderer() = default;
 
+const GradientPool* FrameRenderer::gradientsFor(const RenderParams& params) const {
+  if (!usesStoredGradients(params)) return nullptr;
+  if (!gradients_)
+    throw Error(
+        "FrameRenderer: DVR with stored gradients, but the renderer was configured without them "
+        "(FrameRendererConfig::storedGradients)");
+  return gradients_.get();
+}
+
 void FrameRenderer::prepare(const FrameRequest& request) {
   Cut empty;
   empty.leaves.push_back(CutLeaf{});  // the root, an empty leaf: rays traverse it and take no sample
@@ -65,6 +77,7 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   frame.camera = request.camera;
   frame.volume = VolumeGeometry::of(source_.info());
   frame.params = request.params;
+  frame.gradients = gradientsFor(request.params);
   frame.tf = request.tf;
   frame.width = 1;
   frame.height = 1;
@@ -94,6 +107,12 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     uploadBatch_.push_back(
         {upload.slot, std::span<const std::byte>(upload.brick->data(), upload.brick->size())});
   pool_->uploadBatch(uploadBatch_);
+  if (gradients_) {
+    uploadedOrigins_.clear();
+    for (const BrickUpload& upload : plan.uploads)
+      uploadedOrigins_.push_back(pool_->geometry().slotOrigin(upload.slot));
+    gradients_->derive(pool_->texture(), uploadedOrigins_, glm::u32vec3(pool_->geometry().slotEdge));
+  }
   const double uploadMs = msSince(uploadStart);
   if (!request.synchronous) uploadPacer_.record(plan.stats.bytesUploaded, uploadMs);
 
@@ -121,6 +140,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   frame.camera = request.camera;
   frame.volume = VolumeGeometry::of(source_.info());
   frame.params = request.params;
+  frame.gradients = gradientsFor(request.params);
   frame.tf = request.tf;
   frame.width = request.width;
   frame.height = request.height;

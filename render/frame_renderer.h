@@ -12,6 +12,8 @@
 #include <memory>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "index/rope_index.h"
 #include "loader/brick_source.h"
 #include "loader/camera.h"
@@ -28,6 +30,7 @@ namespace ropecast {
 struct GlContextInfo;
 struct BrickPoolUpload;
 class BrickPool;
+class GradientPool;
 class IndexTexture;
 
 struct FrameRendererConfig {
@@ -39,6 +42,9 @@ struct FrameRendererConfig {
   double uploadTimeBudgetMs = 0.0;
   bool uploadThroughPbo = false;  // --upload-pbo (render/brick_pool.h)
   uint32_t ioThreads = 2;
+  // A GradientPool beside the brick pool, derived at every upload, for DVR requests with stored gradients
+  // (RenderParams::gradients); it takes its share of the GPU budget. usesStoredGradients() says when.
+  bool storedGradients = false;
 };
 
 struct FrameRequest {
@@ -78,8 +84,12 @@ class FrameRenderer {
   const BrickPool& pool() const { return *pool_; }
 
  private:
+  const GradientPool* gradientsFor(const RenderParams& params) const;
+
   const BrickSource& source_;
   std::unique_ptr<BrickPool> pool_;
+  std::unique_ptr<GradientPool> gradients_;  // config.storedGradients only
+  std::vector<glm::u32vec3> uploadedOrigins_;
   std::unique_ptr<IndexTexture> indexTexture_;
   std::unique_ptr<WorkingSet> workingSet_;
   UploadPacer uploadPacer_;

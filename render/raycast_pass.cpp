@@ -13,6 +13,7 @@
 #include "loader/transfer_function.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
+#include "render/gradient_pool.h"
 #include "render/index_texture.h"
 #include "render/raycast_uniforms.h"
 #include "render/shader_program.h"
@@ -25,6 +26,7 @@ namespace {
 constexpr GLuint kPoolUnit = 0;
 constexpr GLuint kTfUnit = 1;
 constexpr GLuint kRopeIndexUnit = 2;
+constexpr GLuint kGradientUnit = 3;
 constexpr GLuint kColorImageUnit = 0;  // match the binding = N of shaders/raycast.comp
 constexpr GLuint kDepthImageUnit = 1;
 constexpr uint32_t kWorkgroupSize = 8;
@@ -60,15 +62,19 @@ RaycastPass::~RaycastPass() {
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
 
-const ShaderProgram& RaycastPass::program(RenderBackend backend, RenderMode mode) {
-  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode}];
+const ShaderProgram& RaycastPass::program(const RenderParams& params) {
+  const RenderBackend backend = params.backend;
+  const RenderMode mode = params.mode;
+  const bool storedGradients = usesStoredGradients(params);
+  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, storedGradients}];
   if (!p) {
-    const std::vector<std::string> defines = {
+    std::vector<std::string> defines = {
         mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
         "BRICK_BORDER " + std::to_string(kBrickBorder),
         "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
         floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
     };
+    if (storedGradients) defines.push_back("DVR_STORED_GRADIENTS");
     if (backend == RenderBackend::Compute)
       p = std::make_unique<ShaderProgram>(
           std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/raycast.comp"}}, defines);
@@ -129,6 +135,7 @@ void RaycastPass::setUniforms(const ShaderProgram& p, const RaycastFrame& f) {
   glProgramUniform1f(id, u("uPoolSlotEdge"), float(pool.slotEdge));
   setVec3Uniform(id, u("uPoolTexelSize"), 1.0 / glm::dvec3(pool.textureDims));
   glProgramUniform1i(id, u("uPool"), GLint(kPoolUnit));
+  glProgramUniform1i(id, u("uGradientPool"), GLint(kGradientUnit));
   glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
   glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
   glProgramUniform1i(id, u("uRopeIndex"), GLint(kRopeIndexUnit));
@@ -158,7 +165,14 @@ void RaycastPass::render(const RaycastFrame& f) {
     throw Error("RaycastPass::render: transfer function tables have " + std::to_string(tfEntries_) +
                 " entries, got " + std::to_string(f.tf->entryCount()));
 
-  const ShaderProgram& p = program(f.params.backend, f.params.mode);
+  if (usesStoredGradients(f.params)) {
+    if (!f.gradients)
+      throw Error("RaycastPass::render: DVR with stored gradients needs the pool's GradientPool");
+    if (f.gradients->dims() != f.pool->geometry().textureDims)
+      throw Error("RaycastPass::render: the GradientPool's dimensions differ from the brick pool's");
+  }
+
+  const ShaderProgram& p = program(f.params);
   resizeTargets(f.width, f.height);
   if (f.tf)
     glTextureSubImage1D(tfTexture_, 0, 0, GLsizei(tfEntries_), GL_RGBA, GL_FLOAT, f.tf->entries().data());
@@ -166,6 +180,7 @@ void RaycastPass::render(const RaycastFrame& f) {
   glBindTextureUnit(kPoolUnit, f.pool->texture());
   glBindTextureUnit(kTfUnit, tfTexture_);
   f.index->bind(kRopeIndexUnit);
+  if (usesStoredGradients(f.params)) glBindTextureUnit(kGradientUnit, f.gradients->texture());
   p.use();
 
   timer_.begin();

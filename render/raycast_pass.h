@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <utility>
+#include <tuple>
 
 #include <glm/vec3.hpp>
 
@@ -27,6 +27,7 @@
 namespace ropecast {
 
 class BrickPool;
+class GradientPool;
 class IndexTexture;
 class ShaderProgram;
 class TfTable;
@@ -49,7 +50,9 @@ struct RaycastFrame {
   const IndexTexture* index = nullptr;  // uvec4 texels of index/rope_layout.h
   Camera camera;
   VolumeGeometry volume;
-  RenderParams params;          // params.backend picks the entry point
+  RenderParams params;  // params.backend picks the entry point
+  // The pool's DVR sample texture, required when usesStoredGradients(params) (render/gradient_pool.h).
+  const GradientPool* gradients = nullptr;
   const TfTable* tf = nullptr;  // required in DVR mode
   uint32_t width = 0, height = 0;
 };
@@ -79,11 +82,11 @@ class RaycastPass {
   uint32_t depthTexture() const { return worldDepthTexture_; }
 
  private:
-  const ShaderProgram& program(RenderBackend backend, RenderMode mode);
+  const ShaderProgram& program(const RenderParams& params);
   void resizeTargets(uint32_t width, uint32_t height);
   void setUniforms(const ShaderProgram& program, const RaycastFrame& frame);
 
-  std::map<std::pair<RenderBackend, RenderMode>, std::unique_ptr<ShaderProgram>> programs_;
+  std::map<std::tuple<RenderBackend, RenderMode, bool>, std::unique_ptr<ShaderProgram>> programs_;
   uint32_t width_ = 0, height_ = 0;
   uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, depthBuffer_ = 0, framebuffer_ = 0;
   uint32_t emptyVertexArray_ = 0;

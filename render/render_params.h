@@ -9,6 +9,11 @@ namespace ropecast {
 
 enum class RenderMode { Iso, Dvr };
 enum class RenderBackend { Fragment, Compute };  // GL entry point; the CPU renderers ignore it
+// Where a DVR sample's central-difference gradient comes from on the GPU: a texture of value and differences
+// derived at upload (render/gradient_pool.h: one lookup per sample, 8 more bytes per texel of GPU memory) or
+// six more lookups of the value texture per sample. The same gradient up to storage precision; the CPU
+// renderers ignore it.
+enum class GradientSource { Stored, Computed };
 
 // Phong headlight constants of docs/RENDERING.md ("Isosurface", "Direct volume rendering").
 struct LightingParams {
@@ -31,7 +36,15 @@ struct RenderParams {
   double ert = 0.99;           // --ert: early ray termination opacity (DVR)
   glm::dvec3 background{0.0};  // --background, linear RGB in [0, 1]
   RenderBackend backend = RenderBackend::Fragment;
+  // --gradients (DVR). Computed works with any pool; `ropecast render` defaults to stored, which needs a
+  // GradientPool beside the pool (FrameRendererConfig::storedGradients).
+  GradientSource gradients = GradientSource::Computed;
   LightingParams lighting;
 };
+
+// Whether a GL ray caster samples a GradientPool for these params.
+inline bool usesStoredGradients(const RenderParams& params) {
+  return params.mode == RenderMode::Dvr && params.gradients == GradientSource::Stored;
+}
 
 }  // namespace ropecast

@@ -9,6 +9,9 @@
 
 uniform sampler3D uVolume;  // level 0: R8/R16 UNORM, LINEAR, CLAMP_TO_EDGE
 uniform ivec3 uVolumeDims;  // n
+#ifdef DVR_STORED_GRADIENTS
+uniform sampler3D uVolumeSamples;  // render/gradient_pool of uVolume: RGBA16_SNORM (differences, value)
+#endif
 
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out float outDepth;
@@ -76,7 +79,12 @@ RayResult castBrute(uvec2 pixel) {
   float k = 0.0;
   for (float t = t0; t < t1; k += 1.0, t = t0 + k * dt) {
     vec3 q = volumeCoord(uEye + t * dir);
+#ifdef DVR_STORED_GRADIENTS
+    vec4 stored = textureLod(uVolumeSamples, q / vec3(uVolumeDims), 0.0);
+    float v = stored.a;
+#else
     float v = volumeValue(q);
+#endif
 #ifdef RAYCAST_MODE_ISO
     float f = v - uIsoValue;
     if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
@@ -92,7 +100,12 @@ RayResult castBrute(uvec2 pixel) {
     vec4 tf = transferFunction(v);
     float a = 1.0 - pow(1.0 - tf.a, dt / uMinSpacing);
     if (!(a > 0.0)) continue;
-    vec3 c = shadeDvr(tf.rgb, volumeGradient(q), dir, uMinSpacing);
+#ifdef DVR_STORED_GRADIENTS
+    vec3 gradient = stored.rgb / (2.0 * uSpacing);
+#else
+    vec3 gradient = volumeGradient(q);
+#endif
+    vec3 c = shadeDvr(tf.rgb, gradient, dir, uMinSpacing);
     color += (1.0 - alpha) * a * c;
     alpha += (1.0 - alpha) * a;
     depth = t * depthPerT;

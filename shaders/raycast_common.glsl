@@ -5,7 +5,8 @@
 // anchored at the volume entry. No #version line: the entry point has it.
 //
 // Variants (defines): RAYCAST_MODE_ISO or RAYCAST_MODE_DVR; BRICK_BORDER; ISO_BISECTION_STEPS;
-// DVR_SHADE_GRADIENT_THRESHOLD (render/raycast_pass.cpp passes them from the C++ constants).
+// DVR_SHADE_GRADIENT_THRESHOLD (render/raycast_pass.cpp passes them from the C++ constants); DVR_STORED_GRADIENTS
+// (DVR samples a GradientPool, render/gradient_pool.h).
 
 #include "shaders/rope_traversal.glsl"
 #include "shaders/shading.glsl"
@@ -208,11 +209,12 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
       }
       if (!(t < base.w)) break;
       vec3 poolCoord = base.xyz + t * slope.xyz;
-      vec4 tf = transferFunction(poolValue(poolCoord));
+      PoolSample sampled = poolSample(poolCoord);
+      vec4 tf = transferFunction(sampled.value);
       float a = 1.0 - pow(1.0 - tf.a, slope.w / uMinSpacing);
       if (a > 0.0) {
         vec3 cellWorld = uSpacing * (slope.w / (uStepVoxels * uMinSpacing));  // s * 2^L
-        vec3 c = shadeDvr(tf.rgb, poolGradient(poolCoord, cellWorld), dir, uMinSpacing);
+        vec3 c = shadeDvr(tf.rgb, poolSampleGradient(sampled, poolCoord, cellWorld), dir, uMinSpacing);
         acc.color += (1.0 - acc.alpha) * a * c;
         acc.alpha += (1.0 - acc.alpha) * a;
         acc.depth = t * depthPerT;

@@ -4,6 +4,9 @@
 // Included by shaders/raycast_common.glsl; no #version line. Needs the define BRICK_BORDER (kBrickBorder).
 
 uniform sampler3D uPool;        // render/brick_pool: R8/R16 UNORM, LINEAR, CLAMP_TO_EDGE
+#ifdef DVR_STORED_GRADIENTS
+uniform sampler3D uGradientPool;  // render/gradient_pool: RGBA16_SNORM (differences, value), uPool's dims
+#endif
 uniform uvec3 uPoolSlotGrid;    // slots per axis
 uniform float uPoolSlotEdge;    // texels per slot per axis (B + 2 * BRICK_BORDER)
 uniform vec3 uPoolTexelSize;    // 1 / pool texture dims
@@ -89,6 +92,35 @@ vec3 poolGradient(vec3 poolCoord, vec3 cellWorld) {
                 poolValue(poolCoord + dy) - poolValue(poolCoord - dy),
                 poolValue(poolCoord + dz) - poolValue(poolCoord - dz));
   return g / (2.0 * cellWorld);
+}
+
+// A DVR sample: its value, and with stored gradients the central differences v(x+h) - v(x-h) per axis
+// (render/gradient_pool.h) from the same lookup.
+struct PoolSample {
+  float value;
+  vec3 differences;
+};
+
+PoolSample poolSample(vec3 poolCoord) {
+  PoolSample s;
+#ifdef DVR_STORED_GRADIENTS
+  vec4 texel = textureLod(uGradientPool, poolCoord, 0.0);
+  s.value = texel.a;
+  s.differences = texel.rgb;
+#else
+  s.value = poolValue(poolCoord);
+  s.differences = vec3(0.0);
+#endif
+  return s;
+}
+
+// The gradient of a sample, asked for only where it is shaded: without stored gradients, six more lookups.
+vec3 poolSampleGradient(PoolSample s, vec3 poolCoord, vec3 cellWorld) {
+#ifdef DVR_STORED_GRADIENTS
+  return s.differences / (2.0 * cellWorld);
+#else
+  return poolGradient(poolCoord, cellWorld);
+#endif
 }
 
 // Transfer function at normalized value v: linear between entries, texcoord (v (N-1) + 0.5) / N.

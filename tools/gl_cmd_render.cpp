@@ -34,6 +34,7 @@ struct RenderOptions {
   double fov = 40.0;
   std::string background = "0,0,0";
   std::string backend = "fragment";
+  std::string gradients = "stored";
   std::string output, exr, depth, stats;
   bool reference = false;
   double step = 0.5;
@@ -149,6 +150,7 @@ int runRender(const RenderOptions& o) {
   params.ert = o.ert;
   params.background = parseTriple(o.background, "--background");
   params.backend = o.backend == "compute" ? RenderBackend::Compute : RenderBackend::Fragment;
+  params.gradients = o.gradients == "computed" ? GradientSource::Computed : GradientSource::Stored;
 
   std::optional<TfTable> tf;
   if (params.mode == RenderMode::Dvr) {
@@ -213,6 +215,7 @@ int runRender(const RenderOptions& o) {
   config.cpuCacheBytes = parseBytes(o.cpuCache, "--cpu-cache");
   if (!o.uploadBudget.empty()) config.uploadBudgetBytes = parseBytes(o.uploadBudget, "--upload-budget");
   config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
+  config.storedGradients = usesStoredGradients(params);
   config.uploadThroughPbo = o.uploadPbo;
   FrameRenderer renderer(gl.info(), bricks, config);
 
@@ -272,6 +275,12 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--backend", o->backend,
                  "fragment or compute; brute: level 0 in one 3D texture, no index (a benchmark baseline)")
       ->check(CLI::IsMember({"fragment", "compute", "brute"}))
+      ->capture_default_str();
+  app.add_option(
+         "--gradients", o->gradients,
+         "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
+         "or computed (six more lookups per sample)")
+      ->check(CLI::IsMember({"stored", "computed"}))
       ->capture_default_str();
   app.add_option("--exr", o->exr, "also write float RGBA EXR (alpha = coverage)");
   app.add_option("--depth", o->depth, "also write the depth (world units along the view axis) as EXR");

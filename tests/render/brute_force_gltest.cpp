@@ -25,16 +25,27 @@ TEST(BruteForce, MatchesTheRopeRayCasterAtFullResolution) {
       TfTable::bake(TransferFunction({TfPoint{40, {0.8, 0.3, 0.1, 0.0}}, TfPoint{140, {0.9, 0.8, 0.3, 0.1}},
                                       TfPoint{255, {0.3, 0.6, 1.0, 0.6}}}),
                     info.mapping, 255);
-  FrameRenderer ropes(gl.info(), *source, FrameRendererConfig{});
+  FrameRendererConfig config;
+  config.storedGradients = true;  // DVR below runs with both gradient sources
+  FrameRenderer ropes(gl.info(), *source, config);
   BruteForcePass brute(*source);
   EXPECT_EQ(brute.volumeBytes(), 48u * 48u * 48u);
 
-  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+  struct Variant {
+    RenderMode mode;
+    GradientSource gradients;
+    const char* name;
+  };
+  for (Variant v : {Variant{RenderMode::Iso, GradientSource::Computed, "iso"},
+                    Variant{RenderMode::Dvr, GradientSource::Computed, "dvr computed gradients"},
+                    Variant{RenderMode::Dvr, GradientSource::Stored, "dvr stored gradients"}}) {
+    const RenderMode mode = v.mode;
     for (double azimuth : {30.0, 200.0}) {
       FrameRequest request;
       request.camera = orbitCamera(azimuth, 25.0, 2.2, glm::dvec3(0.0), glm::dvec3(48.0));
       request.width = request.height = 96;
       request.params.mode = mode;
+      request.params.gradients = v.gradients;
       request.params.isoValue = 127.5;
       request.params.background = {0.1, 0.1, 0.2};
       request.tf = &tf;
@@ -63,13 +74,16 @@ TEST(BruteForce, MatchesTheRopeRayCasterAtFullResolution) {
             ++apart;
             break;
           }
-      std::printf("brute force vs ropes, %s az %.0f: %.1f dB, %zu pixels off by > 0.05\n",
-                  mode == RenderMode::Iso ? "iso" : "dvr", azimuth, psnr, apart);
+      std::printf("brute force vs ropes, %s az %.0f: %.1f dB, %zu pixels off by > 0.05\n", v.name, azimuth,
+                  psnr, apart);
       // Rounding (sample positions in cube vs world coordinates) flips a few grazing isosurface crossings and
       // DVR samples at box boundaries: a handful of pixels, never a pattern.
-      EXPECT_GE(psnr, 35.0) << (mode == RenderMode::Iso ? "iso" : "dvr") << " az " << azimuth;
-      EXPECT_LT(apart, a.width * a.height / 200)
-          << (mode == RenderMode::Iso ? "iso" : "dvr") << " az " << azimuth;
+      EXPECT_GE(psnr, 35.0) << v.name << " az " << azimuth;
+      // Stored gradients differ within half a voxel of the volume's faces: the brute-force texture clamps
+      // the stored differences there, where the pool's replicated brick borders give the differences of
+      // clamped values (docs/RENDERING.md's); a face seen through DVR shows it as a thin outline.
+      const size_t allowed = a.width * a.height / (v.gradients == GradientSource::Stored ? 100 : 200);
+      EXPECT_LT(apart, allowed) << v.name << " az " << azimuth;
       // The comparison tells levels apart: the coarse cut's image is further from brute force.
       const double coarsePsnr = test::psnrDb(coarse, b, 4);
       std::printf("  coarse cut vs brute force: %.1f dB\n", coarsePsnr);

@@ -245,32 +245,35 @@ TEST(Raycast, FragmentAndComputeAgree) {
       TfTable::bake(TransferFunction({TfPoint{20000, {1, 0, 0, 0}}, TfPoint{40000, {0.9, 0.8, 0.1, 0.3}},
                                       TfPoint{60000, {0.2, 0.3, 1.0, 0.6}}}),
                     ValueMapping{}, 65535);
-  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
-    RaycastFrame frame;
-    frame.camera = orbitCamera(70, 15, 1.8, glm::dvec3(0), glm::dvec3(30, 31.2, 18));
-    frame.width = 72;  // not a multiple of the tile or workgroup size
-    frame.height = 70;
-    frame.params.mode = mode;
-    frame.params.isoValue = 0.62 * 65535;
-    frame.params.background = {0.3, 0.3, 0.3};
-    frame.tf = &tf;
-    RaycastPass pass;
-    frame.params.backend = RenderBackend::Fragment;
-    test::renderScene(pass, scene, frame);
-    const FloatImage fragColor = pass.readColor(), fragDepth = pass.readDepth();
-    frame.params.backend = RenderBackend::Compute;
-    test::renderScene(pass, scene, frame);
-    const FloatImage compColor = pass.readColor(), compDepth = pass.readDepth();
-    EXPECT_LE(test::maxAbsDifference(fragColor, compColor, 4), 1e-5);
-    EXPECT_LE(test::maxAbsDifference(fragDepth, compDepth, 1), 1e-3);
-    // Not a blank image: something was hit and something was missed.
-    int covered = 0, empty = 0;
-    for (uint32_t y = 0; y < frame.height; ++y)
-      for (uint32_t x = 0; x < frame.width; ++x) (compColor.at(x, y, 3) > 0.0f ? covered : empty)++;
-    EXPECT_GT(covered, 500) << (mode == RenderMode::Iso ? "iso" : "dvr");
-    EXPECT_GT(empty, 200);
-    EXPECT_GE(pass.lastRaycastMs(), 0.0);
-  }
+  for (GradientSource gradients : {GradientSource::Computed, GradientSource::Stored})
+    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+      if (mode == RenderMode::Iso && gradients == GradientSource::Stored) continue;  // DVR only
+      RaycastFrame frame;
+      frame.camera = orbitCamera(70, 15, 1.8, glm::dvec3(0), glm::dvec3(30, 31.2, 18));
+      frame.width = 72;  // not a multiple of the tile or workgroup size
+      frame.height = 70;
+      frame.params.mode = mode;
+      frame.params.gradients = gradients;
+      frame.params.isoValue = 0.62 * 65535;
+      frame.params.background = {0.3, 0.3, 0.3};
+      frame.tf = &tf;
+      RaycastPass pass;
+      frame.params.backend = RenderBackend::Fragment;
+      test::renderScene(pass, scene, frame);
+      const FloatImage fragColor = pass.readColor(), fragDepth = pass.readDepth();
+      frame.params.backend = RenderBackend::Compute;
+      test::renderScene(pass, scene, frame);
+      const FloatImage compColor = pass.readColor(), compDepth = pass.readDepth();
+      EXPECT_LE(test::maxAbsDifference(fragColor, compColor, 4), 1e-5);
+      EXPECT_LE(test::maxAbsDifference(fragDepth, compDepth, 1), 1e-3);
+      // Not a blank image: something was hit and something was missed.
+      int covered = 0, empty = 0;
+      for (uint32_t y = 0; y < frame.height; ++y)
+        for (uint32_t x = 0; x < frame.width; ++x) (compColor.at(x, y, 3) > 0.0f ? covered : empty)++;
+      EXPECT_GT(covered, 500) << (mode == RenderMode::Iso ? "iso" : "dvr");
+      EXPECT_GT(empty, 200);
+      EXPECT_GE(pass.lastRaycastMs(), 0.0);
+    }
 }
 
 // Early ray termination stops compositing at the first sample that brings the opacity to ert or above.

@@ -65,7 +65,14 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
                         TfPoint{52000, {0.3, 0.5, 1.0, 0.5}}}),
       ValueMapping{}, 65535);
 
-  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+  struct Variant {
+    RenderMode mode;
+    GradientSource gradients;
+  };
+  for (Variant v : {Variant{RenderMode::Iso, GradientSource::Computed},
+                    Variant{RenderMode::Dvr, GradientSource::Computed},
+                    Variant{RenderMode::Dvr, GradientSource::Stored}}) {
+    const RenderMode mode = v.mode;
     for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
       RaycastFrame frame;
       frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
@@ -74,6 +81,7 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       frame.params.isoValue = 0.6 * 65535;
       frame.params.background = {0.05, 0.1, 0.2};
       frame.params.backend = backend;
+      frame.params.gradients = v.gradients;
       frame.tf = &tf;
       RaycastPass pass;
       test::renderScene(pass, scene, frame);
@@ -87,8 +95,11 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       input.tf = &tf;
       const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, input);
 
-      const std::string what = std::string(mode == RenderMode::Iso ? "iso" : "dvr") +
-                               (backend == RenderBackend::Fragment ? " fragment" : " compute");
+      const std::string what =
+          std::string(mode == RenderMode::Iso                 ? "iso"
+                      : v.gradients == GradientSource::Stored ? "dvr stored gradients"
+                                                              : "dvr computed gradients") +
+          (backend == RenderBackend::Fragment ? " fragment" : " compute");
       const double psnr = test::psnrDb(glColor, colorOf(cpu), 3);
       std::printf("%s: PSNR %.1f dB vs the CPU mirror\n", what.c_str(), psnr);
       EXPECT_GE(psnr, 45.0) << what;

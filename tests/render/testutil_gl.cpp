@@ -135,6 +135,10 @@ GlScene buildScene(const SceneSpec& spec) {
     }
     scene.cut.leaves.push_back(leaf);
   }
+  scene.gradients = std::make_unique<GradientPool>(scene.pool->geometry().textureDims);
+  std::vector<glm::u32vec3> origins;
+  for (const auto& [slot, brick] : scene.bricks) origins.push_back(scene.pool->geometry().slotOrigin(slot));
+  scene.gradients->derive(scene.pool->texture(), origins, glm::u32vec3(scene.pool->geometry().slotEdge));
   scene.index = buildRopeIndex(scene.cut);
   scene.indexTexture = std::make_unique<IndexTexture>(4, ctx.info().maxTextureBufferTexels);
   scene.indexTexture->upload(std::span<const uint32_t>(
@@ -144,6 +148,7 @@ GlScene buildScene(const SceneSpec& spec) {
 
 void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame) {
   frame.pool = scene.pool.get();
+  frame.gradients = scene.gradients.get();
   frame.index = scene.indexTexture.get();
   frame.volume = scene.geometry;
   pass.render(frame);

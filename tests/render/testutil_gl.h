@@ -16,6 +16,7 @@
 #include "loader/brick_source.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
+#include "render/gradient_pool.h"
 #include "render/image_io.h"
 #include "render/index_texture.h"
 #include "render/raycast_pass.h"
@@ -56,6 +57,7 @@ struct GlScene {
   std::unordered_map<uint32_t, std::vector<std::byte>>
       bricks;  // by pool slot (render/cpu_raycaster BricksBySlot)
   std::unique_ptr<BrickPool> pool;
+  std::unique_ptr<GradientPool> gradients;  // derived from every uploaded slot, for stored DVR gradients
   std::unique_ptr<IndexTexture> indexTexture;
   size_t dataLeaves = 0;
   uint32_t minLeafDepth = 0, maxLeafDepth = 0;
@@ -64,7 +66,7 @@ struct GlScene {
 // Builds the bricks, the cut and its index, and uploads pool and index (needs the shared context).
 GlScene buildScene(const SceneSpec& spec);
 
-// Renders the scene with the pass; fills frame.pool/index/volume from the scene.
+// Renders the scene with the pass; fills frame.pool/gradients/index/volume from the scene.
 void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame);
 
 }  // namespace ropecast::test
