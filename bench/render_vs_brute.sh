@@ -9,6 +9,8 @@
 # Two ropecast figures per case: "full" refines to level 0 everywhere (--voxels-per-pixel 64: the same
 # samples as brute force, so the ratio is the cost or gain of the index and of skipping empty leaves) and
 # "adaptive" at --voxels-per-pixel 1 (the method: coarser levels where a voxel is smaller than a pixel).
+# DVR uses tf.json (opacity from 25.5 up) on dense volumes and tf_sparse.json (from the isovalue 127.5 up) on
+# sparse ones, so that their outside is empty space.
 # Environment: DENSE (default "marschner-lobb"), SPARSE (default "sphere menger"), SIZE (256), IMAGE
 # (512x512), FRAMES (6 measured), WORK (scratch dir). Volumes are converted once into WORK and reused.
 set -euo pipefail
@@ -28,6 +30,11 @@ export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
 
 cat > "$WORK/tf.json" <<'EOF2'
 {"points": [[0, 0.0, 0.0, 0.0, 0.0], [25.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
+EOF2
+# Sparse volumes in DVR: the same ramp from the isovalue up, so that (as in data with empty space) what lies
+# outside the isosurface has no opacity; with tf.json the sphere's falloff fills the whole cube.
+cat > "$WORK/tf_sparse.json" <<'EOF2'
+{"points": [[0, 0.0, 0.0, 0.0, 0.0], [127.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
 EOF2
 last=$((STILL + FRAMES - 1))
 cat > "$WORK/path.json" <<EOF2
@@ -53,8 +60,10 @@ for name in $DENSE $SPARSE; do
   kind=sparse; case " $DENSE " in *" $name "*) kind=dense;; esac
   store=$WORK/$name.rcast
   [ -f "$store" ] || "$ROPECAST" convert "procedural:$name:$SIZE" -o "$store" -q
+  tf=$WORK/tf.json
+  [ "$kind" = sparse ] && tf=$WORK/tf_sparse.json
   for mode in iso dvr; do
-    args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$WORK/tf.json" --path "$WORK/path.json"
+    args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$tf" --path "$WORK/path.json"
           --frames $((last + 1)))
     "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
       -o "$WORK/$name-$mode-brute.png"

@@ -147,7 +147,7 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
 // gathered leaf at once. A batch is small because early ray termination usually ends the ray within a few
 // leaves, and leaves gathered beyond it are traversal wasted.
 #ifndef DVR_LEAF_BATCH
-#define DVR_LEAF_BATCH 4
+#define DVR_LEAF_BATCH 8
 #endif
 
 struct DvrAccum {
