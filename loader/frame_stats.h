@@ -16,9 +16,10 @@ struct FrameStats {
   double frameMs = 0.0;    // wall time of the whole frame
   double raycastMs = 0.0;  // GL timestamp queries around the ray-cast pass (see GpuTimer)
   bool raycastWallClock =
-      false;              // raycast_ms is the wall-clock bound: the driver's timestamps were implausible
-  double uploadMs = 0.0;  // handing this frame's bricks to the GPU pool (CPU side of the texture uploads)
-  double indexMs = 0.0;   // building and uploading the rope index
+      false;                // raycast_ms is the wall-clock bound: the driver's timestamps were implausible
+  double uploadMs = 0.0;    // handing this frame's bricks to the GPU pool (CPU side of the texture uploads)
+  double indexMs = 0.0;     // building and uploading the rope index
+  double stepVoxels = 0.0;  // the sample step of this frame (--step, scaled by --target-frame-ms)
   // Filled by the loader (WorkingSet::update).
   double refineMs = 0.0;         // refinement, request submission and draining completed reads
   uint64_t leaves = 0;           // leaves of the cut (empty ones included)
@@ -40,6 +41,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"raycast_timer", s.raycastWallClock ? "wall" : "gpu"},
                         {"upload_ms", s.uploadMs},
                         {"index_ms", s.indexMs},
+                        {"step_voxels", s.stepVoxels},
                         {"refine_ms", s.refineMs},
                         {"leaves", s.leaves},
                         {"bricks_resident", s.bricksResident},

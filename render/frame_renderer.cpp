@@ -149,6 +149,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   FrameStats stats = plan.stats;
   stats.frame = frame_++;
   stats.indexMs = indexMs;
+  stats.stepVoxels = request.params.stepVoxels;
   stats.uploadMs = uploadMs;
   stats.raycastMs = raycast_.lastRaycastMs();  // waits for the GPU: the frame time includes the ray cast
   stats.raycastWallClock = raycast_.raycastTimerUsedWallClock();

@@ -11,6 +11,7 @@
 #include "loader/error.h"
 #include "loader/io_queue.h"
 #include "loader/procedural_bricks.h"
+#include "loader/step_pacer.h"
 #include "loader/store.h"
 #include "loader/transfer_function.h"
 #include "render/brute_force_pass.h"
@@ -42,6 +43,7 @@ struct RenderOptions {
   double voxelsPerPixel = 1.0;
   std::string gpuBudget, cpuCache = "1G", uploadBudget;
   double uploadTimeBudgetMs = 0.0;
+  double targetFrameMs = 0.0;
   bool uploadPbo = false;
   uint32_t frames = 1;
   std::string path;
@@ -199,6 +201,7 @@ int runRender(const RenderOptions& o) {
       FrameStats s;
       s.frame = frame;
       s.raycastMs = brute.lastRaycastMs();
+      s.stepVoxels = bf.params.stepVoxels;
       s.raycastWallClock = brute.raycastTimerUsedWallClock();
       s.frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       s.converged = true;
@@ -232,10 +235,13 @@ int runRender(const RenderOptions& o) {
   const uint32_t frameCap = o.converge ? std::max(frames, o.maxFrames) : frames;
   request.camera = cameraOf(0);
   renderer.prepare(request);  // shader compilation before frame 0, not in its frame_ms
+  StepPacer stepPacer(o.targetFrameMs);
   uint32_t frame = 0;
   for (;; ++frame) {
     request.camera = cameraOf(std::min(frame, frames - 1));
+    request.params.stepVoxels = params.stepVoxels * stepPacer.scale();
     const FrameStats s = renderer.render(request);
+    stepPacer.record(s.frameMs, s.raycastMs);
     stats.write(s);
     const bool last =
         o.converge ? (frame + 1 >= frames && s.converged) || frame + 1 >= frameCap : frame + 1 >= frames;
@@ -304,6 +310,10 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
          "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
       ->check(CLI::Range(0.0, 100000.0));
   app.add_flag("--upload-pbo", o->uploadPbo, "upload bricks through a pixel buffer object");
+  app.add_option("--target-frame-ms", o->targetFrameMs,
+                 "progressive frames: sample at up to 4x --step while a frame takes longer than this (the "
+                 "written images too; default: off)")
+      ->check(CLI::Range(0.0, 100000.0));
   app.add_option("--frames", o->frames, "frames to render (progressive loading)")
       ->check(CLI::Range(1u, 1000000u));
   app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes");

@@ -40,6 +40,8 @@ expect_failure "bad size" "--size" "$vol" --size 0x4
 expect_failure "size not WxH" "--size" "$vol" --size 512
 expect_failure "bad mode" "--mode" "$vol" --mode foo
 expect_failure "bad backend" "--backend" "$vol" --backend vulkan
+expect_failure "bad gradients" "--gradients" "$vol" --gradients sobel
+expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
 expect_failure "unknown tf preset" "--tf" "$vol" --mode dvr --tf nopreset
 expect_failure "tf point not 5 numbers" "short_point.json" "$vol" --mode dvr --tf "$dir/short_point.json"
 expect_failure "tf not JSON" "truncated.json" "$vol" --mode dvr --tf "$dir/truncated.json"

@@ -31,10 +31,22 @@ alpha=$(channel_avg "$dir/a.exr" 3)
 at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"
 [ "$(wc -l < "$dir/a.jsonl")" -eq 1 ] || fail "one frame should give one stats line"
 for field in frame frame_ms raycast_ms index_ms leaves bricks_resident bricks_uploaded bytes_uploaded refine_ms \
-    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used converged; do
+    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used converged step_voxels; do
   grep -q "\"$field\":" "$dir/a.jsonl" || fail "stats line lacks $field: $(cat "$dir/a.jsonl")"
 done
 grep -q '"converged":true' "$dir/a.jsonl" || fail "a synchronous frame should be converged"
+
+# --target-frame-ms: a target no frame can meet makes the step grow after the first frame, up to 4x.
+run "target frame time" "$ropecast" render $small --mode dvr --tf ct-soft --frames 3 --target-frame-ms 0.001 \
+  --step 0.5 -o "$dir/t.png" --stats "$dir/t.jsonl"
+steps=$(python3 -c 'import json, sys; print(" ".join(str(json.loads(l)["step_voxels"]) for l in open(sys.argv[1])))' \
+  "$dir/t.jsonl")
+[ "$steps" = "0.5 2.0 2.0" ] || fail "--target-frame-ms 0.001: steps $steps, expected 0.5 2.0 2.0"
+# DVR with computed gradients renders the stored-gradient image (same gradients up to storage precision).
+run "dvr computed gradients" "$ropecast" render $small --mode dvr --tf ct-soft -o "$dir/g1.png" --gradients computed
+run "dvr stored gradients" "$ropecast" render $small --mode dvr --tf ct-soft -o "$dir/g2.png"
+p=$(psnr "$dir/g1.png" "$dir/g2.png")
+[ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 35 || fail "computed vs stored gradients PSNR $p dB < 35"
 
 # The compute backend gives the fragment backend's image.
 run "compute backend" "$ropecast" render $small -o "$dir/c.png" --backend compute
