@@ -64,13 +64,13 @@ const GradientPool* FrameRenderer::gradientsFor(const RenderParams& params) cons
   return gradients_.get();
 }
 
-void FrameRenderer::prepare(const FrameRequest& request) {
-  Cut empty;
-  empty.leaves.push_back(CutLeaf{});  // the root, an empty leaf: rays traverse it and take no sample
-  RopeIndex index;
-  indexBuilder_.build(empty, index);
+void FrameRenderer::uploadIndex(const Cut& cut, RopeIndex& index) {
+  indexBuilder_.build(cut, index);
   indexTexture_->upload(std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(index.texels.data()),
                                                   index.texels.size() * kRopeTexelComponents));
+}
+
+RaycastFrame FrameRenderer::raycastFrame(const FrameRequest& request, uint32_t width, uint32_t height) const {
   RaycastFrame frame;
   frame.pool = pool_.get();
   frame.index = indexTexture_.get();
@@ -79,9 +79,17 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   frame.params = request.params;
   frame.gradients = gradientsFor(request.params);
   frame.tf = request.tf;
-  frame.width = 1;
-  frame.height = 1;
-  raycast_.render(frame);
+  frame.width = width;
+  frame.height = height;
+  return frame;
+}
+
+void FrameRenderer::prepare(const FrameRequest& request) {
+  Cut empty;
+  empty.leaves.push_back(CutLeaf{});  // the root, an empty leaf: rays traverse it and take no sample
+  RopeIndex index;
+  uploadIndex(empty, index);
+  raycast_.render(raycastFrame(request, 1, 1));
   raycast_.lastRaycastMs();  // waits for the draw
 }
 
@@ -128,23 +136,11 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
     cut_.leaves.push_back(cutLeaf);
   }
-  indexBuilder_.build(cut_, index_);
-  indexTexture_->upload(std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(index_.texels.data()),
-                                                  index_.texels.size() * kRopeTexelComponents));
+  uploadIndex(cut_, index_);
   const double indexMs = msSince(indexStart);
 
   // Pass 4, ray cast.
-  RaycastFrame frame;
-  frame.pool = pool_.get();
-  frame.index = indexTexture_.get();
-  frame.camera = request.camera;
-  frame.volume = VolumeGeometry::of(source_.info());
-  frame.params = request.params;
-  frame.gradients = gradientsFor(request.params);
-  frame.tf = request.tf;
-  frame.width = request.width;
-  frame.height = request.height;
-  raycast_.render(frame);
+  raycast_.render(raycastFrame(request, request.width, request.height));
 
   FrameStats stats = plan.stats;
   stats.frame = frame_++;

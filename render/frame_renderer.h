@@ -85,6 +85,9 @@ class FrameRenderer {
 
  private:
   const GradientPool* gradientsFor(const RenderParams& params) const;
+  // Builds the rope index of `cut` into `index` and uploads it to the index texture.
+  void uploadIndex(const Cut& cut, RopeIndex& index);
+  RaycastFrame raycastFrame(const FrameRequest& request, uint32_t width, uint32_t height) const;
 
   const BrickSource& source_;
   std::unique_ptr<BrickPool> pool_;
