@@ -12,7 +12,10 @@ void StepPacer::record(double frameMs, double raycastMs) {
   // frame whose loading alone overruns does not send the step to its maximum.
   const double rest = std::max(frameMs - raycastMs, 0.0);
   const double raycastBudget = std::max(targetFrameMs_ - rest, 0.25 * targetFrameMs_);
-  const double wanted = std::clamp(raycastMs * scale_ / raycastBudget, 1.0, kMaxScale);
+  const double cost = raycastMs * scale_;
+  const double rise = lastCostAtScale1_ > 0.0 ? std::max(cost - lastCostAtScale1_, 0.0) : 0.0;
+  lastCostAtScale1_ = cost;
+  const double wanted = std::clamp((cost + rise) / raycastBudget, 1.0, kMaxScale);
   scale_ = wanted >= scale_ ? wanted : scale_ + kRecoveryRate * (wanted - scale_);
 }
 

@@ -38,6 +38,20 @@ TEST(StepPacer, AnExpensiveViewMeetsTheTargetFromTheNextFrame) {
   EXPECT_NEAR(pacer.scale(), 150.0 / 40.0, 1e-9);  // steady, no oscillation
 }
 
+TEST(StepPacer, ARisingCostIsMetFromTheThirdFrame) {
+  // A camera closing in: the ray cast at scale 1 costs 10 ms more every frame. From the third frame the pacer
+  // extrapolates the rise, so no later frame overruns the target by the rise of one frame.
+  StepPacer pacer(50.0);
+  for (int i = 0; i < 30; ++i) {
+    const double cost = 40.0 + 10.0 * i;
+    const double frame = cost / pacer.scale();
+    if (i >= 2 && cost < 4.0 * 50.0) {
+      EXPECT_LE(frame, 50.0 + 1e-9) << "frame " << i;
+    }
+    pacer.record(frame, frame);
+  }
+}
+
 TEST(StepPacer, TheStepIsBounded) {
   StepPacer pacer(10.0);
   renderFrame(pacer, 1000.0);
