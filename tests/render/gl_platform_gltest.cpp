@@ -24,7 +24,9 @@ TEST(GlContext, CreatesHeadless45CoreContext) {
   EXPECT_TRUE(ctx.info().platform == "device" || ctx.info().platform == "surfaceless");
   EXPECT_GE(ctx.info().max3DTextureSize, 256);
   EXPECT_GT(ctx.info().maxTextureBufferTexels, 0);
-  if (ctx.info().totalGpuMemoryBytes) EXPECT_GT(*ctx.info().totalGpuMemoryBytes, 0u);
+  if (ctx.info().totalGpuMemoryBytes) {
+    EXPECT_GT(*ctx.info().totalGpuMemoryBytes, 0u);
+  }
   std::printf("renderer: %s (%s platform), GL %s\n", ctx.info().renderer.c_str(), ctx.info().platform.c_str(),
               ctx.info().version.c_str());
   EXPECT_NO_THROW(checkGlError("after context creation"));

@@ -41,7 +41,9 @@ TEST(ImageIo, PngQuantizesAndClamps) {
       for (uint32_t c = 0; c < 4; ++c) {
         const float want = std::round(std::clamp(img.at(x, y, c), 0.0f, 1.0f) * 255.0f) / 255.0f;
         EXPECT_NEAR(a.at(x, y, c), want, 1e-6) << x << "," << y << "," << c;
-        if (c < 3) EXPECT_NEAR(b.at(x, y, c), want, 1e-6);
+        if (c < 3) {
+          EXPECT_NEAR(b.at(x, y, c), want, 1e-6);
+        }
       }
 }
 
