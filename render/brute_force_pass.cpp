@@ -70,12 +70,7 @@ BruteForcePass::BruteForcePass(const BrickSource& source) : info_(source.info())
     glPixelStorei(p, 0);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 
-  glCreateTextures(GL_TEXTURE_1D, 1, &tfTexture_);
-  glTextureStorage1D(tfTexture_, 1, GL_RGBA32F, TfTable::kDefaultEntries);
-  tfEntries_ = TfTable::kDefaultEntries;
-  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
-    glTextureParameteri(tfTexture_, p, GL_LINEAR);
-  glTextureParameteri(tfTexture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  tfTexture_ = createTfTexture();
   glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &emptyVertexArray_);
   checkGlError("BruteForcePass: volume upload");
@@ -89,20 +84,14 @@ BruteForcePass::~BruteForcePass() {
 }
 
 const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
-  const bool storedGradients = usesStoredGradients(params);
-  std::unique_ptr<ShaderProgram>& p = programs_[params.mode == RenderMode::Iso ? 0 : storedGradients ? 2 : 1];
+  std::unique_ptr<ShaderProgram>& p = programs_[params.mode == RenderMode::Iso ? 0
+                                                : usesStoredGradients(params)  ? 2
+                                                                               : 1];
   if (!p) {
-    std::vector<std::string> defines = {
-        params.mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
-        "BRICK_BORDER " + std::to_string(kBrickBorder),
-        "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
-        floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
-    };
-    if (storedGradients) defines.push_back("DVR_STORED_GRADIENTS");
     p = std::make_unique<ShaderProgram>(
         std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
                                 {ShaderStage::Fragment, "shaders/brute_force.frag"}},
-        defines);
+        raycastDefines(params));
   }
   return *p;
 }
@@ -127,12 +116,7 @@ void BruteForcePass::resizeTargets(uint32_t width, uint32_t height) {
 
 void BruteForcePass::render(const BruteForceFrame& f) {
   if (f.width == 0 || f.height == 0) throw Error("BruteForcePass::render: image size must be positive");
-  if (!(f.params.stepVoxels > 0.0)) throw Error("BruteForcePass::render: --step must be positive");
-  if (f.params.mode == RenderMode::Dvr && !f.tf)
-    throw Error("BruteForcePass::render: DVR mode needs a baked transfer function");
-  if (f.tf && f.tf->entryCount() != tfEntries_)
-    throw Error("BruteForcePass::render: transfer function tables have " + std::to_string(tfEntries_) +
-                " entries, got " + std::to_string(f.tf->entryCount()));
+  checkRaycastInputs(f.params, f.tf, "BruteForcePass::render");
   const ShaderProgram& p = program(f.params);
   if (usesStoredGradients(f.params) && !gradients_) {
     gradients_ = std::make_unique<GradientPool>(info_.layout.dims);
@@ -140,8 +124,7 @@ void BruteForcePass::render(const BruteForceFrame& f) {
     gradients_->derive(volumeTexture_, std::span(&origin, 1), info_.layout.dims);
   }
   resizeTargets(f.width, f.height);
-  if (f.tf)
-    glTextureSubImage1D(tfTexture_, 0, 0, GLsizei(tfEntries_), GL_RGBA, GL_FLOAT, f.tf->entries().data());
+  if (f.tf) uploadTf(tfTexture_, *f.tf);
 
   // Uniforms: the names of shaders/raycast_common.glsl and shading.glsl, which brute_force.frag includes.
   const GLuint id = p.id();
@@ -153,7 +136,7 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   glProgramUniform1i(id, u("uVolume"), GLint(kVolumeUnit));
   glProgramUniform1i(id, u("uVolumeSamples"), GLint(kVolumeSamplesUnit));
   glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
-  glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
+  glProgramUniform1f(id, u("uTfEntries"), float(TfTable::kDefaultEntries));
 
   glBindTextureUnit(kVolumeUnit, volumeTexture_);
   glBindTextureUnit(kTfUnit, tfTexture_);

@@ -57,7 +57,7 @@ class BruteForcePass {
   BrickSourceInfo info_;
   std::unique_ptr<ShaderProgram> programs_[3];  // iso, DVR, DVR with stored gradients
   std::unique_ptr<GradientPool> gradients_;     // derived from the volume at the first use
-  uint32_t volumeTexture_ = 0, tfTexture_ = 0, tfEntries_ = 0;
+  uint32_t volumeTexture_ = 0, tfTexture_ = 0;
   uint64_t volumeBytes_ = 0;
   uint32_t width_ = 0, height_ = 0;
   uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, framebuffer_ = 0, emptyVertexArray_ = 0;

@@ -47,12 +47,7 @@ VolumeGeometry VolumeGeometry::of(const BrickSourceInfo& info) {
 RaycastPass::RaycastPass() {
   glCreateVertexArrays(1, &emptyVertexArray_);
   glCreateFramebuffers(1, &framebuffer_);
-  glCreateTextures(GL_TEXTURE_1D, 1, &tfTexture_);
-  glTextureStorage1D(tfTexture_, 1, GL_RGBA32F, TfTable::kDefaultEntries);
-  tfEntries_ = TfTable::kDefaultEntries;
-  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
-    glTextureParameteri(tfTexture_, p, GL_LINEAR);
-  glTextureParameteri(tfTexture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  tfTexture_ = createTfTexture();
 }
 
 RaycastPass::~RaycastPass() {
@@ -65,16 +60,9 @@ RaycastPass::~RaycastPass() {
 const ShaderProgram& RaycastPass::program(const RenderParams& params) {
   const RenderBackend backend = params.backend;
   const RenderMode mode = params.mode;
-  const bool storedGradients = usesStoredGradients(params);
-  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, storedGradients}];
+  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, usesStoredGradients(params)}];
   if (!p) {
-    std::vector<std::string> defines = {
-        mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
-        "BRICK_BORDER " + std::to_string(kBrickBorder),
-        "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
-        floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
-    };
-    if (storedGradients) defines.push_back("DVR_STORED_GRADIENTS");
+    const std::vector<std::string> defines = raycastDefines(params);
     if (backend == RenderBackend::Compute)
       p = std::make_unique<ShaderProgram>(
           std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/raycast.comp"}}, defines);
@@ -137,7 +125,7 @@ void RaycastPass::setUniforms(const ShaderProgram& p, const RaycastFrame& f) {
   glProgramUniform1i(id, u("uPool"), GLint(kPoolUnit));
   glProgramUniform1i(id, u("uGradientPool"), GLint(kGradientUnit));
   glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
-  glProgramUniform1f(id, u("uTfEntries"), float(tfEntries_));
+  glProgramUniform1f(id, u("uTfEntries"), float(TfTable::kDefaultEntries));
   glProgramUniform1i(id, u("uRopeIndex"), GLint(kRopeIndexUnit));
 
   // Window depth for gl_FragDepth: a perspective range enclosing the volume.
@@ -158,12 +146,7 @@ void RaycastPass::render(const RaycastFrame& f) {
                 std::to_string(f.volume.brickSize));
   if (f.pool->storedType() != f.volume.storedType)
     throw Error("RaycastPass::render: the pool's sample type differs from the volume's");
-  if (!(f.params.stepVoxels > 0.0)) throw Error("RaycastPass::render: --step must be positive");
-  if (f.params.mode == RenderMode::Dvr && !f.tf)
-    throw Error("RaycastPass::render: DVR mode needs a baked transfer function");
-  if (f.tf && f.tf->entryCount() != tfEntries_)
-    throw Error("RaycastPass::render: transfer function tables have " + std::to_string(tfEntries_) +
-                " entries, got " + std::to_string(f.tf->entryCount()));
+  checkRaycastInputs(f.params, f.tf, "RaycastPass::render");
 
   if (usesStoredGradients(f.params)) {
     if (!f.gradients)
@@ -174,8 +157,7 @@ void RaycastPass::render(const RaycastFrame& f) {
 
   const ShaderProgram& p = program(f.params);
   resizeTargets(f.width, f.height);
-  if (f.tf)
-    glTextureSubImage1D(tfTexture_, 0, 0, GLsizei(tfEntries_), GL_RGBA, GL_FLOAT, f.tf->entries().data());
+  if (f.tf) uploadTf(tfTexture_, *f.tf);
   setUniforms(p, f);
   glBindTextureUnit(kPoolUnit, f.pool->texture());
   glBindTextureUnit(kTfUnit, tfTexture_);

@@ -91,7 +91,6 @@ class RaycastPass {
   uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, depthBuffer_ = 0, framebuffer_ = 0;
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
-  uint32_t tfEntries_ = 0;
   GpuTimer timer_;
 };
 

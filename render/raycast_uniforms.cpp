@@ -8,6 +8,9 @@
 #include <epoxy/gl.h>
 #include <glm/trigonometric.hpp>
 
+#include "loader/error.h"
+#include "loader/octree_layout.h"
+#include "loader/transfer_function.h"
 #include "render/gl_context.h"
 #include "render/shader_program.h"
 
@@ -21,6 +24,40 @@ std::string floatDefine(const char* name, double value) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%s %.9g", name, value);
   return buf;
+}
+
+std::vector<std::string> raycastDefines(const RenderParams& params) {
+  std::vector<std::string> defines = {
+      params.mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
+      "BRICK_BORDER " + std::to_string(kBrickBorder),
+      "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
+      floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
+  };
+  if (usesStoredGradients(params)) defines.push_back("DVR_STORED_GRADIENTS");
+  return defines;
+}
+
+void checkRaycastInputs(const RenderParams& params, const TfTable* tf, const char* where) {
+  if (!(params.stepVoxels > 0.0)) throw Error(std::string(where) + ": --step must be positive");
+  if (params.mode == RenderMode::Dvr && !tf)
+    throw Error(std::string(where) + ": DVR mode needs a baked transfer function");
+  if (tf && tf->entryCount() != TfTable::kDefaultEntries)
+    throw Error(std::string(where) + ": transfer function tables have " +
+                std::to_string(TfTable::kDefaultEntries) + " entries, got " +
+                std::to_string(tf->entryCount()));
+}
+
+uint32_t createTfTexture() {
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_1D, 1, &texture);
+  glTextureStorage1D(texture, 1, GL_RGBA32F, TfTable::kDefaultEntries);
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glTextureParameteri(texture, p, GL_LINEAR);
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  return texture;
+}
+
+void uploadTf(uint32_t texture, const TfTable& tf) {
+  glTextureSubImage1D(texture, 0, 0, GLsizei(tf.entryCount()), GL_RGBA, GL_FLOAT, tf.entries().data());
 }
 
 void setSharedRaycastUniforms(const ShaderProgram& p, const Camera& camera, uint32_t width, uint32_t height,
