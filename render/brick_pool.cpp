@@ -40,13 +40,15 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
                 " bytes holds no brick slot of " + std::to_string(slotBytes) +
                 " bytes (or GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3DTextureSize) +
                 " is below the slot edge)");
-  // Near-cubic: x and y from the cube root, z takes what remains.
-  uint64_t side = std::max<uint64_t>(1, uint64_t(std::floor(std::cbrt(double(wanted)) + 1e-9)));
-  side = std::min(side, maxPerAxis);
-  const uint64_t gx = side;
-  const uint64_t gy =
+  // One slot across in x, as far as the texture limit allows, the slots stacked along y and z: a texture lies
+  // in memory row by row (llvmpipe; any linear layout), so a brick's rows are then one contiguous run per
+  // slice and a ray through it touches a few pages per slice instead of one per row (5-10 % of a DVR frame
+  // on llvmpipe, docs/BENCHMARKS.md); tiled GPU layouts do not care.
+  const uint64_t gx = (wanted + maxPerAxis * maxPerAxis - 1) / (maxPerAxis * maxPerAxis);
+  uint64_t gy =
       std::min(maxPerAxis, std::max<uint64_t>(1, uint64_t(std::floor(std::sqrt(double(wanted / gx))))));
   const uint64_t gz = std::min(maxPerAxis, std::max<uint64_t>(1, wanted / (gx * gy)));
+  gy = std::min(maxPerAxis, std::max<uint64_t>(1, wanted / (gx * gz)));
   g.slotGrid = {uint32_t(gx), uint32_t(gy), uint32_t(gz)};
   g.textureDims = g.slotGrid * g.slotEdge;
   return g;

@@ -36,10 +36,10 @@ struct BrickPoolGeometry {
   }
 };
 
-// The largest near-cubic slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
-// max3DTextureSize per axis; `extraBytesPerTexel` are those of textures of the same dimensions kept beside
-// the pool (a GradientPool), which the budget pays for too. Throws ropecast::Error ("--gpu-budget ...") when
-// not even one slot fits.
+// The largest slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
+// max3DTextureSize per axis, one slot across in x where that limit allows; `extraBytesPerTexel` are those of
+// textures of the same dimensions kept beside the pool (a GradientPool), which the budget pays for too.
+// Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
                                 int max3DTextureSize, uint32_t extraBytesPerTexel = 0);
 

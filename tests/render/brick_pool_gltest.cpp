@@ -19,8 +19,9 @@ TEST(BrickPoolPlan, StaysWithinBudgetAndTextureLimit) {
   EXPECT_EQ(g.slotEdge, 36u);
   const uint64_t slotBytes = 36ull * 36 * 36 * 2;
   EXPECT_LE(uint64_t(g.slotCount()) * slotBytes, 64ull << 20);
-  EXPECT_GE(uint64_t(g.slotCount()) * slotBytes, (64ull << 20) / 2);  // near-cubic, not wasteful
+  EXPECT_GE(uint64_t(g.slotCount()) * slotBytes, (64ull << 20) / 2);  // not wasteful
   EXPECT_EQ(g.textureDims, g.slotGrid * 36u);
+  EXPECT_EQ(g.slotGrid.x, 1u);  // a brick's rows contiguous in a linear texture layout
   // A texture limit smaller than the budget's cube caps the grid.
   const BrickPoolGeometry capped = planBrickPool(16, SampleType::UInt8, 1ull << 30, 100);
   EXPECT_EQ(capped.slotGrid, glm::u32vec3(5));
