@@ -95,6 +95,22 @@ LeafSampling leafSampling(uint slot, uint depth, vec3 boxMin) {
   return ls;
 }
 
+// Inside a data leaf the pool coordinate of the ray's point at t is affine in t, base + t * slope (the slope
+// fixed by the leaf's level): the walks compute it once per sample from these. Samples of the leaf lie at
+// texels [BRICK_BORDER, B + BRICK_BORDER] of its slot, so their filter footprints stay inside it unclamped.
+struct LeafPoolRay {
+  vec3 base;
+  vec3 slope;
+};
+
+LeafPoolRay leafPoolRay(uint slot, uint depth, vec3 boxMin, vec3 originCube, vec3 dirCube) {
+  float texelsPerCube = uBrickSize * ropeBoxScale(depth);
+  LeafPoolRay r;
+  r.base = (poolSlotOrigin(slot) + float(BRICK_BORDER) + (originCube - boxMin) * texelsPerCube) * uPoolTexelSize;
+  r.slope = dirCube * texelsPerCube * uPoolTexelSize;
+  return r;
+}
+
 #ifdef RAYCAST_MODE_ISO
 struct IsoHit {
   bool hit;
@@ -119,9 +135,10 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
     if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
     LeafSampling ls = leafSampling(leaf.brickSlot, leaf.depth, leaf.boxMin);
     float tStop = min(leaf.tExit, t1);
+    LeafPoolRay pool = leafPoolRay(leaf.brickSlot, leaf.depth, leaf.boxMin, originCube, dirCube);
     float k = firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf);
     for (float t = t0 + k * ls.dt; t < tStop; k += 1.0, t = t0 + k * ls.dt) {
-      float f = brickValue(ls.brick, brickTexel(ls.brick, originCube + t * dirCube)) - uIsoValue;
+      float f = poolValue(pool.base + t * pool.slope) - uIsoValue;
       if (hasPrev && (f >= 0.0) != (h.fPrev >= 0.0)) {
         // A crossing between the previous and this sample: refined after the walk (castRay), so that the SIMD
         // lanes of a software rasterizer run the bisection once together rather than once per lane.
@@ -163,8 +180,7 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
   acc.alpha = 0.0;
   acc.depth = kInfinity;
 
-  // Per gathered leaf: the pool coordinate is affine in t inside a leaf, base + t * slope, with the slope fixed
-  // by the leaf's level; the first sample index k and the step dt; where the leaf's samples stop.
+  // Per gathered leaf: its LeafPoolRay, the step dt, the first sample index k and where its samples stop.
   vec4 leafBase[DVR_LEAF_BATCH];   // base, tStop
   vec4 leafSlope[DVR_LEAF_BATCH];  // slope, dt
   float leafFirstK[DVR_LEAF_BATCH];
@@ -185,11 +201,9 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
       entryLeaf = false;
       if (leaf.kind != kRopeTagDataLeaf) continue;
       float dt = uStepVoxels * ropeBoxScale(uMaxDepth - leaf.depth) * uMinSpacing;
-      float texelsPerCube = uBrickSize * ropeBoxScale(leaf.depth);
-      vec3 base = (poolSlotOrigin(leaf.brickSlot) + float(BRICK_BORDER) +
-                   (originCube - leaf.boxMin) * texelsPerCube) * uPoolTexelSize;
-      leafBase[count] = vec4(base, min(leaf.tExit, t1));
-      leafSlope[count] = vec4(dirCube * texelsPerCube * uPoolTexelSize, dt);
+      LeafPoolRay pool = leafPoolRay(leaf.brickSlot, leaf.depth, leaf.boxMin, originCube, dirCube);
+      leafBase[count] = vec4(pool.base, min(leaf.tExit, t1));
+      leafSlope[count] = vec4(pool.slope, dt);
       leafFirstK[count] = firstSampleIndex(t0, leaf.tEnter, dt, firstLeaf);
       ++count;
     }

@@ -39,14 +39,8 @@ vec3 brickTexel(BrickRef b, vec3 posCube) {
   return (posCube - b.boxMin) * b.texelsPerCube + float(BRICK_BORDER);
 }
 
-// v at a texel coordinate of the brick, normalized to [0, 1]. Clamped to the slot's outer texel centers, which
-// is clamp-to-edge of this brick alone: never a neighbor slot's texels.
-float brickValue(BrickRef b, vec3 texel) {
-  vec3 p = clamp(texel, vec3(0.5), vec3(uPoolSlotEdge - 0.5));
-  return textureLod(uPool, (b.slotOrigin + p) * uPoolTexelSize, 0.0).r;
-}
-
-// v as brickValue() gives it, but interpolated in float from eight texelFetch()es. Hardware LINEAR filtering of
+// v at a texel coordinate of the brick, normalized to [0, 1], interpolated in float from eight texelFetch()es
+// and clamped to the slot's outer texel centers (clamp-to-edge of this brick alone). Hardware LINEAR filtering of
 // 8-bit textures uses 8-bit weights (llvmpipe, most GPUs): fine for marching, but central-difference gradients
 // and the bisected hit of an isosurface then come out blocky and speckled. The iso hit uses this form.
 float brickValueExact(BrickRef b, vec3 texel) {
@@ -76,8 +70,8 @@ vec3 brickGradientExact(BrickRef b, vec3 texel, vec3 cellWorld) {
   return g / (2.0 * cellWorld);
 }
 
-// The DVR sample loop's form of brickValue() and brickGradient(), at a pool coordinate the walk computes once
-// per sample (affine in t inside a leaf): the six neighbours are one pool texel away. Samples of a leaf lie at
+// The sample loops' value and (computed DVR) gradient, at a pool coordinate the walks compute once per sample
+// (LeafPoolRay in shaders/raycast_common.glsl): the six neighbours are one pool texel away. Samples of a leaf lie at
 // texels [BRICK_BORDER, B + BRICK_BORDER] of its slot, so for BRICK_BORDER >= 2 every neighbour stays inside
 // the slot without a clamp; h_i = s_i * 2^L (cellWorld), as docs/RENDERING.md fixes the gradient.
 float poolValue(vec3 poolCoord) {
