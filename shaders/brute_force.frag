@@ -133,7 +133,7 @@ RayResult castBrute(uvec2 pixel) {
   result.depth = tHit * depthPerT;
 #else
   // Up to four samples per loop test, as walkDvr takes them per leaf-change check: on llvmpipe that amortizes
-  // the loop's own masked bookkeeping for brute force just as well (~6 %), so both renderers get it.
+  // the loop's own masked bookkeeping for brute force as well (~10 %), so both renderers get it.
   DvrAccum acc;
   acc.color = vec3(0.0);
   acc.alpha = 0.0;

@@ -103,11 +103,10 @@ struct LeafPoolRay {
   vec3 slope;
 };
 
-LeafPoolRay leafPoolRay(uint slot, uint depth, vec3 boxMin, vec3 originCube, vec3 dirCube) {
-  float texelsPerCube = uBrickSize * ropeBoxScale(depth);
+LeafPoolRay leafPoolRay(BrickRef b, vec3 originCube, vec3 dirCube) {
   LeafPoolRay r;
-  r.base = (poolSlotOrigin(slot) + float(BRICK_BORDER) + (originCube - boxMin) * texelsPerCube) * uPoolTexelSize;
-  r.slope = dirCube * texelsPerCube * uPoolTexelSize;
+  r.base = (b.slotOrigin + float(BRICK_BORDER) + (originCube - b.boxMin) * b.texelsPerCube) * uPoolTexelSize;
+  r.slope = dirCube * b.texelsPerCube * uPoolTexelSize;
   return r;
 }
 
@@ -135,7 +134,7 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
     if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
     LeafSampling ls = leafSampling(leaf.brickSlot, leaf.depth, leaf.boxMin);
     float tStop = min(leaf.tExit, t1);
-    LeafPoolRay pool = leafPoolRay(leaf.brickSlot, leaf.depth, leaf.boxMin, originCube, dirCube);
+    LeafPoolRay pool = leafPoolRay(ls.brick, originCube, dirCube);
     float k = firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf);
     for (float t = t0 + k * ls.dt; t < tStop; k += 1.0, t = t0 + k * ls.dt) {
       float f = poolValue(pool.base + t * pool.slope) - uIsoValue;
@@ -223,11 +222,10 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
       bool firstLeaf = entryLeaf;
       entryLeaf = false;
       if (leaf.kind != kRopeTagDataLeaf) continue;
-      float dt = uStepVoxels * ropeBoxScale(uMaxDepth - leaf.depth) * uMinSpacing;
-      LeafPoolRay pool = leafPoolRay(leaf.brickSlot, leaf.depth, leaf.boxMin, originCube, dirCube);
-      leafBase[count] = vec4(pool.base, min(leaf.tExit, t1));
-      leafLevel[count] =
-          vec3(firstSampleIndex(t0, leaf.tEnter, dt, firstLeaf), ropeBoxScale(leaf.depth), ropeBoxSize(leaf.depth));
+      LeafSampling ls = leafSampling(leaf.brickSlot, leaf.depth, leaf.boxMin);
+      leafBase[count] = vec4(leafPoolRay(ls.brick, originCube, dirCube).base, min(leaf.tExit, t1));
+      leafLevel[count] = vec3(firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf), ropeBoxScale(leaf.depth),
+                              ropeBoxSize(leaf.depth));
       ++count;
     }
 
