@@ -25,7 +25,7 @@ GLenum pixelType(SampleType t) {
 }  // namespace
 
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
-                                int max3DTextureSize, uint32_t extraBytesPerTexel) {
+                                int max3DTextureSize, uint32_t extraBytesPerTexel, uint64_t maxSlots) {
   if (storedType != SampleType::UInt8 && storedType != SampleType::UInt16)
     throw Error("planBrickPool: the pool holds uint8 or uint16 samples, got " +
                 std::string(sampleTypeName(storedType)));
@@ -34,8 +34,8 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
   const uint64_t slotBytes =
       uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge * (bytesPerSample(storedType) + extraBytesPerTexel);
   const uint64_t maxPerAxis = uint64_t(std::max(max3DTextureSize, 0)) / g.slotEdge;
-  const uint64_t wanted = std::min(budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis);
-  if (wanted < 1)
+  const uint64_t fitting = std::min(budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis);
+  if (fitting < 1)
     throw Error("planBrickPool: --gpu-budget " + std::to_string(budgetBytes) +
                 " bytes holds no brick slot of " + std::to_string(slotBytes) +
                 " bytes (or GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3DTextureSize) +
@@ -44,11 +44,21 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
   // in memory row by row (llvmpipe; any linear layout), so a brick's rows are then one contiguous run per
   // slice and a ray through it touches a few pages per slice instead of one per row (5-10 % of a DVR frame
   // on llvmpipe, docs/BENCHMARKS.md); tiled GPU layouts do not care.
-  const uint64_t gx = (wanted + maxPerAxis * maxPerAxis - 1) / (maxPerAxis * maxPerAxis);
-  uint64_t gy =
-      std::min(maxPerAxis, std::max<uint64_t>(1, uint64_t(std::floor(std::sqrt(double(wanted / gx))))));
-  const uint64_t gz = std::min(maxPerAxis, std::max<uint64_t>(1, wanted / (gx * gy)));
-  gy = std::min(maxPerAxis, std::max<uint64_t>(1, wanted / (gx * gz)));
+  // A pool is allocated whole (and zeroed: seconds for 512 MiB on llvmpipe), so it holds no more slots than the
+  // volume has bricks. The grid's sides are rounded up, then back down as far as the budget needs.
+  const uint64_t wanted = std::max<uint64_t>(1, std::min(fitting, maxSlots));
+  const auto side = [&](uint64_t n) { return std::clamp<uint64_t>(n, 1, maxPerAxis); };
+  const auto ceilDiv = [](uint64_t a, uint64_t b) { return (a + b - 1) / b; };
+  const uint64_t gx = ceilDiv(wanted, maxPerAxis * maxPerAxis);
+  uint64_t gy = side(uint64_t(std::floor(std::sqrt(double(ceilDiv(wanted, gx))))));
+  uint64_t gz = side(ceilDiv(wanted, gx * gy));
+  gy = side(ceilDiv(wanted, gx * gz));
+  while (gx * gy * gz > fitting) {
+    if (gz > 1)
+      --gz;
+    else
+      --gy;
+  }
   g.slotGrid = {uint32_t(gx), uint32_t(gy), uint32_t(gz)};
   g.textureDims = g.slotGrid * g.slotEdge;
   return g;
@@ -66,7 +76,7 @@ uint64_t defaultGpuBudgetBytes(const GlContextInfo& info) {
 BrickPool::BrickPool(const BrickPoolConfig& config, int max3DTextureSize)
     : config_(config),
       geometry_(planBrickPool(config.brickSize, config.storedType, config.budgetBytes, max3DTextureSize,
-                              config.extraBytesPerTexel)) {
+                              config.extraBytesPerTexel, config.maxSlots)) {
   while (glGetError() != GL_NO_ERROR) {
   }
   glCreateTextures(GL_TEXTURE_3D, 1, &texture_);

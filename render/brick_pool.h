@@ -39,9 +39,12 @@ struct BrickPoolGeometry {
 // The largest slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
 // max3DTextureSize per axis, one slot across in x where that limit allows; `extraBytesPerTexel` are those of
 // textures of the same dimensions kept beside the pool (a GradientPool), which the budget pays for too.
+// With `maxSlots` (the bricks the volume has) the grid holds at least that many slots where the budget allows,
+// and not many more: a small volume gets a small pool, not the whole budget.
 // Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
-                                int max3DTextureSize, uint32_t extraBytesPerTexel = 0);
+                                int max3DTextureSize, uint32_t extraBytesPerTexel = 0,
+                                uint64_t maxSlots = UINT64_MAX);
 
 // The default --gpu-budget: half the memory the driver reports, at most 4 GiB; else 512 MiB.
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info);
@@ -60,6 +63,7 @@ struct BrickPoolConfig {
   // docs/BENCHMARKS.md "Asynchronous loader"), so the default is direct uploads; `--upload-pbo` turns it on.
   bool uploadThroughPbo = false;
   uint32_t extraBytesPerTexel = 0;  // planBrickPool's: textures beside the pool share the budget
+  uint64_t maxSlots = UINT64_MAX;   // planBrickPool's: the bricks the volume has
 };
 
 class BrickPool {

@@ -37,6 +37,7 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   poolConfig.budgetBytes = config.gpuBudgetBytes ? config.gpuBudgetBytes : defaultGpuBudgetBytes(gl);
   poolConfig.uploadThroughPbo = config.uploadThroughPbo;
   if (config.storedGradients) poolConfig.extraBytesPerTexel = GradientPool::kBytesPerTexel;
+  poolConfig.maxSlots = info.layout.insideNodeCount();
   pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
   if (config.storedGradients) gradients_ = std::make_unique<GradientPool>(pool_->geometry().textureDims);
   // The loader's SlotTable decides which brick lives in which slot; the pool's own allocator is not used, so

@@ -29,6 +29,23 @@ TEST(BrickPoolPlan, StaysWithinBudgetAndTextureLimit) {
   EXPECT_THROW(planBrickPool(32, SampleType::Float32, 1 << 20, 2048), Error);
 }
 
+TEST(BrickPoolPlan, HoldsNoMoreSlotsThanTheVolumeHasBricks) {
+  const uint64_t slotBytes = 36ull * 36 * 36;
+  const uint64_t budget = 512ull << 20;
+  for (uint64_t bricks : {1ull, 2ull, 35ull, 37ull, 585ull, 1000ull}) {
+    const BrickPoolGeometry g = planBrickPool(32, SampleType::UInt8, budget, 2048, 0, bricks);
+    EXPECT_GE(g.slotCount(), bricks) << bricks << " bricks";
+    EXPECT_LE(g.slotCount(), bricks + bricks / 4 + 1) << bricks << " bricks";
+    EXPECT_EQ(g.slotGrid.x, 1u);
+  }
+  // The budget still rules when it holds fewer slots than the volume has bricks.
+  const BrickPoolGeometry tight = planBrickPool(32, SampleType::UInt8, 100 * slotBytes, 2048, 0, 1000);
+  EXPECT_LE(tight.slotCount(), 100u);
+  EXPECT_GE(tight.slotCount(), 50u);
+  EXPECT_EQ(planBrickPool(32, SampleType::UInt8, budget, 2048, 0, UINT64_MAX).slotGrid,
+            planBrickPool(32, SampleType::UInt8, budget, 2048).slotGrid);
+}
+
 TEST(BrickPoolPlan, SlotOriginsAreDistinctAndInside) {
   const BrickPoolGeometry g = planBrickPool(8, SampleType::UInt8, 100 * 12 * 12 * 12, 1024);
   std::set<std::tuple<uint32_t, uint32_t, uint32_t>> seen;
