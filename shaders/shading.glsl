@@ -70,22 +70,24 @@ vec3 brickGradientExact(BrickRef b, vec3 texel, vec3 cellWorld) {
   return g / (2.0 * cellWorld);
 }
 
-// The sample loops' value and (computed DVR) gradient, at a pool coordinate the walks compute once per sample
-// (LeafPoolRay in shaders/raycast_common.glsl): the six neighbours are one pool texel away. Samples of a leaf lie at
-// texels [BRICK_BORDER, B + BRICK_BORDER] of its slot, so for BRICK_BORDER >= 2 every neighbour stays inside
-// the slot without a clamp; h_i = s_i * 2^L (cellWorld), as docs/RENDERING.md fixes the gradient.
+// The sample loops' value and (computed DVR) differences, at a pool coordinate the walks compute once per
+// sample (LeafPoolRay in shaders/raycast_common.glsl): the six neighbours are one pool texel away. Samples of a
+// leaf lie at texels [BRICK_BORDER, B + BRICK_BORDER] of its slot, so for BRICK_BORDER >= 2 every neighbour
+// stays inside the slot without a clamp.
 float poolValue(vec3 poolCoord) {
   return textureLod(uPool, poolCoord, 0.0).r;
 }
 
-vec3 poolGradient(vec3 poolCoord, vec3 cellWorld) {
+// Central differences v(x+h) - v(x-h) per axis, h one texel; the gradient is these times 1 / (2 h_i), h_i =
+// s_i * 2^L (cellWorld), as docs/RENDERING.md fixes it. The walks keep that factor per leaf, since a
+// division per sample costs llvmpipe more than the rest of the arithmetic of a sample.
+vec3 poolDifferences(vec3 poolCoord) {
   vec3 dx = vec3(uPoolTexelSize.x, 0.0, 0.0);
   vec3 dy = vec3(0.0, uPoolTexelSize.y, 0.0);
   vec3 dz = vec3(0.0, 0.0, uPoolTexelSize.z);
-  vec3 g = vec3(poolValue(poolCoord + dx) - poolValue(poolCoord - dx),
-                poolValue(poolCoord + dy) - poolValue(poolCoord - dy),
-                poolValue(poolCoord + dz) - poolValue(poolCoord - dz));
-  return g / (2.0 * cellWorld);
+  return vec3(poolValue(poolCoord + dx) - poolValue(poolCoord - dx),
+              poolValue(poolCoord + dy) - poolValue(poolCoord - dy),
+              poolValue(poolCoord + dz) - poolValue(poolCoord - dz));
 }
 
 // A DVR sample: its value, and with stored gradients the central differences v(x+h) - v(x-h) per axis
@@ -108,12 +110,13 @@ PoolSample poolSample(vec3 poolCoord) {
   return s;
 }
 
-// The gradient of a sample, asked for only where it is shaded: without stored gradients, six more lookups.
-vec3 poolSampleGradient(PoolSample s, vec3 poolCoord, vec3 cellWorld) {
+// The central differences of a sample, asked for only where it is shaded: without stored gradients, six more
+// lookups.
+vec3 poolSampleDifferences(PoolSample s, vec3 poolCoord) {
 #ifdef DVR_STORED_GRADIENTS
-  return s.differences / (2.0 * cellWorld);
+  return s.differences;
 #else
-  return poolGradient(poolCoord, cellWorld);
+  return poolDifferences(poolCoord);
 #endif
 }
 
