@@ -19,8 +19,6 @@ layout(location = 1) out float outDepth;
 // Level-0 sample coordinate (sample i centered at i + 0.5) of a world point.
 vec3 volumeCoord(vec3 x) { return x / uSpacing; }
 
-float volumeValue(vec3 q) { return textureLod(uVolume, q / vec3(uVolumeDims), 0.0).r; }
-
 // As brickValueExact: trilinear in float from eight texelFetch()es, clamped to the outer sample centers.
 float volumeValueExact(vec3 q) {
   vec3 n = vec3(uVolumeDims);
@@ -50,32 +48,50 @@ vec3 volumeGradientExact(vec3 q) {
   return g / (2.0 * uSpacing);
 }
 
-vec3 volumeGradient(vec3 q) {
-  vec3 g;
-  g.x = volumeValue(q + vec3(1.0, 0.0, 0.0)) - volumeValue(q - vec3(1.0, 0.0, 0.0));
-  g.y = volumeValue(q + vec3(0.0, 1.0, 0.0)) - volumeValue(q - vec3(0.0, 1.0, 0.0));
-  g.z = volumeValue(q + vec3(0.0, 0.0, 1.0)) - volumeValue(q - vec3(0.0, 0.0, 1.0));
-  return g / (2.0 * uSpacing);
+// Level-0 texture coordinates along a ray are affine in t, base + t * slope, as a leaf's pool coordinates are in
+// castRay (LeafPoolRay): the march computes them once per sample without dividing.
+struct VolumeRay {
+  vec3 base;
+  vec3 slope;
+};
+
+VolumeRay volumeRay(vec3 dir) {
+  vec3 worldToTexture = 1.0 / (uSpacing * vec3(uVolumeDims));
+  return VolumeRay(uEye * worldToTexture, dir * worldToTexture);
+}
+
+float volumeTexValue(vec3 p) { return textureLod(uVolume, p, 0.0).r; }
+
+// Central differences v(x+h) - v(x-h) at texture coordinate p, h one texel (poolDifferences' twin).
+vec3 volumeDifferences(vec3 p) {
+  vec3 texel = 1.0 / vec3(uVolumeDims);
+  vec3 dx = vec3(texel.x, 0.0, 0.0);
+  vec3 dy = vec3(0.0, texel.y, 0.0);
+  vec3 dz = vec3(0.0, 0.0, texel.z);
+  return vec3(volumeTexValue(p + dx) - volumeTexValue(p - dx), volumeTexValue(p + dy) - volumeTexValue(p - dy),
+              volumeTexValue(p + dz) - volumeTexValue(p - dz));
 }
 
 #ifndef RAYCAST_MODE_ISO
 // One DVR sample at t, composited front to back, then the step to the next; true when early ray termination
-// ends the ray (walkDvr's dvrStep at level 0).
-bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, float dt, vec3 dir, float depthPerT) {
-  vec3 q = volumeCoord(uEye + t * dir);
+// ends the ray (walkDvr's dvrStep at level 0, with the same factors per ray: scale.xyz = 1 / (2 s), scale.w =
+// the opacity correction's exponent).
+bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, float dt, VolumeRay ray, vec4 scale,
+                  vec3 dir, float depthPerT) {
+  vec3 p = ray.base + t * ray.slope;
 #ifdef DVR_STORED_GRADIENTS
-  vec4 stored = textureLod(uVolumeSamples, q / vec3(uVolumeDims), 0.0);
+  vec4 stored = textureLod(uVolumeSamples, p, 0.0);
   float v = stored.a;
 #else
-  float v = volumeValue(q);
+  float v = volumeTexValue(p);
 #endif
   vec4 tf = transferFunction(v);
-  float a = 1.0 - pow(1.0 - tf.a, dt / uMinSpacing);
+  float a = 1.0 - pow(1.0 - tf.a, scale.w);
   if (a > 0.0) {
 #ifdef DVR_STORED_GRADIENTS
-    vec3 gradient = stored.rgb / (2.0 * uSpacing);
+    vec3 gradient = stored.rgb * scale.xyz;
 #else
-    vec3 gradient = volumeGradient(q);
+    vec3 gradient = volumeDifferences(p) * scale.xyz;
 #endif
     vec3 c = shadeDvr(tf.rgb, gradient, dir, uMinSpacing);
     acc.color += (1.0 - acc.alpha) * a * c;
@@ -98,14 +114,14 @@ RayResult castBrute(uvec2 pixel) {
 
   float depthPerT = dot(dir, uForward);
   float dt = uStepVoxels * uMinSpacing;
+  VolumeRay ray = volumeRay(dir);
 #ifdef RAYCAST_MODE_ISO
   bool hasPrev = false;
   float tPrev = 0.0, fPrev = 0.0, tHitB = 0.0;
   bool hit = false;
   float k = 0.0;
   for (float t = t0; t < t1; k += 1.0, t = t0 + k * dt) {
-    vec3 q = volumeCoord(uEye + t * dir);
-    float f = volumeValue(q) - uIsoValue;
+    float f = volumeTexValue(ray.base + t * ray.slope) - uIsoValue;
     if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
       // Refined after the march, as castRay does (once per SIMD group of rays on a software rasterizer).
       tHitB = t;
@@ -138,12 +154,14 @@ RayResult castBrute(uvec2 pixel) {
   acc.color = vec3(0.0);
   acc.alpha = 0.0;
   acc.depth = kInfinity;
+  vec4 scale = vec4(1.0 / (2.0 * uSpacing), uStepVoxels);
   float k = 0.0, t = t0;
   while (t < t1) {
-    if (bruteDvrStep(acc, k, t, t0, dt, dir, depthPerT)) break;
-    if (t < t1 && bruteDvrStep(acc, k, t, t0, dt, dir, depthPerT)) break;
-    if (t < t1 && bruteDvrStep(acc, k, t, t0, dt, dir, depthPerT)) break;
-    if (t < t1 && bruteDvrStep(acc, k, t, t0, dt, dir, depthPerT)) break;
+    bool terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
+    if (terminated) break;
   }
   result.color = vec4(acc.color + (1.0 - acc.alpha) * uBackground, acc.alpha);
   result.depth = acc.depth;
