@@ -11,7 +11,12 @@
 # working set has converged, so start-up, shader compilation and uploads cancel out; the Mesa shader cache is
 # off, and valgrind schedules threads fairly (without it the loader thread starved and nothing was drawn).
 # Environment: VOLUME (default procedural:marschner-lobb:64), MODE (dvr), IMAGE (128x128), FA (8), FB (11),
-# SHADERS (a shader tree for ROPECAST_SHADER_DIR; default the checkout's), EXTRA (more `ropecast render` args).
+# SHADERS (a shader tree for ROPECAST_SHADER_DIR, or a colon list: a folder with the changed files first, then
+# the checkout; default the checkout's), EXTRA (more `ropecast render` args), BRUTE_INSTRUCTIONS (brute force's
+# per-frame count from an earlier run with the same VOLUME, MODE, IMAGE and brute-force shader: skips measuring
+# it again, which halves the run when only ropecast's shaders change). A 256^3 store needs more than 8 frames to
+# load under valgrind; an ML 128^3 store (`ropecast convert procedural:marschner-lobb:128`) with FA=5 FB=7 has 7
+# leaves per ray and takes ~2.5 min per renderer here.
 set -euo pipefail
 shopt -s inherit_errexit
 cd "$(dirname "$0")/.."
@@ -70,7 +75,7 @@ case "$VOLUME" in
   *) input=$VOLUME ;;
 esac
 echo "$VOLUME $MODE $IMAGE, frames $FA..$FB, shaders $SHADERS"
-brute=$(per_frame brute --backend brute)
+brute=${BRUTE_INSTRUCTIONS:-$(per_frame brute --backend brute)}
 rope=$(per_frame rope)
 python3 -c "
 b, r = $brute, $rope
