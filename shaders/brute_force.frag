@@ -49,28 +49,20 @@ vec3 volumeGradientExact(vec3 q) {
 }
 
 // Level-0 texture coordinates along a ray are affine in t, base + t * slope, as a leaf's pool coordinates are in
-// castRay (LeafPoolRay): the march computes them once per sample without dividing.
+// castRay (LeafPoolRay): the march computes them once per sample without dividing. texel: one texel in texture
+// coordinates, for computed gradients.
 struct VolumeRay {
   vec3 base;
   vec3 slope;
+  vec3 texel;
 };
 
 VolumeRay volumeRay(vec3 dir) {
   vec3 worldToTexture = 1.0 / (uSpacing * vec3(uVolumeDims));
-  return VolumeRay(uEye * worldToTexture, dir * worldToTexture);
+  return VolumeRay(uEye * worldToTexture, dir * worldToTexture, 1.0 / vec3(uVolumeDims));
 }
 
 float volumeTexValue(vec3 p) { return textureLod(uVolume, p, 0.0).r; }
-
-// Central differences v(x+h) - v(x-h) at texture coordinate p, h one texel (poolDifferences' twin).
-vec3 volumeDifferences(vec3 p) {
-  vec3 texel = 1.0 / vec3(uVolumeDims);
-  vec3 dx = vec3(texel.x, 0.0, 0.0);
-  vec3 dy = vec3(0.0, texel.y, 0.0);
-  vec3 dz = vec3(0.0, 0.0, texel.z);
-  return vec3(volumeTexValue(p + dx) - volumeTexValue(p - dx), volumeTexValue(p + dy) - volumeTexValue(p - dy),
-              volumeTexValue(p + dz) - volumeTexValue(p - dz));
-}
 
 #ifndef RAYCAST_MODE_ISO
 // One DVR sample at t, composited front to back, then the step to the next; true when early ray termination
@@ -91,7 +83,7 @@ bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, fl
 #ifdef DVR_STORED_GRADIENTS
     vec3 gradient = stored.rgb * scale.xyz;
 #else
-    vec3 gradient = volumeDifferences(p) * scale.xyz;
+    vec3 gradient = centralDifferences(uVolume, p, ray.texel) * scale.xyz;
 #endif
     vec3 c = shadeDvr(tf.rgb, gradient, dir, uMinSpacing);
     acc.color += (1.0 - acc.alpha) * a * c;

@@ -206,11 +206,11 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
   // leafPoolRay's slope and the step dt). Six floats to load at a leaf change instead of nine.
   vec4 leafBase[DVR_LEAF_BATCH];   // base, tStop
   vec3 leafLevel[DVR_LEAF_BATCH];  // first k, 2^depth, 2^-depth
+  float levelScaleAtRoot = ropeBoxScale(uMaxDepth);  // 2^L at the root, L = uMaxDepth
   vec3 slopeAtRoot = dirCube * uBrickSize * uPoolTexelSize;
-  float dtAtRoot = uStepVoxels * ropeBoxScale(uMaxDepth) * uMinSpacing;
-  // A leaf's dvrStep factors at the root (L = uMaxDepth), scaled by its 2^depth or 2^-depth exactly.
-  vec4 leafScaleAtRoot = vec4(1.0 / (2.0 * uSpacing * ropeBoxScale(uMaxDepth)),
-                              uStepVoxels * ropeBoxScale(uMaxDepth));
+  float dtAtRoot = uStepVoxels * levelScaleAtRoot * uMinSpacing;
+  // A leaf's dvrStep factors at the root, scaled by its 2^depth or 2^-depth exactly.
+  vec4 leafScaleAtRoot = vec4(1.0 / (2.0 * uSpacing * levelScaleAtRoot), uStepVoxels * levelScaleAtRoot);
 
   RopeCursor cursor;
   RopeLeaf leaf;

@@ -78,16 +78,17 @@ float poolValue(vec3 poolCoord) {
   return textureLod(uPool, poolCoord, 0.0).r;
 }
 
-// Central differences v(x+h) - v(x-h) per axis, h one texel; the gradient is these times 1 / (2 h_i), h_i =
-// s_i * 2^L (cellWorld), as docs/RENDERING.md fixes it. The walks keep that factor per leaf, since a
-// division per sample costs llvmpipe more than the rest of the arithmetic of a sample.
-vec3 poolDifferences(vec3 poolCoord) {
-  vec3 dx = vec3(uPoolTexelSize.x, 0.0, 0.0);
-  vec3 dy = vec3(0.0, uPoolTexelSize.y, 0.0);
-  vec3 dz = vec3(0.0, 0.0, uPoolTexelSize.z);
-  return vec3(poolValue(poolCoord + dx) - poolValue(poolCoord - dx),
-              poolValue(poolCoord + dy) - poolValue(poolCoord - dy),
-              poolValue(poolCoord + dz) - poolValue(poolCoord - dz));
+// Central differences v(x+h) - v(x-h) per axis of a LINEAR 3D texture's red channel at texture coordinate p, h
+// one texel (texel: its size in texture coordinates). The gradient is these times 1 / (2 h_i), h_i = s_i * 2^L
+// (cellWorld), as docs/RENDERING.md fixes it; walkDvr keeps that factor per leaf, since a division per sample
+// costs llvmpipe more than the rest of the arithmetic of a sample.
+vec3 centralDifferences(sampler3D volume, vec3 p, vec3 texel) {
+  vec3 dx = vec3(texel.x, 0.0, 0.0);
+  vec3 dy = vec3(0.0, texel.y, 0.0);
+  vec3 dz = vec3(0.0, 0.0, texel.z);
+  return vec3(textureLod(volume, p + dx, 0.0).r - textureLod(volume, p - dx, 0.0).r,
+              textureLod(volume, p + dy, 0.0).r - textureLod(volume, p - dy, 0.0).r,
+              textureLod(volume, p + dz, 0.0).r - textureLod(volume, p - dz, 0.0).r);
 }
 
 // A DVR sample: its value, and with stored gradients the central differences v(x+h) - v(x-h) per axis
@@ -116,7 +117,7 @@ vec3 poolSampleDifferences(PoolSample s, vec3 poolCoord) {
 #ifdef DVR_STORED_GRADIENTS
   return s.differences;
 #else
-  return poolDifferences(poolCoord);
+  return centralDifferences(uPool, poolCoord, uPoolTexelSize);
 #endif
 }
 
