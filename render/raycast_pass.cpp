@@ -186,13 +186,18 @@ void RaycastPass::render(const RaycastFrame& f) {
     glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &clearDepth);
     glBindVertexArray(emptyVertexArray_);
     glProgramUniform2ui(p.id(), p.uniform("uTargetSize"), f.width, f.height);
+    // Each tile is one triangle around it, cut to the tile by the scissor: a quad's two triangles would shade
+    // the pixel blocks along their shared diagonal twice on a software rasterizer (each with part of the mask).
     const GLint tileRect = p.uniform("uTileRect");
+    glEnable(GL_SCISSOR_TEST);
     for (uint32_t y = 0; y < f.height; y += kTileSize)
       for (uint32_t x = 0; x < f.width; x += kTileSize) {
-        glProgramUniform4ui(p.id(), tileRect, x, y, std::min(kTileSize, f.width - x),
-                            std::min(kTileSize, f.height - y));
-        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+        const uint32_t w = std::min(kTileSize, f.width - x), h = std::min(kTileSize, f.height - y);
+        glProgramUniform4ui(p.id(), tileRect, x, y, w, h);
+        glScissor(GLint(x), GLint(y), GLsizei(w), GLsizei(h));
+        glDrawArrays(GL_TRIANGLES, 0, 3);
       }
+    glDisable(GL_SCISSOR_TEST);
     glBindVertexArray(0);
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -1,13 +1,14 @@
 #version 450 core
-// Vertex stage of the fragment entry point: one screen tile (uTileRect, pixels: x, y, width, height) as a
-// triangle strip of 4 vertices from gl_VertexID. Pixel rows of the targets are image rows (row 0 = top), so no
-// flip: framebuffer row r holds image row r.
+// Vertex stage of the fragment entry point: one triangle of 3 vertices from gl_VertexID, (0,0), (2,0), (0,2) in
+// units of the screen tile uTileRect (pixels: x, y, width, height), so that it covers the tile; the scissor cuts
+// it to the tile. Pixel rows of the targets are image rows (row 0 = top), so no flip: framebuffer row r holds
+// image row r.
 
 uniform uvec2 uTargetSize;
 uniform uvec4 uTileRect;
 
 void main() {
-  vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));
+  vec2 corner = vec2(float((gl_VertexID & 1) << 1), float(gl_VertexID & 2));
   vec2 pixel = vec2(uTileRect.xy) + corner * vec2(uTileRect.zw);
   gl_Position = vec4(pixel / vec2(uTargetSize) * 2.0 - 1.0, 0.0, 1.0);
 }
