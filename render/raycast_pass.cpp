@@ -186,8 +186,8 @@ void RaycastPass::render(const RaycastFrame& f) {
     glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &clearDepth);
     glBindVertexArray(emptyVertexArray_);
     glProgramUniform2ui(p.id(), p.uniform("uTargetSize"), f.width, f.height);
-    // Each tile is one triangle around it, cut to the tile by the scissor: a quad's two triangles would shade
-    // the pixel blocks along their shared diagonal twice on a software rasterizer (each with part of the mask).
+    // Each tile is one triangle around it, cut to the tile by the scissor: a quad's two triangles would
+    // shade the pixel blocks along their diagonal twice on a software rasterizer (each with part of a mask).
     const GLint tileRect = p.uniform("uTileRect");
     glEnable(GL_SCISSOR_TEST);
     for (uint32_t y = 0; y < f.height; y += kTileSize)

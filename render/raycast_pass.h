@@ -2,9 +2,9 @@
 // brick pool, the rope index texture, a camera, the volume's geometry, RenderParams and (DVR) a baked
 // transfer function, it renders W x H into its own RGBA32F color target and R32F world-depth target, through
 // either entry point over the one shared include shaders/raycast_common.glsl:
-//   fragment: screen tiles (kTileSize pixels square) drawn one by one, each as one triangle cut to the tile by
-//             the scissor (occlusion queries go between tiles later), with gl_FragDepth written to a depth
-//             attachment;
+//   fragment: screen tiles (kTileSize pixels square) drawn one by one, each one triangle cut to the tile
+//             by the scissor (occlusion queries go between tiles later), with gl_FragDepth written to a
+//             depth attachment;
 //   compute:  8x8 workgroups with imageStore.
 // Composition, not inheritance: the pass owns its programs and targets and is handed everything else.
 //
