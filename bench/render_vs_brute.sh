@@ -12,7 +12,8 @@
 # DVR uses tf.json (opacity from 25.5 up) on dense volumes and tf_sparse.json (from the isovalue 127.5 up) on
 # sparse ones, so that their outside is empty space.
 # Environment: DENSE (default "marschner-lobb"), SPARSE (default "sphere menger"), SIZE (256), IMAGE
-# (512x512), FRAMES (6 measured), WORK (scratch dir). Volumes are converted once into WORK and reused.
+# (512x512), FRAMES (6 measured), ROUNDS (3: the three renderers run in turn this many times; each figure is
+# the median over rounds of a run's median frame, the ratios are of those), WORK (scratch dir). Volumes are converted once into WORK and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build/perf}
@@ -22,6 +23,7 @@ SPARSE=${SPARSE:-"sphere menger"}
 SIZE=${SIZE:-256}
 IMAGE=${IMAGE:-512x512}
 FRAMES=${FRAMES:-6}
+ROUNDS=${ROUNDS:-3}
 STILL=${STILL:-6}
 WORK=${WORK:-$(mktemp -d /tmp/render_vs_brute.XXXXXX)}
 mkdir -p "$WORK"
@@ -55,7 +57,8 @@ print("%.1f" % statistics.median(r["raycast_ms"] for r in rows))
 EOF2
 }
 
-printf '%-15s %-6s %-4s %10s %10s %10s %8s %8s\n' volume kind mode brute_ms full_ms adapt_ms "b/full" "b/adapt"
+printf '%-15s %-6s %-4s %10s %10s %10s %8s %8s  %s\n' volume kind mode brute_ms full_ms adapt_ms "b/full" "b/adapt" \
+  "per-round b/full, b/adapt"
 for name in $DENSE $SPARSE; do
   kind=sparse; case " $DENSE " in *" $name "*) kind=dense;; esac
   store=$WORK/$name.rcast
@@ -65,17 +68,28 @@ for name in $DENSE $SPARSE; do
   for mode in iso dvr; do
     args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$tf" --path "$WORK/path.json"
           --frames $((last + 1)))
-    "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
-      -o "$WORK/$name-$mode-brute.png"
-    "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
-      -o "$WORK/$name-$mode-full.png"
-    "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 1 --stats "$WORK/$name-$mode-adaptive.jsonl" \
-      -o "$WORK/$name-$mode-adaptive.png"
-    b=$(median "$WORK/$name-$mode-brute.jsonl")
-    f=$(median "$WORK/$name-$mode-full.jsonl")
-    a=$(median "$WORK/$name-$mode-adaptive.jsonl")
-    printf '%-15s %-6s %-4s %10s %10s %10s %7.2fx %7.2fx\n' "$name" "$kind" "$mode" "$b" "$f" "$a" \
-      "$(echo "$b / $f" | bc -l)" "$(echo "$b / $a" | bc -l)"
+    # ROUNDS alternations of the three renderers, so that a change of the machine's load (other jobs on this
+    # shared VM) falls on all three rather than on one.
+    b=() f=() a=()
+    for round in $(seq "$ROUNDS"); do
+      "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
+        -o "$WORK/$name-$mode-brute.png"
+      "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
+        -o "$WORK/$name-$mode-full.png"
+      "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 1 --stats "$WORK/$name-$mode-adaptive.jsonl" \
+        -o "$WORK/$name-$mode-adaptive.png"
+      b+=("$(median "$WORK/$name-$mode-brute.jsonl")")
+      f+=("$(median "$WORK/$name-$mode-full.jsonl")")
+      a+=("$(median "$WORK/$name-$mode-adaptive.jsonl")")
+    done
+    python3 - "$name" "$kind" "$mode" "${b[*]}" "${f[*]}" "${a[*]}" <<'EOF2'
+import statistics, sys
+name, kind, mode = sys.argv[1:4]
+b, f, a = ([float(x) for x in arg.split()] for arg in sys.argv[4:7])
+mb, mf, ma = (statistics.median(x) for x in (b, f, a))
+rounds = " ".join("%.2f/%.2f" % (bi / fi, bi / ai) for bi, fi, ai in zip(b, f, a))
+print("%-15s %-6s %-4s %10.1f %10.1f %10.1f %7.2fx %7.2fx  %s" % (name, kind, mode, mb, mf, ma, mb / mf, mb / ma, rounds))
+EOF2
     "$ROPECAST" compare "$WORK/$name-$mode-brute.png" "$WORK/$name-$mode-full.png" |
       sed "s/^/  brute vs full-resolution ropecast image: /"
   done
