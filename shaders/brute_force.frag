@@ -111,8 +111,9 @@ RayResult castBrute(uvec2 pixel) {
   bool hasPrev = false;
   float tPrev = 0.0, fPrev = 0.0, tHitB = 0.0;
   bool hit = false;
-  float k = 0.0;
-  for (float t = t0; t < t1; k += 1.0, t = t0 + k * dt) {
+  float k = 0.0, t = t0;
+  // Loops test their exit at the bottom, as castRay's walks do (t0 < t1 here).
+  do {
     float f = volumeTexValue(ray.base + t * ray.slope) - uIsoValue;
     if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
       // Refined after the march, as castRay does (once per SIMD group of rays on a software rasterizer).
@@ -123,7 +124,9 @@ RayResult castBrute(uvec2 pixel) {
     hasPrev = true;
     tPrev = t;
     fPrev = f;
-  }
+    k += 1.0;
+    t = t0 + k * dt;
+  } while (t < t1);
   if (!hit) return result;
   float ta = tPrev, fa = fPrev, tb = tHitB;
   for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
@@ -148,13 +151,13 @@ RayResult castBrute(uvec2 pixel) {
   acc.depth = kInfinity;
   vec4 scale = vec4(1.0 / (2.0 * uSpacing), uStepVoxels);
   float k = 0.0, t = t0;
-  while (t < t1) {
+  do {
     bool terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
     if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
     if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
     if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
     if (terminated) break;
-  }
+  } while (t < t1);
   result.color = vec4(acc.color + (1.0 - acc.alpha) * uBackground, acc.alpha);
   result.depth = acc.depth;
 #endif

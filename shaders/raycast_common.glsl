@@ -128,7 +128,10 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
   RopeLeaf leaf;
   bool done = !ropeBegin(cursor, originCube, dirCube, t0, t1);
   bool entryLeaf = true;
-  while (!done && ropeNextLeaf(cursor, leaf)) {
+  // Both loops test their exit at the bottom, as walkDvr's do (llvmpipe would otherwise run one more masked
+  // leaf per ray and one more masked sample per leaf). A ray that missed the root cube gets no leaf.
+  do {
+    if (!ropeNextLeaf(cursor, leaf)) break;
     bool firstLeaf = entryLeaf;
     entryLeaf = false;
     if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
@@ -136,7 +139,9 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
     float tStop = min(leaf.tExit, t1);
     LeafPoolRay pool = leafPoolRay(ls.brick, originCube, dirCube);
     float k = firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf);
-    for (float t = t0 + k * ls.dt; t < tStop; k += 1.0, t = t0 + k * ls.dt) {
+    float t = t0 + k * ls.dt;
+    if (!(t < tStop)) continue;
+    do {
       float f = poolValue(pool.base + t * pool.slope) - uIsoValue;
       if (hasPrev && (f >= 0.0) != (h.fPrev >= 0.0)) {
         // A crossing between the previous and this sample: refined after the walk (castRay), so that the SIMD
@@ -151,8 +156,10 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
       hasPrev = true;
       h.tPrev = t;
       h.fPrev = f;
-    }
-  }
+      k += 1.0;
+      t = t0 + k * ls.dt;
+    } while (t < tStop);
+  } while (!done);
   return h;
 }
 #else
