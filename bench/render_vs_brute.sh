@@ -13,7 +13,8 @@
 # sparse ones, so that their outside is empty space.
 # Environment: DENSE (default "marschner-lobb"), SPARSE (default "sphere menger"), SIZE (256), IMAGE
 # (512x512), FRAMES (6 measured), ROUNDS (3: the three renderers run in turn this many times; each figure is
-# the median over rounds of a run's median frame, the ratios are of those), WORK (scratch dir). Volumes are converted once into WORK and reused.
+# the median over rounds of a run's median frame, the ratios are of those), WORK (scratch dir). Volumes are
+# converted once into WORK and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build/perf}
@@ -88,7 +89,8 @@ name, kind, mode = sys.argv[1:4]
 b, f, a = ([float(x) for x in arg.split()] for arg in sys.argv[4:7])
 mb, mf, ma = (statistics.median(x) for x in (b, f, a))
 rounds = " ".join("%.2f/%.2f" % (bi / fi, bi / ai) for bi, fi, ai in zip(b, f, a))
-print("%-15s %-6s %-4s %10.1f %10.1f %10.1f %7.2fx %7.2fx  %s" % (name, kind, mode, mb, mf, ma, mb / mf, mb / ma, rounds))
+print("%-15s %-6s %-4s %10.1f %10.1f %10.1f %7.2fx %7.2fx  %s"
+      % (name, kind, mode, mb, mf, ma, mb / mf, mb / ma, rounds))
 EOF2
     "$ROPECAST" compare "$WORK/$name-$mode-brute.png" "$WORK/$name-$mode-full.png" |
       sed "s/^/  brute vs full-resolution ropecast image: /"
