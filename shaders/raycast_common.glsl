@@ -168,10 +168,12 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
 // borders at different samples (an oblique border plane: neighbouring rays reach it several samples apart)
 // idle at every leaf until the lane with the longest leaf is done; in the flat loop a lane moves on to its next
 // gathered leaf at once. A batch is small because early ray termination usually ends the ray within a few
-// leaves, and leaves gathered beyond it are traversal wasted.
-#ifndef DVR_LEAF_BATCH
-#define DVR_LEAF_BATCH 8
-#endif
+// leaves, and leaves gathered beyond it are traversal wasted (on llvmpipe 8 beat 4 and 2).
+//
+// The batch lives in eight named slots, not in an array: llvmpipe keeps a local array in memory and reads or
+// writes an element lane by lane even at a constant index, while named variables stay in registers and a slot
+// is picked by selects (~2 % of a DVR frame there).
+#define DVR_LEAF_BATCH 8u
 
 struct DvrAccum {
   vec3 color;  // premultiplied, front to back
@@ -179,44 +181,64 @@ struct DvrAccum {
   float depth;
 };
 
-// A gathered leaf as dvrStep samples it: its LeafPoolRay's base and where its samples stop (walkDvr's leafBase),
-// its slope and step, and its gradient and opacity factors (leafScale): the root's scaled by the leaf's 2^depth
-// or 2^-depth (level.y = 2^depth; 2^-depth from its bits, exact).
+// A gathered leaf as the flat loop samples it. Sample k of the ray lies at t0 + k dt on the grid of the leaf's
+// level L (dt = step 2^L min(s)), and at pool coordinate base.xyz + k * poolStep: one sample advances `step`
+// texels of its own level, so poolStep is the same at every level and only base (the leaf's pool coordinate
+// extrapolated back to t0) changes from leaf to leaf. The leaf's samples are k < base.w.
+// level: dt; the opacity correction's exponent step * 2^L; min(s) * 2^-L, against which shadeDvr tests the
+// level-0-scaled gradient (the gradient is 2^L times that of the leaf's cells, exactly, so the test and the
+// normal are those of docs/RENDERING.md bit for bit).
 struct GatheredLeaf {
   vec4 base;
-  vec4 slope;
-  vec4 leafScale;
+  vec3 level;
 };
 
-GatheredLeaf gatheredLeaf(vec4 leafBase, vec2 level, vec3 slopeAtRoot, float dtAtRoot, vec4 leafScaleAtRoot) {
-  float levelInverse = uintBitsToFloat(0x7F000000u - floatBitsToUint(level.y));
+// One gathered leaf as the gather stores it: base (base.xyz, the first k past the leaf), the leaf's first k and
+// its 2^L.
+struct GatherSlot {
+  vec4 base;
+  vec2 first;  // first k, 2^L
+};
+
+GatheredLeaf gatheredLeaf(GatherSlot slot, float dtAtLevel0) {
+  float levelScale = slot.first.y;
+  float levelInverse = uintBitsToFloat(0x7F000000u - floatBitsToUint(levelScale));  // 2^-L, exact
   GatheredLeaf g;
-  g.base = leafBase;
-  g.slope = vec4(slopeAtRoot * level.y, dtAtRoot * levelInverse);
-  g.leafScale = vec4(leafScaleAtRoot.xyz * level.y, leafScaleAtRoot.w * levelInverse);
+  g.base = slot.base;
+  g.level = vec3(dtAtLevel0 * levelScale, uStepVoxels * levelScale, uMinSpacing * levelInverse);
   return g;
 }
 
-// Composites the sample at t of the current leaf (pool coordinate g.base.xyz + t * g.slope.xyz, step g.slope.w;
-// g.leafScale: the gradient's 1 / (2 s 2^L) in xyz, the opacity correction's exponent step * 2^L in w, fixed per
-// leaf so that a sample divides nothing) and steps to the next sample; true when the ray reached early
-// termination at uErt.
-bool dvrStep(inout DvrAccum acc, inout float k, inout float t, GatheredLeaf g, float t0, vec3 dir,
-             float depthPerT) {
-  vec3 poolCoord = g.base.xyz + t * g.slope.xyz;
+// Composites sample k of the current leaf and steps to the next; true when the ray reached early termination at
+// uErt. gradientScale: 1 / (2 s), the differences' scale at level 0.
+bool dvrStep(inout DvrAccum acc, inout float k, GatheredLeaf g, vec3 poolStep, float t0, vec3 gradientScale,
+             vec3 dir, float depthPerT) {
+  vec3 poolCoord = g.base.xyz + k * poolStep;
   PoolSample sampled = poolSample(poolCoord);
   vec4 tf = transferFunction(sampled.value);
-  float a = 1.0 - pow(1.0 - tf.a, g.leafScale.w);
+  float a = 1.0 - pow(1.0 - tf.a, g.level.y);
   if (a > 0.0) {
-    vec3 gradient = poolSampleDifferences(sampled, poolCoord) * g.leafScale.xyz;
-    vec3 c = shadeDvr(tf.rgb, gradient, dir, uMinSpacing);
+    vec3 gradient = poolSampleDifferences(sampled, poolCoord) * gradientScale;
+    vec3 c = shadeDvr(tf.rgb, gradient, dir, g.level.z);
     acc.color += (1.0 - acc.alpha) * a * c;
     acc.alpha += (1.0 - acc.alpha) * a;
-    acc.depth = t * depthPerT;
+    acc.depth = (t0 + k * g.level.x) * depthPerT;
   }
   k += 1.0;
-  t = t0 + k * g.slope.w;
   return a > 0.0 && acc.alpha >= uErt;  // as the CPU mirror: only a composited sample ends the ray
+}
+
+// The slot of index i (i in 1..7: slot 0 is taken when the batch begins).
+GatherSlot pickSlot(uint i, GatherSlot s1, GatherSlot s2, GatherSlot s3, GatherSlot s4, GatherSlot s5,
+                    GatherSlot s6, GatherSlot s7) {
+  GatherSlot s = s1;
+  if (i == 2u) s = s2;
+  if (i == 3u) s = s3;
+  if (i == 4u) s = s4;
+  if (i == 5u) s = s5;
+  if (i == 6u) s = s6;
+  if (i == 7u) s = s7;
+  return s;
 }
 
 // Front-to-back compositing along the ray with early termination at uErt.
@@ -226,17 +248,9 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
   acc.alpha = 0.0;
   acc.depth = kInfinity;
 
-  // Per gathered leaf: its LeafPoolRay's base, where its samples stop, its first sample index k, and 2^depth,
-  // which with 2^-depth scales the slope and the step at the root to the leaf's (exactly: the same floats as
-  // leafPoolRay's slope and the step dt). Each float loaded at a leaf change is a gather across the SIMD lanes
-  // on llvmpipe (~0.5 % of a DVR frame each), so 2^-depth is derived from 2^depth's bits instead.
-  vec4 leafBase[DVR_LEAF_BATCH];   // base, tStop
-  vec2 leafLevel[DVR_LEAF_BATCH];  // first k, 2^depth
-  float levelScaleAtRoot = ropeBoxScale(uMaxDepth);  // 2^L at the root, L = uMaxDepth
-  vec3 slopeAtRoot = dirCube * uBrickSize * uPoolTexelSize;
-  float dtAtRoot = uStepVoxels * levelScaleAtRoot * uMinSpacing;
-  // A leaf's dvrStep factors at the root, scaled by its 2^depth or 2^-depth exactly.
-  vec4 leafScaleAtRoot = vec4(1.0 / (2.0 * uSpacing * levelScaleAtRoot), uStepVoxels * levelScaleAtRoot);
+  float dtAtLevel0 = uStepVoxels * uMinSpacing;
+  vec3 poolStep = dirCube * (uBrickSize * ropeBoxScale(uMaxDepth) * dtAtLevel0) * uPoolTexelSize;
+  vec3 gradientScale = 1.0 / (2.0 * uSpacing);
 
   RopeCursor cursor;
   RopeLeaf leaf;
@@ -247,6 +261,7 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
   // here one more gather and flat-loop block per batch (~2 % of a DVR frame, ~6 % for rays of one leaf).
   do {
     // Gather the next data leaves along the ray (empty leaves are skipped without sampling).
+    GatherSlot s0, s1, s2, s3, s4, s5, s6, s7;
     uint count = 0u;
     do {
       if (!ropeNextLeaf(cursor, leaf)) {
@@ -257,27 +272,36 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
       entryLeaf = false;
       if (leaf.kind != kRopeTagDataLeaf) continue;
       LeafSampling ls = leafSampling(leaf.brickSlot, leaf.depth, leaf.boxMin);
-      leafBase[count] = vec4(leafPoolRay(ls.brick, originCube, dirCube).base, min(leaf.tExit, t1));
-      leafLevel[count] = vec2(firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf), ropeBoxScale(leaf.depth));
+      LeafPoolRay pool = leafPoolRay(ls.brick, originCube, dirCube);
+      GatherSlot slot;
+      slot.base = vec4(pool.base + t0 * pool.slope, firstSampleIndex(t0, min(leaf.tExit, t1), ls.dt, false));
+      slot.first = vec2(firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf), ropeBoxScale(uMaxDepth - leaf.depth));
+      if (count == 0u) s0 = slot;
+      if (count == 1u) s1 = slot;
+      if (count == 2u) s2 = slot;
+      if (count == 3u) s3 = slot;
+      if (count == 4u) s4 = slot;
+      if (count == 5u) s5 = slot;
+      if (count == 6u) s6 = slot;
+      if (count == 7u) s7 = slot;
       ++count;
-    } while (count < uint(DVR_LEAF_BATCH));
+    } while (count < DVR_LEAF_BATCH);
 
     // Sample all gathered leaves in one flat loop. Up to four samples of the current leaf per leaf-change check:
     // llvmpipe runs every `if` for the whole SIMD group under a mask whether or not a lane takes it (only loops
-    // stop when no lane is left), so the leaf change costs its loads every iteration; four straight samples
+    // stop when no lane is left), so the leaf change costs its selects every iteration; four straight samples
     // amortize them (~6 % of a DVR frame there; a counted inner loop instead cost 10 % more than none).
     if (count > 0u) {
-      GatheredLeaf g = gatheredLeaf(leafBase[0], leafLevel[0], slopeAtRoot, dtAtRoot, leafScaleAtRoot);
-      float k = leafLevel[0].x;
-      float t = t0 + k * g.slope.w;
+      GatheredLeaf g = gatheredLeaf(s0, dtAtLevel0);
+      float k = s0.first.x;
       uint next = 1u;
       for (;;) {
         // A leaf may hold no sample (a sliver between two sample points): then the leaf change below moves on.
         // One exit per cause (a flag and break, not a return from inside the loops): ~1 % of a frame on llvmpipe.
-        bool terminated = t < g.base.w && dvrStep(acc, k, t, g, t0, dir, depthPerT);
-        if (!terminated && t < g.base.w) terminated = dvrStep(acc, k, t, g, t0, dir, depthPerT);
-        if (!terminated && t < g.base.w) terminated = dvrStep(acc, k, t, g, t0, dir, depthPerT);
-        if (!terminated && t < g.base.w) terminated = dvrStep(acc, k, t, g, t0, dir, depthPerT);
+        bool terminated = k < g.base.w && dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
+        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
+        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
+        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
         if (terminated) {
           more = false;
           break;
@@ -285,12 +309,11 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
         // The leaf change, at the bottom so that the loop ends there: an `if`, not a loop (a loop costs its own
         // masked bookkeeping every iteration on llvmpipe, ~1.5 % of a DVR frame; a leaf without samples takes
         // one iteration instead).
-        if (!(t < g.base.w)) {
+        if (!(k < g.base.w)) {
           if (next == count) break;
-          vec2 level = leafLevel[next];
-          g = gatheredLeaf(leafBase[next], level, slopeAtRoot, dtAtRoot, leafScaleAtRoot);
-          k = level.x;
-          t = t0 + k * g.slope.w;
+          GatherSlot slot = pickSlot(next, s1, s2, s3, s4, s5, s6, s7);
+          g = gatheredLeaf(slot, dtAtLevel0);
+          k = slot.first.x;
           ++next;
         }
       }
