@@ -34,7 +34,8 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
   const uint64_t slotBytes =
       uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge * (bytesPerSample(storedType) + extraBytesPerTexel);
   const uint64_t maxPerAxis = uint64_t(std::max(max3DTextureSize, 0)) / g.slotEdge;
-  const uint64_t fitting = std::min(budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis);
+  const uint64_t fitting =
+      std::min({budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis, kMaxPoolSlots});
   if (fitting < 1)
     throw Error("planBrickPool: --gpu-budget " + std::to_string(budgetBytes) +
                 " bytes holds no brick slot of " + std::to_string(slotBytes) +
@@ -44,8 +45,8 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
   // in memory row by row (llvmpipe; any linear layout), so a brick's rows are then one contiguous run per
   // slice and a ray through it touches a few pages per slice instead of one per row (5-10 % of a DVR frame
   // on llvmpipe, docs/BENCHMARKS.md); tiled GPU layouts do not care.
-  // A pool is allocated whole (and zeroed: seconds for 512 MiB on llvmpipe), so it holds no more slots than the
-  // volume has bricks. The grid's sides are rounded up, then back down as far as the budget needs.
+  // A pool is allocated whole (and zeroed: seconds for 512 MiB on llvmpipe), so it holds no more slots than
+  // the volume has bricks. The grid's sides are rounded up, then back down as far as the budget needs.
   const uint64_t wanted = std::max<uint64_t>(1, std::min(fitting, maxSlots));
   const auto side = [&](uint64_t n) { return std::clamp<uint64_t>(n, 1, maxPerAxis); };
   const auto ceilDiv = [](uint64_t a, uint64_t b) { return (a + b - 1) / b; };

@@ -36,12 +36,16 @@ struct BrickPoolGeometry {
   }
 };
 
+// At most this many slots: the shader's float slot -> texel origin (poolSlotOrigin in shaders/shading.glsl)
+// is exact below it. 2^21 slots of 32^3 bricks are 98 GB of 8-bit samples.
+inline constexpr uint64_t kMaxPoolSlots = uint64_t(1) << 21;
+
 // The largest slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
 // max3DTextureSize per axis, one slot across in x where that limit allows; `extraBytesPerTexel` are those of
 // textures of the same dimensions kept beside the pool (a GradientPool), which the budget pays for too.
-// With `maxSlots` (the bricks the volume has) the grid holds at least that many slots where the budget allows,
-// and not many more: a small volume gets a small pool, not the whole budget.
-// Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
+// With `maxSlots` (the bricks the volume has) the grid holds at least that many slots where the budget
+// allows, and not many more: a small volume gets a small pool, not the whole budget. Never more than
+// kMaxPoolSlots. Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
                                 int max3DTextureSize, uint32_t extraBytesPerTexel = 0,
                                 uint64_t maxSlots = UINT64_MAX);

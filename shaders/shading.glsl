@@ -19,11 +19,17 @@ uniform float uDiffuse;
 uniform float uSpecular;
 uniform float uShininess;
 
-// Texel origin of a pool slot; the twin of BrickPoolGeometry::slotOrigin.
+// Texel origin of a pool slot; the twin of BrickPoolGeometry::slotOrigin. In float: llvmpipe divides integer
+// vectors lane by lane (24 scalar divisions per leaf and SIMD group). Exact while slot < 2^21: the quotients lie
+// at least 0.5 / (slots per layer) from an integer, far more than their rounding error.
 vec3 poolSlotOrigin(uint slot) {
-  uvec3 g = uvec3(slot % uPoolSlotGrid.x, (slot / uPoolSlotGrid.x) % uPoolSlotGrid.y,
-                  slot / (uPoolSlotGrid.x * uPoolSlotGrid.y));
-  return vec3(g) * uPoolSlotEdge;
+  float perRow = float(uPoolSlotGrid.x);
+  float perLayer = float(uPoolSlotGrid.x * uPoolSlotGrid.y);
+  float s = float(slot);
+  float z = floor((s + 0.5) / perLayer);
+  float inLayer = s - z * perLayer;
+  float y = floor((inLayer + 0.5) / perRow);
+  return vec3(inLayer - y * perRow, y, z) * uPoolSlotEdge;
 }
 
 // A data leaf's brick: where its slot lies and how root-cube coordinates map to its texels.

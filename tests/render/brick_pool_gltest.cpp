@@ -1,14 +1,18 @@
 // The GPU brick pool: slot planning within budget and texture limits, allocation, upload and readback.
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <set>
 #include <vector>
 
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 #include <glm/vector_relational.hpp>
 
 #include "loader/error.h"
 #include "render/brick_pool.h"
+#include "render/gl_context.h"
+#include "render/shader_program.h"
 #include "tests/render/testutil_gl.h"
 
 namespace ropecast {
@@ -44,6 +48,56 @@ TEST(BrickPoolPlan, HoldsNoMoreSlotsThanTheVolumeHasBricks) {
   EXPECT_GE(tight.slotCount(), 50u);
   EXPECT_EQ(planBrickPool(32, SampleType::UInt8, budget, 2048, 0, UINT64_MAX).slotGrid,
             planBrickPool(32, SampleType::UInt8, budget, 2048).slotGrid);
+}
+
+TEST(BrickPoolPlan, HoldsAtMostTheSlotsTheShaderAddressesExactly) {
+  // 4^3 bricks (8^3 slots) in a terabyte and a 16384 texture limit would be 2^33 slots.
+  const BrickPoolGeometry g = planBrickPool(4, SampleType::UInt8, 1ull << 40, 16384);
+  EXPECT_LE(g.slotCount(), kMaxPoolSlots);
+  EXPECT_GE(g.slotCount(), kMaxPoolSlots / 2);
+}
+
+// The shader's poolSlotOrigin (shaders/shading.glsl, in float) against BrickPoolGeometry::slotOrigin for
+// every slot of grids with up to kMaxPoolSlots slots.
+TEST(BrickPoolShader, SlotOriginMatchesTheCppTwinUpToTheSlotLimit) {
+  test::sharedGlContext();
+  const auto dir = test::freshTempDir();
+  const auto shader = dir / "slot_origin.comp";
+  std::ofstream(shader) << "#version 450 core\nlayout(local_size_x = 64) in;\n"
+                           "#include \"shaders/shading.glsl\"\n"
+                           "layout(std430, binding = 0) buffer Origins { uvec4 origins[]; };\n"
+                           "void main() {\n"
+                           "  uint slot = gl_GlobalInvocationID.x;\n"
+                           "  origins[slot] = uvec4(uvec3(poolSlotOrigin(slot)), 0u);\n"
+                           "}\n";
+  ShaderProgram program({{ShaderStage::Compute, shader.string()}},
+                        {"BRICK_BORDER 2", "DVR_SHADE_GRADIENT_THRESHOLD 0.0"});
+  const glm::u32vec3 grids[] = {{1, 1448, 1448}, {3, 697, 1002}, {7, 5, 3}};
+  for (const glm::u32vec3& grid : grids) {
+    BrickPoolGeometry g;
+    g.slotEdge = 36;
+    g.slotGrid = grid;
+    ASSERT_LE(g.slotCount(), kMaxPoolSlots);
+    const uint32_t groups = (g.slotCount() + 63) / 64;
+    GLuint ssbo = 0;
+    glCreateBuffers(1, &ssbo);
+    glNamedBufferStorage(ssbo, GLsizeiptr(groups) * 64 * 16, nullptr, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo);
+    program.use();
+    glUniform3ui(program.uniform("uPoolSlotGrid"), grid.x, grid.y, grid.z);
+    glUniform1f(program.uniform("uPoolSlotEdge"), float(g.slotEdge));
+    glDispatchCompute(groups, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::u32vec4> origins(size_t(groups) * 64);
+    glGetNamedBufferSubData(ssbo, 0, GLsizeiptr(origins.size() * sizeof(origins[0])), origins.data());
+    glDeleteBuffers(1, &ssbo);
+    uint32_t mismatches = 0;
+    for (uint32_t s = 0; s < g.slotCount(); ++s)
+      if (glm::u32vec3(origins[s]) != g.slotOrigin(s) && ++mismatches <= 3)
+        ADD_FAILURE() << "slot " << s << " of grid " << grid.x << "x" << grid.y << "x" << grid.z;
+    EXPECT_EQ(mismatches, 0u);
+  }
+  checkGlError("poolSlotOrigin test");
 }
 
 TEST(BrickPoolPlan, SlotOriginsAreDistinctAndInside) {
