@@ -288,10 +288,11 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
     } while (count < DVR_LEAF_BATCH && cursor.node != kRopeNull);
     more = cursor.node != kRopeNull;
 
-    // Sample all gathered leaves in one flat loop. Up to four samples of the current leaf per leaf-change check:
+    // Sample all gathered leaves in one flat loop. Up to three samples of the current leaf per leaf-change check:
     // llvmpipe runs every `if` for the whole SIMD group under a mask whether or not a lane takes it (only loops
-    // stop when no lane is left), so the leaf change costs its selects every iteration; four straight samples
-    // amortize them (~6 % of a DVR frame there; a counted inner loop instead cost 10 % more than none).
+    // stop when no lane is left), so the leaf change costs its selects every iteration; straight samples
+    // amortize them, and a lane whose leaf ends inside the group idles for the rest of it (instructions per ML
+    // DVR frame there with 2, 3, 4, 5 samples: 191.7, 191.2, 193.1, 195.2 M; a counted inner loop cost 10 % more).
     if (count > 0u) {
       GatheredLeaf g = gatheredLeaf(s0, dtAtLevel0);
       float k = s0.first.x;
@@ -300,7 +301,6 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
         // A leaf may hold no sample (a sliver between two sample points): then the leaf change below moves on.
         // One exit per cause (a flag and break, not a return from inside the loops): ~1 % of a frame on llvmpipe.
         bool terminated = k < g.base.w && dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
-        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
         if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
         if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
         if (terminated) {
