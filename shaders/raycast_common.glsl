@@ -275,6 +275,7 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
       GatherSlot slot;
       slot.base = vec4(pool.base + t0 * pool.slope, firstSampleIndex(t0, min(leaf.tExit, t1), ls.dt, false));
       slot.first = vec2(firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf), ropeBoxScale(uMaxDepth - leaf.depth));
+      // The write side of pickSlot's selects (the slots are named variables, see DVR_LEAF_BATCH).
       if (count == 0u) s0 = slot;
       if (count == 1u) s1 = slot;
       if (count == 2u) s2 = slot;
