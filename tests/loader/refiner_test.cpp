@@ -137,7 +137,9 @@ TEST(Refiner, RefinesByDecreasingProjectedVoxelSize) {
   const RefineResult r2 = refine(src, v2, {}, {}, coarse);
   EXPECT_LT(r2.leaves.size(), r.leaves.size());
   for (const PlannedLeaf& l : r2.leaves) {
-    if (l.reason == LeafReason::Adequate) EXPECT_LE(l.voxelPixels, 4.0);
+    if (l.reason == LeafReason::Adequate) {
+      EXPECT_LE(l.voxelPixels, 4.0);
+    }
   }
 }
 
