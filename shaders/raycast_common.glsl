@@ -146,9 +146,6 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
       if (hasPrev && (f >= 0.0) != (h.fPrev >= 0.0)) {
         // A crossing between the previous and this sample: refined after the walk (castRay), so that the SIMD
         // lanes of a software rasterizer run the bisection once together rather than once per lane.
-        h.hit = true;
-        h.brick = ls.brick;
-        h.cellWorld = ls.cellWorld;
         h.tHit = t;
         done = true;
         break;
@@ -159,6 +156,13 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
       k += 1.0;
       t = t0 + k * ls.dt;
     } while (t < tStop);
+    // The leaf of the crossing, recorded here rather than in the sample loop: llvmpipe runs an `if` body with
+    // every sample whether or not a lane takes it, and these are ten selects against a sample's ~150 instructions.
+    if (done) {
+      h.hit = true;
+      h.brick = ls.brick;
+      h.cellWorld = ls.cellWorld;
+    }
     // The cursor knows when the ray has no leaf left (no rope out of the last one): stop there rather than in
     // one more ropeNextLeaf, which llvmpipe runs whole for the SIMD group (~0.5 % of a frame).
   } while (!done && cursor.node != kRopeNull);
