@@ -80,15 +80,16 @@ float firstSampleIndex(float t0, float tEnter, float dt, bool firstLeaf) {
 // A data leaf's brick and sampling: step dt = step * 2^L * min(s), one level-L cell in world units.
 struct LeafSampling {
   BrickRef brick;
+  float levelScale;  // 2^L
   float dt;
   vec3 cellWorld;
 };
 
 LeafSampling leafSampling(uint slot, uint depth, vec3 boxMin) {
   LeafSampling ls;
-  float levelScale = ropeBoxScale(uMaxDepth - depth);  // 2^L, exact
-  ls.dt = uStepVoxels * levelScale * uMinSpacing;
-  ls.cellWorld = uSpacing * levelScale;
+  ls.levelScale = ropeBoxScale(uMaxDepth - depth);  // exact
+  ls.dt = uStepVoxels * ls.levelScale * uMinSpacing;
+  ls.cellWorld = uSpacing * ls.levelScale;
   ls.brick.slotOrigin = poolSlotOrigin(slot);
   ls.brick.boxMin = boxMin;
   ls.brick.texelsPerCube = uBrickSize * ropeBoxScale(depth);
@@ -126,10 +127,11 @@ IsoHit walkIso(vec3 originCube, vec3 dirCube, float t0, float t1) {
   bool hasPrev = false;
   RopeCursor cursor;
   RopeLeaf leaf;
-  bool done = !ropeBegin(cursor, originCube, dirCube, t0, t1);
+  ropeBegin(cursor, originCube, dirCube, t0, t1);  // a ray that misses the root cube gets an empty cursor
+  bool done = false;
   bool entryLeaf = true;
   // Both loops test their exit at the bottom, as walkDvr's do (llvmpipe would otherwise run one more masked
-  // leaf per ray and one more masked sample per leaf). A ray that missed the root cube gets no leaf.
+  // leaf per ray and one more masked sample per leaf). An empty cursor gives no leaf.
   do {
     if (!ropeNextLeaf(cursor, leaf)) break;
     bool firstLeaf = entryLeaf;
@@ -260,7 +262,8 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
 
   RopeCursor cursor;
   RopeLeaf leaf;
-  bool more = ropeBegin(cursor, originCube, dirCube, t0, t1);
+  ropeBegin(cursor, originCube, dirCube, t0, t1);  // as in walkIso: a miss leaves the cursor empty
+  bool more = true;
   bool entryLeaf = true;
   // Every loop of this walk tests its exit at the bottom. llvmpipe repeats a loop body while any lane is left in
   // it, so a loop tested at the top runs one more whole body, all lanes masked, before it sees that none is:
@@ -278,7 +281,7 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
       LeafPoolRay pool = leafPoolRay(ls.brick, originCube, dirCube);
       GatherSlot slot;
       slot.base = vec4(pool.base + t0 * pool.slope, firstSampleIndex(t0, min(leaf.tExit, t1), ls.dt, false));
-      slot.first = vec2(firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf), ropeBoxScale(uMaxDepth - leaf.depth));
+      slot.first = vec2(firstSampleIndex(t0, leaf.tEnter, ls.dt, firstLeaf), ls.levelScale);
       // The write side of pickSlot's selects (the slots are named variables, see DVR_LEAF_BATCH).
       if (count == 0u) s0 = slot;
       if (count == 1u) s1 = slot;
