@@ -69,7 +69,7 @@ float volumeTexValue(vec3 p) { return textureLod(uVolume, p, 0.0).r; }
 // ends the ray (walkDvr's dvrStep at level 0, with the same factors per ray: scale.xyz = 1 / (2 s), scale.w =
 // the opacity correction's exponent).
 bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, float dt, VolumeRay ray, vec4 scale,
-                  vec3 dir, float depthPerT) {
+                  vec3 dir, float depthPerT, DvrUniforms du, vec2 ertMinSpacing) {
   vec3 p = ray.base + t * ray.slope;
 #ifdef DVR_STORED_GRADIENTS
   vec4 stored = textureLod(uVolumeSamples, p, 0.0);
@@ -77,7 +77,7 @@ bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, fl
 #else
   float v = volumeTexValue(p);
 #endif
-  vec4 tf = transferFunction(v);
+  vec4 tf = transferFunction(v, du);
   float a = 1.0 - pow(1.0 - tf.a, scale.w);
   if (a > 0.0) {
 #ifdef DVR_STORED_GRADIENTS
@@ -85,14 +85,14 @@ bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, fl
 #else
     vec3 gradient = centralDifferences(uVolume, p, ray.texel) * scale.xyz;
 #endif
-    vec3 c = shadeDvr(tf.rgb, gradient, dir, uMinSpacing);
+    vec3 c = shadeDvr(tf.rgb, gradient, dir, ertMinSpacing.y, du);
     acc.color += (1.0 - acc.alpha) * a * c;
     acc.alpha += (1.0 - acc.alpha) * a;
     acc.depth = t * depthPerT;
   }
   k += 1.0;
   t = t0 + k * dt;
-  return a > 0.0 && acc.alpha >= uErt;
+  return a > 0.0 && acc.alpha >= ertMinSpacing.x;
 }
 #endif
 
@@ -151,12 +151,15 @@ RayResult castBrute(uvec2 pixel) {
   acc.alpha = 0.0;
   acc.depth = kInfinity;
   vec4 scale = vec4(1.0 / (2.0 * uSpacing), uStepVoxels);
+  // The uniforms of a sample, read once per ray as walkDvr does (DvrUniforms in shaders/shading.glsl).
+  DvrUniforms du = dvrUniforms();
+  vec2 ertMinSpacing = vec2(uErt, uMinSpacing);
   float k = 0.0, t = t0;
   do {
-    bool terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
-    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
-    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
-    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT);
+    bool terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
     if (terminated) break;
   } while (t < t1);
   result.color = vec4(acc.color + (1.0 - acc.alpha) * uBackground, acc.alpha);

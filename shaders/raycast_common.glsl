@@ -208,32 +208,33 @@ struct GatherSlot {
   vec2 first;  // first k, 2^L
 };
 
-GatheredLeaf gatheredLeaf(GatherSlot slot, float dtAtLevel0) {
+// level0: GatheredLeaf.level at level 0, (step min(s), step, min(s)), read once per ray (see DvrUniforms).
+GatheredLeaf gatheredLeaf(GatherSlot slot, vec3 level0) {
   float levelScale = slot.first.y;
   float levelInverse = uintBitsToFloat(0x7F000000u - floatBitsToUint(levelScale));  // 2^-L, exact
   GatheredLeaf g;
   g.base = slot.base;
-  g.level = vec3(dtAtLevel0 * levelScale, uStepVoxels * levelScale, uMinSpacing * levelInverse);
+  g.level = level0 * vec3(levelScale, levelScale, levelInverse);
   return g;
 }
 
 // Composites sample k of the current leaf and steps to the next; true when the ray reached early termination at
 // uErt. gradientScale: 1 / (2 s), the differences' scale at level 0.
 bool dvrStep(inout DvrAccum acc, inout float k, GatheredLeaf g, vec3 poolStep, float t0, vec3 gradientScale,
-             vec3 dir, float depthPerT) {
+             vec3 dir, float depthPerT, DvrUniforms du, float ert) {
   vec3 poolCoord = g.base.xyz + k * poolStep;
   PoolSample sampled = poolSample(poolCoord);
-  vec4 tf = transferFunction(sampled.value);
+  vec4 tf = transferFunction(sampled.value, du);
   float a = 1.0 - pow(1.0 - tf.a, g.level.y);
   if (a > 0.0) {
     vec3 gradient = poolSampleDifferences(sampled, poolCoord) * gradientScale;
-    vec3 c = shadeDvr(tf.rgb, gradient, dir, g.level.z);
+    vec3 c = shadeDvr(tf.rgb, gradient, dir, g.level.z, du);
     acc.color += (1.0 - acc.alpha) * a * c;
     acc.alpha += (1.0 - acc.alpha) * a;
     acc.depth = (t0 + k * g.level.x) * depthPerT;
   }
   k += 1.0;
-  return a > 0.0 && acc.alpha >= uErt;  // as the CPU mirror: only a composited sample ends the ray
+  return a > 0.0 && acc.alpha >= ert;  // as the CPU mirror: only a composited sample ends the ray
 }
 
 // The slot of index i (i in 1..7: slot 0 is taken when the batch begins).
@@ -257,8 +258,11 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
   acc.depth = kInfinity;
 
   float dtAtLevel0 = uStepVoxels * uMinSpacing;
+  vec3 level0 = vec3(dtAtLevel0, uStepVoxels, uMinSpacing);
   vec3 poolStep = dirCube * (uBrickSize * ropeBoxScale(uMaxDepth) * dtAtLevel0) * uPoolTexelSize;
   vec3 gradientScale = 1.0 / (2.0 * uSpacing);
+  DvrUniforms du = dvrUniforms();
+  float ert = uErt;  // as DvrUniforms: read once, not in the loop
 
   RopeCursor cursor;
   RopeLeaf leaf;
@@ -302,15 +306,15 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
     // amortize them, and a lane whose leaf ends inside the group idles for the rest of it (instructions per ML
     // DVR frame there with 2, 3, 4, 5 samples: 191.7, 191.2, 193.1, 195.2 M; a counted inner loop cost 10 % more).
     if (count > 0u) {
-      GatheredLeaf g = gatheredLeaf(s0, dtAtLevel0);
+      GatheredLeaf g = gatheredLeaf(s0, level0);
       float k = s0.first.x;
       uint next = 1u;
       for (;;) {
         // A leaf may hold no sample (a sliver between two sample points): then the leaf change below moves on.
         // One exit per cause (a flag and break, not a return from inside the loops): ~1 % of a frame on llvmpipe.
-        bool terminated = k < g.base.w && dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
-        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
-        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT);
+        bool terminated = k < g.base.w && dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT, du, ert);
+        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT, du, ert);
+        if (!terminated && k < g.base.w) terminated = dvrStep(acc, k, g, poolStep, t0, gradientScale, dir, depthPerT, du, ert);
         if (terminated) {
           more = false;
           break;
@@ -321,7 +325,7 @@ DvrAccum walkDvr(vec3 originCube, vec3 dirCube, vec3 dir, float t0, float t1, fl
         if (!(k < g.base.w)) {
           if (next == count) break;
           GatherSlot slot = pickSlot(next, s1, s2, s3, s4, s5, s6, s7);
-          g = gatheredLeaf(slot, dtAtLevel0);
+          g = gatheredLeaf(slot, level0);
           k = slot.first.x;
           ++next;
         }
