@@ -16,17 +16,18 @@ uniform sampler3D uVolumeSamples;  // render/gradient_pool of uVolume: RGBA16_SN
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out float outDepth;
 
-// Level-0 sample coordinate (sample i centered at i + 0.5) of a world point.
-vec3 volumeCoord(vec3 x) { return x / uSpacing; }
+// Level-0 sample coordinate (sample i centered at i + 0.5) of a world point; spacing: s.
+vec3 volumeCoord(vec3 x, vec3 spacing) { return x / spacing; }
 
 // As brickValueExact: trilinear in float from eight texelFetch()es, clamped to the outer sample centers.
-float volumeValueExact(vec3 q) {
-  vec3 n = vec3(uVolumeDims);
+// dims: uVolumeDims, read once per ray (WalkUniforms in shaders/raycast_common.glsl says why).
+float volumeValueExact(vec3 q, ivec3 dims) {
+  vec3 n = vec3(dims);
   vec3 c = clamp(q, vec3(0.5), n - 0.5) - 0.5;
   vec3 base = min(floor(c), max(n - 2.0, vec3(0.0)));
   vec3 f = c - base;
   ivec3 i = ivec3(base);
-  ivec3 hi = min(i + 1, uVolumeDims - 1);
+  ivec3 hi = min(i + 1, dims - 1);
   float c000 = texelFetch(uVolume, i, 0).r;
   float c100 = texelFetch(uVolume, ivec3(hi.x, i.y, i.z), 0).r;
   float c010 = texelFetch(uVolume, ivec3(i.x, hi.y, i.z), 0).r;
@@ -40,11 +41,12 @@ float volumeValueExact(vec3 q) {
   return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
 }
 
-vec3 volumeGradientExact(vec3 q) {
+vec3 volumeGradientExact(vec3 q, ivec3 dims) {
+  const vec3 dx = vec3(1.0, 0.0, 0.0), dy = vec3(0.0, 1.0, 0.0), dz = vec3(0.0, 0.0, 1.0);
   vec3 g;
-  g.x = volumeValueExact(q + vec3(1.0, 0.0, 0.0)) - volumeValueExact(q - vec3(1.0, 0.0, 0.0));
-  g.y = volumeValueExact(q + vec3(0.0, 1.0, 0.0)) - volumeValueExact(q - vec3(0.0, 1.0, 0.0));
-  g.z = volumeValueExact(q + vec3(0.0, 0.0, 1.0)) - volumeValueExact(q - vec3(0.0, 0.0, 1.0));
+  g.x = volumeValueExact(q + dx, dims) - volumeValueExact(q - dx, dims);
+  g.y = volumeValueExact(q + dy, dims) - volumeValueExact(q - dy, dims);
+  g.z = volumeValueExact(q + dz, dims) - volumeValueExact(q - dz, dims);
   return g / (2.0 * uSpacing);
 }
 
@@ -69,7 +71,7 @@ float volumeTexValue(vec3 p) { return textureLod(uVolume, p, 0.0).r; }
 // ends the ray (walkDvr's dvrStep at level 0, with the same factors per ray: scale.xyz = 1 / (2 s), scale.w =
 // the opacity correction's exponent).
 bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, float dt, VolumeRay ray, vec4 scale,
-                  vec3 dir, float depthPerT, DvrUniforms du, vec2 ertMinSpacing) {
+                  vec3 dir, float depthPerT, WalkUniforms wu) {
   vec3 p = ray.base + t * ray.slope;
 #ifdef DVR_STORED_GRADIENTS
   vec4 stored = textureLod(uVolumeSamples, p, 0.0);
@@ -77,7 +79,7 @@ bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, fl
 #else
   float v = volumeTexValue(p);
 #endif
-  vec4 tf = transferFunction(v, du);
+  vec4 tf = transferFunction(v, wu.dvr);
   float a = 1.0 - pow(1.0 - tf.a, scale.w);
   if (a > 0.0) {
 #ifdef DVR_STORED_GRADIENTS
@@ -85,14 +87,14 @@ bool bruteDvrStep(inout DvrAccum acc, inout float k, inout float t, float t0, fl
 #else
     vec3 gradient = centralDifferences(uVolume, p, ray.texel) * scale.xyz;
 #endif
-    vec3 c = shadeDvr(tf.rgb, gradient, dir, ertMinSpacing.y, du);
+    vec3 c = shadeDvr(tf.rgb, gradient, dir, wu.level0.z, wu.dvr);
     acc.color += (1.0 - acc.alpha) * a * c;
     acc.alpha += (1.0 - acc.alpha) * a;
     acc.depth = t * depthPerT;
   }
   k += 1.0;
   t = t0 + k * dt;
-  return a > 0.0 && acc.alpha >= ertMinSpacing.x;
+  return a > 0.0 && acc.alpha >= wu.ert;
 }
 #endif
 
@@ -105,7 +107,11 @@ RayResult castBrute(uvec2 pixel) {
   if (!clipToVolume(uEye, dir, t0, t1)) return result;
 
   float depthPerT = dot(dir, uForward);
-  float dt = uStepVoxels * uMinSpacing;
+  // The uniforms read in the loops, loaded once per ray as castRay does.
+  WalkUniforms wu = walkUniforms();
+  ivec3 dims = uVolumeDims;
+  vec3 eye = uEye;
+  float dt = wu.level0.x;
   VolumeRay ray = volumeRay(dir);
 #ifdef RAYCAST_MODE_ISO
   bool hasPrev = false;
@@ -114,7 +120,7 @@ RayResult castBrute(uvec2 pixel) {
   float k = 0.0, t = t0;
   // Loops test their exit at the bottom, as castRay's walks do (t0 < t1 here).
   do {
-    float f = volumeTexValue(ray.base + t * ray.slope) - uIsoValue;
+    float f = volumeTexValue(ray.base + t * ray.slope) - wu.isoValue;
     if (hasPrev && (f >= 0.0) != (fPrev >= 0.0)) {
       // Refined after the march, as castRay does (once per SIMD group of rays on a software rasterizer).
       tHitB = t;
@@ -131,7 +137,7 @@ RayResult castBrute(uvec2 pixel) {
   float ta = tPrev, fa = fPrev, tb = tHitB;
   for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
     float tm = 0.5 * (ta + tb);
-    float fm = volumeValueExact(volumeCoord(uEye + tm * dir)) - uIsoValue;
+    float fm = volumeValueExact(volumeCoord(eye + tm * dir, wu.spacing), dims) - wu.isoValue;
     if ((fm >= 0.0) == (fa >= 0.0)) {
       ta = tm;
       fa = fm;
@@ -140,7 +146,8 @@ RayResult castBrute(uvec2 pixel) {
     }
   }
   float tHit = 0.5 * (ta + tb);
-  result.color = vec4(shadeIso(volumeGradientExact(volumeCoord(uEye + tHit * dir)), dir), 1.0);
+  vec3 hitCoord = volumeCoord(eye + tHit * dir, wu.spacing);
+  result.color = vec4(shadeIso(volumeGradientExact(hitCoord, dims), dir), 1.0);
   result.depth = tHit * depthPerT;
 #else
   // Up to four samples per loop test: on llvmpipe that amortizes the loop's own masked bookkeeping (~10 %), as
@@ -150,16 +157,13 @@ RayResult castBrute(uvec2 pixel) {
   acc.color = vec3(0.0);
   acc.alpha = 0.0;
   acc.depth = kInfinity;
-  vec4 scale = vec4(1.0 / (2.0 * uSpacing), uStepVoxels);
-  // The uniforms of a sample, read once per ray as walkDvr does (DvrUniforms in shaders/shading.glsl).
-  DvrUniforms du = dvrUniforms();
-  vec2 ertMinSpacing = vec2(uErt, uMinSpacing);
+  vec4 scale = vec4(1.0 / (2.0 * wu.spacing), wu.level0.y);
   float k = 0.0, t = t0;
   do {
-    bool terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
-    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
-    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
-    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, du, ertMinSpacing);
+    bool terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, wu);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, wu);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, wu);
+    if (!terminated && t < t1) terminated = bruteDvrStep(acc, k, t, t0, dt, ray, scale, dir, depthPerT, wu);
     if (terminated) break;
   } while (t < t1);
   result.color = vec4(acc.color + (1.0 - acc.alpha) * uBackground, acc.alpha);

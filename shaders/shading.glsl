@@ -19,17 +19,30 @@ uniform float uDiffuse;
 uniform float uSpecular;
 uniform float uShininess;
 
+// The pool's uniforms, as the walks read them per leaf: loaded once per ray (WalkUniforms in
+// shaders/raycast_common.glsl says why).
+struct PoolLayout {
+  vec2 slotsPerRowLayer;  // uPoolSlotGrid.x, uPoolSlotGrid.x * uPoolSlotGrid.y
+  float slotEdge;         // uPoolSlotEdge
+  vec3 texelSize;         // uPoolTexelSize
+};
+
+PoolLayout poolLayout() {
+  return PoolLayout(vec2(float(uPoolSlotGrid.x), float(uPoolSlotGrid.x * uPoolSlotGrid.y)), uPoolSlotEdge,
+                    uPoolTexelSize);
+}
+
 // Texel origin of a pool slot; the twin of BrickPoolGeometry::slotOrigin. In float: llvmpipe divides integer
 // vectors lane by lane (24 scalar divisions per leaf and SIMD group). Exact while slot < 2^21: the quotients lie
 // at least 0.5 / (slots per layer) from an integer, far more than their rounding error.
-vec3 poolSlotOrigin(uint slot) {
-  float perRow = float(uPoolSlotGrid.x);
-  float perLayer = float(uPoolSlotGrid.x * uPoolSlotGrid.y);
+vec3 poolSlotOrigin(uint slot, PoolLayout pool) {
+  float perRow = pool.slotsPerRowLayer.x;
+  float perLayer = pool.slotsPerRowLayer.y;
   float s = float(slot);
   float z = floor((s + 0.5) / perLayer);
   float inLayer = s - z * perLayer;
   float y = floor((inLayer + 0.5) / perRow);
-  return vec3(inLayer - y * perRow, y, z) * uPoolSlotEdge;
+  return vec3(inLayer - y * perRow, y, z) * pool.slotEdge;
 }
 
 // A data leaf's brick: where its slot lies and how root-cube coordinates map to its texels.
@@ -49,9 +62,9 @@ vec3 brickTexel(BrickRef b, vec3 posCube) {
 // and clamped to the slot's outer texel centers (clamp-to-edge of this brick alone). Hardware LINEAR filtering of
 // 8-bit textures uses 8-bit weights (llvmpipe, most GPUs): fine for marching, but central-difference gradients
 // and the bisected hit of an isosurface then come out blocky and speckled. The iso hit uses this form.
-float brickValueExact(BrickRef b, vec3 texel) {
-  vec3 q = clamp(texel, vec3(0.5), vec3(uPoolSlotEdge - 0.5)) - 0.5;
-  vec3 base = min(floor(q), vec3(uPoolSlotEdge - 2.0));  // the upper corner stays inside the slot
+float brickValueExact(BrickRef b, vec3 texel, PoolLayout pool) {
+  vec3 q = clamp(texel, vec3(0.5), vec3(pool.slotEdge - 0.5)) - 0.5;
+  vec3 base = min(floor(q), vec3(pool.slotEdge - 2.0));  // the upper corner stays inside the slot
   vec3 f = q - base;
   ivec3 i = ivec3(b.slotOrigin + base);
   float c000 = texelFetch(uPool, i, 0).r;
@@ -68,11 +81,12 @@ float brickValueExact(BrickRef b, vec3 texel) {
 }
 
 // brickGradient() from brickValueExact(): the isosurface normal.
-vec3 brickGradientExact(BrickRef b, vec3 texel, vec3 cellWorld) {
+vec3 brickGradientExact(BrickRef b, vec3 texel, vec3 cellWorld, PoolLayout pool) {
+  const vec3 dx = vec3(1.0, 0.0, 0.0), dy = vec3(0.0, 1.0, 0.0), dz = vec3(0.0, 0.0, 1.0);
   vec3 g;
-  g.x = brickValueExact(b, texel + vec3(1.0, 0.0, 0.0)) - brickValueExact(b, texel - vec3(1.0, 0.0, 0.0));
-  g.y = brickValueExact(b, texel + vec3(0.0, 1.0, 0.0)) - brickValueExact(b, texel - vec3(0.0, 1.0, 0.0));
-  g.z = brickValueExact(b, texel + vec3(0.0, 0.0, 1.0)) - brickValueExact(b, texel - vec3(0.0, 0.0, 1.0));
+  g.x = brickValueExact(b, texel + dx, pool) - brickValueExact(b, texel - dx, pool);
+  g.y = brickValueExact(b, texel + dy, pool) - brickValueExact(b, texel - dy, pool);
+  g.z = brickValueExact(b, texel + dz, pool) - brickValueExact(b, texel - dz, pool);
   return g / (2.0 * cellWorld);
 }
 
@@ -127,9 +141,8 @@ vec3 poolSampleDifferences(PoolSample s, vec3 poolCoord) {
 #endif
 }
 
-// The uniforms that every DVR sample reads, loaded once per ray (dvrUniforms()) and passed down to the sample
-// loops: llvmpipe loads a uniform that is read inside a loop anew in every iteration, lane by lane with a bounds
-// check (~25 instructions each; read once, ML DVR frames took 10 % fewer instructions there).
+// The uniforms that every DVR sample reads for its color, loaded once per ray (WalkUniforms in
+// shaders/raycast_common.glsl says why).
 struct DvrUniforms {
   float tfEntries;  // uTfEntries
   vec4 phong;       // uAmbient, uDiffuse, uSpecular, uShininess

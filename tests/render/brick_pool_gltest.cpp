@@ -68,7 +68,7 @@ TEST(BrickPoolShader, SlotOriginMatchesTheCppTwinUpToTheSlotLimit) {
                            "layout(std430, binding = 0) buffer Origins { uvec4 origins[]; };\n"
                            "void main() {\n"
                            "  uint slot = gl_GlobalInvocationID.x;\n"
-                           "  origins[slot] = uvec4(uvec3(poolSlotOrigin(slot)), 0u);\n"
+                           "  origins[slot] = uvec4(uvec3(poolSlotOrigin(slot, poolLayout())), 0u);\n"
                            "}\n";
   ShaderProgram program({{ShaderStage::Compute, shader.string()}},
                         {"BRICK_BORDER 2", "DVR_SHADE_GRADIENT_THRESHOLD 0.0"});
