@@ -50,7 +50,7 @@ double Level0Sampler::value(glm::dvec3 world) const {
   const glm::dvec3 c = world * invSpacing_ - 0.5;
   const glm::dvec3 fl = glm::floor(c);
   const glm::dvec3 f = c - fl;
-  glm::u32vec3 brickCoord, texel;
+  glm::u32vec3 brickCoord(0), texel(0);  // every axis is set below (zeroed for -Wmaybe-uninitialized)
   for (int axis = 0; axis < 3; ++axis) {
     const int64_t last = int64_t(dims_[axis]) - 1;
     const int64_t i0 = std::clamp<int64_t>(int64_t(fl[axis]), -1, last);  // beyond, both corners are the edge

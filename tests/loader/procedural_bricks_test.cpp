@@ -125,7 +125,7 @@ TEST(ProceduralBricks, BordersEqualNeighborsAndReplicateTheVolumeEdge) {
         for (uint32_t ta = b; ta < e; ++ta)
           for (uint32_t u = 0; u < e; ++u)
             for (uint32_t w = 0; w < e; ++w) {
-              glm::u32vec3 pa, pb;
+              glm::u32vec3 pa(0), pb(0);
               pa[axis] = ta;
               pb[axis] = ta - b;
               pa[(axis + 1) % 3] = pb[(axis + 1) % 3] = u;

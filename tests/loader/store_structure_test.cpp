@@ -118,7 +118,9 @@ TEST(StoreStructure, DiscardBelowMarksNodesWhoseMaxIsBelowEmpty) {
   EXPECT_GT(kinds[size_t(NodeKind::Empty)], 0u);
   EXPECT_GT(kinds[size_t(NodeKind::Data)], 0u);
   for (const StoreNodeEntry& e : store->entries())
-    if (e.kind == uint8_t(NodeKind::Empty)) EXPECT_EQ(e.payloadBytes, 0u);
+    if (e.kind == uint8_t(NodeKind::Empty)) {
+      EXPECT_EQ(e.payloadBytes, 0u);
+    }
   EXPECT_TRUE(verifyStore(*store).ok());
 }
 

@@ -134,7 +134,9 @@ TEST(WorkingSet, ColdAsyncFramesConvergeToTheSynchronousCutWithinBudgets) {
     }
     converged = f.converged;
     debugPrint(f);
-    if (converged) EXPECT_EQ(cutOf(f), referenceCut);
+    if (converged) {
+      EXPECT_EQ(cutOf(f), referenceCut);
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   EXPECT_TRUE(converged);
@@ -271,7 +273,9 @@ TEST(WorkingSet, ConstantNodesAreUploadedAsFilledBricksWithoutReads) {
   }
   EXPECT_EQ(constants, 8u);
   for (const BrickUpload& u : f.uploads) {
-    if (u.key.depth == 1) EXPECT_EQ((*u.brick)[100], std::byte{7});
+    if (u.key.depth == 1) {
+      EXPECT_EQ((*u.brick)[100], std::byte{7});
+    }
   }
 }
 
