@@ -235,7 +235,7 @@ struct GatherSlot {
   vec2 first;  // first k, 2^L
 };
 
-// level0: GatheredLeaf.level at level 0, (step min(s), step, min(s)), read once per ray (see DvrUniforms).
+// level0: GatheredLeaf.level at level 0, (step min(s), step, min(s)): WalkUniforms.level0.
 GatheredLeaf gatheredLeaf(GatherSlot slot, vec3 level0) {
   float levelScale = slot.first.y;
   float levelInverse = uintBitsToFloat(0x7F000000u - floatBitsToUint(levelScale));  // 2^-L, exact
