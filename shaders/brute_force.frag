@@ -41,13 +41,13 @@ float volumeValueExact(vec3 q, ivec3 dims) {
   return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
 }
 
-vec3 volumeGradientExact(vec3 q, ivec3 dims) {
+vec3 volumeGradientExact(vec3 q, ivec3 dims, vec3 spacing) {
   const vec3 dx = vec3(1.0, 0.0, 0.0), dy = vec3(0.0, 1.0, 0.0), dz = vec3(0.0, 0.0, 1.0);
   vec3 g;
   g.x = volumeValueExact(q + dx, dims) - volumeValueExact(q - dx, dims);
   g.y = volumeValueExact(q + dy, dims) - volumeValueExact(q - dy, dims);
   g.z = volumeValueExact(q + dz, dims) - volumeValueExact(q - dz, dims);
-  return g / (2.0 * uSpacing);
+  return g / (2.0 * spacing);
 }
 
 // Level-0 texture coordinates along a ray are affine in t, base + t * slope, as a leaf's pool coordinates are in
@@ -147,7 +147,7 @@ RayResult castBrute(uvec2 pixel) {
   }
   float tHit = 0.5 * (ta + tb);
   vec3 hitCoord = volumeCoord(eye + tHit * dir, wu.spacing);
-  result.color = vec4(shadeIso(volumeGradientExact(hitCoord, dims), dir), 1.0);
+  result.color = vec4(shadeIso(volumeGradientExact(hitCoord, dims, wu.spacing), dir), 1.0);
   result.depth = tHit * depthPerT;
 #else
   // Up to four samples per loop test: on llvmpipe that amortizes the loop's own masked bookkeeping (~10 %), as
