@@ -11,10 +11,11 @@
 # "adaptive" at --voxels-per-pixel 1 (the method: coarser levels where a voxel is smaller than a pixel).
 # DVR uses tf.json (opacity from 25.5 up) on dense volumes and tf_sparse.json (from the isovalue 127.5 up) on
 # sparse ones, so that their outside is empty space.
-# Environment: DENSE (default "marschner-lobb"), SPARSE (default "sphere menger"), SIZE (256), IMAGE
-# (512x512), FRAMES (6 measured), ROUNDS (3: the three renderers run in turn this many times; each figure is
-# the median over rounds of a run's median frame, the ratios are of those), WORK (scratch dir). Volumes are
-# converted once into WORK and reused.
+# Environment: DENSE (default "marschner-lobb"), SPARSE (default "sphere menger"), SIZE (256), BRICK (the
+# stores' brick edge, default the converter's 32), IMAGE (512x512), FRAMES (6 measured), ROUNDS (3: the three
+# renderers run in turn this many times; each figure is the median over rounds of a run's median frame, the
+# ratios are of those), RENDER_ARGS (more `ropecast render` arguments for all three, e.g. "--gradients
+# computed"), WORK (scratch dir). Volumes are converted once into WORK and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build/perf}
@@ -22,6 +23,7 @@ ROPECAST=$BUILD/tools/ropecast
 DENSE=${DENSE:-"marschner-lobb"}
 SPARSE=${SPARSE:-"sphere menger"}
 SIZE=${SIZE:-256}
+BRICK=${BRICK:-32}
 IMAGE=${IMAGE:-512x512}
 FRAMES=${FRAMES:-6}
 ROUNDS=${ROUNDS:-3}
@@ -58,17 +60,20 @@ print("%.1f" % statistics.median(r["raycast_ms"] for r in rows))
 EOF2
 }
 
+echo "volumes ${SIZE}^3 in ${BRICK}^3 bricks, image $IMAGE, median of $FRAMES frames per run, $ROUNDS rounds," \
+  "extra render args: ${RENDER_ARGS:-none}"
 printf '%-15s %-6s %-4s %10s %10s %10s %8s %8s  %s\n' volume kind mode brute_ms full_ms adapt_ms "b/full" "b/adapt" \
   "per-round b/full, b/adapt"
 for name in $DENSE $SPARSE; do
   kind=sparse; case " $DENSE " in *" $name "*) kind=dense;; esac
-  store=$WORK/$name.rcast
-  [ -f "$store" ] || "$ROPECAST" convert "procedural:$name:$SIZE" -o "$store" -q
+  store=$WORK/$name-$SIZE-b$BRICK.rcast
+  [ -f "$store" ] || "$ROPECAST" convert "procedural:$name:$SIZE" --brick "$BRICK" -o "$store" -q
   tf=$WORK/tf.json
   [ "$kind" = sparse ] && tf=$WORK/tf_sparse.json
   for mode in iso dvr; do
+    # shellcheck disable=SC2206  # RENDER_ARGS is a word list
     args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$tf" --path "$WORK/path.json"
-          --frames $((last + 1)))
+          --frames $((last + 1)) ${RENDER_ARGS:-})
     # ROUNDS alternations of the three renderers, so that a change of the machine's load (other jobs on this
     # shared VM) falls on all three rather than on one.
     b=() f=() a=()

@@ -254,7 +254,7 @@ bool dvrStep(inout DvrAccum acc, inout float k, GatheredLeaf g, vec3 poolStep, f
   vec4 tf = transferFunction(sampled.value, wu.dvr);
   float a = 1.0 - pow(1.0 - tf.a, g.level.y);
   if (a > 0.0) {
-    vec3 gradient = poolSampleDifferences(sampled, poolCoord) * gradientScale;
+    vec3 gradient = poolSampleDifferences(sampled, poolCoord, wu.pool) * gradientScale;
     vec3 c = shadeDvr(tf.rgb, gradient, dir, g.level.z, wu.dvr);
     acc.color += (1.0 - acc.alpha) * a * c;
     acc.alpha += (1.0 - acc.alpha) * a;

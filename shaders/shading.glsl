@@ -132,12 +132,12 @@ PoolSample poolSample(vec3 poolCoord) {
 }
 
 // The central differences of a sample, asked for only where it is shaded: without stored gradients, six more
-// lookups.
-vec3 poolSampleDifferences(PoolSample s, vec3 poolCoord) {
+// lookups one texel (pool.texelSize, read once per ray) apart.
+vec3 poolSampleDifferences(PoolSample s, vec3 poolCoord, PoolLayout pool) {
 #ifdef DVR_STORED_GRADIENTS
   return s.differences;
 #else
-  return centralDifferences(uPool, poolCoord, uPoolTexelSize);
+  return centralDifferences(uPool, poolCoord, pool.texelSize);
 #endif
 }
 
