@@ -15,7 +15,8 @@
 # stores' brick edge, default the converter's 32), IMAGE (512x512), FRAMES (6 measured), ROUNDS (3: the three
 # renderers run in turn this many times; each figure is the median over rounds of a run's median frame, the
 # ratios are of those), RENDER_ARGS (more `ropecast render` arguments for all three, e.g. "--gradients
-# computed"), WORK (scratch dir). Volumes are converted once into WORK and reused.
+# computed"), EXT (png, or ppm for a build without OpenImageIO: then the images are not compared), WORK
+# (scratch dir). Volumes are converted once into WORK and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build/perf}
@@ -24,6 +25,7 @@ DENSE=${DENSE:-"marschner-lobb"}
 SPARSE=${SPARSE:-"sphere menger"}
 SIZE=${SIZE:-256}
 BRICK=${BRICK:-32}
+EXT=${EXT:-png}
 IMAGE=${IMAGE:-512x512}
 FRAMES=${FRAMES:-6}
 ROUNDS=${ROUNDS:-3}
@@ -79,11 +81,11 @@ for name in $DENSE $SPARSE; do
     b=() f=() a=()
     for round in $(seq "$ROUNDS"); do
       "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
-        -o "$WORK/$name-$mode-brute.png"
+        -o "$WORK/$name-$mode-brute.$EXT"
       "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
-        -o "$WORK/$name-$mode-full.png"
+        -o "$WORK/$name-$mode-full.$EXT"
       "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 1 --stats "$WORK/$name-$mode-adaptive.jsonl" \
-        -o "$WORK/$name-$mode-adaptive.png"
+        -o "$WORK/$name-$mode-adaptive.$EXT"
       b+=("$(median "$WORK/$name-$mode-brute.jsonl")")
       f+=("$(median "$WORK/$name-$mode-full.jsonl")")
       a+=("$(median "$WORK/$name-$mode-adaptive.jsonl")")
@@ -97,8 +99,10 @@ rounds = " ".join("%.2f/%.2f" % (bi / fi, bi / ai) for bi, fi, ai in zip(b, f, a
 print("%-15s %-6s %-4s %10.1f %10.1f %10.1f %7.2fx %7.2fx  %s"
       % (name, kind, mode, mb, mf, ma, mb / mf, mb / ma, rounds))
 EOF2
-    "$ROPECAST" compare "$WORK/$name-$mode-brute.png" "$WORK/$name-$mode-full.png" |
-      sed "s/^/  brute vs full-resolution ropecast image: /"
+    if [ "$EXT" = png ]; then
+      "$ROPECAST" compare "$WORK/$name-$mode-brute.png" "$WORK/$name-$mode-full.png" |
+        sed "s/^/  brute vs full-resolution ropecast image: /"
+    fi
   done
 done
 echo "images and stats in $WORK"

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# bench/render_vs_brute.sh on a lent NVIDIA device machine, in one call: the GL loader packages carried in .gl
+# unpacked as /work/.library/device/README.md says, NVIDIA's EGL vendor file named, and the carried
+# OpenImageIO-free ropecast run with the carried libraries through a wrapper (scripts/device_prepare makes all
+# three). Results and stats under $OUT (the device tool fetches them); the table is printed last.
+#
+#   run(command="bench/device_render_vs_brute.sh", carry=[".gl", ".devlibs", "build/vg/tools/ropecast"],
+#       timeout_s=540)
+#
+# Environment as bench/render_vs_brute.sh (defaults here: IMAGE 512x512, FRAMES 20, STILL 12, ROUNDS 3).
+# Off the device (no $OUT, no NVIDIA driver) it runs the same against whatever GL this machine has.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+OUT=${OUT:-$(mktemp -d /tmp/device_render_vs_brute.XXXXXX)}
+if ls .gl/*.deb > /dev/null 2>&1 && [ -d /usr/local/nvidia ]; then
+  for f in .gl/*.deb; do dpkg -x "$f" /; done
+  ldconfig
+  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+  export EGL_PLATFORM=device
+fi
+command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem \
+  --format=csv | tee "$OUT/gpu.txt"
+
+[ -x build/vg/tools/ropecast ] || { echo "device_render_vs_brute: build/vg/tools/ropecast not carried" >&2; exit 1; }
+wrapper=$(mktemp -d /tmp/ropecast_build.XXXXXX)
+mkdir -p "$wrapper/tools"
+cat > "$wrapper/tools/ropecast" <<EOF
+#!/bin/sh
+LD_LIBRARY_PATH=$PWD/.devlibs\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH} exec $PWD/build/vg/tools/ropecast "\$@"
+EOF
+chmod +x "$wrapper/tools/ropecast"
+
+EXT=ppm IMAGE=${IMAGE:-512x512} FRAMES=${FRAMES:-20} STILL=${STILL:-12} ROUNDS=${ROUNDS:-3} WORK="$OUT/work" \
+  bench/render_vs_brute.sh "$wrapper" 2>&1 | tee "$OUT/render_vs_brute.txt"
+rm -f "$OUT"/work/*.rcast "$OUT"/work/*.ppm  # stores and images stay on the device; the stats come back
