@@ -79,7 +79,7 @@ for name in $DENSE $SPARSE; do
     # ROUNDS alternations of the three renderers, so that a change of the machine's load (other jobs on this
     # shared VM) falls on all three rather than on one.
     b=() f=() a=()
-    for round in $(seq "$ROUNDS"); do
+    for _ in $(seq "$ROUNDS"); do
       "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
         -o "$WORK/$name-$mode-brute.$EXT"
       "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
