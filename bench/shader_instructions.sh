@@ -48,6 +48,7 @@ jit_instructions() {
 per_frame() {
   local name=$1
   shift
+  # shellcheck disable=SC2086  # EXTRA is a word list
   ROPECAST_SHADER_DIR=$SHADERS valgrind --tool=callgrind --fair-sched=yes \
     --dump-after='*FrameRenderer::render(*' --dump-after='*BruteForcePass::render(*' \
     --callgrind-out-file="$WORK/$name.cg" \
