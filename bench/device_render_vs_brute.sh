@@ -12,11 +12,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-$(mktemp -d /tmp/device_render_vs_brute.XXXXXX)}
-if ls .gl/*.deb > /dev/null 2>&1 && [ -d /usr/local/nvidia ]; then
+if ls .gl/*.deb > /dev/null 2>&1 && command -v nvidia-smi > /dev/null; then
   for f in .gl/*.deb; do dpkg -x "$f" /; done
   ldconfig
-  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-  export EGL_PLATFORM=device
+  vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+  [ -f "$vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
+  export EGL_PLATFORM=device  # not surfaceless, which render_vs_brute.sh would otherwise ask for
 fi
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem \
   --format=csv | tee "$OUT/gpu.txt"
