@@ -2,10 +2,12 @@
 # bench/render_vs_brute.sh on a lent NVIDIA device machine, in one call: the GL loader packages carried in .gl
 # unpacked as /work/.library/device/README.md says, NVIDIA's EGL vendor file named, and the carried
 # OpenImageIO-free ropecast run with the carried libraries through a wrapper (scripts/device_prepare makes all
-# three). Results and stats under $OUT (the device tool fetches them); the table is printed last.
+# of them). First, if carried, the GL index tests (the GLSL rope traversal in a compute shader against the CPU
+# reference, on the GPU); then the benchmark. Results and stats under $OUT (the device tool fetches them); the
+# table is printed last.
 #
-#   run(command="bench/device_render_vs_brute.sh", carry=[".gl", ".devlibs", "build/vg/tools/ropecast"],
-#       timeout_s=540)
+#   run(command="bench/device_render_vs_brute.sh", carry=[".gl", ".devlibs", "build/vg/tools/ropecast",
+#       "build/vg/tests/index_gltests"], timeout_s=540)
 #
 # Environment as bench/render_vs_brute.sh (defaults here: IMAGE 512x512, FRAMES 20, STILL 12, ROUNDS 3).
 # Off the device (no $OUT, no NVIDIA driver) it runs the same against whatever GL this machine has.
@@ -22,6 +24,11 @@ fi
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem \
   --format=csv | tee "$OUT/gpu.txt"
 
+export ROPECAST_SHADER_DIR=$PWD  # shaders are read at run time; the build's own path is not here
+if [ -x build/vg/tests/index_gltests ]; then
+  LD_LIBRARY_PATH=$PWD/.devlibs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} build/vg/tests/index_gltests 2>&1 |
+    tee "$OUT/index_gltests.txt" | grep -E "^GL:|compared|PASSED|FAILED" || true
+fi
 [ -x build/vg/tools/ropecast ] || { echo "device_render_vs_brute: build/vg/tools/ropecast not carried" >&2; exit 1; }
 wrapper=$(mktemp -d /tmp/ropecast_build.XXXXXX)
 mkdir -p "$wrapper/tools"
