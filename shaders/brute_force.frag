@@ -59,9 +59,10 @@ struct VolumeRay {
   vec3 texel;
 };
 
-VolumeRay volumeRay(vec3 dir) {
-  vec3 worldToTexture = 1.0 / (uSpacing * vec3(uVolumeDims));
-  return VolumeRay(uEye * worldToTexture, dir * worldToTexture, 1.0 / vec3(uVolumeDims));
+// eye, dims, spacing: the per-ray copies of uEye, uVolumeDims, uSpacing.
+VolumeRay volumeRay(vec3 dir, vec3 eye, ivec3 dims, vec3 spacing) {
+  vec3 worldToTexture = 1.0 / (spacing * vec3(dims));
+  return VolumeRay(eye * worldToTexture, dir * worldToTexture, 1.0 / vec3(dims));
 }
 
 float volumeTexValue(vec3 p) { return textureLod(uVolume, p, 0.0).r; }
@@ -112,7 +113,7 @@ RayResult castBrute(uvec2 pixel) {
   ivec3 dims = uVolumeDims;
   vec3 eye = uEye;
   float dt = wu.level0.x;
-  VolumeRay ray = volumeRay(dir);
+  VolumeRay ray = volumeRay(dir, eye, dims, wu.spacing);
 #ifdef RAYCAST_MODE_ISO
   bool hasPrev = false;
   float tPrev = 0.0, fPrev = 0.0, tHitB = 0.0;
