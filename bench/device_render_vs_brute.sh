@@ -25,8 +25,9 @@ command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,
   --format=csv | tee "$OUT/gpu.txt"
 
 export ROPECAST_SHADER_DIR=$PWD  # shaders are read at run time; the build's own path is not here
+libs=$PWD/.devlibs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 if [ -x build/vg/tests/index_gltests ]; then
-  LD_LIBRARY_PATH=$PWD/.devlibs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} build/vg/tests/index_gltests 2>&1 |
+  LD_LIBRARY_PATH=$libs build/vg/tests/index_gltests 2>&1 |
     tee "$OUT/index_gltests.txt" | grep -E "^GL:|compared|PASSED|FAILED" || true
 fi
 [ -x build/vg/tools/ropecast ] || { echo "device_render_vs_brute: build/vg/tools/ropecast not carried" >&2; exit 1; }
@@ -34,7 +35,7 @@ wrapper=$(mktemp -d /tmp/ropecast_build.XXXXXX)
 mkdir -p "$wrapper/tools"
 cat > "$wrapper/tools/ropecast" <<EOF
 #!/bin/sh
-LD_LIBRARY_PATH=$PWD/.devlibs\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH} exec $PWD/build/vg/tools/ropecast "\$@"
+LD_LIBRARY_PATH=$libs exec $PWD/build/vg/tools/ropecast "\$@"
 EOF
 chmod +x "$wrapper/tools/ropecast"
 

@@ -25,11 +25,10 @@ WORK=$(mktemp -d /tmp/jit_profile.XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 gcc -O2 -shared -fPIC bench/jit_profile/exec_dump.c -o "$WORK/exec_dump.so" -ldl
 mkdir "$WORK/regions"
-EGL_PLATFORM=${EGL_PLATFORM:-surfaceless} LP_NUM_THREADS=0 MESA_SHADER_CACHE_DISABLE=true \
-  ROPECAST_SHADER_DIR=${SHADERS:-$PWD} JIT_DUMP_DIR="$WORK/regions" LD_PRELOAD="$WORK/exec_dump.so" \
-  valgrind --tool=callgrind --dump-instr=yes --fair-sched=yes \
-  --dump-after='*FrameRenderer::render(*' --dump-after='*BruteForcePass::render(*' \
-  --callgrind-out-file="$WORK/cg" "$BUILD/tools/ropecast" render "$@" --frames "$FRAMES" -o "$WORK/out.ppm" \
+source bench/callgrind_frames.sh
+ROPECAST_SHADER_DIR=${SHADERS:-$PWD} JIT_DUMP_DIR="$WORK/regions" LD_PRELOAD="$WORK/exec_dump.so" \
+  "${CALLGRIND_PER_FRAME[@]}" --dump-instr=yes --callgrind-out-file="$WORK/cg" \
+  "$BUILD/tools/ropecast" render "$@" --frames "$FRAMES" -o "$WORK/out.ppm" \
   > "$WORK/log" 2>&1 || { echo "jit_profile: ropecast render failed:" >&2; tail -5 "$WORK/log" >&2; exit 1; }
 [ -f "$WORK/cg.$FRAMES" ] || { echo "jit_profile: no counts for frame $FRAMES" >&2; exit 1; }
 python3 bench/jit_profile/blocks.py "$WORK/cg.$FRAMES" "$WORK/regions" ${BLOCKS:+--blocks} \

@@ -7,11 +7,9 @@
 #   bench/shader_instructions.sh [BUILD_DIR]         (default build/vg, configured and built if missing)
 #
 # The build must be ROPECAST_WITH_OIIO=OFF: OpenImageIO pulls in libhwy, whose start-up runs RDTSCP, which
-# valgrind 3.19 cannot execute. Callgrind writes its counts after every frame (--dump-after the renderers'
-# per-frame functions, which wait for the GL timer and so for the frame's rasterization: LP_NUM_THREADS=0
-# rasterizes in the calling thread); the figure is the last frame's, and the two frames before it must have
-# cost the same, i.e. the working set must have converged. The Mesa shader cache is off, and valgrind
-# schedules threads fairly (without it the loader thread starved and nothing was drawn).
+# valgrind 3.19 cannot execute. Callgrind writes its counts after every frame (bench/callgrind_frames.sh); the
+# figure is the last frame's, and the two frames before it must have cost the same, i.e. the working set must
+# have converged.
 # Environment: VOLUME (default procedural:marschner-lobb:64), MODE (dvr), IMAGE (128x128), FRAMES (10),
 # SHADERS (a shader tree for ROPECAST_SHADER_DIR, or a colon list: a folder with the changed files first, then
 # the checkout; default the checkout's), EXTRA (more `ropecast render` args), BRUTE_INSTRUCTIONS (brute force's
@@ -36,7 +34,7 @@ if [ ! -x "$BUILD/tools/ropecast" ]; then
   cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DROPECAST_WITH_OIIO=OFF -DROPECAST_BUILD_TESTS=OFF >/dev/null
   cmake --build "$BUILD" --target ropecast
 fi
-export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless} LP_NUM_THREADS=0 MESA_SHADER_CACHE_DISABLE=true
+source bench/callgrind_frames.sh
 
 # jit_instructions DUMP: instructions in code without an object file (llvmpipe's JIT) in one callgrind dump.
 jit_instructions() {
@@ -49,9 +47,7 @@ per_frame() {
   local name=$1
   shift
   # shellcheck disable=SC2086  # EXTRA is a word list
-  ROPECAST_SHADER_DIR=$SHADERS valgrind --tool=callgrind --fair-sched=yes \
-    --dump-after='*FrameRenderer::render(*' --dump-after='*BruteForcePass::render(*' \
-    --callgrind-out-file="$WORK/$name.cg" \
+  ROPECAST_SHADER_DIR=$SHADERS "${CALLGRIND_PER_FRAME[@]}" --callgrind-out-file="$WORK/$name.cg" \
     "$BUILD/tools/ropecast" render "$input" --size "$IMAGE" --mode "$MODE" --tf linear --voxels-per-pixel 64 \
     --frames "$FRAMES" -o "$WORK/$name.ppm" ${EXTRA:-} "$@" > "$WORK/$name.log" 2>&1 ||
     { echo "shader_instructions: $name failed:" >&2; tail -5 "$WORK/$name.log" >&2; exit 1; }

@@ -80,16 +80,11 @@ def main(argv):
     total = sum(c for _, c, _ in rows)
     if not total:
         sys.exit('blocks.py: no counted instruction in the dumped regions of ' + regions_dir)
-    classes = collections.Counter()
-    sizes = collections.Counter()
-    for _, c, _ in rows:
-        if c:
-            classes[c] += c
-            sizes[c] += 1
+    sizes = collections.Counter(c for _, c, _ in rows if c)  # instructions per execution count
     print('%d instructions in JIT code' % total)
     print('%10s %7s %12s %6s' % ('executed', 'instrs', 'total', 'share'))
-    for c, t in classes.most_common(20):
-        print('%10d %7d %12d %5.1f%%' % (c, sizes[c], t, 100.0 * t / total))
+    for c, n in sorted(sizes.items(), key=lambda item: -item[0] * item[1])[:20]:
+        print('%10d %7d %12d %5.1f%%' % (c, n, c * n, 100.0 * c * n / total))
     if show_blocks:
         print('\nblocks in address order (count, instructions, last jumps and calls):')
         run = None
