@@ -154,10 +154,19 @@ int runRender(const RenderOptions& o) {
   params.backend = o.backend == "compute" ? RenderBackend::Compute : RenderBackend::Fragment;
   params.gradients = o.gradients == "computed" ? GradientSource::Computed : GradientSource::Stored;
 
+  if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
+    std::fprintf(stderr,
+                 "ropecast render: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
+                 "isosurface is empty\n",
+                 params.isoValue, lo, hi);
+
+  // A --tf that names no preset and no readable file is an error in either mode (a script that switches modes
+  // should not learn of a typo only when it reaches DVR); the table is baked for DVR only.
   std::optional<TfTable> tf;
-  if (params.mode == RenderMode::Dvr) {
+  if (params.mode == RenderMode::Dvr || !o.tf.empty()) {
     const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
-    tf = TfTable::bake(function, info.mapping, info.storedType == SampleType::UInt8 ? 255 : 65535);
+    if (params.mode == RenderMode::Dvr)
+      tf = TfTable::bake(function, info.mapping, info.storedType == SampleType::UInt8 ? 255 : 65535);
   }
 
   std::optional<CameraPath> path;

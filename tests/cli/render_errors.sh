@@ -45,6 +45,7 @@ expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-
 expect_failure "unknown tf preset" "--tf" "$vol" --mode dvr --tf nopreset
 expect_failure "tf point not 5 numbers" "short_point.json" "$vol" --mode dvr --tf "$dir/short_point.json"
 expect_failure "tf not JSON" "truncated.json" "$vol" --mode dvr --tf "$dir/truncated.json"
+expect_failure "tf typo in iso mode" "--tf" "$vol" --mode iso --tf "$dir/none.json"
 expect_failure "orbit needs 3 numbers" "--orbit" "$vol" --orbit 1,2
 expect_failure "eye equals target" "--eye" "$vol" --eye 1,1,1 --target 1,1,1
 expect_failure "gpu budget too small" "--gpu-budget" "$vol" --gpu-budget 1K
@@ -60,6 +61,19 @@ if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF "$dir/nodir/y.png" "$dir/err
   echo "ok   unwritable output (exit $rc)"
 else
   echo "FAIL unwritable output: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+
+# An isovalue outside the data's range is not an error (the image is the background), but it is said.
+if "$ropecast" render "$vol" --iso 1e6 -o "$dir/far.png" > /dev/null 2> "$dir/err.txt" &&
+  grep -qF -- "--iso 1e+06 lies outside" "$dir/err.txt" && [ -f "$dir/far.png" ]; then
+  echo "ok   isovalue outside the data range: warned, image written"
+else
+  echo "FAIL isovalue outside the data range: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+if "$ropecast" render "$vol" --iso 100 -o "$dir/in.png" > /dev/null 2> "$dir/err.txt" && [ ! -s "$dir/err.txt" ]; then
+  echo "ok   isovalue inside the data range: no warning"
+else
+  echo "FAIL isovalue inside the data range: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
