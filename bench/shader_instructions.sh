@@ -10,7 +10,7 @@
 # valgrind 3.19 cannot execute. Callgrind writes its counts after every frame (bench/callgrind_frames.sh); the
 # figure is the last frame's, and the two frames before it must have cost the same, i.e. the working set must
 # have converged.
-# Environment: VOLUME (default procedural:marschner-lobb:64), MODE (dvr), IMAGE (128x128), FRAMES (10),
+# Environment: VOLUME (default procedural:marschner-lobb:64), MODE (dvr), TF (linear), IMAGE (128x128), FRAMES (10),
 # SHADERS (a shader tree for ROPECAST_SHADER_DIR, or a colon list: a folder with the changed files first, then
 # the checkout; default the checkout's), EXTRA (more `ropecast render` args), BRUTE_INSTRUCTIONS (brute force's
 # per-frame count from an earlier run with the same VOLUME, MODE, IMAGE and brute-force shader: skips measuring
@@ -23,6 +23,7 @@ cd "$(dirname "$0")/.."
 BUILD=${1:-build/vg}
 VOLUME=${VOLUME:-procedural:marschner-lobb:64}
 MODE=${MODE:-dvr}
+TF=${TF:-linear}
 IMAGE=${IMAGE:-128x128}
 FRAMES=${FRAMES:-10}
 SHADERS=${SHADERS:-$PWD}
@@ -48,7 +49,7 @@ per_frame() {
   shift
   # shellcheck disable=SC2086  # EXTRA is a word list
   ROPECAST_SHADER_DIR=$SHADERS "${CALLGRIND_PER_FRAME[@]}" --callgrind-out-file="$WORK/$name.cg" \
-    "$BUILD/tools/ropecast" render "$input" --size "$IMAGE" --mode "$MODE" --tf linear --voxels-per-pixel 64 \
+    "$BUILD/tools/ropecast" render "$input" --size "$IMAGE" --mode "$MODE" --tf "$TF" --voxels-per-pixel 64 \
     --frames "$FRAMES" -o "$WORK/$name.ppm" ${EXTRA:-} "$@" > "$WORK/$name.log" 2>&1 ||
     { echo "shader_instructions: $name failed:" >&2; tail -5 "$WORK/$name.log" >&2; exit 1; }
   local counts=() i
@@ -68,7 +69,7 @@ case "$VOLUME" in
   procedural:*) "$BUILD/tools/ropecast" convert "$VOLUME" -o "$WORK/volume.rcast" > /dev/null; input=$WORK/volume.rcast ;;
   *) input=$VOLUME ;;
 esac
-echo "$VOLUME $MODE $IMAGE, last of $FRAMES frames, shaders $SHADERS"
+echo "$VOLUME $MODE (tf $TF) $IMAGE, last of $FRAMES frames, shaders $SHADERS"
 brute=${BRUTE_INSTRUCTIONS:-$(per_frame brute --backend brute)}
 rope=$(per_frame rope)
 python3 -c "
