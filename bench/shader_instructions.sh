@@ -13,7 +13,7 @@
 # Environment: VOLUME (default procedural:marschner-lobb:64), MODE (dvr), TF (linear), IMAGE (128x128), FRAMES (10),
 # SHADERS (a shader tree for ROPECAST_SHADER_DIR, or a colon list: a folder with the changed files first, then
 # the checkout; default the checkout's), EXTRA (more `ropecast render` args), BRUTE_INSTRUCTIONS (brute force's
-# per-frame count from an earlier run with the same VOLUME, MODE, IMAGE and brute-force shader: skips measuring
+# per-frame count from an earlier run with the same VOLUME, MODE, TF, IMAGE and brute-force shader: skips measuring
 # it again, which halves the run when only ropecast's shaders change). A 256^3 store needs more than 10 frames
 # to load under valgrind; an ML 128^3 store (`ropecast convert procedural:marschner-lobb:128`) has ~4 leaves
 # per ray and takes ~1 min per renderer here (iso: FRAMES=12).

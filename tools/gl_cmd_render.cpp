@@ -144,9 +144,9 @@ int runRender(const RenderOptions& o) {
   const glm::u32vec2 size = parseImageSize(o.size, "--size");
   RenderParams params;
   params.mode = o.mode == "dvr" ? RenderMode::Dvr : RenderMode::Iso;
+  const uint32_t storedMax = info.storedType == SampleType::UInt8 ? 255 : 65535;
   const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
-  const double hi =
-      info.volume.valueMax.value_or(info.mapping.toData(info.storedType == SampleType::UInt8 ? 255 : 65535));
+  const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   params.isoValue = o.iso.value_or(0.5 * (lo + hi));
   params.stepVoxels = o.step;
   params.ert = o.ert;
@@ -165,8 +165,7 @@ int runRender(const RenderOptions& o) {
   std::optional<TfTable> tf;
   if (params.mode == RenderMode::Dvr || !o.tf.empty()) {
     const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
-    if (params.mode == RenderMode::Dvr)
-      tf = TfTable::bake(function, info.mapping, info.storedType == SampleType::UInt8 ? 255 : 65535);
+    if (params.mode == RenderMode::Dvr) tf = TfTable::bake(function, info.mapping, storedMax);
   }
 
   std::optional<CameraPath> path;
