@@ -28,6 +28,10 @@ AZ=30 EL=20 DIST=3 FOV=40
 WORK=${WORK:-$(mktemp -d /tmp/render_vs_vtk.XXXXXX)}
 mkdir -p "$WORK"
 [ -x "$ROPECAST" ] || { echo "render_vs_vtk: $ROPECAST not built" >&2; exit 1; }
+if ! command -v xvfb-run > /dev/null || ! /usr/bin/python3 -c 'import vtk' 2> /dev/null; then
+  echo "render_vs_vtk: needs xvfb-run and python3-vtk9; run scripts/bootstrap --bench" >&2
+  exit 1
+fi
 
 # DVR transfer function in stored units (uint8 procedural data: data units = stored units): the "linear"
 # preset's ramp, written out so VTK reads the very same points.
