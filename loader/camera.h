@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -26,10 +27,24 @@ struct Ray {
 
 // The eye orbiting the center of the box [boxMin, boxMax]: azimuth around +z from +x, elevation above the xy
 // plane (degrees), distance in units of the box's bounding-sphere radius; up is +z.
-Camera orbitCamera(double azimuthDeg, double elevationDeg, double distance, glm::dvec3 boxMin, glm::dvec3 boxMax,
-                   double fovYDeg = 40.0);
+Camera orbitCamera(double azimuthDeg, double elevationDeg, double distance, glm::dvec3 boxMin,
+                   glm::dvec3 boxMax, double fovYDeg = 40.0);
 
-// Orthonormal camera frame: forward (eye -> target), right, and the true up.
+// The up vector a camera gets when the user gives none: +z, or +y when looking (nearly) along z.
+glm::dvec3 defaultUp(glm::dvec3 viewDirection);
+
+// What makes a camera unusable, in words ("" when it is usable). viewProblem: eye and target at the same
+// point, or a view direction that overflows; no frame exists then. cameraProblem adds an up vector that is
+// zero or parallel to the view direction and a field of view outside (0, 180) degrees. Callers that take a
+// camera from the user (command line, camera path) check cameraProblem and name the option or keyframe;
+// whatever draws checks viewProblem, since rays from such a camera are not finite and a ray caster fed NaN
+// rays can spin.
+std::string viewProblem(glm::dvec3 eye, glm::dvec3 target);
+std::string cameraProblem(const Camera& c);
+
+// Orthonormal camera frame: forward (eye -> target), right, and the true up. An up vector that is zero or
+// parallel to forward (an interpolated camera path can pass through one) is replaced by defaultUp, so the
+// frame is finite whenever eye and target are distinct finite points.
 struct CameraFrame {
   glm::dvec3 forward, right, up;
 };

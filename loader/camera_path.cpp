@@ -55,8 +55,10 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
     } else if (j.contains("eye") && j.contains("target")) {
       k.camera.eye = readVec3(j["eye"], "eye", where);
       k.camera.target = readVec3(j["target"], "target", where);
-      if (j.contains("up")) k.camera.up = readVec3(j["up"], "up", where);
-      if (k.camera.eye == k.camera.target) throw Error(where + ": \"eye\" and \"target\" are the same point");
+      k.camera.up =
+          j.contains("up") ? readVec3(j["up"], "up", where) : defaultUp(k.camera.target - k.camera.eye);
+      if (const std::string problem = cameraProblem(k.camera); !problem.empty())
+        throw Error(where + ": " + problem);
     } else {
       throw Error(where + ": needs \"orbit\", or \"eye\" and \"target\"");
     }

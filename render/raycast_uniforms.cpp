@@ -65,6 +65,9 @@ void setSharedRaycastUniforms(const ShaderProgram& p, const Camera& camera, uint
                               double storedMax, const RenderParams& rp) {
   const GLuint id = p.id();
   const auto u = [&](const char* name) { return p.uniform(name); };
+  // Never draw rays that are not finite: the traversal loops would not end (a hung GPU).
+  if (const std::string problem = viewProblem(camera.eye, camera.target); !problem.empty())
+    throw Error("ray cast: unusable camera: " + problem);
   const CameraFrame cam = cameraFrame(camera);
   setVec3Uniform(id, u("uEye"), camera.eye);
   setVec3Uniform(id, u("uForward"), cam.forward);

@@ -31,7 +31,7 @@ struct RenderOptions {
   std::optional<double> iso;
   std::string tf;
   std::string size = "512x512";
-  std::string orbit, eye, target, up = "0,0,1";
+  std::string orbit, eye, target, up;  // up: empty for defaultUp
   double fov = 40.0;
   std::string background = "0,0,0";
   std::string backend = "fragment";
@@ -67,9 +67,12 @@ Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
     Camera c;
     c.eye = parseTriple(o.eye, "--eye");
     c.target = parseTriple(o.target, "--target");
-    c.up = parseTriple(o.up, "--up");
     c.fovYDeg = o.fov;
     if (c.eye == c.target) throw Error("--eye and --target must differ");
+    c.up = o.up.empty() ? defaultUp(c.target - c.eye) : parseTriple(o.up, "--up");
+    if (const std::string problem = cameraProblem(c); !problem.empty())
+      throw Error("--eye " + o.eye + " --target " + o.target + (o.up.empty() ? "" : " --up " + o.up) + ": " +
+                  problem);
     return c;
   }
   const glm::dvec3 orbit = o.orbit.empty() ? glm::dvec3(30.0, 20.0, 3.0) : parseTriple(o.orbit, "--orbit");
@@ -175,6 +178,13 @@ int runRender(const RenderOptions& o) {
   auto cameraOf = [&](uint32_t frame) {
     return path ? sampleCameraPath(*path, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o, info);
   };
+  // Every keyframe has a view, but eye and target can meet between two; found before any frame is written.
+  for (uint32_t frame = 0; path && frame < frames; ++frame) {
+    const Camera c = cameraOf(frame);
+    if (const std::string problem = viewProblem(c.eye, c.target); !problem.empty())
+      throw Error("camera path " + o.path + ", frame " + std::to_string(frame) + " of " +
+                  std::to_string(frames) + ": " + problem);
+  }
 
   StatsWriter stats(o.stats);
   if (o.reference) {
@@ -281,7 +291,7 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
   app.add_option("--eye", o->eye, "camera position X,Y,Z (world units)");
   app.add_option("--target", o->target, "point looked at X,Y,Z");
-  app.add_option("--up", o->up, "up vector X,Y,Z")->capture_default_str();
+  app.add_option("--up", o->up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
   app.add_option("--fov", o->fov, "vertical field of view, degrees")
       ->check(CLI::Range(1.0, 179.0))
       ->capture_default_str();

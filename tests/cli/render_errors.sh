@@ -9,20 +9,24 @@ export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
 failures=0
 
 # expect_failure NAME PATTERN ARGS...: `ropecast render ARGS -o $dir/x.png` must fail with 1..127, print PATTERN
-# on stderr and leave no x.png (nor a temporary of it).
+# on stderr and leave no x.png, no x_NNNN.png of --every, nor a temporary of either.
 expect_failure() {
   local name="$1" pattern="$2"
   shift 2
-  "$ropecast" render "$@" -o "$dir/x.png" > "$dir/out.txt" 2> "$dir/err.txt"
+  # Bad input must never hang (a camera whose rays are not finite once spun the ray caster forever).
+  timeout 120 "$ropecast" render "$@" -o "$dir/x.png" > "$dir/out.txt" 2> "$dir/err.txt"
   local rc=$?
+  if [ "$rc" = 124 ]; then
+    echo "FAIL $name: still running after 120 s"; failures=$((failures + 1)); return
+  fi
   if [ "$rc" -lt 1 ] || [ "$rc" -gt 127 ]; then
     echo "FAIL $name: exit code $rc"; failures=$((failures + 1)); return
   fi
   if ! grep -qF -- "$pattern" "$dir/err.txt"; then
     echo "FAIL $name: stderr does not name '$pattern':"; cat "$dir/err.txt"; failures=$((failures + 1)); return
   fi
-  if [ -n "$(find "$dir" -name 'x.png*')" ]; then
-    echo "FAIL $name: left $(find "$dir" -name 'x.png*')"; failures=$((failures + 1)); return
+  if [ -n "$(find "$dir" -name 'x*.png*')" ]; then
+    echo "FAIL $name: left $(find "$dir" -name 'x*.png*')"; failures=$((failures + 1)); return
   fi
   echo "ok   $name (exit $rc): $(head -c 160 "$dir/err.txt" | tr '\n' ' ')"
 }
@@ -32,6 +36,10 @@ printf 'not a store at all' > "$dir/bogus.rcast"
 printf '{"points": [[0, 0, 0, 0]]}' > "$dir/short_point.json"
 printf '{"points": ' > "$dir/truncated.json"
 printf '[{"eye": [1, 2]}]' > "$dir/bad_path.json"
+printf '[{"eye": [0, 0, 0], "target": [1, 1, 1], "up": [2, 2, 2]}]' > "$dir/parallel_up_path.json"
+# Eye and target trade places: they meet halfway, at frame 1 of 3.
+printf '[{"eye": [0, -50, 16], "target": [0, 50, 16]}, {"eye": [0, 50, 16], "target": [0, -50, 16]}]' \
+  > "$dir/crossing_path.json"
 
 expect_failure "missing store" "$dir/none.rcast" "$dir/none.rcast"
 expect_failure "not a store" "$dir/bogus.rcast" "$dir/bogus.rcast"
@@ -48,10 +56,17 @@ expect_failure "tf not JSON" "truncated.json" "$vol" --mode dvr --tf "$dir/trunc
 expect_failure "tf typo in iso mode" "--tf" "$vol" --mode iso --tf "$dir/none.json"
 expect_failure "orbit needs 3 numbers" "--orbit" "$vol" --orbit 1,2
 expect_failure "eye equals target" "--eye" "$vol" --eye 1,1,1 --target 1,1,1
+expect_failure "up parallel to the view" "--up 1,1,1: up is parallel" "$vol" --eye 0,0,0 --target 1,1,1 --up 1,1,1
+expect_failure "zero up" "--up 0,0,0: up is the zero vector" "$vol" --eye 1,2,3 --target 0,0,0 --up 0,0,0
+expect_failure "view direction overflows" "not finite" "$vol" --eye 1e308,0,0 --target -1e308,0,0
 expect_failure "gpu budget too small" "--gpu-budget" "$vol" --gpu-budget 1K
 expect_failure "bad byte size" "--cpu-cache" "$vol" --cpu-cache lots
 expect_failure "missing camera path" "nofile.json" "$vol" --path "$dir/nofile.json"
 expect_failure "malformed camera path" "bad_path.json" "$vol" --path "$dir/bad_path.json"
+expect_failure "camera path keyframe up parallel" "parallel_up_path.json, keyframe 0: up is parallel" "$vol" \
+  --path "$dir/parallel_up_path.json"
+expect_failure "camera path eye meets target" "crossing_path.json, frame 1 of 3: eye and target" "$vol" \
+  --path "$dir/crossing_path.json" --frames 3 --every 1
 expect_failure "unwritable stats" "$dir/nodir/s.jsonl" "$vol" --stats "$dir/nodir/s.jsonl"
 
 # An unwritable image path fails the same way (it is not x.png, so check it by hand).

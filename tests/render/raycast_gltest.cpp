@@ -357,6 +357,13 @@ TEST(Raycast, RejectsInconsistentInputs) {
   wrongBricks.volume = scene.geometry;
   wrongBricks.volume.brickSize = 16;
   EXPECT_THROW(pass.render(wrongBricks), Error);
+  // A camera without a view direction gives rays that are not finite, on which the traversal would spin.
+  RaycastFrame noView = frame;
+  noView.camera.target = noView.camera.eye;
+  EXPECT_THROW(test::renderScene(pass, scene, noView), Error);
+  noView.camera.eye = {-1e308, 0, 0};
+  noView.camera.target = {1e308, 0, 0};
+  EXPECT_THROW(test::renderScene(pass, scene, noView), Error);
   EXPECT_NO_THROW(test::renderScene(pass, scene, frame));
 }
 
