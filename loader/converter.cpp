@@ -395,6 +395,9 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   const VolumeInfo& info = source.info();
   if (info.dims.x == 0 || info.dims.y == 0 || info.dims.z == 0)
     throw Error("convert: source '" + info.description + "' has an empty volume");
+  if (!isValidSpacing(info.spacing))
+    throw Error("convert: source '" + info.description + "' has spacing " + formatSpacing(info.spacing) +
+                "; expected three finite positive numbers");
   if (options.brickSize < 4 || options.brickSize > 256 || (options.brickSize & (options.brickSize - 1)) != 0)
     throw Error("convert: --brick " + std::to_string(options.brickSize) +
                 ": expected a power of two in [4, 256]");

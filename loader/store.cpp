@@ -96,6 +96,9 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
                 std::to_string(kBrickBorder));
   if (!(m.mapping.scale > 0.0) || !std::isfinite(m.mapping.scale) || !std::isfinite(m.mapping.offset))
     throw Error("Store: '" + name + "': metadata mapping must have a finite positive scale");
+  if (!isValidSpacing(m.volume.spacing))
+    throw Error("Store: '" + name + "': metadata spacing " + formatSpacing(m.volume.spacing) +
+                " must be three finite positive numbers");
   return m;
 }
 

@@ -5,8 +5,10 @@
 // (the converter reads slabs sequentially; a source may use worker threads internally).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <span>
@@ -19,16 +21,29 @@
 namespace ropecast {
 
 struct VolumeInfo {
-  glm::u32vec3 dims{0};             // samples per axis
-  glm::dvec3 spacing{1.0};          // world units per sample (mm for medical data)
+  glm::u32vec3 dims{0};     // samples per axis
+  glm::dvec3 spacing{1.0};  // world units per sample (mm for medical data)
   SampleType type = SampleType::UInt8;
-  std::optional<double> valueMin;   // known value range in data units, if the source knows it cheaply
-  std::optional<double> valueMax;   // (float32 sources without it get a range pre-pass in the converter)
-  std::string description;          // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
+  std::optional<double> valueMin;  // known value range in data units, if the source knows it cheaply
+  std::optional<double> valueMax;  // (float32 sources without it get a range pre-pass in the converter)
+  std::string description;         // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
 
   uint64_t sampleCount() const { return uint64_t(dims.x) * dims.y * dims.z; }
   size_t sliceBytes() const { return size_t(dims.x) * dims.y * bytesPerSample(type); }
 };
+
+// A spacing that gives the volume a box: finite and positive per axis (the world box is [0, n s]; zero or
+// negative spacings leave no box for rays to enter).
+inline bool isValidSpacing(glm::dvec3 s) {
+  return s.x > 0.0 && s.y > 0.0 && s.z > 0.0 && s.x < HUGE_VAL && s.y < HUGE_VAL && s.z < HUGE_VAL;
+}
+
+// "SX,SY,SZ" as the command line takes it, for messages.
+inline std::string formatSpacing(glm::dvec3 s) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%g,%g,%g", s.x, s.y, s.z);
+  return text;
+}
 
 class VolumeSource {
  public:
@@ -43,9 +58,9 @@ class VolumeSource {
 
 // Options that apply to sources whose file does not say them (raw files), or override what it says.
 struct SourceOptions {
-  std::optional<glm::u32vec3> dims;      // --dims X,Y,Z
-  std::optional<SampleType> type;        // --type T
-  std::optional<glm::dvec3> spacing;     // --spacing SX,SY,SZ
+  std::optional<glm::u32vec3> dims;   // --dims X,Y,Z
+  std::optional<SampleType> type;     // --type T
+  std::optional<glm::dvec3> spacing;  // --spacing SX,SY,SZ
 };
 
 // Opens a source from a command-line spec:

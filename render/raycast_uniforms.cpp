@@ -11,6 +11,7 @@
 #include "loader/error.h"
 #include "loader/octree_layout.h"
 #include "loader/transfer_function.h"
+#include "loader/volume_source.h"
 #include "render/gl_context.h"
 #include "render/shader_program.h"
 
@@ -65,9 +66,13 @@ void setSharedRaycastUniforms(const ShaderProgram& p, const Camera& camera, uint
                               double storedMax, const RenderParams& rp) {
   const GLuint id = p.id();
   const auto u = [&](const char* name) { return p.uniform(name); };
-  // Never draw rays that are not finite: the traversal loops would not end (a hung GPU).
+  // Never draw rays that are not finite, nor a volume without a box: the traversal loops would not end (a
+  // hung GPU).
   if (const std::string problem = viewProblem(camera.eye, camera.target); !problem.empty())
     throw Error("ray cast: unusable camera: " + problem);
+  if (!isValidSpacing(spacing))
+    throw Error("ray cast: volume spacing " + formatSpacing(spacing) +
+                " is not three finite positive numbers");
   const CameraFrame cam = cameraFrame(camera);
   setVec3Uniform(id, u("uEye"), camera.eye);
   setVec3Uniform(id, u("uForward"), cam.forward);

@@ -28,7 +28,11 @@ struct ConvertArgs {
 int runConvert(const ConvertArgs& a) {
   SourceOptions sourceOptions;
   if (!a.dims.empty()) sourceOptions.dims = parseDims(a.dims, "--dims");
-  if (!a.spacing.empty()) sourceOptions.spacing = parseTriple(a.spacing, "--spacing");
+  if (!a.spacing.empty()) {
+    sourceOptions.spacing = parseTriple(a.spacing, "--spacing");
+    if (!isValidSpacing(*sourceOptions.spacing))
+      throw Error("convert: --spacing " + a.spacing + ": expected three positive numbers SX,SY,SZ");
+  }
   if (!a.type.empty()) {
     sourceOptions.type = parseSampleType(a.type);
     if (!sourceOptions.type)

@@ -46,6 +46,9 @@ expect_absent "$dir/cut.store"
 expect_failure "bad brick size" "--brick" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --brick 12 -o "$dir/b12.store" --quiet
 expect_absent "$dir/b12.store"
+expect_failure "zero spacing" "--spacing 0,1,1" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --spacing 0,1,1 -o "$dir/s0.store" --quiet
+expect_absent "$dir/s0.store"
 
 # Damaged header: one flipped byte in the header.
 cp "$dir/good.store" "$dir/header.store"

@@ -2,6 +2,7 @@
 // no file left behind by a failed conversion.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <fstream>
 
 #include "loader/converter.h"
@@ -80,6 +81,29 @@ TEST_F(StoreErrors, DamagedMetadataAndNodeTableAreErrors) {
   table[h.nodeTableOffset + 17] ^= 0x10;
   writeFile(dir / "table.store", table);
   EXPECT_NE(openError(dir / "table.store").find("node table"), std::string::npos);
+}
+
+// A store whose metadata is intact (checksums match) but gives the volume no box: a zero spacing, which a
+// hand-edited or foreign writer could produce. Rays could not enter it; opening it is the error.
+TEST_F(StoreErrors, MetadataSpacingMustBePositive) {
+  StoreHeader h = header();
+  auto edited = bytes;
+  const std::string metadata(edited.data() + h.metadataOffset, h.metadataBytes);
+  const size_t key = metadata.find("\"spacing\"");
+  ASSERT_NE(key, std::string::npos) << metadata;
+  // The first spacing's digits all zero (0.5 -> 0.0: the same length, so no offset moves).
+  const size_t first = metadata.find_first_of("0123456789", metadata.find('[', key));
+  for (size_t i = first; i < metadata.size() && metadata[i] != ','; ++i)
+    if (std::isdigit(static_cast<unsigned char>(metadata[i]))) edited[h.metadataOffset + i] = '0';
+  h.metadataCrc =
+      storeCrc32(std::as_bytes(std::span(edited.data() + h.metadataOffset, size_t(h.metadataBytes))));
+  std::memcpy(edited.data(), &h, sizeof h);
+  h.headerCrc = storeCrc32(std::as_bytes(std::span(edited.data(), offsetof(StoreHeader, headerCrc))));
+  std::memcpy(edited.data(), &h, sizeof h);
+  writeFile(dir / "spacing.store", edited);
+  const std::string message = openError(dir / "spacing.store");
+  EXPECT_NE(message.find("spacing.store': metadata spacing 0,0.75,1.25 must be"), std::string::npos)
+      << message;
 }
 
 TEST_F(StoreErrors, TruncatedFileIsAnError) {
@@ -167,6 +191,23 @@ TEST_F(StoreErrors, BadOptionsAreErrors) {
   bad = options;
   bad.zstdLevel = 1000;
   EXPECT_THROW(convertVolume(*source, out / "v.store", bad), Error);
+  EXPECT_EQ(out.fileCount(), 0u);
+}
+
+TEST_F(StoreErrors, SourceWithoutAPositiveSpacingIsAnError) {
+  TempDir out;
+  for (glm::dvec3 spacing : {glm::dvec3(0, 1, 1), glm::dvec3(1, -2, 1), glm::dvec3(1, 1, HUGE_VAL)}) {
+    VolumeInfo info = source->info();
+    info.spacing = spacing;
+    ArraySource flat = ArraySource::fromSamples<uint16_t>(info, samples);
+    try {
+      convertVolume(flat, out / "v.store", options);
+      ADD_FAILURE() << "spacing " << formatSpacing(spacing) << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("has spacing " + formatSpacing(spacing)), std::string::npos)
+          << e.what();
+    }
+  }
   EXPECT_EQ(out.fileCount(), 0u);
 }
 

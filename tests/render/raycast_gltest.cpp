@@ -364,6 +364,13 @@ TEST(Raycast, RejectsInconsistentInputs) {
   noView.camera.eye = {-1e308, 0, 0};
   noView.camera.target = {1e308, 0, 0};
   EXPECT_THROW(test::renderScene(pass, scene, noView), Error);
+  // Nor a volume without a box (a negative spacing once hung the ray cast).
+  RaycastFrame noBox = frame;
+  noBox.pool = scene.pool.get();
+  noBox.index = scene.indexTexture.get();
+  noBox.volume = scene.geometry;
+  noBox.volume.spacing.y = -1.0;
+  EXPECT_THROW(pass.render(noBox), Error);
   EXPECT_NO_THROW(test::renderScene(pass, scene, frame));
 }
 
