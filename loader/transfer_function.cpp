@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +14,13 @@
 namespace ropecast {
 
 namespace {
+
+// A value as a person wrote it (%g): 50, 1e+308, 25.5; std::to_string prints 309 digits for 1e308.
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 // Presets as [position, r, g, b, a]. CT presets are in Hounsfield units; the MRI and linear ones in fractions
 // of the data range (0 = min, 1 = max).
@@ -93,7 +101,7 @@ TransferFunction::TransferFunction(std::vector<TfPoint> points) : points_(std::m
         throw Error("TransferFunction: point " + std::to_string(i) + " has r, g, b, a outside [0, 1]");
     if (i > 0 && p.value < points_[i - 1].value)
       throw Error("TransferFunction: points must be sorted by value; point " + std::to_string(i) + " (" +
-                  std::to_string(p.value) + ") comes after " + std::to_string(points_[i - 1].value));
+                  shortNumber(p.value) + ") comes after " + shortNumber(points_[i - 1].value));
   }
 }
 

@@ -57,6 +57,8 @@ TEST(TransferFunction, ParsingErrorsNameTheFileAndTheProblem) {
   expectError(R"({"points": [[0, 0, 0, 0, 0], [1, 0, 0, 0, 1.5]]})", "outside [0, 1]");
   expectError(R"({"points": [[0, 0, 0, 0, 0], [1, -0.1, 0, 0, 0]]})", "outside [0, 1]");
   expectError(R"({"points": [[5, 0, 0, 0, 0], [1, 0, 0, 0, 0]]})", "sorted by value");
+  expectError(R"({"points": [[25.5, 0, 0, 0, 0], [1e308, 0, 0, 0, 0], [-1e308, 0, 0, 0, 0]]})",
+              "point 2 (-1e+308) comes after 1e+308");
 }
 
 TEST(TransferFunction, FileErrorsNameTheFile) {
