@@ -1,6 +1,7 @@
 #include "render/image_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <system_error>
@@ -47,7 +48,24 @@ void writeAtomically(const std::string& where, const std::string& path, const OI
   }
 }
 
+bool parentFolderExists(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  return parent.empty() || std::filesystem::is_directory(parent, ec);
+}
+
 }  // namespace
+
+std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
+  if (!parentFolderExists(path))
+    return "its folder '" + std::filesystem::path(path).parent_path().string() + "' does not exist";
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (kind == ImageOutputKind::FloatExr)
+    return ext == ".exr" ? "" : "expected a file name ending in .exr (float data)";
+  if (!OIIO::ImageOutput::create(path)) return "no image writer for this extension; use .png";
+  return "";
+}
 
 void writePng(const std::string& path, const FloatImage& image, bool withAlpha) {
   const uint32_t channels = withAlpha ? 4 : 3;

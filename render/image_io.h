@@ -28,6 +28,12 @@ void writePng(const std::string& path, const FloatImage& image, bool withAlpha);
 void writeExr(const std::string& path, const FloatImage& image);
 // Writes a 1-channel image as a float EXR with the channel "Z" (world units; +inf = miss).
 void writeDepthExr(const std::string& path, const FloatImage& depth);
+// What an image output is for: writePng's 8-bit color, or writeExr's and writeDepthExr's float data.
+enum class ImageOutputKind { Color8, FloatExr };
+// Why an image of `kind` cannot be written at `path`, in words ("" when it can): its folder does not exist,
+// no writer knows its extension, or a float output's name does not end in .exr (any other format would round
+// the floats). Callers check their outputs before long work, so a typo does not surface after the render.
+std::string imageOutputProblem(const std::string& path, ImageOutputKind kind);
 // Reads any image OpenImageIO knows as floats (8-bit PNG values become v / 255). Throws naming the file.
 FloatImage readImage(const std::string& path);
 

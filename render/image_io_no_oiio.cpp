@@ -19,6 +19,11 @@ namespace {
 }
 }  // namespace
 
+std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
+  if (kind == ImageOutputKind::Color8 && path.ends_with(".ppm")) return "";
+  return "this ropecast was built without OpenImageIO (ROPECAST_WITH_OIIO=OFF); it writes .ppm images only";
+}
+
 void writePng(const std::string& path, const FloatImage& image, bool withAlpha) {
   if (!path.ends_with(".ppm")) refuse("writePng", path);
   if (image.channels < 3) throw Error("writePng: '" + path + "': needs at least 3 channels");

@@ -136,8 +136,21 @@ class StatsWriter {
   bool done_ = false;
 };
 
+// The image outputs are checked before anything is loaded or rendered.
+void checkImageOutputs(const RenderOptions& o) {
+  const auto check = [](const char* option, const std::string& path, ImageOutputKind kind) {
+    if (path.empty()) return;
+    if (const std::string problem = imageOutputProblem(path, kind); !problem.empty())
+      throw Error(std::string(option) + " " + path + ": " + problem);
+  };
+  check("-o", o.output, ImageOutputKind::Color8);
+  check("--exr", o.exr, ImageOutputKind::FloatExr);
+  check("--depth", o.depth, ImageOutputKind::FloatExr);
+}
+
 int runRender(const RenderOptions& o) {
   if (o.output.empty()) throw Error("render: -o OUT.png is required");
+  checkImageOutputs(o);
   std::unique_ptr<BrickSource> source = openBrickSource(o);
   std::unique_ptr<BrickSource> delayed;
   if (o.ioDelayMs > 0.0) delayed = std::make_unique<DelayedBrickSource>(*source, o.ioDelayMs);

@@ -68,6 +68,21 @@ expect_failure "camera path keyframe up parallel" "parallel_up_path.json, keyfra
 expect_failure "camera path eye meets target" "crossing_path.json, frame 1 of 3: eye and target" "$vol" \
   --path "$dir/crossing_path.json" --frames 3 --every 1
 expect_failure "unwritable stats" "$dir/nodir/s.jsonl" "$vol" --stats "$dir/nodir/s.jsonl"
+expect_failure "float output not EXR" "--exr $dir/x_float.png: expected a file name ending in .exr" "$vol" \
+  --exr "$dir/x_float.png"
+expect_failure "depth output not EXR" "--depth $dir/x_depth.tif: expected a file name ending in .exr" "$vol" \
+  --depth "$dir/x_depth.tif"
+expect_failure "unwritable depth" "--depth $dir/nodir/d.exr: its folder" "$vol" --depth "$dir/nodir/d.exr"
+
+# An image name without a known extension is refused before rendering.
+"$ropecast" render "$vol" -o "$dir/noextension" > /dev/null 2> "$dir/err.txt"
+rc=$?
+if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF -- "-o $dir/noextension: no image writer" "$dir/err.txt" &&
+  [ -z "$(find "$dir" -name 'noextension*')" ]; then
+  echo "ok   output without an image extension (exit $rc)"
+else
+  echo "FAIL output without an image extension: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
 
 # An unwritable image path fails the same way (it is not x.png, so check it by hand).
 "$ropecast" render "$vol" -o "$dir/nodir/y.png" > /dev/null 2> "$dir/err.txt"

@@ -81,5 +81,24 @@ TEST(ImageIo, ErrorsNameTheFile) {
   EXPECT_THROW(writePng((dir / "y.png").string(), FloatImage{2, 2, 4, {}}, true), Error);
 }
 
+TEST(ImageIo, OutputProblemsAreFoundBeforeWriting) {
+  const auto dir = test::freshTempDir();
+  const auto at = [&](const char* name) { return (dir / name).string(); };
+  EXPECT_EQ(imageOutputProblem(at("a.png"), ImageOutputKind::Color8), "");
+  EXPECT_EQ(imageOutputProblem(at("a.exr"), ImageOutputKind::FloatExr), "");
+  EXPECT_EQ(imageOutputProblem(at("a.EXR"), ImageOutputKind::FloatExr), "");
+  EXPECT_EQ(imageOutputProblem("relative.png", ImageOutputKind::Color8), "");
+  EXPECT_EQ(imageOutputProblem(at("a.png"), ImageOutputKind::FloatExr),
+            "expected a file name ending in .exr (float data)");
+  EXPECT_EQ(imageOutputProblem(at("a.tif"), ImageOutputKind::FloatExr),
+            "expected a file name ending in .exr (float data)");
+  EXPECT_EQ(imageOutputProblem(at("noextension"), ImageOutputKind::Color8),
+            "no image writer for this extension; use .png");
+  EXPECT_EQ(imageOutputProblem(at("none/a.png"), ImageOutputKind::Color8),
+            "its folder '" + at("none") + "' does not exist");
+  EXPECT_EQ(std::filesystem::directory_iterator(dir),
+            std::filesystem::directory_iterator());  // wrote nothing
+}
+
 }  // namespace
 }  // namespace ropecast
