@@ -401,6 +401,9 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   if (options.brickSize < 4 || options.brickSize > 256 || (options.brickSize & (options.brickSize - 1)) != 0)
     throw Error("convert: --brick " + std::to_string(options.brickSize) +
                 ": expected a power of two in [4, 256]");
+  if (options.discardBelow && !std::isfinite(*options.discardBelow))
+    throw Error("convert: --discard-below " + std::to_string(*options.discardBelow) +
+                ": expected a finite value in data units");
   if (options.zstdLevel < ZSTD_minCLevel() || options.zstdLevel > ZSTD_maxCLevel())
     throw Error("convert: --zstd-level " + std::to_string(options.zstdLevel) + ": expected a value in [" +
                 std::to_string(ZSTD_minCLevel()) + ", " + std::to_string(ZSTD_maxCLevel()) + "]");

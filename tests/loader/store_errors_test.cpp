@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cmath>
 #include <fstream>
 
 #include "loader/converter.h"
@@ -191,6 +192,12 @@ TEST_F(StoreErrors, BadOptionsAreErrors) {
   bad = options;
   bad.zstdLevel = 1000;
   EXPECT_THROW(convertVolume(*source, out / "v.store", bad), Error);
+  // A threshold the metadata cannot record (JSON has no inf or NaN); inf also emptied every node.
+  for (double threshold : {HUGE_VAL, -HUGE_VAL, std::nan("")}) {
+    bad = options;
+    bad.discardBelow = threshold;
+    EXPECT_THROW(convertVolume(*source, out / "v.store", bad), Error) << threshold;
+  }
   EXPECT_EQ(out.fileCount(), 0u);
 }
 
