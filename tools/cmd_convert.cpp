@@ -9,6 +9,7 @@
 #include "loader/sample_type.h"
 #include "loader/store_writer.h"
 #include "loader/volume_source.h"
+#include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
 #include "tools/progress_bar.h"
@@ -82,7 +83,8 @@ const CommandRegistration registration("convert", 10, [](CLI::App& app) -> std::
   app.add_option("-o,--output", a->output, "the store file to write")->required();
   app.add_option("--brick", a->brick, "brick edge in samples (power of two in [4, 256])")
       ->capture_default_str();
-  app.add_option("--discard-below", a->discardBelow, "mark nodes whose max is below V (data units) empty");
+  app.add_option("--discard-below", a->discardBelow, "mark nodes whose max is below V (data units) empty")
+      ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--dims", a->dims, "X,Y,Z for raw files");
   app.add_option("--type", a->type, "uint8, uint16, int16 or float32 for raw files");
   app.add_option("--spacing", a->spacing, "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");

@@ -19,6 +19,7 @@
 #include "render/frame_renderer.h"
 #include "render/gl_context.h"
 #include "render/image_io.h"
+#include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
 
@@ -297,7 +298,8 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--mode", o->mode, "iso or dvr")
       ->check(CLI::IsMember({"iso", "dvr"}))
       ->capture_default_str();
-  app.add_option("--iso", o->iso, "isovalue in data units (default: middle of the value range)");
+  app.add_option("--iso", o->iso, "isovalue in data units (default: middle of the value range)")
+      ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
   app.add_option("--size", o->size, "image size WxH")->capture_default_str();
   app.add_option("--orbit", o->orbit,
@@ -306,7 +308,7 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--target", o->target, "point looked at X,Y,Z");
   app.add_option("--up", o->up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
   app.add_option("--fov", o->fov, "vertical field of view, degrees")
-      ->check(CLI::Range(1.0, 179.0))
+      ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
   app.add_option("--background", o->background, "background R,G,B in [0,1]")->capture_default_str();
   app.add_option("--backend", o->backend,
@@ -325,13 +327,13 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_flag("--reference", o->reference,
                "brute-force CPU ray marching of the full-resolution data instead");
   app.add_option("--step", o->step, "sample distance in voxels of the level crossed")
-      ->check(CLI::Range(0.01, 8.0))
+      ->check(finiteIn(0.01, 8.0))
       ->capture_default_str();
   app.add_option("--ert", o->ert, "early ray termination opacity (DVR)")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(finiteIn(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--voxels-per-pixel", o->voxelsPerPixel, "refinement target: voxels per pixel")
-      ->check(CLI::Range(0.01, 64.0))
+      ->check(finiteIn(0.01, 64.0))
       ->capture_default_str();
   app.add_option("--gpu-budget", o->gpuBudget, "GPU brick pool bytes (e.g. 512M; default from the driver)");
   app.add_option("--cpu-cache", o->cpuCache, "CPU brick cache bytes")->capture_default_str();
@@ -339,12 +341,12 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option(
          "--upload-time-budget", o->uploadTimeBudgetMs,
          "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
-      ->check(CLI::Range(0.0, 100000.0));
+      ->check(finiteIn(0.0, 100000.0));
   app.add_flag("--upload-pbo", o->uploadPbo, "upload bricks through a pixel buffer object");
   app.add_option("--target-frame-ms", o->targetFrameMs,
                  "progressive frames: sample at up to 4x --step while a frame takes longer than this (the "
                  "written images too; default: off)")
-      ->check(CLI::Range(0.0, 100000.0));
+      ->check(finiteIn(0.0, 100000.0));
   app.add_option("--frames", o->frames, "frames to render (progressive loading)")
       ->check(CLI::Range(1u, 1000000u));
   app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes");
@@ -352,7 +354,7 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--max-frames", o->maxFrames, "frame cap for --converge")->capture_default_str();
   app.add_option("--every", o->every, "also write every K-th frame as OUT_NNNN.png");
   app.add_option("--io-delay-ms", o->ioDelayMs, "added latency per brick read (shows asynchrony)")
-      ->check(CLI::Range(0.0, 10000.0));
+      ->check(finiteIn(0.0, 10000.0));
   app.add_option("--brick", o->brick, "brick size for procedural inputs")
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
   return [o] { return runRender(*o); };

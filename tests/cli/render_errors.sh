@@ -50,6 +50,10 @@ expect_failure "bad mode" "--mode" "$vol" --mode foo
 expect_failure "bad backend" "--backend" "$vol" --backend vulkan
 expect_failure "bad gradients" "--gradients" "$vol" --gradients sobel
 expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
+# CLI11's own range check lets NaN through; a NaN opacity or isovalue must not reach the renderer.
+expect_failure "NaN early termination" "--ert: expected a finite number in [0, 1], got 'nan'" "$vol" --ert nan
+expect_failure "NaN isovalue" "--iso: expected a finite number, got 'nan'" "$vol" --iso nan
+expect_failure "NaN field of view" "--fov: expected a finite number in [1, 179]" "$vol" --fov nan
 expect_failure "unknown tf preset" "--tf" "$vol" --mode dvr --tf nopreset
 expect_failure "tf point not 5 numbers" "short_point.json" "$vol" --mode dvr --tf "$dir/short_point.json"
 expect_failure "tf not JSON" "truncated.json" "$vol" --mode dvr --tf "$dir/truncated.json"
