@@ -42,9 +42,22 @@ class TemporaryFile {
   bool committed_ = false;
 };
 
+// A temporary file name written by someone else (an image library that opens files by name): while the guard
+// lives, the handlers of removeTemporaryFilesOnSignals remove that file too. Any thread.
+class TemporaryNameGuard {
+ public:
+  explicit TemporaryNameGuard(const std::string& path);
+  ~TemporaryNameGuard();
+  TemporaryNameGuard(const TemporaryNameGuard&) = delete;
+  TemporaryNameGuard& operator=(const TemporaryNameGuard&) = delete;
+
+ private:
+  int signalSlot_ = -1;
+};
+
 // For the command-line tools: installs SIGINT/SIGTERM/SIGHUP handlers that remove every TemporaryFile still
 // open in the process (async-signal-safe: unlink only) and then die of the signal as before, so an
-// interrupted convert or extract leaves nothing behind either. Main thread, once.
+// interrupted convert, extract or render leaves nothing behind either. Main thread, once.
 void removeTemporaryFilesOnSignals();
 
 class StoreWriter {

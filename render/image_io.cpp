@@ -9,6 +9,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "loader/error.h"
+#include "loader/store_writer.h"
 
 namespace ropecast {
 
@@ -29,6 +30,7 @@ void checkImage(const std::string& where, const std::string& path, const FloatIm
 void writeAtomically(const std::string& where, const std::string& path, const OIIO::ImageSpec& spec,
                      OIIO::TypeDesc dataType, const void* data) {
   const std::string tmp = path + ".tmp";
+  const TemporaryNameGuard removedOnSignals(tmp);
   auto out = OIIO::ImageOutput::create(path);
   if (!out)
     throw Error(where + ": '" + path + "': no image writer for this extension (" + OIIO::geterror() + ")");

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
+#include <span>
 
 #include "loader/camera_path.h"
 #include "loader/error.h"
@@ -13,6 +13,7 @@
 #include "loader/procedural_bricks.h"
 #include "loader/step_pacer.h"
 #include "loader/store.h"
+#include "loader/store_writer.h"
 #include "loader/transfer_function.h"
 #include "render/brute_force_pass.h"
 #include "render/cpu_raycaster.h"
@@ -90,9 +91,8 @@ FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h
   return image;
 }
 
-void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatImage& depth,
-                  const std::string& pngPath) {
-  writePng(pngPath, color, false);
+void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatImage& depth) {
+  writePng(o.output, color, false);
   if (!o.exr.empty()) writeExr(o.exr, color);
   if (!o.depth.empty()) writeDepthExr(o.depth, depth);
 }
@@ -105,36 +105,26 @@ std::string framePath(const std::string& path, uint64_t frame) {
   return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
 }
 
-// Writes the stats lines to a temporary file renamed at the end, so a failed run leaves no partial file.
+// Writes the stats lines to a temporary file renamed at the end, so a failed or interrupted run leaves no
+// partial file (TemporaryFile: removed on destruction and, with removeTemporaryFilesOnSignals, on a signal).
 class StatsWriter {
  public:
-  explicit StatsWriter(std::string path) : path_(std::move(path)) {
-    if (path_.empty()) return;
-    tmp_ = path_ + ".tmp";
-    out_.open(tmp_);
-    if (!out_) throw Error("--stats " + path_ + ": cannot write the file");
-  }
-  ~StatsWriter() {
-    if (!path_.empty() && !done_) {
-      out_.close();
-      std::filesystem::remove(tmp_);
-    }
+  explicit StatsWriter(const std::string& path) {
+    if (!path.empty()) file_.emplace(path, "--stats");
   }
   void write(const FrameStats& s) {
-    if (!path_.empty()) out_ << toJsonLine(s) << '\n';
+    if (!file_) return;
+    const std::string line = toJsonLine(s) + '\n';
+    file_->writeAt(offset_, std::as_bytes(std::span(line)));
+    offset_ += line.size();
   }
   void finish() {
-    if (path_.empty()) return;
-    out_.close();
-    if (!out_) throw Error("--stats " + path_ + ": write failed");
-    std::filesystem::rename(tmp_, path_);
-    done_ = true;
+    if (file_) file_->commit();
   }
 
  private:
-  std::string path_, tmp_;
-  std::ofstream out_;
-  bool done_ = false;
+  std::optional<TemporaryFile> file_;
+  uint64_t offset_ = 0;
 };
 
 // The image outputs are checked before anything is loaded or rendered.
@@ -152,6 +142,7 @@ void checkImageOutputs(const RenderOptions& o) {
 int runRender(const RenderOptions& o) {
   if (o.output.empty()) throw Error("render: -o OUT.png is required");
   checkImageOutputs(o);
+  removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
   std::unique_ptr<BrickSource> source = openBrickSource(o);
   std::unique_ptr<BrickSource> delayed;
   if (o.ioDelayMs > 0.0) delayed = std::make_unique<DelayedBrickSource>(*source, o.ioDelayMs);
@@ -211,7 +202,7 @@ int runRender(const RenderOptions& o) {
     input.tf = tf ? &*tf : nullptr;
     const CpuImage image = reference.render(input);
     writeOutputs(o, toFloatImage(image.rgba, image.width, image.height, 4),
-                 toFloatImage(image.depth, image.width, image.height, 1), o.output);
+                 toFloatImage(image.depth, image.width, image.height, 1));
     stats.finish();
     return 0;
   }
@@ -239,7 +230,7 @@ int runRender(const RenderOptions& o) {
       s.converged = true;
       stats.write(s);
     }
-    writeOutputs(o, brute.readColor(), brute.readDepth(), o.output);
+    writeOutputs(o, brute.readColor(), brute.readDepth());
     stats.finish();
     return 0;
   }
@@ -277,15 +268,16 @@ int runRender(const RenderOptions& o) {
     stats.write(s);
     const bool last =
         o.converge ? (frame + 1 >= frames && s.converged) || frame + 1 >= frameCap : frame + 1 >= frames;
+    // --every writes the frame's PNG only: the EXR and depth outputs are the last frame's, written once.
     if (o.every > 0 && (frame % o.every == 0) && !last)
-      writeOutputs(o, renderer.readColor(), renderer.readDepth(), framePath(o.output, frame));
+      writePng(framePath(o.output, frame), renderer.readColor(), false);
     if (last) {
       if (o.converge && !s.converged)
         std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
       break;
     }
   }
-  writeOutputs(o, renderer.readColor(), renderer.readDepth(), o.output);
+  writeOutputs(o, renderer.readColor(), renderer.readDepth());
   stats.finish();
   return 0;
 }
