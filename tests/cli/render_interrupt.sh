@@ -4,31 +4,15 @@
 # Usage: bash render_interrupt.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
+# shellcheck source=tests/cli/lib/interrupt.sh
+source "$(dirname "$0")/lib/interrupt.sh"
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
 for signal in INT TERM; do
-  "$ropecast" render procedural:sphere:64 --size 64x64 --frames 1000000 --stats "$dir/s.jsonl" \
-    --exr "$dir/o.exr" -o "$dir/o.png" > /dev/null 2>&1 &
-  pid=$!
-  for _ in $(seq 1 400); do  # wait (up to 20 s) until the stats temporary exists: the render is under way
-    [ -n "$(ls "$dir")" ] && break
-    sleep 0.05
-  done
-  if [ -z "$(ls "$dir")" ]; then echo "FAIL: no stats temporary appeared"; kill -KILL "$pid"; exit 1; fi
-  sleep 0.5  # into the frame loop
-  kill -"$signal" "$pid"
-  for _ in $(seq 1 400); do  # a render that ignores the signal must fail here, not run its million frames
-    kill -0 "$pid" 2> /dev/null || break
-    sleep 0.05
-  done
-  if kill -0 "$pid" 2> /dev/null; then
-    echo "FAIL: SIG$signal: still running 20 s later"; kill -KILL "$pid"; wait "$pid"; exit 1
-  fi
-  wait "$pid"
-  rc=$?
-  if [ "$rc" -lt 129 ]; then echo "FAIL: SIG$signal: render exited with $rc, expected death by the signal"; exit 1; fi
-  if [ -n "$(ls "$dir")" ]; then echo "FAIL: SIG$signal left: $(ls "$dir")"; exit 1; fi
-  echo "ok   SIG$signal: exit $rc, nothing left"
+  # The stats temporary appears before frame 0; half a second more reaches the frame loop.
+  SETTLE=0.5 expect_interrupted_leaves_nothing "$signal" "$dir" \
+    "$ropecast" render procedural:sphere:64 --size 64x64 --frames 1000000 --stats "$dir/s.jsonl" \
+    --exr "$dir/o.exr" -o "$dir/o.png" || exit 1
 done
 echo "render_interrupt: ok"
