@@ -402,7 +402,7 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
     throw Error("convert: --brick " + std::to_string(options.brickSize) +
                 ": expected a power of two in [4, 256]");
   if (options.discardBelow && !std::isfinite(*options.discardBelow))
-    throw Error("convert: --discard-below " + std::to_string(*options.discardBelow) +
+    throw Error("convert: --discard-below " + formatNumber(*options.discardBelow) +
                 ": expected a finite value in data units");
   if (options.zstdLevel < ZSTD_minCLevel() || options.zstdLevel > ZSTD_maxCLevel())
     throw Error("convert: --zstd-level " + std::to_string(options.zstdLevel) + ": expected a value in [" +

@@ -3,6 +3,7 @@
 // Library code never exits the process. Any thread may throw it.
 #pragma once
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -12,5 +13,13 @@ class Error : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// A number in a message as a person writes it (%g: 50, 25.5, 1e+308, inf, nan); std::to_string prints
+// 1e308 as 309 digits and 0.01 as 0.010000.
+inline std::string formatNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 }  // namespace ropecast

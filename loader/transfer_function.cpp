@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,13 +13,6 @@
 namespace ropecast {
 
 namespace {
-
-// A value as a person wrote it (%g): 50, 1e+308, 25.5; std::to_string prints 309 digits for 1e308.
-std::string shortNumber(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 // Presets as [position, r, g, b, a]. CT presets are in Hounsfield units; the MRI and linear ones in fractions
 // of the data range (0 = min, 1 = max).
@@ -101,7 +93,7 @@ TransferFunction::TransferFunction(std::vector<TfPoint> points) : points_(std::m
         throw Error("TransferFunction: point " + std::to_string(i) + " has r, g, b, a outside [0, 1]");
     if (i > 0 && p.value < points_[i - 1].value)
       throw Error("TransferFunction: points must be sorted by value; point " + std::to_string(i) + " (" +
-                  shortNumber(p.value) + ") comes after " + shortNumber(points_[i - 1].value));
+                  formatNumber(p.value) + ") comes after " + formatNumber(points_[i - 1].value));
   }
 }
 

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <memory>
 #include <optional>
 #include <span>
@@ -16,6 +15,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "loader/error.h"
 #include "loader/sample_type.h"
 
 namespace ropecast {
@@ -35,14 +35,14 @@ struct VolumeInfo {
 // A spacing that gives the volume a box: finite and positive per axis (the world box is [0, n s]; zero or
 // negative spacings leave no box for rays to enter).
 inline bool isValidSpacing(glm::dvec3 s) {
-  return s.x > 0.0 && s.y > 0.0 && s.z > 0.0 && s.x < HUGE_VAL && s.y < HUGE_VAL && s.z < HUGE_VAL;
+  for (int a = 0; a < 3; ++a)
+    if (!(s[a] > 0.0 && std::isfinite(s[a]))) return false;
+  return true;
 }
 
 // "SX,SY,SZ" as the command line takes it, for messages.
 inline std::string formatSpacing(glm::dvec3 s) {
-  char text[96];
-  std::snprintf(text, sizeof text, "%g,%g,%g", s.x, s.y, s.z);
-  return text;
+  return formatNumber(s.x) + "," + formatNumber(s.y) + "," + formatNumber(s.z);
 }
 
 class VolumeSource {

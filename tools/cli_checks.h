@@ -3,23 +3,19 @@
 #pragma once
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "loader/error.h"
 
 namespace ropecast::tools {
 
 // A finite number in [lo, hi]; the bounds may be infinite ("any finite number": finiteIn(-HUGE_VAL,
 // HUGE_VAL)).
 inline CLI::Validator finiteIn(double lo, double hi) {
-  const auto text = [](double v) {
-    char s[32];
-    std::snprintf(s, sizeof s, "%g", v);
-    return std::string(s);
-  };
   const std::string range =
-      std::isinf(lo) && std::isinf(hi) ? "" : " in [" + text(lo) + ", " + text(hi) + "]";
+      std::isinf(lo) && std::isinf(hi) ? "" : " in [" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
   return CLI::Validator(
       [lo, hi, range](std::string& input) -> std::string {
         double v = 0.0;

@@ -70,7 +70,6 @@ Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
     c.eye = parseTriple(o.eye, "--eye");
     c.target = parseTriple(o.target, "--target");
     c.fovYDeg = o.fov;
-    if (c.eye == c.target) throw Error("--eye and --target must differ");
     c.up = o.up.empty() ? defaultUp(c.target - c.eye) : parseTriple(o.up, "--up");
     if (const std::string problem = cameraProblem(c); !problem.empty())
       throw Error("--eye " + o.eye + " --target " + o.target + (o.up.empty() ? "" : " --up " + o.up) + ": " +
