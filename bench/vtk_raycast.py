@@ -6,7 +6,7 @@ each frame so nothing is cached between frames, and prints one JSON line with th
 
   xvfb-run -a /usr/bin/python3 bench/vtk_raycast.py VOLUME.raw --dims 256,256,256 --mode iso --iso 127.5
 
---orbit AZ,EL,DIST and --fov place the camera exactly as `ropecast render --orbit` does (loader/camera.cpp
+--orbit AZ,EL,DIST and --fov place the camera exactly as `ropecast render --orbit` does (core/camera.cpp
 orbitCamera: around the box [0, n] with voxel i's center at i + 0.5, distance in bounding-sphere radii, z up);
 each measured frame then turns the azimuth by --turn degrees. --tf FILE reads a ropecast transfer function
 JSON ({"points": [[value, r, g, b, a], ...]}, values in stored units for uint8/uint16 data) so both renderers

@@ -1,4 +1,4 @@
-// libFuzzer target for the NRRD header parser (loader/nrrd_header.h): any input must either parse into a
+// libFuzzer target for the NRRD header parser (store/nrrd_header.h): any input must either parse into a
 // header whose fields keep the parser's promises or throw ropecast::Error; never crash, hang or throw
 // anything else.
 #include <cstddef>
@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "loader/error.h"
-#include "loader/nrrd_header.h"
+#include "core/error.h"
+#include "store/nrrd_header.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -1,4 +1,4 @@
-// libFuzzer target for the store reader (loader/store.h) and verifier (loader/verify.h): any bytes opened as
+// libFuzzer target for the store reader (store/store.h) and verifier (store/verify.h): any bytes opened as
 // a store must either be rejected with ropecast::Error or open into a store whose every node reads (or throws
 // ropecast::Error) and verifies without crashing, hanging or throwing anything else.
 //
@@ -10,9 +10,9 @@
 #include <cstring>
 #include <vector>
 
-#include "loader/error.h"
-#include "loader/store.h"
-#include "loader/verify.h"
+#include "core/error.h"
+#include "store/store.h"
+#include "store/verify.h"
 
 namespace {
 

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 

@@ -13,7 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "loader/octree_layout.h"
+#include "store/octree_layout.h"
 
 namespace ropecast {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <exception>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "loader/brick_cache.h"
-#include "loader/brick_source.h"
+#include "store/brick_source.h"
 
 namespace ropecast {
 

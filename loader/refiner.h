@@ -19,8 +19,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "loader/brick_source.h"
-#include "loader/camera.h"
+#include "core/camera.h"
+#include "store/brick_source.h"
 
 namespace ropecast {
 

@@ -1,6 +1,6 @@
 #include "loader/slot_table.h"
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 

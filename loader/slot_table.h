@@ -12,7 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "loader/octree_layout.h"
+#include "store/octree_layout.h"
 
 namespace ropecast {
 

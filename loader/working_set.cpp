@@ -6,7 +6,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 
@@ -87,7 +87,7 @@ class WorkingSet::Residency final : public BrickResidency {
 
   std::vector<BrickRequest> requests;
   std::vector<BrickUpload> uploads;
-  FrameStats stats;
+  LoaderStats stats;
 
  private:
   // The children cannot all be had this frame (not in core, or beyond the upload budget); the parent refines
@@ -196,9 +196,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   out.leaves = std::move(refined.leaves);
   out.uploads = std::move(residency.uploads);
   out.converged = refined.complete;
-  FrameStats& s = out.stats;
+  LoaderStats& s = out.stats;
   s = residency.stats;
-  s.frame = frame_++;
+  ++frame_;
   s.leaves = out.leaves.size();
   s.bricksResident = slots_.occupiedCount();
   s.gpuPoolUsedBytes = uint64_t(slots_.occupiedCount()) * brickBytes_;

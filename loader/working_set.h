@@ -18,11 +18,11 @@
 #include <vector>
 
 #include "loader/brick_cache.h"
-#include "loader/brick_source.h"
-#include "loader/frame_stats.h"
 #include "loader/io_queue.h"
+#include "loader/loader_stats.h"
 #include "loader/refiner.h"
 #include "loader/slot_table.h"
+#include "store/brick_source.h"
 
 namespace ropecast {
 
@@ -42,7 +42,7 @@ struct FrameInput {
   EmptinessPredicate isEmpty;  // null: only NodeKind::Empty/Outside nodes are empty
   PriorityHints hints;
   // This frame's upload limit on top of WorkingSetConfig::uploadBudgetBytes (the smaller one applies, never
-  // less than one brick): the renderer's time budget (loader/upload_pacer.h) arrives here as bytes.
+  // less than one brick): the renderer's time budget (render/upload_pacer.h) arrives here as bytes.
   uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
 };
 
@@ -55,8 +55,8 @@ struct BrickUpload {
 struct WorkingSetFrame {
   std::vector<PlannedLeaf> leaves;   // the cut, a tiling of the root cube
   std::vector<BrickUpload> uploads;  // to upload before rendering this frame (at most one per slot)
-  FrameStats stats;                  // the loader's fields
-  bool converged = false;            // same as stats.converged
+  LoaderStats stats;
+  bool converged = false;  // same as stats.converged
 };
 
 class WorkingSet {

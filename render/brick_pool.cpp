@@ -7,9 +7,9 @@
 
 #include <epoxy/gl.h>
 
-#include "loader/error.h"
-#include "loader/octree_layout.h"
+#include "core/error.h"
 #include "render/gl_context.h"
+#include "store/octree_layout.h"
 
 namespace ropecast {
 

@@ -16,7 +16,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "loader/sample_type.h"
+#include "core/sample_type.h"
 
 namespace ropecast {
 

@@ -8,13 +8,13 @@
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
 
-#include "loader/error.h"
-#include "loader/octree_layout.h"
-#include "loader/transfer_function.h"
+#include "core/error.h"
+#include "core/transfer_function.h"
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
 #include "render/raycast_uniforms.h"
 #include "render/shader_program.h"
+#include "store/octree_layout.h"
 
 namespace ropecast {
 

@@ -12,11 +12,11 @@
 #include <cstdint>
 #include <memory>
 
-#include "loader/brick_source.h"
-#include "loader/camera.h"
+#include "core/camera.h"
+#include "core/float_image.h"
+#include "core/render_params.h"
 #include "render/gpu_timer.h"
-#include "render/image_io.h"
-#include "render/render_params.h"
+#include "store/brick_source.h"
 
 namespace ropecast {
 

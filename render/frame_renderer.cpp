@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
@@ -143,7 +143,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   // Pass 4, ray cast.
   raycast_.render(raycastFrame(request, request.width, request.height));
 
-  FrameStats stats = plan.stats;
+  FrameStats stats;
+  static_cast<LoaderStats&>(stats) = plan.stats;
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;

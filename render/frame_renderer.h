@@ -14,16 +14,16 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/camera.h"
+#include "core/float_image.h"
+#include "core/render_params.h"
+#include "core/transfer_function.h"
 #include "index/rope_index.h"
-#include "loader/brick_source.h"
-#include "loader/camera.h"
-#include "loader/frame_stats.h"
-#include "loader/transfer_function.h"
-#include "loader/upload_pacer.h"
 #include "loader/working_set.h"
-#include "render/image_io.h"
+#include "render/frame_stats.h"
 #include "render/raycast_pass.h"
-#include "render/render_params.h"
+#include "render/upload_pacer.h"
+#include "store/brick_source.h"
 
 namespace ropecast {
 
@@ -38,7 +38,7 @@ struct FrameRendererConfig {
   uint64_t cpuCacheBytes = uint64_t(1) << 30;  // --cpu-cache
   uint64_t uploadBudgetBytes = UINT64_MAX;     // --upload-budget, per frame
   // --upload-time-budget: milliseconds of uploads per asynchronous frame (0 = none), turned into bytes from
-  // the throughput of earlier frames (loader/upload_pacer.h); the smaller of the two budgets applies.
+  // the throughput of earlier frames (render/upload_pacer.h); the smaller of the two budgets applies.
   double uploadTimeBudgetMs = 0.0;
   bool uploadThroughPbo = false;  // --upload-pbo (render/brick_pool.h)
   uint32_t ioThreads = 2;

@@ -10,7 +10,7 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 

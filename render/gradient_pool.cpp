@@ -5,7 +5,7 @@
 #include <epoxy/gl.h>
 #include <glm/vector_relational.hpp>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/shader_program.h"
 
 namespace ropecast {

@@ -5,7 +5,7 @@
 
 #include <epoxy/gl.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 

@@ -18,12 +18,12 @@
 
 #include <glm/vec3.hpp>
 
-#include "loader/brick_source.h"
-#include "loader/camera.h"
-#include "loader/sample_type.h"
+#include "core/camera.h"
+#include "core/float_image.h"
+#include "core/render_params.h"
+#include "core/sample_type.h"
 #include "render/gpu_timer.h"
-#include "render/image_io.h"
-#include "render/render_params.h"
+#include "store/brick_source.h"
 
 namespace ropecast {
 

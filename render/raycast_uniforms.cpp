@@ -8,12 +8,12 @@
 #include <epoxy/gl.h>
 #include <glm/trigonometric.hpp>
 
-#include "loader/error.h"
-#include "loader/octree_layout.h"
-#include "loader/transfer_function.h"
-#include "loader/volume_source.h"
+#include "core/error.h"
+#include "core/transfer_function.h"
 #include "render/gl_context.h"
 #include "render/shader_program.h"
+#include "store/octree_layout.h"
+#include "store/volume_source.h"
 
 namespace ropecast {
 

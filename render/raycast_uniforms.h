@@ -1,5 +1,5 @@
 // What the ray casters over docs/RENDERING.md share on the GL side: the uniforms of the camera (the terms of
-// loader/camera.h pixelRay), of the volume's spacing and of RenderParams, named as
+// core/camera.h pixelRay), of the volume's spacing and of RenderParams, named as
 // shaders/raycast_common.glsl and shading.glsl declare them; the shader defines of a variant; the checks of a
 // request; the transfer-function texture; and the float readback of a render target. Used by RaycastPass and
 // BruteForcePass. Render thread only, with the GlContext current.
@@ -11,10 +11,10 @@
 
 #include <glm/vec3.hpp>
 
-#include "loader/camera.h"
-#include "loader/sample_type.h"
-#include "render/image_io.h"
-#include "render/render_params.h"
+#include "core/camera.h"
+#include "core/float_image.h"
+#include "core/render_params.h"
+#include "core/sample_type.h"
 
 namespace ropecast {
 

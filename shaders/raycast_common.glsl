@@ -1,6 +1,6 @@
 // castRay(pixel): the whole single-pass ray cast of one pixel (docs/RENDERING.md), shared by the fragment
 // (shaders/raycast.frag) and compute (shaders/raycast.comp) entry points so both produce the same image.
-// Rays are generated as loader/camera.h pixelRay does, clipped to the volume box, walked leaf by leaf with the
+// Rays are generated as core/camera.h pixelRay does, clipped to the volume box, walked leaf by leaf with the
 // rope traversal (shaders/rope_traversal.glsl), and sampled per leaf at the leaf's level on a step grid
 // anchored at the volume entry. No #version line: the entry point has it.
 //
@@ -11,7 +11,7 @@
 #include "shaders/rope_traversal.glsl"
 #include "shaders/shading.glsl"
 
-// Camera (loader/camera.h): eye, orthonormal frame and the pinhole's extent.
+// Camera (core/camera.h): eye, orthonormal frame and the pinhole's extent.
 uniform vec3 uEye;
 uniform vec3 uForward;
 uniform vec3 uRight;
@@ -68,7 +68,7 @@ struct RayResult {
   float depth;  // world distance along the camera axis; +inf for none
 };
 
-// loader/camera.h pixelRay: the ray through the center of pixel (px, py), row 0 at the top.
+// core/camera.h pixelRay: the ray through the center of pixel (px, py), row 0 at the top.
 vec3 pixelRayDir(uvec2 pixel) {
   vec2 size = vec2(uImageSize);
   float x = (2.0 * (float(pixel.x) + 0.5) / size.x - 1.0) * uTanHalfFov * uAspect;

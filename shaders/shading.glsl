@@ -1,6 +1,6 @@
 // Sampling and shading of the ray caster, exactly as docs/RENDERING.md fixes them: trilinear fetches from the
 // brick pool at a leaf's level, central-difference gradients, the transfer function lookup with opacity
-// correction, and the Phong headlight. The CPU mirror (render/cpu_raycaster.cpp) computes the same in double.
+// correction, and the Phong headlight. The CPU mirror (reference/cpu_raycaster.cpp) computes the same in double.
 // Included by shaders/raycast_common.glsl; no #version line. Needs the define BRICK_BORDER (kBrickBorder).
 
 uniform sampler3D uPool;        // render/brick_pool: R8/R16 UNORM, LINEAR, CLAMP_TO_EDGE

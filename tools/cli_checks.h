@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast::tools {
 

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast::tools {
 

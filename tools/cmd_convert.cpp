@@ -1,14 +1,14 @@
 // `ropecast convert INPUT -o OUT [options]`: builds an octree store from any volume source
-// (loader/converter.h). Main thread; the converter starts its own compression workers.
+// (store/converter.h). Main thread; the converter starts its own compression workers.
 #include <cstdio>
 #include <memory>
 #include <optional>
 
-#include "loader/converter.h"
-#include "loader/error.h"
-#include "loader/sample_type.h"
-#include "loader/store_writer.h"
-#include "loader/volume_source.h"
+#include "core/error.h"
+#include "core/sample_type.h"
+#include "store/converter.h"
+#include "store/store_writer.h"
+#include "store/volume_source.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"

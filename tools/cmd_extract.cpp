@@ -1,11 +1,11 @@
 // `ropecast extract STORE --level L -o OUT.raw`: one resolution level as a raw volume in the original type
-// (loader/extract.h). Main thread.
+// (store/extract.h). Main thread.
 #include <cstdio>
 #include <memory>
 
-#include "loader/extract.h"
-#include "loader/store.h"
-#include "loader/store_writer.h"
+#include "store/extract.h"
+#include "store/store.h"
+#include "store/store_writer.h"
 #include "tools/command.h"
 
 namespace ropecast::tools {

@@ -1,11 +1,11 @@
-// `ropecast info STORE [--json]`: what a store holds (loader/store.h summarizeStore). Main thread.
+// `ropecast info STORE [--json]`: what a store holds (store/store.h summarizeStore). Main thread.
 #include <cstdio>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
-#include "loader/store.h"
-#include "loader/store_writer.h"
+#include "store/store.h"
+#include "store/store_writer.h"
 #include "tools/command.h"
 
 namespace ropecast::tools {

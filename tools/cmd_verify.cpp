@@ -1,10 +1,10 @@
-// `ropecast verify STORE`: reads every node and checks checksums and structure (loader/verify.h). Exit 0 when
+// `ropecast verify STORE`: reads every node and checks checksums and structure (store/verify.h). Exit 0 when
 // everything holds, 3 when a check fails (each problem names its node), 1 when the store cannot be opened.
 // Main thread.
 #include <cstdio>
 #include <memory>
 
-#include "loader/verify.h"
+#include "store/verify.h"
 #include "tools/command.h"
 #include "tools/progress_bar.h"
 

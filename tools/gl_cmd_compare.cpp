@@ -8,10 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "loader/error.h"
-#include "render/image_io.h"
+#include "core/error.h"
+#include "reference/image_compare.h"
+#include "reference/image_io.h"
 #include "tools/command.h"
-#include "tools/image_compare.h"
 
 namespace ropecast::tools {
 namespace {

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "tools/command.h"
 
 namespace ropecast::tools {

@@ -82,7 +82,8 @@ GlContext* RopeTraversalGl::context_ = nullptr;
 
 TEST_F(RopeTraversalGl, ComputeShaderMatchesCpuReference) {
   std::printf("GL: %s | %s\n", context_->info().renderer.c_str(), context_->info().version.c_str());
-  ShaderProgram program({{ShaderStage::Compute, "tests/index/rope_walk_test.comp"}});
+  ShaderProgram program(
+      {{ShaderStage::Compute, std::string(ROPECAST_SOURCE_DIR) + "/tests/index/rope_walk_test.comp"}});
   size_t leavesCompared = 0, tCompared = 0, tBitIdentical = 0;
 
   for (uint64_t seed = 1; seed <= 6; ++seed) {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast {
 namespace {

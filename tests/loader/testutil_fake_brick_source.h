@@ -13,9 +13,9 @@
 #include <tuple>
 #include <vector>
 
-#include "loader/brick_source.h"
-#include "loader/error.h"
+#include "core/error.h"
 #include "loader/refiner.h"
+#include "store/brick_source.h"
 
 namespace ropecast::testing {
 

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "tests/loader/testutil_fake_brick_source.h"
 
 namespace ropecast {
@@ -80,7 +80,6 @@ void debugPrint(const WorkingSetFrame& f) {
   if (!getenv("DBG")) return;
   std::map<LeafReason, int> m;
   for (auto& l : f.leaves) ++m[l.reason];
-  fprintf(stderr, "%s |", toJsonLine(f.stats).c_str());
   for (auto [r, c] : m) fprintf(stderr, " %s=%d", leafReasonName(r), c);
   fprintf(stderr, "\n");
 }
@@ -331,28 +330,6 @@ TEST(WorkingSet, HintsArePlumbedThrough) {
   ASSERT_EQ(occluded.leaves.size(), 1u);
   EXPECT_EQ(occluded.leaves[0].reason, LeafReason::Occluded);
   EXPECT_GT(plain.leaves.size(), 1u);
-}
-
-TEST(FrameStats, WritesOneJsonObjectPerLine) {
-  FrameStats s;
-  s.frame = 3;
-  s.refineMs = 1.5;
-  s.cacheHits = 4;
-  s.gpuPoolUsedBytes = 1 << 20;
-  s.converged = true;
-  const std::string line = toJsonLine(s);
-  EXPECT_EQ(line.find('\n'), std::string::npos);
-  const nlohmann::json j = nlohmann::json::parse(line);
-  EXPECT_EQ(j.at("frame"), 3);
-  EXPECT_EQ(j.at("refine_ms"), 1.5);
-  EXPECT_EQ(j.at("cache_hits"), 4);
-  EXPECT_EQ(j.at("gpu_pool_used"), 1 << 20);
-  EXPECT_EQ(j.at("converged"), true);
-  for (const char* field :
-       {"frame_ms", "raycast_ms", "index_ms", "leaves", "bricks_resident", "bricks_uploaded",
-        "bytes_uploaded", "requests_pending", "cache_misses", "cpu_cache_bytes"}) {
-    EXPECT_TRUE(j.contains(field)) << field;
-  }
 }
 
 }  // namespace

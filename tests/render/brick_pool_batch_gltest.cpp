@@ -6,7 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/brick_pool.h"
 #include "testutil_gl.h"
 

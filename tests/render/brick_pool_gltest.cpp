@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <glm/vector_relational.hpp>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/shader_program.h"

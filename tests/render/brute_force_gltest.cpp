@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "loader/procedural_bricks.h"
-#include "loader/transfer_function.h"
+#include "core/transfer_function.h"
 #include "render/brute_force_pass.h"
 #include "render/frame_renderer.h"
+#include "store/procedural_bricks.h"
 #include "tests/render/testutil_gl.h"
 
 namespace ropecast {

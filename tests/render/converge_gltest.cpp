@@ -15,12 +15,12 @@
 #include <optional>
 #include <vector>
 
+#include "core/transfer_function.h"
 #include "loader/io_queue.h"
-#include "loader/procedural_bricks.h"
-#include "loader/transfer_function.h"
 #include "render/brick_pool.h"
 #include "render/frame_renderer.h"
 #include "render/gradient_pool.h"
+#include "store/procedural_bricks.h"
 #include "testutil_gl.h"
 
 namespace ropecast {

@@ -6,7 +6,7 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/gpu_timer.h"
 #include "render/index_texture.h"
 #include "tests/render/testutil_gl.h"

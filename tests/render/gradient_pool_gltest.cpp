@@ -9,7 +9,7 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/brick_pool.h"
 #include "render/gradient_pool.h"
 #include "tests/render/testutil_gl.h"

@@ -10,8 +10,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
-#include "loader/error.h"
-#include "loader/transfer_function.h"
+#include "core/error.h"
+#include "core/transfer_function.h"
 #include "render/raycast_pass.h"
 #include "tests/render/testutil_gl.h"
 

@@ -1,5 +1,5 @@
-// The GL ray caster against its CPU mirror (render/cpu_raycaster renderMirror: the same cut, the same bricks,
-// the same sampling in double) at >= 45 dB PSNR, for iso and DVR, through both entry points; and the
+// The GL ray caster against its CPU mirror (reference/cpu_raycaster renderMirror: the same cut, the same
+// bricks, the same sampling in double) at >= 45 dB PSNR, for iso and DVR, through both entry points; and the
 // isosurface of a sphere against its analytic silhouette.
 #include <cmath>
 #include <limits>
@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "loader/transfer_function.h"
-#include "render/cpu_raycaster.h"
+#include "core/transfer_function.h"
+#include "reference/cpu_raycaster.h"
 #include "render/raycast_pass.h"
 #include "tests/render/testutil_gl.h"
 

@@ -8,7 +8,7 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 #include "render/shader_program.h"
 #include "tests/render/testutil_gl.h"
 
@@ -39,65 +39,6 @@ class ShaderDirOverride {
  private:
   std::optional<std::string> old_;
 };
-
-TEST(ShaderPreprocess, IncludesOnceWithLineDirectivesAndDefines) {
-  const fs::path dir = test::freshTempDir();
-  writeText(dir / "lib/common.glsl", "// common\nfloat one() { return 1.0; }\n");
-  writeText(dir / "lib/helper.glsl", "#include \"common.glsl\"\nfloat two() { return one() + one(); }\n");
-  writeText(
-      dir / "main.comp",
-      "#version 450 core\n#include \"lib/helper.glsl\"\n#include \"lib/common.glsl\"\nvoid main() {}\n");
-  const PreprocessedShader s = preprocessShader("main.comp", {"MODE_ISO", "TILE 64"}, {dir});
-  ASSERT_EQ(s.fileNames.size(), 3u);
-  EXPECT_EQ(s.fileNames[0], "main.comp");
-  EXPECT_EQ(s.fileNames[1], "lib/helper.glsl");
-  EXPECT_EQ(s.fileNames[2], "lib/common.glsl");
-  const std::string expected =
-      "#version 450 core\n"
-      "#define MODE_ISO\n"
-      "#define TILE 64\n"
-      "#line 2 0\n"
-      "#line 1 1\n"
-      "#line 1 2\n"
-      "// common\n"
-      "float one() { return 1.0; }\n"
-      "#line 2 1\n"
-      "float two() { return one() + one(); }\n"
-      "#line 3 0\n"
-      "\n"  // the second include of common.glsl is skipped
-      "void main() {}\n";
-  EXPECT_EQ(s.text, expected);
-}
-
-TEST(ShaderPreprocess, MissingFilesAreNamed) {
-  const fs::path dir = test::freshTempDir();
-  writeText(dir / "a.frag", "#version 450 core\n\n#include \"nowhere.glsl\"\n");
-  writeText(dir / "noversion.frag", "void main() {}\n");
-  try {
-    preprocessShader("a.frag", {}, {dir});
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("a.frag:3: included file 'nowhere.glsl' not found"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_THROW(preprocessShader("missing.frag", {}, {dir}), Error);
-  try {
-    preprocessShader("noversion.frag", {}, {dir});
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("'noversion.frag' has no #version line"), std::string::npos)
-        << e.what();
-  }
-}
-
-TEST(ShaderPreprocess, RewritesLogsOfKnownDrivers) {
-  const std::vector<std::string> names = {"main.comp", "lib/x.glsl"};
-  EXPECT_EQ(rewriteShaderLog("1:7(12): error: bad\n", names), "lib/x.glsl:7(12): error: bad\n");
-  EXPECT_EQ(rewriteShaderLog("1(7) : error C1008: bad\n", names), "lib/x.glsl:7 : error C1008: bad\n");
-  EXPECT_EQ(rewriteShaderLog("ERROR: 0:3: bad\n", names), "ERROR: main.comp:3: bad\n");
-  EXPECT_EQ(rewriteShaderLog("no location here\n", names), "no location here\n");
-}
 
 TEST(ShaderProgram, BrokenIncludeReportsRealFileAndLine) {
   test::sharedGlContext();

@@ -45,16 +45,6 @@ double maxAbsDifference(const FloatImage& a, const FloatImage& b, uint32_t chann
   return worst;
 }
 
-std::filesystem::path freshTempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = "ropecast_gltest";
-  if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 namespace {
 
 std::vector<std::byte> makeBrick(const SceneSpec& spec, const OctreeLayout& layout, const NodeKey& node) {

@@ -13,13 +13,14 @@
 
 #include "index/cut.h"
 #include "index/rope_index.h"
-#include "loader/brick_source.h"
+#include "reference/image_io.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
-#include "render/image_io.h"
 #include "render/index_texture.h"
 #include "render/raycast_pass.h"
+#include "store/brick_source.h"
+#include "tests/common/temp_dir.h"
 
 namespace ropecast::test {
 
@@ -30,9 +31,6 @@ GlContext& sharedGlContext();
 double psnrDb(const FloatImage& a, const FloatImage& b, uint32_t channels = 3);
 // Largest absolute difference over the first `channels` channels (inf == inf counts as 0).
 double maxAbsDifference(const FloatImage& a, const FloatImage& b, uint32_t channels);
-
-// A fresh empty folder under the system temporary folder, named after the running test.
-std::filesystem::path freshTempDir();
 
 // A small volume built directly as bricks for ray caster tests: a function of the world position gives the
 // normalized value of every level-L sample (at its center (n + 0.5) s 2^L, sample indices clamped to the
@@ -55,7 +53,7 @@ struct GlScene {
   Cut cut;
   RopeIndex index;
   std::unordered_map<uint32_t, std::vector<std::byte>>
-      bricks;  // by pool slot (render/cpu_raycaster BricksBySlot)
+      bricks;  // by pool slot (reference/cpu_raycaster BricksBySlot)
   std::unique_ptr<BrickPool> pool;
   std::unique_ptr<GradientPool> gradients;  // derived from every uploaded slot, for stored DVR gradients
   std::unique_ptr<IndexTexture> indexTexture;

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "loader/error.h"
+#include "core/error.h"
 
 namespace ropecast::tools {
 namespace {
@@ -47,7 +47,8 @@ TEST(CliValues, ParsesByteSizesInBinaryUnits) {
   EXPECT_EQ(parseBytes("1.5G", "--cpu-cache"), uint64_t(3) << 29);
   EXPECT_EQ(parseBytes("2GiB", "--cpu-cache"), uint64_t(2) << 30);
   for (const char* bad : {"", "M", "-1G", "12Q", "1..5G"})
-    EXPECT_NE(errorOf([&] { parseBytes(bad, "--gpu-budget"); }).find("--gpu-budget"), std::string::npos) << bad;
+    EXPECT_NE(errorOf([&] { parseBytes(bad, "--gpu-budget"); }).find("--gpu-budget"), std::string::npos)
+        << bad;
 }
 
 }  // namespace

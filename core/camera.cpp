@@ -1,0 +1,87 @@
+#include "core/camera.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace ropecast {
+
+Camera orbitCamera(double azimuthDeg, double elevationDeg, double distance, glm::dvec3 boxMin,
+                   glm::dvec3 boxMax, double fovYDeg) {
+  const glm::dvec3 center = 0.5 * (boxMin + boxMax);
+  const double radius = 0.5 * glm::length(boxMax - boxMin);
+  const double az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+  Camera c;
+  c.target = center;
+  c.eye = center + distance * radius *
+                       glm::dvec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  c.up = defaultUp(c.target - c.eye);
+  c.fovYDeg = fovYDeg;
+  return c;
+}
+
+namespace {
+
+// The sine of the angle between a unit forward and up below which the frame's right vector is too unstable
+// to use (about 0.06 milliradians).
+constexpr double kMinUpSine = 1e-6;
+
+bool upUsable(glm::dvec3 forward, glm::dvec3 up) {
+  const double length = glm::length(up);
+  return length > 0.0 && std::isfinite(length) && glm::length(glm::cross(forward, up / length)) > kMinUpSine;
+}
+
+}  // namespace
+
+glm::dvec3 defaultUp(glm::dvec3 viewDirection) {
+  // Looking straight down or up the z axis: any horizontal up works; pick +y so the frame stays defined.
+  return std::abs(glm::normalize(viewDirection).z) > 0.9999 ? glm::dvec3(0.0, 1.0, 0.0)
+                                                            : glm::dvec3(0.0, 0.0, 1.0);
+}
+
+std::string viewProblem(glm::dvec3 eye, glm::dvec3 target) {
+  const glm::dvec3 view = target - eye;
+  if (view == glm::dvec3(0.0)) return "eye and target are the same point";
+  if (!std::isfinite(glm::length(view))) return "the view direction (target - eye) is not finite";
+  return "";
+}
+
+std::string cameraProblem(const Camera& c) {
+  if (std::string problem = viewProblem(c.eye, c.target); !problem.empty()) return problem;
+  if (!std::isfinite(glm::length(c.up))) return "up is not finite";
+  if (c.up == glm::dvec3(0.0)) return "up is the zero vector";
+  if (!upUsable(glm::normalize(c.target - c.eye), c.up))
+    return "up is parallel to the view direction (target - eye)";
+  if (!(c.fovYDeg > 0.0 && c.fovYDeg < 180.0)) return "the field of view must be in (0, 180) degrees";
+  return "";
+}
+
+CameraFrame cameraFrame(const Camera& c) {
+  CameraFrame f;
+  f.forward = glm::normalize(c.target - c.eye);
+  glm::dvec3 up = c.up;
+  if (!upUsable(f.forward, up)) up = defaultUp(f.forward);
+  f.right = glm::normalize(glm::cross(f.forward, up));
+  f.up = glm::cross(f.right, f.forward);
+  return f;
+}
+
+Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py) {
+  const CameraFrame f = cameraFrame(c);
+  const double tanHalf = std::tan(glm::radians(c.fovYDeg) * 0.5);
+  const double aspect = double(width) / double(height);
+  const double x = (2.0 * (px + 0.5) / width - 1.0) * tanHalf * aspect;
+  const double y = (1.0 - 2.0 * (py + 0.5) / height) * tanHalf;
+  return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
+}
+
+glm::dmat4 viewMatrix(const Camera& c) {
+  return glm::lookAt(c.eye, c.target, cameraFrame(c).up);
+}
+
+glm::dmat4 projectionMatrix(const Camera& c, double aspect, double nearDist, double farDist) {
+  return glm::perspective(glm::radians(c.fovYDeg), aspect, nearDist, farDist);
+}
+
+}  // namespace ropecast

@@ -1,0 +1,115 @@
+#include "core/temporary_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <vector>
+
+#include "core/error.h"
+
+namespace ropecast {
+
+namespace {
+std::string errnoText() {
+  return std::strerror(errno);
+}
+
+// Temporary names readable from a signal handler: a slot is claimed, filled, then published.
+struct SignalSlot {
+  std::atomic<bool> claimed{false};
+  std::atomic<bool> ready{false};
+  char path[4096];
+};
+constexpr int kSignalSlots = 32;
+SignalSlot signalSlots[kSignalSlots];
+
+int publishTemporary(const std::string& path) {
+  if (path.size() >= sizeof(SignalSlot::path)) return -1;
+  for (int i = 0; i < kSignalSlots; ++i) {
+    bool expected = false;
+    if (!signalSlots[i].claimed.compare_exchange_strong(expected, true)) continue;
+    std::memcpy(signalSlots[i].path, path.c_str(), path.size() + 1);
+    signalSlots[i].ready.store(true);
+    return i;
+  }
+  return -1;  // more than kSignalSlots at once: that one is not removed on a signal
+}
+
+void withdrawTemporary(int slot) {
+  if (slot < 0) return;
+  signalSlots[slot].ready.store(false);
+  signalSlots[slot].claimed.store(false);
+}
+
+void removeTemporariesAndDie(int signal) {
+  for (auto& slot : signalSlots)
+    if (slot.ready.load()) ::unlink(slot.path);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+}  // namespace
+
+TemporaryFile::TemporaryFile(std::filesystem::path output, std::string who)
+    : output_(std::move(output)), who_(std::move(who)) {
+  std::string pattern = output_.string() + ".tmp-XXXXXX";
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  fd_ = mkstemp(name.data());
+  if (fd_ < 0)
+    throw Error(who_ + ": cannot create output '" + output_.string() + "' (temporary '" + pattern +
+                "'): " + errnoText());
+  temporary_ = name.data();
+  signalSlot_ = publishTemporary(temporary_.string());
+  fchmod(fd_, 0644);  // mkstemp creates 0600; outputs are ordinary data files
+}
+
+TemporaryFile::~TemporaryFile() {
+  withdrawTemporary(signalSlot_);
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_ && !temporary_.empty()) ::unlink(temporary_.c_str());
+}
+
+TemporaryNameGuard::TemporaryNameGuard(const std::string& path) : signalSlot_(publishTemporary(path)) {}
+
+TemporaryNameGuard::~TemporaryNameGuard() {
+  withdrawTemporary(signalSlot_);
+}
+
+void removeTemporaryFilesOnSignals() {
+  for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, removeTemporariesAndDie);
+}
+
+void TemporaryFile::writeAt(uint64_t offset, std::span<const std::byte> bytes) {
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::pwrite(fd_, bytes.data() + done, bytes.size() - done, off_t(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0)
+      throw Error(who_ + ": writing '" + temporary_.string() + "' (for '" + output_.string() +
+                  "') failed: " + (n < 0 ? errnoText() : "no progress"));
+    done += size_t(n);
+  }
+}
+
+void TemporaryFile::commit() {
+  if (committed_ || fd_ < 0) throw Error(who_ + ": '" + output_.string() + "' committed twice");
+  // No fsync: the rename makes a complete file appear atomically to readers, which is what we promise;
+  // durability across power loss is the file system's business (zstd's CLI does not sync either).
+  withdrawTemporary(signalSlot_);  // from here on the name may be the output's
+  signalSlot_ = -1;
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) throw Error(who_ + ": closing '" + temporary_.string() + "' failed: " + errnoText());
+  if (::rename(temporary_.c_str(), output_.c_str()) != 0)
+    throw Error(who_ + ": renaming '" + temporary_.string() + "' to '" + output_.string() +
+                "' failed: " + errnoText());
+  committed_ = true;
+}
+
+}  // namespace ropecast

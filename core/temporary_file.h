@@ -1,0 +1,57 @@
+// Temporary files for outputs: a file written under a temporary name next to its output and renamed when
+// complete, names of temporaries written by others, and the signal handlers that remove both when a command
+// is interrupted, so that no command leaves a half-written output behind.
+//
+// Threads: as each class says; removeTemporaryFilesOnSignals from the main thread once.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace ropecast {
+
+// A file being written under a temporary name next to `output` ("OUT.tmp-XXXXXX"); commit() renames it onto
+// `output`, destruction without commit removes it. writeAt() may be called from several threads at once.
+class TemporaryFile {
+ public:
+  // `who` names the caller in errors ("StoreWriter", "extract"). Throws ropecast::Error naming `output`.
+  TemporaryFile(std::filesystem::path output, std::string who);
+  ~TemporaryFile();
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+
+  void writeAt(uint64_t offset, std::span<const std::byte> bytes);
+  void commit();  // closes and renames onto the output path
+  const std::filesystem::path& output() const { return output_; }
+  const std::filesystem::path& path() const { return temporary_; }
+
+ private:
+  std::filesystem::path output_, temporary_;
+  std::string who_;
+  int fd_ = -1;
+  int signalSlot_ = -1;  // where removeTemporaryFilesOnSignals finds the temporary name
+  bool committed_ = false;
+};
+
+// A temporary file name written by someone else (an image library that opens files by name): while the guard
+// lives, the handlers of removeTemporaryFilesOnSignals remove that file too. Any thread.
+class TemporaryNameGuard {
+ public:
+  explicit TemporaryNameGuard(const std::string& path);
+  ~TemporaryNameGuard();
+  TemporaryNameGuard(const TemporaryNameGuard&) = delete;
+  TemporaryNameGuard& operator=(const TemporaryNameGuard&) = delete;
+
+ private:
+  int signalSlot_ = -1;
+};
+
+// For the command-line tools: installs SIGINT/SIGTERM/SIGHUP handlers that remove every TemporaryFile still
+// open in the process (async-signal-safe: unlink only) and then die of the signal as before, so an
+// interrupted convert, extract or render leaves nothing behind either. Main thread, once.
+void removeTemporaryFilesOnSignals();
+
+}  // namespace ropecast

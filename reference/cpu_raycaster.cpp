@@ -1,0 +1,314 @@
+#include "reference/cpu_raycaster.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <string>
+#include <thread>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+#include "index/rope_traversal.h"
+#include "reference/volume_sampler.h"
+
+namespace ropecast {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Per-frame constants of the ray loop (docs/RENDERING.md).
+struct FrameConstants {
+  RenderParams params;
+  const TfTable* tf = nullptr;
+  double isoNormalized = 0.0;  // vIso = mapping.toStored(iso) / storedMax
+  glm::dvec3 spacing{1.0};
+  double minSpacing = 1.0;
+  glm::dvec3 volumeMax{0.0};  // n * s
+  glm::dvec3 eye{0.0};
+  glm::dvec3 forward{0.0};
+
+  FrameConstants(const BrickSourceInfo& volume, const CpuRenderInput& input)
+      : params(input.params), tf(input.tf) {
+    if (params.mode == RenderMode::Dvr && tf == nullptr)
+      throw Error("CPU ray caster: DVR mode needs a baked transfer function (CpuRenderInput::tf)");
+    if (!(params.stepVoxels > 0.0)) throw Error("CPU ray caster: --step must be positive");
+    if (input.width == 0 || input.height == 0) throw Error("CPU ray caster: image size must be positive");
+    const double storedMax = volume.storedType == SampleType::UInt8 ? 255.0 : 65535.0;
+    isoNormalized = volume.mapping.toStored(params.isoValue) / storedMax;
+    spacing = volume.volume.spacing;
+    minSpacing = std::min({spacing.x, spacing.y, spacing.z});
+    volumeMax = glm::dvec3(volume.volume.dims) * spacing;
+    eye = input.camera.eye;
+    forward = cameraFrame(input.camera).forward;
+  }
+};
+
+// The ray's parameter interval inside the box [0, boxMax] (slab test), t0 clamped to 0; false on a miss.
+bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
+  t0 = -kInf;
+  t1 = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (ray.dir[a] == 0.0) {
+      if (ray.origin[a] < 0.0 || ray.origin[a] > boxMax[a]) return false;
+      continue;
+    }
+    double tn = (0.0 - ray.origin[a]) / ray.dir[a], tf = (boxMax[a] - ray.origin[a]) / ray.dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+  }
+  t0 = std::max(t0, 0.0);
+  return t0 < t1;
+}
+
+// Central differences with h_i = s_i * 2^L (docs/RENDERING.md "Isosurface").
+template <class Sampler>
+glm::dvec3 gradientAt(const Sampler& s, glm::dvec3 x, glm::dvec3 cell) {
+  glm::dvec3 g;
+  for (int a = 0; a < 3; ++a) {
+    glm::dvec3 h(0.0);
+    h[a] = cell[a];
+    g[a] = (s.value(x + h) - s.value(x - h)) / (2.0 * cell[a]);
+  }
+  return g;
+}
+
+// The front-to-back ray loop shared by the mirror and the reference: fed the ray's data segments in order.
+class RayIntegrator {
+ public:
+  RayIntegrator(const FrameConstants& fc, const Ray& ray, double t0, double t1)
+      : fc_(fc), ray_(ray), t0_(t0), t1_(t1) {}
+
+  // Samples [tEnter, tExit) at level `level` with `sampler`; false once the ray is finished (iso hit, ERT).
+  // `fromEntry`: the segment is the first the traversal reports, so it starts at t0 and its first sample is
+  // t0 itself even where the float traversal rounded tEnter just above t0 (as the shader does).
+  template <class Sampler>
+  bool march(double tEnter, double tExit, uint32_t level, const Sampler& sampler, bool fromEntry) {
+    const double levelScale = std::ldexp(1.0, int(level));
+    const double dt = fc_.params.stepVoxels * levelScale * fc_.minSpacing;
+    const glm::dvec3 cell = fc_.spacing * levelScale;
+    const double tStop = std::min(tExit, t1_);
+    // Samples t = t0 + k dt with tEnter <= t: the grid is anchored at the volume entry.
+    double k = 0.0;
+    if (!fromEntry) {
+      k = std::ceil((tEnter - t0_) / dt);
+      if (t0_ + k * dt < tEnter) k += 1.0;
+    }
+    for (double t = t0_ + k * dt; t < tStop; k += 1.0, t = t0_ + k * dt) {
+      const glm::dvec3 x = ray_.origin + t * ray_.dir;
+      const double v = sampler.value(x);
+      if (fc_.params.mode == RenderMode::Iso) {
+        const double f = v - fc_.isoNormalized;
+        if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
+          hitIso(sampler, tPrev_, fPrev_, t, cell);
+          return false;
+        }
+        hasPrev_ = true;
+        tPrev_ = t;
+        fPrev_ = f;
+      } else if (compositeDvr(sampler, x, v, dt, cell)) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // Final color = C + (1 - A) * background; alpha = A; depth along the camera axis.
+  void finish(float* rgba, float* depth) const {
+    const glm::dvec3 c = color_ + (1.0 - alpha_) * fc_.params.background;
+    rgba[0] = float(c.r);
+    rgba[1] = float(c.g);
+    rgba[2] = float(c.b);
+    rgba[3] = float(alpha_);
+    *depth = float(depth_);
+  }
+
+ private:
+  // Phong headlight terms: (N.L, R.V) with L = V = -dir and R = reflect(-L, N).
+  glm::dvec2 headlight(glm::dvec3 n) const {
+    const glm::dvec3 l = -ray_.dir;
+    const glm::dvec3 r = glm::reflect(-l, n);
+    return {glm::dot(n, l), glm::dot(r, l)};
+  }
+
+  template <class Sampler>
+  void hitIso(const Sampler& sampler, double ta, double fa, double tb, glm::dvec3 cell) {
+    for (int i = 0; i < kIsoBisectionSteps; ++i) {
+      const double tm = 0.5 * (ta + tb);
+      const double fm = sampler.value(ray_.origin + tm * ray_.dir) - fc_.isoNormalized;
+      if ((fm >= 0.0) == (fa >= 0.0)) {
+        ta = tm;
+        fa = fm;
+      } else {
+        tb = tm;
+      }
+    }
+    const double tHit = 0.5 * (ta + tb);
+    const glm::dvec3 x = ray_.origin + tHit * ray_.dir;
+    const glm::dvec3 g = gradientAt(sampler, x, cell);
+    const double len = glm::length(g);
+    glm::dvec3 n = len > 0.0 ? -g / len : -ray_.dir;
+    if (glm::dot(n, -ray_.dir) < 0.0) n = -n;
+    const LightingParams& lp = fc_.params.lighting;
+    const glm::dvec2 terms = headlight(n);
+    color_ = lp.isoBaseColor * (lp.ambient + lp.diffuse * std::max(terms.x, 0.0)) +
+             glm::dvec3(lp.specular * std::pow(std::max(terms.y, 0.0), lp.shininess));
+    alpha_ = 1.0;
+    depth_ = glm::dot(x - fc_.eye, fc_.forward);
+  }
+
+  // One DVR sample; true when early ray termination ends the ray.
+  template <class Sampler>
+  bool compositeDvr(const Sampler& sampler, glm::dvec3 x, double v, double dt, glm::dvec3 cell) {
+    const glm::dvec4 tf = fc_.tf->lookup(v);
+    const double a = 1.0 - std::pow(1.0 - tf.a, dt / fc_.minSpacing);
+    if (!(a > 0.0)) return false;
+    glm::dvec3 c(tf);
+    const glm::dvec3 g = gradientAt(sampler, x, cell);
+    const double len = glm::length(g);
+    if (len * fc_.minSpacing > kDvrShadeGradientThreshold) {
+      const LightingParams& lp = fc_.params.lighting;
+      const glm::dvec2 terms = headlight(-g / len);
+      c = c * (lp.ambient + lp.diffuse * std::abs(terms.x)) +
+          glm::dvec3(lp.specular * std::pow(std::abs(terms.y), lp.shininess));
+    }
+    color_ += (1.0 - alpha_) * a * c;
+    alpha_ += (1.0 - alpha_) * a;
+    depth_ = glm::dot(x - fc_.eye, fc_.forward);
+    return alpha_ >= fc_.params.ert;
+  }
+
+  const FrameConstants& fc_;
+  const Ray& ray_;
+  double t0_, t1_;
+  bool hasPrev_ = false;
+  double tPrev_ = 0.0, fPrev_ = 0.0;
+  glm::dvec3 color_{0.0};
+  double alpha_ = 0.0;
+  double depth_ = kInf;
+};
+
+// Runs pixel(x, y, rgba, depth) for every pixel, rows interleaved over the threads.
+template <class PixelFn>
+CpuImage renderRows(const CpuRenderInput& input, const PixelFn& pixel) {
+  CpuImage img;
+  img.width = input.width;
+  img.height = input.height;
+  img.rgba.assign(size_t(4) * input.width * input.height, 0.0f);
+  img.depth.assign(size_t(input.width) * input.height, float(kInf));
+  const unsigned threadCount = std::clamp(input.threads, 1u, input.height);
+  std::vector<std::exception_ptr> errors(threadCount);
+  const auto rows = [&](unsigned first) {
+    try {
+      for (uint32_t y = first; y < input.height; y += threadCount)
+        for (uint32_t x = 0; x < input.width; ++x) {
+          const size_t i = size_t(y) * input.width + x;
+          pixel(x, y, &img.rgba[4 * i], &img.depth[i]);
+        }
+    } catch (...) {
+      errors[first] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned t = 1; t < threadCount; ++t) workers.emplace_back(rows, t);
+  rows(0);
+  for (std::thread& w : workers) w.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  return img;
+}
+
+void writeMiss(const FrameConstants& fc, float* rgba, float* depth) {
+  rgba[0] = float(fc.params.background.r);
+  rgba[1] = float(fc.params.background.g);
+  rgba[2] = float(fc.params.background.b);
+  rgba[3] = 0.0f;
+  *depth = float(kInf);
+}
+
+}  // namespace
+
+BricksBySlot readCutBricks(const Cut& cut, const BrickSource& source) {
+  BricksBySlot bricks;
+  for (const CutLeaf& leaf : cut.leaves) {
+    if (leaf.kind != LeafKind::Data) continue;
+    std::vector<std::byte>& b = bricks[leaf.brickSlot];
+    b.resize(source.brickBytes());
+    source.readBrick({leaf.depth, leaf.coord}, b);
+  }
+  return bricks;
+}
+
+CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const BrickSourceInfo& volume,
+                      const CpuRenderInput& input) {
+  const FrameConstants fc(volume, input);
+  const OctreeLayout& layout = volume.layout;
+  const size_t brickBytes = size_t(layout.storedBrickSamples()) * bytesPerSample(volume.storedType);
+  for (const auto& [slot, b] : bricks)
+    if (b.size() != brickBytes)
+      throw Error("renderMirror: brick of slot " + std::to_string(slot) + " has " + std::to_string(b.size()) +
+                  " bytes, expected " + std::to_string(brickBytes));
+  // Root cube coordinates: u = x / (C s) per axis; the traversal's t stays the world t.
+  const glm::dvec3 cubeWorld = double(layout.cubeSamples()) * fc.spacing;
+
+  return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
+    const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
+    double t0, t1;
+    if (!clipToBox(ray, fc.volumeMax, t0, t1)) return writeMiss(fc, rgba, depth);
+    // The GPU clips in float: anchor the sample grid where the shader does.
+    t0 = double(float(t0));
+    t1 = double(float(t1));
+    RayIntegrator rayLoop(fc, ray, t0, t1);
+    RopeCursor cursor;
+    RopeLeaf leaf;
+    if (ropeBegin(cursor, index, glm::vec3(ray.origin / cubeWorld), glm::vec3(ray.dir / cubeWorld), float(t0),
+                  float(t1))) {
+      bool entryLeaf = true;
+      while (ropeNextLeaf(cursor, index, leaf)) {
+        const bool firstLeaf = entryLeaf;
+        entryLeaf = false;
+        if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
+        if (leaf.depth > layout.maxDepth)
+          throw Error("renderMirror: a leaf at depth " + std::to_string(leaf.depth) +
+                      " is deeper than the volume's octree (" + std::to_string(layout.maxDepth) + ")");
+        const auto it = bricks.find(leaf.brickSlot);
+        if (it == bricks.end())
+          throw Error("renderMirror: no brick for slot " + std::to_string(leaf.brickSlot));
+        const NodeKey node{
+            leaf.depth, glm::u32vec3(glm::round(glm::dvec3(leaf.boxMin) * double(ropeBoxScale(leaf.depth))))};
+        const BrickSampler sampler(it->second.data(), volume.storedType, layout, node, fc.spacing);
+        if (!rayLoop.march(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), sampler, firstLeaf))
+          break;
+      }
+    }
+    rayLoop.finish(rgba, depth);
+  });
+}
+
+ReferenceRenderer::ReferenceRenderer(const BrickSource& source)
+    : source_(source), cache_(std::make_unique<Level0BrickCache>(source)) {}
+
+ReferenceRenderer::~ReferenceRenderer() = default;
+
+size_t ReferenceRenderer::bricksRead() const {
+  return cache_->bricksRead();
+}
+
+CpuImage ReferenceRenderer::render(const CpuRenderInput& input) const {
+  const FrameConstants fc(source_.info(), input);
+  const Level0Sampler sampler(*cache_);
+  return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
+    const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
+    double t0, t1;
+    if (!clipToBox(ray, fc.volumeMax, t0, t1)) return writeMiss(fc, rgba, depth);
+    RayIntegrator rayLoop(fc, ray, t0, t1);
+    rayLoop.march(t0, t1, 0, sampler, true);
+    rayLoop.finish(rgba, depth);
+  });
+}
+
+}  // namespace ropecast

@@ -1,0 +1,79 @@
+// The CPU ray casters: one ray loop written from docs/RENDERING.md, behind two ways of finding the samples.
+//   renderMirror: the CPU mirror of the GLSL ray caster. Walks a RopeIndex with the CPU rope traversal
+//     (index/rope_traversal.h, float like the GPU) and samples each data leaf's brick at the leaf's level
+//     with the trilinear formula in the coordinates the shader uses. GL tests compare their images with it.
+//   ReferenceRenderer: the brute-force reference (`--reference`): no octree, the level-0 data of a
+//   BrickSource
+//     ray marched with the level-0 step and the same shading. Used for quality figures.
+// Both render W x H RGBA float + depth with two threads (rows interleaved). Pure CPU, no GL. The functions
+// may be called from any thread; a ReferenceRenderer may render from several threads at once (its cache is
+// thread-safe).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/render_params.h"
+#include "core/transfer_function.h"
+#include "index/cut.h"
+#include "index/rope_index.h"
+#include "store/brick_source.h"
+
+namespace ropecast {
+
+class Level0BrickCache;
+
+// A rendered image: row 0 at the top. rgba: 4 floats per pixel, final color (background composited) and alpha
+// = coverage; depth: world distance along the camera axis, +inf where nothing was hit.
+struct CpuImage {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  std::vector<float> rgba;
+  std::vector<float> depth;
+
+  glm::vec4 pixel(uint32_t x, uint32_t y) const {
+    const size_t i = 4 * (size_t(y) * width + x);
+    return {rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]};
+  }
+};
+
+// What every renderer needs besides the data: the view, the settings and (DVR) the baked transfer function.
+struct CpuRenderInput {
+  Camera camera;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  RenderParams params;
+  const TfTable* tf = nullptr;  // required for RenderMode::Dvr
+  unsigned threads = 2;         // rows are split over this many threads
+};
+
+// Brick bytes (storedBrickEdge()^3 samples of the stored type, border included) by GPU pool slot.
+using BricksBySlot = std::unordered_map<uint32_t, std::vector<std::byte>>;
+
+// Reads the brick of every Data leaf of `cut` from `source`, keyed by the leaf's brickSlot.
+BricksBySlot readCutBricks(const Cut& cut, const BrickSource& source);
+
+// The mirror of the GL ray caster. `volume` gives dims, spacing, layout, stored type and mapping; every Data
+// leaf's brickSlot must be in `bricks`. Throws ropecast::Error on a missing slot or missing TF in DVR mode.
+CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const BrickSourceInfo& volume,
+                      const CpuRenderInput& input);
+
+// The brute-force reference. Keeps the level-0 bricks it has read for later frames.
+class ReferenceRenderer {
+ public:
+  explicit ReferenceRenderer(const BrickSource& source);
+  ~ReferenceRenderer();
+
+  CpuImage render(const CpuRenderInput& input) const;
+  size_t bricksRead() const;
+
+ private:
+  const BrickSource& source_;
+  std::unique_ptr<Level0BrickCache> cache_;
+};
+
+}  // namespace ropecast

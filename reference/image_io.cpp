@@ -1,0 +1,121 @@
+#include "reference/image_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <system_error>
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/error.h"
+#include "core/temporary_file.h"
+
+namespace ropecast {
+
+namespace {
+
+void checkImage(const std::string& where, const std::string& path, const FloatImage& image,
+                uint32_t minChannels) {
+  if (image.width == 0 || image.height == 0) throw Error(where + ": '" + path + "': empty image");
+  if (image.channels < minChannels)
+    throw Error(where + ": '" + path + "': image has " + std::to_string(image.channels) + " channels, need " +
+                std::to_string(minChannels));
+  if (image.pixels.size() != size_t(image.width) * image.height * image.channels)
+    throw Error(where + ": '" + path + "': pixel buffer size does not match width x height x channels");
+}
+
+// Writes `data` (pixels of `spec`) to path + ".tmp" with the plugin chosen by `path`'s extension, then
+// renames.
+void writeAtomically(const std::string& where, const std::string& path, const OIIO::ImageSpec& spec,
+                     OIIO::TypeDesc dataType, const void* data) {
+  const std::string tmp = path + ".tmp";
+  const TemporaryNameGuard removedOnSignals(tmp);
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out)
+    throw Error(where + ": '" + path + "': no image writer for this extension (" + OIIO::geterror() + ")");
+  bool ok = out->open(tmp, spec) && out->write_image(dataType, data);
+  const std::string err = ok ? "" : out->geterror();
+  ok = out->close() && ok;
+  if (!ok) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw Error(where + ": writing '" + path + "' failed: " + (err.empty() ? out->geterror() : err));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(where + ": renaming the finished '" + tmp + "' to '" + path + "' failed: " + ec.message());
+  }
+}
+
+bool parentFolderExists(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  return parent.empty() || std::filesystem::is_directory(parent, ec);
+}
+
+}  // namespace
+
+std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
+  if (!parentFolderExists(path))
+    return "its folder '" + std::filesystem::path(path).parent_path().string() + "' does not exist";
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (kind == ImageOutputKind::FloatExr)
+    return ext == ".exr" ? "" : "expected a file name ending in .exr (float data)";
+  if (!OIIO::ImageOutput::create(path)) return "no image writer for this extension; use .png";
+  return "";
+}
+
+void writePng(const std::string& path, const FloatImage& image, bool withAlpha) {
+  const uint32_t channels = withAlpha ? 4 : 3;
+  checkImage("writePng", path, image, channels);
+  std::vector<uint8_t> bytes(size_t(image.width) * image.height * channels);
+  for (size_t p = 0; p < size_t(image.width) * image.height; ++p)
+    for (uint32_t c = 0; c < channels; ++c) {
+      const float v = image.pixels[p * image.channels + c];
+      const float clamped = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+      bytes[p * channels + c] = uint8_t(std::lround(clamped * 255.0f));
+    }
+  OIIO::ImageSpec spec(int(image.width), int(image.height), int(channels), OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // color is final (background composited): write it unchanged
+  writeAtomically("writePng", path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void writeExr(const std::string& path, const FloatImage& image) {
+  checkImage("writeExr", path, image, 1);
+  OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::FLOAT);
+  if (image.channels == 4) spec.channelnames = {"R", "G", "B", "A"};
+  if (image.channels == 4) spec.alpha_channel = 3;
+  writeAtomically("writeExr", path, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
+}
+
+void writeDepthExr(const std::string& path, const FloatImage& depth) {
+  checkImage("writeDepthExr", path, depth, 1);
+  if (depth.channels != 1) throw Error("writeDepthExr: '" + path + "': depth images have one channel");
+  OIIO::ImageSpec spec(int(depth.width), int(depth.height), 1, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"Z"};
+  spec.z_channel = 0;
+  writeAtomically("writeDepthExr", path, spec, OIIO::TypeDesc::FLOAT, depth.pixels.data());
+}
+
+FloatImage readImage(const std::string& path) {
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // PNG: return the stored color, not color * alpha
+  auto in = OIIO::ImageInput::open(path, &config);
+  if (!in) throw Error("readImage: cannot open '" + path + "': " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  FloatImage image;
+  image.width = uint32_t(spec.width);
+  image.height = uint32_t(spec.height);
+  image.channels = uint32_t(spec.nchannels);
+  image.pixels.resize(size_t(image.width) * image.height * image.channels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    throw Error("readImage: reading '" + path + "' failed: " + in->geterror());
+  in->close();
+  return image;
+}
+
+}  // namespace ropecast

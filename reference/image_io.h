@@ -1,0 +1,31 @@
+// Image files: PNG (8-bit RGB or RGBA, clamped to [0,1], no gamma) and OpenEXR (float RGBA; a depth EXR with
+// one float channel "Z") through OpenImageIO, and reading either back as floats (tests, regression goldens).
+// Writes go to "<path>.tmp" and are renamed when complete, so a failure leaves nothing half-written.
+// GL-free; any thread (no shared state).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/float_image.h"
+
+namespace ropecast {
+
+// Writes the first 3 (withAlpha false) or 4 channels of an image with >= 3 (>= 4) channels as 8-bit PNG:
+// round(clamp(v, 0, 1) * 255). Throws ropecast::Error naming the file.
+void writePng(const std::string& path, const FloatImage& image, bool withAlpha);
+// Writes all channels as 32-bit float EXR (channel names R, G, B, A for 4 channels). Throws naming the file.
+void writeExr(const std::string& path, const FloatImage& image);
+// Writes a 1-channel image as a float EXR with the channel "Z" (world units; +inf = miss).
+void writeDepthExr(const std::string& path, const FloatImage& depth);
+// What an image output is for: writePng's 8-bit color, or writeExr's and writeDepthExr's float data.
+enum class ImageOutputKind { Color8, FloatExr };
+// Why an image of `kind` cannot be written at `path`, in words ("" when it can): its folder does not exist,
+// no writer knows its extension, or a float output's name does not end in .exr (any other format would round
+// the floats). Callers check their outputs before long work, so a typo does not surface after the render.
+std::string imageOutputProblem(const std::string& path, ImageOutputKind kind);
+// Reads any image OpenImageIO knows as floats (8-bit PNG values become v / 255). Throws naming the file.
+FloatImage readImage(const std::string& path);
+
+}  // namespace ropecast

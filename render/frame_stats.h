@@ -1,0 +1,52 @@
+// FrameStats: what one rendered frame measured, written by `ropecast render --stats` as one JSON object per
+// line: the loader's LoaderStats (WorkingSet::update) and the renderer's timing and index fields. Plain data,
+// owned by whoever renders the frame; any thread may read a copy.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "loader/loader_stats.h"
+
+namespace ropecast {
+
+struct FrameStats : LoaderStats {
+  uint64_t frame = 0;
+  double frameMs = 0.0;    // wall time of the whole frame
+  double raycastMs = 0.0;  // GL timestamp queries around the ray-cast pass (see GpuTimer)
+  bool raycastWallClock =
+      false;                // raycast_ms is the wall-clock bound: the driver's timestamps were implausible
+  double uploadMs = 0.0;    // handing this frame's bricks to the GPU pool (CPU side of the texture uploads)
+  double indexMs = 0.0;     // building and uploading the rope index
+  double stepVoxels = 0.0;  // the sample step of this frame (--step, scaled by --target-frame-ms)
+};
+
+inline nlohmann::json toJson(const FrameStats& s) {
+  return nlohmann::json{{"frame", s.frame},
+                        {"frame_ms", s.frameMs},
+                        {"raycast_ms", s.raycastMs},
+                        {"raycast_timer", s.raycastWallClock ? "wall" : "gpu"},
+                        {"upload_ms", s.uploadMs},
+                        {"index_ms", s.indexMs},
+                        {"step_voxels", s.stepVoxels},
+                        {"refine_ms", s.refineMs},
+                        {"leaves", s.leaves},
+                        {"bricks_resident", s.bricksResident},
+                        {"bricks_uploaded", s.bricksUploaded},
+                        {"bytes_uploaded", s.bytesUploaded},
+                        {"requests_pending", s.requestsPending},
+                        {"cache_hits", s.cacheHits},
+                        {"cache_misses", s.cacheMisses},
+                        {"cpu_cache_bytes", s.cpuCacheBytes},
+                        {"gpu_pool_used", s.gpuPoolUsedBytes},
+                        {"converged", s.converged}};
+}
+
+// One line of a --stats file (no trailing newline).
+inline std::string toJsonLine(const FrameStats& s) {
+  return toJson(s).dump();
+}
+
+}  // namespace ropecast

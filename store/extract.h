@@ -1,0 +1,28 @@
+// Extraction of one resolution level of a bricked octree as a raw volume (`ropecast extract`): x fastest, in
+// the volume's original type (uint8/uint16/int16 exactly as converted; float32 dequantized through
+// ValueMapping). Empty (discarded) nodes read as stored value 0. Reads one z-row of bricks at a time.
+//
+// Threads: any thread; the BrickSource may be shared with other readers.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "store/brick_source.h"
+
+namespace ropecast {
+
+// Calls `sink(bytes)` with consecutive pieces of the level's raw volume (whole slices, in z order).
+void extractLevel(const BrickSource& source, uint32_t level,
+                  const std::function<void(std::span<const std::byte>)>& sink);
+
+// The whole level in memory (tests, small volumes).
+std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t level);
+
+// Writes the level to `output` under a temporary name, renamed when complete.
+void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output);
+
+}  // namespace ropecast

@@ -1,0 +1,357 @@
+#include "store/nrrd_header.h"
+
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+constexpr size_t kQuoteChars = 60;  // how much of a bad value a message repeats
+
+std::string quoted(std::string_view s) {
+  std::string out(s.substr(0, kQuoteChars));
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  return "'" + out + (s.size() > kQuoteChars ? "...'" : "'");
+}
+
+std::string_view trim(std::string_view s) {
+  const auto isSpace = [](char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+  };
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> splitWords(std::string_view s) {
+  std::vector<std::string_view> words;
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+    const size_t start = i;
+    while (i < s.size() && s[i] != ' ' && s[i] != '\t') ++i;
+    if (i > start) words.push_back(s.substr(start, i - start));
+  }
+  return words;
+}
+
+std::optional<int64_t> parseInteger(std::string_view s) {
+  s = trim(s);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  int64_t v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+// Finite numbers and NaN (NRRD writes "nan" for unknown spacings); nullopt for anything else.
+std::optional<double> parseNumber(std::string_view s) {
+  s = trim(s);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || end != s.data() + s.size() || std::isinf(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<SampleType> parseNrrdType(std::string_view t) {
+  static const std::pair<std::string_view, SampleType> kTypes[] = {
+      {"uchar", SampleType::UInt8},
+      {"unsigned char", SampleType::UInt8},
+      {"uint8", SampleType::UInt8},
+      {"uint8_t", SampleType::UInt8},
+      {"ushort", SampleType::UInt16},
+      {"unsigned short", SampleType::UInt16},
+      {"unsigned short int", SampleType::UInt16},
+      {"uint16", SampleType::UInt16},
+      {"uint16_t", SampleType::UInt16},
+      {"short", SampleType::Int16},
+      {"short int", SampleType::Int16},
+      {"signed short", SampleType::Int16},
+      {"signed short int", SampleType::Int16},
+      {"int16", SampleType::Int16},
+      {"int16_t", SampleType::Int16},
+      {"float", SampleType::Float32},
+  };
+  for (const auto& [name, type] : kTypes)
+    if (name == t) return type;
+  return std::nullopt;
+}
+
+bool isKnownUnsupportedNrrdType(std::string_view t) {
+  static const std::string_view kOthers[] = {"signed char",
+                                             "int8",
+                                             "int8_t",
+                                             "int",
+                                             "signed int",
+                                             "int32",
+                                             "int32_t",
+                                             "uint",
+                                             "unsigned int",
+                                             "uint32",
+                                             "uint32_t",
+                                             "longlong",
+                                             "long long",
+                                             "long long int",
+                                             "signed long long",
+                                             "signed long long int",
+                                             "int64",
+                                             "int64_t",
+                                             "ulonglong",
+                                             "unsigned long long",
+                                             "unsigned long long int",
+                                             "uint64",
+                                             "uint64_t",
+                                             "double",
+                                             "block"};
+  for (std::string_view o : kOthers)
+    if (o == t) return true;
+  return false;
+}
+
+class HeaderParser {
+ public:
+  HeaderParser(std::string_view text, const std::string& fileName) : text_(text), fileName_(fileName) {}
+
+  NrrdHeader parse() {
+    parseMagic();
+    while (pos_ < text_.size()) {
+      ++lineNumber_;
+      const std::string_view line = nextLine();
+      if (line.empty()) {
+        header_.endsWithBlankLine = true;
+        break;
+      }
+      parseLine(line);
+    }
+    header_.headerBytes = pos_;
+    return finish();
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error("NRRD header of " + fileName_ + ": " + what);
+  }
+  [[noreturn]] void failField(std::string_view field, const std::string& what) const {
+    fail("field '" + std::string(field) + "' (line " + std::to_string(lineNumber_) + "): " + what);
+  }
+
+  std::string_view nextLine() {
+    const size_t end = text_.find('\n', pos_);
+    std::string_view line =
+        text_.substr(pos_, end == std::string_view::npos ? std::string_view::npos : end - pos_);
+    pos_ = end == std::string_view::npos ? text_.size() : end + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return line;
+  }
+
+  void parseMagic() {
+    lineNumber_ = 1;
+    const bool hasNewline = text_.find('\n') != std::string_view::npos;
+    const std::string_view magic = nextLine();
+    if (!hasNewline || magic.size() != 8 || magic.substr(0, 7) != "NRRD000" || magic[7] < '1' ||
+        magic[7] > '9')
+      fail("expected the magic line NRRD0001..NRRD0009 followed by a newline, got " + quoted(magic));
+  }
+
+  void parseLine(std::string_view line) {
+    if (line.front() == '#') return;  // comment
+    const size_t keyValue = line.find(":=");
+    const size_t field = line.find(": ");
+    if (keyValue != std::string_view::npos && (field == std::string_view::npos || keyValue < field)) return;
+    if (field == std::string_view::npos)
+      fail("line " + std::to_string(lineNumber_) + ": expected 'field: value' or 'key:=value', got " +
+           quoted(line));
+    const std::string_view name = line.substr(0, field);
+    const std::string_view value = trim(line.substr(field + 2));
+    if (!seen_.insert(std::string(name)).second) failField(name, "given more than once");
+    if (name == "dimension") {
+      const auto d = parseInteger(value);
+      if (!d) failField(name, "expected an integer, got " + quoted(value));
+      if (*d != 3) failField(name, "only 3-dimensional volumes are supported, got " + std::to_string(*d));
+      dimension_ = true;
+    } else if (name == "type") {
+      const auto t = parseNrrdType(value);
+      if (!t) {
+        if (isKnownUnsupportedNrrdType(value))
+          failField(name, "unsupported type " + quoted(value) + "; expected uint8, uint16, int16 or float");
+        failField(name, "unknown type " + quoted(value) + "; expected uint8, uint16, int16 or float");
+      }
+      header_.type = *t;
+      type_ = true;
+    } else if (name == "sizes") {
+      parseSizes(name, value);
+    } else if (name == "encoding") {
+      parseEncoding(name, value);
+    } else if (name == "endian") {
+      if (value == "little")
+        header_.bigEndian = false;
+      else if (value == "big")
+        header_.bigEndian = true;
+      else
+        failField(name, "expected little or big, got " + quoted(value));
+      endian_ = true;
+    } else if (name == "spacings") {
+      parseSpacings(name, value);
+    } else if (name == "space directions") {
+      parseSpaceDirections(name, value);
+    } else if (name == "byte skip") {
+      const auto skip = parseInteger(value);
+      if (!skip || *skip < -1 || *skip > kMaxSkip)
+        failField(name,
+                  "expected an integer in [-1, " + std::to_string(kMaxSkip) + "], got " + quoted(value));
+      header_.byteSkip = *skip;
+    } else if (name == "line skip") {
+      const auto skip = parseInteger(value);
+      if (!skip || *skip < 0 || *skip > kMaxSkip)
+        failField(name, "expected an integer in [0, " + std::to_string(kMaxSkip) + "], got " + quoted(value));
+      header_.lineSkip = *skip;
+    } else if (name == "data file" || name == "datafile") {
+      parseDataFile(name, value);
+    }
+    // Anything else (kinds, space, space origin, centerings, content, ...) does not change how samples are
+    // read.
+  }
+
+  void parseSizes(std::string_view name, std::string_view value) {
+    const auto words = splitWords(value);
+    if (words.size() != 3) failField(name, "expected 3 positive integers, got " + quoted(value));
+    uint64_t bytes = 8;  // widest sample; the check must hold whatever type comes later
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto n = parseInteger(words[axis]);
+      if (!n || *n < 1 || *n > int64_t(UINT32_MAX))
+        failField(name, "expected 3 positive integers (each < 2^32), got " + quoted(value));
+      header_.sizes[axis] = uint32_t(*n);
+      if (bytes > kMaxDataBytes / uint64_t(*n))
+        failField(name, quoted(value) + " is too large (more than 2^62 bytes of data)");
+      bytes *= uint64_t(*n);
+    }
+    sizes_ = true;
+  }
+
+  void parseEncoding(std::string_view name, std::string_view value) {
+    if (value == "raw") {
+      header_.encoding = NrrdEncoding::Raw;
+    } else if (value == "gzip" || value == "gz") {
+      header_.encoding = NrrdEncoding::Gzip;
+    } else if (value == "ascii" || value == "text" || value == "txt" || value == "hex" || value == "bzip2" ||
+               value == "bz2" || value == "zrl") {
+      failField(name, "unsupported encoding " + quoted(value) + "; expected raw or gzip");
+    } else {
+      failField(name, "unknown encoding " + quoted(value) + "; expected raw or gzip");
+    }
+    encoding_ = true;
+  }
+
+  void parseSpacings(std::string_view name, std::string_view value) {
+    const auto words = splitWords(value);
+    if (words.size() != 3) failField(name, "expected 3 numbers, got " + quoted(value));
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto s = parseNumber(words[axis]);
+      if (!s) failField(name, "expected 3 numbers, got " + quoted(value));
+      if (*s == 0.0) failField(name, "spacing of axis " + std::to_string(axis) + " is zero");
+      spacings_[axis] = std::isnan(*s) ? 1.0 : std::abs(*s);
+    }
+    hasSpacings_ = true;
+  }
+
+  void parseSpaceDirections(std::string_view name, std::string_view value) {
+    glm::dvec3 lengths(1.0);
+    int axis = 0;
+    size_t i = 0;
+    std::optional<size_t> components;
+    while (true) {
+      while (i < value.size() && (value[i] == ' ' || value[i] == '\t')) ++i;
+      if (i == value.size()) break;
+      if (axis == 3) failField(name, "expected 3 vectors or 'none', got " + quoted(value));
+      if (value.substr(i, 4) == "none") {
+        i += 4;
+        ++axis;
+        continue;
+      }
+      if (value[i] != '(') failField(name, "expected '(x,y,z)' or 'none', got " + quoted(value));
+      const size_t close = value.find(')', i);
+      if (close == std::string_view::npos) failField(name, "missing ')' in " + quoted(value));
+      const std::string_view inner = value.substr(i + 1, close - i - 1);
+      double squared = 0.0;
+      size_t count = 0;
+      for (size_t start = 0;;) {
+        const size_t comma = inner.find(',', start);
+        const auto c = parseNumber(
+            inner.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
+        if (!c || std::isnan(*c)) failField(name, "expected numbers in " + quoted(value));
+        squared += *c * *c;
+        ++count;
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+      }
+      if (components && *components != count)
+        failField(name, "vectors of different lengths in " + quoted(value));
+      components = count;
+      const double length = std::sqrt(squared);
+      if (!(length > 0.0) || std::isinf(length))
+        failField(name, "direction of axis " + std::to_string(axis) + " has zero or infinite length");
+      lengths[axis++] = length;
+      i = close + 1;
+    }
+    if (axis != 3) failField(name, "expected 3 vectors or 'none', got " + quoted(value));
+    directions_ = lengths;
+    hasDirections_ = true;
+  }
+
+  void parseDataFile(std::string_view name, std::string_view value) {
+    if (value.empty()) failField(name, "expected a file name");
+    const auto words = splitWords(value);
+    const bool isList = value == "LIST" || (value.size() > 5 && value.substr(0, 5) == "LIST ");
+    bool isFormat = words.size() >= 4;  // "<format> <min> <max> <step> [<subdim>]"
+    for (size_t w = 1; isFormat && w < words.size(); ++w) isFormat = parseInteger(words[w]).has_value();
+    if (isList || isFormat) failField(name, "multiple data files are not supported, got " + quoted(value));
+    header_.dataFile = std::string(value);
+  }
+
+  NrrdHeader finish() {
+    if (!dimension_) fail("missing field 'dimension'");
+    if (!type_) fail("missing field 'type'");
+    if (!sizes_) fail("missing field 'sizes'");
+    if (!encoding_) fail("missing field 'encoding'");
+    if (!endian_ && bytesPerSample(header_.type) > 1)
+      fail("missing field 'endian' (required for " + std::string(sampleTypeName(header_.type)) + " data)");
+    if (header_.byteSkip == -1 && header_.encoding != NrrdEncoding::Raw)
+      fail("field 'byte skip': -1 is only allowed with raw encoding");
+    if (hasDirections_)
+      header_.spacing = directions_;
+    else if (hasSpacings_)
+      header_.spacing = spacings_;
+    return header_;
+  }
+
+  static constexpr int64_t kMaxSkip = int64_t(1) << 40;
+  static constexpr uint64_t kMaxDataBytes = uint64_t(1) << 62;
+
+  std::string_view text_;
+  const std::string& fileName_;
+  size_t pos_ = 0;
+  size_t lineNumber_ = 0;
+  NrrdHeader header_;
+  std::set<std::string> seen_;
+  bool dimension_ = false, type_ = false, sizes_ = false, encoding_ = false, endian_ = false;
+  bool hasSpacings_ = false, hasDirections_ = false;
+  glm::dvec3 spacings_{1.0};
+  glm::dvec3 directions_{1.0};
+};
+
+}  // namespace
+
+NrrdHeader parseNrrdHeader(std::string_view text, const std::string& fileName) {
+  return HeaderParser(text, fileName).parse();
+}
+
+}  // namespace ropecast

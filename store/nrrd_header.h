@@ -1,0 +1,46 @@
+// NRRD header parsing (https://teem.sourceforge.net/nrrd/format.html), the part of the NRRD source that sees
+// untrusted text: a pure function over a string, fuzzed by fuzz/nrrd_header_fuzz.cpp. Owned by loader/.
+// Pure function; any thread.
+//
+// Supported: "NRRD000n" magic, dimension 3, type (the NRRD spellings of uint8, uint16, int16, float), sizes,
+// encoding raw or gzip, endian, spacings or space directions (spacing = length of each direction), byte skip
+// (-1 = data at the end of the file, raw only), line skip, data file (one detached file). Other fields,
+// comments and key/value pairs are ignored.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <glm/vec3.hpp>
+
+#include "core/sample_type.h"
+
+namespace ropecast {
+
+enum class NrrdEncoding : uint8_t { Raw, Gzip };
+
+struct NrrdHeader {
+  SampleType type = SampleType::UInt8;
+  glm::u32vec3 sizes{0};    // samples per axis, axis 0 fastest
+  glm::dvec3 spacing{1.0};  // from spacings or the lengths of space directions (1 where unknown)
+  NrrdEncoding encoding = NrrdEncoding::Raw;
+  bool bigEndian = false;  // the data's byte order (irrelevant for 1-byte types)
+  int64_t byteSkip = 0;  // bytes to skip before the data (after decompression for gzip); -1: data at the end
+  int64_t lineSkip = 0;  // lines to skip before the data (before decompression)
+  std::string dataFile;  // detached data file as written (relative to the header's folder); empty: attached
+  size_t headerBytes = 0;          // bytes of the header including the blank line that ends it
+  bool endsWithBlankLine = false;  // false: the text ended without the blank line (fine for .nhdr only)
+
+  uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
+};
+
+// Parses the header at the start of `text` (which may continue with the data; parsing stops at the first
+// empty line). `fileName` is only used in messages. Throws ropecast::Error naming the file and the field for
+// a bad magic line, a missing required field (dimension, type, sizes, encoding, endian for multi-byte types),
+// malformed or out-of-range numbers, sizes that are not 3 positive integers or overflow, dimension other than
+// 3, unsupported types and encodings.
+NrrdHeader parseNrrdHeader(std::string_view text, const std::string& fileName);
+
+}  // namespace ropecast

@@ -1,0 +1,236 @@
+#include "store/source_images.h"
+
+#include <glob.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One slice: a file, and its page for multi-page TIFFs.
+struct SliceRef {
+  std::string path;
+  int page = 0;
+};
+
+struct SliceFormat {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  SampleType type = SampleType::UInt8;
+};
+
+std::string describe(const SliceRef& slice, bool multiPage) {
+  return multiPage ? slice.path + " (page " + std::to_string(slice.page) + ")" : slice.path;
+}
+
+std::string oiioError(const OIIO::ImageInput* in) {
+  std::string message = in ? in->geterror() : OIIO::geterror();
+  if (message.empty()) message = "unknown OpenImageIO error";
+  return message;
+}
+
+std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error("cannot read image " + path + ": " + oiioError(nullptr));
+  return in;
+}
+
+SliceFormat sliceFormat(const OIIO::ImageSpec& spec, const std::string& what) {
+  if (spec.nchannels != 1)
+    throw Error("image slice " + what + " has " + std::to_string(spec.nchannels) +
+                " channels; expected a single-channel (grayscale) image");
+  if (spec.depth > 1) throw Error("image slice " + what + " is a 3D image; expected 2D slices");
+  if (spec.width <= 0 || spec.height <= 0) throw Error("image slice " + what + " is empty");
+  SliceFormat format{uint32_t(spec.width), uint32_t(spec.height)};
+  if (spec.format == OIIO::TypeDesc::UINT8)
+    format.type = SampleType::UInt8;
+  else if (spec.format == OIIO::TypeDesc::UINT16)
+    format.type = SampleType::UInt16;
+  else if (spec.format == OIIO::TypeDesc::INT16)
+    format.type = SampleType::Int16;
+  else if (spec.format == OIIO::TypeDesc::FLOAT)
+    format.type = SampleType::Float32;
+  else
+    throw Error("image slice " + what + " has pixel type " + std::string(spec.format.c_str()) +
+                "; expected uint8, uint16, int16 or float");
+  return format;
+}
+
+void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const std::string& firstWhat,
+                     const std::string& what) {
+  if (slice.width != first.width || slice.height != first.height)
+    throw Error("image slice " + what + " is " + std::to_string(slice.width) + "x" +
+                std::to_string(slice.height) + ", but " + firstWhat + " is " + std::to_string(first.width) +
+                "x" + std::to_string(first.height) + "; all slices must have the same size");
+  if (slice.type != first.type)
+    throw Error("image slice " + what + " has type " + std::string(sampleTypeName(slice.type)) + ", but " +
+                firstWhat + " has " + std::string(sampleTypeName(first.type)) +
+                "; all slices must have one type");
+}
+
+class ImageSliceSource final : public VolumeSource {
+ public:
+  ImageSliceSource(std::vector<SliceRef> slices, bool multiPage, std::string description,
+                   const SourceOptions& options)
+      : slices_(std::move(slices)), multiPage_(multiPage) {
+    // Check every slice now, so a bad stack fails before any conversion work.
+    if (multiPage_) multiPageInput_ = openImage(slices_.front().path);
+    for (size_t z = 0; z < slices_.size(); ++z) {
+      const SliceFormat slice = sliceFormat(specOf(slices_[z]), describe(slices_[z], multiPage_));
+      if (z == 0)
+        format_ = slice;
+      else
+        checkSameFormat(format_, slice, describe(slices_[0], multiPage_), describe(slices_[z], multiPage_));
+    }
+    info_.dims = {format_.width, format_.height, uint32_t(slices_.size())};
+    info_.type = format_.type;
+    info_.spacing = options.spacing.value_or(glm::dvec3(1.0));
+    if (info_.type == SampleType::UInt8) {
+      info_.valueMin = 0.0;
+      info_.valueMax = 255.0;
+    }
+    info_.description = std::move(description);
+  }
+
+  const VolumeInfo& info() const override { return info_; }
+
+  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    if (uint64_t(z0) + count > info_.dims.z)
+      throw Error("readSlab: slices [" + std::to_string(z0) + ", " + std::to_string(uint64_t(z0) + count) +
+                  ") outside " + info_.description + " (" + std::to_string(info_.dims.z) + " slices)");
+    if (out.size() != uint64_t(count) * info_.sliceBytes())
+      throw Error("readSlab: " + info_.description + ": output buffer has " + std::to_string(out.size()) +
+                  " bytes, expected " + std::to_string(uint64_t(count) * info_.sliceBytes()));
+    for (uint32_t i = 0; i < count; ++i)
+      readSlice(slices_[z0 + i], out.subspan(i * info_.sliceBytes(), info_.sliceBytes()));
+  }
+
+ private:
+  OIIO::ImageSpec specOf(const SliceRef& slice) {
+    if (multiPage_) {
+      OIIO::ImageSpec spec;
+      if (!multiPageInput_->seek_subimage(slice.page, 0, spec))
+        throw Error("cannot read image slice " + describe(slice, true) + ": " +
+                    oiioError(multiPageInput_.get()));
+      return spec;
+    }
+    return openImage(slice.path)->spec();
+  }
+
+  void readSlice(const SliceRef& slice, std::span<std::byte> out) {
+    const std::string what = describe(slice, multiPage_);
+    std::unique_ptr<OIIO::ImageInput> ownInput;
+    OIIO::ImageInput* in = multiPageInput_.get();
+    if (!in) {
+      ownInput = openImage(slice.path);
+      in = ownInput.get();
+    }
+    OIIO::ImageSpec spec;
+    if (!in->seek_subimage(slice.page, 0, spec))
+      throw Error("cannot read image slice " + what + ": " + oiioError(in));
+    // The file may have changed since the stack was opened.
+    checkSameFormat(format_, sliceFormat(spec, what), describe(slices_[0], multiPage_), what);
+    if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()))
+      throw Error("cannot read image slice " + what + ": " + oiioError(in));
+  }
+
+  std::vector<SliceRef> slices_;
+  bool multiPage_ = false;
+  std::unique_ptr<OIIO::ImageInput> multiPageInput_;  // kept open between slabs for multi-page TIFFs
+  SliceFormat format_;
+  VolumeInfo info_;
+};
+
+bool hasSliceExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".tif" || ext == ".tiff" || ext == ".png";
+}
+
+}  // namespace
+
+bool sliceNameLess(std::string_view a, std::string_view b) {
+  const auto isDigit = [](char c) { return c >= '0' && c <= '9'; };
+  size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (isDigit(a[i]) && isDigit(b[j])) {
+      size_t iEnd = i, jEnd = j;
+      while (iEnd < a.size() && isDigit(a[iEnd])) ++iEnd;
+      while (jEnd < b.size() && isDigit(b[jEnd])) ++jEnd;
+      // Compare the numbers without leading zeros: first by length, then digit by digit.
+      size_t iStart = i, jStart = j;
+      while (iStart + 1 < iEnd && a[iStart] == '0') ++iStart;
+      while (jStart + 1 < jEnd && b[jStart] == '0') ++jStart;
+      const std::string_view na = a.substr(iStart, iEnd - iStart), nb = b.substr(jStart, jEnd - jStart);
+      if (na.size() != nb.size()) return na.size() < nb.size();
+      if (na != nb) return na < nb;
+      if (iEnd - i != jEnd - j) return iEnd - i < jEnd - j;  // same number: fewer leading zeros first
+      i = iEnd;
+      j = jEnd;
+    } else {
+      if (a[i] != b[j]) return (unsigned char)a[i] < (unsigned char)b[j];
+      ++i;
+      ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+std::vector<std::string> listSliceFiles(const std::string& directoryOrPattern) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (fs::is_directory(directoryOrPattern, ec)) {
+    for (const auto& entry : fs::directory_iterator(directoryOrPattern, ec))
+      if (entry.is_regular_file() && hasSliceExtension(entry.path())) files.push_back(entry.path().string());
+    if (ec) throw Error("cannot list slice directory " + directoryOrPattern + ": " + ec.message());
+    if (files.empty())
+      throw Error("slice directory " + directoryOrPattern + " has no .tif, .tiff or .png files");
+  } else {
+    glob_t matches{};
+    const int status = ::glob(directoryOrPattern.c_str(), 0, nullptr, &matches);
+    if (status == 0)
+      for (size_t i = 0; i < matches.gl_pathc; ++i)
+        if (fs::is_regular_file(matches.gl_pathv[i], ec)) files.emplace_back(matches.gl_pathv[i]);
+    globfree(&matches);
+    if (status != 0 && status != GLOB_NOMATCH)
+      throw Error("cannot expand slice pattern " + directoryOrPattern + " (glob error " +
+                  std::to_string(status) + ")");
+    if (files.empty()) throw Error("slice pattern " + directoryOrPattern + " matches no files");
+  }
+  std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+    return sliceNameLess(fs::path(a).filename().string(), fs::path(b).filename().string());
+  });
+  return files;
+}
+
+int countImagePages(const std::string& path) {
+  auto in = openImage(path);
+  int pages = 1;
+  while (in->seek_subimage(pages, 0)) ++pages;
+  return pages;
+}
+
+std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
+                                                   const SourceOptions& options) {
+  std::vector<SliceRef> slices;
+  for (auto& file : listSliceFiles(directoryOrPattern)) slices.push_back({std::move(file), 0});
+  return std::make_unique<ImageSliceSource>(std::move(slices), false, "images:" + directoryOrPattern,
+                                            options);
+}
+
+std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options) {
+  const int pages = countImagePages(path);
+  std::vector<SliceRef> slices;
+  for (int page = 0; page < pages; ++page) slices.push_back({path, page});
+  return std::make_unique<ImageSliceSource>(std::move(slices), true, "tiff:" + path, options);
+}
+
+}  // namespace ropecast

@@ -1,0 +1,38 @@
+// The image-stack VolumeSource, read with OpenImageIO: a directory of 2D slices (every .tif/.tiff/.png file),
+// a glob pattern of slices (e.g. "dir/slice_*.png"), or one multi-page TIFF (each page a slice). Slices are
+// single-channel uint8, uint16, int16 or float images, all of one size and type; slice 0 is z = 0. Owned by
+// loader/.
+//
+// Threads: as VolumeSource (readSlab from one thread at a time).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "store/volume_source.h"
+
+namespace ropecast {
+
+// Name order in which slices are stacked: runs of digits compare as numbers, so "s2.png" < "s10.png" (and
+// zero-padded names keep their plain order).
+bool sliceNameLess(std::string_view a, std::string_view b);
+
+// The slice files of a directory (its .tif/.tiff/.png files, case-insensitive) or of a glob pattern, in
+// sliceNameLess order. Throws ropecast::Error naming the directory or pattern if nothing matches.
+std::vector<std::string> listSliceFiles(const std::string& directoryOrPattern);
+
+// How many subimages (pages) an image file has. Throws ropecast::Error naming the file if it cannot be read.
+int countImagePages(const std::string& path);
+
+// A stack of slice files (a directory or glob pattern). Every slice is checked when opening: a slice of
+// different size or type, an unreadable file, or a multi-channel image throws ropecast::Error naming the
+// file.
+std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
+                                                   const SourceOptions& options);
+
+// A multi-page TIFF, one slice per page, checked as above (errors name the file and page).
+std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options);
+
+}  // namespace ropecast

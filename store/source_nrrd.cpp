@@ -1,0 +1,224 @@
+#include "store/source_nrrd.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <vector>
+
+#include "core/error.h"
+#include "store/nrrd_header.h"
+#include "store/source_raw.h"
+
+namespace ropecast {
+namespace {
+
+constexpr size_t kMaxHeaderBytes = size_t(1) << 20;
+constexpr size_t kChunkBytes = size_t(1) << 18;  // compressed input read at a time, and skip buffer
+
+std::string sliceRange(uint32_t z0, uint32_t count) {
+  return "[" + std::to_string(z0) + ", " + std::to_string(uint64_t(z0) + count) + ")";
+}
+
+// Offset just after `lines` newlines starting at `offset`.
+uint64_t skipLines(const PosixFile& file, uint64_t offset, int64_t lines) {
+  std::vector<std::byte> buffer(kChunkBytes);
+  while (lines > 0) {
+    const size_t got = file.readSomeAt(offset, buffer);
+    if (got == 0)
+      throw Error("NRRD data file " + file.path() + ": ends before the lines 'line skip' asks to skip");
+    size_t i = 0;
+    for (; i < got && lines > 0; ++i)
+      if (buffer[i] == std::byte('\n')) --lines;
+    offset += i;
+  }
+  return offset;
+}
+
+// A forward-only gzip (or zlib) stream over a byte range of a file, restartable from its start.
+class GzipStream {
+ public:
+  GzipStream(const PosixFile& file, uint64_t startOffset)
+      : file_(file), start_(startOffset), input_(kChunkBytes) {
+    if (inflateInit2(&zs_, 15 + 32) != Z_OK)
+      throw Error("NRRD data file " + file_.path() + ": inflateInit failed");
+    inputStart();
+  }
+  ~GzipStream() { inflateEnd(&zs_); }
+  GzipStream(const GzipStream&) = delete;
+  GzipStream& operator=(const GzipStream&) = delete;
+
+  uint64_t position() const { return produced_; }
+
+  void restart() {
+    if (inflateReset(&zs_) != Z_OK) throw Error("NRRD data file " + file_.path() + ": inflateReset failed");
+    inputStart();
+  }
+
+  void skip(uint64_t bytes) {
+    std::vector<std::byte> scratch(std::min<uint64_t>(bytes, kChunkBytes));
+    while (bytes > 0) {
+      const size_t n = size_t(std::min<uint64_t>(bytes, scratch.size()));
+      read(std::span(scratch).first(n));
+      bytes -= n;
+    }
+  }
+
+  // Fills `out` completely or throws (truncated or corrupt data).
+  void read(std::span<std::byte> out) {
+    zs_.next_out = reinterpret_cast<Bytef*>(out.data());
+    size_t left = out.size();
+    while (left > 0) {
+      if (zs_.avail_in == 0) refill();
+      const uInt chunk = uInt(std::min<size_t>(left, size_t(1) << 30));
+      zs_.avail_out = chunk;
+      const int status = inflate(&zs_, Z_NO_FLUSH);
+      const size_t got = chunk - zs_.avail_out;
+      left -= got;
+      produced_ += got;
+      if (status == Z_STREAM_END) {
+        if (left == 0) break;
+        // Concatenated gzip members continue the data; anything else means it ended early.
+        if (zs_.avail_in == 0 && !refill(false)) truncated();
+        if (inflateReset(&zs_) != Z_OK)
+          throw Error("NRRD data file " + file_.path() + ": inflateReset failed");
+      } else if (status == Z_BUF_ERROR) {
+        if (zs_.avail_in != 0) corrupt("no progress");
+      } else if (status != Z_OK) {
+        corrupt(zs_.msg ? zs_.msg : "inflate error " + std::to_string(status));
+      }
+    }
+  }
+
+ private:
+  void inputStart() {
+    next_ = start_;
+    produced_ = 0;
+    zs_.avail_in = 0;
+    zs_.next_in = nullptr;
+  }
+
+  // Reads more compressed input; at the end of the file throws (or returns false when allowed to end).
+  bool refill(bool mustHaveMore = true) {
+    const size_t got = file_.readSomeAt(next_, input_);
+    if (got == 0) {
+      if (mustHaveMore) truncated();
+      return false;
+    }
+    next_ += got;
+    zs_.next_in = reinterpret_cast<Bytef*>(input_.data());
+    zs_.avail_in = uInt(got);
+    return true;
+  }
+
+  [[noreturn]] void truncated() const {
+    throw Error("NRRD data file " + file_.path() + ": gzip data ends after " + std::to_string(produced_) +
+                " decompressed bytes, before the volume is complete (truncated file)");
+  }
+  [[noreturn]] void corrupt(const std::string& why) const {
+    throw Error("NRRD data file " + file_.path() + ": corrupt gzip data after " + std::to_string(produced_) +
+                " decompressed bytes (" + why + ")");
+  }
+
+  const PosixFile& file_;
+  uint64_t start_;
+  uint64_t next_ = 0;      // file offset of the next compressed input
+  uint64_t produced_ = 0;  // decompressed bytes delivered since the start
+  z_stream zs_{};
+  std::vector<std::byte> input_;
+};
+
+class NrrdSource final : public VolumeSource {
+ public:
+  NrrdSource(const std::string& path, const SourceOptions& options) {
+    std::string text;
+    {
+      const PosixFile headerFile(path);
+      text.resize(size_t(std::min<uint64_t>(headerFile.sizeBytes(), kMaxHeaderBytes)));
+      text.resize(headerFile.readSomeAt(0, std::as_writable_bytes(std::span(text))));
+    }
+    header_ = parseNrrdHeader(text, path);
+    std::string dataPath = path;
+    uint64_t dataStart = header_.headerBytes;
+    if (header_.dataFile.empty()) {
+      if (!header_.endsWithBlankLine)
+        throw Error("NRRD header of " + path +
+                    ": no blank line ends the header (and no 'data file' field names detached data)");
+    } else {
+      std::filesystem::path detached(header_.dataFile);
+      if (detached.is_relative()) detached = std::filesystem::path(path).parent_path() / detached;
+      dataPath = detached.string();
+      dataStart = 0;
+    }
+    data_ = std::make_unique<PosixFile>(dataPath);
+    dataStart = skipLines(*data_, dataStart, header_.lineSkip);
+
+    const uint64_t dataBytes = header_.dataBytes();
+    if (header_.encoding == NrrdEncoding::Raw) {
+      if (header_.byteSkip == -1) {
+        if (data_->sizeBytes() < dataBytes) truncatedRaw(dataBytes, data_->sizeBytes());
+        rawOffset_ = data_->sizeBytes() - dataBytes;
+      } else {
+        rawOffset_ = dataStart + uint64_t(header_.byteSkip);
+        if (data_->sizeBytes() < rawOffset_ || data_->sizeBytes() - rawOffset_ < dataBytes)
+          truncatedRaw(rawOffset_ + dataBytes, data_->sizeBytes());
+      }
+    } else {
+      gzip_ = std::make_unique<GzipStream>(*data_, dataStart);
+    }
+
+    info_.dims = header_.sizes;
+    info_.type = header_.type;
+    info_.spacing = options.spacing.value_or(header_.spacing);
+    if (info_.type == SampleType::UInt8) {
+      info_.valueMin = 0.0;
+      info_.valueMax = 255.0;
+    }
+    info_.description = "nrrd:" + path;
+  }
+
+  const VolumeInfo& info() const override { return info_; }
+
+  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    if (uint64_t(z0) + count > info_.dims.z)
+      throw Error("readSlab: slices " + sliceRange(z0, count) + " outside " + info_.description + " (" +
+                  std::to_string(info_.dims.z) + " slices)");
+    const uint64_t bytes = uint64_t(count) * info_.sliceBytes();
+    if (out.size() != bytes)
+      throw Error("readSlab: " + info_.description + ": output buffer has " + std::to_string(out.size()) +
+                  " bytes, expected " + std::to_string(bytes));
+    const uint64_t offset = uint64_t(z0) * info_.sliceBytes();
+    if (gzip_) {
+      const uint64_t target = uint64_t(header_.byteSkip) + offset;
+      if (target < gzip_->position()) gzip_->restart();
+      gzip_->skip(target - gzip_->position());
+      gzip_->read(out);
+    } else {
+      data_->readAt(rawOffset_ + offset, out);
+    }
+    samplesToNative(out, info_.type, header_.bigEndian);
+  }
+
+ private:
+  [[noreturn]] void truncatedRaw(uint64_t expectedBytes, uint64_t actualBytes) const {
+    throw Error("NRRD data file " + data_->path() + ": size is " + std::to_string(actualBytes) +
+                " bytes, expected at least " + std::to_string(expectedBytes) + " (" +
+                std::to_string(header_.sizes.x) + "x" + std::to_string(header_.sizes.y) + "x" +
+                std::to_string(header_.sizes.z) + " " + std::string(sampleTypeName(header_.type)) +
+                "): file is truncated");
+  }
+
+  NrrdHeader header_;
+  std::unique_ptr<PosixFile> data_;
+  std::unique_ptr<GzipStream> gzip_;  // gzip encoding only; reads data_
+  uint64_t rawOffset_ = 0;            // raw encoding: file offset of the first sample
+  VolumeInfo info_;
+};
+
+}  // namespace
+
+std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const SourceOptions& options) {
+  return std::make_unique<NrrdSource>(path, options);
+}
+
+}  // namespace ropecast

@@ -1,0 +1,19 @@
+// The NRRD VolumeSource: .nrrd (header and data in one file) and .nhdr (detached data), raw or gzip encoded.
+// Raw data is read with pread; gzip data is inflated as a stream, forward, while slabs are read in order (a
+// read of an earlier slab restarts the stream). Owned by loader/.
+//
+// Threads: as VolumeSource (readSlab from one thread at a time: the gzip stream is per-source state).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "store/volume_source.h"
+
+namespace ropecast {
+
+// Spacing from options overrides the header's. Throws ropecast::Error naming the file (header or data) and
+// the problem: malformed header (see parseNrrdHeader), missing data file, data shorter than the header says.
+std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const SourceOptions& options);
+
+}  // namespace ropecast

@@ -1,0 +1,152 @@
+#include "store/source_raw.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <regex>
+
+#include <glm/vector_relational.hpp>
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+class RawSource final : public VolumeSource {
+ public:
+  RawSource(const std::string& path, VolumeInfo info) : file_(path), info_(std::move(info)) {
+    const uint64_t expected = info_.sampleCount() * bytesPerSample(info_.type);
+    if (file_.sizeBytes() != expected)
+      throw Error("raw file " + path + ": size is " + std::to_string(file_.sizeBytes()) +
+                  " bytes, expected " + std::to_string(expected) + " (" + std::to_string(info_.dims.x) + "x" +
+                  std::to_string(info_.dims.y) + "x" + std::to_string(info_.dims.z) + " " +
+                  std::string(sampleTypeName(info_.type)) + "): file is " +
+                  (file_.sizeBytes() < expected ? "truncated" : "too long"));
+  }
+
+  const VolumeInfo& info() const override { return info_; }
+
+  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    if (uint64_t(z0) + count > info_.dims.z)
+      throw Error("readSlab: slices [" + std::to_string(z0) + ", " + std::to_string(uint64_t(z0) + count) +
+                  ") outside raw file " + file_.path() + " (" + std::to_string(info_.dims.z) + " slices)");
+    if (out.size() != uint64_t(count) * info_.sliceBytes())
+      throw Error("readSlab: raw file " + file_.path() + ": output buffer has " + std::to_string(out.size()) +
+                  " bytes, expected " + std::to_string(uint64_t(count) * info_.sliceBytes()));
+    file_.readAt(uint64_t(z0) * info_.sliceBytes(), out);
+    samplesToNative(out, info_.type, false);
+  }
+
+ private:
+  PosixFile file_;
+  VolumeInfo info_;
+};
+
+}  // namespace
+
+std::optional<RawFileName> parseRawFileName(std::string_view path) {
+  static const std::regex pattern(R"(_([0-9]+)x([0-9]+)x([0-9]+)_([A-Za-z0-9]+)\.raw$)");
+  const std::string name = std::filesystem::path(path).filename().string();
+  std::smatch match;
+  if (!std::regex_search(name, match, pattern)) return std::nullopt;
+  RawFileName parsed;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::string digits = match[axis + 1].str();
+    if (digits.size() > 10) return std::nullopt;
+    const uint64_t n = std::stoull(digits);
+    if (n == 0 || n > UINT32_MAX) return std::nullopt;
+    parsed.dims[axis] = uint32_t(n);
+  }
+  parsed.typeName = match[4].str();
+  parsed.type = parseSampleType(parsed.typeName);
+  return parsed;
+}
+
+std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const SourceOptions& options) {
+  const auto fromName = parseRawFileName(path);
+  VolumeInfo info;
+  if (options.dims) {
+    info.dims = *options.dims;
+  } else if (fromName) {
+    info.dims = fromName->dims;
+  } else {
+    throw Error("raw file " + path +
+                ": dimensions unknown; give --dims X,Y,Z and --type T, or name the file name_XxYxZ_type.raw");
+  }
+  if (glm::any(glm::equal(info.dims, glm::u32vec3(0))))
+    throw Error("raw file " + path + ": dimensions must be positive");
+  if (options.type) {
+    info.type = *options.type;
+  } else if (fromName && fromName->type) {
+    info.type = *fromName->type;
+  } else if (fromName) {
+    throw Error("raw file " + path + ": unsupported sample type '" + fromName->typeName +
+                "' in the file name; expected uint8, uint16, int16 or float32 (or give --type)");
+  } else {
+    throw Error("raw file " + path + ": sample type unknown; give --type (uint8, uint16, int16, float32)");
+  }
+  info.spacing = options.spacing.value_or(glm::dvec3(1.0));
+  if (info.type == SampleType::UInt8) {
+    info.valueMin = 0.0;
+    info.valueMax = 255.0;
+  }
+  info.description = "raw:" + path;
+  return std::make_unique<RawSource>(path, std::move(info));
+}
+
+PosixFile::PosixFile(std::string path) : path_(std::move(path)) {
+  fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) throw Error("cannot open " + path_ + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0) {
+    const int err = errno;
+    ::close(fd_);
+    throw Error("cannot stat " + path_ + ": " + std::strerror(err));
+  }
+  if (S_ISDIR(st.st_mode)) {
+    ::close(fd_);
+    throw Error("cannot read " + path_ + ": is a directory");
+  }
+  sizeBytes_ = uint64_t(st.st_size);
+}
+
+PosixFile::~PosixFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+size_t PosixFile::readSomeAt(uint64_t offsetBytes, std::span<std::byte> out) const {
+  size_t done = 0;
+  while (done < out.size()) {
+    const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, off_t(offsetBytes + done));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw Error("cannot read " + path_ + " at byte " + std::to_string(offsetBytes + done) + ": " +
+                  std::strerror(errno));
+    }
+    if (n == 0) break;
+    done += size_t(n);
+  }
+  return done;
+}
+
+void PosixFile::readAt(uint64_t offsetBytes, std::span<std::byte> out) const {
+  const size_t got = readSomeAt(offsetBytes, out);
+  if (got != out.size())
+    throw Error("cannot read " + path_ + ": file ends at byte " + std::to_string(offsetBytes + got) +
+                ", expected data up to byte " + std::to_string(offsetBytes + out.size()));
+}
+
+void samplesToNative(std::span<std::byte> samples, SampleType type, bool storedBigEndian) {
+  const size_t width = bytesPerSample(type);
+  if (width == 1 || storedBigEndian == (std::endian::native == std::endian::big)) return;
+  for (size_t i = 0; i + width <= samples.size(); i += width)
+    std::reverse(samples.begin() + i, samples.begin() + i + width);
+}
+
+}  // namespace ropecast

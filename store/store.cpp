@@ -1,0 +1,309 @@
+#include "store/store.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "core/error.h"
+
+namespace ropecast {
+
+namespace {
+
+constexpr uint32_t kMaxDimsPerAxis = 1u << 20;  // keeps every node count far from overflow
+
+// One zstd decompression context per thread, so concurrent readBrick calls share nothing.
+struct ThreadDecoder {
+  ZSTD_DCtx* context = ZSTD_createDCtx();
+  std::vector<std::byte> compressed, planes;
+  ~ThreadDecoder() { ZSTD_freeDCtx(context); }
+};
+ThreadDecoder& threadDecoder() {
+  thread_local ThreadDecoder decoder;
+  return decoder;
+}
+
+void fillBrick(std::span<std::byte> out, SampleType storedType, uint16_t value) {
+  if (storedType == SampleType::UInt8) {
+    std::memset(out.data(), int(value & 0xFF), out.size());
+  } else {
+    auto* p = reinterpret_cast<uint16_t*>(out.data());
+    std::fill(p, p + out.size() / 2, value);
+  }
+}
+
+glm::u32vec3 readVec3u(const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected an array of 3 numbers");
+  return {j.at(0).get<uint32_t>(), j.at(1).get<uint32_t>(), j.at(2).get<uint32_t>()};
+}
+glm::dvec3 readVec3d(const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected an array of 3 numbers");
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+
+StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
+  StoreMetadata m;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    m.volume.dims = readVec3u(j.at("dims"));
+    m.volume.spacing = readVec3d(j.at("spacing"));
+    const auto type = parseSampleType(j.at("originalType").get<std::string>());
+    const auto stored = parseSampleType(j.at("storedType").get<std::string>());
+    if (!type || !stored) throw std::runtime_error("unknown sample type");
+    m.volume.type = *type;
+    m.storedType = *stored;
+    const auto& range = j.at("valueRange");
+    if (!range.is_array() || range.size() != 2) throw std::runtime_error("valueRange: expected [min, max]");
+    m.volume.valueMin = range.at(0).get<double>();
+    m.volume.valueMax = range.at(1).get<double>();
+    m.mapping.scale = j.at("mapping").at("scale").get<double>();
+    m.mapping.offset = j.at("mapping").at("offset").get<double>();
+    m.brickSize = j.at("brickSize").get<uint32_t>();
+    m.border = j.at("border").get<uint32_t>();
+    m.levels = j.at("levels").get<uint32_t>();
+    if (!j.at("discardBelow").is_null()) m.discardBelow = j.at("discardBelow").get<double>();
+    m.zstdLevel = j.at("zstdLevel").get<int>();
+    const std::string encoding = j.at("payloadEncoding").get<std::string>();
+    if (encoding == "zstd-byteplanes")
+      m.payloadEncoding = PayloadEncoding::ZstdBytePlanes;
+    else if (encoding != "zstd")
+      throw std::runtime_error("unknown payloadEncoding '" + encoding + "'");
+    m.volume.description = j.at("source").get<std::string>();
+    m.creationTool = j.at("creationTool").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error("Store: '" + name + "': damaged metadata: " + e.what());
+  } catch (const std::runtime_error& e) {
+    throw Error("Store: '" + name + "': damaged metadata: " + e.what());
+  }
+  const auto& d = m.volume.dims;
+  if (d.x == 0 || d.y == 0 || d.z == 0 || d.x > kMaxDimsPerAxis || d.y > kMaxDimsPerAxis ||
+      d.z > kMaxDimsPerAxis)
+    throw Error("Store: '" + name + "': metadata dims must be in [1, 2^20] per axis");
+  if (m.storedType != storedTypeFor(m.volume.type))
+    throw Error("Store: '" + name + "': metadata storedType does not match originalType");
+  if (m.payloadEncoding == PayloadEncoding::ZstdBytePlanes && m.storedType != SampleType::UInt16)
+    throw Error("Store: '" + name + "': metadata payloadEncoding zstd-byteplanes needs storedType uint16");
+  if (m.border != kBrickBorder)
+    throw Error("Store: '" + name + "': metadata border " + std::to_string(m.border) + ", expected " +
+                std::to_string(kBrickBorder));
+  if (!(m.mapping.scale > 0.0) || !std::isfinite(m.mapping.scale) || !std::isfinite(m.mapping.offset))
+    throw Error("Store: '" + name + "': metadata mapping must have a finite positive scale");
+  if (!isValidSpacing(m.volume.spacing))
+    throw Error("Store: '" + name + "': metadata spacing " + formatSpacing(m.volume.spacing) +
+                " must be three finite positive numbers");
+  return m;
+}
+
+}  // namespace
+
+std::string Store::describeNode(const NodeKey& k) {
+  return "depth " + std::to_string(k.depth) + " (" + std::to_string(k.coord.x) + ", " +
+         std::to_string(k.coord.y) + ", " + std::to_string(k.coord.z) + ")";
+}
+
+std::unique_ptr<Store> Store::open(const std::filesystem::path& path) {
+  std::unique_ptr<Store> store(new Store());
+  store->name_ = path.string();
+  store->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (store->fd_ < 0) throw Error("Store: cannot open '" + path.string() + "': " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(store->fd_, &st) != 0 || !S_ISREG(st.st_mode))
+    throw Error("Store: '" + path.string() + "' is not a regular file");
+  store->fileBytes_ = uint64_t(st.st_size);
+  store->load();
+  return store;
+}
+
+std::unique_ptr<Store> Store::openMemory(std::vector<std::byte> bytes, std::string name) {
+  std::unique_ptr<Store> store(new Store());
+  store->name_ = std::move(name);
+  store->memory_ = std::move(bytes);
+  store->fileBytes_ = store->memory_.size();
+  store->load();
+  return store;
+}
+
+Store::~Store() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void Store::readAt(uint64_t offset, std::span<std::byte> out) const {
+  if (offset > fileBytes_ || out.size() > fileBytes_ - offset)
+    throw Error("Store: '" + name_ + "' is truncated (read of " + std::to_string(out.size()) + " bytes at " +
+                std::to_string(offset) + " beyond its " + std::to_string(fileBytes_) + " bytes)");
+  if (fd_ < 0) {
+    if (!out.empty()) std::memcpy(out.data(), memory_.data() + offset, out.size());
+    return;
+  }
+  size_t done = 0;
+  while (done < out.size()) {
+    const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, off_t(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw Error("Store: reading '" + name_ + "' failed: " + std::strerror(errno));
+    if (n == 0) throw Error("Store: '" + name_ + "' is truncated (unexpected end of file)");
+    done += size_t(n);
+  }
+}
+
+void Store::load() {
+  const std::string damaged = "Store: '" + name_ + "': ";
+  if (fileBytes_ < sizeof(StoreHeader))
+    throw Error(damaged + "too short for a store header (" + std::to_string(fileBytes_) + " bytes)");
+  StoreHeader h{};
+  readAt(0, std::as_writable_bytes(std::span(&h, 1)));
+  if (std::memcmp(h.magic, kStoreMagic, sizeof h.magic) != 0)
+    throw Error(damaged + "not a ropecast store (bad magic)");
+  if (h.version != kStoreVersion)
+    throw Error(damaged + "unsupported store version " + std::to_string(h.version) + " (expected " +
+                std::to_string(kStoreVersion) + ")");
+  if (storeCrc32(std::as_bytes(std::span(&h, 1)).first(offsetof(StoreHeader, headerCrc))) != h.headerCrc)
+    throw Error(damaged + "damaged header (checksum mismatch)");
+  if (h.headerBytes != sizeof(StoreHeader) || h.nodeEntryBytes != sizeof(StoreNodeEntry))
+    throw Error(damaged + "damaged header (unexpected header or node entry size)");
+  if (h.metadataOffset < sizeof(StoreHeader) || h.metadataOffset > fileBytes_ ||
+      h.metadataBytes > fileBytes_ - h.metadataOffset || h.metadataBytes > (64u << 20))
+    throw Error(damaged + "truncated or damaged (metadata beyond the end of the file)");
+  if (h.nodeTableOffset < h.metadataOffset + h.metadataBytes || h.nodeTableOffset > fileBytes_ ||
+      h.nodeCount > (fileBytes_ - h.nodeTableOffset) / sizeof(StoreNodeEntry))
+    throw Error(damaged + "truncated or damaged (node table beyond the end of the file)");
+
+  std::string text(h.metadataBytes, '\0');
+  readAt(h.metadataOffset, std::as_writable_bytes(std::span(text.data(), text.size())));
+  if (storeCrc32(std::as_bytes(std::span(text.data(), text.size()))) != h.metadataCrc)
+    throw Error(damaged + "damaged metadata (checksum mismatch)");
+  metadata_ = parseMetadata(text, name_);
+
+  OctreeLayout layout;
+  try {
+    layout = OctreeLayout::forVolume(metadata_.volume.dims, metadata_.brickSize);
+  } catch (const std::invalid_argument& e) {
+    throw Error(damaged + "damaged metadata: " + e.what());
+  }
+  if (metadata_.levels != layout.maxDepth + 1)
+    throw Error(damaged + "metadata levels " + std::to_string(metadata_.levels) +
+                " do not match dims and brick");
+  if (h.nodeCount != layout.insideNodeCount())
+    throw Error(damaged + "node table has " + std::to_string(h.nodeCount) + " nodes, the layout needs " +
+                std::to_string(layout.insideNodeCount()));
+
+  entries_.resize(h.nodeCount);
+  const auto table = std::as_writable_bytes(std::span(entries_));
+  readAt(h.nodeTableOffset, table);
+  if (storeCrc32(table) != h.nodeTableCrc) throw Error(damaged + "damaged node table (checksum mismatch)");
+
+  info_.layout = layout;
+  info_.volume = metadata_.volume;
+  info_.storedType = metadata_.storedType;
+  info_.mapping = metadata_.mapping;
+
+  const uint64_t maxPayload = ZSTD_compressBound(brickBytes());
+  const uint16_t maxValue = metadata_.storedType == SampleType::UInt8 ? 255 : 65535;
+  for (uint64_t i = 0; i < entries_.size(); ++i) {
+    const StoreNodeEntry& e = entries_[i];
+    const auto bad = [&](const char* what) {
+      return Error(damaged + "node " + describeNode(layout.nodeAt(i)) + ": " + what);
+    };
+    if (e.kind < uint8_t(NodeKind::Empty) || e.kind > uint8_t(NodeKind::Data)) throw bad("invalid kind");
+    if (e.minValue > e.maxValue || e.maxValue > maxValue) throw bad("invalid value range");
+    if (e.payloadBytes > 0) {
+      if (e.kind != uint8_t(NodeKind::Data)) throw bad("payload on a node without data");
+      if (e.payloadBytes > maxPayload || e.payloadOffset < sizeof(StoreHeader) ||
+          e.payloadOffset > h.metadataOffset || e.payloadBytes > h.metadataOffset - e.payloadOffset)
+        throw bad("payload outside the payload region");
+    }
+  }
+}
+
+NodeInfo Store::node(const NodeKey& key) const {
+  if (!info_.layout.isInside(key)) return {};
+  const StoreNodeEntry& e = entries_[info_.layout.nodeIndex(key)];
+  return {NodeKind(e.kind), e.minValue, e.maxValue};
+}
+
+void Store::readBrick(const NodeKey& key, std::span<std::byte> out) const {
+  const size_t bytes = brickBytes();
+  if (out.size() != bytes)
+    throw Error("Store::readBrick: output buffer has " + std::to_string(out.size()) + " bytes, expected " +
+                std::to_string(bytes));
+  if (!info_.layout.isInside(key)) {
+    std::memset(out.data(), 0, out.size());
+    return;
+  }
+  const StoreNodeEntry& e = entries_[info_.layout.nodeIndex(key)];
+  switch (NodeKind(e.kind)) {
+    case NodeKind::Outside:
+    case NodeKind::Empty:
+      std::memset(out.data(), 0, out.size());
+      return;
+    case NodeKind::Constant:
+      fillBrick(out, info_.storedType, e.fillValue);
+      return;
+    case NodeKind::Data:
+      break;
+  }
+  if (e.payloadBytes == 0) {
+    fillBrick(out, info_.storedType, e.fillValue);
+    return;
+  }
+  ThreadDecoder& decoder = threadDecoder();
+  decoder.compressed.resize(e.payloadBytes);
+  readAt(e.payloadOffset, decoder.compressed);
+  const auto fail = [&](const std::string& what) {
+    return Error("Store::readBrick: '" + name_ + "': node " + describeNode(key) + ": " + what);
+  };
+  if (storeCrc32(decoder.compressed) != e.payloadCrc) throw fail("damaged brick (checksum mismatch)");
+  const bool planes = metadata_.payloadEncoding == PayloadEncoding::ZstdBytePlanes;
+  if (planes) decoder.planes.resize(bytes);
+  const std::span<std::byte> target = planes ? std::span<std::byte>(decoder.planes) : out;
+  const size_t n = ZSTD_decompressDCtx(decoder.context, target.data(), target.size(),
+                                       decoder.compressed.data(), decoder.compressed.size());
+  if (ZSTD_isError(n)) throw fail(std::string("damaged brick (") + ZSTD_getErrorName(n) + ")");
+  if (n != bytes) throw fail("damaged brick (decompressed to " + std::to_string(n) + " bytes)");
+  if (planes) joinBytePlanes(decoder.planes.data(), bytes / 2, reinterpret_cast<uint16_t*>(out.data()));
+}
+
+StoreSummary summarizeStore(const Store& store) {
+  StoreSummary s;
+  const OctreeLayout& layout = store.info().layout;
+  const uint64_t brick = store.brickBytes();
+  for (uint32_t depth = layout.maxDepth + 1; depth-- > 0;) {
+    StoreSummary::Level level;
+    level.depth = depth;
+    level.level = layout.levelOfDepth(depth);
+    level.dims = layout.levelDims(level.level);
+    level.nodes = layout.insideNodes(depth);
+    s.levels.push_back(level);
+  }
+  const auto entries = store.entries();
+  for (uint64_t i = 0; i < entries.size(); ++i) {
+    const StoreNodeEntry& e = entries[i];
+    StoreSummary::Level& level = s.levels[layout.levelOfDepth(layout.nodeAt(i).depth)];
+    ++level.total;
+    if (e.kind == uint8_t(NodeKind::Empty)) ++level.empty;
+    if (e.kind == uint8_t(NodeKind::Constant)) ++level.constant;
+    if (e.kind == uint8_t(NodeKind::Data)) ++level.data;
+    level.payloadBytes += e.payloadBytes;
+    if (e.payloadBytes > 0) s.uncompressedBytes += brick;
+  }
+  for (const auto& level : s.levels) {
+    s.total += level.total;
+    s.empty += level.empty;
+    s.constant += level.constant;
+    s.data += level.data;
+    s.payloadBytes += level.payloadBytes;
+  }
+  s.allBricksBytes = s.total * brick;
+  s.rawBytes = store.info().volume.sampleCount() * bytesPerSample(store.info().volume.type);
+  s.fileBytes = store.fileBytes();
+  return s;
+}
+
+}  // namespace ropecast

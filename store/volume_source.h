@@ -1,0 +1,73 @@
+// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, image stacks,
+// procedural). Sources never hold the whole volume; procedural ones generate what is asked for.
+//
+// Threads: info() any thread. readSlab() may be called from one thread at a time per source object
+// (the converter reads slabs sequentially; a source may use worker threads internally).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "core/error.h"
+#include "core/sample_type.h"
+
+namespace ropecast {
+
+struct VolumeInfo {
+  glm::u32vec3 dims{0};     // samples per axis
+  glm::dvec3 spacing{1.0};  // world units per sample (mm for medical data)
+  SampleType type = SampleType::UInt8;
+  std::optional<double> valueMin;  // known value range in data units, if the source knows it cheaply
+  std::optional<double> valueMax;  // (float32 sources without it get a range pre-pass in the converter)
+  std::string description;         // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
+
+  uint64_t sampleCount() const { return uint64_t(dims.x) * dims.y * dims.z; }
+  size_t sliceBytes() const { return size_t(dims.x) * dims.y * bytesPerSample(type); }
+};
+
+// A spacing that gives the volume a box: finite and positive per axis (the world box is [0, n s]; zero or
+// negative spacings leave no box for rays to enter).
+inline bool isValidSpacing(glm::dvec3 s) {
+  for (int a = 0; a < 3; ++a)
+    if (!(s[a] > 0.0 && std::isfinite(s[a]))) return false;
+  return true;
+}
+
+// "SX,SY,SZ" as the command line takes it, for messages.
+inline std::string formatSpacing(glm::dvec3 s) {
+  return formatNumber(s.x) + "," + formatNumber(s.y) + "," + formatNumber(s.z);
+}
+
+class VolumeSource {
+ public:
+  virtual ~VolumeSource() = default;
+  virtual const VolumeInfo& info() const = 0;
+
+  // Reads slices [z0, z0 + count) into `out` (count * info().sliceBytes() bytes), x fastest, samples in
+  // info().type, native (little-endian) byte order. Throws ropecast::Error naming the file on failure
+  // (truncated file, unreadable slice, ...).
+  virtual void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) = 0;
+};
+
+// Options that apply to sources whose file does not say them (raw files), or override what it says.
+struct SourceOptions {
+  std::optional<glm::u32vec3> dims;   // --dims X,Y,Z
+  std::optional<SampleType> type;     // --type T
+  std::optional<glm::dvec3> spacing;  // --spacing SX,SY,SZ
+};
+
+// Opens a source from a command-line spec:
+//   path/to/name_XxYxZ_type.raw or any raw file with options.dims/type,
+//   path.nrrd / path.nhdr, a directory or glob of 2D slices (TIFF/PNG), a multi-page TIFF,
+//   procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
+// Throws ropecast::Error naming the spec and what was expected.
+std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options = {});
+
+}  // namespace ropecast

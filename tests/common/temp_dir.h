@@ -1,0 +1,22 @@
+// Temporary folders for tests of every tier. Test thread only.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace ropecast::test {
+
+// A fresh empty folder under the system temporary folder, named after the running test.
+inline std::filesystem::path freshTempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = "ropecast_test";
+  if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace ropecast::test

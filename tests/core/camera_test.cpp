@@ -1,0 +1,120 @@
+// Cameras from the user: what makes one unusable (cameraProblem), the frame of a degenerate up (cameraFrame),
+// and the camera path's keyframe checks built on them.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "core/camera.h"
+#include "core/camera_path.h"
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+Camera lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up) {
+  Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.up = up;
+  return c;
+}
+
+bool finite(glm::dvec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+void expectOrthonormal(const CameraFrame& f) {
+  ASSERT_TRUE(finite(f.forward) && finite(f.right) && finite(f.up));
+  EXPECT_NEAR(glm::length(f.forward), 1.0, 1e-12);
+  EXPECT_NEAR(glm::length(f.right), 1.0, 1e-12);
+  EXPECT_NEAR(glm::length(f.up), 1.0, 1e-12);
+  EXPECT_NEAR(glm::dot(f.forward, f.right), 0.0, 1e-12);
+  EXPECT_NEAR(glm::dot(f.forward, f.up), 0.0, 1e-12);
+  EXPECT_NEAR(glm::dot(f.right, f.up), 0.0, 1e-12);
+}
+
+TEST(CameraProblem, AnOrdinaryCameraHasNone) {
+  EXPECT_EQ(cameraProblem(lookAt({1, 2, 3}, {0, 0, 0}, {0, 0, 1})), "");
+  // Up need not be unit length nor perpendicular to the view.
+  EXPECT_EQ(cameraProblem(lookAt({5, 0, 0}, {0, 0, 0}, {1, 0, 7})), "");
+}
+
+TEST(CameraProblem, NamesEachDefect) {
+  EXPECT_EQ(cameraProblem(lookAt({1, 1, 1}, {1, 1, 1}, {0, 0, 1})), "eye and target are the same point");
+  EXPECT_EQ(cameraProblem(lookAt({-1e308, 0, 0}, {1e308, 0, 0}, {0, 0, 1})),
+            "the view direction (target - eye) is not finite");
+  EXPECT_EQ(cameraProblem(lookAt({0, 0, 0}, {1, 1, 1}, {0, 0, 0})), "up is the zero vector");
+  EXPECT_EQ(cameraProblem(lookAt({0, 0, 0}, {1, 1, 1}, {std::numeric_limits<double>::quiet_NaN(), 0, 1})),
+            "up is not finite");
+  EXPECT_EQ(cameraProblem(lookAt({0, 0, 0}, {1, 1, 1}, {2, 2, 2})),
+            "up is parallel to the view direction (target - eye)");
+  EXPECT_EQ(cameraProblem(lookAt({0, 0, 0}, {1, 1, 1}, {-1, -1, -1})),
+            "up is parallel to the view direction (target - eye)");
+  Camera wide = lookAt({1, 2, 3}, {0, 0, 0}, {0, 0, 1});
+  wide.fovYDeg = 180.0;
+  EXPECT_EQ(cameraProblem(wide), "the field of view must be in (0, 180) degrees");
+}
+
+TEST(CameraFrame, DegenerateUpFallsBackToDefaultUp) {
+  // Parallel and zero ups (a camera path interpolating between opposite ups passes through zero).
+  for (glm::dvec3 up : {glm::dvec3(1, 1, 1), glm::dvec3(0, 0, 0)}) {
+    const CameraFrame f = cameraFrame(lookAt({0, 0, 0}, {1, 1, 1}, up));
+    expectOrthonormal(f);
+    const CameraFrame expected = cameraFrame(lookAt({0, 0, 0}, {1, 1, 1}, defaultUp({1, 1, 1})));
+    EXPECT_EQ(f.right, expected.right);
+    EXPECT_EQ(f.up, expected.up);
+  }
+  // Looking straight down z with the default +z: +y becomes the up.
+  const CameraFrame down = cameraFrame(lookAt({0, 0, 10}, {0, 0, 0}, {0, 0, 1}));
+  expectOrthonormal(down);
+  EXPECT_NEAR(down.up.y, 1.0, 1e-12);
+}
+
+TEST(CameraFrame, UsableUpIsKept) {
+  const CameraFrame f = cameraFrame(lookAt({0, -5, 0}, {0, 0, 0}, {0, 0, 3}));
+  expectOrthonormal(f);
+  EXPECT_NEAR(f.up.z, 1.0, 1e-12);
+  EXPECT_NEAR(f.right.x, 1.0, 1e-12);
+}
+
+TEST(DefaultUp, IsZUnlessLookingAlongZ) {
+  EXPECT_EQ(defaultUp({1, 2, 3}), glm::dvec3(0, 0, 1));
+  EXPECT_EQ(defaultUp({0, 0, -4}), glm::dvec3(0, 1, 0));
+  EXPECT_EQ(defaultUp({0, 0, 1}), glm::dvec3(0, 1, 0));
+}
+
+TEST(CameraPathKeyframes, RejectAnUnusableUpNamingTheKeyframe) {
+  const std::string text =
+      R"([{"orbit": [0, 20, 3]}, {"eye": [0, 0, 0], "target": [1, 1, 1], "up": [1, 1, 1]}])";
+  try {
+    parseCameraPath(text, "p.json");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("p.json, keyframe 1: up is parallel"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(parseCameraPath(R"([{"eye": [1, 2, 3], "target": [1, 2, 3]}])", "q.json"), Error);
+}
+
+TEST(CameraPathKeyframes, WithoutUpLookingAlongZIsUsable) {
+  const CameraPath path = parseCameraPath(R"([{"eye": [0, 0, 9], "target": [0, 0, 0]}])", "p.json");
+  const Camera c = sampleCameraPath(path, 0, 1, glm::dvec3(0.0), glm::dvec3(1.0));
+  EXPECT_EQ(cameraProblem(c), "");
+  EXPECT_EQ(c.up, glm::dvec3(0, 1, 0));
+}
+
+TEST(CameraPathKeyframes, InterpolatedOppositeUpsGiveAFiniteFrame) {
+  // Rolling half a turn: halfway the interpolated up is zero, and the frame falls back to defaultUp.
+  const CameraPath path = parseCameraPath(
+      R"([{"eye": [0, -5, 0], "target": [0, 0, 0], "up": [0, 0, 1]},
+          {"eye": [0, -5, 0], "target": [0, 0, 0], "up": [0, 0, -1]}])",
+      "roll.json");
+  const Camera middle = sampleCameraPath(path, 1, 3, glm::dvec3(0.0), glm::dvec3(1.0));
+  EXPECT_EQ(middle.up, glm::dvec3(0.0));
+  expectOrthonormal(cameraFrame(middle));
+}
+
+}  // namespace
+}  // namespace ropecast

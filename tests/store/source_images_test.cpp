@@ -1,0 +1,234 @@
+// Tests of the image-stack VolumeSource (OpenImageIO): PNG and TIFF stacks from a directory or a glob,
+// multi-page TIFFs, every supported pixel type, slab reads at any z, name ordering, and each bad slice
+// (different size or type, unreadable, multi-channel) or bad spec giving an error that names the file.
+#include "store/source_images.h"
+
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() / ("ropecast_images_test_" + std::to_string(::getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+template <typename T>
+OIIO::TypeDesc typeDescOf() {
+  if constexpr (std::is_same_v<T, uint8_t>) return OIIO::TypeDesc::UINT8;
+  if constexpr (std::is_same_v<T, uint16_t>) return OIIO::TypeDesc::UINT16;
+  if constexpr (std::is_same_v<T, int16_t>) return OIIO::TypeDesc::INT16;
+  if constexpr (std::is_same_v<T, float>) return OIIO::TypeDesc::FLOAT;
+}
+
+// Slice z of a w x h stack: distinct in x, y and z.
+template <typename T>
+std::vector<T> slicePattern(uint32_t w, uint32_t h, uint32_t z) {
+  std::vector<T> v(size_t(w) * h);
+  for (size_t i = 0; i < v.size(); ++i) {
+    if constexpr (std::is_floating_point_v<T>)
+      v[i] = T(double(i) * 0.5 - double(z) * 100.0);
+    else
+      v[i] = T((i * 2654435761u >> 5) + z * 31u);
+  }
+  return v;
+}
+
+template <typename T>
+void writeImage(const std::string& path, uint32_t w, uint32_t h, const std::vector<T>& pixels,
+                int channels = 1) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out) << OIIO::geterror();
+  const OIIO::ImageSpec spec(int(w), int(h), channels, typeDescOf<T>());
+  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+  ASSERT_TRUE(out->write_image(typeDescOf<T>(), pixels.data())) << out->geterror();
+  ASSERT_TRUE(out->close());
+}
+
+template <typename T>
+void writeMultiPage(const std::string& path, uint32_t w, uint32_t h, uint32_t pages) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out && out->supports("multiimage"));
+  std::vector<OIIO::ImageSpec> specs(pages, OIIO::ImageSpec(int(w), int(h), 1, typeDescOf<T>()));
+  ASSERT_TRUE(out->open(path, int(pages), specs.data())) << out->geterror();
+  for (uint32_t z = 0; z < pages; ++z) {
+    if (z > 0) {
+      ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
+    }
+    ASSERT_TRUE(out->write_image(typeDescOf<T>(), slicePattern<T>(w, h, z).data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close());
+}
+
+template <typename T>
+std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
+  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
+  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
+  return slab;
+}
+
+template <typename T>
+void expectSlices(VolumeSource& source, uint32_t w, uint32_t h, uint32_t depth) {
+  ASSERT_EQ(source.info().dims, glm::u32vec3(w, h, depth));
+  const auto all = readSlab<T>(source, 0, depth);
+  for (uint32_t z = 0; z < depth; ++z) {
+    const auto expected = slicePattern<T>(w, h, z);
+    ASSERT_TRUE(std::equal(expected.begin(), expected.end(), all.begin() + size_t(z) * w * h))
+        << "slice " << z;
+  }
+  for (uint32_t z0 : {depth - 1, depth / 2, 0u}) {  // slabs out of order
+    const auto slab = readSlab<T>(source, z0, 1);
+    EXPECT_EQ(slab, slicePattern<T>(w, h, z0)) << "slab at " << z0;
+  }
+}
+
+std::string errorOf(const std::string& spec) {
+  try {
+    openVolumeSource(spec);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SourceImages, PngStackInADirectoryInNameOrder) {
+  TempDir dir;
+  // Unpadded numbers: slice_2 must come before slice_10.
+  for (uint32_t z = 0; z < 12; ++z)
+    writeImage(dir.file("slice_" + std::to_string(z) + ".png"), 17, 9, slicePattern<uint8_t>(17, 9, z));
+  std::ofstream(dir.file("notes.txt")) << "not a slice";
+  auto source = openVolumeSource(dir.path().string());
+  EXPECT_EQ(source->info().type, SampleType::UInt8);
+  expectSlices<uint8_t>(*source, 17, 9, 12);
+}
+
+TEST(SourceImages, Uint16PngAndTiffStacksByGlob) {
+  TempDir dir;
+  for (uint32_t z = 0; z < 5; ++z) {
+    writeImage(dir.file("a_" + std::to_string(z) + ".png"), 8, 11, slicePattern<uint16_t>(8, 11, z));
+    writeImage(dir.file("b_" + std::to_string(z) + ".tif"), 8, 11, slicePattern<int16_t>(8, 11, z));
+    writeImage(dir.file("c_" + std::to_string(z) + ".tiff"), 8, 11, slicePattern<float>(8, 11, z));
+  }
+  SourceOptions options;
+  options.spacing = glm::dvec3(0.3, 0.3, 1.2);
+  auto png = openVolumeSource(dir.file("a_*.png"), options);
+  EXPECT_EQ(png->info().type, SampleType::UInt16);
+  EXPECT_EQ(png->info().spacing, glm::dvec3(0.3, 0.3, 1.2));
+  expectSlices<uint16_t>(*png, 8, 11, 5);
+  auto tif = openVolumeSource(dir.file("b_?.tif"));
+  EXPECT_EQ(tif->info().type, SampleType::Int16);
+  expectSlices<int16_t>(*tif, 8, 11, 5);
+  auto flt = openVolumeSource(dir.file("c_*"));
+  EXPECT_EQ(flt->info().type, SampleType::Float32);
+  expectSlices<float>(*flt, 8, 11, 5);
+}
+
+TEST(SourceImages, MultiPageTiff) {
+  TempDir dir;
+  writeMultiPage<float>(dir.file("pages.tif"), 10, 7, 6);
+  writeMultiPage<int16_t>(dir.file("pages16.tiff"), 5, 12, 3);
+  EXPECT_EQ(countImagePages(dir.file("pages.tif")), 6);
+  auto source = openVolumeSource(dir.file("pages.tif"));
+  EXPECT_EQ(source->info().type, SampleType::Float32);
+  EXPECT_EQ(source->info().description, "tiff:" + dir.file("pages.tif"));
+  expectSlices<float>(*source, 10, 7, 6);
+  auto i16 = openVolumeSource(dir.file("pages16.tiff"));
+  expectSlices<int16_t>(*i16, 5, 12, 3);
+}
+
+TEST(SourceImages, SliceNameOrder) {
+  EXPECT_TRUE(sliceNameLess("s2.png", "s10.png"));
+  EXPECT_FALSE(sliceNameLess("s10.png", "s2.png"));
+  EXPECT_TRUE(sliceNameLess("s002.png", "s010.png"));
+  EXPECT_TRUE(sliceNameLess("a.png", "b.png"));
+  EXPECT_TRUE(sliceNameLess("s9_b.png", "s10_a.png"));
+  EXPECT_FALSE(sliceNameLess("s1.png", "s1.png"));
+  EXPECT_TRUE(sliceNameLess("s1.png", "s01.png") != sliceNameLess("s01.png", "s1.png"));
+}
+
+TEST(SourceImages, DifferentSizeOrTypeNamesTheSlice) {
+  TempDir dir;
+  for (uint32_t z = 0; z < 4; ++z)
+    writeImage(dir.file("s" + std::to_string(z) + ".png"), 6, 6, slicePattern<uint8_t>(6, 6, z));
+  writeImage(dir.file("s4.png"), 6, 7, slicePattern<uint8_t>(6, 7, 4));
+  std::string message = errorOf(dir.path().string());
+  EXPECT_NE(message.find(dir.file("s4.png")), std::string::npos) << message;
+  EXPECT_NE(message.find("6x7"), std::string::npos) << message;
+
+  writeImage(dir.file("s4.png"), 6, 6, slicePattern<uint16_t>(6, 6, 4));
+  message = errorOf(dir.path().string());
+  EXPECT_NE(message.find(dir.file("s4.png")), std::string::npos) << message;
+  EXPECT_NE(message.find("uint16"), std::string::npos) << message;
+}
+
+TEST(SourceImages, UnreadableOrMultiChannelNamesTheFile) {
+  TempDir dir;
+  writeImage(dir.file("s0.png"), 6, 6, slicePattern<uint8_t>(6, 6, 0));
+  std::ofstream(dir.file("s1.png")) << "this is not a PNG file";
+  std::string message = errorOf(dir.file("s*.png"));
+  EXPECT_NE(message.find(dir.file("s1.png")), std::string::npos) << message;
+
+  fs::remove(dir.file("s1.png"));
+  writeImage(dir.file("s1.png"), 6, 6, std::vector<uint8_t>(6 * 6 * 3, 9), 3);
+  message = errorOf(dir.file("s*.png"));
+  EXPECT_NE(message.find(dir.file("s1.png")), std::string::npos) << message;
+  EXPECT_NE(message.find("3 channels"), std::string::npos) << message;
+
+  // A slice broken after opening fails the read, naming it.
+  writeImage(dir.file("s1.png"), 6, 6, slicePattern<uint8_t>(6, 6, 1));
+  auto source = openVolumeSource(dir.file("s*.png"));
+  std::ofstream(dir.file("s1.png"), std::ios::trunc) << "gone";
+  std::vector<std::byte> slice(36);
+  try {
+    source->readSlab(1, 1, slice);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(dir.file("s1.png")), std::string::npos) << e.what();
+  }
+}
+
+TEST(SourceImages, BadSpecsAreNamed) {
+  TempDir dir;
+  writeImage(dir.file("single.tif"), 4, 4, slicePattern<uint8_t>(4, 4, 0));
+  std::string message = errorOf(dir.file("single.tif"));
+  EXPECT_NE(message.find(dir.file("single.tif")), std::string::npos) << message;
+  EXPECT_NE(message.find("single-page"), std::string::npos) << message;
+
+  message = errorOf(dir.file("nothing_*.png"));
+  EXPECT_NE(message.find(dir.file("nothing_*.png")), std::string::npos) << message;
+  EXPECT_NE(message.find("matches no files"), std::string::npos) << message;
+
+  fs::create_directories(dir.file("empty"));
+  message = errorOf(dir.file("empty"));
+  EXPECT_NE(message.find(dir.file("empty")), std::string::npos) << message;
+
+  message = errorOf(dir.file("missing.tif"));
+  EXPECT_NE(message.find(dir.file("missing.tif")), std::string::npos) << message;
+  EXPECT_NE(message.find("no such file"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace ropecast

@@ -1,0 +1,350 @@
+// Tests of the NRRD header parser and the NRRD VolumeSource: attached and detached data, raw and gzip
+// encodings, big-endian data, spacings and space directions, byte and line skips, gzip slabs read out of
+// order, and each malformed header or data file giving an error that names the file and the field.
+#include <unistd.h>
+#include <zlib.h>
+
+#include <bit>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "store/nrrd_header.h"
+#include "store/source_nrrd.h"
+#include "store/volume_source.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() / ("ropecast_nrrd_test_" + std::to_string(::getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+void writeFile(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+  ASSERT_TRUE(out.good()) << path;
+}
+
+template <typename T>
+std::vector<T> pattern(size_t count) {
+  std::vector<T> v(count);
+  for (size_t i = 0; i < v.size(); ++i) {
+    if constexpr (std::is_floating_point_v<T>)
+      v[i] = T(double(i) * 0.25 - 77.0);
+    else
+      v[i] = T(i * 2654435761u >> 9);
+  }
+  return v;
+}
+
+template <typename T>
+std::string bytesOf(const std::vector<T>& values, bool bigEndian) {
+  std::string bytes(values.size() * sizeof(T), '\0');
+  std::memcpy(bytes.data(), values.data(), bytes.size());
+  if (bigEndian != (std::endian::native == std::endian::big))
+    for (size_t i = 0; i < bytes.size(); i += sizeof(T))
+      std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
+  return bytes;
+}
+
+std::string gzipOf(const std::string& data) {
+  z_stream zs{};
+  EXPECT_EQ(deflateInit2(&zs, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY), Z_OK);
+  std::string out(deflateBound(&zs, uLong(data.size())) + 64, '\0');
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+  zs.avail_in = uInt(data.size());
+  zs.next_out = reinterpret_cast<Bytef*>(out.data());
+  zs.avail_out = uInt(out.size());
+  EXPECT_EQ(deflate(&zs, Z_FINISH), Z_STREAM_END);
+  out.resize(zs.total_out);
+  deflateEnd(&zs);
+  return out;
+}
+
+template <typename T>
+std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
+  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
+  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
+  return slab;
+}
+
+std::string errorOf(const std::string& spec) {
+  try {
+    openVolumeSource(spec);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string headerFor(const std::string& type, const std::string& encoding, const std::string& extra = "") {
+  return "NRRD0004\n# a comment\ntype: " + type + "\ndimension: 3\nsizes: 9 6 5\nencoding: " + encoding +
+         "\nendian: little\nkinds: domain domain domain\ncontent:=ignored key value\n" + extra;
+}
+
+TEST(SourceNrrd, AttachedRawOfEveryType) {
+  TempDir dir;
+  auto check = [&](auto tag, const std::string& nrrdType, SampleType type) {
+    using T = decltype(tag);
+    const auto values = pattern<T>(9 * 6 * 5);
+    const std::string path = dir.file(nrrdType + ".nrrd");
+    writeFile(path, headerFor(nrrdType, "raw", "spacings: 0.5 0.75 2\n") + "\n" + bytesOf(values, false));
+    auto source = openVolumeSource(path);
+    EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5));
+    EXPECT_EQ(source->info().type, type);
+    EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
+    EXPECT_EQ(readSlab<T>(*source, 0, 5), values) << nrrdType;
+    const auto slab = readSlab<T>(*source, 3, 2);
+    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + 3 * 54)) << nrrdType;
+  };
+  check(uint8_t{}, "uchar", SampleType::UInt8);
+  check(uint16_t{}, "unsigned short", SampleType::UInt16);
+  check(int16_t{}, "short", SampleType::Int16);
+  check(float{}, "float", SampleType::Float32);
+}
+
+TEST(SourceNrrd, TypeSpellingsOfTheSpec) {
+  const std::pair<const char*, SampleType> spellings[] = {
+      {"uint8", SampleType::UInt8},     {"unsigned char", SampleType::UInt8},
+      {"uint8_t", SampleType::UInt8},   {"ushort", SampleType::UInt16},
+      {"uint16_t", SampleType::UInt16}, {"unsigned short int", SampleType::UInt16},
+      {"int16", SampleType::Int16},     {"signed short int", SampleType::Int16},
+      {"short int", SampleType::Int16}, {"float", SampleType::Float32}};
+  for (const auto& [name, type] : spellings)
+    EXPECT_EQ(parseNrrdHeader(headerFor(name, "raw") + "\n", "t.nrrd").type, type) << name;
+}
+
+TEST(SourceNrrd, BigEndianIsSwapped) {
+  TempDir dir;
+  const auto u16 = pattern<uint16_t>(9 * 6 * 5);
+  const std::string a = dir.file("big16.nrrd");
+  std::string header = headerFor("uint16", "raw");
+  header.replace(header.find("endian: little"), 14, "endian: big");
+  writeFile(a, header + "\n" + bytesOf(u16, true));
+  auto source = openVolumeSource(a);
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 5), u16);
+
+  const auto f32 = pattern<float>(9 * 6 * 5);
+  const std::string b = dir.file("bigf.nrrd");
+  header = headerFor("float", "gzip");
+  header.replace(header.find("endian: little"), 14, "endian: big");
+  writeFile(b, header + "\n" + gzipOf(bytesOf(f32, true)));
+  auto gz = openVolumeSource(b);
+  EXPECT_EQ(readSlab<float>(*gz, 0, 5), f32);
+}
+
+TEST(SourceNrrd, GzipSlabsInAnyOrder) {
+  TempDir dir;
+  const auto values = pattern<int16_t>(9 * 6 * 5);
+  const std::string path = dir.file("gz.nrrd");
+  // Byte skip with gzip applies to the decompressed data.
+  writeFile(path,
+            headerFor("int16", "gz", "byte skip: 6\n") + "\n" + gzipOf("HEADER" + bytesOf(values, false)));
+  auto source = openVolumeSource(path);
+  for (uint32_t z0 : {0u, 2u, 4u, 1u, 1u, 0u, 3u}) {  // forward, backward (restart), repeated
+    const auto slab = readSlab<int16_t>(*source, z0, 1);
+    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + z0 * 54)) << "z0 " << z0;
+  }
+  EXPECT_EQ(readSlab<int16_t>(*source, 0, 5), values);
+}
+
+TEST(SourceNrrd, ConcatenatedGzipMembers) {
+  TempDir dir;
+  const auto values = pattern<uint8_t>(9 * 6 * 5);
+  const std::string data = bytesOf(values, false);
+  const std::string path = dir.file("members.nrrd");
+  writeFile(path, headerFor("uchar", "gzip") + "\n" + gzipOf(data.substr(0, 100)) + gzipOf(data.substr(100)));
+  auto source = openVolumeSource(path);
+  EXPECT_EQ(readSlab<uint8_t>(*source, 0, 5), values);
+}
+
+TEST(SourceNrrd, DetachedDataWithSkips) {
+  TempDir dir;
+  const auto values = pattern<uint16_t>(9 * 6 * 5);
+  fs::create_directories(dir.file("data"));
+  // Line skip first (two text lines), then byte skip.
+  writeFile(dir.file("data/vol.raw"), "line one\nline two\nXYZ" + bytesOf(values, false));
+  const std::string nhdr = dir.file("vol.nhdr");
+  writeFile(nhdr, headerFor("uint16", "raw",
+                            "line skip: 2\nbyte skip: 3\ndata file: data/vol.raw\n"));  // no blank line
+  auto source = openVolumeSource(nhdr);
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 5), values);
+  EXPECT_EQ(source->info().description, "nrrd:" + nhdr);
+
+  // byte skip -1: the data is the end of the file, whatever precedes it.
+  writeFile(dir.file("tail.raw"), "some junk of any length" + bytesOf(values, false));
+  const std::string tail = dir.file("tail.nhdr");
+  writeFile(tail, headerFor("uint16", "raw", "byte skip: -1\ndatafile: tail.raw\n") + "\n");
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(tail), 0, 5), values);
+
+  // Detached gzip.
+  writeFile(dir.file("vol.raw.gz"), gzipOf(bytesOf(values, false)));
+  const std::string gz = dir.file("gz.nhdr");
+  writeFile(gz, headerFor("uint16", "gzip", "data file: " + dir.file("vol.raw.gz") + "\n"));
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(gz), 0, 5), values);
+}
+
+TEST(SourceNrrd, SpacingFromSpaceDirections) {
+  const NrrdHeader h = parseNrrdHeader(
+      headerFor("uchar", "raw",
+                "space: RAS\nspace directions: (0,0.5,0) (3,4,0) (0, 0, -2.5)\nspacings: 7 7 7\n"),
+      "t.nhdr");
+  EXPECT_EQ(h.spacing, glm::dvec3(0.5, 5.0, 2.5));
+  const NrrdHeader n = parseNrrdHeader(headerFor("uchar", "raw", "spacings: nan 2 -3\n"), "t.nhdr");
+  EXPECT_EQ(n.spacing, glm::dvec3(1.0, 2.0, 3.0));
+  const NrrdHeader none =
+      parseNrrdHeader(headerFor("uchar", "raw", "space directions: none (2,0,0) none\n"), "t");
+  EXPECT_EQ(none.spacing, glm::dvec3(1.0, 2.0, 1.0));
+  EXPECT_EQ(parseNrrdHeader(headerFor("uchar", "raw"), "t").spacing, glm::dvec3(1.0));
+  EXPECT_FALSE(parseNrrdHeader(headerFor("uchar", "raw"), "t").endsWithBlankLine);
+  const std::string withData = headerFor("uchar", "raw") + "\r\n\x01\x02";
+  const NrrdHeader crlf = parseNrrdHeader(withData, "t");
+  EXPECT_TRUE(crlf.endsWithBlankLine);
+  EXPECT_EQ(crlf.headerBytes, withData.size() - 2);
+}
+
+struct BadHeader {
+  const char* what;
+  std::string header;
+  const char* expected;  // text the message must contain, besides the file name
+};
+
+TEST(SourceNrrd, MalformedHeadersNameFileAndField) {
+  const std::string good = headerFor("uint16", "raw");
+  auto without = [&](const std::string& line) {
+    std::string h = good;
+    h.erase(h.find(line), line.size() + 1);
+    return h;
+  };
+  auto replaced = [&](const std::string& line, const std::string& by) {
+    std::string h = good;
+    h.replace(h.find(line), line.size(), by);
+    return h;
+  };
+  const BadHeader cases[] = {
+      {"bad magic", "NRRD\n" + good.substr(9), "magic line"},
+      {"no newline", "NRRD0004", "magic line"},
+      {"empty", "", "magic line"},
+      {"missing type", without("type: uint16"), "missing field 'type'"},
+      {"missing sizes", without("sizes: 9 6 5"), "missing field 'sizes'"},
+      {"missing dimension", without("dimension: 3"), "missing field 'dimension'"},
+      {"missing encoding", without("encoding: raw"), "missing field 'encoding'"},
+      {"missing endian", without("endian: little"), "missing field 'endian'"},
+      {"sizes two numbers", replaced("sizes: 9 6 5", "sizes: 9 6"), "field 'sizes'"},
+      {"sizes four numbers", replaced("sizes: 9 6 5", "sizes: 9 6 5 1"), "field 'sizes'"},
+      {"sizes not numbers", replaced("sizes: 9 6 5", "sizes: 9 six 5"), "field 'sizes'"},
+      {"sizes zero", replaced("sizes: 9 6 5", "sizes: 9 0 5"), "field 'sizes'"},
+      {"sizes negative", replaced("sizes: 9 6 5", "sizes: 9 -6 5"), "field 'sizes'"},
+      {"sizes overflow", replaced("sizes: 9 6 5", "sizes: 4000000000 4000000000 4000000000"), "too large"},
+      {"sizes huge", replaced("sizes: 9 6 5", "sizes: 99999999999999999999 1 1"), "field 'sizes'"},
+      {"dimension 4", replaced("dimension: 3", "dimension: 4"), "field 'dimension'"},
+      {"dimension text", replaced("dimension: 3", "dimension: three"), "field 'dimension'"},
+      {"unknown encoding", replaced("encoding: raw", "encoding: lzma"), "unknown encoding 'lzma'"},
+      {"unsupported encoding", replaced("encoding: raw", "encoding: ascii"), "unsupported encoding 'ascii'"},
+      {"unsupported type", replaced("type: uint16", "type: double"), "unsupported type 'double'"},
+      {"unknown type", replaced("type: uint16", "type: quaternion"), "unknown type 'quaternion'"},
+      {"bad endian", replaced("endian: little", "endian: middle"), "field 'endian'"},
+      {"bad spacings", good + "spacings: 1 x 1\n", "field 'spacings'"},
+      {"zero spacing", good + "spacings: 1 0 1\n", "field 'spacings'"},
+      {"bad directions", good + "space directions: (1,0,0) (0,1,0)\n", "field 'space directions'"},
+      {"unclosed direction", good + "space directions: (1,0,0) (0,1,0) (0,0,1\n", "field 'space directions'"},
+      {"zero direction", good + "space directions: (1,0,0) (0,0,0) (0,0,1)\n", "field 'space directions'"},
+      {"bad byte skip", good + "byte skip: -2\n", "field 'byte skip'"},
+      {"bad line skip", good + "line skip: many\n", "field 'line skip'"},
+      {"gzip byte skip -1", replaced("encoding: raw", "encoding: gzip") + "byte skip: -1\n", "'byte skip'"},
+      {"data file list", good + "data file: LIST\n", "field 'data file'"},
+      {"data file format", good + "data file: slice%03d.raw 0 9 1\n", "field 'data file'"},
+      {"duplicate field", good + "type: uint8\n", "given more than once"},
+      {"not a field", good + "this is not a field\n", "line 10"},
+  };
+  for (const BadHeader& c : cases) {
+    try {
+      parseNrrdHeader(c.header, "/some/dir/bad.nrrd");
+      ADD_FAILURE() << c.what << ": no error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("/some/dir/bad.nrrd"), std::string::npos) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
+    }
+  }
+}
+
+TEST(SourceNrrd, BadFilesNameTheFile) {
+  TempDir dir;
+  const auto values = pattern<uint16_t>(9 * 6 * 5);
+  const std::string data = bytesOf(values, false);
+
+  const std::string truncated = dir.file("truncated.nrrd");
+  writeFile(truncated, headerFor("uint16", "raw") + "\n" + data.substr(0, data.size() - 1));
+  std::string message = errorOf(truncated);
+  EXPECT_NE(message.find(truncated), std::string::npos) << message;
+  EXPECT_NE(message.find("truncated"), std::string::npos) << message;
+
+  const std::string noBlank = dir.file("noblank.nrrd");
+  writeFile(noBlank, headerFor("uint16", "raw"));
+  message = errorOf(noBlank);
+  EXPECT_NE(message.find(noBlank), std::string::npos) << message;
+  EXPECT_NE(message.find("blank line"), std::string::npos) << message;
+
+  const std::string missingData = dir.file("missing.nhdr");
+  writeFile(missingData, headerFor("uint16", "raw", "data file: nothere.raw\n"));
+  message = errorOf(missingData);
+  EXPECT_NE(message.find(dir.file("nothere.raw")), std::string::npos) << message;
+
+  const std::string lineSkip = dir.file("lineskip.nhdr");
+  writeFile(dir.file("oneline.raw"), "only one line\n");
+  writeFile(lineSkip, headerFor("uint16", "raw", "line skip: 5\ndata file: oneline.raw\n"));
+  message = errorOf(lineSkip);
+  EXPECT_NE(message.find(dir.file("oneline.raw")), std::string::npos) << message;
+  EXPECT_NE(message.find("line skip"), std::string::npos) << message;
+
+  // Gzip problems appear while reading, and name the data file.
+  const std::string gz = gzipOf(data);
+  const std::string shortGz = dir.file("short.nrrd");
+  writeFile(shortGz, headerFor("uint16", "gzip") + "\n" + gz.substr(0, gz.size() / 2));
+  auto shortSource = openVolumeSource(shortGz);
+  std::vector<uint16_t> all(values.size());
+  try {
+    shortSource->readSlab(0, 5, std::as_writable_bytes(std::span(all)));
+    ADD_FAILURE() << "truncated gzip read without error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(shortGz), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+  std::string corruptBytes = gz;
+  for (size_t i = 20; i < corruptBytes.size() - 10; i += 7) corruptBytes[i] = char(~corruptBytes[i]);
+  const std::string corrupt = dir.file("corrupt.nrrd");
+  writeFile(corrupt, headerFor("uint16", "gzip") + "\n" + corruptBytes);
+  auto corruptSource = openVolumeSource(corrupt);
+  try {
+    corruptSource->readSlab(0, 5, std::as_writable_bytes(std::span(all)));
+    ADD_FAILURE() << "corrupt gzip read without error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(corrupt), std::string::npos) << e.what();
+  }
+  // Dims and type come from the header, not from options.
+  SourceOptions options;
+  options.dims = glm::u32vec3(1, 2, 3);
+  EXPECT_THROW(openVolumeSource(truncated, options), Error);
+}
+
+}  // namespace
+}  // namespace ropecast

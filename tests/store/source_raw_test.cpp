@@ -1,0 +1,228 @@
+// Tests of the raw VolumeSource and the dispatcher's choice of it: every type reads back what was written,
+// slabs at any z, dims/type from options or an Open SciVis-style file name, and each bad input (truncated,
+// too long, unknown type, no dims, missing file) gives an error naming the file and the problem.
+#include "store/source_raw.h"
+
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() / ("ropecast_raw_test_" + std::to_string(::getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+void writeFile(const std::string& path, const void* data, size_t bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(static_cast<const char*>(data), std::streamsize(bytes));
+  ASSERT_TRUE(out.good()) << path;
+}
+
+// A value per sample that differs between neighbors in every axis and uses the type's full width.
+template <typename T>
+std::vector<T> pattern(glm::u32vec3 dims) {
+  std::vector<T> v(size_t(dims.x) * dims.y * dims.z);
+  for (size_t i = 0; i < v.size(); ++i) {
+    if constexpr (std::is_floating_point_v<T>)
+      v[i] = T(double(i) * 0.37 - 1000.0);
+    else
+      v[i] = T(i * 2654435761u >> 7);
+  }
+  return v;
+}
+
+template <typename T>
+std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
+  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
+  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
+  return slab;
+}
+
+std::string errorOf(const std::string& spec, const SourceOptions& options = {}) {
+  try {
+    openVolumeSource(spec, options);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+template <typename T>
+void expectRoundTrip(const TempDir& dir, const std::string& typeName, SampleType type) {
+  const glm::u32vec3 dims(13, 7, 11);
+  const auto data = pattern<T>(dims);
+  // From the file name alone.
+  const std::string named = dir.file("vol_13x7x11_" + typeName + ".raw");
+  writeFile(named, data.data(), data.size() * sizeof(T));
+  auto source = openVolumeSource(named);
+  EXPECT_EQ(source->info().dims, dims);
+  EXPECT_EQ(source->info().type, type);
+  EXPECT_EQ(source->info().spacing, glm::dvec3(1.0));
+  EXPECT_EQ(readSlab<T>(*source, 0, dims.z), data) << typeName;
+  for (uint32_t z0 : {10u, 3u, 0u, 6u}) {
+    const auto slab = readSlab<T>(*source, z0, std::min(4u, dims.z - z0));
+    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), data.begin() + size_t(z0) * dims.x * dims.y))
+        << typeName;
+  }
+  // From options, with an unhelpful name.
+  const std::string plain = dir.file("plain_" + typeName + ".bin");
+  writeFile(plain, data.data(), data.size() * sizeof(T));
+  SourceOptions options;
+  options.dims = dims;
+  options.type = type;
+  options.spacing = glm::dvec3(0.5, 1.0, 2.5);
+  auto fromOptions = openVolumeSource(plain, options);
+  EXPECT_EQ(fromOptions->info().spacing, glm::dvec3(0.5, 1.0, 2.5));
+  EXPECT_EQ(readSlab<T>(*fromOptions, 0, dims.z), data) << typeName;
+}
+
+TEST(SourceRaw, EveryTypeReadsBackWhatWasWritten) {
+  TempDir dir;
+  expectRoundTrip<uint8_t>(dir, "uint8", SampleType::UInt8);
+  expectRoundTrip<uint16_t>(dir, "uint16", SampleType::UInt16);
+  expectRoundTrip<int16_t>(dir, "int16", SampleType::Int16);
+  expectRoundTrip<float>(dir, "float32", SampleType::Float32);
+}
+
+TEST(SourceRaw, ParsesOpenSciVisNames) {
+  const auto bonsai = parseRawFileName("/data/bonsai_256x256x256_uint8.raw");
+  ASSERT_TRUE(bonsai);
+  EXPECT_EQ(bonsai->dims, glm::u32vec3(256));
+  EXPECT_EQ(bonsai->type, SampleType::UInt8);
+  const auto odd = parseRawFileName("dir_1x1x1_uint8.raw/duct_flow_193x194x1000_float32.raw");
+  ASSERT_TRUE(odd);
+  EXPECT_EQ(odd->dims, glm::u32vec3(193, 194, 1000));
+  EXPECT_EQ(odd->type, SampleType::Float32);
+  const auto alias = parseRawFileName("x_2x3x4_ushort.raw");
+  ASSERT_TRUE(alias);
+  EXPECT_EQ(alias->type, SampleType::UInt16);
+  const auto unknown = parseRawFileName("x_2x3x4_float64.raw");
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ(unknown->typeName, "float64");
+  EXPECT_FALSE(unknown->type);
+  EXPECT_FALSE(parseRawFileName("bonsai.raw"));
+  EXPECT_FALSE(parseRawFileName("bonsai_256x256_uint8.raw"));
+  EXPECT_FALSE(parseRawFileName("bonsai_0x256x256_uint8.raw"));
+  EXPECT_FALSE(parseRawFileName("bonsai_99999999999x2x2_uint8.raw"));
+}
+
+TEST(SourceRaw, OptionsOverrideTheFileName) {
+  TempDir dir;
+  const auto data = pattern<uint16_t>({4, 5, 6});
+  const std::string path = dir.file("misnamed_10x10x10_uint8.raw");
+  writeFile(path, data.data(), data.size() * 2);
+  SourceOptions options;
+  options.dims = glm::u32vec3(4, 5, 6);
+  options.type = SampleType::UInt16;
+  auto source = openVolumeSource(path, options);
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 6), data);
+}
+
+TEST(SourceRaw, SizeMismatchNamesFileExpectedAndActual) {
+  TempDir dir;
+  const std::vector<uint8_t> bytes(1000);
+  const std::string truncated = dir.file("short_10x10x11_uint8.raw");
+  writeFile(truncated, bytes.data(), bytes.size());
+  const std::string message = errorOf(truncated);
+  EXPECT_NE(message.find(truncated), std::string::npos) << message;
+  EXPECT_NE(message.find("1000 bytes"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected 1100"), std::string::npos) << message;
+  EXPECT_NE(message.find("truncated"), std::string::npos) << message;
+
+  const std::string tooLong = dir.file("long_10x10x9_uint8.raw");
+  writeFile(tooLong, bytes.data(), bytes.size());
+  EXPECT_NE(errorOf(tooLong).find("too long"), std::string::npos) << errorOf(tooLong);
+
+  // Dims from options that do not match the size (uint16 doubles the bytes).
+  SourceOptions options;
+  options.dims = glm::u32vec3(10, 10, 10);
+  options.type = SampleType::UInt16;
+  const std::string wrongType = errorOf(dir.file("short_10x10x11_uint8.raw"), options);
+  EXPECT_NE(wrongType.find("expected 2000"), std::string::npos) << wrongType;
+}
+
+TEST(SourceRaw, UnknownTypeOrDimsNameTheFile) {
+  TempDir dir;
+  const std::vector<uint8_t> bytes(64);
+  const std::string unknownType = dir.file("v_2x2x2_float64.raw");
+  writeFile(unknownType, bytes.data(), bytes.size());
+  const std::string typeMessage = errorOf(unknownType);
+  EXPECT_NE(typeMessage.find(unknownType), std::string::npos) << typeMessage;
+  EXPECT_NE(typeMessage.find("'float64'"), std::string::npos) << typeMessage;
+
+  const std::string noDims = dir.file("volume.dat");
+  writeFile(noDims, bytes.data(), bytes.size());
+  const std::string dimsMessage = errorOf(noDims);
+  EXPECT_NE(dimsMessage.find(noDims), std::string::npos) << dimsMessage;
+  EXPECT_NE(dimsMessage.find("--dims"), std::string::npos) << dimsMessage;
+
+  SourceOptions dimsOnly;
+  dimsOnly.dims = glm::u32vec3(4, 4, 4);
+  EXPECT_NE(errorOf(noDims, dimsOnly).find("--type"), std::string::npos);
+  EXPECT_EQ(parseSampleType("int32"), std::nullopt);  // so the CLI rejects --type int32 before we get here
+}
+
+TEST(SourceRaw, MissingFileIsNamed) {
+  const std::string missing = "/nonexistent/dir/bonsai_256x256x256_uint8.raw";
+  const std::string message = errorOf(missing);
+  EXPECT_NE(message.find(missing), std::string::npos) << message;
+  EXPECT_NE(message.find("no such file"), std::string::npos) << message;
+}
+
+TEST(SourceRaw, SlabsOutsideTheVolumeAreRejected) {
+  TempDir dir;
+  const auto data = pattern<uint8_t>({3, 3, 3});
+  const std::string path = dir.file("v_3x3x3_uint8.raw");
+  writeFile(path, data.data(), data.size());
+  auto source = openVolumeSource(path);
+  std::vector<std::byte> two(18);
+  EXPECT_THROW(source->readSlab(2, 2, two), Error);
+  EXPECT_THROW(source->readSlab(0, 1, two), Error);  // wrong buffer size
+  // The file shrinking after opening is a read error naming it, not garbage.
+  fs::resize_file(path, 10);
+  try {
+    source->readSlab(1, 2, two);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+TEST(SourceRaw, BigEndianSamplesAreSwappedToNative) {
+  std::vector<uint8_t> bytes = {0x12, 0x34, 0xAB, 0xCD};
+  samplesToNative(std::as_writable_bytes(std::span(bytes)), SampleType::UInt16, true);
+  uint16_t values[2];
+  std::memcpy(values, bytes.data(), 4);
+  EXPECT_EQ(values[0], 0x1234);
+  EXPECT_EQ(values[1], 0xABCD);
+  std::vector<uint8_t> floatBytes = {0x3F, 0x80, 0x00, 0x00};  // 1.0f big-endian
+  samplesToNative(std::as_writable_bytes(std::span(floatBytes)), SampleType::Float32, true);
+  float f;
+  std::memcpy(&f, floatBytes.data(), 4);
+  EXPECT_EQ(f, 1.0f);
+}
+
+}  // namespace
+}  // namespace ropecast

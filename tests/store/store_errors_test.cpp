@@ -1,0 +1,222 @@
+// Damaged, truncated and unwritable stores: one clear Error naming the file (and the node for a brick), and
+// no file left behind by a failed conversion.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+
+#include "core/error.h"
+#include "store/converter.h"
+#include "store/store.h"
+#include "tests/store/store_test_util.h"
+
+namespace ropecast {
+namespace {
+
+using testing::TempDir;
+
+std::vector<char> readFile(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+void writeFile(const std::filesystem::path& p, const std::vector<char>& bytes) {
+  std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+std::string openError(const std::filesystem::path& p) {
+  try {
+    Store::open(p);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+class StoreErrors : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const glm::u32vec3 dims{30, 21, 17};
+    samples = testing::toType<uint16_t>(testing::ballField(dims, 6), 0, 3000);
+    source = std::make_unique<ArraySource>(
+        ArraySource::fromSamples<uint16_t>(testing::volumeInfo(dims, SampleType::UInt16), samples));
+    options.brickSize = 8;
+    convertVolume(*source, dir / "good.store", options);
+    bytes = readFile(dir / "good.store");
+  }
+  StoreHeader header() const {
+    StoreHeader h;
+    std::memcpy(&h, bytes.data(), sizeof h);
+    return h;
+  }
+
+  TempDir dir;
+  std::vector<uint16_t> samples;
+  std::unique_ptr<ArraySource> source;
+  ConvertOptions options;
+  std::vector<char> bytes;
+};
+
+TEST_F(StoreErrors, DamagedHeaderNamesTheFile) {
+  for (size_t offset : {0ul, 9ul, 20ul, 44ul, 61ul}) {
+    auto damaged = bytes;
+    damaged[offset] ^= 0x5A;
+    const auto path = dir / ("header" + std::to_string(offset) + ".store");
+    writeFile(path, damaged);
+    const std::string message = openError(path);
+    EXPECT_NE(message.find(path.string()), std::string::npos) << "offset " << offset << ": " << message;
+  }
+  auto notAStore = bytes;
+  std::memcpy(notAStore.data(), "NOTSTORE", 8);
+  writeFile(dir / "magic.store", notAStore);
+  EXPECT_NE(openError(dir / "magic.store").find("bad magic"), std::string::npos);
+}
+
+TEST_F(StoreErrors, DamagedMetadataAndNodeTableAreErrors) {
+  const StoreHeader h = header();
+  auto metadata = bytes;
+  metadata[h.metadataOffset + 3] ^= 0x01;
+  writeFile(dir / "meta.store", metadata);
+  EXPECT_NE(openError(dir / "meta.store").find("metadata"), std::string::npos);
+  auto table = bytes;
+  table[h.nodeTableOffset + 17] ^= 0x10;
+  writeFile(dir / "table.store", table);
+  EXPECT_NE(openError(dir / "table.store").find("node table"), std::string::npos);
+}
+
+// A store whose metadata is intact (checksums match) but gives the volume no box: a zero spacing, which a
+// hand-edited or foreign writer could produce. Rays could not enter it; opening it is the error.
+TEST_F(StoreErrors, MetadataSpacingMustBePositive) {
+  StoreHeader h = header();
+  auto edited = bytes;
+  const std::string metadata(edited.data() + h.metadataOffset, h.metadataBytes);
+  const size_t key = metadata.find("\"spacing\"");
+  ASSERT_NE(key, std::string::npos) << metadata;
+  // The first spacing's digits all zero (0.5 -> 0.0: the same length, so no offset moves).
+  const size_t first = metadata.find_first_of("0123456789", metadata.find('[', key));
+  for (size_t i = first; i < metadata.size() && metadata[i] != ','; ++i)
+    if (std::isdigit(static_cast<unsigned char>(metadata[i]))) edited[h.metadataOffset + i] = '0';
+  h.metadataCrc =
+      storeCrc32(std::as_bytes(std::span(edited.data() + h.metadataOffset, size_t(h.metadataBytes))));
+  std::memcpy(edited.data(), &h, sizeof h);
+  h.headerCrc = storeCrc32(std::as_bytes(std::span(edited.data(), offsetof(StoreHeader, headerCrc))));
+  std::memcpy(edited.data(), &h, sizeof h);
+  writeFile(dir / "spacing.store", edited);
+  const std::string message = openError(dir / "spacing.store");
+  EXPECT_NE(message.find("spacing.store': metadata spacing 0,0.75,1.25 must be"), std::string::npos)
+      << message;
+}
+
+TEST_F(StoreErrors, TruncatedFileIsAnError) {
+  for (size_t size : {0ul, 10ul, 64ul, bytes.size() / 2, bytes.size() - 1}) {
+    const auto path = dir / ("cut" + std::to_string(size) + ".store");
+    writeFile(path, std::vector<char>(bytes.begin(), bytes.begin() + long(size)));
+    const std::string message = openError(path);
+    EXPECT_NE(message.find(path.string()), std::string::npos) << "size " << size << ": " << message;
+  }
+  EXPECT_NE(openError(dir / "missing.store").find("missing.store"), std::string::npos);
+}
+
+TEST_F(StoreErrors, DamagedBrickNamesTheNode) {
+  const auto store = Store::open(dir / "good.store");
+  const OctreeLayout& layout = store->info().layout;
+  uint64_t index = 0;
+  while (store->entries()[index].payloadBytes == 0) ++index;
+  const StoreNodeEntry e = store->entries()[index];
+  auto damaged = bytes;
+  damaged[e.payloadOffset + e.payloadBytes / 2] ^= 0x22;
+  writeFile(dir / "brick.store", damaged);
+  const auto bad = Store::open(dir / "brick.store");  // the header and table are fine
+  std::vector<std::byte> out(bad->brickBytes());
+  const NodeKey key = layout.nodeAt(index);
+  try {
+    bad->readBrick(key, out);
+    FAIL() << "a damaged brick was read without error";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(Store::describeNode(key)), std::string::npos) << message;
+    EXPECT_NE(message.find("brick.store"), std::string::npos) << message;
+    EXPECT_NE(message.find("checksum"), std::string::npos) << message;
+  }
+  // Other nodes still read.
+  const NodeKey other = layout.nodeAt(index == 0 ? 1 : 0);
+  EXPECT_NO_THROW(bad->readBrick(other, out));
+}
+
+TEST_F(StoreErrors, UnwritableOutputPathIsAnErrorNamingIt) {
+  const auto blocker = dir / "a-file";
+  writeFile(blocker, {'x'});
+  for (const auto& out : {blocker / "v.store", dir / "no-such-dir" / "v.store"}) {
+    try {
+      convertVolume(*source, out, options);
+      FAIL() << "converted into " << out;
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find(out.string()), std::string::npos) << error.what();
+    }
+  }
+}
+
+// A source that fails part-way, like a truncated raw file.
+class FailingSource final : public VolumeSource {
+ public:
+  FailingSource(VolumeSource& inner, uint32_t failAtSlice) : inner_(inner), failAt_(failAtSlice) {}
+  const VolumeInfo& info() const override { return inner_.info(); }
+  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    if (z0 + count > failAt_)
+      throw Error("FailingSource: slice " + std::to_string(failAt_) + " is unreadable");
+    inner_.readSlab(z0, count, out);
+  }
+
+ private:
+  VolumeSource& inner_;
+  uint32_t failAt_;
+};
+
+TEST_F(StoreErrors, FailedConversionLeavesNoFile) {
+  TempDir out;
+  FailingSource failing(*source, 12);
+  EXPECT_THROW(convertVolume(failing, out / "v.store", options), Error);
+  EXPECT_EQ(out.fileCount(), 0u);
+  // A failure must not touch an existing output either.
+  writeFile(out / "v.store", bytes);
+  EXPECT_THROW(convertVolume(failing, out / "v.store", options), Error);
+  EXPECT_EQ(out.fileCount(), 1u);
+  EXPECT_EQ(readFile(out / "v.store"), bytes);
+}
+
+TEST_F(StoreErrors, BadOptionsAreErrors) {
+  TempDir out;
+  ConvertOptions bad = options;
+  bad.brickSize = 12;
+  EXPECT_THROW(convertVolume(*source, out / "v.store", bad), Error);
+  bad = options;
+  bad.zstdLevel = 1000;
+  EXPECT_THROW(convertVolume(*source, out / "v.store", bad), Error);
+  // A threshold the metadata cannot record (JSON has no inf or NaN); inf also emptied every node.
+  for (double threshold : {HUGE_VAL, -HUGE_VAL, std::nan("")}) {
+    bad = options;
+    bad.discardBelow = threshold;
+    EXPECT_THROW(convertVolume(*source, out / "v.store", bad), Error) << threshold;
+  }
+  EXPECT_EQ(out.fileCount(), 0u);
+}
+
+TEST_F(StoreErrors, SourceWithoutAPositiveSpacingIsAnError) {
+  TempDir out;
+  for (glm::dvec3 spacing : {glm::dvec3(0, 1, 1), glm::dvec3(1, -2, 1), glm::dvec3(1, 1, HUGE_VAL)}) {
+    VolumeInfo info = source->info();
+    info.spacing = spacing;
+    ArraySource flat = ArraySource::fromSamples<uint16_t>(info, samples);
+    try {
+      convertVolume(flat, out / "v.store", options);
+      ADD_FAILURE() << "spacing " << formatSpacing(spacing) << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("has spacing " + formatSpacing(spacing)), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(out.fileCount(), 0u);
+}
+
+}  // namespace
+}  // namespace ropecast

@@ -1,0 +1,141 @@
+// Helpers shared by the store and converter tests: synthetic volumes, a direct (non-streaming) computation of
+// the level pyramid and of expected bricks, and a temporary directory. Test code only; one thread.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "store/array_source.h"
+#include "store/octree_layout.h"
+
+namespace ropecast::testing {
+
+// A fresh directory under the system temp dir, removed with everything in it at the end of the test.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "ropecast-store-XXXXXX").string();
+    path_ = mkdtemp(pattern.data());
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  size_t fileCount() const {
+    return size_t(
+        std::distance(std::filesystem::directory_iterator(path_), std::filesystem::directory_iterator()));
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// A smooth ball with noise inside and exact zeros outside (so some bricks are constant), in [0, 1].
+inline std::vector<double> ballField(glm::u32vec3 d, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-0.05, 0.05);
+  std::vector<double> v(size_t(d.x) * d.y * d.z);
+  const glm::dvec3 c = glm::dvec3(d) * 0.5;
+  const double radius = 0.45 * std::min({d.x, d.y, d.z}) + 2.0;
+  for (uint32_t z = 0; z < d.z; ++z)
+    for (uint32_t y = 0; y < d.y; ++y)
+      for (uint32_t x = 0; x < d.x; ++x) {
+        const double r =
+            glm::length((glm::dvec3(x, y, z) + 0.5 - c) / glm::dvec3(d) * double(std::min({d.x, d.y, d.z})));
+        const double n = noise(rng);
+        v[(size_t(z) * d.y + y) * d.x + x] =
+            r < radius ? std::clamp(1.0 - r / radius + n + 0.05, 0.0, 1.0) : 0.0;
+      }
+  return v;
+}
+
+template <typename T>
+std::vector<T> toType(const std::vector<double>& field, double lo, double hi) {
+  std::vector<T> out(field.size());
+  for (size_t i = 0; i < field.size(); ++i) out[i] = T(std::lround(lo + field[i] * (hi - lo)));
+  return out;
+}
+
+inline VolumeInfo volumeInfo(glm::u32vec3 dims, SampleType type) {
+  VolumeInfo info;
+  info.dims = dims;
+  info.type = type;
+  info.spacing = {0.5, 0.75, 1.25};
+  info.description = "test volume";
+  return info;
+}
+
+// Levels 0..maxLevel of stored values, each the rounded 2x2x2 mean of the previous (odd edges repeat).
+inline std::vector<std::vector<uint16_t>> levelPyramid(std::vector<uint16_t> level0,
+                                                       const OctreeLayout& layout) {
+  std::vector<std::vector<uint16_t>> levels{std::move(level0)};
+  for (uint32_t l = 1; l <= layout.maxDepth; ++l) {
+    const glm::u32vec3 f = layout.levelDims(l - 1), c = layout.levelDims(l);
+    const auto& fine = levels.back();
+    std::vector<uint16_t> coarse(size_t(c.x) * c.y * c.z);
+    for (uint32_t z = 0; z < c.z; ++z)
+      for (uint32_t y = 0; y < c.y; ++y)
+        for (uint32_t x = 0; x < c.x; ++x) {
+          uint32_t sum = 0;
+          for (uint32_t o = 0; o < 8; ++o) {
+            const uint32_t fx = std::min(2 * x + (o & 1), f.x - 1),
+                           fy = std::min(2 * y + ((o >> 1) & 1), f.y - 1),
+                           fz = std::min(2 * z + (o >> 2), f.z - 1);
+            sum += fine[(size_t(fz) * f.y + fy) * f.x + fx];
+          }
+          coarse[(size_t(z) * c.y + y) * c.x + x] = uint16_t((sum + 4) / 8);
+        }
+    levels.push_back(std::move(coarse));
+  }
+  return levels;
+}
+
+// The brick of `key` computed directly: its samples with borders, clamped to the level's edge.
+inline std::vector<uint16_t> expectedBrick(const std::vector<std::vector<uint16_t>>& levels,
+                                           const OctreeLayout& layout, const NodeKey& key) {
+  const uint32_t level = layout.levelOfDepth(key.depth), edge = layout.storedBrickEdge(),
+                 b = layout.brickSize;
+  const glm::u32vec3 d = layout.levelDims(level);
+  std::vector<uint16_t> brick(layout.storedBrickSamples());
+  for (uint32_t k = 0; k < edge; ++k)
+    for (uint32_t j = 0; j < edge; ++j)
+      for (uint32_t i = 0; i < edge; ++i) {
+        const auto at = [&](uint32_t c, uint32_t o, uint32_t n) {
+          return uint32_t(std::clamp<int64_t>(int64_t(c) * b + o - int64_t(kBrickBorder), 0, int64_t(n) - 1));
+        };
+        brick[(size_t(k) * edge + j) * edge + i] =
+            levels[level][(size_t(at(key.coord.z, k, d.z)) * d.y + at(key.coord.y, j, d.y)) * d.x +
+                          at(key.coord.x, i, d.x)];
+      }
+  return brick;
+}
+
+// Stored values of level 0 for a source of integer type (uint8/uint16 as is, int16 offset by 32768).
+template <typename T>
+std::vector<uint16_t> storedValues(const std::vector<T>& samples) {
+  std::vector<uint16_t> out(samples.size());
+  for (size_t i = 0; i < samples.size(); ++i)
+    out[i] = std::is_same_v<T, int16_t> ? uint16_t(int32_t(samples[i]) + 32768) : uint16_t(samples[i]);
+  return out;
+}
+
+inline std::vector<uint16_t> widen(std::span<const std::byte> bytes, SampleType stored) {
+  std::vector<uint16_t> out;
+  if (stored == SampleType::UInt8) {
+    for (std::byte b : bytes) out.push_back(uint16_t(b));
+  } else {
+    out.resize(bytes.size() / 2);
+    std::memcpy(out.data(), bytes.data(), bytes.size());
+  }
+  return out;
+}
+
+}  // namespace ropecast::testing
