@@ -1,7 +1,6 @@
 // `ropecast compare A B`: PSNR and absolute differences of two images (PNG/EXR, read as floats in [0, 1] for
 // 8-bit files), e.g. an adaptive render against `render --reference` (bench/quality_vs_reference.sh).
-// Prints one JSON line; with --min-psnr, exits 1 when the PSNR is lower. In the GL build because the image
-// reader lives in render/.
+// Prints one JSON line; with --min-psnr, exits 1 when the PSNR is lower. GL-free (reference/).
 #include <cmath>
 #include <cstdio>
 #include <memory>
