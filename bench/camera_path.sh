@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Asynchronous loader along a key-framed fly-by (issue 4; docs/BENCHMARKS.md "Asynchronous loader (issue 4)").
+# Asynchronous loader along a key-framed fly-by (docs/BENCHMARKS.md).
 # Cold cache, bench/flyby_path.json (fast move, slow rotation, acceleration) over procedural:noise:1200 converted
 # to a store (1200^3 uint8 = 1.61 GiB raw; kept in WORKDIR and reused), one run per configuration, side by side:
 #   off      no upload budget

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Converter benchmark (docs/BENCHMARKS.md, "Converter"): generates uint16 raw volumes of realistic entropy (a smooth
-# field plus noise, not a repeated pattern) under a scratch directory and measures, in the same run:
+# Converter benchmark (docs/BENCHMARKS.md): generates uint16 raw volumes of realistic entropy (a smooth field
+# plus noise, not a repeated pattern) under a scratch directory and measures, in the same run:
 #   - `ropecast convert` wall time against `zstd -T2 -3` compressing the same file (goal: ratio <= 2.0),
 #   - peak resident memory of the conversion with /usr/bin/time -v at two source sizes (goal: <= 600 MiB, flat),
 #   - store size against raw size.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench/render_vs_brute.sh on a lent NVIDIA device machine, in one call: the GL loader packages carried in .gl
-# unpacked as /work/.library/device/README.md says, NVIDIA's EGL vendor file named, and the carried
+# unpacked (nothing can be installed there otherwise), NVIDIA's EGL vendor file named, and the carried
 # OpenImageIO-free ropecast run with the carried libraries through a wrapper (scripts/device_prepare makes all
 # of them). First, if carried, the GL index tests (the GLSL rope traversal in a compute shader against the CPU
 # reference, on the GPU); then the benchmark. Results and stats under $OUT (the device tool fetches them); the

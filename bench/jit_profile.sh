@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Where llvmpipe's JIT code (the ray-cast shaders, texture sampling) spends its instructions in one frame:
 # execution-count classes and blocks of the last frame's code, from callgrind per-instruction counts matched
-# with a disassembly of the JIT code (bench/jit_profile/). This is how the uniform loads in the sample loops
-# were found (docs/BENCHMARKS.md); bench/shader_instructions.sh gives the totals alone.
+# with a disassembly of the JIT code (bench/jit_profile/); bench/shader_instructions.sh gives the totals alone.
 #
 #   bench/jit_profile.sh [BUILD_DIR] -- ROPECAST_RENDER_ARGS...      (default build/vg, as shader_instructions)
-#   e.g. bench/jit_profile.sh -- /tmp/ml128.rcast --size 128x128 --mode dvr --tf linear --voxels-per-pixel 64
+#   e.g. bench/jit_profile.sh -- ml128.rcast --size 128x128 --mode dvr --tf linear --voxels-per-pixel 64
+#   (ml128.rcast from `ropecast convert procedural:marschner-lobb:128 -o ml128.rcast`)
 #
 # Environment: FRAMES (10: the last one is profiled; it must have converged), BLOCKS=1 (also list the blocks in
 # address order), LISTING=FILE (write the annotated disassembly), SHADERS (as in shader_instructions.sh).

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Peak memory of the asynchronous loader against its budgets (issue 4; docs/BENCHMARKS.md "Asynchronous loader
-# (issue 4)"). Two stores of different sizes (procedural:noise:600 and :1200, converted into WORKDIR once and
-# reused), the same budgets (--cpu-cache CPU, --gpu-budget GPU: under llvmpipe the pool is system memory) and a
-# camera path that needs more bricks than both hold; plus a baseline (a 32^3 volume, 1 MiB budgets) for the
+# Peak memory of the asynchronous loader against its budgets (docs/BENCHMARKS.md). Two stores of different
+# sizes (procedural:noise:600 and :1200, converted into WORKDIR once and reused), the same budgets (--cpu-cache
+# CPU, --gpu-budget GPU: under llvmpipe the pool is system memory) and a camera path that needs more bricks
+# than both hold; plus a baseline (a 32^3 volume, 1 MiB budgets) for the
 # fixed overhead of the process (GL driver, shaders, buffers). Peak RSS from /usr/bin/time -v.
 # Prints per store: peak RSS, budgets, RSS - budgets, the largest cpu_cache_bytes and gpu_pool_used reported.
 # Usage: bench/loader_memory.sh ROPECAST [WORKDIR]   env CPU (default 256M), GPU (default 256M), FRAMES (60)

@@ -3,7 +3,7 @@
 # under xvfb-run) on exactly the same ~256^3 uint8 volume, image size, camera orbit, half-voxel step,
 # isovalue and transfer function, measured in one run; prints the medians and the ratios VTK / ropecast.
 #
-#   bench/render_vs_vtk.sh [BUILD_DIR]            (default build/perf; the lead re-runs it on a quiet machine)
+#   bench/render_vs_vtk.sh [BUILD_DIR]            (default build/perf)
 #
 # Environment: VOLUMES (procedural names, default "marschner-lobb noise"), SIZE (volume edge, 256),
 # IMAGE (512x512), FRAMES (measured frames per renderer, 20), WORK (scratch dir, default a temp dir kept for
