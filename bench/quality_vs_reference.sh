@@ -8,19 +8,11 @@
 # Environment: VOLUMES (default "marschner-lobb noise"), SIZE (256), IMAGE (512x512), VPP (1), WORK.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${1:-build/perf}
-ROPECAST=$BUILD/tools/ropecast
+source bench/lib/common.sh
+bench_setup quality_vs_reference "${1:-build/perf}"
 VOLUMES=${VOLUMES:-"marschner-lobb noise"}
-SIZE=${SIZE:-256}
-IMAGE=${IMAGE:-512x512}
 VPP=${VPP:-1}
-WORK=${WORK:-$(mktemp -d /tmp/quality_vs_reference.XXXXXX)}
-mkdir -p "$WORK"
-export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
-[ -x "$ROPECAST" ] || { echo "quality_vs_reference: $ROPECAST not built" >&2; exit 1; }
-cat > "$WORK/tf.json" <<'EOF2'
-{"points": [[0, 0.0, 0.0, 0.0, 0.0], [25.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
-EOF2
+write_ramp_tf "$WORK/tf.json"
 
 printf '%-15s %-4s %8s %10s %10s %8s\n' volume mode psnr_db max_abs mean_abs leaves
 for name in $VOLUMES; do

@@ -19,30 +19,20 @@
 # (scratch dir). Volumes are converted once into WORK and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${1:-build/perf}
-ROPECAST=$BUILD/tools/ropecast
+source bench/lib/common.sh
+bench_setup render_vs_brute "${1:-build/perf}"
 DENSE=${DENSE:-"marschner-lobb"}
 SPARSE=${SPARSE:-"sphere menger"}
-SIZE=${SIZE:-256}
 BRICK=${BRICK:-32}
 EXT=${EXT:-png}
-IMAGE=${IMAGE:-512x512}
 FRAMES=${FRAMES:-6}
 ROUNDS=${ROUNDS:-3}
 STILL=${STILL:-6}
-WORK=${WORK:-$(mktemp -d /tmp/render_vs_brute.XXXXXX)}
-mkdir -p "$WORK"
-export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
-[ -x "$ROPECAST" ] || { echo "render_vs_brute: $ROPECAST not built" >&2; exit 1; }
 
-cat > "$WORK/tf.json" <<'EOF2'
-{"points": [[0, 0.0, 0.0, 0.0, 0.0], [25.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
-EOF2
+write_ramp_tf "$WORK/tf.json"
 # Sparse volumes in DVR: the same ramp from the isovalue up, so that (as in data with empty space) what lies
 # outside the isosurface has no opacity; with tf.json the sphere's falloff fills the whole cube.
-cat > "$WORK/tf_sparse.json" <<'EOF2'
-{"points": [[0, 0.0, 0.0, 0.0, 0.0], [127.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
-EOF2
+write_ramp_tf "$WORK/tf_sparse.json" 127.5
 last=$((STILL + FRAMES - 1))
 cat > "$WORK/path.json" <<EOF2
 [{"orbit": [30, 20, 3], "time": 0}, {"orbit": [30, 20, 3], "time": $STILL},

@@ -16,18 +16,13 @@
 # ends on the same azimuth, so the last frames of both (saved as PNGs in WORK) show the same view.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${1:-build/perf}
-ROPECAST=$BUILD/tools/ropecast
+source bench/lib/common.sh
+bench_setup render_vs_vtk "${1:-build/perf}"
 VOLUMES=${VOLUMES:-"marschner-lobb noise"}
-SIZE=${SIZE:-256}
-IMAGE=${IMAGE:-512x512}
 FRAMES=${FRAMES:-20}
 STILL=${STILL:-6}     # ropecast frames at the first camera while the working set loads
 VTK_WARMUP=3
 AZ=30 EL=20 DIST=3 FOV=40
-WORK=${WORK:-$(mktemp -d /tmp/render_vs_vtk.XXXXXX)}
-mkdir -p "$WORK"
-[ -x "$ROPECAST" ] || { echo "render_vs_vtk: $ROPECAST not built" >&2; exit 1; }
 if ! command -v xvfb-run > /dev/null || ! /usr/bin/python3 -c 'import vtk' 2> /dev/null; then
   echo "render_vs_vtk: needs xvfb-run and python3-vtk9; run scripts/bootstrap --bench" >&2
   exit 1
@@ -35,9 +30,7 @@ fi
 
 # DVR transfer function in stored units (uint8 procedural data: data units = stored units): the "linear"
 # preset's ramp, written out so VTK reads the very same points.
-cat > "$WORK/tf.json" <<'EOF'
-{"points": [[0, 0.0, 0.0, 0.0, 0.0], [25.5, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}
-EOF
+write_ramp_tf "$WORK/tf.json"
 last=$((STILL + FRAMES - 1))
 cat > "$WORK/path.json" <<EOF
 [{"orbit": [$AZ, $EL, $DIST], "fov": $FOV, "time": 0},

@@ -1,0 +1,23 @@
+# Shared by the bench scripts (sourced, not run).
+
+# bench_setup NAME BUILD: sets ROPECAST (BUILD/tools/ropecast, which must exist), WORK (from the environment, or
+# a fresh folder under /tmp named after NAME), SIZE and IMAGE (environment or the defaults 256 and 512x512),
+# and headless Mesa unless EGL_PLATFORM says otherwise.
+bench_setup() {
+  local name=$1
+  BUILD=$2
+  ROPECAST=$BUILD/tools/ropecast
+  SIZE=${SIZE:-256}
+  IMAGE=${IMAGE:-512x512}
+  WORK=${WORK:-$(mktemp -d "/tmp/$name.XXXXXX")}
+  mkdir -p "$WORK"
+  export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+  [ -x "$ROPECAST" ] || { echo "$name: $ROPECAST not built" >&2; exit 1; }
+}
+
+# write_ramp_tf FILE [FROM]: the "linear" preset's ramp over uint8 data (opacity from FROM, default 25.5, up to
+# 0.1 at 255), written out so that every renderer reads the very same points.
+write_ramp_tf() {
+  printf '{"points": [[0, 0.0, 0.0, 0.0, 0.0], [%s, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}\n' \
+    "${2:-25.5}" > "$1"
+}
