@@ -7,13 +7,13 @@
 # Prints per store: peak RSS, budgets, RSS - budgets, the largest cpu_cache_bytes and gpu_pool_used reported.
 # Usage: bench/loader_memory.sh ROPECAST [WORKDIR]   env CPU (default 256M), GPU (default 256M), FRAMES (60)
 set -euo pipefail
+export EGL_PLATFORM="${EGL_PLATFORM:-surfaceless}"
+here="$(cd "$(dirname "$0")" && pwd)"
 ropecast="$1"
 work="${2:-/tmp/ropecast_bench}"
 cpu="${CPU:-256M}"
 gpu="${GPU:-256M}"
 frames="${FRAMES:-60}"
-here="$(cd "$(dirname "$0")" && pwd)"
-export EGL_PLATFORM="${EGL_PLATFORM:-surfaceless}"
 mkdir -p "$work"
 for n in 600 1200; do
   [ -f "$work/noise$n.rcast" ] || "$ropecast" convert procedural:noise:$n -o "$work/noise$n.rcast" --quiet

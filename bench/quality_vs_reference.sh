@@ -7,11 +7,11 @@
 #
 # Environment: VOLUMES (default "marschner-lobb noise"), SIZE (256), IMAGE (512x512), VPP (1), WORK.
 set -euo pipefail
+VOLUMES=${VOLUMES:-"marschner-lobb noise"}
+VPP=${VPP:-1}
 cd "$(dirname "$0")/.."
 source bench/lib/common.sh
 bench_setup quality_vs_reference "${1:-build/perf}"
-VOLUMES=${VOLUMES:-"marschner-lobb noise"}
-VPP=${VPP:-1}
 write_ramp_tf "$WORK/tf.json"
 
 printf '%-15s %-4s %8s %10s %10s %8s\n' volume mode psnr_db max_abs mean_abs leaves
