@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
 
 namespace ropecast {
 
@@ -74,14 +74,6 @@ Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double
   const double x = (2.0 * (px + 0.5) / width - 1.0) * tanHalf * aspect;
   const double y = (1.0 - 2.0 * (py + 0.5) / height) * tanHalf;
   return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
-}
-
-glm::dmat4 viewMatrix(const Camera& c) {
-  return glm::lookAt(c.eye, c.target, cameraFrame(c).up);
-}
-
-glm::dmat4 projectionMatrix(const Camera& c, double aspect, double nearDist, double farDist) {
-  return glm::perspective(glm::radians(c.fovYDeg), aspect, nearDist, farDist);
 }
 
 }  // namespace ropecast

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <string>
 
-#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -52,9 +51,5 @@ CameraFrame cameraFrame(const Camera& c);
 
 // The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
 Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
-
-// View and projection matrices (OpenGL conventions) for the GL path; near/far in world units.
-glm::dmat4 viewMatrix(const Camera& c);
-glm::dmat4 projectionMatrix(const Camera& c, double aspect, double nearDist, double farDist);
 
 }  // namespace ropecast
