@@ -1,6 +1,9 @@
 #include "core/camera.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -74,6 +77,23 @@ Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double
   const double x = (2.0 * (px + 0.5) / width - 1.0) * tanHalf * aspect;
   const double y = (1.0 - 2.0 * (py + 0.5) / height) * tanHalf;
   return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
+}
+
+bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
+  t0 = -std::numeric_limits<double>::infinity();
+  t1 = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (ray.dir[a] == 0.0) {
+      if (ray.origin[a] < 0.0 || ray.origin[a] > boxMax[a]) return false;
+      continue;
+    }
+    double tn = (0.0 - ray.origin[a]) / ray.dir[a], tf = (boxMax[a] - ray.origin[a]) / ray.dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+  }
+  t0 = std::max(t0, 0.0);
+  return t0 < t1;
 }
 
 }  // namespace ropecast

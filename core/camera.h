@@ -52,4 +52,8 @@ CameraFrame cameraFrame(const Camera& c);
 // The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
 Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
 
+// The ray's parameter interval [t0, t1] inside the box [0, boxMax] (slab test), t0 clamped to 0 (the eye
+// may be inside); false on a miss. Whatever draws the volume box [0, n s] clips its rays with it.
+bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1);
+
 }  // namespace ropecast
