@@ -1,10 +1,10 @@
-// Refiner: the view- and transfer-function-dependent cut of the octree for one frame (seeds/002 Sect. 4).
-// From the root, a set of visible non-empty nodes sorted by decreasing projected voxel size is refined until
-// each node is adequate, or the bricks of its children are not in core, or the GPU pool has no room for them,
-// or the frame's upload budget is spent. Empty nodes (by the caller's predicate on the stored min/max, so
-// changing the isovalue or the transfer function needs no I/O), nodes outside the data or the view frustum,
-// and constant nodes are terminal. The data path is reached only through BrickResidency, which the WorkingSet
-// implements (and tests fake), so the refiner itself is pure CPU logic.
+// Refiner: the view- and transfer-function-dependent cut of the octree for one frame (Gobbetti et al. 2008,
+// Sect. 4). From the root, a set of visible non-empty nodes sorted by decreasing projected voxel size is
+// refined until each node is adequate, or the bricks of its children are not in core, or the GPU pool has no
+// room for them, or the frame's upload budget is spent. Empty nodes (by the caller's predicate on the stored
+// min/max, so changing the isovalue or the transfer function needs no I/O), nodes outside the data or the
+// view frustum, and constant nodes are terminal. The data path is reached only through BrickResidency, which
+// the WorkingSet implements (and tests fake), so the refiner itself is pure CPU logic.
 //
 // Plain functions over plain data; any thread, given a BrickResidency used by that thread only.
 #pragma once
@@ -28,7 +28,7 @@ struct RefineView {
   uint32_t viewportWidth = 1;   // pixels
   uint32_t viewportHeight = 1;  // pixels
   // Target density: a node is adequate when one of its voxels covers at most 1 / voxelsPerPixel pixels
-  // (1 = one voxel per pixel as in the paper; 2 = finer, 0.5 = coarser).
+  // (1 = one voxel per pixel as in Gobbetti et al. 2008; 2 = finer, 0.5 = coarser).
   double voxelsPerPixel = 1.0;
 };
 

@@ -348,7 +348,7 @@ TEST(Raycast, RejectsInconsistentInputs) {
   noView.camera.eye = {-1e308, 0, 0};
   noView.camera.target = {1e308, 0, 0};
   EXPECT_THROW(test::renderScene(pass, scene, noView), Error);
-  // Nor a volume without a box (a negative spacing once hung the ray cast).
+  // Nor a volume without a box (a negative spacing): refused, not a ray cast that never ends.
   RaycastFrame noBox = frame;
   noBox.pool = scene.pool.get();
   noBox.index = scene.indexTexture.get();
