@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Instructions per frame that llvmpipe's JIT-compiled code (shaders, texture sampling) executes for ropecast's
 # ray caster and for brute force (`--backend brute`) on the same volume and camera, counted by valgrind's
-# callgrind: deterministic, so a shader change of 1 % shows where frame times on this shared 2-core VM move
-# by +-15 %. Instructions are not time (memory stalls are not counted): confirm a gain with timed runs.
+# callgrind: deterministic, so a small shader change shows where frame times on a shared machine are lost in
+# noise. Instructions are not time (memory stalls are not counted): confirm a gain with timed runs.
 #
 #   bench/shader_instructions.sh [BUILD_DIR]         (default build/vg, configured and built if missing)
 #

@@ -1,9 +1,12 @@
 #include "core/camera.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
 
 namespace ropecast {
 
@@ -76,12 +79,21 @@ Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double
   return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
 }
 
-glm::dmat4 viewMatrix(const Camera& c) {
-  return glm::lookAt(c.eye, c.target, cameraFrame(c).up);
-}
-
-glm::dmat4 projectionMatrix(const Camera& c, double aspect, double nearDist, double farDist) {
-  return glm::perspective(glm::radians(c.fovYDeg), aspect, nearDist, farDist);
+bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
+  t0 = -std::numeric_limits<double>::infinity();
+  t1 = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (ray.dir[a] == 0.0) {
+      if (ray.origin[a] < 0.0 || ray.origin[a] > boxMax[a]) return false;
+      continue;
+    }
+    double tn = (0.0 - ray.origin[a]) / ray.dir[a], tf = (boxMax[a] - ray.origin[a]) / ray.dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+  }
+  t0 = std::max(t0, 0.0);
+  return t0 < t1;
 }
 
 }  // namespace ropecast

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <string>
 
-#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -53,8 +52,8 @@ CameraFrame cameraFrame(const Camera& c);
 // The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
 Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
 
-// View and projection matrices (OpenGL conventions) for the GL path; near/far in world units.
-glm::dmat4 viewMatrix(const Camera& c);
-glm::dmat4 projectionMatrix(const Camera& c, double aspect, double nearDist, double farDist);
+// The ray's parameter interval [t0, t1] inside the box [0, boxMax] (slab test), t0 clamped to 0 (the eye
+// may be inside); false on a miss. Whatever draws the volume box [0, n s] clips its rays with it.
+bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1);
 
 }  // namespace ropecast

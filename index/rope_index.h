@@ -1,5 +1,6 @@
-// RopeIndex: the octree with neighbor pointers ("rope octree", seeds/002 Sect. 5.1) over a Cut, encoded as
-// the texels of index/rope_layout.h, ready to upload into a GL buffer texture. Rebuilt every frame.
+// RopeIndex: the octree with neighbor pointers ("rope octree", Gobbetti et al. 2008, Sect. 5.1) over a Cut,
+// encoded as the texels of index/rope_layout.h, ready to upload into a GL buffer texture. Rebuilt every
+// frame.
 //
 // RopeIndexBuilder owns reusable buffers: one per thread (not thread-safe); build() allocates nothing once
 // its buffers have grown to the frame's size. buildRopeIndex() is the one-shot convenience. Time and memory

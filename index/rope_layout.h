@@ -1,7 +1,7 @@
-// The texel layout of the rope index (the octree with neighbor pointers of seeds/002 Sect. 5.1), defined once
-// for the C++ encoder (index/rope_index.cpp) and the GLSL traversal (shaders/rope_traversal.glsl), which
-// includes this file through the shader loader's textual #include. Constants and pure functions only; any
-// thread. docs/INDEX.md has the same layout as tables.
+// The texel layout of the rope index (the octree with neighbor pointers of Gobbetti et al. 2008, Sect. 5.1),
+// defined once for the C++ encoder (index/rope_index.cpp) and the GLSL traversal
+// (shaders/rope_traversal.glsl), which includes this file through the shader loader's textual #include.
+// Constants and pure functions only; any thread. docs/INDEX.md has the same layout as tables.
 //
 // The index is an array of uvec4 texels (GL_RGBA32UI buffer texture, read with texelFetch on a
 // usamplerBuffer).
@@ -15,7 +15,7 @@
 //
 // Rope block, kRopeBlockTexels texels per leaf: neighbor word of face f is component f % 4 of texel
 // ropeBlock + f / 4. Faces: 0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z (face = 2 * axis + (positive ? 1 : 0)). Words
-// 6 and 7 are kRopeNull, so "no exit face" can index the block too (as in the paper).
+// 6 and 7 are kRopeNull, so "no exit face" can index the block too (as in Gobbetti et al. 2008).
 //
 // Neighbor word: kRopeNull across a face of the root cube; otherwise (node texel << kRopeDepthBits) | depth
 // of that node. The node is the adjacent node of the leaf's depth, or the smallest coarser leaf enclosing the

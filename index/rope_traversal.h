@@ -1,6 +1,6 @@
-// The CPU reference of the stackless rope-octree traversal (seeds/002 Sect. 5.2, Fig. 5): step for step the
-// algorithm of shaders/rope_traversal.glsl, in float like the GPU, with the same names. It is what the index
-// and shader tests compare with. Pure functions over a caller-owned cursor; any thread.
+// The CPU reference of the stackless rope-octree traversal (Gobbetti et al. 2008, Sect. 5.2, Fig. 5): step
+// for step the algorithm of shaders/rope_traversal.glsl, in float like the GPU, with the same names. It is
+// what the index and shader tests compare with. Pure functions over a caller-owned cursor; any thread.
 //
 // The ray is P(t) = origin + t * dir in root-cube coordinates ([0,1]^3; dir need not be normalized), so t is
 // the caller's own (world) t. The traversal hands out the leaves pierced over [tStart, tEnd], front to back,

@@ -26,8 +26,6 @@ const char* leafReasonName(LeafReason r) {
       return "culled";
     case LeafReason::Constant:
       return "constant";
-    case LeafReason::Occluded:
-      return "occluded";
     case LeafReason::NotInCore:
       return "not-in-core";
     case LeafReason::PoolFull:
@@ -105,13 +103,12 @@ struct Classified {
 class RefineRun {
  public:
   RefineRun(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
-            const PriorityHints& hints, BrickResidency& residency)
+            BrickResidency& residency)
       : nodes_(nodes),
         layout_(nodes.info().layout),
         spacing_(nodes.info().volume.spacing),
         view_(view),
         isEmpty_(isEmpty),
-        hints_(hints),
         residency_(residency),
         frustum_(viewFrustum(view)),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
@@ -144,10 +141,8 @@ class RefineRun {
 
  private:
   void refineOrStop(const Candidate& n) {
-    if (hints_.requested.count(n.key)) ++result_.hintedRequests;
     if (n.voxelPixels <= adequatePixels_) return leaf(n, LeafReason::Adequate);
     if (n.key.depth >= layout_.maxDepth) return leaf(n, LeafReason::Finest);
-    if (hints_.occluded.count(n.key)) return leaf(n, LeafReason::Occluded);
 
     std::array<NodeKey, 8> children;
     std::array<Classified, 8> classes;
@@ -221,7 +216,6 @@ class RefineRun {
   glm::dvec3 spacing_;
   const RefineView& view_;
   const EmptinessPredicate& isEmpty_;
-  const PriorityHints& hints_;
   BrickResidency& residency_;
   ViewFrustum frustum_;
   double adequatePixels_;
@@ -233,8 +227,8 @@ class RefineRun {
 }  // namespace
 
 RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
-                    const PriorityHints& hints, BrickResidency& residency) {
-  return RefineRun(nodes, view, isEmpty, hints, residency).run();
+                    BrickResidency& residency) {
+  return RefineRun(nodes, view, isEmpty, residency).run();
 }
 
 }  // namespace ropecast

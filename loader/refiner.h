@@ -1,10 +1,10 @@
-// Refiner: the view- and transfer-function-dependent cut of the octree for one frame (seeds/002 Sect. 4).
-// From the root, a set of visible non-empty nodes sorted by decreasing projected voxel size is refined until
-// each node is adequate, or the bricks of its children are not in core, or the GPU pool has no room for them,
-// or the frame's upload budget is spent. Empty nodes (by the caller's predicate on the stored min/max, so
-// changing the isovalue or the transfer function needs no I/O), nodes outside the data or the view frustum,
-// and constant nodes are terminal. The data path is reached only through BrickResidency, which the WorkingSet
-// implements (and tests fake), so the refiner itself is pure CPU logic.
+// Refiner: the view- and transfer-function-dependent cut of the octree for one frame (Gobbetti et al. 2008,
+// Sect. 4). From the root, a set of visible non-empty nodes sorted by decreasing projected voxel size is
+// refined until each node is adequate, or the bricks of its children are not in core, or the GPU pool has no
+// room for them, or the frame's upload budget is spent. Empty nodes (by the caller's predicate on the stored
+// min/max, so changing the isovalue or the transfer function needs no I/O), nodes outside the data or the
+// view frustum, and constant nodes are terminal. The data path is reached only through BrickResidency, which
+// the WorkingSet implements (and tests fake), so the refiner itself is pure CPU logic.
 //
 // Plain functions over plain data; any thread, given a BrickResidency used by that thread only.
 #pragma once
@@ -14,7 +14,6 @@
 #include <functional>
 #include <optional>
 #include <span>
-#include <unordered_set>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -29,22 +28,13 @@ struct RefineView {
   uint32_t viewportWidth = 1;   // pixels
   uint32_t viewportHeight = 1;  // pixels
   // Target density: a node is adequate when one of its voxels covers at most 1 / voxelsPerPixel pixels
-  // (1 = one voxel per pixel as in the paper; 2 = finer, 0.5 = coarser).
+  // (1 = one voxel per pixel as in Gobbetti et al. 2008; 2 = finer, 0.5 = coarser).
   double voxelsPerPixel = 1.0;
 };
 
 // True when a node whose stored values span [storedMin, storedMax] cannot contribute to the image: for an
 // isosurface, the range misses the isovalue; for DVR, !transferFunction.hasOpacity(storedMin, storedMax).
 using EmptinessPredicate = std::function<bool(uint16_t storedMin, uint16_t storedMax)>;
-
-// Feedback from the renderer of previous frames. Both sets may be empty (the default: no feedback yet).
-struct PriorityHints {
-  // Occlusion queries (seeds/002 Sect. 6): a node seen as occluded stays a leaf (is not refined).
-  std::unordered_set<NodeKey, NodeKeyHash> occluded;
-  // Ray feedback (GigaVoxels): nodes whose finer data rays asked for. Carried through and counted; priority
-  // does not use it yet.
-  std::unordered_set<NodeKey, NodeKeyHash> requested;
-};
 
 enum class LeafContent : uint8_t {
   Empty,    // nothing to sample (empty, outside the data, outside the frustum)
@@ -60,7 +50,6 @@ enum class LeafReason : uint8_t {
   Outside,       // no data there (NodeKind::Outside)
   Culled,        // outside the view frustum
   Constant,      // every sample equal: children would look the same
-  Occluded,      // PriorityHints::occluded
   NotInCore,     // its children's bricks (or the root's) were requested and are not read yet
   PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut
   UploadBudget,  // this frame's upload budget cannot carry its children
@@ -92,7 +81,6 @@ class BrickResidency {
 struct RefineResult {
   std::vector<PlannedLeaf> leaves;    // the cut: a tiling of the octree's root cube
   std::vector<NodeKey> refinedOrder;  // inner nodes, in the order they were refined
-  uint64_t hintedRequests = 0;        // PriorityHints::requested nodes met during refinement
   // No leaf waits for data or for upload budget: the next frame with the same input gives the same cut.
   bool complete = false;
 };
@@ -124,6 +112,6 @@ inline bool boxInFrustum(const WorldBox& box, const RefineView& view) {
 }
 
 RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
-                    const PriorityHints& hints, BrickResidency& residency);
+                    BrickResidency& residency);
 
 }  // namespace ropecast

@@ -1,11 +1,11 @@
-// WorkingSet: the per-frame loader (seeds/002 Sect. 4, 7). Each update() drains the bricks the I/O workers
-// read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns GPU pool
-// slots (LRU, never one of the cut being built), asks the I/O workers for the bricks the refinement lacked
-// (dropping requests no longer wanted) and returns a plain plan: the cut with its slots, and the uploads to
-// do now within the upload budget. A frame always renders what is present: a node whose children are not all
-// ready stays a leaf at its coarser level, and update() never waits for the disk. updateUntilConverged() is
-// the synchronous mode (for `render` without progression, and tests): the same code, repeated until the cut
-// is complete.
+// WorkingSet: the per-frame loader (Gobbetti et al. 2008, Sect. 4 and 7). Each update() drains the bricks the
+// I/O workers read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns
+// GPU pool slots (LRU, never one of the cut being built), asks the I/O workers for the bricks the refinement
+// lacked (dropping requests no longer wanted) and returns a plain plan: the cut with its slots, and the
+// uploads to do now within the upload budget. A frame always renders what is present: a node whose children
+// are not all ready stays a leaf at its coarser level, and update() never waits for the disk.
+// updateUntilConverged() is the synchronous mode (for `render` without progression, and tests): the same
+// code, repeated until the cut is complete.
 //
 // The loader never touches GL: the renderer uploads `uploads` into the pool slots, then builds the index over
 // `leaves`. Owned by the render thread, which alone calls it; the I/O workers are internal. The BrickSource
@@ -40,7 +40,6 @@ struct WorkingSetConfig {
 struct FrameInput {
   RefineView view;
   EmptinessPredicate isEmpty;  // null: only NodeKind::Empty/Outside nodes are empty
-  PriorityHints hints;
   // This frame's upload limit on top of WorkingSetConfig::uploadBudgetBytes (the smaller one applies, never
   // less than one brick): the renderer's time budget (render/upload_pacer.h) arrives here as bytes.
   uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();

@@ -47,24 +47,6 @@ struct FrameConstants {
   }
 };
 
-// The ray's parameter interval inside the box [0, boxMax] (slab test), t0 clamped to 0; false on a miss.
-bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
-  t0 = -kInf;
-  t1 = kInf;
-  for (int a = 0; a < 3; ++a) {
-    if (ray.dir[a] == 0.0) {
-      if (ray.origin[a] < 0.0 || ray.origin[a] > boxMax[a]) return false;
-      continue;
-    }
-    double tn = (0.0 - ray.origin[a]) / ray.dir[a], tf = (boxMax[a] - ray.origin[a]) / ray.dir[a];
-    if (tn > tf) std::swap(tn, tf);
-    t0 = std::max(t0, tn);
-    t1 = std::min(t1, tf);
-  }
-  t0 = std::max(t0, 0.0);
-  return t0 < t1;
-}
-
 // Central differences with h_i = s_i * 2^L (docs/RENDERING.md "Isosurface").
 template <class Sampler>
 glm::dvec3 gradientAt(const Sampler& s, glm::dvec3 x, glm::dvec3 cell) {

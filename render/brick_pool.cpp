@@ -43,10 +43,10 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
                 " is below the slot edge)");
   // One slot across in x, as far as the texture limit allows, the slots stacked along y and z: a texture lies
   // in memory row by row (llvmpipe; any linear layout), so a brick's rows are then one contiguous run per
-  // slice and a ray through it touches a few pages per slice instead of one per row (5-10 % of a DVR frame
-  // on llvmpipe, docs/BENCHMARKS.md); tiled GPU layouts do not care.
-  // A pool is allocated whole (and zeroed: seconds for 512 MiB on llvmpipe), so it holds no more slots than
-  // the volume has bricks. The grid's sides are rounded up, then back down as far as the budget needs.
+  // slice and a ray through it touches a few pages per slice instead of one per row; tiled GPU layouts do not
+  // care. A pool is allocated whole (and zeroed, which is slow where the GL's memory is host memory), so it
+  // holds no more slots than the volume has bricks. The grid's sides are rounded up, then back down as far as
+  // the budget needs.
   const uint64_t wanted = std::max<uint64_t>(1, std::min(fitting, maxSlots));
   const auto side = [&](uint64_t n) { return std::clamp<uint64_t>(n, 1, maxPerAxis); };
   const auto ceilDiv = [](uint64_t a, uint64_t b) { return (a + b - 1) / b; };
@@ -67,7 +67,7 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
 
 uint64_t defaultGpuBudgetBytes(const GlContextInfo& info) {
   // Half of what the driver reports, but no more than 4 GiB: the pool is allocated whole at start-up, and a
-  // renderer that takes 40 GB of an H100 by default surprises whoever shares the card. --gpu-budget
+  // renderer that takes tens of GB of a large card by default surprises whoever shares it. --gpu-budget
   // overrides.
   constexpr uint64_t kDefaultCap = 4ull << 30;
   if (info.totalGpuMemoryBytes) return std::min(*info.totalGpuMemoryBytes / 2, kDefaultCap);
@@ -96,11 +96,6 @@ BrickPool::BrickPool(const BrickPoolConfig& config, int max3DTextureSize)
   glTextureParameteri(texture_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glTextureParameteri(texture_, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   if (config_.uploadThroughPbo) glCreateBuffers(1, &pbo_);
-
-  const uint32_t n = slotCount();
-  freeSlots_.reserve(n);
-  for (uint32_t s = n; s-- > 0;) freeSlots_.push_back(s);
-  allocated_.assign(n, false);
 }
 
 BrickPool::~BrickPool() {
@@ -113,30 +108,14 @@ size_t BrickPool::slotBytes() const {
   return e * e * e * bytesPerSample(config_.storedType);
 }
 
-std::optional<uint32_t> BrickPool::allocate() {
-  if (freeSlots_.empty()) return std::nullopt;
-  const uint32_t s = freeSlots_.back();
-  freeSlots_.pop_back();
-  allocated_[s] = true;
-  return s;
-}
-
-void BrickPool::checkAllocated(uint32_t slot, const char* where) const {
+void BrickPool::checkSlot(uint32_t slot, const char* where) const {
   if (slot >= slotCount())
     throw Error(std::string(where) + ": slot " + std::to_string(slot) + " out of range (pool has " +
                 std::to_string(slotCount()) + " slots)");
-  if (!allocated_[slot])
-    throw Error(std::string(where) + ": slot " + std::to_string(slot) + " is not allocated");
-}
-
-void BrickPool::release(uint32_t slot) {
-  checkAllocated(slot, "BrickPool::release");
-  allocated_[slot] = false;
-  freeSlots_.push_back(slot);
 }
 
 void BrickPool::upload(uint32_t slot, std::span<const std::byte> brick) {
-  checkAllocated(slot, "BrickPool::upload");
+  checkSlot(slot, "BrickPool::upload");
   if (brick.size() != slotBytes())
     throw Error("BrickPool::upload: brick of " + std::to_string(brick.size()) + " bytes, expected " +
                 std::to_string(slotBytes()));
@@ -163,7 +142,7 @@ void BrickPool::uploadBatch(std::span<const BrickPoolUpload> uploads) {
     return;
   }
   for (const BrickPoolUpload& u : uploads) {
-    checkAllocated(u.slot, "BrickPool::uploadBatch");
+    checkSlot(u.slot, "BrickPool::uploadBatch");
     if (u.brick.size() != slotBytes())
       throw Error("BrickPool::uploadBatch: brick of " + std::to_string(u.brick.size()) + " bytes, expected " +
                   std::to_string(slotBytes()));
@@ -191,7 +170,7 @@ void BrickPool::uploadBatch(std::span<const BrickPoolUpload> uploads) {
 }
 
 std::vector<std::byte> BrickPool::readSlot(uint32_t slot) const {
-  checkAllocated(slot, "BrickPool::readSlot");
+  checkSlot(slot, "BrickPool::readSlot");
   std::vector<std::byte> out(slotBytes());
   const glm::u32vec3 o = geometry_.slotOrigin(slot);
   const GLsizei e = GLsizei(geometry_.slotEdge);

@@ -1,7 +1,8 @@
 // BrickPool: the GPU brick pool, one large 3D texture (R8 or R16 UNORM by the store's sample type, LINEAR
 // filtering, CLAMP_TO_EDGE) cut into slots of storedBrickEdge()^3 texels (B + 2*kBrickBorder per axis) laid
-// out on a 3D slot grid, with a free-list slot allocator and uploads through glTexSubImage3D, directly from
-// client memory or (uploadThroughPbo) a frame's bricks copied into one orphaned pixel buffer object first.
+// out on a 3D slot grid, with uploads through glTexSubImage3D, directly from client memory or
+// (uploadThroughPbo) a frame's bricks copied into one orphaned pixel buffer object first. Which brick lives
+// in which slot is the loader's SlotTable's business; the pool only holds the texels.
 //
 // BrickPoolGeometry and slotOrigin() are plain data and pure functions (any thread); the shader computes the
 // same slot -> texel origin from the uniforms uPoolSlotGrid / uPoolSlotEdge (shaders/raycast_common.glsl).
@@ -10,7 +11,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -63,8 +63,8 @@ struct BrickPoolConfig {
   uint32_t brickSize = 32;
   SampleType storedType = SampleType::UInt8;  // UInt8 -> R8, UInt16 -> R16
   uint64_t budgetBytes = 512ull << 20;
-  // Upload through a pixel buffer object. On Mesa llvmpipe this is slower (one more copy of every brick, see
-  // docs/BENCHMARKS.md "Asynchronous loader"), so the default is direct uploads; `--upload-pbo` turns it on.
+  // Upload through a pixel buffer object. Where the GL's "GPU" memory is host memory (Mesa llvmpipe) this
+  // only adds a copy of every brick, so the default is direct uploads; `--upload-pbo` turns it on.
   bool uploadThroughPbo = false;
   uint32_t extraBytesPerTexel = 0;  // planBrickPool's: textures beside the pool share the budget
   uint64_t maxSlots = UINT64_MAX;   // planBrickPool's: the bricks the volume has
@@ -81,16 +81,12 @@ class BrickPool {
 
   const BrickPoolGeometry& geometry() const { return geometry_; }
   uint32_t slotCount() const { return geometry_.slotCount(); }
-  size_t freeSlotCount() const { return freeSlots_.size(); }
   size_t slotBytes() const;
   SampleType storedType() const { return config_.storedType; }
   uint32_t texture() const { return texture_; }
 
-  // A free slot, or nullopt when the pool is full (the caller evicts and releases first).
-  std::optional<uint32_t> allocate();
-  // Returns a slot to the free list; throws ropecast::Error for a slot out of range or not allocated.
-  void release(uint32_t slot);
-  // Uploads one brick (storedBrickEdge()^3 samples, x fastest, border included) into an allocated slot.
+  // Uploads one brick (storedBrickEdge()^3 samples, x fastest, border included) into a slot; throws
+  // ropecast::Error for a slot out of range or a brick of another size.
   void upload(uint32_t slot, std::span<const std::byte> brick);
   // Uploads a frame's bricks (each as upload() checks them). Through a PBO, all of them are copied into one
   // buffer (orphaned, mapped once), then each slot is filled from its offset.
@@ -100,14 +96,12 @@ class BrickPool {
   std::vector<std::byte> readSlot(uint32_t slot) const;
 
  private:
-  void checkAllocated(uint32_t slot, const char* where) const;
+  void checkSlot(uint32_t slot, const char* where) const;
 
   BrickPoolConfig config_;
   BrickPoolGeometry geometry_;
   uint32_t texture_ = 0;
   uint32_t pbo_ = 0;
-  std::vector<uint32_t> freeSlots_;  // popped from the back: lowest slots first
-  std::vector<bool> allocated_;
 };
 
 }  // namespace ropecast

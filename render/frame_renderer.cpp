@@ -40,10 +40,6 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   poolConfig.maxSlots = info.layout.insideNodeCount();
   pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
   if (config.storedGradients) gradients_ = std::make_unique<GradientPool>(pool_->geometry().textureDims);
-  // The loader's SlotTable decides which brick lives in which slot; the pool's own allocator is not used, so
-  // every slot is taken from it once.
-  while (pool_->allocate()) {
-  }
   indexTexture_ = std::make_unique<IndexTexture>(kRopeTexelComponents, gl.maxTextureBufferTexels);
 
   WorkingSetConfig wsConfig;

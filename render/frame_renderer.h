@@ -53,8 +53,8 @@ struct FrameRequest {
   RenderParams params;
   double voxelsPerPixel = 1.0;  // --voxels-per-pixel: refinement target
   const TfTable* tf = nullptr;  // required in DVR mode
-  // Synchronous: refine until the working set is complete before rendering (issue 3's `render`); otherwise
-  // one asynchronous loader step that never waits for the disk.
+  // Synchronous: refine until the working set is complete before rendering; otherwise one asynchronous
+  // loader step that never waits for the disk.
   bool synchronous = false;
 };
 

@@ -11,8 +11,8 @@ namespace ropecast {
 GpuTimer::GpuTimer() {
   glCreateQueries(GL_TIMESTAMP, 2, queries_);
   // llvmpipe (and softpipe) run a draw when its scene is flushed, on several threads, and their timestamps
-  // then bound a piece of the work, not the span (1 ms reported for a 600 ms ray cast): time them by the
-  // wall clock, from a drained pipeline to glFinish.
+  // then bound a piece of the work, not the span (a small fraction of a long ray cast): time them by the wall
+  // clock, from a drained pipeline to glFinish.
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   softwareRenderer_ = renderer && (std::strstr(renderer, "llvmpipe") || std::strstr(renderer, "softpipe"));
 }

@@ -16,14 +16,8 @@ ArraySource::ArraySource(VolumeInfo info, std::vector<std::byte> samples)
   if (info_.description.empty()) info_.description = "array";
 }
 
-void ArraySource::readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) {
+void ArraySource::readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) {
   const size_t sliceBytes = info_.sliceBytes();
-  if (uint64_t(z0) + count > info_.dims.z)
-    throw Error("ArraySource::readSlab: slices [" + std::to_string(z0) + ", " + std::to_string(z0 + count) +
-                ") outside the volume's " + std::to_string(info_.dims.z));
-  if (out.size() != sliceBytes * count)
-    throw Error("ArraySource::readSlab: output buffer has " + std::to_string(out.size()) +
-                " bytes, expected " + std::to_string(sliceBytes * count));
   if (count > 0) std::memcpy(out.data(), samples_.data() + sliceBytes * z0, sliceBytes * count);
 }
 

@@ -26,10 +26,11 @@ class ArraySource final : public VolumeSource {
   }
 
   const VolumeInfo& info() const override { return info_; }
-  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override;
   std::span<const std::byte> bytes() const { return samples_; }
 
  private:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override;
+
   VolumeInfo info_;
   std::vector<std::byte> samples_;
 };

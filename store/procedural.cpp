@@ -112,8 +112,9 @@ ValueRange mengerRange(const PositionBox& box, uint32_t size) {
   return {(found & kHasHole) ? 0.0 : 255.0, (found & kHasSolid) ? 255.0 : 0.0};
 }
 
-// ---- noise: hypertexture (GigaVoxels Sect. 6.3, after Perlin & Hoffert): opacity = f(d(X) + k*P(X)), with d
-// the signed distance to a sphere, P fractal gradient noise and f a linear ramp. Lengths in units of SIZE.
+// ---- noise: hypertexture (Crassin et al. 2008, Sect. 6.3, after Perlin & Hoffert):
+// opacity = f(d(X) + k*P(X)), with d the signed distance to a sphere, P fractal gradient noise and f a linear
+// ramp. Lengths in units of SIZE.
 
 constexpr double kNoiseRadius = 0.3;     // sphere the noise displaces
 constexpr double kNoiseRamp = 0.02;      // half-width of the 0..255 ramp across the surface

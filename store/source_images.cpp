@@ -102,18 +102,12 @@ class ImageSliceSource final : public VolumeSource {
 
   const VolumeInfo& info() const override { return info_; }
 
-  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    if (uint64_t(z0) + count > info_.dims.z)
-      throw Error("readSlab: slices [" + std::to_string(z0) + ", " + std::to_string(uint64_t(z0) + count) +
-                  ") outside " + info_.description + " (" + std::to_string(info_.dims.z) + " slices)");
-    if (out.size() != uint64_t(count) * info_.sliceBytes())
-      throw Error("readSlab: " + info_.description + ": output buffer has " + std::to_string(out.size()) +
-                  " bytes, expected " + std::to_string(uint64_t(count) * info_.sliceBytes()));
+ private:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
     for (uint32_t i = 0; i < count; ++i)
       readSlice(slices_[z0 + i], out.subspan(i * info_.sliceBytes(), info_.sliceBytes()));
   }
 
- private:
   OIIO::ImageSpec specOf(const SliceRef& slice) {
     if (multiPage_) {
       OIIO::ImageSpec spec;

@@ -16,10 +16,6 @@ namespace {
 constexpr size_t kMaxHeaderBytes = size_t(1) << 20;
 constexpr size_t kChunkBytes = size_t(1) << 18;  // compressed input read at a time, and skip buffer
 
-std::string sliceRange(uint32_t z0, uint32_t count) {
-  return "[" + std::to_string(z0) + ", " + std::to_string(uint64_t(z0) + count) + ")";
-}
-
 // Offset just after `lines` newlines starting at `offset`.
 uint64_t skipLines(const PosixFile& file, uint64_t offset, int64_t lines) {
   std::vector<std::byte> buffer(kChunkBytes);
@@ -179,14 +175,8 @@ class NrrdSource final : public VolumeSource {
 
   const VolumeInfo& info() const override { return info_; }
 
-  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    if (uint64_t(z0) + count > info_.dims.z)
-      throw Error("readSlab: slices " + sliceRange(z0, count) + " outside " + info_.description + " (" +
-                  std::to_string(info_.dims.z) + " slices)");
-    const uint64_t bytes = uint64_t(count) * info_.sliceBytes();
-    if (out.size() != bytes)
-      throw Error("readSlab: " + info_.description + ": output buffer has " + std::to_string(out.size()) +
-                  " bytes, expected " + std::to_string(bytes));
+ private:
+  void readSlices(uint32_t z0, uint32_t, std::span<std::byte> out) override {
     const uint64_t offset = uint64_t(z0) * info_.sliceBytes();
     if (gzip_) {
       const uint64_t target = uint64_t(header_.byteSkip) + offset;
@@ -199,7 +189,6 @@ class NrrdSource final : public VolumeSource {
     samplesToNative(out, info_.type, header_.bigEndian);
   }
 
- private:
   [[noreturn]] void truncatedRaw(uint64_t expectedBytes, uint64_t actualBytes) const {
     throw Error("NRRD data file " + data_->path() + ": size is " + std::to_string(actualBytes) +
                 " bytes, expected at least " + std::to_string(expectedBytes) + " (" +

@@ -32,18 +32,12 @@ class RawSource final : public VolumeSource {
 
   const VolumeInfo& info() const override { return info_; }
 
-  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    if (uint64_t(z0) + count > info_.dims.z)
-      throw Error("readSlab: slices [" + std::to_string(z0) + ", " + std::to_string(uint64_t(z0) + count) +
-                  ") outside raw file " + file_.path() + " (" + std::to_string(info_.dims.z) + " slices)");
-    if (out.size() != uint64_t(count) * info_.sliceBytes())
-      throw Error("readSlab: raw file " + file_.path() + ": output buffer has " + std::to_string(out.size()) +
-                  " bytes, expected " + std::to_string(uint64_t(count) * info_.sliceBytes()));
+ private:
+  void readSlices(uint32_t z0, uint32_t, std::span<std::byte> out) override {
     file_.readAt(uint64_t(z0) * info_.sliceBytes(), out);
     samplesToNative(out, info_.type, false);
   }
 
- private:
   PosixFile file_;
   VolumeInfo info_;
 };

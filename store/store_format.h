@@ -61,7 +61,7 @@ static_assert(offsetof(StoreNodeEntry, fillValue) == 22);
 
 // How a brick payload encodes its samples before zstd. uint16 stores split the samples into two byte planes
 // (all low bytes, then all high bytes): the smooth high bytes then compress well and fast, and zstd wastes no
-// time looking for matches across the noisy low bytes (3x less CPU and ~20% smaller on noisy 12-bit CT-like
+// time looking for matches across the noisy low bytes (less CPU and smaller payloads on noisy 12-bit CT-like
 // data).
 enum class PayloadEncoding : uint8_t {
   Zstd = 0,            // the samples as they are (uint8 stores)

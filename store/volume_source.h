@@ -51,9 +51,15 @@ class VolumeSource {
   virtual const VolumeInfo& info() const = 0;
 
   // Reads slices [z0, z0 + count) into `out` (count * info().sliceBytes() bytes), x fastest, samples in
-  // info().type, native (little-endian) byte order. Throws ropecast::Error naming the file on failure
-  // (truncated file, unreadable slice, ...).
-  virtual void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) = 0;
+  // info().type, native (little-endian) byte order. Throws ropecast::Error naming the source if the slices
+  // leave the volume or `out` has another size, and naming the file on failure (truncated file,
+  // unreadable slice, ...).
+  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out);
+
+ protected:
+  // readSlab once its arguments are checked: z0 + count <= info().dims.z and
+  // out.size() == count * info().sliceBytes().
+  virtual void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) = 0;
 };
 
 // Options that apply to sources whose file does not say them (raw files), or override what it says.

@@ -13,7 +13,7 @@ failures=0
 expect_failure() {
   local name="$1" pattern="$2"
   shift 2
-  # Bad input must never hang (a camera whose rays are not finite once spun the ray caster forever).
+  # Bad input must never hang (a ray caster fed rays that are not finite can spin forever).
   timeout 120 "$ropecast" render "$@" -o "$dir/x.png" > "$dir/out.txt" 2> "$dir/err.txt"
   local rc=$?
   if [ "$rc" = 124 ]; then

@@ -105,6 +105,22 @@ TEST(CameraPathKeyframes, WithoutUpLookingAlongZIsUsable) {
   EXPECT_EQ(c.up, glm::dvec3(0, 1, 0));
 }
 
+TEST(ClipToBox, GivesTheIntervalInsideTheBox) {
+  double t0 = 0, t1 = 0;
+  // From outside along +x through a 4 x 2 x 1 box.
+  ASSERT_TRUE(clipToBox(Ray{{-1, 1, 0.5}, {1, 0, 0}}, {4, 2, 1}, t0, t1));
+  EXPECT_DOUBLE_EQ(t0, 1.0);
+  EXPECT_DOUBLE_EQ(t1, 5.0);
+  // From inside: the interval starts at the eye.
+  ASSERT_TRUE(clipToBox(Ray{{2, 1, 0.5}, {0, -1, 0}}, {4, 2, 1}, t0, t1));
+  EXPECT_DOUBLE_EQ(t0, 0.0);
+  EXPECT_DOUBLE_EQ(t1, 1.0);
+  // Misses: parallel to a face outside it, the box behind the eye, passing a corner.
+  EXPECT_FALSE(clipToBox(Ray{{-1, 3, 0.5}, {1, 0, 0}}, {4, 2, 1}, t0, t1));
+  EXPECT_FALSE(clipToBox(Ray{{-1, 1, 0.5}, {-1, 0, 0}}, {4, 2, 1}, t0, t1));
+  EXPECT_FALSE(clipToBox(Ray{{-3, 0, 0.5}, glm::normalize(glm::dvec3(1, 1, 0))}, {4, 2, 1}, t0, t1));
+}
+
 TEST(CameraPathKeyframes, InterpolatedOppositeUpsGiveAFiniteFrame) {
   // Rolling half a turn: halfway the interpolated up is zero, and the frame falls back to defaultUp.
   const CameraPath path = parseCameraPath(

@@ -88,7 +88,7 @@ TEST(Refiner, FrustumCullingIsConservative) {
 TEST(Refiner, FarCameraKeepsTheRootAndNearCameraRefinesToTheFinestLevel) {
   const FakeBrickSource src = makeSource();
   FakeResidency far;
-  const RefineResult r1 = refine(src, viewFrom({32, 32, -1e5}, {32, 32, 32}), {}, {}, far);
+  const RefineResult r1 = refine(src, viewFrom({32, 32, -1e5}, {32, 32, 32}), {}, far);
   ASSERT_EQ(r1.leaves.size(), 1u);
   EXPECT_EQ(r1.leaves[0].reason, LeafReason::Adequate);
   EXPECT_EQ(r1.leaves[0].content, LeafContent::Brick);
@@ -96,7 +96,7 @@ TEST(Refiner, FarCameraKeepsTheRootAndNearCameraRefinesToTheFinestLevel) {
 
   FakeResidency near;
   RefineView v = viewFrom({32, 32, -1}, {32, 32, 32}, 4000);
-  const RefineResult r2 = refine(src, v, {}, {}, near);
+  const RefineResult r2 = refine(src, v, {}, near);
   EXPECT_TRUE(isFullTiling(r2.leaves, 2));
   EXPECT_EQ(r2.leaves.size(), 64u);
   for (const PlannedLeaf& l : r2.leaves) {
@@ -115,7 +115,7 @@ TEST(Refiner, RefinesByDecreasingProjectedVoxelSize) {
   const FakeBrickSource src({256, 256, 256}, 16);
   FakeResidency res;
   const RefineView v = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
-  const RefineResult r = refine(src, v, {}, {}, res);
+  const RefineResult r = refine(src, v, {}, res);
   ASSERT_GT(r.refinedOrder.size(), 20u);
   double previous = INFINITY;
   for (const NodeKey& k : r.refinedOrder) {
@@ -134,7 +134,7 @@ TEST(Refiner, RefinesByDecreasingProjectedVoxelSize) {
   FakeResidency coarse;
   RefineView v2 = v;
   v2.voxelsPerPixel = 0.25;
-  const RefineResult r2 = refine(src, v2, {}, {}, coarse);
+  const RefineResult r2 = refine(src, v2, {}, coarse);
   EXPECT_LT(r2.leaves.size(), r.leaves.size());
   for (const PlannedLeaf& l : r2.leaves) {
     if (l.reason == LeafReason::Adequate) {
@@ -156,7 +156,7 @@ TEST(Refiner, EmptyOutsideAndConstantNodesAreTerminalWithoutBricks) {
   const FakeBrickSource src({48, 48, 48}, 16, fn);
   const auto isoEmpty = [](uint16_t lo, uint16_t hi) { return !(lo <= 100 && 100 <= hi); };  // iso 100
   FakeResidency res;
-  const RefineResult r = refine(src, viewFrom({24, 24, -2}, {24, 24, 24}, 4000), isoEmpty, {}, res);
+  const RefineResult r = refine(src, viewFrom({24, 24, -2}, {24, 24, 24}, 4000), isoEmpty, res);
   EXPECT_TRUE(isFullTiling(r.leaves, 2));
   EXPECT_TRUE(r.complete);
   std::map<LeafReason, size_t> byReason;
@@ -193,7 +193,7 @@ TEST(Refiner, ChildrenNotInCoreKeepTheParentAsALeaf) {
   FakeResidency res;
   const NodeKey held{1, {1, 1, 0}};
   res.notInCore.insert(held.child(0));  // one missing child is enough
-  const RefineResult r = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}, 4000), {}, {}, res);
+  const RefineResult r = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}, 4000), {}, res);
   EXPECT_FALSE(r.complete);
   EXPECT_TRUE(isFullTiling(r.leaves, 2));
   bool found = false;
@@ -210,7 +210,7 @@ TEST(Refiner, ChildrenNotInCoreKeepTheParentAsALeaf) {
   // Missing root: a Missing leaf and nothing else.
   FakeResidency cold;
   cold.notInCore.insert(NodeKey{});
-  const RefineResult r0 = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}), {}, {}, cold);
+  const RefineResult r0 = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}), {}, cold);
   ASSERT_EQ(r0.leaves.size(), 1u);
   EXPECT_EQ(r0.leaves[0].content, LeafContent::Missing);
   EXPECT_FALSE(r0.complete);
@@ -220,7 +220,7 @@ TEST(Refiner, FullPoolStopsRefinementButTheCutIsComplete) {
   const FakeBrickSource src({256, 256, 256}, 16);
   FakeResidency res;
   res.slotCapacity = 30;
-  const RefineResult r = refine(src, viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0), {}, {}, res);
+  const RefineResult r = refine(src, viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0), {}, res);
   EXPECT_TRUE(r.complete);
   EXPECT_TRUE(isFullTiling(r.leaves, 4));
   size_t bricks = 0, poolFull = 0;
@@ -232,35 +232,12 @@ TEST(Refiner, FullPoolStopsRefinementButTheCutIsComplete) {
   EXPECT_GT(poolFull, 0u);
 }
 
-TEST(Refiner, OccludedNodesAreNotRefinedAndRequestedNodesAreCounted) {
-  const FakeBrickSource src = makeSource();
-  PriorityHints hints;
-  const NodeKey occluded{1, {0, 0, 0}};
-  hints.occluded.insert(occluded);
-  hints.requested.insert(NodeKey{});
-  hints.requested.insert(NodeKey{1, {1, 1, 1}});
-  FakeResidency res;
-  const RefineResult r = refine(src, viewFrom({32, 32, -1}, {32, 32, 32}, 4000), {}, hints, res);
-  EXPECT_TRUE(isFullTiling(r.leaves, 2));
-  EXPECT_EQ(r.hintedRequests, 2u);
-  size_t depth1 = 0;
-  for (const PlannedLeaf& l : r.leaves) {
-    if (l.key.depth == 1) {
-      ++depth1;
-      EXPECT_EQ(l.key, occluded);
-      EXPECT_EQ(l.reason, LeafReason::Occluded);
-    }
-  }
-  EXPECT_EQ(depth1, 1u);
-  EXPECT_EQ(r.leaves.size(), 1u + 7u * 8u);
-}
-
 TEST(Refiner, NodesOutsideTheFrustumAreCulled) {
   const FakeBrickSource src = makeSource();
   FakeResidency res;
   // Close to the x = 0 face, looking at -x away from most of the volume: only the half x < 32 at most is
   // seen.
-  const RefineResult r = refine(src, viewFrom({8, 32, 32}, {-100, 32, 32}, 1000, 30.0), {}, {}, res);
+  const RefineResult r = refine(src, viewFrom({8, 32, 32}, {-100, 32, 32}, 1000, 30.0), {}, res);
   EXPECT_TRUE(isFullTiling(r.leaves, 2));
   size_t culled = 0;
   for (const PlannedLeaf& l : r.leaves) {

@@ -320,17 +320,5 @@ TEST(WorkingSet, RejectsBudgetsThatCannotWork) {
   EXPECT_THROW(WorkingSet(src, c), Error);
 }
 
-TEST(WorkingSet, HintsArePlumbedThrough) {
-  FakeBrickSource src = makeScene();
-  WorkingSet ws(src, config());
-  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
-  const WorkingSetFrame plain = ws.updateUntilConverged(in);
-  in.hints.occluded.insert(NodeKey{});  // everything occluded: the root is not refined
-  const WorkingSetFrame occluded = ws.update(in);
-  ASSERT_EQ(occluded.leaves.size(), 1u);
-  EXPECT_EQ(occluded.leaves[0].reason, LeafReason::Occluded);
-  EXPECT_GT(plain.leaves.size(), 1u);
-}
-
 }  // namespace
 }  // namespace ropecast

@@ -1,7 +1,6 @@
 // The brute-force baseline of bench/render_vs_brute.sh (render/brute_force_pass) against the rope ray caster
 // on a cut of full-resolution leaves: the same image up to rounding (>= 35 dB, under 0.5% of the pixels off
-// by more than 0.05), iso and DVR, so that the benchmark
-// compares two renderers of the same picture.
+// by more than 0.05), iso and DVR, so that the benchmark compares two renderers of the same picture.
 #include <algorithm>
 #include <cmath>
 

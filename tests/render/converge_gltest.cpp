@@ -1,4 +1,4 @@
-// Convergence of the asynchronous loader to the synchronous image (issue 4): from a cold cache, frames of
+// Convergence of the asynchronous loader to the synchronous image: from a cold cache, frames of
 // FrameRenderer::render with synchronous=false, repeated on one camera until stats.converged, end with the
 // same cut and the same image as one synchronous frame (synchronous=true) of a fresh renderer with the same
 // budgets, for iso and DVR, with a small upload budget, a small GPU pool and a slow source

@@ -27,22 +27,6 @@ bool mixedLevels(const NodeKey& n) {
   return n.depth == 0 || (n.coord.x + n.coord.y + n.coord.z + n.depth) % 2 == 0;
 }
 
-bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
-  t0 = -kInf;
-  t1 = kInf;
-  for (int a = 0; a < 3; ++a) {
-    if (ray.dir[a] == 0.0) {
-      if (ray.origin[a] < 0.0 || ray.origin[a] > boxMax[a]) return false;
-      continue;
-    }
-    double tn = -ray.origin[a] / ray.dir[a], tf = (boxMax[a] - ray.origin[a]) / ray.dir[a];
-    t0 = std::max(t0, std::min(tn, tf));
-    t1 = std::min(t1, std::max(tn, tf));
-  }
-  t0 = std::max(t0, 0.0);
-  return t0 < t1;
-}
-
 glm::dvec3 phongIso(glm::dvec3 n, glm::dvec3 dir, const LightingParams& lp) {
   if (glm::dot(n, -dir) < 0.0) n = -n;
   const glm::dvec3 l = -dir, r = glm::reflect(-l, n);
@@ -364,7 +348,7 @@ TEST(Raycast, RejectsInconsistentInputs) {
   noView.camera.eye = {-1e308, 0, 0};
   noView.camera.target = {1e308, 0, 0};
   EXPECT_THROW(test::renderScene(pass, scene, noView), Error);
-  // Nor a volume without a box (a negative spacing once hung the ray cast).
+  // Nor a volume without a box (a negative spacing): refused, not a ray cast that never ends.
   RaycastFrame noBox = frame;
   noBox.pool = scene.pool.get();
   noBox.index = scene.indexTexture.get();

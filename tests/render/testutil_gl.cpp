@@ -112,13 +112,13 @@ GlScene buildScene(const SceneSpec& spec) {
   for (const NodeKey& k : leaves) {
     CutLeaf leaf{k.depth, k.coord, LeafKind::Empty, 0};
     if (layout.isInside(k) && !(spec.emptyLeaf && spec.emptyLeaf(k))) {
-      const std::optional<uint32_t> slot = scene.pool->allocate();
-      if (!slot) throw std::runtime_error("buildScene: pool too small");
+      const uint32_t slot = uint32_t(scene.bricks.size());
+      if (slot >= scene.pool->slotCount()) throw std::runtime_error("buildScene: pool too small");
       leaf.kind = LeafKind::Data;
-      leaf.brickSlot = *slot;
+      leaf.brickSlot = slot;
       std::vector<std::byte> brick = makeBrick(spec, layout, k);
-      scene.pool->upload(*slot, brick);
-      scene.bricks.emplace(*slot, std::move(brick));
+      scene.pool->upload(slot, brick);
+      scene.bricks.emplace(slot, std::move(brick));
       ++scene.dataLeaves;
       scene.minLeafDepth = std::min(scene.minLeafDepth, k.depth);
       scene.maxLeafDepth = std::max(scene.maxLeafDepth, k.depth);

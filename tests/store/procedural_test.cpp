@@ -14,27 +14,16 @@
 #include "core/error.h"
 #include "store/source_procedural.h"
 #include "store/volume_source.h"
+#include "tests/store/store_test_util.h"
 
 namespace ropecast {
 namespace {
 
+using testing::errorOf;
+using testing::readSlab;
+
 constexpr ProceduralKind kAllKinds[] = {ProceduralKind::Sphere, ProceduralKind::Menger, ProceduralKind::Noise,
                                         ProceduralKind::MarschnerLobb};
-
-std::vector<uint8_t> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
-  std::vector<uint8_t> slab(size_t(count) * source.info().sliceBytes());
-  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
-  return slab;
-}
-
-std::string errorOf(const std::string& spec) {
-  try {
-    openVolumeSource(spec);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(Procedural, ParsesNamesAndSizes) {
   for (ProceduralKind kind : kAllKinds) {
@@ -70,12 +59,12 @@ TEST(Procedural, SlabsAreDeterministicAndMatchTheField) {
     const std::string spec = "procedural:" + std::string(proceduralKindName(kind)) + ":45";
     auto a = openVolumeSource(spec);
     auto b = openVolumeSource(spec);
-    const auto whole = readSlab(*a, 0, 45);
-    EXPECT_EQ(whole, readSlab(*b, 0, 45)) << spec;
+    const auto whole = readSlab<uint8_t>(*a, 0, 45);
+    EXPECT_EQ(whole, readSlab<uint8_t>(*b, 0, 45)) << spec;
     // Slabs at arbitrary z, in any order, equal the same slices of the whole volume and the per-sample field.
     for (uint32_t z0 : {44u, 17u, 0u, 30u}) {
       const uint32_t count = std::min(7u, 45 - z0);
-      const auto slab = readSlab(*a, z0, count);
+      const auto slab = readSlab<uint8_t>(*a, z0, count);
       ASSERT_TRUE(std::equal(slab.begin(), slab.end(), whole.begin() + size_t(z0) * 45 * 45)) << spec;
     }
     for (uint32_t z = 0; z < 45; z += 11)
@@ -99,13 +88,13 @@ TEST(Procedural, ThreadCountDoesNotChangeTheData) {
 TEST(Procedural, HugeSizesReadSlabsWithoutMaterializing) {
   auto source = openVolumeSource("procedural:sphere:8192");
   EXPECT_EQ(source->info().sampleCount(), uint64_t(8192) * 8192 * 8192);
-  const auto slice = readSlab(*source, 4096, 1);
+  const auto slice = readSlab<uint8_t>(*source, 4096, 1);
   const ProceduralField field{ProceduralKind::Sphere, 8192};
   for (uint32_t y : {0u, 1234u, 4096u, 8191u})
     for (uint32_t x : {0u, 77u, 4095u, 8191u})
       EXPECT_EQ(slice[size_t(y) * 8192 + x], proceduralSample(field, x, y, 4096));
   EXPECT_EQ(slice[size_t(4096) * 8192 + 4096], 255);
-  EXPECT_THROW(readSlab(*source, 8191, 2), Error);
+  EXPECT_THROW(readSlab<uint8_t>(*source, 8191, 2), Error);
 }
 
 TEST(Procedural, SphereMidIsovalueIsAtRadiusPoint4Size) {
@@ -123,7 +112,7 @@ TEST(Procedural, SphereMidIsovalueIsAtRadiusPoint4Size) {
   EXPECT_DOUBLE_EQ(proceduralValue(field, center), 255.0);
   // The samples above the isovalue fill a ball of radius 0.4*size.
   auto source = openVolumeSource("procedural:sphere:100");
-  const auto all = readSlab(*source, 0, size);
+  const auto all = readSlab<uint8_t>(*source, 0, size);
   const double inside = double(std::count_if(all.begin(), all.end(), [](uint8_t v) { return v >= 128; }));
   const double ball = 4.0 / 3.0 * std::numbers::pi * 40.0 * 40.0 * 40.0;
   EXPECT_NEAR(inside / ball, 1.0, 0.01);
@@ -141,7 +130,7 @@ TEST(Procedural, MengerHasHolesAtEveryLevel) {
   EXPECT_EQ(proceduralSample(field, 1, 0, 0), 255);
   // Solid fraction of a depth-4 sponge: (20/27)^4.
   auto source = openVolumeSource("procedural:menger:81");
-  const auto all = readSlab(*source, 0, 81);
+  const auto all = readSlab<uint8_t>(*source, 0, 81);
   const double solid = double(std::count(all.begin(), all.end(), 255)) / double(all.size());
   EXPECT_NEAR(solid, std::pow(20.0 / 27.0, 4), 1e-12);
   EXPECT_EQ(std::count(all.begin(), all.end(), 0) + std::count(all.begin(), all.end(), 255),

@@ -3,8 +3,6 @@
 // (different size or type, unreadable, multi-channel) or bad spec giving an error that names the file.
 #include "store/source_images.h"
 
-#include <unistd.h>
-
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
@@ -14,27 +12,15 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "tests/store/store_test_util.h"
 
 namespace ropecast {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() / ("ropecast_images_test_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using testing::errorOf;
+using testing::readSlab;
+using testing::TempDir;
 
 template <typename T>
 OIIO::TypeDesc typeDescOf() {
@@ -84,13 +70,6 @@ void writeMultiPage(const std::string& path, uint32_t w, uint32_t h, uint32_t pa
 }
 
 template <typename T>
-std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
-  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
-  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
-  return slab;
-}
-
-template <typename T>
 void expectSlices(VolumeSource& source, uint32_t w, uint32_t h, uint32_t depth) {
   ASSERT_EQ(source.info().dims, glm::u32vec3(w, h, depth));
   const auto all = readSlab<T>(source, 0, depth);
@@ -103,15 +82,6 @@ void expectSlices(VolumeSource& source, uint32_t w, uint32_t h, uint32_t depth) 
     const auto slab = readSlab<T>(source, z0, 1);
     EXPECT_EQ(slab, slicePattern<T>(w, h, z0)) << "slab at " << z0;
   }
-}
-
-std::string errorOf(const std::string& spec) {
-  try {
-    openVolumeSource(spec);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(SourceImages, PngStackInADirectoryInNameOrder) {

@@ -1,7 +1,6 @@
 // Tests of the NRRD header parser and the NRRD VolumeSource: attached and detached data, raw and gzip
 // encodings, big-endian data, spacings and space directions, byte and line skips, gzip slabs read out of
 // order, and each malformed header or data file giving an error that names the file and the field.
-#include <unistd.h>
 #include <zlib.h>
 
 #include <bit>
@@ -16,43 +15,21 @@
 #include "store/nrrd_header.h"
 #include "store/source_nrrd.h"
 #include "store/volume_source.h"
+#include "tests/store/store_test_util.h"
 
 namespace ropecast {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() / ("ropecast_nrrd_test_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using testing::errorOf;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
 
 void writeFile(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.write(bytes.data(), std::streamsize(bytes.size()));
   ASSERT_TRUE(out.good()) << path;
-}
-
-template <typename T>
-std::vector<T> pattern(size_t count) {
-  std::vector<T> v(count);
-  for (size_t i = 0; i < v.size(); ++i) {
-    if constexpr (std::is_floating_point_v<T>)
-      v[i] = T(double(i) * 0.25 - 77.0);
-    else
-      v[i] = T(i * 2654435761u >> 9);
-  }
-  return v;
 }
 
 template <typename T>
@@ -79,22 +56,6 @@ std::string gzipOf(const std::string& data) {
   return out;
 }
 
-template <typename T>
-std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
-  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
-  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
-  return slab;
-}
-
-std::string errorOf(const std::string& spec) {
-  try {
-    openVolumeSource(spec);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 std::string headerFor(const std::string& type, const std::string& encoding, const std::string& extra = "") {
   return "NRRD0004\n# a comment\ntype: " + type + "\ndimension: 3\nsizes: 9 6 5\nencoding: " + encoding +
          "\nendian: little\nkinds: domain domain domain\ncontent:=ignored key value\n" + extra;
@@ -104,7 +65,7 @@ TEST(SourceNrrd, AttachedRawOfEveryType) {
   TempDir dir;
   auto check = [&](auto tag, const std::string& nrrdType, SampleType type) {
     using T = decltype(tag);
-    const auto values = pattern<T>(9 * 6 * 5);
+    const auto values = samplePattern<T>(9 * 6 * 5);
     const std::string path = dir.file(nrrdType + ".nrrd");
     writeFile(path, headerFor(nrrdType, "raw", "spacings: 0.5 0.75 2\n") + "\n" + bytesOf(values, false));
     auto source = openVolumeSource(path);
@@ -134,7 +95,7 @@ TEST(SourceNrrd, TypeSpellingsOfTheSpec) {
 
 TEST(SourceNrrd, BigEndianIsSwapped) {
   TempDir dir;
-  const auto u16 = pattern<uint16_t>(9 * 6 * 5);
+  const auto u16 = samplePattern<uint16_t>(9 * 6 * 5);
   const std::string a = dir.file("big16.nrrd");
   std::string header = headerFor("uint16", "raw");
   header.replace(header.find("endian: little"), 14, "endian: big");
@@ -142,7 +103,7 @@ TEST(SourceNrrd, BigEndianIsSwapped) {
   auto source = openVolumeSource(a);
   EXPECT_EQ(readSlab<uint16_t>(*source, 0, 5), u16);
 
-  const auto f32 = pattern<float>(9 * 6 * 5);
+  const auto f32 = samplePattern<float>(9 * 6 * 5);
   const std::string b = dir.file("bigf.nrrd");
   header = headerFor("float", "gzip");
   header.replace(header.find("endian: little"), 14, "endian: big");
@@ -153,7 +114,7 @@ TEST(SourceNrrd, BigEndianIsSwapped) {
 
 TEST(SourceNrrd, GzipSlabsInAnyOrder) {
   TempDir dir;
-  const auto values = pattern<int16_t>(9 * 6 * 5);
+  const auto values = samplePattern<int16_t>(9 * 6 * 5);
   const std::string path = dir.file("gz.nrrd");
   // Byte skip with gzip applies to the decompressed data.
   writeFile(path,
@@ -168,7 +129,7 @@ TEST(SourceNrrd, GzipSlabsInAnyOrder) {
 
 TEST(SourceNrrd, ConcatenatedGzipMembers) {
   TempDir dir;
-  const auto values = pattern<uint8_t>(9 * 6 * 5);
+  const auto values = samplePattern<uint8_t>(9 * 6 * 5);
   const std::string data = bytesOf(values, false);
   const std::string path = dir.file("members.nrrd");
   writeFile(path, headerFor("uchar", "gzip") + "\n" + gzipOf(data.substr(0, 100)) + gzipOf(data.substr(100)));
@@ -178,7 +139,7 @@ TEST(SourceNrrd, ConcatenatedGzipMembers) {
 
 TEST(SourceNrrd, DetachedDataWithSkips) {
   TempDir dir;
-  const auto values = pattern<uint16_t>(9 * 6 * 5);
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
   fs::create_directories(dir.file("data"));
   // Line skip first (two text lines), then byte skip.
   writeFile(dir.file("data/vol.raw"), "line one\nline two\nXYZ" + bytesOf(values, false));
@@ -289,7 +250,7 @@ TEST(SourceNrrd, MalformedHeadersNameFileAndField) {
 
 TEST(SourceNrrd, BadFilesNameTheFile) {
   TempDir dir;
-  const auto values = pattern<uint16_t>(9 * 6 * 5);
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
   const std::string data = bytesOf(values, false);
 
   const std::string truncated = dir.file("truncated.nrrd");

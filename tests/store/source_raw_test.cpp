@@ -3,8 +3,6 @@
 // too long, unknown type, no dims, missing file) gives an error naming the file and the problem.
 #include "store/source_raw.h"
 
-#include <unistd.h>
-
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,26 +11,16 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "tests/store/store_test_util.h"
 
 namespace ropecast {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() / ("ropecast_raw_test_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using testing::errorOf;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
 
 void writeFile(const std::string& path, const void* data, size_t bytes) {
   std::ofstream out(path, std::ios::binary);
@@ -40,39 +28,10 @@ void writeFile(const std::string& path, const void* data, size_t bytes) {
   ASSERT_TRUE(out.good()) << path;
 }
 
-// A value per sample that differs between neighbors in every axis and uses the type's full width.
-template <typename T>
-std::vector<T> pattern(glm::u32vec3 dims) {
-  std::vector<T> v(size_t(dims.x) * dims.y * dims.z);
-  for (size_t i = 0; i < v.size(); ++i) {
-    if constexpr (std::is_floating_point_v<T>)
-      v[i] = T(double(i) * 0.37 - 1000.0);
-    else
-      v[i] = T(i * 2654435761u >> 7);
-  }
-  return v;
-}
-
-template <typename T>
-std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
-  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
-  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
-  return slab;
-}
-
-std::string errorOf(const std::string& spec, const SourceOptions& options = {}) {
-  try {
-    openVolumeSource(spec, options);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 template <typename T>
 void expectRoundTrip(const TempDir& dir, const std::string& typeName, SampleType type) {
   const glm::u32vec3 dims(13, 7, 11);
-  const auto data = pattern<T>(dims);
+  const auto data = samplePattern<T>(dims);
   // From the file name alone.
   const std::string named = dir.file("vol_13x7x11_" + typeName + ".raw");
   writeFile(named, data.data(), data.size() * sizeof(T));
@@ -130,7 +89,7 @@ TEST(SourceRaw, ParsesOpenSciVisNames) {
 
 TEST(SourceRaw, OptionsOverrideTheFileName) {
   TempDir dir;
-  const auto data = pattern<uint16_t>({4, 5, 6});
+  const auto data = samplePattern<uint16_t>({4, 5, 6});
   const std::string path = dir.file("misnamed_10x10x10_uint8.raw");
   writeFile(path, data.data(), data.size() * 2);
   SourceOptions options;
@@ -193,7 +152,7 @@ TEST(SourceRaw, MissingFileIsNamed) {
 
 TEST(SourceRaw, SlabsOutsideTheVolumeAreRejected) {
   TempDir dir;
-  const auto data = pattern<uint8_t>({3, 3, 3});
+  const auto data = samplePattern<uint8_t>({3, 3, 3});
   const std::string path = dir.file("v_3x3x3_uint8.raw");
   writeFile(path, data.data(), data.size());
   auto source = openVolumeSource(path);

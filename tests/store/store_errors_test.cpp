@@ -161,13 +161,14 @@ class FailingSource final : public VolumeSource {
  public:
   FailingSource(VolumeSource& inner, uint32_t failAtSlice) : inner_(inner), failAt_(failAtSlice) {}
   const VolumeInfo& info() const override { return inner_.info(); }
-  void readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+
+ private:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
     if (z0 + count > failAt_)
       throw Error("FailingSource: slice " + std::to_string(failAt_) + " is unreadable");
     inner_.readSlab(z0, count, out);
   }
 
- private:
   VolumeSource& inner_;
   uint32_t failAt_;
 };

@@ -1,21 +1,27 @@
-// Helpers shared by the store and converter tests: synthetic volumes, a direct (non-streaming) computation of
-// the level pyramid and of expected bricks, and a temporary directory. Test code only; one thread.
+// Helpers shared by the store, converter and VolumeSource tests: synthetic volumes, a direct (non-streaming)
+// computation of the level pyramid and of expected bricks, a temporary directory, typed slab reads and the
+// message a bad source spec gives. Test code only; one thread.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "core/error.h"
 #include "store/array_source.h"
 #include "store/octree_layout.h"
+#include "store/volume_source.h"
 
 namespace ropecast::testing {
 
@@ -29,6 +35,7 @@ class TempDir {
   ~TempDir() { std::filesystem::remove_all(path_); }
   const std::filesystem::path& path() const { return path_; }
   std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
   size_t fileCount() const {
     return size_t(
         std::distance(std::filesystem::directory_iterator(path_), std::filesystem::directory_iterator()));
@@ -37,6 +44,42 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// `count` samples of T, x fastest: a value per sample that differs between neighbors in every axis and uses
+// the type's full width.
+template <typename T>
+std::vector<T> samplePattern(size_t count) {
+  std::vector<T> v(count);
+  for (size_t i = 0; i < v.size(); ++i) {
+    if constexpr (std::is_floating_point_v<T>)
+      v[i] = T(double(i) * 0.37 - 1000.0);
+    else
+      v[i] = T(i * 2654435761u >> 7);
+  }
+  return v;
+}
+template <typename T>
+std::vector<T> samplePattern(glm::u32vec3 dims) {
+  return samplePattern<T>(size_t(dims.x) * dims.y * dims.z);
+}
+
+// Slices [z0, z0 + count) of a source whose samples are T.
+template <typename T>
+std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
+  std::vector<T> slab(size_t(count) * source.info().sliceBytes() / sizeof(T));
+  source.readSlab(z0, count, std::as_writable_bytes(std::span(slab)));
+  return slab;
+}
+
+// The message opening `spec` fails with, or "" when it opens.
+inline std::string errorOf(const std::string& spec, const SourceOptions& options = {}) {
+  try {
+    openVolumeSource(spec, options);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
 
 // A smooth ball with noise inside and exact zeros outside (so some bricks are constant), in [0, 1].
 inline std::vector<double> ballField(glm::u32vec3 d, uint32_t seed) {
