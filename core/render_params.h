@@ -3,12 +3,31 @@
 // mirror and the reference renderer so that all three read the same settings. Any thread.
 #pragma once
 
+#include <array>
+#include <string_view>
+#include <utility>
+
 #include <glm/vec3.hpp>
 
 namespace ropecast {
 
 enum class RenderMode { Iso, Dvr };
-enum class RenderBackend { Fragment, Compute };  // GL entry point; the CPU renderers ignore it
+// How the GL renderer draws (the CPU renderers ignore it): the octree ray caster's fragment or compute entry
+// point (render/raycast_pass), brute force over level 0 in one 3D texture without an index (the benchmark
+// baseline, render/brute_force_pass), or Auto: fragment or compute, whichever suits the GL renderer
+// (render/backend_choice.h resolves it).
+enum class RenderBackend { Auto, Fragment, Compute, Brute };
+// The names of `ropecast render --backend` and of the "backend" field of --stats.
+inline constexpr std::array<std::pair<std::string_view, RenderBackend>, 4> kRenderBackendNames{
+    {{"auto", RenderBackend::Auto},
+     {"fragment", RenderBackend::Fragment},
+     {"compute", RenderBackend::Compute},
+     {"brute", RenderBackend::Brute}}};
+constexpr std::string_view renderBackendName(RenderBackend backend) {
+  for (const auto& [name, value] : kRenderBackendNames)
+    if (value == backend) return name;
+  return "?";
+}
 // Where a DVR sample's central-difference gradient comes from on the GPU: a texture of value and differences
 // derived at upload (render/gradient_pool.h: one lookup per sample, 8 more bytes per texel of GPU memory) or
 // six more lookups of the value texture per sample. The same gradient up to storage precision; the CPU

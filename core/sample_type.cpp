@@ -23,13 +23,8 @@ std::string_view sampleTypeName(SampleType t) {
 std::optional<SampleType> parseSampleType(std::string_view name) {
   std::string n(name);
   std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (n == "uint8" || n == "u8" || n == "uchar" || n == "unsigned char" || n == "uint8_t")
-    return SampleType::UInt8;
-  if (n == "uint16" || n == "u16" || n == "ushort" || n == "unsigned short" || n == "uint16_t")
-    return SampleType::UInt16;
-  if (n == "int16" || n == "i16" || n == "short" || n == "signed short" || n == "int16_t")
-    return SampleType::Int16;
-  if (n == "float32" || n == "f32" || n == "float" || n == "float32_t") return SampleType::Float32;
+  for (const auto& [known, type] : kSampleTypeNames)
+    if (n == known) return type;
   return std::nullopt;
 }
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace ropecast {
 
@@ -39,7 +40,28 @@ constexpr SampleType storedTypeFor(SampleType source) {
 
 // "uint8", "uint16", "int16", "float32".
 std::string_view sampleTypeName(SampleType t);
-// Accepts the names above and common aliases (u8, uchar, ushort, short, float, ...); nullopt otherwise.
+// The names parseSampleType accepts (lower case; it ignores case): those above and common aliases.
+inline constexpr std::pair<std::string_view, SampleType> kSampleTypeNames[] = {
+    {"uint8", SampleType::UInt8},
+    {"u8", SampleType::UInt8},
+    {"uchar", SampleType::UInt8},
+    {"unsigned char", SampleType::UInt8},
+    {"uint8_t", SampleType::UInt8},
+    {"uint16", SampleType::UInt16},
+    {"u16", SampleType::UInt16},
+    {"ushort", SampleType::UInt16},
+    {"unsigned short", SampleType::UInt16},
+    {"uint16_t", SampleType::UInt16},
+    {"int16", SampleType::Int16},
+    {"i16", SampleType::Int16},
+    {"short", SampleType::Int16},
+    {"signed short", SampleType::Int16},
+    {"int16_t", SampleType::Int16},
+    {"float32", SampleType::Float32},
+    {"f32", SampleType::Float32},
+    {"float", SampleType::Float32},
+    {"float32_t", SampleType::Float32}};
+// Accepts the names of kSampleTypeNames in any case; nullopt otherwise.
 std::optional<SampleType> parseSampleType(std::string_view name);
 
 // data = stored * scale + offset.

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "render/backend_choice.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
@@ -29,7 +30,9 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
 
 FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
                              const FrameRendererConfig& config)
-    : source_(source), uploadPacer_(config.uploadTimeBudgetMs, source.brickBytes()) {
+    : source_(source),
+      glRenderer_(gl.renderer),
+      uploadPacer_(config.uploadTimeBudgetMs, source.brickBytes()) {
   const BrickSourceInfo& info = source.info();
   BrickPoolConfig poolConfig;
   poolConfig.brickSize = info.layout.brickSize;
@@ -61,6 +64,13 @@ const GradientPool* FrameRenderer::gradientsFor(const RenderParams& params) cons
   return gradients_.get();
 }
 
+RenderBackend FrameRenderer::backendFor(const RenderParams& params) const {
+  const RenderBackend backend = resolveBackend(params.backend, glRenderer_);
+  if (backend == RenderBackend::Brute)
+    throw Error("FrameRenderer: the brute backend is BruteForcePass's (render/brute_force_pass.h)");
+  return backend;
+}
+
 void FrameRenderer::uploadIndex(const Cut& cut, RopeIndex& index) {
   indexBuilder_.build(cut, index);
   indexTexture_->upload(std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(index.texels.data()),
@@ -74,6 +84,7 @@ RaycastFrame FrameRenderer::raycastFrame(const FrameRequest& request, uint32_t w
   frame.camera = request.camera;
   frame.volume = VolumeGeometry::of(source_.info());
   frame.params = request.params;
+  frame.params.backend = backendFor(request.params);
   frame.gradients = gradientsFor(request.params);
   frame.tf = request.tf;
   frame.width = width;
@@ -144,6 +155,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;
+  stats.backend = backendFor(request.params);
   stats.uploadMs = uploadMs;
   stats.raycastMs = raycast_.lastRaycastMs();  // waits for the GPU: the frame time includes the ray cast
   stats.raycastWallClock = raycast_.raycastTimerUsedWallClock();

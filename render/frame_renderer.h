@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -85,11 +86,14 @@ class FrameRenderer {
 
  private:
   const GradientPool* gradientsFor(const RenderParams& params) const;
+  // params.backend with Auto resolved for this GL renderer (render/backend_choice.h); Fragment or Compute.
+  RenderBackend backendFor(const RenderParams& params) const;
   // Builds the rope index of `cut` into `index` and uploads it to the index texture.
   void uploadIndex(const Cut& cut, RopeIndex& index);
   RaycastFrame raycastFrame(const FrameRequest& request, uint32_t width, uint32_t height) const;
 
   const BrickSource& source_;
+  std::string glRenderer_;  // GL_RENDERER, for RenderBackend::Auto
   std::unique_ptr<BrickPool> pool_;
   std::unique_ptr<GradientPool> gradients_;  // config.storedGradients only
   std::vector<glm::u32vec3> uploadedOrigins_;

@@ -1,6 +1,6 @@
 // FrameStats: what one rendered frame measured, written by `ropecast render --stats` as one JSON object per
-// line: the loader's LoaderStats (WorkingSet::update) and the renderer's timing and index fields. Plain data,
-// owned by whoever renders the frame; any thread may read a copy.
+// line: the loader's LoaderStats (WorkingSet::update) and the renderer's timing and index fields and the
+// backend used. Plain data, owned by whoever renders the frame; any thread may read a copy.
 #pragma once
 
 #include <cstdint>
@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/render_params.h"
 #include "loader/loader_stats.h"
 
 namespace ropecast {
@@ -21,6 +22,7 @@ struct FrameStats : LoaderStats {
   double uploadMs = 0.0;    // handing this frame's bricks to the GPU pool (CPU side of the texture uploads)
   double indexMs = 0.0;     // building and uploading the rope index
   double stepVoxels = 0.0;  // the sample step of this frame (--step, scaled by --target-frame-ms)
+  RenderBackend backend = RenderBackend::Fragment;  // the backend that drew it (never Auto: resolved)
 };
 
 inline nlohmann::json toJson(const FrameStats& s) {
@@ -31,6 +33,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"upload_ms", s.uploadMs},
                         {"index_ms", s.indexMs},
                         {"step_voxels", s.stepVoxels},
+                        {"backend", renderBackendName(s.backend)},
                         {"refine_ms", s.refineMs},
                         {"leaves", s.leaves},
                         {"bricks_resident", s.bricksResident},

@@ -2,89 +2,112 @@
 
 #include <cctype>
 #include <cmath>
-#include <sstream>
-#include <vector>
 
 #include "core/error.h"
+#include "tools/cli_checks.h"
 
 namespace ropecast::tools {
 
 namespace {
-
-std::vector<double> parseNumbers(const std::string& text, char separator, size_t count,
-                                 const std::string& option, const char* expected) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, separator)) {
-    while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back()))) part.pop_back();
-    size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != part.size() || !std::isfinite(v))
-      throw Error(option + ": expected " + expected + ", got '" + text + "'");
-    values.push_back(v);
-  }
-  if (values.size() != count || (!text.empty() && text.back() == separator))
-    throw Error(option + ": expected " + expected + ", got '" + text + "'");
-  return values;
+// CLI11 splits "1, 2 ,3" at the delimiter but leaves the blanks, which its number conversion refuses.
+std::string trimmed(std::string text) {
+  return CLI::detail::trim_copy(text);
 }
-
 }  // namespace
 
-glm::dvec3 parseTriple(const std::string& text, const std::string& option) {
-  const auto v = parseNumbers(text, ',', 3, option, "three numbers X,Y,Z");
-  return {v[0], v[1], v[2]};
+CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector<double>& xyz,
+                             const std::string& help) {
+  return app.add_option(name, xyz, help)
+      ->delimiter(',')
+      ->expected(3)
+      ->type_name("FLOAT")
+      ->check(finiteIn(-HUGE_VAL, HUGE_VAL))
+      ->transform(trimmed);
 }
 
-glm::u32vec3 parseDims(const std::string& text, const std::string& option) {
-  const auto v = parseNumbers(text, ',', 3, option, "three positive integers X,Y,Z");
-  for (double d : v)
-    if (d < 1 || d > 4294967295.0 || d != std::floor(d))
-      throw Error(option + ": expected three positive integers X,Y,Z, got '" + text + "'");
-  return {uint32_t(v[0]), uint32_t(v[1]), uint32_t(v[2])};
+CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
+                           const std::string& help) {
+  return app.add_option(name, xyz, help)
+      ->delimiter(',')
+      ->expected(3)
+      ->type_name("UINT")
+      ->transform(integerIn(1, 4294967295.0))
+      ->transform(trimmed);
 }
 
-glm::u32vec2 parseImageSize(const std::string& text, const std::string& option) {
-  const auto v = parseNumbers(text, 'x', 2, option, "an image size WxH such as 512x512");
-  for (double d : v)
-    if (d < 1 || d > 16384 || d != std::floor(d))
-      throw Error(option + ": width and height must be integers in [1, 16384], got '" + text + "'");
-  return {uint32_t(v[0]), uint32_t(v[1])};
+CLI::Option* addImageSizeOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& wh,
+                                const std::string& help) {
+  return app.add_option(name, wh, help)
+      ->delimiter('x')
+      ->expected(2)
+      ->type_name("UINT")
+      ->transform(integerIn(1, 16384))
+      ->transform(trimmed);
 }
 
-uint64_t parseBytes(const std::string& text, const std::string& option) {
-  size_t used = 0;
-  double value = -1.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  std::string unit = text.substr(used);
-  for (auto& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
-  if (unit.size() >= 2 && unit.substr(unit.size() - 2) == "IB")
-    unit.resize(unit.size() - 2);
-  else if (!unit.empty() && unit.back() == 'B')
-    unit.pop_back();
-  double scale = 1.0;
-  if (unit == "K")
-    scale = 1024.0;
-  else if (unit == "M")
-    scale = 1024.0 * 1024.0;
-  else if (unit == "G")
-    scale = 1024.0 * 1024.0 * 1024.0;
-  else if (unit == "T")
-    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
-  else if (!unit.empty())
-    used = 0;
-  if (used == 0 || !(value >= 0.0) || !std::isfinite(value) || value * scale > 1.8e19)
-    throw Error(option + ": expected a size in bytes such as 536870912, 512M or 2G, got '" + text + "'");
-  return uint64_t(std::llround(value * scale));
+CLI::Option* addByteSizeOption(CLI::App& app, const std::string& name, uint64_t& bytes,
+                               const std::string& help) {
+  return app.add_option(name, bytes, help)->type_name("BYTES")->transform(byteSize());
+}
+
+std::string formatTriple(const std::vector<double>& xyz) {
+  std::string text;
+  for (double v : xyz) text += (text.empty() ? "" : ",") + formatNumber(v);
+  return text;
+}
+
+CLI::Validator integerIn(double lo, double hi) {
+  const std::string range = "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& input) -> std::string {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(input, v) || !std::isfinite(v) || v != std::floor(v) || v < lo ||
+            v > hi)
+          return "expected an integer in " + range + ", got '" + input + "'";
+        input = std::to_string(uint64_t(v));
+        return "";
+      },
+      "", "integerIn");
+}
+
+// Not CLI::AsSizeValue: it reads the number as an integer ("1.5G" is refused), takes a bare unit ("M" as
+// 1 MiB) and wraps a negative number ("-1G" overflows from 2^64 - 1). This keeps the sizes ropecast has
+// always accepted: a non-negative decimal number, then nothing or K, M, G, T with an optional "B" or "iB", in
+// any case, all binary (1K = 1024).
+CLI::Validator byteSize() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        size_t used = 0;
+        double value = -1.0;
+        try {
+          value = std::stod(input, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        std::string unit = input.substr(used);
+        for (auto& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
+        if (unit.size() >= 2 && unit.substr(unit.size() - 2) == "IB")
+          unit.resize(unit.size() - 2);
+        else if (!unit.empty() && unit.back() == 'B')
+          unit.pop_back();
+        double scale = 1.0;
+        if (unit == "K")
+          scale = 1024.0;
+        else if (unit == "M")
+          scale = 1024.0 * 1024.0;
+        else if (unit == "G")
+          scale = 1024.0 * 1024.0 * 1024.0;
+        else if (unit == "T")
+          scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+        else if (!unit.empty())
+          used = 0;
+        if (used == 0 || !(value >= 0.0) || !std::isfinite(value) || value * scale > 1.8e19)
+          return "expected a size in bytes such as 536870912, 512M or 2G (binary units: 1K = 1024), got '" +
+                 input + "'";
+        input = std::to_string(uint64_t(std::round(value * scale)));  // < 1.8e19 < 2^64
+        return "";
+      },
+      "", "byteSize");
 }
 
 }  // namespace ropecast::tools

@@ -1,22 +1,71 @@
-// Parsing of the command line's compound values ("X,Y,Z", "WxH", "512M"), shared by every subcommand.
-// Each throws ropecast::Error naming the option and what was expected. Main thread.
+// Options with compound or enumerated values ("X,Y,Z", "WxH", "512M", "iso|dvr"), shared by every subcommand.
+// CLI11 parses and checks them while it reads the command line, before any work starts: --help lists the
+// accepted forms, and a bad value ends the run with CLI11's message naming the option (exit code 1..127).
+// Main thread.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
-#include <glm/vec2.hpp>
+#include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
 
 namespace ropecast::tools {
 
-// "1.5,2,3" -> (1.5, 2, 3).
-glm::dvec3 parseTriple(const std::string& text, const std::string& option);
-// "301,370,316" -> positive integers.
-glm::u32vec3 parseDims(const std::string& text, const std::string& option);
-// "512x512" -> (512, 512), each in [1, 16384].
-glm::u32vec2 parseImageSize(const std::string& text, const std::string& option);
-// "1073741824", "512M", "2G", "64K", "1.5G" (binary units, optional "iB"/"B") -> bytes.
-uint64_t parseBytes(const std::string& text, const std::string& option);
+// "1.5,2,3" -> three finite numbers (CLI11 also takes them as three arguments, "1.5 2 3"). --help shows
+// "FLOAT x 3"; the help text names the fields ("X,Y,Z") and any default.
+CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector<double>& xyz,
+                             const std::string& help);
+// "301,370,316" -> three integers in [1, 2^32 - 1].
+CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
+                           const std::string& help);
+// "512x512" -> width and height, each an integer in [1, 16384].
+CLI::Option* addImageSizeOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& wh,
+                                const std::string& help);
+// "1073741824", "512M", "2G", "64K", "1.5G" (binary units, optional "iB"/"B", any case) -> bytes.
+CLI::Option* addByteSizeOption(CLI::App& app, const std::string& name, uint64_t& bytes,
+                               const std::string& help);
+
+// The value of a parsed triple (addTripleOption guarantees three numbers).
+inline glm::dvec3 toVec3(const std::vector<double>& xyz) {
+  return {xyz.at(0), xyz.at(1), xyz.at(2)};
+}
+// "1,0.5,2" as a message shows a triple.
+std::string formatTriple(const std::vector<double>& xyz);
+
+// The CLI11 transform of addByteSizeOption: rewrites a size to its byte count, or returns what was expected.
+CLI::Validator byteSize();
+// The CLI11 transform of integer options given as numbers ("512", "5e2", "512.0"): rewrites the value to the
+// integer's digits, or returns what was expected.
+CLI::Validator integerIn(double lo, double hi);
+
+// An option naming one value of an enum: CLI::IsMember checks the name (--help lists the names, a bad one is
+// refused with them) and CLI::Transformer maps it straight to the enum. (CLI::CheckedTransformer alone would
+// also take the enum's underlying integers, "--mode 1", and list them in --help.) `Target` is the enum or an
+// std::optional of it; `listed` replaces the list of names in --help when aliases would crowd it.
+template <typename Enum, typename Target>
+CLI::Option* addEnumOption(CLI::App& app, const std::string& name, Target& value,
+                           const std::vector<std::pair<std::string, Enum>>& names, const std::string& help,
+                           bool ignoreCase = false, const std::string& listed = "") {
+  std::vector<std::string> keys;
+  for (const auto& entry : names) keys.push_back(entry.first);
+  CLI::Validator member = ignoreCase ? CLI::IsMember(keys, CLI::ignore_case) : CLI::IsMember(keys);
+  if (!listed.empty()) member.description(listed);
+  // transform() puts a validator first: the name is checked, then mapped.
+  CLI::Option* option = app.add_option(name, value, help)
+                            ->transform(CLI::Transformer(names).description(""))
+                            ->transform(member);
+  if constexpr (std::is_same_v<Target, Enum>) {
+    for (const auto& entry : names)
+      if (entry.second == value) {
+        option->default_str(entry.first);
+        break;
+      }
+  }
+  return option;
+}
 
 }  // namespace ropecast::tools

@@ -18,7 +18,10 @@ namespace ropecast::tools {
 namespace {
 
 struct ConvertArgs {
-  std::string input, output, dims, type, spacing;
+  std::string input, output;
+  std::vector<uint32_t> dims;
+  std::optional<SampleType> type;
+  std::vector<double> spacing;
   uint32_t brick = kDefaultBrickSize;
   std::optional<double> discardBelow;
   int zstdLevel = 3;
@@ -26,19 +29,23 @@ struct ConvertArgs {
   bool quiet = false;
 };
 
+// --type: the names of parseSampleType (core/sample_type.h), aliases included.
+std::vector<std::pair<std::string, SampleType>> sampleTypeNames() {
+  std::vector<std::pair<std::string, SampleType>> names;
+  for (const auto& [name, type] : kSampleTypeNames) names.emplace_back(name, type);
+  return names;
+}
+
 int runConvert(const ConvertArgs& a) {
   SourceOptions sourceOptions;
-  if (!a.dims.empty()) sourceOptions.dims = parseDims(a.dims, "--dims");
+  if (!a.dims.empty()) sourceOptions.dims = glm::u32vec3(a.dims.at(0), a.dims.at(1), a.dims.at(2));
   if (!a.spacing.empty()) {
-    sourceOptions.spacing = parseTriple(a.spacing, "--spacing");
+    sourceOptions.spacing = toVec3(a.spacing);
     if (!isValidSpacing(*sourceOptions.spacing))
-      throw Error("convert: --spacing " + a.spacing + ": expected three positive numbers SX,SY,SZ");
+      throw Error("convert: --spacing " + formatTriple(a.spacing) +
+                  ": expected three positive numbers SX,SY,SZ");
   }
-  if (!a.type.empty()) {
-    sourceOptions.type = parseSampleType(a.type);
-    if (!sourceOptions.type)
-      throw Error("convert: --type '" + a.type + "': expected uint8, uint16, int16 or float32");
-  }
+  sourceOptions.type = a.type;
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto source = openVolumeSource(a.input, sourceOptions);
 
@@ -85,9 +92,11 @@ const CommandRegistration registration("convert", 10, [](CLI::App& app) -> std::
       ->capture_default_str();
   app.add_option("--discard-below", a->discardBelow, "mark nodes whose max is below V (data units) empty")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--dims", a->dims, "X,Y,Z for raw files");
-  app.add_option("--type", a->type, "uint8, uint16, int16 or float32 for raw files");
-  app.add_option("--spacing", a->spacing, "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
+  addDimsOption(app, "--dims", a->dims, "X,Y,Z samples per axis of a raw file");
+  addEnumOption(app, "--type", a->type, sampleTypeNames(), "sample type of a raw file", /*ignoreCase=*/true,
+                "{uint8,uint16,int16,float32} (or an alias: u8, ushort, short, float, ...)");
+  addTripleOption(app, "--spacing", a->spacing,
+                  "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
   app.add_option("--zstd-level", a->zstdLevel, "zstd compression level")->capture_default_str();
   app.add_option("--threads", a->threads, "compression threads (0: one per core)")->capture_default_str();
   app.add_flag("-q,--quiet", a->quiet, "no progress bar and no summary");

@@ -29,21 +29,23 @@ namespace {
 
 struct RenderOptions {
   std::string input;
-  std::string mode = "iso";
+  RenderMode mode = RenderMode::Iso;
   std::optional<double> iso;
   std::string tf;
-  std::string size = "512x512";
-  std::string orbit, eye, target, up;  // up: empty for defaultUp
+  std::vector<uint32_t> size{512, 512};
+  std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
   double fov = 40.0;
-  std::string background = "0,0,0";
-  std::string backend = "fragment";
-  std::string gradients = "stored";
+  std::vector<double> background{0.0, 0.0, 0.0};
+  RenderBackend backend = RenderBackend::Auto;
+  GradientSource gradients = GradientSource::Stored;
   std::string output, exr, depth, stats;
   bool reference = false;
   double step = 0.5;
   double ert = 0.99;
   double voxelsPerPixel = 1.0;
-  std::string gpuBudget, cpuCache = "1G", uploadBudget;
+  uint64_t gpuBudget = 0;  // 0: from the driver
+  uint64_t cpuCache = uint64_t(1) << 30;
+  uint64_t uploadBudget = UINT64_MAX;
   double uploadTimeBudgetMs = 0.0;
   double targetFrameMs = 0.0;
   bool uploadPbo = false;
@@ -67,17 +69,17 @@ Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
   if (!o.eye.empty() || !o.target.empty()) {
     if (o.eye.empty() || o.target.empty()) throw Error("--eye and --target go together");
     Camera c;
-    c.eye = parseTriple(o.eye, "--eye");
-    c.target = parseTriple(o.target, "--target");
+    c.eye = toVec3(o.eye);
+    c.target = toVec3(o.target);
     c.fovYDeg = o.fov;
-    c.up = o.up.empty() ? defaultUp(c.target - c.eye) : parseTriple(o.up, "--up");
+    c.up = o.up.empty() ? defaultUp(c.target - c.eye) : toVec3(o.up);
     if (const std::string problem = cameraProblem(c); !problem.empty())
-      throw Error("--eye " + o.eye + " --target " + o.target + (o.up.empty() ? "" : " --up " + o.up) + ": " +
-                  problem);
+      throw Error("--eye " + formatTriple(o.eye) + " --target " + formatTriple(o.target) +
+                  (o.up.empty() ? "" : " --up " + formatTriple(o.up)) + ": " + problem);
     return c;
   }
-  const glm::dvec3 orbit = o.orbit.empty() ? glm::dvec3(30.0, 20.0, 3.0) : parseTriple(o.orbit, "--orbit");
-  if (orbit.z <= 0.0) throw Error("--orbit: the distance must be positive, got " + o.orbit);
+  const glm::dvec3 orbit = o.orbit.empty() ? glm::dvec3(30.0, 20.0, 3.0) : toVec3(o.orbit);
+  if (orbit.z <= 0.0) throw Error("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
   return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), boxMax, o.fov);
 }
 
@@ -138,180 +140,227 @@ void checkImageOutputs(const RenderOptions& o) {
   check("--depth", o.depth, ImageOutputKind::FloatExr);
 }
 
-int runRender(const RenderOptions& o) {
-  if (o.output.empty()) throw Error("render: -o OUT.png is required");
-  checkImageOutputs(o);
-  removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
-  std::unique_ptr<BrickSource> source = openBrickSource(o);
-  std::unique_ptr<BrickSource> delayed;
-  if (o.ioDelayMs > 0.0) delayed = std::make_unique<DelayedBrickSource>(*source, o.ioDelayMs);
-  const BrickSource& bricks = delayed ? *delayed : *source;
-  const BrickSourceInfo& info = bricks.info();
+// What every path shares, read and checked before anything renders: the bricks, the image size, the render
+// parameters, the transfer function, the camera of each frame, the --stats file.
+class RenderSetup {
+  const RenderOptions& o_;
+  std::unique_ptr<BrickSource> source_;
+  std::unique_ptr<BrickSource> delayed_;  // --io-delay-ms
+  std::optional<TfTable> tf_;
+  std::optional<CameraPath> path_;
 
-  const glm::u32vec2 size = parseImageSize(o.size, "--size");
-  RenderParams params;
-  params.mode = o.mode == "dvr" ? RenderMode::Dvr : RenderMode::Iso;
-  const uint32_t storedMax = info.storedType == SampleType::UInt8 ? 255 : 65535;
-  const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
-  const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
-  params.isoValue = o.iso.value_or(0.5 * (lo + hi));
-  params.stepVoxels = o.step;
-  params.ert = o.ert;
-  params.background = parseTriple(o.background, "--background");
-  params.backend = o.backend == "compute" ? RenderBackend::Compute : RenderBackend::Fragment;
-  params.gradients = o.gradients == "computed" ? GradientSource::Computed : GradientSource::Stored;
+ public:
+  explicit RenderSetup(const RenderOptions& o) : o_(o), source_(openBrickSource(o)) {
+    if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
+    const BrickSourceInfo& info = bricks().info();
+    width = o.size.at(0);
+    height = o.size.at(1);
+    params.mode = o.mode;
+    const uint32_t storedMax = info.storedType == SampleType::UInt8 ? 255 : 65535;
+    const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
+    const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
+    params.isoValue = o.iso.value_or(0.5 * (lo + hi));
+    params.stepVoxels = o.step;
+    params.ert = o.ert;
+    params.background = toVec3(o.background);
+    params.backend = o.backend;
+    params.gradients = o.gradients;
+    if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
+      std::fprintf(stderr,
+                   "ropecast render: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
+                   "isosurface is empty\n",
+                   params.isoValue, lo, hi);
 
-  if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
-    std::fprintf(stderr,
-                 "ropecast render: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
-                 "isosurface is empty\n",
-                 params.isoValue, lo, hi);
-
-  // A --tf that names no preset and no readable file is an error in either mode (a script that switches modes
-  // should not learn of a typo only when it reaches DVR); the table is baked for DVR only.
-  std::optional<TfTable> tf;
-  if (params.mode == RenderMode::Dvr || !o.tf.empty()) {
-    const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
-    if (params.mode == RenderMode::Dvr) tf = TfTable::bake(function, info.mapping, storedMax);
-  }
-
-  std::optional<CameraPath> path;
-  if (!o.path.empty()) path = loadCameraPath(o.path);
-  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
-  const uint32_t frames = std::max<uint32_t>(1, o.frames);
-  auto cameraOf = [&](uint32_t frame) {
-    return path ? sampleCameraPath(*path, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o, info);
-  };
-  // Every keyframe has a view, but eye and target can meet between two; found before any frame is written.
-  for (uint32_t frame = 0; path && frame < frames; ++frame) {
-    const Camera c = cameraOf(frame);
-    if (const std::string problem = viewProblem(c.eye, c.target); !problem.empty())
-      throw Error("camera path " + o.path + ", frame " + std::to_string(frame) + " of " +
-                  std::to_string(frames) + ": " + problem);
-  }
-
-  StatsWriter stats(o.stats);
-  if (o.reference) {
-    ReferenceRenderer reference(bricks);
-    CpuRenderInput input;
-    input.camera = cameraOf(frames - 1);
-    input.width = size.x;
-    input.height = size.y;
-    input.params = params;
-    input.tf = tf ? &*tf : nullptr;
-    const CpuImage image = reference.render(input);
-    writeOutputs(o, toFloatImage(image.rgba, image.width, image.height, 4),
-                 toFloatImage(image.depth, image.width, image.height, 1));
-    stats.finish();
-    return 0;
-  }
-
-  if (o.backend == "brute") {
-    // The baseline of bench/render_vs_brute.sh: level 0 in one 3D texture, no index
-    // (render/brute_force_pass).
-    GlContext gl;
-    BruteForcePass brute(bricks);
-    BruteForceFrame bf;
-    bf.params = params;
-    bf.tf = tf ? &*tf : nullptr;
-    bf.width = size.x;
-    bf.height = size.y;
-    for (uint32_t frame = 0; frame < frames; ++frame) {
-      const auto start = std::chrono::steady_clock::now();
-      bf.camera = cameraOf(frame);
-      brute.render(bf);
-      FrameStats s;
-      s.frame = frame;
-      s.raycastMs = brute.lastRaycastMs();
-      s.stepVoxels = bf.params.stepVoxels;
-      s.raycastWallClock = brute.raycastTimerUsedWallClock();
-      s.frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      s.converged = true;
-      stats.write(s);
+    // A --tf that names no preset and no readable file is an error in either mode (a script that switches
+    // modes should not learn of a typo only when it reaches DVR); the table is baked for DVR only.
+    if (params.mode == RenderMode::Dvr || !o.tf.empty()) {
+      const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
+      if (params.mode == RenderMode::Dvr) tf_ = TfTable::bake(function, info.mapping, storedMax);
     }
-    writeOutputs(o, brute.readColor(), brute.readDepth());
-    stats.finish();
-    return 0;
+
+    if (!o.path.empty()) path_ = loadCameraPath(o.path);
+    frames = std::max<uint32_t>(1, o.frames);
+    // Every keyframe has a view, but eye and target can meet between two; found before any frame is written.
+    for (uint32_t frame = 0; path_ && frame < frames; ++frame) {
+      const Camera c = cameraOf(frame);
+      if (const std::string problem = viewProblem(c.eye, c.target); !problem.empty())
+        throw Error("camera path " + o.path + ", frame " + std::to_string(frame) + " of " +
+                    std::to_string(frames) + ": " + problem);
+    }
+    stats.emplace(o.stats);
   }
 
+  const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
+  const TfTable* tf() const { return tf_ ? &*tf_ : nullptr; }
+  Camera cameraOf(uint32_t frame) const {
+    const BrickSourceInfo& info = bricks().info();
+    const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+    return path_ ? sampleCameraPath(*path_, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o_, info);
+  }
+
+  uint32_t width = 0, height = 0;
+  RenderParams params;
+  uint32_t frames = 1;
+  std::optional<StatsWriter> stats;  // set once everything above is checked
+};
+
+// --reference: the CPU ray marcher over the full-resolution data, the last frame's camera.
+void renderReference(const RenderOptions& o, const RenderSetup& s) {
+  ReferenceRenderer reference(s.bricks());
+  CpuRenderInput input;
+  input.camera = s.cameraOf(s.frames - 1);
+  input.width = s.width;
+  input.height = s.height;
+  input.params = s.params;
+  input.tf = s.tf();
+  const CpuImage image = reference.render(input);
+  writeOutputs(o, toFloatImage(image.rgba, image.width, image.height, 4),
+               toFloatImage(image.depth, image.width, image.height, 1));
+}
+
+// --backend brute: the baseline of bench/render_vs_brute.sh, level 0 in one 3D texture and no index
+// (render/brute_force_pass).
+void renderBrute(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
-  FrameRendererConfig config;
-  if (!o.gpuBudget.empty()) config.gpuBudgetBytes = parseBytes(o.gpuBudget, "--gpu-budget");
-  config.cpuCacheBytes = parseBytes(o.cpuCache, "--cpu-cache");
-  if (!o.uploadBudget.empty()) config.uploadBudgetBytes = parseBytes(o.uploadBudget, "--upload-budget");
-  config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
-  config.storedGradients = usesStoredGradients(params);
-  config.uploadThroughPbo = o.uploadPbo;
-  FrameRenderer renderer(gl.info(), bricks, config);
+  BruteForcePass brute(s.bricks());
+  BruteForceFrame bf;
+  bf.params = s.params;
+  bf.tf = s.tf();
+  bf.width = s.width;
+  bf.height = s.height;
+  for (uint32_t frame = 0; frame < s.frames; ++frame) {
+    const auto start = std::chrono::steady_clock::now();
+    bf.camera = s.cameraOf(frame);
+    brute.render(bf);
+    FrameStats stats;
+    stats.frame = frame;
+    stats.raycastMs = brute.lastRaycastMs();
+    stats.stepVoxels = bf.params.stepVoxels;
+    stats.raycastWallClock = brute.raycastTimerUsedWallClock();
+    stats.backend = RenderBackend::Brute;
+    stats.frameMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats.converged = true;
+    s.stats->write(stats);
+  }
+  writeOutputs(o, brute.readColor(), brute.readDepth());
+}
 
+// The octree ray caster of both remaining paths, its shader compiled (FrameRenderer::prepare) and the request
+// of frame 0; the FrameRenderer resolves --backend auto for the context's GL renderer.
+struct OctreeRender {
+  OctreeRender(const RenderOptions& o, const RenderSetup& s, const GlContext& gl, bool synchronous) {
+    FrameRendererConfig config;
+    config.gpuBudgetBytes = o.gpuBudget;
+    config.cpuCacheBytes = o.cpuCache;
+    config.uploadBudgetBytes = o.uploadBudget;
+    config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
+    config.storedGradients = usesStoredGradients(s.params);
+    config.uploadThroughPbo = o.uploadPbo;
+    renderer = std::make_unique<FrameRenderer>(gl.info(), s.bricks(), config);
+    request.width = s.width;
+    request.height = s.height;
+    request.params = s.params;
+    request.voxelsPerPixel = o.voxelsPerPixel;
+    request.tf = s.tf();
+    request.synchronous = synchronous;
+    request.camera = s.cameraOf(0);
+    renderer->prepare(request);  // shader compilation before frame 0, not in its frame_ms
+  }
+  std::unique_ptr<FrameRenderer> renderer;
   FrameRequest request;
-  request.width = size.x;
-  request.height = size.y;
-  request.params = params;
-  request.voxelsPerPixel = o.voxelsPerPixel;
-  request.tf = tf ? &*tf : nullptr;
-  // A single frame without --converge is issue 3's synchronous render: load what the view needs, then draw.
-  const bool progressive = o.converge || frames > 1 || path;
-  request.synchronous = !progressive;
+};
 
-  const uint32_t frameCap = o.converge ? std::max(frames, o.maxFrames) : frames;
-  request.camera = cameraOf(0);
-  renderer.prepare(request);  // shader compilation before frame 0, not in its frame_ms
+// One frame without --frames, --converge or --path: load everything the view needs, then draw.
+void renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
+  GlContext gl;
+  OctreeRender octree(o, s, gl, /*synchronous=*/true);
+  s.stats->write(octree.renderer->render(octree.request));
+  writeOutputs(o, octree.renderer->readColor(), octree.renderer->readDepth());
+}
+
+// --frames, --converge, --path: the asynchronous loader streams bricks while frames render, and no frame
+// waits for the disk.
+void renderProgressive(const RenderOptions& o, RenderSetup& s) {
+  GlContext gl;
+  OctreeRender octree(o, s, gl, /*synchronous=*/false);
+  FrameRequest& request = octree.request;
+  const uint32_t frameCap = o.converge ? std::max(s.frames, o.maxFrames) : s.frames;
   StepPacer stepPacer(o.targetFrameMs);
-  uint32_t frame = 0;
-  for (;; ++frame) {
-    request.camera = cameraOf(std::min(frame, frames - 1));
-    request.params.stepVoxels = params.stepVoxels * stepPacer.scale();
-    const FrameStats s = renderer.render(request);
-    stepPacer.record(s.frameMs, s.raycastMs);
-    stats.write(s);
-    const bool last =
-        o.converge ? (frame + 1 >= frames && s.converged) || frame + 1 >= frameCap : frame + 1 >= frames;
+  for (uint32_t frame = 0;; ++frame) {
+    request.camera = s.cameraOf(std::min(frame, s.frames - 1));
+    request.params.stepVoxels = s.params.stepVoxels * stepPacer.scale();
+    const FrameStats stats = octree.renderer->render(request);
+    stepPacer.record(stats.frameMs, stats.raycastMs);
+    s.stats->write(stats);
+    const bool last = o.converge ? (frame + 1 >= s.frames && stats.converged) || frame + 1 >= frameCap
+                                 : frame + 1 >= s.frames;
     // --every writes the frame's PNG only: the EXR and depth outputs are the last frame's, written once.
     if (o.every > 0 && (frame % o.every == 0) && !last)
-      writePng(framePath(o.output, frame), renderer.readColor(), false);
+      writePng(framePath(o.output, frame), octree.renderer->readColor(), false);
     if (last) {
-      if (o.converge && !s.converged)
+      if (o.converge && !stats.converged)
         std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
       break;
     }
   }
-  writeOutputs(o, renderer.readColor(), renderer.readDepth());
-  stats.finish();
+  writeOutputs(o, octree.renderer->readColor(), octree.renderer->readDepth());
+}
+
+const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
+                                                                 {"dvr", RenderMode::Dvr}};
+const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
+    {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
+std::vector<std::pair<std::string, RenderBackend>> backendNames() {
+  std::vector<std::pair<std::string, RenderBackend>> names;
+  for (const auto& [name, backend] : kRenderBackendNames) names.emplace_back(name, backend);
+  return names;
+}
+
+int runRender(const RenderOptions& o) {
+  if (o.output.empty()) throw Error("render: -o OUT.png is required");
+  checkImageOutputs(o);
+  removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
+  RenderSetup setup(o);
+  if (o.reference)
+    renderReference(o, setup);
+  else if (o.backend == RenderBackend::Brute)
+    renderBrute(o, setup);
+  else if (o.converge || o.frames > 1 || !o.path.empty())
+    renderProgressive(o, setup);
+  else
+    renderSingleFrame(o, setup);
+  setup.stats->finish();
   return 0;
 }
 
 const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<RenderOptions>();
-  app.description("Render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
+  app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
   app.add_option("-o,--output", o->output, "output PNG")->required();
-  app.add_option("--mode", o->mode, "iso or dvr")
-      ->check(CLI::IsMember({"iso", "dvr"}))
-      ->capture_default_str();
+  addEnumOption(app, "--mode", o->mode, kModeNames, "isosurface or direct volume rendering");
   app.add_option("--iso", o->iso, "isovalue in data units (default: middle of the value range)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
-  app.add_option("--size", o->size, "image size WxH")->capture_default_str();
-  app.add_option("--orbit", o->orbit,
-                 "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
-  app.add_option("--eye", o->eye, "camera position X,Y,Z (world units)");
-  app.add_option("--target", o->target, "point looked at X,Y,Z");
-  app.add_option("--up", o->up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
+  addImageSizeOption(app, "--size", o->size, "image size WxH, each in [1, 16384] (default 512x512)");
+  addTripleOption(app, "--orbit", o->orbit,
+                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
+  addTripleOption(app, "--eye", o->eye, "camera position X,Y,Z (world units)");
+  addTripleOption(app, "--target", o->target, "point looked at X,Y,Z");
+  addTripleOption(app, "--up", o->up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
   app.add_option("--fov", o->fov, "vertical field of view, degrees")
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
-  app.add_option("--background", o->background, "background R,G,B in [0,1]")->capture_default_str();
-  app.add_option("--backend", o->backend,
-                 "fragment or compute; brute: level 0 in one 3D texture, no index (a benchmark baseline)")
-      ->check(CLI::IsMember({"fragment", "compute", "brute"}))
-      ->capture_default_str();
-  app.add_option(
-         "--gradients", o->gradients,
-         "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
-         "or computed (six more lookups per sample)")
-      ->check(CLI::IsMember({"stored", "computed"}))
-      ->capture_default_str();
+  addTripleOption(app, "--background", o->background, "background R,G,B in [0,1] (default 0,0,0)");
+  addEnumOption(app, "--backend", o->backend, backendNames(),
+                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
+                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
+                "benchmark baseline). --stats names the one used");
+  addEnumOption(
+      app, "--gradients", o->gradients, kGradientNames,
+      "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
+      "or computed (six more lookups per sample)");
   app.add_option("--exr", o->exr, "also write float RGBA EXR (alpha = coverage)");
   app.add_option("--depth", o->depth, "also write the depth (world units along the view axis) as EXR");
   app.add_option("--stats", o->stats, "write one JSON object per frame, one per line");
@@ -326,9 +375,11 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--voxels-per-pixel", o->voxelsPerPixel, "refinement target: voxels per pixel")
       ->check(finiteIn(0.01, 64.0))
       ->capture_default_str();
-  app.add_option("--gpu-budget", o->gpuBudget, "GPU brick pool bytes (e.g. 512M; default from the driver)");
-  app.add_option("--cpu-cache", o->cpuCache, "CPU brick cache bytes")->capture_default_str();
-  app.add_option("--upload-budget", o->uploadBudget, "brick upload bytes per frame (default: unlimited)");
+  addByteSizeOption(app, "--gpu-budget", o->gpuBudget,
+                    "GPU brick pool bytes (e.g. 512M; default from the driver)");
+  addByteSizeOption(app, "--cpu-cache", o->cpuCache, "CPU brick cache bytes")->default_str("1G");
+  addByteSizeOption(app, "--upload-budget", o->uploadBudget,
+                    "brick upload bytes per frame (default: unlimited)");
   app.add_option(
          "--upload-time-budget", o->uploadTimeBudgetMs,
          "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")

@@ -31,10 +31,12 @@ alpha=$(channel_avg "$dir/a.exr" 3)
 at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"
 [ "$(wc -l < "$dir/a.jsonl")" -eq 1 ] || fail "one frame should give one stats line"
 for field in frame frame_ms raycast_ms index_ms leaves bricks_resident bricks_uploaded bytes_uploaded refine_ms \
-    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used converged step_voxels; do
+    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used converged step_voxels backend; do
   grep -q "\"$field\":" "$dir/a.jsonl" || fail "stats line lacks $field: $(cat "$dir/a.jsonl")"
 done
 grep -q '"converged":true' "$dir/a.jsonl" || fail "a synchronous frame should be converged"
+# --backend auto (the default) names the backend it chose (which one: tests/render/backend_choice_test.cpp).
+grep -qE '"backend":"(fragment|compute)"' "$dir/a.jsonl" || fail "auto backend not reported: $(cat "$dir/a.jsonl")"
 
 # --target-frame-ms: a target no frame can meet makes the step grow after the first frame, up to 4x.
 run "target frame time" "$ropecast" render $small --mode dvr --tf ct-soft --frames 3 --target-frame-ms 0.001 \
@@ -48,9 +50,14 @@ run "dvr stored gradients" "$ropecast" render $small --mode dvr --tf ct-soft -o 
 p=$(psnr "$dir/g1.png" "$dir/g2.png")
 [ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 35 || fail "computed vs stored gradients PSNR $p dB < 35"
 
-# The compute backend gives the fragment backend's image.
-run "compute backend" "$ropecast" render $small -o "$dir/c.png" --backend compute
-p=$(psnr "$dir/a.png" "$dir/c.png")
+# The compute backend gives the fragment backend's image; --stats names each.
+run "fragment backend" "$ropecast" render $small -o "$dir/fr.png" --backend fragment --stats "$dir/fr.jsonl"
+grep -q '"backend":"fragment"' "$dir/fr.jsonl" || fail "--backend fragment: stats say $(cat "$dir/fr.jsonl")"
+run "compute backend" "$ropecast" render $small -o "$dir/c.png" --backend compute --stats "$dir/c.jsonl"
+grep -q '"backend":"compute"' "$dir/c.jsonl" || fail "--backend compute: stats say $(cat "$dir/c.jsonl")"
+run "brute backend" "$ropecast" render $small -o "$dir/b.png" --backend brute --stats "$dir/b.jsonl"
+grep -q '"backend":"brute"' "$dir/b.jsonl" || fail "--backend brute: stats say $(cat "$dir/b.jsonl")"
+p=$(psnr "$dir/fr.png" "$dir/c.png")
 [ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50 || fail "fragment vs compute PSNR $p dB < 50"
 
 # A converted store renders, and --reference (CPU brute force) agrees with the octree image.

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# `ropecast --help` and README.md agree: README lists every command with the description --help gives it,
+# and every option README shows for a command is in that command's --help.
+# Usage: bash help.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+readme="$(cd "$(dirname "$0")/../.." && pwd)/README.md"
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+
+help=$("$ropecast" --help) || fail "ropecast --help exited non-zero"
+# The subcommands of --help: the lines after "Subcommands:", "  NAME  description".
+commands=$(awk '/^Subcommands:/ {on = 1; next} on && NF {print $1}' <<< "$help")
+[ -n "$commands" ] || fail "ropecast --help lists no subcommands: $help"
+for cmd in $commands; do
+  description=$(awk -v c="$cmd" '/^Subcommands:/ {on = 1; next} on && $1 == c {$1 = ""; sub(/^ +/, ""); print}' <<< "$help")
+  row=$(grep -E "^\| \`$cmd\` +\|" "$readme" | head -n 1)
+  if [ -z "$row" ]; then fail "README.md has no table row for \`$cmd\`"; continue; fi
+  grep -qF -- "| $description" <<< "$row" || fail "README.md row of $cmd ($row) is not its --help description '$description'"
+  grep -qE "^ropecast $cmd( |\$)" "$readme" || fail "README.md shows no 'ropecast $cmd' usage line"
+  # The options on the command's usage lines (the line and its indented continuations).
+  options=$(awk -v c="$cmd" '$1 == "ropecast" {on = ($2 == c)} $1 != "ropecast" && !/^    / {on = 0} on' "$readme" |
+    grep -oE -- '--[a-z][a-z0-9-]*' | sort -u)
+  cmd_help=$("$ropecast" "$cmd" --help) || fail "ropecast $cmd --help exited non-zero"
+  [ "$cmd" = bench ] && cmd_help=$("$ropecast" bench index --help)
+  for option in $options; do
+    grep -qE -- "(^|[ ,])$option([ ,=]|\$)" <<< "$cmd_help" || fail "README.md shows $option for $cmd, its --help does not"
+  done
+  echo "ok   $cmd: $(wc -w <<< "$options") README options in --help"
+done
+# And README lists no command that --help lacks.
+for cmd in $(grep -oE '^\| `[a-z]+`' "$readme" | tr -d '|` '); do
+  grep -qx "$cmd" <<< "$commands" || fail "README.md lists $cmd, ropecast --help does not"
+done
+
+[ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
+[ "$failures" -eq 0 ]
