@@ -18,14 +18,6 @@
 
 namespace ropecast {
 
-namespace {
-
-constexpr GLuint kVolumeUnit = 0;
-constexpr GLuint kTfUnit = 1;
-constexpr GLuint kVolumeSamplesUnit = 2;
-
-}  // namespace
-
 BruteForcePass::BruteForcePass(const BrickSource& source) : info_(source.info()) {
   const OctreeLayout& layout = info_.layout;
   const glm::u32vec3 n = layout.dims;
@@ -71,15 +63,13 @@ BruteForcePass::BruteForcePass(const BrickSource& source) : info_(source.info())
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 
   tfTexture_ = createTfTexture();
-  glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &emptyVertexArray_);
   checkGlError("BruteForcePass: volume upload");
 }
 
 BruteForcePass::~BruteForcePass() {
-  GLuint textures[] = {volumeTexture_, tfTexture_, colorTexture_, worldDepthTexture_};
-  glDeleteTextures(4, textures);
-  glDeleteFramebuffers(1, &framebuffer_);
+  const GLuint textures[] = {volumeTexture_, tfTexture_};
+  glDeleteTextures(2, textures);
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
 
@@ -96,24 +86,6 @@ const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
   return *p;
 }
 
-void BruteForcePass::resizeTargets(uint32_t width, uint32_t height) {
-  if (width == width_ && height == height_) return;
-  GLuint old[] = {colorTexture_, worldDepthTexture_};
-  glDeleteTextures(2, old);
-  glCreateTextures(GL_TEXTURE_2D, 1, &colorTexture_);
-  glTextureStorage2D(colorTexture_, 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
-  glCreateTextures(GL_TEXTURE_2D, 1, &worldDepthTexture_);
-  glTextureStorage2D(worldDepthTexture_, 1, GL_R32F, GLsizei(width), GLsizei(height));
-  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, colorTexture_, 0);
-  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT1, worldDepthTexture_, 0);
-  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(framebuffer_, 2, drawBuffers);
-  if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("BruteForcePass: render targets incomplete");
-  width_ = width;
-  height_ = height;
-}
-
 void BruteForcePass::render(const BruteForceFrame& f) {
   if (f.width == 0 || f.height == 0) throw Error("BruteForcePass::render: image size must be positive");
   checkRaycastInputs(f.params, f.tf, "BruteForcePass::render");
@@ -123,27 +95,23 @@ void BruteForcePass::render(const BruteForceFrame& f) {
     const glm::u32vec3 origin(0);
     gradients_->derive(volumeTexture_, std::span(&origin, 1), info_.layout.dims);
   }
-  resizeTargets(f.width, f.height);
+  target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
 
-  // Uniforms: the names of shaders/raycast_common.glsl and shading.glsl, which brute_force.frag includes.
-  const GLuint id = p.id();
-  const auto u = [&](const char* name) { return p.uniform(name); };
-  setSharedRaycastUniforms(p, f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing,
-                           info_.mapping, info_.storedType == SampleType::UInt8 ? 255.0 : 65535.0, f.params);
-  glProgramUniform3i(id, u("uVolumeDims"), GLint(info_.layout.dims.x), GLint(info_.layout.dims.y),
-                     GLint(info_.layout.dims.z));
-  glProgramUniform1i(id, u("uVolume"), GLint(kVolumeUnit));
-  glProgramUniform1i(id, u("uVolumeSamples"), GLint(kVolumeSamplesUnit));
-  glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
-  glProgramUniform1f(id, u("uTfEntries"), float(TfTable::kDefaultEntries));
+  // The block of the rope ray caster's shaders, which brute_force.frag shares; the volume is the value
+  // texture.
+  RaycastBlock block =
+      raycastBlock(f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing, info_.mapping,
+                   info_.storedType == SampleType::UInt8 ? 255.0 : 65535.0, f.params);
+  block.valueTexelSize = glm::vec3(1.0 / glm::dvec3(info_.layout.dims));
+  blockBuffer_.upload(block);
 
-  glBindTextureUnit(kVolumeUnit, volumeTexture_);
-  glBindTextureUnit(kTfUnit, tfTexture_);
-  if (gradients_) glBindTextureUnit(kVolumeSamplesUnit, gradients_->texture());
+  glBindTextureUnit(kRaycastValueUnit, volumeTexture_);
+  glBindTextureUnit(kRaycastTfUnit, tfTexture_);
+  if (gradients_) glBindTextureUnit(kRaycastSampleUnit, gradients_->texture());
   p.use();
   timer_.begin();
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.framebuffer());
   glViewport(0, 0, GLsizei(f.width), GLsizei(f.height));
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -154,14 +122,6 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   timer_.end();
   checkGlError("BruteForcePass::render");
-}
-
-FloatImage BruteForcePass::readColor() const {
-  return readFloatTexture(colorTexture_, width_, height_, 4, "BruteForcePass::readColor");
-}
-
-FloatImage BruteForcePass::readDepth() const {
-  return readFloatTexture(worldDepthTexture_, width_, height_, 1, "BruteForcePass::readDepth");
 }
 
 }  // namespace ropecast

@@ -16,6 +16,8 @@
 #include "core/float_image.h"
 #include "core/render_params.h"
 #include "render/gpu_timer.h"
+#include "render/raycast_uniforms.h"
+#include "render/render_target.h"
 #include "store/brick_source.h"
 
 namespace ropecast {
@@ -46,21 +48,21 @@ class BruteForcePass {
   double lastRaycastMs() { return timer_.elapsedMs(); }
   bool raycastTimerUsedWallClock() const { return timer_.usedWallClock(); }
   // As RaycastPass: RGBA (alpha = coverage) and world depth (+inf = miss), row 0 at the top.
-  FloatImage readColor() const;
-  FloatImage readDepth() const;
+  FloatImage readColor() const { return target_.readColor(); }
+  FloatImage readDepth() const { return target_.readDepth(); }
   uint64_t volumeBytes() const { return volumeBytes_; }
 
  private:
   const ShaderProgram& program(const RenderParams& params);
-  void resizeTargets(uint32_t width, uint32_t height);
 
   BrickSourceInfo info_;
   std::unique_ptr<ShaderProgram> programs_[3];  // iso, DVR, DVR with stored gradients
   std::unique_ptr<GradientPool> gradients_;     // derived from the volume at the first use
   uint32_t volumeTexture_ = 0, tfTexture_ = 0;
   uint64_t volumeBytes_ = 0;
-  uint32_t width_ = 0, height_ = 0;
-  uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, framebuffer_ = 0, emptyVertexArray_ = 0;
+  RenderTarget target_{"BruteForcePass", false};
+  RaycastBlockBuffer blockBuffer_;
+  uint32_t emptyVertexArray_ = 0;
   GpuTimer timer_;
 };
 

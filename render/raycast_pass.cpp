@@ -22,13 +22,11 @@ namespace ropecast {
 
 namespace {
 
-// Texture and image units of the pass.
-constexpr GLuint kPoolUnit = 0;
-constexpr GLuint kTfUnit = 1;
-constexpr GLuint kRopeIndexUnit = 2;
-constexpr GLuint kGradientUnit = 3;
+// Image units and uniform locations of the entry points (the textures' units: shaders/raycast_block.h).
 constexpr GLuint kColorImageUnit = 0;  // match the binding = N of shaders/raycast.comp
 constexpr GLuint kDepthImageUnit = 1;
+constexpr GLint kTileOriginLocation = 0;  // shaders/raycast.comp uTileOrigin
+constexpr GLint kTileRectLocation = 0;    // shaders/raycast.vert uTileRect
 constexpr uint32_t kWorkgroupSize = 8;
 
 }  // namespace
@@ -46,14 +44,11 @@ VolumeGeometry VolumeGeometry::of(const BrickSourceInfo& info) {
 
 RaycastPass::RaycastPass() {
   glCreateVertexArrays(1, &emptyVertexArray_);
-  glCreateFramebuffers(1, &framebuffer_);
   tfTexture_ = createTfTexture();
 }
 
 RaycastPass::~RaycastPass() {
-  GLuint textures[] = {colorTexture_, worldDepthTexture_, depthBuffer_, tfTexture_};
-  glDeleteTextures(4, textures);
-  glDeleteFramebuffers(1, &framebuffer_);
+  glDeleteTextures(1, &tfTexture_);
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
 
@@ -71,68 +66,34 @@ const ShaderProgram& RaycastPass::program(const RenderParams& params) {
           std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/raycast.vert"},
                                   {ShaderStage::Fragment, "shaders/raycast.frag"}},
           defines);
+    // shaders/rope_traversal.glsl declares its sampler without a binding, for any entry point to choose.
+    glProgramUniform1i(p->id(), p->uniform("uRopeIndex"), kRaycastRopeIndexUnit);
   }
   return *p;
 }
 
-void RaycastPass::resizeTargets(uint32_t width, uint32_t height) {
-  if (width == width_ && height == height_) return;
-  GLuint old[] = {colorTexture_, worldDepthTexture_, depthBuffer_};
-  glDeleteTextures(3, old);
-  glCreateTextures(GL_TEXTURE_2D, 1, &colorTexture_);
-  glTextureStorage2D(colorTexture_, 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
-  glCreateTextures(GL_TEXTURE_2D, 1, &worldDepthTexture_);
-  glTextureStorage2D(worldDepthTexture_, 1, GL_R32F, GLsizei(width), GLsizei(height));
-  glCreateTextures(GL_TEXTURE_2D, 1, &depthBuffer_);
-  glTextureStorage2D(depthBuffer_, 1, GL_DEPTH_COMPONENT32F, GLsizei(width), GLsizei(height));
-  for (GLuint t : {colorTexture_, worldDepthTexture_}) {
-    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  }
-  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, colorTexture_, 0);
-  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT1, worldDepthTexture_, 0);
-  glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, depthBuffer_, 0);
-  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(framebuffer_, 2, drawBuffers);
-  const GLenum status = glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("RaycastPass: render targets incomplete (status 0x" + std::to_string(status) + ")");
-  width_ = width;
-  height_ = height;
-}
-
-void RaycastPass::setUniforms(const ShaderProgram& p, const RaycastFrame& f) {
-  const GLuint id = p.id();
+RaycastBlock RaycastPass::block(const RaycastFrame& f) const {
   const VolumeGeometry& vol = f.volume;
-  const auto u = [&](const char* name) { return p.uniform(name); };
+  RaycastBlock b = raycastBlock(f.camera, f.width, f.height, vol.dims, vol.spacing, vol.mapping,
+                                vol.storedMax(), f.params);
 
-  // Camera, spacing and RenderParams (shared with BruteForcePass).
-  setSharedRaycastUniforms(p, f.camera, f.width, f.height, vol.dims, vol.spacing, vol.mapping,
-                           vol.storedMax(), f.params);
-  const glm::dvec3 volumeMax = glm::dvec3(vol.dims) * vol.spacing;
-
-  // Volume: the root cube and the level grid.
+  // The root cube, the level grid and the pool.
   const double cubeSamples = double(uint64_t(vol.brickSize) << vol.maxDepth);
-  setVec3Uniform(id, u("uCubeWorld"), cubeSamples * vol.spacing);
-  glProgramUniform1f(id, u("uBrickSize"), float(vol.brickSize));
-  glProgramUniform1ui(id, u("uMaxDepth"), vol.maxDepth);
-
-  // Pool, index and transfer function.
+  b.cubeWorld = glm::vec3(cubeSamples * vol.spacing);
+  b.brickSize = float(vol.brickSize);
+  b.maxDepth = vol.maxDepth;
   const BrickPoolGeometry& pool = f.pool->geometry();
-  glProgramUniform3ui(id, u("uPoolSlotGrid"), pool.slotGrid.x, pool.slotGrid.y, pool.slotGrid.z);
-  glProgramUniform1f(id, u("uPoolSlotEdge"), float(pool.slotEdge));
-  setVec3Uniform(id, u("uPoolTexelSize"), 1.0 / glm::dvec3(pool.textureDims));
-  glProgramUniform1i(id, u("uPool"), GLint(kPoolUnit));
-  glProgramUniform1i(id, u("uGradientPool"), GLint(kGradientUnit));
-  glProgramUniform1i(id, u("uTransferFunction"), GLint(kTfUnit));
-  glProgramUniform1f(id, u("uTfEntries"), float(TfTable::kDefaultEntries));
-  glProgramUniform1i(id, u("uRopeIndex"), GLint(kRopeIndexUnit));
+  b.valueTexelSize = glm::vec3(1.0 / glm::dvec3(pool.textureDims));
+  b.poolSlotGrid = pool.slotGrid;
+  b.poolSlotEdge = float(pool.slotEdge);
 
   // Window depth for gl_FragDepth: a perspective range enclosing the volume.
+  const glm::dvec3 volumeMax = glm::dvec3(vol.dims) * vol.spacing;
   const double extent = glm::length(volumeMax);
   const double farDist = glm::length(f.camera.eye - 0.5 * volumeMax) + extent;
-  glProgramUniform1f(id, u("uDepthNear"), float(std::max(1e-4 * extent, 1e-9)));
-  glProgramUniform1f(id, u("uDepthFar"), float(std::max(farDist, 2e-4 * extent)));
+  b.depthNear = float(std::max(1e-4 * extent, 1e-9));
+  b.depthFar = float(std::max(farDist, 2e-4 * extent));
+  return b;
 }
 
 void RaycastPass::render(const RaycastFrame& f) {
@@ -156,26 +117,26 @@ void RaycastPass::render(const RaycastFrame& f) {
   }
 
   const ShaderProgram& p = program(f.params);
-  resizeTargets(f.width, f.height);
+  target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
-  setUniforms(p, f);
-  glBindTextureUnit(kPoolUnit, f.pool->texture());
-  glBindTextureUnit(kTfUnit, tfTexture_);
-  f.index->bind(kRopeIndexUnit);
-  if (usesStoredGradients(f.params)) glBindTextureUnit(kGradientUnit, f.gradients->texture());
+  blockBuffer_.upload(block(f));
+  glBindTextureUnit(kRaycastValueUnit, f.pool->texture());
+  glBindTextureUnit(kRaycastTfUnit, tfTexture_);
+  f.index->bind(kRaycastRopeIndexUnit);
+  if (usesStoredGradients(f.params)) glBindTextureUnit(kRaycastSampleUnit, f.gradients->texture());
   p.use();
 
   timer_.begin();
   if (f.params.backend == RenderBackend::Compute) {
-    glBindImageTexture(kColorImageUnit, colorTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(kDepthImageUnit, worldDepthTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glProgramUniform2ui(p.id(), p.uniform("uTileOrigin"), 0, 0);
+    glBindImageTexture(kColorImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(kDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glProgramUniform2ui(p.id(), kTileOriginLocation, 0, 0);
     glDispatchCompute((f.width + kWorkgroupSize - 1) / kWorkgroupSize,
                       (f.height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                     GL_FRAMEBUFFER_BARRIER_BIT);
   } else {
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+    glBindFramebuffer(GL_FRAMEBUFFER, target_.framebuffer());
     glViewport(0, 0, GLsizei(f.width), GLsizei(f.height));
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
@@ -183,17 +144,15 @@ void RaycastPass::render(const RaycastFrame& f) {
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
     const float clearDepth = 1.0f;
-    glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &clearDepth);
+    glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);
     glBindVertexArray(emptyVertexArray_);
-    glProgramUniform2ui(p.id(), p.uniform("uTargetSize"), f.width, f.height);
     // Each tile is one triangle around it, cut to the tile by the scissor: a quad's two triangles would
     // shade the pixel blocks along their diagonal twice on a software rasterizer (each with part of a mask).
-    const GLint tileRect = p.uniform("uTileRect");
     glEnable(GL_SCISSOR_TEST);
     for (uint32_t y = 0; y < f.height; y += kTileSize)
       for (uint32_t x = 0; x < f.width; x += kTileSize) {
         const uint32_t w = std::min(kTileSize, f.width - x), h = std::min(kTileSize, f.height - y);
-        glProgramUniform4ui(p.id(), tileRect, x, y, w, h);
+        glProgramUniform4ui(p.id(), kTileRectLocation, x, y, w, h);
         glScissor(GLint(x), GLint(y), GLsizei(w), GLsizei(h));
         glDrawArrays(GL_TRIANGLES, 0, 3);
       }
@@ -204,14 +163,6 @@ void RaycastPass::render(const RaycastFrame& f) {
   }
   timer_.end();
   checkGlError("RaycastPass::render");
-}
-
-FloatImage RaycastPass::readColor() const {
-  return readFloatTexture(colorTexture_, width_, height_, 4, "RaycastPass::readColor");
-}
-
-FloatImage RaycastPass::readDepth() const {
-  return readFloatTexture(worldDepthTexture_, width_, height_, 1, "RaycastPass::readDepth");
 }
 
 }  // namespace ropecast

@@ -23,6 +23,8 @@
 #include "core/render_params.h"
 #include "core/sample_type.h"
 #include "render/gpu_timer.h"
+#include "render/raycast_uniforms.h"
+#include "render/render_target.h"
 #include "store/brick_source.h"
 
 namespace ropecast {
@@ -77,19 +79,18 @@ class RaycastPass {
   bool raycastTimerUsedWallClock() const { return timer_.usedWallClock(); }
   // The targets of the last render, row 0 at the top: RGBA (final color, alpha = coverage) and depth (world
   // units along the camera axis, +inf = miss). Synchronous readback.
-  FloatImage readColor() const;
-  FloatImage readDepth() const;
-  uint32_t colorTexture() const { return colorTexture_; }
-  uint32_t depthTexture() const { return worldDepthTexture_; }
+  FloatImage readColor() const { return target_.readColor(); }
+  FloatImage readDepth() const { return target_.readDepth(); }
+  uint32_t colorTexture() const { return target_.colorTexture(); }
+  uint32_t depthTexture() const { return target_.depthTexture(); }
 
  private:
   const ShaderProgram& program(const RenderParams& params);
-  void resizeTargets(uint32_t width, uint32_t height);
-  void setUniforms(const ShaderProgram& program, const RaycastFrame& frame);
+  RaycastBlock block(const RaycastFrame& frame) const;
 
   std::map<std::tuple<RenderBackend, RenderMode, bool>, std::unique_ptr<ShaderProgram>> programs_;
-  uint32_t width_ = 0, height_ = 0;
-  uint32_t colorTexture_ = 0, worldDepthTexture_ = 0, depthBuffer_ = 0, framebuffer_ = 0;
+  RenderTarget target_{"RaycastPass", true};
+  RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
   GpuTimer timer_;

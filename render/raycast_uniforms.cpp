@@ -11,15 +11,10 @@
 #include "core/error.h"
 #include "core/transfer_function.h"
 #include "render/gl_context.h"
-#include "render/shader_program.h"
 #include "store/octree_layout.h"
 #include "store/volume_source.h"
 
 namespace ropecast {
-
-void setVec3Uniform(uint32_t program, int location, glm::dvec3 v) {
-  glProgramUniform3f(program, location, float(v.x), float(v.y), float(v.z));
-}
 
 std::string floatDefine(const char* name, double value) {
   char buf[64];
@@ -33,6 +28,7 @@ std::vector<std::string> raycastDefines(const RenderParams& params) {
       "BRICK_BORDER " + std::to_string(kBrickBorder),
       "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
       floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
+      "TF_ENTRIES " + std::to_string(TfTable::kDefaultEntries),
   };
   if (usesStoredGradients(params)) defines.push_back("DVR_STORED_GRADIENTS");
   return defines;
@@ -61,11 +57,9 @@ void uploadTf(uint32_t texture, const TfTable& tf) {
   glTextureSubImage1D(texture, 0, 0, GLsizei(tf.entryCount()), GL_RGBA, GL_FLOAT, tf.entries().data());
 }
 
-void setSharedRaycastUniforms(const ShaderProgram& p, const Camera& camera, uint32_t width, uint32_t height,
-                              glm::u32vec3 dims, glm::dvec3 spacing, const ValueMapping& mapping,
-                              double storedMax, const RenderParams& rp) {
-  const GLuint id = p.id();
-  const auto u = [&](const char* name) { return p.uniform(name); };
+RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height, glm::u32vec3 dims,
+                          glm::dvec3 spacing, const ValueMapping& mapping, double storedMax,
+                          const RenderParams& rp) {
   // Never draw rays that are not finite, nor a volume without a box: the traversal loops would not end (a
   // hung GPU).
   if (const std::string problem = viewProblem(camera.eye, camera.target); !problem.empty())
@@ -74,37 +68,43 @@ void setSharedRaycastUniforms(const ShaderProgram& p, const Camera& camera, uint
     throw Error("ray cast: volume spacing " + formatSpacing(spacing) +
                 " is not three finite positive numbers");
   const CameraFrame cam = cameraFrame(camera);
-  setVec3Uniform(id, u("uEye"), camera.eye);
-  setVec3Uniform(id, u("uForward"), cam.forward);
-  setVec3Uniform(id, u("uRight"), cam.right);
-  setVec3Uniform(id, u("uUp"), cam.up);
-  glProgramUniform1f(id, u("uTanHalfFov"), float(std::tan(glm::radians(camera.fovYDeg) * 0.5)));
-  glProgramUniform1f(id, u("uAspect"), float(double(width) / double(height)));
-  glProgramUniform2ui(id, u("uImageSize"), width, height);
+  RaycastBlock b{};
+  b.eye = glm::vec3(camera.eye);
+  b.forward = glm::vec3(cam.forward);
+  b.right = glm::vec3(cam.right);
+  b.up = glm::vec3(cam.up);
+  b.tanHalfFov = float(std::tan(glm::radians(camera.fovYDeg) * 0.5));
+  b.aspect = float(double(width) / double(height));
+  b.imageSize = {width, height};
 
-  setVec3Uniform(id, u("uVolumeMax"), glm::dvec3(dims) * spacing);
-  setVec3Uniform(id, u("uSpacing"), spacing);
-  glProgramUniform1f(id, u("uMinSpacing"), float(std::min({spacing.x, spacing.y, spacing.z})));
+  b.volumeMax = glm::vec3(glm::dvec3(dims) * spacing);
+  b.spacing = glm::vec3(spacing);
+  b.minSpacing = float(std::min({spacing.x, spacing.y, spacing.z}));
 
-  glProgramUniform1f(id, u("uStepVoxels"), float(rp.stepVoxels));
-  glProgramUniform1f(id, u("uErt"), float(rp.ert));
-  setVec3Uniform(id, u("uBackground"), rp.background);
-  glProgramUniform1f(id, u("uIsoValue"), float(mapping.toStored(rp.isoValue) / storedMax));
-  setVec3Uniform(id, u("uIsoBaseColor"), rp.lighting.isoBaseColor);
-  glProgramUniform1f(id, u("uAmbient"), float(rp.lighting.ambient));
-  glProgramUniform1f(id, u("uDiffuse"), float(rp.lighting.diffuse));
-  glProgramUniform1f(id, u("uSpecular"), float(rp.lighting.specular));
-  glProgramUniform1f(id, u("uShininess"), float(rp.lighting.shininess));
+  b.stepVoxels = float(rp.stepVoxels);
+  b.ert = float(rp.ert);
+  b.background = glm::vec3(rp.background);
+  b.isoValue = float(mapping.toStored(rp.isoValue) / storedMax);
+  b.isoBaseColor = glm::vec3(rp.lighting.isoBaseColor);
+  b.ambient = float(rp.lighting.ambient);
+  b.diffuse = float(rp.lighting.diffuse);
+  b.specular = float(rp.lighting.specular);
+  b.shininess = float(rp.lighting.shininess);
+  return b;
 }
 
-FloatImage readFloatTexture(uint32_t texture, uint32_t width, uint32_t height, uint32_t channels,
-                            const char* where) {
-  FloatImage img{width, height, channels, std::vector<float>(size_t(width) * height * channels)};
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(texture, 0, channels == 1 ? GL_RED : GL_RGBA, GL_FLOAT,
-                    GLsizei(img.pixels.size() * sizeof(float)), img.pixels.data());
-  checkGlError(where);
-  return img;
+RaycastBlockBuffer::RaycastBlockBuffer() {
+  glCreateBuffers(1, &buffer_);
+  glNamedBufferStorage(buffer_, sizeof(RaycastBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+RaycastBlockBuffer::~RaycastBlockBuffer() {
+  glDeleteBuffers(1, &buffer_);
+}
+
+void RaycastBlockBuffer::upload(const RaycastBlock& block) {
+  glNamedBufferSubData(buffer_, 0, sizeof(RaycastBlock), &block);
+  glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(kRaycastBlockBinding), buffer_);
 }
 
 }  // namespace ropecast

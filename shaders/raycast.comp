@@ -7,11 +7,11 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform writeonly image2D uColorImage;
 layout(r32f, binding = 1) uniform writeonly image2D uDepthImage;
-uniform uvec2 uTileOrigin;
+layout(location = 0) uniform uvec2 uTileOrigin;
 
 void main() {
   uvec2 pixel = uTileOrigin + gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, uImageSize))) return;
+  if (any(greaterThanEqual(pixel, raycast.imageSize))) return;
   RayResult r = castRay(pixel);
   imageStore(uColorImage, ivec2(pixel), r.color);
   imageStore(uDepthImage, ivec2(pixel), vec4(r.depth));

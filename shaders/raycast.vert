@@ -4,11 +4,12 @@
 // it to the tile. Pixel rows of the targets are image rows (row 0 = top), so no flip: framebuffer row r holds
 // image row r.
 
-uniform uvec2 uTargetSize;
-uniform uvec4 uTileRect;
+#include "shaders/raycast_block.h"
+
+layout(location = 0) uniform uvec4 uTileRect;
 
 void main() {
   vec2 corner = vec2(float((gl_VertexID & 1) << 1), float(gl_VertexID & 2));
   vec2 pixel = vec2(uTileRect.xy) + corner * vec2(uTileRect.zw);
-  gl_Position = vec4(pixel / vec2(uTargetSize) * 2.0 - 1.0, 0.0, 1.0);
+  gl_Position = vec4(pixel / vec2(raycast.imageSize) * 2.0 - 1.0, 0.0, 1.0);
 }

@@ -58,21 +58,23 @@ TEST(BrickPoolPlan, HoldsAtMostTheSlotsTheShaderAddressesExactly) {
   EXPECT_GE(g.slotCount(), kMaxPoolSlots / 2);
 }
 
-// The shader's poolSlotOrigin (shaders/shading.glsl, in float) against BrickPoolGeometry::slotOrigin for
+// The shader's poolSlotOrigin (shaders/brick_pool.glsl, in float) against BrickPoolGeometry::slotOrigin for
 // every slot of grids with up to kMaxPoolSlots slots.
 TEST(BrickPoolShader, SlotOriginMatchesTheCppTwinUpToTheSlotLimit) {
   test::sharedGlContext();
   const auto dir = test::freshTempDir();
   const auto shader = dir / "slot_origin.comp";
-  std::ofstream(shader) << "#version 450 core\nlayout(local_size_x = 64) in;\n"
-                           "#include \"shaders/shading.glsl\"\n"
-                           "layout(std430, binding = 0) buffer Origins { uvec4 origins[]; };\n"
-                           "void main() {\n"
-                           "  uint slot = gl_GlobalInvocationID.x;\n"
-                           "  origins[slot] = uvec4(uvec3(poolSlotOrigin(slot, poolLayout())), 0u);\n"
-                           "}\n";
-  ShaderProgram program({{ShaderStage::Compute, shader.string()}},
-                        {"BRICK_BORDER 2", "DVR_SHADE_GRADIENT_THRESHOLD 0.0"});
+  std::ofstream(shader)
+      << "#version 450 core\nlayout(local_size_x = 64) in;\n"
+         "#include \"shaders/brick_pool.glsl\"\n"
+         "uniform uvec3 uPoolSlotGrid;\n"
+         "uniform float uPoolSlotEdge;\n"
+         "layout(std430, binding = 0) buffer Origins { uvec4 origins[]; };\n"
+         "void main() {\n"
+         "  uint slot = gl_GlobalInvocationID.x;\n"
+         "  origins[slot] = uvec4(uvec3(poolSlotOrigin(slot, uPoolSlotGrid, uPoolSlotEdge)), 0u);\n"
+         "}\n";
+  ShaderProgram program({{ShaderStage::Compute, shader.string()}});
   const glm::u32vec3 grids[] = {{1, 1448, 1448}, {3, 697, 1002}, {7, 5, 3}};
   for (const glm::u32vec3& grid : grids) {
     BrickPoolGeometry g;

@@ -1,0 +1,92 @@
+// What a ray does with the samples of a segment (docs/RENDERING.md "Isosurface", "Direct volume rendering"):
+// the isosurface march to the first sign change and its bisection, and front-to-back DVR compositing with early
+// ray termination. Shared by the rope ray caster, which calls them once per data leaf (Gobbetti et al. 2008,
+// Sect. 5.2), and the brute-force pass, which calls them once for the whole volume. No #version line. Needs the
+// defines ISO_BISECTION_STEPS and those of shaders/shading.glsl.
+
+#include "shaders/sampling.glsl"
+#include "shaders/shading.glsl"
+
+struct RayResult {
+  vec4 color;   // final color (background composited), alpha = coverage
+  float depth;  // world distance along the camera axis; +inf for none
+};
+
+RayResult missedRay() { return RayResult(vec4(raycast.background, 0.0), kInfinity); }
+
+// The isosurface march along the ray: f = v - vIso at each sample, remembered across segments.
+struct IsoMarch {
+  bool hasPrev;        // a sample before this one (the ray's first sample has none)
+  float tPrev, fPrev;  // the last sample
+  bool hit;
+  float tHit;          // the first sample whose sign of f differs from tPrev's (f >= 0 counts as positive)
+};
+
+IsoMarch isoMarchBegin() { return IsoMarch(false, 0.0, 0.0, false, 0.0); }
+
+// The samples t0 + k dt of a segment, from k = kBegin while t < tEnd, up to the first crossing.
+void marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
+  for (float k = kBegin; !m.hit; k += 1.0) {
+    float t = t0 + k * s.dt;
+    if (!(t < tEnd)) break;
+    float f = sampleValue(segmentCoord(s, t)) - raycast.isoValue;
+    if (m.hasPrev && (f >= 0.0) != (m.fPrev >= 0.0)) {
+      m.hit = true;
+      m.tHit = t;
+    } else {
+      m.hasPrev = true;
+      m.tPrev = t;
+      m.fPrev = f;
+    }
+  }
+}
+
+// The hit of a march, refined by bisection between the samples around the crossing in the segment of the
+// second one, and shaded there.
+RayResult shadeIsoHit(IsoMarch m, Segment s, Ray ray) {
+  float ta = m.tPrev, fa = m.fPrev, tb = m.tHit;
+  for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
+    float tm = 0.5 * (ta + tb);
+    float fm = valueExact(s, segmentTexel(s, tm)) - raycast.isoValue;
+    if ((fm >= 0.0) == (fa >= 0.0)) {
+      ta = tm;
+      fa = fm;
+    } else {
+      tb = tm;
+    }
+  }
+  float tHit = 0.5 * (ta + tb);
+  return RayResult(vec4(shadeIso(gradientExact(s, tHit), ray.dir), 1.0), tHit * ray.depthPerT);
+}
+
+// Front-to-back DVR compositing, premultiplied.
+struct DvrAccum {
+  vec3 color;
+  float alpha;
+  float depth;  // of the last sample that added opacity
+};
+
+DvrAccum dvrAccumBegin() { return DvrAccum(vec3(0.0), 0.0, kInfinity); }
+
+// Composites samples k in [kBegin, kEnd) of a segment; true when early ray termination ends the ray (as the CPU
+// mirror: only a sample that adds opacity ends it).
+bool compositeDvr(inout DvrAccum acc, Segment s, Ray ray, float kBegin, float kEnd) {
+  for (float k = kBegin; k < kEnd; k += 1.0) {
+    float t = ray.t0 + k * s.dt;
+    DvrSample voxel = dvrSample(segmentCoord(s, t));
+    vec4 tf = transferFunction(voxel.value);
+    float alpha = correctedOpacity(tf.a, s.opacityExponent);
+    if (alpha > 0.0) {
+      vec3 color = shadeDvr(tf.rgb, dvrSampleDifferences(voxel) * s.gradientScale, ray.dir);
+      acc.color += (1.0 - acc.alpha) * alpha * color;
+      acc.alpha += (1.0 - acc.alpha) * alpha;
+      acc.depth = t * ray.depthPerT;
+      if (acc.alpha >= raycast.ert) return true;
+    }
+  }
+  return false;
+}
+
+RayResult dvrResult(DvrAccum acc) {
+  return RayResult(vec4(acc.color + (1.0 - acc.alpha) * raycast.background, acc.alpha), acc.depth);
+}
