@@ -111,10 +111,7 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   if (gradients_) glBindTextureUnit(kRaycastSampleUnit, gradients_->texture());
   p.use();
   timer_.begin();
-  glBindFramebuffer(GL_FRAMEBUFFER, target_.framebuffer());
-  glViewport(0, 0, GLsizei(f.width), GLsizei(f.height));
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
+  target_.bindForDrawing();
   glDisable(GL_DEPTH_TEST);
   glBindVertexArray(emptyVertexArray_);
   glDrawArrays(GL_TRIANGLES, 0, 3);

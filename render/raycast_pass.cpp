@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/transfer_function.h"
+#include "render/backend_choice.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
@@ -43,6 +44,8 @@ VolumeGeometry VolumeGeometry::of(const BrickSourceInfo& info) {
 }
 
 RaycastPass::RaycastPass() {
+  const GLubyte* renderer = glGetString(GL_RENDERER);
+  dvrLeafBatch_ = renderer && isSoftwareRenderer(reinterpret_cast<const char*>(renderer));
   glCreateVertexArrays(1, &emptyVertexArray_);
   tfTexture_ = createTfTexture();
 }
@@ -55,9 +58,11 @@ RaycastPass::~RaycastPass() {
 const ShaderProgram& RaycastPass::program(const RenderParams& params) {
   const RenderBackend backend = params.backend;
   const RenderMode mode = params.mode;
-  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, usesStoredGradients(params)}];
+  const bool leafBatch = dvrLeafBatch_ && mode == RenderMode::Dvr;
+  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, usesStoredGradients(params), leafBatch}];
   if (!p) {
-    const std::vector<std::string> defines = raycastDefines(params);
+    std::vector<std::string> defines = raycastDefines(params);
+    if (leafBatch) defines.push_back("LLVMPIPE_DVR_LEAF_BATCH");
     if (backend == RenderBackend::Compute)
       p = std::make_unique<ShaderProgram>(
           std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/raycast.comp"}}, defines);
@@ -136,10 +141,7 @@ void RaycastPass::render(const RaycastFrame& f) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                     GL_FRAMEBUFFER_BARRIER_BIT);
   } else {
-    glBindFramebuffer(GL_FRAMEBUFFER, target_.framebuffer());
-    glViewport(0, 0, GLsizei(f.width), GLsizei(f.height));
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
+    target_.bindForDrawing();
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);

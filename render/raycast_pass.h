@@ -84,11 +84,20 @@ class RaycastPass {
   uint32_t colorTexture() const { return target_.colorTexture(); }
   uint32_t depthTexture() const { return target_.depthTexture(); }
 
+  // Whether DVR programs walk the leaves in gathered batches (LLVMPIPE_DVR_LEAF_BATCH in
+  // shaders/raycast_common.glsl), the form measured faster on software rasterizers only. On by default
+  // exactly there (render/backend_choice.h isSoftwareRenderer); the images are the same either way. Applies
+  // to programs compiled afterwards.
+  void setDvrLeafBatch(bool on) { dvrLeafBatch_ = on; }
+  bool dvrLeafBatch() const { return dvrLeafBatch_; }
+
  private:
   const ShaderProgram& program(const RenderParams& params);
   RaycastBlock block(const RaycastFrame& frame) const;
 
-  std::map<std::tuple<RenderBackend, RenderMode, bool>, std::unique_ptr<ShaderProgram>> programs_;
+  // (backend, mode, stored gradients, leaf batch) -> program
+  std::map<std::tuple<RenderBackend, RenderMode, bool, bool>, std::unique_ptr<ShaderProgram>> programs_;
+  bool dvrLeafBatch_ = false;
   RenderTarget target_{"RaycastPass", true};
   RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;

@@ -21,6 +21,13 @@ RenderTarget::~RenderTarget() {
   glDeleteFramebuffers(1, &framebuffer_);
 }
 
+void RenderTarget::bindForDrawing() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, GLsizei(width_), GLsizei(height_));
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+}
+
 void RenderTarget::resize(uint32_t width, uint32_t height) {
   if (width == width_ && height == height_) return;
   const GLuint old[] = {colorTexture_, worldDepthTexture_, depthBuffer_};

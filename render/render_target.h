@@ -25,6 +25,10 @@ class RenderTarget {
   // incomplete.
   void resize(uint32_t width, uint32_t height);
 
+  // Binds the framebuffer for a full-target draw of opaque pixels: viewport over the whole target, no
+  // blending, no face culling. The caller sets the depth test it needs.
+  void bindForDrawing() const;
+
   // The targets, row 0 as GL stores it (the passes draw image row r into framebuffer row r). Synchronous.
   FloatImage readColor() const;
   FloatImage readDepth() const;

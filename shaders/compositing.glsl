@@ -68,22 +68,25 @@ struct DvrAccum {
 
 DvrAccum dvrAccumBegin() { return DvrAccum(vec3(0.0), 0.0, kInfinity); }
 
-// Composites samples k in [kBegin, kEnd) of a segment; true when early ray termination ends the ray (as the CPU
-// mirror: only a sample that adds opacity ends it).
+// Composites sample k of a segment; true when early ray termination ends the ray (as the CPU mirror: only a
+// sample that adds opacity ends it).
+bool compositeDvrSample(inout DvrAccum acc, Segment s, Ray ray, float k) {
+  float t = ray.t0 + k * s.dt;
+  DvrSample voxel = dvrSample(segmentCoord(s, t));
+  vec4 tf = transferFunction(voxel.value);
+  float alpha = correctedOpacity(tf.a, s.opacityExponent);
+  if (!(alpha > 0.0)) return false;
+  vec3 color = shadeDvr(tf.rgb, dvrSampleDifferences(voxel) * s.gradientScale, ray.dir);
+  acc.color += (1.0 - acc.alpha) * alpha * color;
+  acc.alpha += (1.0 - acc.alpha) * alpha;
+  acc.depth = t * ray.depthPerT;
+  return acc.alpha >= raycast.ert;
+}
+
+// Composites samples k in [kBegin, kEnd) of a segment; true when early ray termination ends the ray.
 bool compositeDvr(inout DvrAccum acc, Segment s, Ray ray, float kBegin, float kEnd) {
-  for (float k = kBegin; k < kEnd; k += 1.0) {
-    float t = ray.t0 + k * s.dt;
-    DvrSample voxel = dvrSample(segmentCoord(s, t));
-    vec4 tf = transferFunction(voxel.value);
-    float alpha = correctedOpacity(tf.a, s.opacityExponent);
-    if (alpha > 0.0) {
-      vec3 color = shadeDvr(tf.rgb, dvrSampleDifferences(voxel) * s.gradientScale, ray.dir);
-      acc.color += (1.0 - acc.alpha) * alpha * color;
-      acc.alpha += (1.0 - acc.alpha) * alpha;
-      acc.depth = t * ray.depthPerT;
-      if (acc.alpha >= raycast.ert) return true;
-    }
-  }
+  for (float k = kBegin; k < kEnd; k += 1.0)
+    if (compositeDvrSample(acc, s, ray, k)) return true;
   return false;
 }
 

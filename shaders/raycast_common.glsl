@@ -32,6 +32,106 @@ Segment leafSegment(RopeLeaf leaf, vec3 originCube, vec3 dirCube) {
   return s;
 }
 
+#if defined(RAYCAST_MODE_DVR) && defined(LLVMPIPE_DVR_LEAF_BATCH)
+// The DVR walk for llvmpipe only (RaycastPass sets LLVMPIPE_DVR_LEAF_BATCH on software rasterizers; the gain is
+// in docs/BENCHMARKS.md). llvmpipe runs every branch of a loop body for the whole SIMD group under a mask, and
+// a loop while any lane is left in it: with one sample loop per leaf, each lane waits at every leaf border for
+// the lane with the most samples left in its leaf. This walk gathers up to eight data leaves, then samples
+// them in one flat loop in which a lane goes on to its next leaf at once. Its shape is llvmpipe's: the batch
+// is eight named variables (a local array lives in memory there, read lane by lane), a leaf is picked by
+// selects, three samples are taken per leaf-change check (the check's selects run every iteration), and the
+// loops test their exit at the bottom. The samples, their order and their arithmetic are the plain walk's.
+
+// A gathered leaf: its segment's coordinate at t = 0, its first sample index and the first one past it, 2^L.
+// The rest of its Segment follows from 2^L (dvrLeafSegment).
+struct GatheredLeaf {
+  vec3 coordAtZero;
+  float kBegin, kEnd;
+  float levelScale;
+};
+
+// The Segment of a gathered leaf, from the level-0 segment of the ray (exact: 2^L scales exactly).
+Segment dvrLeafSegment(GatheredLeaf g, Segment level0) {
+  Segment s = level0;
+  s.coordAtZero = g.coordAtZero;
+  s.coordPerT = level0.coordPerT / g.levelScale;
+  s.gradientScale = level0.gradientScale / g.levelScale;
+  s.dt = level0.dt * g.levelScale;
+  s.opacityExponent = level0.opacityExponent * g.levelScale;
+  return s;
+}
+
+GatheredLeaf pickLeaf(uint i, GatheredLeaf g1, GatheredLeaf g2, GatheredLeaf g3, GatheredLeaf g4,
+                      GatheredLeaf g5, GatheredLeaf g6, GatheredLeaf g7) {
+  GatheredLeaf g = g1;
+  if (i == 2u) g = g2;
+  if (i == 3u) g = g3;
+  if (i == 4u) g = g4;
+  if (i == 5u) g = g5;
+  if (i == 6u) g = g6;
+  if (i == 7u) g = g7;
+  return g;
+}
+
+DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 dirCube) {
+  DvrAccum acc = dvrAccumBegin();
+  RopeLeaf leaf;
+  // The Segment of a full-resolution leaf, less its position.
+  RopeLeaf finest;
+  finest.depth = raycast.maxDepth;
+  finest.brickSlot = 0u;
+  finest.boxMin = vec3(0.0);
+  Segment level0 = leafSegment(finest, originCube, dirCube);
+  bool entryLeaf = true;
+  bool more = cursor.node != kRopeNull;
+  while (more) {
+    GatheredLeaf g0, g1, g2, g3, g4, g5, g6, g7;
+    uint count = 0u;
+    do {
+      if (!ropeNextLeaf(cursor, leaf)) break;
+      bool entry = entryLeaf;
+      entryLeaf = false;
+      if (leaf.kind != kRopeTagDataLeaf) continue;
+      Segment s = leafSegment(leaf, originCube, dirCube);
+      GatheredLeaf g = GatheredLeaf(s.coordAtZero, firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry),
+                                    firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false),
+                                    ldexp(1.0, int(raycast.maxDepth - leaf.depth)));
+      if (count == 0u) g0 = g;
+      if (count == 1u) g1 = g;
+      if (count == 2u) g2 = g;
+      if (count == 3u) g3 = g;
+      if (count == 4u) g4 = g;
+      if (count == 5u) g5 = g;
+      if (count == 6u) g6 = g;
+      if (count == 7u) g7 = g;
+      ++count;
+    } while (count < 8u && cursor.node != kRopeNull);
+    more = cursor.node != kRopeNull;
+    if (count == 0u) continue;
+
+    Segment s = dvrLeafSegment(g0, level0);
+    float k = g0.kBegin, kEnd = g0.kEnd;
+    uint next = 1u;
+    for (;;) {
+      bool terminated = false;
+      if (k < kEnd) terminated = compositeDvrSample(acc, s, ray, k++);
+      if (!terminated && k < kEnd) terminated = compositeDvrSample(acc, s, ray, k++);
+      if (!terminated && k < kEnd) terminated = compositeDvrSample(acc, s, ray, k++);
+      if (terminated) return acc;
+      if (!(k < kEnd)) {
+        if (next == count) break;
+        GatheredLeaf g = pickLeaf(next, g1, g2, g3, g4, g5, g6, g7);
+        s = dvrLeafSegment(g, level0);
+        k = g.kBegin;
+        kEnd = g.kEnd;
+        ++next;
+      }
+    }
+  }
+  return acc;
+}
+#endif
+
 RayResult castRay(uvec2 pixel) {
   Ray ray;
   if (!cameraRay(pixel, ray)) return missedRay();
@@ -54,6 +154,8 @@ RayResult castRay(uvec2 pixel) {
     if (march.hit) hitSegment = s;
   }
   return march.hit ? shadeIsoHit(march, hitSegment, ray) : missedRay();
+#elif defined(LLVMPIPE_DVR_LEAF_BATCH)
+  return dvrResult(walkDvrBatched(cursor, ray, originCube, dirCube));
 #else
   DvrAccum acc = dvrAccumBegin();
   while (ropeNextLeaf(cursor, leaf)) {

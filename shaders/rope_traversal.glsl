@@ -1,4 +1,4 @@
-// The stackless rope-octree traversal (seeds/002 Sect. 5.2, Fig. 5), the GLSL twin of index/rope_traversal.h:
+// The stackless rope-octree traversal (Gobbetti et al. 2008, Sect. 5.2, Fig. 5), the GLSL twin of index/rope_traversal.h:
 // same names, same steps, same float formulas (read that header for the robustness argument: every decision
 // is made in t with ropePlaneT, marked `precise` here so the compiler cannot fuse or reorder it differently in
 // the down traversal and the box clip). Include it from any entry point (fragment or compute); it declares the

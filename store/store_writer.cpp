@@ -14,11 +14,6 @@
 
 namespace ropecast {
 
-namespace {
-std::string errnoText() {
-  return std::strerror(errno);
-}
-}  // namespace
 
 uint32_t storeCrc32(std::span<const std::byte> bytes) {
   uLong crc = crc32(0L, Z_NULL, 0);

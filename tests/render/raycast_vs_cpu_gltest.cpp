@@ -5,7 +5,10 @@
 #include <limits>
 
 #include <gtest/gtest.h>
+
 #include <glm/geometric.hpp>
+#include <optional>
+#include <utility>
 
 #include "core/transfer_function.h"
 #include "reference/cpu_raycaster.h"
@@ -73,7 +76,11 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
                     Variant{RenderMode::Dvr, GradientSource::Computed},
                     Variant{RenderMode::Dvr, GradientSource::Stored}}) {
     const RenderMode mode = v.mode;
-    for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+    std::optional<FloatImage> plainWalk;  // DVR: the image of the walk without leaf batches
+    for (auto [backend, leafBatch] :
+         {std::pair{RenderBackend::Fragment, false}, std::pair{RenderBackend::Compute, false},
+          std::pair{RenderBackend::Fragment, true}, std::pair{RenderBackend::Compute, true}}) {
+      if (leafBatch && mode != RenderMode::Dvr) continue;  // the leaf batch is a form of the DVR walk only
       RaycastFrame frame;
       frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
       frame.width = frame.height = 80;
@@ -84,8 +91,14 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       frame.params.gradients = v.gradients;
       frame.tf = &tf;
       RaycastPass pass;
+      pass.setDvrLeafBatch(leafBatch);
       test::renderScene(pass, scene, frame);
       const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
+      if (!leafBatch && backend == RenderBackend::Fragment) plainWalk = glColor;
+      if (leafBatch) {  // the same samples in the same order as the plain walk
+        ASSERT_TRUE(plainWalk);
+        EXPECT_GE(test::psnrDb(glColor, *plainWalk, 4), 90.0) << "leaf batch vs plain walk";
+      }
 
       CpuRenderInput input;
       input.camera = frame.camera;
@@ -99,7 +112,7 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
           std::string(mode == RenderMode::Iso                 ? "iso"
                       : v.gradients == GradientSource::Stored ? "dvr stored gradients"
                                                               : "dvr computed gradients") +
-          (backend == RenderBackend::Fragment ? " fragment" : " compute");
+          (backend == RenderBackend::Fragment ? " fragment" : " compute") + (leafBatch ? " leaf batch" : "");
       const double psnr = test::psnrDb(glColor, colorOf(cpu), 3);
       std::printf("%s: PSNR %.1f dB vs the CPU mirror\n", what.c_str(), psnr);
       EXPECT_GE(psnr, 45.0) << what;
