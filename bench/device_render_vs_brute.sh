@@ -24,7 +24,7 @@ fi
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem \
   --format=csv | tee "$OUT/gpu.txt"
 
-export ROPECAST_SHADER_DIR=$PWD  # shaders are read at run time; the build's own path is not here
+export ROPECAST_SHADER_DIR=$PWD  # the GL index test reads its test shader from the tree (ropecast embeds its own)
 libs=$PWD/.devlibs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 if [ -x build/vg/tests/index_gltests ]; then
   LD_LIBRARY_PATH=$libs build/vg/tests/index_gltests 2>&1 |

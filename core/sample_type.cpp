@@ -7,16 +7,8 @@
 namespace ropecast {
 
 std::string_view sampleTypeName(SampleType t) {
-  switch (t) {
-    case SampleType::UInt8:
-      return "uint8";
-    case SampleType::UInt16:
-      return "uint16";
-    case SampleType::Int16:
-      return "int16";
-    case SampleType::Float32:
-      return "float32";
-  }
+  for (const auto& [name, type] : kSampleTypeNames)  // the first name of a type is its own
+    if (type == t) return name;
   return "unknown";
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <queue>
 #include <tuple>
 
@@ -13,27 +14,10 @@
 namespace ropecast {
 
 const char* leafReasonName(LeafReason r) {
-  switch (r) {
-    case LeafReason::Adequate:
-      return "adequate";
-    case LeafReason::Finest:
-      return "finest";
-    case LeafReason::Empty:
-      return "empty";
-    case LeafReason::Outside:
-      return "outside";
-    case LeafReason::Culled:
-      return "culled";
-    case LeafReason::Constant:
-      return "constant";
-    case LeafReason::NotInCore:
-      return "not-in-core";
-    case LeafReason::PoolFull:
-      return "pool-full";
-    case LeafReason::UploadBudget:
-      return "upload-budget";
-  }
-  return "?";
+  static constexpr const char* kNames[] = {"adequate", "finest",      "empty",     "outside",      "culled",
+                                           "constant", "not-in-core", "pool-full", "upload-budget"};
+  static_assert(std::size(kNames) == size_t(LeafReason::UploadBudget) + 1, "a name per LeafReason");
+  return size_t(r) < std::size(kNames) ? kNames[size_t(r)] : "?";
 }
 
 WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key) {

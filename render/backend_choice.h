@@ -13,8 +13,8 @@ namespace ropecast {
 bool isSoftwareRenderer(std::string_view glRenderer);
 
 // Auto -> Fragment on a software rasterizer (llvmpipe runs the fragment tiles faster than the compute
-// dispatch), Compute on hardware GPUs (an H100 ran compute 11x faster than fragment tiles). Any other value
-// is returned as it is.
+// dispatch), Compute on hardware GPUs (data-center GPUs run pixel shaders on a few units only;
+// docs/BENCHMARKS.md). Any other value is returned as it is.
 RenderBackend resolveBackend(RenderBackend requested, std::string_view glRenderer);
 
 }  // namespace ropecast

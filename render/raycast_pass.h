@@ -1,7 +1,7 @@
-// RaycastPass: the single-pass stackless GPU ray caster (seeds/002 Sect. 5, docs/RENDERING.md). Given the
-// brick pool, the rope index texture, a camera, the volume's geometry, RenderParams and (DVR) a baked
-// transfer function, it renders W x H into its own RGBA32F color target and R32F world-depth target, through
-// either entry point over the one shared include shaders/raycast_common.glsl:
+// RaycastPass: the single-pass stackless GPU ray caster (Gobbetti et al. 2008, Sect. 5; docs/RENDERING.md).
+// Given the brick pool, the rope index texture, a camera, the volume's geometry, RenderParams and (DVR) a
+// baked transfer function, it renders W x H into its own RGBA32F color target and R32F world-depth target,
+// through either entry point over the one shared include shaders/raycast_common.glsl:
 //   fragment: screen tiles (kTileSize pixels square) drawn one by one, each one triangle cut to the tile
 //             by the scissor (occlusion queries go between tiles later), with gl_FragDepth written to a
 //             depth attachment;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <utility>
 
 #include <epoxy/gl.h>
@@ -12,28 +13,16 @@ namespace ropecast {
 
 namespace {
 
-std::string stageName(ShaderStage s) {
-  switch (s) {
-    case ShaderStage::Vertex:
-      return "vertex";
-    case ShaderStage::Fragment:
-      return "fragment";
-    case ShaderStage::Compute:
-      return "compute";
-  }
-  return "?";
-}
+struct StageInfo {
+  GLenum glStage;
+  const char* name;
+};
 
-GLenum glStage(ShaderStage s) {
-  switch (s) {
-    case ShaderStage::Vertex:
-      return GL_VERTEX_SHADER;
-    case ShaderStage::Fragment:
-      return GL_FRAGMENT_SHADER;
-    case ShaderStage::Compute:
-      return GL_COMPUTE_SHADER;
-  }
-  return 0;
+StageInfo stageInfo(ShaderStage s) {
+  static constexpr StageInfo kStages[] = {
+      {GL_VERTEX_SHADER, "vertex"}, {GL_FRAGMENT_SHADER, "fragment"}, {GL_COMPUTE_SHADER, "compute"}};
+  static_assert(std::size(kStages) == size_t(ShaderStage::Compute) + 1, "an entry per ShaderStage");
+  return kStages[size_t(s)];
 }
 
 }  // namespace
@@ -55,7 +44,7 @@ ShaderProgram::ShaderProgram(const std::vector<ShaderFile>& files, const std::ve
       cleanup();
       throw;
     }
-    const GLuint shader = glCreateShader(glStage(f.stage));
+    const GLuint shader = glCreateShader(stageInfo(f.stage).glStage);
     shaders.push_back(shader);
     const char* text = src.text.c_str();
     glShaderSource(shader, 1, &text, nullptr);
@@ -69,8 +58,8 @@ ShaderProgram::ShaderProgram(const std::vector<ShaderFile>& files, const std::ve
       glGetShaderInfoLog(shader, length, nullptr, log.data());
       log.resize(std::strlen(log.c_str()));
       cleanup();
-      throw Error("ShaderProgram: compiling " + stageName(f.stage) + " shader '" + f.path + "' failed:\n" +
-                  rewriteShaderLog(log, src.fileNames));
+      throw Error("ShaderProgram: compiling " + std::string(stageInfo(f.stage).name) + " shader '" + f.path +
+                  "' failed:\n" + rewriteShaderLog(log, src.fileNames));
     }
     glAttachShader(program_, shader);
     names += (names.empty() ? "" : ", ") + f.path;

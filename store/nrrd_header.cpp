@@ -43,46 +43,43 @@ std::vector<std::string_view> splitWords(std::string_view s) {
   return words;
 }
 
-std::optional<int64_t> parseInteger(std::string_view s) {
+// A whole field as a number of type T: blanks around it and a leading '+' allowed; nullopt otherwise.
+template <typename T>
+std::optional<T> parseWhole(std::string_view s) {
   s = trim(s);
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  int64_t v = 0;
+  T v{};
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (s.empty() || ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
   return v;
 }
 
+std::optional<int64_t> parseInteger(std::string_view s) {
+  return parseWhole<int64_t>(s);
+}
+
 // Finite numbers and NaN (NRRD writes "nan" for unknown spacings); nullopt for anything else.
 std::optional<double> parseNumber(std::string_view s) {
-  s = trim(s);
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  double v = 0.0;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (s.empty() || ec != std::errc() || end != s.data() + s.size() || std::isinf(v)) return std::nullopt;
+  const std::optional<double> v = parseWhole<double>(s);
+  if (v && std::isinf(*v)) return std::nullopt;
   return v;
 }
 
 std::optional<SampleType> parseNrrdType(std::string_view t) {
-  static const std::pair<std::string_view, SampleType> kTypes[] = {
-      {"uchar", SampleType::UInt8},
-      {"unsigned char", SampleType::UInt8},
-      {"uint8", SampleType::UInt8},
-      {"uint8_t", SampleType::UInt8},
-      {"ushort", SampleType::UInt16},
-      {"unsigned short", SampleType::UInt16},
-      {"unsigned short int", SampleType::UInt16},
-      {"uint16", SampleType::UInt16},
-      {"uint16_t", SampleType::UInt16},
-      {"short", SampleType::Int16},
-      {"short int", SampleType::Int16},
-      {"signed short", SampleType::Int16},
-      {"signed short int", SampleType::Int16},
-      {"int16", SampleType::Int16},
-      {"int16_t", SampleType::Int16},
-      {"float", SampleType::Float32},
+  // The spellings the NRRD format defines for each type ropecast reads.
+  struct TypeNames {
+    SampleType type;
+    std::string_view names[6];
   };
-  for (const auto& [name, type] : kTypes)
-    if (name == t) return type;
+  static const TypeNames kTypes[] = {
+      {SampleType::UInt8, {"uchar", "unsigned char", "uint8", "uint8_t"}},
+      {SampleType::UInt16, {"ushort", "unsigned short", "unsigned short int", "uint16", "uint16_t"}},
+      {SampleType::Int16, {"short", "short int", "signed short", "signed short int", "int16", "int16_t"}},
+      {SampleType::Float32, {"float"}},
+  };
+  for (const TypeNames& entry : kTypes)
+    for (std::string_view name : entry.names)
+      if (!name.empty() && name == t) return entry.type;
   return std::nullopt;
 }
 

@@ -146,32 +146,11 @@ uint32_t latticeHash(int64_t x, int64_t y, int64_t z, uint32_t octave) {
 
 // Dot product with one of Perlin's 12 edge gradients (improved noise, 2002).
 double gradientDot(uint32_t hash, double x, double y, double z) {
-  switch (hash % 12) {
-    case 0:
-      return x + y;
-    case 1:
-      return -x + y;
-    case 2:
-      return x - y;
-    case 3:
-      return -x - y;
-    case 4:
-      return x + z;
-    case 5:
-      return -x + z;
-    case 6:
-      return x - z;
-    case 7:
-      return -x - z;
-    case 8:
-      return y + z;
-    case 9:
-      return -y + z;
-    case 10:
-      return y - z;
-    default:
-      return -y - z;
-  }
+  static constexpr double kGradients[12][3] = {{1, 1, 0}, {-1, 1, 0}, {1, -1, 0}, {-1, -1, 0},
+                                               {1, 0, 1}, {-1, 0, 1}, {1, 0, -1}, {-1, 0, -1},
+                                               {0, 1, 1}, {0, -1, 1}, {0, 1, -1}, {0, -1, -1}};
+  const double* g = kGradients[hash % 12];
+  return g[0] * x + g[1] * y + g[2] * z;
 }
 
 double fade(double t) {

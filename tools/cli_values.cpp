@@ -13,36 +13,34 @@ namespace {
 std::string trimmed(std::string text) {
   return CLI::detail::trim_copy(text);
 }
+
+// COUNT values separated by DELIMITER, each trimmed, then converted by `check`.
+template <typename T>
+CLI::Option* addListOption(CLI::App& app, const std::string& name, std::vector<T>& values,
+                           const std::string& help, char delimiter, int count, const char* typeName,
+                           const CLI::Validator& check) {
+  return app.add_option(name, values, help)
+      ->delimiter(delimiter)
+      ->expected(count)
+      ->type_name(typeName)
+      ->transform(check)
+      ->transform(trimmed);
+}
 }  // namespace
 
 CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector<double>& xyz,
                              const std::string& help) {
-  return app.add_option(name, xyz, help)
-      ->delimiter(',')
-      ->expected(3)
-      ->type_name("FLOAT")
-      ->check(finiteIn(-HUGE_VAL, HUGE_VAL))
-      ->transform(trimmed);
+  return addListOption(app, name, xyz, help, ',', 3, "FLOAT", finiteIn(-HUGE_VAL, HUGE_VAL));
 }
 
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help) {
-  return app.add_option(name, xyz, help)
-      ->delimiter(',')
-      ->expected(3)
-      ->type_name("UINT")
-      ->transform(integerIn(1, 4294967295.0))
-      ->transform(trimmed);
+  return addListOption(app, name, xyz, help, ',', 3, "UINT", integerIn(1, 4294967295.0));
 }
 
 CLI::Option* addImageSizeOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& wh,
                                 const std::string& help) {
-  return app.add_option(name, wh, help)
-      ->delimiter('x')
-      ->expected(2)
-      ->type_name("UINT")
-      ->transform(integerIn(1, 16384))
-      ->transform(trimmed);
+  return addListOption(app, name, wh, help, 'x', 2, "UINT", integerIn(1, 16384));
 }
 
 CLI::Option* addByteSizeOption(CLI::App& app, const std::string& name, uint64_t& bytes,

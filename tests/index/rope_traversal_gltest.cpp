@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -82,8 +83,12 @@ GlContext* RopeTraversalGl::context_ = nullptr;
 
 TEST_F(RopeTraversalGl, ComputeShaderMatchesCpuReference) {
   std::printf("GL: %s | %s\n", context_->info().renderer.c_str(), context_->info().version.c_str());
-  ShaderProgram program(
-      {{ShaderStage::Compute, std::string(ROPECAST_SOURCE_DIR) + "/tests/index/rope_walk_test.comp"}});
+  // The test shader is not embedded: read from the source tree, or from ROPECAST_SHADER_DIR's folders (a
+  // copy of the tree on another machine, where this build's source path does not exist).
+  const char* shaderDir = std::getenv("ROPECAST_SHADER_DIR");
+  const std::string walk = "tests/index/rope_walk_test.comp";
+  ShaderProgram program({{ShaderStage::Compute,
+                          shaderDir && *shaderDir ? walk : std::string(ROPECAST_SOURCE_DIR) + "/" + walk}});
   size_t leavesCompared = 0, tCompared = 0, tBitIdentical = 0;
 
   for (uint64_t seed = 1; seed <= 6; ++seed) {
