@@ -25,6 +25,17 @@ StageInfo stageInfo(ShaderStage s) {
   return kStages[size_t(s)];
 }
 
+// The info log of a shader or program object (glGetShaderiv + glGetShaderInfoLog, or the program pair).
+template <typename GetInteger, typename GetLog>
+std::string infoLog(GLuint object, GetInteger getInteger, GetLog getLog) {
+  GLint length = 0;
+  getInteger(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(size_t(std::max(length, 1)), '\0');
+  getLog(object, length, nullptr, log.data());
+  log.resize(std::strlen(log.c_str()));
+  return log;
+}
+
 }  // namespace
 
 ShaderProgram::ShaderProgram(const std::vector<ShaderFile>& files, const std::vector<std::string>& defines) {
@@ -52,11 +63,7 @@ ShaderProgram::ShaderProgram(const std::vector<ShaderFile>& files, const std::ve
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-      GLint length = 0;
-      glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-      std::string log(size_t(std::max(length, 1)), '\0');
-      glGetShaderInfoLog(shader, length, nullptr, log.data());
-      log.resize(std::strlen(log.c_str()));
+      const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
       cleanup();
       throw Error("ShaderProgram: compiling " + std::string(stageInfo(f.stage).name) + " shader '" + f.path +
                   "' failed:\n" + rewriteShaderLog(log, src.fileNames));
@@ -68,11 +75,7 @@ ShaderProgram::ShaderProgram(const std::vector<ShaderFile>& files, const std::ve
   GLint ok = 0;
   glGetProgramiv(program_, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program_, GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program_, length, nullptr, log.data());
-    log.resize(std::strlen(log.c_str()));
+    const std::string log = infoLog(program_, glGetProgramiv, glGetProgramInfoLog);
     cleanup();
     throw Error("ShaderProgram: linking " + names + " failed:\n" + log);
   }
