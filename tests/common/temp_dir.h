@@ -1,9 +1,10 @@
-// Temporary folders for tests of every tier. Test thread only.
+// Temporary folders and files for tests of every tier. Test thread only.
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace ropecast::test {
@@ -17,6 +18,12 @@ inline std::filesystem::path freshTempDir() {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// Writes `text` to `path`, creating its folders.
+inline void writeText(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path) << text;
 }
 
 }  // namespace ropecast::test

@@ -17,10 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
+using test::writeText;
 
 // Points ROPECAST_SHADER_DIR at a folder for the lifetime of the object.
 class ShaderDirOverride {

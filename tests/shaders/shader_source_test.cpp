@@ -14,10 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
+using test::writeText;
 
 TEST(ShaderPreprocess, IncludesOnceWithLineDirectivesAndDefines) {
   const fs::path dir = test::freshTempDir();
