@@ -33,6 +33,11 @@ constexpr size_t bytesPerSample(SampleType t) {
   return 0;
 }
 
+// The largest value of a stored type (UInt8 or UInt16): what a normalized texture value of 1 stands for.
+constexpr uint32_t storedMaxOf(SampleType stored) {
+  return stored == SampleType::UInt8 ? 255u : 65535u;
+}
+
 // The type the store keeps for a source type: UInt8 for UInt8, UInt16 for everything else.
 constexpr SampleType storedTypeFor(SampleType source) {
   return source == SampleType::UInt8 ? SampleType::UInt8 : SampleType::UInt16;

@@ -37,7 +37,7 @@ struct FrameConstants {
       throw Error("CPU ray caster: DVR mode needs a baked transfer function (CpuRenderInput::tf)");
     if (!(params.stepVoxels > 0.0)) throw Error("CPU ray caster: --step must be positive");
     if (input.width == 0 || input.height == 0) throw Error("CPU ray caster: image size must be positive");
-    const double storedMax = volume.storedType == SampleType::UInt8 ? 255.0 : 65535.0;
+    const double storedMax = storedMaxOf(volume.storedType);
     isoNormalized = volume.mapping.toStored(params.isoValue) / storedMax;
     spacing = volume.volume.spacing;
     minSpacing = std::min({spacing.x, spacing.y, spacing.z});

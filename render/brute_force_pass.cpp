@@ -102,7 +102,7 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   // texture.
   RaycastBlock block =
       raycastBlock(f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing, info_.mapping,
-                   info_.storedType == SampleType::UInt8 ? 255.0 : 65535.0, f.params);
+                   storedMaxOf(info_.storedType), f.params);
   block.valueTexelSize = glm::vec3(1.0 / glm::dvec3(info_.layout.dims));
   blockBuffer_.upload(block);
 

@@ -148,14 +148,15 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   const double indexMs = msSince(indexStart);
 
   // Pass 4, ray cast.
-  raycast_.render(raycastFrame(request, request.width, request.height));
+  const RaycastFrame frame = raycastFrame(request, request.width, request.height);
+  raycast_.render(frame);
 
   FrameStats stats;
   static_cast<LoaderStats&>(stats) = plan.stats;
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;
-  stats.backend = backendFor(request.params);
+  stats.backend = frame.params.backend;
   stats.uploadMs = uploadMs;
   stats.raycastMs = raycast_.lastRaycastMs();  // waits for the GPU: the frame time includes the ray cast
   stats.raycastWallClock = raycast_.raycastTimerUsedWallClock();

@@ -45,7 +45,7 @@ struct VolumeGeometry {
   ValueMapping mapping;  // stored -> data units
 
   static VolumeGeometry of(const BrickSourceInfo& info);
-  double storedMax() const { return storedType == SampleType::UInt8 ? 255.0 : 65535.0; }
+  double storedMax() const { return storedMaxOf(storedType); }
 };
 
 struct RaycastFrame {

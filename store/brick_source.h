@@ -61,7 +61,7 @@ class BrickSource {
 inline TfDataRange tfDataRangeFor(const BrickSourceInfo& info) {
   TfDataRange d;
   d.sourceType = info.volume.type;
-  const double storedMax = info.storedType == SampleType::UInt8 ? 255.0 : 65535.0;
+  const double storedMax = storedMaxOf(info.storedType);
   d.minValue = info.volume.valueMin.value_or(info.mapping.toData(0.0));
   d.maxValue = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   if (!(d.maxValue > d.minValue)) d.maxValue = d.minValue + 1.0;

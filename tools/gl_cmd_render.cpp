@@ -156,7 +156,7 @@ class RenderSetup {
     width = o.size.at(0);
     height = o.size.at(1);
     params.mode = o.mode;
-    const uint32_t storedMax = info.storedType == SampleType::UInt8 ? 255 : 65535;
+    const uint32_t storedMax = storedMaxOf(info.storedType);
     const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
     const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
     params.isoValue = o.iso.value_or(0.5 * (lo + hi));
