@@ -26,8 +26,11 @@ namespace {
 // Image units and uniform locations of the entry points (the textures' units: shaders/raycast_block.h).
 constexpr GLuint kColorImageUnit = 0;  // match the binding = N of shaders/raycast.comp
 constexpr GLuint kDepthImageUnit = 1;
-constexpr GLint kTileOriginLocation = 0;  // shaders/raycast.comp uTileOrigin
-constexpr GLint kTileRectLocation = 0;    // shaders/raycast.vert uTileRect
+constexpr GLuint kStopDepthImageUnit = 2;
+constexpr GLuint kStopDepthTextureUnit = 0;  // shaders/stop_depth.frag uStopDepth
+constexpr GLint kTileOriginLocation = 0;     // shaders/raycast.comp uTileOrigin
+constexpr GLint kTileEndLocation = 1;        // shaders/raycast.comp uTileEnd
+constexpr GLint kTileRectLocation = 0;       // shaders/raycast.vert uTileRect
 constexpr uint32_t kWorkgroupSize = 8;
 
 }  // namespace
@@ -51,6 +54,7 @@ RaycastPass::RaycastPass() {
 }
 
 RaycastPass::~RaycastPass() {
+  glDeleteTextures(1, &stopDepthTexture_);
   glDeleteTextures(1, &tfTexture_);
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
@@ -93,15 +97,13 @@ RaycastBlock RaycastPass::block(const RaycastFrame& f) const {
   b.poolSlotEdge = float(pool.slotEdge);
 
   // Window depth for gl_FragDepth: a perspective range enclosing the volume.
-  const glm::dvec3 volumeMax = glm::dvec3(vol.dims) * vol.spacing;
-  const double extent = glm::length(volumeMax);
-  const double farDist = glm::length(f.camera.eye - 0.5 * volumeMax) + extent;
-  b.depthNear = float(std::max(1e-4 * extent, 1e-9));
-  b.depthFar = float(std::max(farDist, 2e-4 * extent));
+  const DepthRange depth = windowDepthRange(f.camera, glm::dvec3(vol.dims) * vol.spacing);
+  b.depthNear = float(depth.nearDepth);
+  b.depthFar = float(depth.farDepth);
   return b;
 }
 
-void RaycastPass::render(const RaycastFrame& f) {
+void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   if (!f.pool) throw Error("RaycastPass::render: no brick pool");
   if (!f.index) throw Error("RaycastPass::render: no index texture");
   if (f.index->componentsPerTexel() != 4)
@@ -125,39 +127,37 @@ void RaycastPass::render(const RaycastFrame& f) {
   target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
   blockBuffer_.upload(block(f));
-  glBindTextureUnit(kRaycastValueUnit, f.pool->texture());
-  glBindTextureUnit(kRaycastTfUnit, tfTexture_);
-  f.index->bind(kRaycastRopeIndexUnit);
-  if (usesStoredGradients(f.params)) glBindTextureUnit(kRaycastSampleUnit, f.gradients->texture());
-  p.use();
+  if (f.params.backend == RenderBackend::Compute &&
+      (stopDepthWidth_ != f.width || stopDepthHeight_ != f.height)) {
+    glDeleteTextures(1, &stopDepthTexture_);
+    glCreateTextures(GL_TEXTURE_2D, 1, &stopDepthTexture_);
+    glTextureStorage2D(stopDepthTexture_, 1, GL_R32F, GLsizei(f.width), GLsizei(f.height));
+    stopDepthWidth_ = f.width;
+    stopDepthHeight_ = f.height;
+  }
 
   timer_.begin();
+  if (f.params.backend == RenderBackend::Fragment) {
+    const float clearDepth = 1.0f;
+    glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);
+  }
+  const PixelRect whole{0, 0, f.width, f.height};
+  const std::span<const PixelRect> tiles = schedule.tiles.empty()
+                                               ? std::span<const PixelRect>(&whole, 1)
+                                               : std::span<const PixelRect>(schedule.tiles);
+  bindForCasting(f, p);
+  castTile(f, p, tiles[0]);
+  if (schedule.afterFirstTile) {
+    if (f.params.backend == RenderBackend::Compute) copyStopDepth(tiles[0]);
+    target_.bindForDrawing();
+    schedule.afterFirstTile();
+    bindForCasting(f, p);
+  }
+  for (const PixelRect& tile : tiles.subspan(1)) castTile(f, p, tile);
   if (f.params.backend == RenderBackend::Compute) {
-    glBindImageTexture(kColorImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(kDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glProgramUniform2ui(p.id(), kTileOriginLocation, 0, 0);
-    glDispatchCompute((f.width + kWorkgroupSize - 1) / kWorkgroupSize,
-                      (f.height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                     GL_FRAMEBUFFER_BARRIER_BIT);
   } else {
-    target_.bindForDrawing();
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_ALWAYS);
-    glDepthMask(GL_TRUE);
-    const float clearDepth = 1.0f;
-    glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);
-    glBindVertexArray(emptyVertexArray_);
-    // Each tile is one triangle around it, cut to the tile by the scissor: a quad's two triangles would
-    // shade the pixel blocks along their diagonal twice on a software rasterizer (each with part of a mask).
-    glEnable(GL_SCISSOR_TEST);
-    for (uint32_t y = 0; y < f.height; y += kTileSize)
-      for (uint32_t x = 0; x < f.width; x += kTileSize) {
-        const uint32_t w = std::min(kTileSize, f.width - x), h = std::min(kTileSize, f.height - y);
-        glProgramUniform4ui(p.id(), kTileRectLocation, x, y, w, h);
-        glScissor(GLint(x), GLint(y), GLsizei(w), GLsizei(h));
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-      }
     glDisable(GL_SCISSOR_TEST);
     glBindVertexArray(0);
     glDisable(GL_DEPTH_TEST);
@@ -165,6 +165,76 @@ void RaycastPass::render(const RaycastFrame& f) {
   }
   timer_.end();
   checkGlError("RaycastPass::render");
+}
+
+void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) {
+  glBindTextureUnit(kRaycastValueUnit, f.pool->texture());
+  glBindTextureUnit(kRaycastTfUnit, tfTexture_);
+  f.index->bind(kRaycastRopeIndexUnit);
+  if (usesStoredGradients(f.params)) glBindTextureUnit(kRaycastSampleUnit, f.gradients->texture());
+  blockBuffer_.bind();
+  p.use();
+  if (f.params.backend == RenderBackend::Compute) {
+    glBindImageTexture(kColorImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(kDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(kStopDepthImageUnit, stopDepthTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    return;
+  }
+  target_.bindForDrawing();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_ALWAYS);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindVertexArray(emptyVertexArray_);
+  glEnable(GL_SCISSOR_TEST);
+}
+
+void RaycastPass::castTile(const RaycastFrame& f, const ShaderProgram& p, const PixelRect& tile) {
+  if (tile.width == 0 || tile.height == 0) return;
+  if (f.params.backend == RenderBackend::Compute) {
+    glProgramUniform2ui(p.id(), kTileOriginLocation, tile.x, tile.y);
+    glProgramUniform2ui(p.id(), kTileEndLocation, tile.x + tile.width, tile.y + tile.height);
+    glDispatchCompute((tile.width + kWorkgroupSize - 1) / kWorkgroupSize,
+                      (tile.height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
+    return;
+  }
+  // Each draw is one triangle around a kTileSize square, cut to it by the scissor: a quad's two triangles
+  // would shade the pixel blocks along their diagonal twice on a software rasterizer (each with part of a
+  // mask).
+  for (uint32_t y = tile.y; y < tile.y + tile.height; y += kTileSize)
+    for (uint32_t x = tile.x; x < tile.x + tile.width; x += kTileSize) {
+      const uint32_t w = std::min(kTileSize, tile.x + tile.width - x);
+      const uint32_t h = std::min(kTileSize, tile.y + tile.height - y);
+      glProgramUniform4ui(p.id(), kTileRectLocation, x, y, w, h);
+      glScissor(GLint(x), GLint(y), GLsizei(w), GLsizei(h));
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+}
+
+void RaycastPass::copyStopDepth(const PixelRect& tile) {
+  if (!stopDepthProgram_) {
+    stopDepthProgram_ = std::make_unique<ShaderProgram>(
+        std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/raycast.vert"},
+                                {ShaderStage::Fragment, "shaders/stop_depth.frag"}},
+        std::vector<std::string>{});
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  target_.bindForDrawing();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_ALWAYS);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glBindTextureUnit(kStopDepthTextureUnit, stopDepthTexture_);
+  stopDepthProgram_->use();
+  glBindVertexArray(emptyVertexArray_);
+  glEnable(GL_SCISSOR_TEST);
+  const uint32_t side = std::max(tile.width, tile.height);  // one triangle over the tile's bounding square
+  glProgramUniform4ui(stopDepthProgram_->id(), kTileRectLocation, tile.x, tile.y, side, side);
+  glScissor(GLint(tile.x), GLint(tile.y), GLsizei(tile.width), GLsizei(tile.height));
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindVertexArray(0);
 }
 
 }  // namespace ropecast

@@ -3,18 +3,21 @@
 // baked transfer function, it renders W x H into its own RGBA32F color target and R32F world-depth target,
 // through either entry point over the one shared include shaders/raycast_common.glsl:
 //   fragment: screen tiles (kTileSize pixels square) drawn one by one, each one triangle cut to the tile
-//             by the scissor (occlusion queries go between tiles later), with gl_FragDepth written to a
-//             depth attachment;
-//   compute:  8x8 workgroups with imageStore.
+//             by the scissor, with the depth where each ray stopped written to a depth attachment;
+//   compute:  8x8 workgroups with imageStore, the stop depth copied into the depth attachment by a pass.
+// A frame's TileSchedule casts the first tile, runs a callback (the occlusion queries, Gobbetti et al. 2008,
+// Sect. 6) against that depth, then casts the other tiles.
 // Composition, not inheritance: the pass owns its programs and targets and is handed everything else.
 //
 // Owns GL objects: render thread only, with the GlContext current.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <tuple>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -60,6 +63,20 @@ struct RaycastFrame {
   uint32_t width = 0, height = 0;
 };
 
+// A pixel rectangle of the image (row 0 at the top).
+struct PixelRect {
+  uint32_t x = 0, y = 0, width = 0, height = 0;
+};
+
+// The order a frame is cast in. With tiles, tiles[0] is cast first, then afterFirstTile runs with the pass's
+// framebuffer bound and its depth attachment holding, over tiles[0], the window depth where each ray stopped
+// (shaders/window_depth.glsl); then the other tiles are cast. The tiles must cover the image exactly once.
+// Empty: the whole image at once, no callback.
+struct TileSchedule {
+  std::vector<PixelRect> tiles;
+  std::function<void()> afterFirstTile;
+};
+
 class RaycastPass {
  public:
   static constexpr uint32_t kTileSize = 64;  // fragment entry point: pixels per tile side
@@ -72,7 +89,7 @@ class RaycastPass {
   // Renders the frame into the targets (resized to width x height as needed). Programs compile on first use
   // of a (backend, mode) variant. Throws ropecast::Error on bad inputs (naming the field), shader errors or
   // GL errors.
-  void render(const RaycastFrame& frame);
+  void render(const RaycastFrame& frame, const TileSchedule& schedule = {});
 
   // GPU time of the last render() (GL_TIME_ELAPSED; waits for the result).
   double lastRaycastMs() { return timer_.elapsedMs(); }
@@ -81,6 +98,9 @@ class RaycastPass {
   // units along the camera axis, +inf = miss). Synchronous readback.
   FloatImage readColor() const { return target_.readColor(); }
   FloatImage readDepth() const { return target_.readDepth(); }
+  // The window depth (shaders/window_depth.glsl) where each ray stopped, over the tiles cast before the
+  // schedule's callback (after the fragment entry point: all of them). Synchronous readback.
+  FloatImage readStopDepth() const { return target_.readDepthBuffer(); }
   uint32_t colorTexture() const { return target_.colorTexture(); }
   uint32_t depthTexture() const { return target_.depthTexture(); }
 
@@ -94,6 +114,11 @@ class RaycastPass {
  private:
   const ShaderProgram& program(const RenderParams& params);
   RaycastBlock block(const RaycastFrame& frame) const;
+  // Binds what the ray-cast program reads and, for the fragment entry point, the target and its state.
+  void bindForCasting(const RaycastFrame& frame, const ShaderProgram& p);
+  void castTile(const RaycastFrame& frame, const ShaderProgram& p, const PixelRect& tile);
+  // Compute entry point: the stop depths of `tile` into the depth attachment (shaders/stop_depth.frag).
+  void copyStopDepth(const PixelRect& tile);
 
   // (backend, mode, stored gradients, leaf batch) -> program
   std::map<std::tuple<RenderBackend, RenderMode, bool, bool>, std::unique_ptr<ShaderProgram>> programs_;
@@ -102,6 +127,9 @@ class RaycastPass {
   RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
+  uint32_t stopDepthTexture_ = 0;  // compute entry point: R32F, the size of the target
+  uint32_t stopDepthWidth_ = 0, stopDepthHeight_ = 0;
+  std::unique_ptr<ShaderProgram> stopDepthProgram_;
   GpuTimer timer_;
 };
 

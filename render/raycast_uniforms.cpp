@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <epoxy/gl.h>
+#include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "core/error.h"
@@ -93,6 +94,12 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   return b;
 }
 
+DepthRange windowDepthRange(const Camera& camera, glm::dvec3 volumeMax) {
+  const double extent = glm::length(volumeMax);
+  const double farDepth = glm::length(camera.eye - 0.5 * volumeMax) + extent;
+  return {std::max(1e-4 * extent, 1e-9), std::max(farDepth, 2e-4 * extent)};
+}
+
 RaycastBlockBuffer::RaycastBlockBuffer() {
   glCreateBuffers(1, &buffer_);
   glNamedBufferStorage(buffer_, sizeof(RaycastBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -104,6 +111,10 @@ RaycastBlockBuffer::~RaycastBlockBuffer() {
 
 void RaycastBlockBuffer::upload(const RaycastBlock& block) {
   glNamedBufferSubData(buffer_, 0, sizeof(RaycastBlock), &block);
+  glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(kRaycastBlockBinding), buffer_);
+}
+
+void RaycastBlockBuffer::bind() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(kRaycastBlockBinding), buffer_);
 }
 

@@ -44,6 +44,14 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
                           glm::dvec3 spacing, const ValueMapping& mapping, double storedMax,
                           const RenderParams& params);
 
+// The window depth mapping of the ray-cast passes (RaycastBlock depthNear, depthFar;
+// shaders/window_depth.glsl): perspective over [nearDepth, farDepth], world units along the camera axis,
+// enclosing the volume box.
+struct DepthRange {
+  double nearDepth = 0.0, farDepth = 1.0;
+};
+DepthRange windowDepthRange(const Camera& camera, glm::dvec3 volumeMax);
+
 // The GL buffer of a RaycastBlock, bound to kRaycastBlockBinding.
 class RaycastBlockBuffer {
  public:
@@ -54,6 +62,8 @@ class RaycastBlockBuffer {
 
   // One buffer update, then binds the buffer to kRaycastBlockBinding.
   void upload(const RaycastBlock& block);
+  // Binds the buffer to kRaycastBlockBinding again (after another pass used the binding point).
+  void bind() const;
 
  private:
   uint32_t buffer_ = 0;

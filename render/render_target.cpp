@@ -74,4 +74,14 @@ FloatImage RenderTarget::readDepth() const {
   return read(worldDepthTexture_, 1, "::readDepth");
 }
 
+FloatImage RenderTarget::readDepthBuffer() const {
+  if (!withDepthBuffer_) throw Error(owner_ + "::readDepthBuffer: this target has no depth buffer");
+  FloatImage img{width_, height_, 1, std::vector<float>(size_t(width_) * height_)};
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(depthBuffer_, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(img.pixels.size() * sizeof(float)),
+                    img.pixels.data());
+  checkGlError((owner_ + "::readDepthBuffer").c_str());
+  return img;
+}
+
 }  // namespace ropecast

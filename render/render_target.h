@@ -32,6 +32,8 @@ class RenderTarget {
   // The targets, row 0 as GL stores it (the passes draw image row r into framebuffer row r). Synchronous.
   FloatImage readColor() const;
   FloatImage readDepth() const;
+  // The depth buffer's window depths in [0, 1]. Throws ropecast::Error for a target without one.
+  FloatImage readDepthBuffer() const;
 
   uint32_t framebuffer() const { return framebuffer_; }
   uint32_t colorTexture() const { return colorTexture_; }

@@ -10,9 +10,13 @@
 struct RayResult {
   vec4 color;   // final color (background composited), alpha = coverage
   float depth;  // world distance along the camera axis; +inf for none
+  // Where the ray stopped, as depth: its last sample (the first past the isosurface, or the one at which early
+  // ray termination ended it); +inf when it left the volume. What hides the boxes of the occlusion queries
+  // (Gobbetti et al. 2008, Sect. 6).
+  float stopDepth;
 };
 
-RayResult missedRay() { return RayResult(vec4(raycast.background, 0.0), kInfinity); }
+RayResult missedRay() { return RayResult(vec4(raycast.background, 0.0), kInfinity, kInfinity); }
 
 // The isosurface march along the ray: f = v - vIso at each sample, remembered across segments.
 struct IsoMarch {
@@ -56,7 +60,10 @@ RayResult shadeIsoHit(IsoMarch m, Segment s, Ray ray) {
     }
   }
   float tHit = 0.5 * (ta + tb);
-  return RayResult(vec4(shadeIso(gradientExact(s, tHit), ray.dir), 1.0), tHit * ray.depthPerT);
+  // The ray stops at the last sample it visited, past the crossing: a leaf whose front face holds the surface
+  // exactly is seen.
+  return RayResult(vec4(shadeIso(gradientExact(s, tHit), ray.dir), 1.0), tHit * ray.depthPerT,
+                   m.tHit * ray.depthPerT);
 }
 
 // Front-to-back DVR compositing, premultiplied.
@@ -91,5 +98,6 @@ bool compositeDvr(inout DvrAccum acc, Segment s, Ray ray, float kBegin, float kE
 }
 
 RayResult dvrResult(DvrAccum acc) {
-  return RayResult(vec4(acc.color + (1.0 - acc.alpha) * raycast.background, acc.alpha), acc.depth);
+  float stopDepth = acc.alpha >= raycast.ert ? acc.depth : kInfinity;
+  return RayResult(vec4(acc.color + (1.0 - acc.alpha) * raycast.background, acc.alpha), acc.depth, stopDepth);
 }

@@ -136,12 +136,12 @@ GlScene buildScene(const SceneSpec& spec) {
   return scene;
 }
 
-void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame) {
+void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame, const TileSchedule& schedule) {
   frame.pool = scene.pool.get();
   frame.gradients = scene.gradients.get();
   frame.index = scene.indexTexture.get();
   frame.volume = scene.geometry;
-  pass.render(frame);
+  pass.render(frame, schedule);
 }
 
 }  // namespace ropecast::test

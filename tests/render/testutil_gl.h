@@ -65,6 +65,7 @@ struct GlScene {
 GlScene buildScene(const SceneSpec& spec);
 
 // Renders the scene with the pass; fills frame.pool/gradients/index/volume from the scene.
-void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame);
+void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame,
+                 const TileSchedule& schedule = {});
 
 }  // namespace ropecast::test
