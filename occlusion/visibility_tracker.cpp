@@ -97,9 +97,13 @@ void VisibilityTracker::propagate(std::span<const NodeKey> nonEmptyLeaves) {
       k = k.parent();
       const auto [it, inserted] = inner.try_emplace(k, m);
       if (inserted) continue;
+      Mark& above = it->second;
+      // Already visible, or occluded no later than this leaf: every node further up has absorbed this
+      // leaf's state through an earlier leaf below `k`.
+      if (!above.occluded || (m.occluded && above.issuedFrame <= m.issuedFrame)) break;
       // Visible when any descendant is; otherwise as old as the oldest answer below.
-      it->second.issuedFrame = std::min(it->second.issuedFrame, m.issuedFrame);
-      it->second.occluded = it->second.occluded && m.occluded;
+      above.occluded = m.occluded;
+      above.issuedFrame = std::min(above.issuedFrame, m.issuedFrame);
     }
   }
   for (const auto& [key, mark] : inner) {

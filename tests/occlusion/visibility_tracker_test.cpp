@@ -206,6 +206,69 @@ TEST(VisibilityTracker, PropagatesOcclusionOnlyWhenEveryNonEmptyDescendantIsOccl
   EXPECT_FALSE(tracker.isOccluded(t.root, 31));
 }
 
+bool isBelow(NodeKey node, const NodeKey& ancestor) {
+  while (node.depth > ancestor.depth) node = node.parent();
+  return node == ancestor;
+}
+
+TEST(VisibilityTracker, PropagatesAsTheDefinitionSaysOnRandomCuts) {
+  std::mt19937 rng(11);
+  int occludedInner = 0, visibleInner = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    // A random cut down to depth 5; a third of the nodes are empty and left out of the non-empty leaves.
+    std::vector<NodeKey> leaves, open{NodeKey{}};
+    while (!open.empty()) {
+      const NodeKey n = open.back();
+      open.pop_back();
+      if (n.depth < 5 && (n.depth == 0 || rng() % 5 < 3)) {
+        for (uint32_t o = 0; o < 8; ++o) open.push_back(n.child(o));
+      } else if (rng() % 3 != 0) {
+        leaves.push_back(n);
+      }
+    }
+    VisibilityTracker tracker({{}, 4, 64});
+    std::vector<LeafToQuery> toQuery;
+    for (const NodeKey& k : leaves) toQuery.push_back(leafAt(k, {0, 0, 1, 1}));
+    const uint64_t now = 100;
+    tracker.plan(now, 8, 8, toQuery);
+    // Each leaf: occluded (fresh or expired), visible, or never answered; mostly occluded, so that some
+    // inner nodes are.
+    std::unordered_map<NodeKey, uint64_t, NodeKeyHash> occludedSince;  // live occluded leaves
+    for (const NodeKey& k : leaves) {
+      const uint32_t kind = rng() % 20;
+      const uint64_t issued = now - rng() % 80;
+      if (kind < 16)
+        tracker.answer(k, issued, 0);
+      else if (kind < 18)
+        tracker.answer(k, issued, 10);
+      if (kind < 16 && now - issued <= 64) occludedSince[k] = issued;
+    }
+    tracker.propagate(leaves);
+
+    std::unordered_set<NodeKey, NodeKeyHash> inner;
+    for (const NodeKey& k : leaves)
+      for (NodeKey a = k; a.depth > 0;) inner.insert(a = a.parent());
+    for (const NodeKey& a : inner) {
+      bool occluded = true;
+      uint64_t oldest = now;
+      for (const NodeKey& k : leaves) {
+        if (!isBelow(k, a)) continue;
+        const auto it = occludedSince.find(k);
+        occluded = occluded && it != occludedSince.end();
+        if (it != occludedSince.end()) oldest = std::min(oldest, it->second);
+      }
+      ++(occluded ? occludedInner : visibleInner);
+      ASSERT_EQ(tracker.isOccluded(a, now), occluded) << "trial " << trial << " depth " << a.depth;
+      if (occluded) {
+        EXPECT_TRUE(tracker.isOccluded(a, oldest + 64));
+        EXPECT_FALSE(tracker.isOccluded(a, oldest + 65));
+      }
+    }
+  }
+  EXPECT_GT(occludedInner, 50);
+  EXPECT_GT(visibleInner, 50);
+}
+
 TEST(VisibilityTracker, ACollapsedParentKeepsItsMarkUntilItIsQueried) {
   VisibilityTracker tracker({{}, 4, 64});
   const SmallTree t;
