@@ -6,14 +6,19 @@
 //
 // Owned by the render thread's frame renderer. Not thread-safe: the render thread only.
 //
+// A frame, in order: answer() for each query result that came back; propagate() with the last cut's
+// non-empty leaves; refinement, asking isOccluded() before refining a node; plan() with the new cut's
+// non-empty leaves; ray cast tiles[0], issue the planned queries, ray cast the other tiles.
+//
 // How marks age. A leaf's answer is occluded when fewer than thresholdPixels samples passed. An occluded mark
 // holds until the node's next answer, and at most markLifetimeFrames after the frame its query was issued
 // in; after that the node counts visible again. A node in the cut is queried again every round (every leaf of
-// the cut once, over a few frames), so its mark stays fresh while it is in the cut; a camera move that
-// uncovers it is caught when its next query in the round answers. An inner node's mark comes from its leaves
-// (propagate) and ages with the oldest answer below it, so a node collapsed because its children were
-// occluded keeps its mark until it is queried itself or the mark expires. A change of isovalue or transfer
-// function changes what occludes what: the caller calls reset(), which forgets every mark.
+// the cut once, over a few frames), so its mark stays fresh while it is in the cut (as long as a round and an
+// answer's delay take fewer frames than markLifetimeFrames); a camera move that uncovers it is caught when
+// its next query in the round answers. An inner node's mark comes from its leaves (propagate) and ages with
+// the oldest answer below it, so a node collapsed because its children were occluded keeps its mark until it
+// is queried itself or the mark expires. A change of isovalue or transfer function changes what occludes
+// what: the caller calls reset(), which forgets every mark.
 #pragma once
 
 #include <cstdint>
@@ -31,8 +36,8 @@ namespace ropecast {
 struct VisibilityConfig {
   TilePlanConfig tiles;
   uint64_t thresholdPixels = 4;  // --visibility-threshold: fewer visible samples => occluded
-  uint64_t markLifetimeFrames =
-      64;  // an answer holds at most this many frames after the frame its query was issued in
+  // An answer holds at most this many frames after the frame its query was issued in.
+  uint64_t markLifetimeFrames = 64;
 };
 
 // A non-empty leaf of this frame's cut.
