@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The library layering of docs/ARCHITECTURE.md, checked on every #include of the tree:
 #   core <- store <- loader;  core <- index;  core <- shaders;  core, store, index <- reference;
-#   core, store, loader, index, shaders <- render;  everything <- tools.
+#   core, store <- occlusion;  core, store, loader, index, occlusion, shaders <- render;  everything <- tools.
 # A library may include its own headers and those of the libraries below it, never one above it; GL headers
 # (epoxy, EGL, GL, GLFW) belong to render/ and the GL tools and tests; tools/ is reached by nothing but
 # tools/ and its tests; CPU tests (*_test.cpp) outside tests/render/ include no render/ header.
@@ -18,7 +18,8 @@ declare -A allowed=(
   [index]="core index"
   [shaders]="core shaders"
   [reference]="core store index reference"
-  [render]="core store loader index shaders render"
+  [occlusion]="core store occlusion"
+  [render]="core store loader index occlusion shaders render"
   [fuzz]="core store"
 )
 gl_headers='^(epoxy|EGL|GL|GLES[0-9]*|GLFW)/'

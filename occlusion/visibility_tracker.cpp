@@ -1,0 +1,138 @@
+#include "occlusion/visibility_tracker.h"
+
+#include <algorithm>
+
+namespace ropecast {
+
+VisibilityTracker::VisibilityTracker(const VisibilityConfig& config) : config_(config) {}
+
+bool VisibilityTracker::occludedAt(const NodeKey& key, uint64_t frame) const {
+  if (unqueryable_.contains(key)) return false;  // nearEye: its projection says nothing, so it is visible
+  const auto it = marks_.find(key);
+  return it != marks_.end() && it->second.occluded && live(it->second, frame);
+}
+
+void VisibilityTracker::finishRound() {
+  lastRoundFrames_ = roundFrames_;
+  // A round during which no answer arrived says nothing about stability.
+  settled_ = roundAnswers_ > 0 && !roundFlipped_;
+  roundQueried_.clear();
+  roundFrames_ = 0;
+  roundFlipped_ = false;
+  roundAnswers_ = 0;
+}
+
+FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t height,
+                                       std::span<const LeafToQuery> leaves) {
+  if (dropAll_) {
+    firstValidFrame_ = frame;
+    dropAll_ = false;
+  }
+  lastPlanFrame_ = frame;
+  // Bounded memory: an expired mark says the same as no mark.
+  std::erase_if(marks_, [&](const auto& entry) { return !live(entry.second, frame); });
+
+  lastLeaves_.clear();
+  unqueryable_.clear();
+  std::vector<uint32_t> queryable;
+  for (uint32_t i = 0; i < leaves.size(); ++i) {
+    const LeafToQuery& leaf = leaves[i];
+    lastLeaves_.push_back(leaf.key);
+    if (leaf.projection.nearEye || leaf.projection.rect.empty()) {
+      unqueryable_.insert(leaf.key);
+      marks_.erase(leaf.key);
+    } else {
+      queryable.push_back(i);
+    }
+  }
+
+  // The round forgets leaves that left the cut; new leaves of the cut join it unqueried.
+  std::unordered_set<NodeKey, NodeKeyHash> stillInCut;
+  std::vector<QueryCandidate> candidates;
+  for (uint32_t i : queryable) {
+    if (roundQueried_.contains(leaves[i].key))
+      stillInCut.insert(leaves[i].key);
+    else
+      candidates.push_back({i, leaves[i].projection.rect});
+  }
+  roundQueried_.swap(stillInCut);
+  if (candidates.empty() && !queryable.empty()) {  // the cut shrank to leaves already queried in this round
+    finishRound();
+    for (uint32_t i : queryable) candidates.push_back({i, leaves[i].projection.rect});
+  }
+
+  const TilePlan tiles = planTiles(width, height, candidates, config_.tiles, frame);
+  FrameQueryPlan result;
+  result.tiles = tiles.tiles;
+  result.queries.reserve(tiles.queried.size());
+  for (uint32_t i : tiles.queried) {
+    result.queries.push_back(leaves[i].key);
+    roundQueried_.insert(leaves[i].key);
+  }
+  if (!queryable.empty()) {
+    ++roundFrames_;
+    if (roundQueried_.size() == queryable.size()) finishRound();
+  }
+  return result;
+}
+
+void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed) {
+  if (dropAll_ || issuedFrame < firstValidFrame_) return;  // asked before reset(), about another image
+  const auto [it, inserted] = marks_.try_emplace(key);
+  if (!inserted && issuedFrame < it->second.issuedFrame) return;  // an older answer than the one held
+  const bool wasOccluded = !inserted && it->second.occluded && live(it->second, lastPlanFrame_);
+  const bool occluded = samplesPassed < config_.thresholdPixels;
+  ++roundAnswers_;
+  if (occluded != wasOccluded) roundFlipped_ = true;
+  it->second = {issuedFrame, occluded};
+}
+
+void VisibilityTracker::propagate(std::span<const NodeKey> nonEmptyLeaves) {
+  std::unordered_map<NodeKey, Mark, NodeKeyHash> inner;
+  for (const NodeKey& leaf : nonEmptyLeaves) {
+    Mark m;
+    m.occluded = occludedAt(leaf, lastPlanFrame_);
+    if (m.occluded) m.issuedFrame = marks_.at(leaf).issuedFrame;
+    for (NodeKey k = leaf; k.depth > 0;) {
+      k = k.parent();
+      const auto [it, inserted] = inner.try_emplace(k, m);
+      if (inserted) continue;
+      Mark& above = it->second;
+      // Already visible, or occluded no later than this leaf: every node further up has absorbed this
+      // leaf's state through an earlier leaf below `k`.
+      if (!above.occluded || (m.occluded && above.issuedFrame <= m.issuedFrame)) break;
+      // Visible when any descendant is; otherwise as old as the oldest answer below.
+      above.occluded = m.occluded;
+      above.issuedFrame = std::min(above.issuedFrame, m.issuedFrame);
+    }
+  }
+  for (const auto& [key, mark] : inner) {
+    if (mark.occluded)
+      marks_[key] = mark;
+    else
+      marks_.erase(key);
+  }
+}
+
+bool VisibilityTracker::isOccluded(const NodeKey& key, uint64_t frame) const {
+  return occludedAt(key, frame);
+}
+
+VisibilityCounts VisibilityTracker::counts(uint64_t frame) const {
+  VisibilityCounts c;
+  for (const NodeKey& key : lastLeaves_) ++(occludedAt(key, frame) ? c.occluded : c.visible);
+  return c;
+}
+
+void VisibilityTracker::reset() {
+  marks_.clear();
+  roundQueried_.clear();
+  roundFrames_ = 0;
+  roundFlipped_ = false;
+  roundAnswers_ = 0;
+  lastRoundFrames_ = 0;
+  settled_ = false;
+  dropAll_ = true;
+}
+
+}  // namespace ropecast

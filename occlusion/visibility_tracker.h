@@ -1,0 +1,137 @@
+// VisibilityTracker: the CPU half of the occlusion feedback of Gobbetti et al. 2008, Sect. 6. Each frame it
+// picks which leaves of the cut to query (through planTiles), takes the queries' answers when they come back,
+// marks nodes visible or occluded, and tells the refiner which nodes not to refine, so that GPU slots and
+// loads go to the visible part of the volume. The GL side (issuing the queries after tiles[0], collecting
+// answers frames later) lives in render/.
+//
+// Owned by the render thread's frame renderer. Not thread-safe: the render thread only.
+//
+// A frame, in order: answer() for each query result that came back; propagate() with the last cut's
+// non-empty leaves; refinement, asking isOccluded() before refining a node; plan() with the new cut's
+// non-empty leaves; ray cast tiles[0], issue the planned queries, ray cast the other tiles.
+//
+// How marks age. A leaf's answer is occluded when fewer than thresholdPixels samples passed. An occluded mark
+// holds until the node's next answer, and at most markLifetimeFrames after the frame its query was issued
+// in; after that the node counts visible again. A node in the cut is queried again every round (every leaf of
+// the cut once, over a few frames), so its mark stays fresh while it is in the cut (as long as a round and an
+// answer's delay take fewer frames than markLifetimeFrames); a camera move that uncovers it is caught when
+// its next query in the round answers. An inner node's mark comes from its leaves (propagate) and ages with
+// the oldest answer below it, so a node collapsed because its children were occluded keeps its mark until it
+// is queried itself or the mark expires. A change of isovalue or transfer function changes what occludes
+// what: the caller calls reset(), which forgets every mark.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "occlusion/screen_rect.h"
+#include "occlusion/tile_plan.h"
+#include "store/octree_layout.h"
+
+namespace ropecast {
+
+struct VisibilityConfig {
+  TilePlanConfig tiles;
+  uint64_t thresholdPixels = 4;  // --visibility-threshold: fewer visible samples => occluded
+  // An answer holds at most this many frames after the frame its query was issued in.
+  uint64_t markLifetimeFrames = 64;
+};
+
+// A non-empty leaf of this frame's cut.
+struct LeafToQuery {
+  NodeKey key;
+  BoxProjection projection;
+};
+
+struct FrameQueryPlan {
+  std::vector<ScreenRect> tiles;  // as TilePlan::tiles: tiles[0] first, then the queries, then the others
+  std::vector<NodeKey> queries;   // leaves to query after tiles[0], each projecting entirely inside it
+};
+
+// Over the leaves given to the last plan().
+struct VisibilityCounts {
+  uint64_t visible = 0, occluded = 0;
+};
+
+class VisibilityTracker {
+ public:
+  explicit VisibilityTracker(const VisibilityConfig& config);
+
+  // Plans frame `frame`: tiles and which leaves to query. Candidates are the leaves not yet queried in the
+  // current round (nearEye leaves, and leaves projecting outside the viewport, are never queried and count
+  // visible); when every leaf of the cut has been queried in this round, a new round starts. A leaf whose
+  // rect straddles the splits stays in the round for later frames, where fewer candidates remain, so that
+  // each round ends in a bounded number of frames (at worst the remaining ones fit the budget and are planned
+  // at the top level with tiles[0] = the whole viewport). With no candidates: one tile, the whole viewport,
+  // no queries. Also forgets expired marks. `frame` must not decrease between calls.
+  FrameQueryPlan plan(uint64_t frame, uint32_t width, uint32_t height, std::span<const LeafToQuery> leaves);
+
+  // A query's answer, collected in a later frame: the node, the frame its query was issued in, samples
+  // passed. An answer older than the node's current mark, or issued before the last reset(), is ignored.
+  void answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
+
+  // Propagation to parents (Gobbetti et al. 2008, Sect. 6: an inner node is visible when any child is): given
+  // the last cut's non-empty leaves, every inner node above them gets a mark: occluded when all its non-empty
+  // descendants in the cut are occluded (a leaf never answered, or whose answer expired at the last plan()'s
+  // frame, counts visible), with the age of the oldest answer below it. So a node collapsed because its
+  // children were occluded keeps its mark until it is queried itself.
+  void propagate(std::span<const NodeKey> nonEmptyLeaves);
+
+  // Whether the refiner should treat the node as occluded at frame `frame`: it has an unexpired occluded
+  // mark.
+  bool isOccluded(const NodeKey& key, uint64_t frame) const;
+
+  // Clears every mark and the round (a change of isovalue or transfer function changes what occludes what);
+  // answers to queries issued before the next plan() are ignored. lastRoundFrames() and settled() start over.
+  void reset();
+
+  // Of the leaves handed to the last plan().
+  VisibilityCounts counts(uint64_t frame) const;
+
+  // Frames the last completed round took (every leaf of the cut queried once); 0 before the first round
+  // ends. The query latency is this plus the frames an answer takes to come back.
+  uint64_t lastRoundFrames() const { return lastRoundFrames_; }
+
+  // True when the last completed round flipped no mark of a leaf in the cut between visible and occluded
+  // (the occlusion state is stable). Flips count in the round during which their answer arrived.
+  bool settled() const { return settled_; }
+
+  // Marks held (leaves' answers and inner nodes' propagated marks), for tests and statistics.
+  size_t markCount() const { return marks_.size(); }
+
+ private:
+  struct Mark {
+    uint64_t issuedFrame = 0;  // the frame of the query, or of the oldest answer below an inner node
+    bool occluded = false;
+  };
+  // Not expired at `frame` (written without the sum, which a lifetime of UINT64_MAX would overflow).
+  bool live(const Mark& m, uint64_t frame) const {
+    return frame <= m.issuedFrame || frame - m.issuedFrame <= config_.markLifetimeFrames;
+  }
+  bool occludedAt(const NodeKey& key, uint64_t frame) const;
+  void finishRound();
+
+  VisibilityConfig config_;
+  std::unordered_map<NodeKey, Mark, NodeKeyHash> marks_;
+
+  std::vector<NodeKey> lastLeaves_;                       // of the last plan()
+  std::unordered_set<NodeKey, NodeKeyHash> unqueryable_;  // of those: nearEye or outside the viewport
+  uint64_t lastPlanFrame_ = 0;
+
+  // The current round: leaves of the cut queried in it, and the plan() calls it has taken so far.
+  std::unordered_set<NodeKey, NodeKeyHash> roundQueried_;
+  uint64_t roundFrames_ = 0;
+  bool roundFlipped_ = false;
+  uint64_t roundAnswers_ = 0;  // answers that arrived during the round
+  uint64_t lastRoundFrames_ = 0;
+  bool settled_ = false;
+
+  // After reset(): answers issued before this frame are dropped (dropAll_ until the next plan() sets it).
+  uint64_t firstValidFrame_ = 0;
+  bool dropAll_ = false;
+};
+
+}  // namespace ropecast

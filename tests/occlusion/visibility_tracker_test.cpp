@@ -1,0 +1,348 @@
+// VisibilityTracker: rounds that query every leaf of the cut in a bounded number of frames, answers against
+// the threshold and their lifetime, reset, propagation to inner nodes, and the settled state.
+#include "occlusion/visibility_tracker.h"
+
+#include <algorithm>
+#include <deque>
+#include <random>
+#include <set>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+namespace ropecast {
+namespace {
+
+NodeKey leafKey(uint32_t i) {
+  return {6, {i % 64, (i / 64) % 64, i / 4096}};
+}
+
+LeafToQuery leafAt(NodeKey key, ScreenRect rect) {
+  return {key, {rect, false}};
+}
+
+// n leaves over a width x height viewport; about a third of them large enough to straddle most splits.
+std::vector<LeafToQuery> randomLeaves(std::mt19937& rng, uint32_t n, uint32_t width, uint32_t height) {
+  std::vector<LeafToQuery> leaves;
+  for (uint32_t i = 0; i < n; ++i) {
+    const bool large = rng() % 3 == 0;
+    const int32_t w = int32_t(1 + rng() % (large ? width / 2 : 24)),
+                  h = int32_t(1 + rng() % (large ? height / 2 : 24));
+    const int32_t x = int32_t(rng() % (width - std::min<uint32_t>(width - 1, w))),
+                  y = int32_t(rng() % (height - std::min<uint32_t>(height - 1, h)));
+    leaves.push_back(leafAt(leafKey(i), intersect({x, y, x + w, y + h}, viewportRect(width, height))));
+  }
+  return leaves;
+}
+
+// The frames a round may take with n queryable leaves and a budget B. planTiles queries every remaining leaf
+// once at most B remain; before that each frame queries at least ceil(B / 2) (a split is taken only while the
+// kept half holds that many, and otherwise B are queried from the current tile). So n - B leaves take at most
+// ceil((n - B) / ceil(B / 2)) frames before the rest fits, plus the one frame that queries the rest.
+uint64_t roundBound(uint64_t n, uint64_t budget) {
+  if (n <= budget) return 1;
+  const uint64_t perFrame = (budget + 1) / 2;
+  return 1 + (n - budget + perFrame - 1) / perFrame;
+}
+
+TEST(VisibilityTracker, QueriesEveryLeafOnceARoundWithinTheBound) {
+  const uint32_t width = 640, height = 480;
+  const uint32_t budgets[] = {1, 7, 64, 512};
+  for (uint32_t seed = 0; seed < 8; ++seed) {
+    std::mt19937 rng(seed);
+    const uint32_t budget = budgets[seed % 4];
+    const uint32_t n = 50 + rng() % (budget == 1 ? 200 : 2000);  // a budget of 1 takes n frames
+    std::vector<LeafToQuery> leaves = randomLeaves(rng, n, width, height);
+    // A few leaves are never queried: one holding the eye, one outside the viewport.
+    leaves.push_back({leafKey(n), {viewportRect(width, height), true}});
+    leaves.push_back(leafAt(leafKey(n + 1), {}));
+    const uint64_t bound = roundBound(n, budget);
+
+    VisibilityConfig config;
+    config.tiles = {budget, 16};
+    VisibilityTracker tracker(config);
+    uint64_t frame = 0;
+    for (int round = 0; round < 3; ++round) {
+      std::set<uint32_t> queried;
+      uint64_t frames = 0;
+      const uint64_t before = frame;
+      do {
+        const FrameQueryPlan plan = tracker.plan(frame++, width, height, leaves);
+        ++frames;
+        ASSERT_LE(plan.queries.size(), budget);
+        for (const NodeKey& k : plan.queries) {
+          const uint32_t i = k.coord.x + 64 * k.coord.y + 4096 * k.coord.z;
+          ASSERT_LT(i, n) << "a nearEye or outside leaf was queried";
+          EXPECT_TRUE(queried.insert(i).second) << "leaf " << i << " queried twice in one round";
+          EXPECT_TRUE(plan.tiles[0].contains(leaves[i].projection.rect));
+        }
+        ASSERT_LE(frames, bound) << "seed " << seed << ": the round did not end within the bound";
+      } while (queried.size() < n);
+      EXPECT_EQ(tracker.lastRoundFrames(), frame - before) << "seed " << seed;
+    }
+  }
+}
+
+TEST(VisibilityTracker, QueriesEverythingEachFrameWhenTheCutFitsTheBudget) {
+  VisibilityTracker tracker({{16, 64}, 4, 64});
+  std::vector<LeafToQuery> leaves;
+  for (uint32_t i = 0; i < 16; ++i)
+    leaves.push_back(leafAt(leafKey(i), {int32_t(i), 0, int32_t(i) + 30, 30}));
+  for (uint64_t frame = 0; frame < 3; ++frame) {
+    const FrameQueryPlan plan = tracker.plan(frame, 100, 50, leaves);
+    EXPECT_EQ(plan.tiles, std::vector<ScreenRect>{viewportRect(100, 50)});
+    EXPECT_EQ(plan.queries.size(), 16u);
+    EXPECT_EQ(tracker.lastRoundFrames(), 1u);
+  }
+  const FrameQueryPlan none = tracker.plan(3, 100, 50, {});
+  EXPECT_EQ(none.tiles, std::vector<ScreenRect>{viewportRect(100, 50)});
+  EXPECT_TRUE(none.queries.empty());
+}
+
+TEST(VisibilityTracker, MarksOccludedBelowTheThresholdUntilTheAnswerExpires) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const NodeKey a = leafKey(0), b = leafKey(1), never = leafKey(2);
+  const std::vector<LeafToQuery> leaves{leafAt(a, {0, 0, 4, 4}), leafAt(b, {4, 0, 8, 4}),
+                                        leafAt(never, {0, 4, 4, 8})};
+  tracker.plan(10, 8, 8, leaves);
+  tracker.answer(a, 10, 3);
+  tracker.answer(b, 10, 4);
+  EXPECT_TRUE(tracker.isOccluded(a, 12));
+  EXPECT_FALSE(tracker.isOccluded(b, 12));
+  EXPECT_FALSE(tracker.isOccluded(never, 12));  // never answered counts visible
+  EXPECT_EQ(tracker.counts(12).occluded, 1u);
+  EXPECT_EQ(tracker.counts(12).visible, 2u);
+  // An answer holds markLifetimeFrames frames after the frame its query was issued in.
+  EXPECT_TRUE(tracker.isOccluded(a, 74));
+  EXPECT_FALSE(tracker.isOccluded(a, 75));
+  EXPECT_EQ(tracker.counts(75).occluded, 0u);
+
+  // A newer answer replaces the mark; an older one arriving late does not.
+  tracker.answer(a, 12, 100);
+  EXPECT_FALSE(tracker.isOccluded(a, 13));
+  tracker.answer(a, 11, 0);
+  EXPECT_FALSE(tracker.isOccluded(a, 13));
+  tracker.answer(a, 13, 0);
+  EXPECT_TRUE(tracker.isOccluded(a, 13));
+
+  // Expired marks are forgotten when a later frame is planned.
+  EXPECT_GT(tracker.markCount(), 0u);
+  tracker.plan(200, 8, 8, leaves);
+  EXPECT_EQ(tracker.markCount(), 0u);
+  EXPECT_FALSE(tracker.isOccluded(a, 200));
+}
+
+TEST(VisibilityTracker, ResetForgetsMarksAndAnswersAskedBeforeIt) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const NodeKey a = leafKey(0);
+  const std::vector<LeafToQuery> leaves{leafAt(a, {0, 0, 4, 4})};
+  tracker.plan(10, 8, 8, leaves);
+  tracker.answer(a, 10, 0);
+  EXPECT_TRUE(tracker.isOccluded(a, 11));
+  tracker.reset();
+  EXPECT_FALSE(tracker.isOccluded(a, 11));
+  EXPECT_EQ(tracker.markCount(), 0u);
+  tracker.answer(a, 10, 0);  // in flight across the reset: about the old transfer function
+  tracker.plan(11, 8, 8, leaves);
+  tracker.answer(a, 10, 0);
+  EXPECT_FALSE(tracker.isOccluded(a, 11));
+  tracker.answer(a, 11, 0);
+  EXPECT_TRUE(tracker.isOccluded(a, 11));
+}
+
+TEST(VisibilityTracker, NeverQueriesOrOccludesALeafNearTheEye) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const NodeKey a = leafKey(0);
+  tracker.plan(1, 8, 8, std::vector<LeafToQuery>{leafAt(a, {0, 0, 4, 4})});
+  tracker.answer(a, 1, 0);
+  EXPECT_TRUE(tracker.isOccluded(a, 2));
+  const FrameQueryPlan plan =
+      tracker.plan(2, 8, 8, std::vector<LeafToQuery>{{a, {viewportRect(8, 8), true}}});
+  EXPECT_TRUE(plan.queries.empty());
+  EXPECT_FALSE(tracker.isOccluded(a, 2));
+  EXPECT_EQ(tracker.counts(2).visible, 1u);
+}
+
+// A parent P (depth 1) with non-empty children c0, c1, c2 and, under child 3, one grandchild g.
+struct SmallTree {
+  NodeKey root{0, {0, 0, 0}};
+  NodeKey p = root.child(0);
+  NodeKey c0 = p.child(0), c1 = p.child(1), c2 = p.child(2);
+  NodeKey g = p.child(3).child(5);
+  std::vector<NodeKey> cut{c0, c1, c2, g};
+  std::vector<LeafToQuery> toQuery() const {
+    std::vector<LeafToQuery> out;
+    for (uint32_t i = 0; i < cut.size(); ++i)
+      out.push_back(leafAt(cut[i], {int32_t(i), 0, int32_t(i) + 1, 1}));
+    return out;
+  }
+};
+
+TEST(VisibilityTracker, PropagatesOcclusionOnlyWhenEveryNonEmptyDescendantIsOccluded) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const SmallTree t;
+  tracker.plan(30, 8, 8, t.toQuery());
+  tracker.answer(t.c0, 10, 0);
+  tracker.answer(t.c1, 20, 0);
+  tracker.answer(t.g, 30, 0);
+  tracker.propagate(t.cut);  // c2 never answered: visible
+  EXPECT_FALSE(tracker.isOccluded(t.p, 30));
+  EXPECT_FALSE(tracker.isOccluded(t.root, 30));
+  EXPECT_TRUE(tracker.isOccluded(t.g.parent(), 30));  // its only non-empty descendant is occluded
+
+  tracker.answer(t.c2, 30, 1);
+  tracker.propagate(t.cut);
+  EXPECT_TRUE(tracker.isOccluded(t.p, 30));
+  EXPECT_TRUE(tracker.isOccluded(t.root, 30));
+  // As old as the oldest answer below (c0's, issued in frame 10).
+  EXPECT_TRUE(tracker.isOccluded(t.p, 74));
+  EXPECT_FALSE(tracker.isOccluded(t.p, 75));
+
+  // One visible grandchild makes every ancestor visible.
+  tracker.answer(t.g, 31, 50);
+  tracker.propagate(t.cut);
+  EXPECT_FALSE(tracker.isOccluded(t.g.parent(), 31));
+  EXPECT_FALSE(tracker.isOccluded(t.p, 31));
+  EXPECT_FALSE(tracker.isOccluded(t.root, 31));
+}
+
+bool isBelow(NodeKey node, const NodeKey& ancestor) {
+  while (node.depth > ancestor.depth) node = node.parent();
+  return node == ancestor;
+}
+
+TEST(VisibilityTracker, PropagatesAsTheDefinitionSaysOnRandomCuts) {
+  std::mt19937 rng(11);
+  int occludedInner = 0, visibleInner = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    // A random cut down to depth 5; a third of the nodes are empty and left out of the non-empty leaves.
+    std::vector<NodeKey> leaves, open{NodeKey{}};
+    while (!open.empty()) {
+      const NodeKey n = open.back();
+      open.pop_back();
+      if (n.depth < 5 && (n.depth == 0 || rng() % 5 < 3)) {
+        for (uint32_t o = 0; o < 8; ++o) open.push_back(n.child(o));
+      } else if (rng() % 3 != 0) {
+        leaves.push_back(n);
+      }
+    }
+    VisibilityTracker tracker({{}, 4, 64});
+    std::vector<LeafToQuery> toQuery;
+    for (const NodeKey& k : leaves) toQuery.push_back(leafAt(k, {0, 0, 1, 1}));
+    const uint64_t now = 100;
+    tracker.plan(now, 8, 8, toQuery);
+    // Each leaf: occluded (fresh or expired), visible, or never answered; mostly occluded, so that some
+    // inner nodes are.
+    std::unordered_map<NodeKey, uint64_t, NodeKeyHash> occludedSince;  // live occluded leaves
+    for (const NodeKey& k : leaves) {
+      const uint32_t kind = rng() % 20;
+      const uint64_t issued = now - rng() % 80;
+      if (kind < 16)
+        tracker.answer(k, issued, 0);
+      else if (kind < 18)
+        tracker.answer(k, issued, 10);
+      if (kind < 16 && now - issued <= 64) occludedSince[k] = issued;
+    }
+    tracker.propagate(leaves);
+
+    std::unordered_set<NodeKey, NodeKeyHash> inner;
+    for (const NodeKey& k : leaves)
+      for (NodeKey a = k; a.depth > 0;) inner.insert(a = a.parent());
+    for (const NodeKey& a : inner) {
+      bool occluded = true;
+      uint64_t oldest = now;
+      for (const NodeKey& k : leaves) {
+        if (!isBelow(k, a)) continue;
+        const auto it = occludedSince.find(k);
+        occluded = occluded && it != occludedSince.end();
+        if (it != occludedSince.end()) oldest = std::min(oldest, it->second);
+      }
+      ++(occluded ? occludedInner : visibleInner);
+      ASSERT_EQ(tracker.isOccluded(a, now), occluded) << "trial " << trial << " depth " << a.depth;
+      if (occluded) {
+        EXPECT_TRUE(tracker.isOccluded(a, oldest + 64));
+        EXPECT_FALSE(tracker.isOccluded(a, oldest + 65));
+      }
+    }
+  }
+  EXPECT_GT(occludedInner, 50);
+  EXPECT_GT(visibleInner, 50);
+}
+
+TEST(VisibilityTracker, ACollapsedParentKeepsItsMarkUntilItIsQueried) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const SmallTree t;
+  tracker.plan(20, 8, 8, t.toQuery());
+  for (const NodeKey& k : t.cut) tracker.answer(k, 20, 0);
+  tracker.propagate(t.cut);
+  ASSERT_TRUE(tracker.isOccluded(t.p, 21));
+
+  // The refiner did not refine P: P is now a leaf of the cut, not answered yet.
+  const std::vector<NodeKey> collapsed{t.p};
+  const FrameQueryPlan plan = tracker.plan(21, 8, 8, std::vector<LeafToQuery>{leafAt(t.p, {0, 0, 4, 1})});
+  EXPECT_EQ(plan.queries, collapsed);
+  tracker.propagate(collapsed);
+  EXPECT_TRUE(tracker.isOccluded(t.p, 22));
+  EXPECT_TRUE(tracker.isOccluded(t.root, 22));
+  EXPECT_EQ(tracker.counts(22).occluded, 1u);
+  // Its own answer decides from then on.
+  tracker.answer(t.p, 21, 9);
+  tracker.propagate(collapsed);
+  EXPECT_FALSE(tracker.isOccluded(t.p, 22));
+  EXPECT_FALSE(tracker.isOccluded(t.root, 22));
+}
+
+TEST(VisibilityTracker, SettlesWhenARoundFlipsNoMark) {
+  const uint32_t width = 320, height = 240, n = 400;
+  std::mt19937 rng(3);
+  const std::vector<LeafToQuery> leaves = randomLeaves(rng, n, width, height);
+  std::set<uint32_t> hidden;  // the scene's truth: which leaves the GPU finds occluded
+  for (uint32_t i = 0; i < n; i += 3) hidden.insert(i);
+
+  VisibilityTracker tracker({{64, 16}, 4, 64});
+  std::deque<std::pair<NodeKey, uint64_t>> inFlight;
+  // Renders frames; each query's answer comes back two frames after it was issued.
+  auto run = [&](uint64_t from, uint64_t to) {
+    for (uint64_t frame = from; frame < to; ++frame) {
+      while (!inFlight.empty() && inFlight.front().second + 2 <= frame) {
+        const auto [key, issued] = inFlight.front();
+        inFlight.pop_front();
+        const uint32_t i = key.coord.x + 64 * key.coord.y + 4096 * key.coord.z;
+        tracker.answer(key, issued, hidden.contains(i) ? 0 : 100);
+      }
+      for (const NodeKey& k : tracker.plan(frame, width, height, leaves).queries)
+        inFlight.push_back({k, frame});
+    }
+  };
+  EXPECT_FALSE(tracker.settled());
+  run(0, 60);
+  EXPECT_GT(tracker.lastRoundFrames(), 1u);
+  EXPECT_TRUE(tracker.settled());
+  EXPECT_EQ(tracker.counts(60).occluded, hidden.size());
+
+  // The view changes: a hidden leaf shows. The next round that hears of it is not settled, later ones are.
+  hidden.erase(0);
+  bool unsettled = false;
+  for (uint64_t frame = 60; frame < 120; frame += 1) {
+    run(frame, frame + 1);
+    unsettled = unsettled || !tracker.settled();
+  }
+  EXPECT_TRUE(unsettled);
+  EXPECT_TRUE(tracker.settled());
+  EXPECT_EQ(tracker.counts(120).occluded, hidden.size());
+}
+
+TEST(VisibilityTracker, KeepsMemoryBoundedAsTheCutChanges) {
+  VisibilityTracker tracker({{64, 16}, 4, 16});
+  for (uint64_t frame = 0; frame < 400; ++frame) {
+    // A cut of 50 leaves that moves on every frame; every query answers occluded at once.
+    std::vector<LeafToQuery> leaves;
+    for (uint32_t i = 0; i < 50; ++i)
+      leaves.push_back(leafAt(leafKey(uint32_t(frame) * 50 + i), {int32_t(i), 0, int32_t(i) + 2, 2}));
+    for (const NodeKey& k : tracker.plan(frame, 64, 8, leaves).queries) tracker.answer(k, frame, 0);
+  }
+  EXPECT_LE(tracker.markCount(), 17u * 50u);
+}
+
+}  // namespace
+}  // namespace ropecast
