@@ -182,7 +182,7 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   const uint64_t uploadBudgetBytes =
       std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);
   Residency residency(*this, uploadBudgetBytes);
-  RefineResult refined = refine(source_, input.view, input.isEmpty, residency);
+  RefineResult refined = refine(source_, input.view, input.isEmpty, residency, input.hints);
   // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
   // needs all children of a node at once) could use them.
   std::vector<BrickRequest>& requests = residency.requests;

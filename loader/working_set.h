@@ -40,6 +40,7 @@ struct WorkingSetConfig {
 struct FrameInput {
   RefineView view;
   EmptinessPredicate isEmpty;  // null: only NodeKind::Empty/Outside nodes are empty
+  NodeHints hints;             // null: no hints (refiner.h); called on the render thread during update()
   // This frame's upload limit on top of WorkingSetConfig::uploadBudgetBytes (the smaller one applies, never
   // less than one brick): the renderer's time budget (render/upload_pacer.h) arrives here as bytes.
   uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
