@@ -17,7 +17,10 @@ struct LoaderStats {
   uint64_t cacheMisses = 0;      // bricks refinement needed that were in neither cache (a read was requested)
   uint64_t cpuCacheBytes = 0;    // decompressed bricks held by the CPU cache
   uint64_t gpuPoolUsedBytes = 0;  // bricksResident * brick bytes
-  bool converged = false;         // nothing pending, nothing held back by the upload budget
+  // GPU pool slots reused this frame whose brick the rays used in the latest answered frame
+  // (FrameInput::usedNodes): 0 while the used bricks and the cut fit the pool together.
+  uint64_t usedBricksEvicted = 0;
+  bool converged = false;  // nothing pending, nothing held back by the upload budget
 };
 
 }  // namespace ropecast

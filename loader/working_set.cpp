@@ -179,6 +179,10 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   takeLoadedBricks();
 
   slots_.beginCut();
+  for (const NodeKey& k : input.usedNodes) {
+    if (const auto slot = slots_.find(k)) slots_.touch(*slot);
+  }
+  const uint64_t usedEvictionsBefore = slots_.usedEvictions();
   const uint64_t uploadBudgetBytes =
       std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);
   Residency residency(*this, uploadBudgetBytes);
@@ -202,6 +206,7 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   s.leaves = out.leaves.size();
   s.bricksResident = slots_.occupiedCount();
   s.gpuPoolUsedBytes = uint64_t(slots_.occupiedCount()) * brickBytes_;
+  s.usedBricksEvicted = slots_.usedEvictions() - usedEvictionsBefore;
   s.cpuCacheBytes = cache_.bytes();
   s.requestsPending = io_->pendingCount();
   s.converged = refined.complete;
@@ -213,10 +218,12 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
   std::vector<BrickUpload> merged;
   std::unordered_map<uint32_t, size_t> indexOfSlot;
   double refineMs = 0.0;
+  uint64_t usedBricksEvicted = 0;
   WorkingSetFrame frame;
   for (uint32_t i = 0; i < std::max(maxFrames, 1u); ++i) {
     frame = update(input);
     refineMs += frame.stats.refineMs;
+    usedBricksEvicted += frame.stats.usedBricksEvicted;
     for (BrickUpload& u : frame.uploads) {
       const auto [it, inserted] = indexOfSlot.emplace(u.slot, merged.size());
       if (inserted)
@@ -237,6 +244,7 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
   frame.stats.bricksUploaded = frame.uploads.size();
   frame.stats.bytesUploaded = frame.uploads.size() * brickBytes_;
   frame.stats.refineMs = refineMs;
+  frame.stats.usedBricksEvicted = usedBricksEvicted;
   return frame;
 }
 

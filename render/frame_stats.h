@@ -44,6 +44,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"cache_misses", s.cacheMisses},
                         {"cpu_cache_bytes", s.cpuCacheBytes},
                         {"gpu_pool_used", s.gpuPoolUsedBytes},
+                        {"used_evictions", s.usedBricksEvicted},
                         {"converged", s.converged}};
 }
 
