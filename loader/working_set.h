@@ -94,7 +94,8 @@ class WorkingSet {
   uint64_t brickBytes_;
   BrickCache cache_;
   SlotTable slots_;
-  std::unique_ptr<IoQueue> io_;  // last member: its workers stop before the rest goes away
+  uint64_t bytesReadSinceUpdate_ = 0;  // by the reads taken since the last update()'s stats
+  std::unique_ptr<IoQueue> io_;        // last member: its workers stop before the rest goes away
   uint64_t frame_ = 0;
 };
 

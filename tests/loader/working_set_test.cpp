@@ -155,11 +155,13 @@ TEST(WorkingSet, EmptinessChangesAndRevisitedViewsNeedNoIo) {
   const WorkingSetFrame all = ws.updateUntilConverged(a);  // nothing empty but the source's own
   ASSERT_TRUE(all.converged);
   const uint64_t reads = src.reads();
+  EXPECT_EQ(all.stats.bytesRead, reads * src.brickBytes());  // a generated source counts whole bricks
 
   a.isEmpty = isoEmpty;  // a narrower selection: every node it keeps was already read
   const WorkingSetFrame iso = ws.updateUntilConverged(a);
   EXPECT_TRUE(iso.converged);
   EXPECT_EQ(src.reads(), reads);
+  EXPECT_EQ(iso.stats.bytesRead, 0u);
   EXPECT_NE(cutOf(iso), cutOf(all));
   EXPECT_TRUE(iso.uploads.empty());  // all on the GPU already
 
