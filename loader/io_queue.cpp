@@ -101,11 +101,12 @@ void IoQueue::workerLoop() {
     ++readsStarted_;
     lock.unlock();
 
-    LoadedBrick loaded{request.key, nullptr, {}};
+    LoadedBrick loaded{request.key, nullptr, {}, 0};
     try {
       auto brick = std::make_shared<BrickBytes>(brickBytes);
       source_.readBrick(request.key, *brick);
       loaded.brick = std::move(brick);
+      loaded.bytesRead = source_.compressedBytes(request.key);
     } catch (const std::exception& e) {
       loaded.error = e.what();
     }

@@ -33,8 +33,9 @@ struct BrickRequest {
 
 struct LoadedBrick {
   NodeKey key;
-  SharedBrick brick;  // null when the read failed
-  std::string error;  // the ropecast::Error message of a failed read
+  SharedBrick brick;       // null when the read failed
+  std::string error;       // the ropecast::Error message of a failed read
+  uint64_t bytesRead = 0;  // BrickSource::compressedBytes of a successful read, else 0
 };
 
 class IoQueue {
@@ -84,6 +85,7 @@ class DelayedBrickSource final : public BrickSource {
   const BrickSourceInfo& info() const override { return inner_.info(); }
   NodeInfo node(const NodeKey& key) const override { return inner_.node(key); }
   void readBrick(const NodeKey& key, std::span<std::byte> out) const override;
+  uint64_t compressedBytes(const NodeKey& key) const override { return inner_.compressedBytes(key); }
 
  private:
   const BrickSource& inner_;

@@ -16,8 +16,15 @@ struct LoaderStats {
   uint64_t cacheHits = 0;        // bricks refinement needed that were in the CPU cache (not yet on the GPU)
   uint64_t cacheMisses = 0;      // bricks refinement needed that were in neither cache (a read was requested)
   uint64_t cpuCacheBytes = 0;    // decompressed bricks held by the CPU cache
+  // Bytes the I/O workers read from the brick source since the previous frame's update (taken into the CPU
+  // cache by this one): compressed payloads for a store, decompressed bricks for a procedural source
+  // (BrickSource::compressedBytes).
+  uint64_t bytesRead = 0;
   uint64_t gpuPoolUsedBytes = 0;  // bricksResident * brick bytes
-  bool converged = false;         // nothing pending, nothing held back by the upload budget
+  // GPU pool slots reused this frame whose brick the rays used in the latest answered frame
+  // (FrameInput::usedNodes): 0 while the used bricks and the cut fit the pool together.
+  uint64_t usedBricksEvicted = 0;
+  bool converged = false;  // nothing pending, nothing held back by the upload budget
 };
 
 }  // namespace ropecast

@@ -14,9 +14,10 @@
 namespace ropecast {
 
 const char* leafReasonName(LeafReason r) {
-  static constexpr const char* kNames[] = {"adequate", "finest",      "empty",     "outside",      "culled",
-                                           "constant", "not-in-core", "pool-full", "upload-budget"};
-  static_assert(std::size(kNames) == size_t(LeafReason::UploadBudget) + 1, "a name per LeafReason");
+  static constexpr const char* kNames[] = {"adequate",      "finest",   "empty",       "outside",
+                                           "culled",        "constant", "not-in-core", "pool-full",
+                                           "upload-budget", "occluded", "unused"};
+  static_assert(std::size(kNames) == size_t(LeafReason::Unused) + 1, "a name per LeafReason");
   return size_t(r) < std::size(kNames) ? kNames[size_t(r)] : "?";
 }
 
@@ -66,11 +67,15 @@ struct Candidate {
   NodeKey key;
   double voxelPixels;
   uint32_t slot;
+  NodeHint hint;
 };
 
-// Larger projected voxels first; ties in a fixed node order so the cut does not depend on history.
+// Requested nodes first, then larger projected voxels first; ties in a fixed node order so the cut does not
+// depend on history.
 struct LowerPriority {
   bool operator()(const Candidate& a, const Candidate& b) const {
+    const bool aRequested = a.hint == NodeHint::Requested, bRequested = b.hint == NodeHint::Requested;
+    if (aRequested != bRequested) return bRequested;
     if (a.voxelPixels != b.voxelPixels) return a.voxelPixels < b.voxelPixels;
     return std::tie(b.key.depth, b.key.coord.z, b.key.coord.y, b.key.coord.x) <
            std::tie(a.key.depth, a.key.coord.z, a.key.coord.y, a.key.coord.x);
@@ -87,13 +92,14 @@ struct Classified {
 class RefineRun {
  public:
   RefineRun(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
-            BrickResidency& residency)
+            BrickResidency& residency, const NodeHints& hints)
       : nodes_(nodes),
         layout_(nodes.info().layout),
         spacing_(nodes.info().volume.spacing),
         view_(view),
         isEmpty_(isEmpty),
         residency_(residency),
+        hints_(hints),
         frustum_(viewFrustum(view)),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
 
@@ -111,7 +117,7 @@ class RefineRun {
       } else if (c.cls == Class::ConstantBrick) {
         leaf(root, LeafContent::Brick, LeafReason::Constant, slot, rootPixels);
       } else {
-        heap_.push({root, rootPixels, slot});
+        heap_.push({root, rootPixels, slot, hintOf(root)});
       }
     }
     while (!heap_.empty()) {
@@ -127,6 +133,8 @@ class RefineRun {
   void refineOrStop(const Candidate& n) {
     if (n.voxelPixels <= adequatePixels_) return leaf(n, LeafReason::Adequate);
     if (n.key.depth >= layout_.maxDepth) return leaf(n, LeafReason::Finest);
+    if (n.hint == NodeHint::Occluded) return leaf(n, LeafReason::Occluded);
+    if (n.hint == NodeHint::Unused) return leaf(n, LeafReason::Unused);
 
     std::array<NodeKey, 8> children;
     std::array<Classified, 8> classes;
@@ -155,7 +163,7 @@ class RefineRun {
       if (classes[o].cls == Class::ConstantBrick) {
         leaf(k, LeafContent::Brick, LeafReason::Constant, slot, px);
       } else {
-        heap_.push({k, px, slot});
+        heap_.push({k, px, slot, hintOf(k)});
       }
     }
   }
@@ -172,6 +180,7 @@ class RefineRun {
   }
 
   double pixels(const NodeKey& k) const { return projectedVoxelPixels(layout_, spacing_, k, view_); }
+  NodeHint hintOf(const NodeKey& k) const { return hints_ ? hints_(k) : NodeHint::None; }
 
   static LeafReason reasonOf(BrickResidency::Outcome o) {
     switch (o) {
@@ -201,6 +210,7 @@ class RefineRun {
   const RefineView& view_;
   const EmptinessPredicate& isEmpty_;
   BrickResidency& residency_;
+  const NodeHints& hints_;
   ViewFrustum frustum_;
   double adequatePixels_;
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;
@@ -211,8 +221,8 @@ class RefineRun {
 }  // namespace
 
 RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
-                    BrickResidency& residency) {
-  return RefineRun(nodes, view, isEmpty, residency).run();
+                    BrickResidency& residency, const NodeHints& hints) {
+  return RefineRun(nodes, view, isEmpty, residency, hints).run();
 }
 
 }  // namespace ropecast

@@ -3,8 +3,10 @@
 // refined until each node is adequate, or the bricks of its children are not in core, or the GPU pool has no
 // room for them, or the frame's upload budget is spent. Empty nodes (by the caller's predicate on the stored
 // min/max, so changing the isovalue or the transfer function needs no I/O), nodes outside the data or the
-// view frustum, and constant nodes are terminal. The data path is reached only through BrickResidency, which
-// the WorkingSet implements (and tests fake), so the refiner itself is pure CPU logic.
+// view frustum, and constant nodes are terminal. Hints from the previous frames' occlusion queries and ray
+// feedback (NodeHints) stop refinement where nothing is seen and put the nodes the rays asked for first. The
+// data path is reached only through BrickResidency, which the WorkingSet implements (and tests fake), so the
+// refiner itself is pure CPU logic.
 //
 // Plain functions over plain data; any thread, given a BrickResidency used by that thread only.
 #pragma once
@@ -53,8 +55,22 @@ enum class LeafReason : uint8_t {
   NotInCore,     // its children's bricks (or the root's) were requested and are not read yet
   PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut
   UploadBudget,  // this frame's upload budget cannot carry its children
+  Occluded,      // NodeHint::Occluded
+  Unused,        // NodeHint::Unused
 };
 const char* leafReasonName(LeafReason r);
+
+// What the occlusion queries and the rays' feedback said about a node (render/ fills it from occlusion/ and
+// the feedback readback).
+enum class NodeHint : uint8_t {
+  None,       // refine by priority, as without hints
+  Occluded,   // the last answered occlusion queries found it hidden: not refined (Gobbetti et al. 2008, Sect.
+              // 6)
+  Unused,     // the rays' feedback answered for it and no ray used it: not refined (Crassin et al. 2009)
+  Requested,  // a ray wanted finer data there: refined before the nodes that were not requested
+};
+// Asked once per node the refinement reaches (the root included), on the refining thread. Null: no hints.
+using NodeHints = std::function<NodeHint(const NodeKey&)>;
 
 struct PlannedLeaf {
   NodeKey key;
@@ -81,7 +97,8 @@ class BrickResidency {
 struct RefineResult {
   std::vector<PlannedLeaf> leaves;    // the cut: a tiling of the octree's root cube
   std::vector<NodeKey> refinedOrder;  // inner nodes, in the order they were refined
-  // No leaf waits for data or for upload budget: the next frame with the same input gives the same cut.
+  // No leaf waits for data or for upload budget: the next frame with the same input gives the same cut
+  // (Occluded and Unused leaves wait for nothing the loader can do).
   bool complete = false;
 };
 
@@ -111,7 +128,10 @@ inline bool boxInFrustum(const WorldBox& box, const RefineView& view) {
   return boxInFrustum(box, viewFrustum(view));
 }
 
+// Refinement order: Requested nodes before all others, each group by decreasing projected voxel size. The
+// root's brick is always acquired (a frame always needs the coarse cut); a hint stops a node's refinement
+// after the Adequate and Finest tests, before its children are acquired or requested.
 RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
-                    BrickResidency& residency);
+                    BrickResidency& residency, const NodeHints& hints = {});
 
 }  // namespace ropecast

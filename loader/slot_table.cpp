@@ -11,6 +11,8 @@ SlotTable::SlotTable(uint32_t slotCount) : slots_(slotCount) {
 }
 
 void SlotTable::beginCut() {
+  for (uint32_t s : usedSlots_) slots_[s].used = false;
+  usedSlots_.clear();
   for (uint32_t s : pinnedSlots_) {
     if (slots_[s].pinned) unpin(s);
   }
@@ -32,6 +34,16 @@ void SlotTable::pin(uint32_t slot) {
   pinnedSlots_.push_back(slot);
 }
 
+void SlotTable::touch(uint32_t slot) {
+  Slot& s = slots_.at(slot);
+  if (!s.occupied) return;
+  if (!s.used) usedSlots_.push_back(slot);
+  s.used = true;
+  if (s.pinned) return;
+  unlink(slot);
+  linkAtMostRecent(slot);
+}
+
 void SlotTable::unpin(uint32_t slot) {
   Slot& s = slots_.at(slot);
   if (!s.pinned) return;
@@ -45,6 +57,8 @@ std::optional<uint32_t> SlotTable::acquire(const NodeKey& key) {
   const uint32_t slot = leastRecent_;
   Slot& s = slots_[slot];
   if (s.occupied) bySlotKey_.erase(s.key);
+  if (s.used) ++usedEvictions_;
+  s.used = false;
   s.key = key;
   s.occupied = true;
   bySlotKey_[key] = slot;

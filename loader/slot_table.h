@@ -2,7 +2,8 @@
 // pool itself (one 3D texture of slots) belongs to render/; this table only decides. Slots whose brick is in
 // the tree being built (the cut and the inner nodes above it) are pinned and never reused; the others are
 // reused least recently used first, free slots before any of them. A brick that left the cut keeps its slot
-// until it is reused, so it comes back without an upload.
+// until it is reused, so it comes back without an upload. Recency is by use when the rays' feedback is known
+// (touch): bricks the rays used are reused last (Crassin et al. 2009).
 //
 // Owned by the WorkingSet. Not thread-safe: the render thread only.
 #pragma once
@@ -20,8 +21,13 @@ class SlotTable {
  public:
   explicit SlotTable(uint32_t slotCount);
 
-  // Starts a new cut: every slot is unpinned (the previous cut's bricks become the most recently used ones).
+  // Starts a new cut: every slot is unpinned (the previous cut's bricks become the most recently used ones)
+  // and the marks of touch() are cleared.
   void beginCut();
+  // The rays used the slot's brick in the latest answered frame: an unpinned slot becomes the most recently
+  // used; a pinned one is marked too (it becomes the most recent when unpinned). Reusing a marked slot in
+  // this cut counts as a used eviction. Call after beginCut(), before the cut's acquires.
+  void touch(uint32_t slot);
 
   std::optional<uint32_t> find(const NodeKey& key) const;
   // Pins a slot holding a brick of the cut being built (idempotent).
@@ -41,6 +47,8 @@ class SlotTable {
   // Slots holding a brick (pinned or kept for reuse).
   uint32_t occupiedCount() const { return uint32_t(bySlotKey_.size()); }
   std::optional<NodeKey> keyOf(uint32_t slot) const;
+  // Bricks marked by touch() that acquire() gave away, since construction.
+  uint64_t usedEvictions() const { return usedEvictions_; }
 
  private:
   static constexpr uint32_t kNone = UINT32_MAX;
@@ -48,6 +56,7 @@ class SlotTable {
     NodeKey key;
     bool occupied = false;
     bool pinned = false;
+    bool used = false;                    // touched in this cut
     uint32_t prev = kNone, next = kNone;  // in the reuse list while unpinned
   };
   void linkAtMostRecent(uint32_t slot);
@@ -59,6 +68,8 @@ class SlotTable {
   uint32_t leastRecent_ = kNone, mostRecent_ = kNone;
   std::vector<uint32_t> pinnedSlots_;
   uint32_t pinnedCount_ = 0;
+  std::vector<uint32_t> usedSlots_;  // marked by touch() in this cut
+  uint64_t usedEvictions_ = 0;
 };
 
 }  // namespace ropecast

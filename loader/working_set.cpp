@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "core/error.h"
 
@@ -165,6 +166,7 @@ WorkingSet::~WorkingSet() = default;
 void WorkingSet::takeLoadedBricks() {
   std::string firstError;
   for (LoadedBrick& b : io_->takeLoaded()) {
+    bytesReadSinceUpdate_ += b.bytesRead;
     if (b.brick) {
       cache_.put(b.key, std::move(b.brick));
     } else if (firstError.empty()) {
@@ -179,10 +181,14 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   takeLoadedBricks();
 
   slots_.beginCut();
+  for (const NodeKey& k : input.usedNodes) {
+    if (const auto slot = slots_.find(k)) slots_.touch(*slot);
+  }
+  const uint64_t usedEvictionsBefore = slots_.usedEvictions();
   const uint64_t uploadBudgetBytes =
       std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);
   Residency residency(*this, uploadBudgetBytes);
-  RefineResult refined = refine(source_, input.view, input.isEmpty, residency);
+  RefineResult refined = refine(source_, input.view, input.isEmpty, residency, input.hints);
   // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
   // needs all children of a node at once) could use them.
   std::vector<BrickRequest>& requests = residency.requests;
@@ -202,7 +208,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   s.leaves = out.leaves.size();
   s.bricksResident = slots_.occupiedCount();
   s.gpuPoolUsedBytes = uint64_t(slots_.occupiedCount()) * brickBytes_;
+  s.usedBricksEvicted = slots_.usedEvictions() - usedEvictionsBefore;
   s.cpuCacheBytes = cache_.bytes();
+  s.bytesRead = std::exchange(bytesReadSinceUpdate_, 0);
   s.requestsPending = io_->pendingCount();
   s.converged = refined.complete;
   s.refineMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -213,10 +221,13 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
   std::vector<BrickUpload> merged;
   std::unordered_map<uint32_t, size_t> indexOfSlot;
   double refineMs = 0.0;
+  uint64_t usedBricksEvicted = 0, bytesRead = 0;
   WorkingSetFrame frame;
   for (uint32_t i = 0; i < std::max(maxFrames, 1u); ++i) {
     frame = update(input);
     refineMs += frame.stats.refineMs;
+    usedBricksEvicted += frame.stats.usedBricksEvicted;
+    bytesRead += frame.stats.bytesRead;
     for (BrickUpload& u : frame.uploads) {
       const auto [it, inserted] = indexOfSlot.emplace(u.slot, merged.size());
       if (inserted)
@@ -237,6 +248,8 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
   frame.stats.bricksUploaded = frame.uploads.size();
   frame.stats.bytesUploaded = frame.uploads.size() * brickBytes_;
   frame.stats.refineMs = refineMs;
+  frame.stats.usedBricksEvicted = usedBricksEvicted;
+  frame.stats.bytesRead = bytesRead;
   return frame;
 }
 

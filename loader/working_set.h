@@ -40,6 +40,11 @@ struct WorkingSetConfig {
 struct FrameInput {
   RefineView view;
   EmptinessPredicate isEmpty;  // null: only NodeKind::Empty/Outside nodes are empty
+  NodeHints hints;             // null: no hints (refiner.h); called on the render thread during update()
+  // Nodes whose bricks the rays used in the latest answered frame (the feedback readback); empty when
+  // unknown. Their GPU slots become the most recently used before refinement, so the pool evicts least
+  // recently used bricks, not least recently resident ones (Crassin et al. 2009).
+  std::vector<NodeKey> usedNodes;
   // This frame's upload limit on top of WorkingSetConfig::uploadBudgetBytes (the smaller one applies, never
   // less than one brick): the renderer's time budget (render/upload_pacer.h) arrives here as bytes.
   uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
@@ -69,7 +74,8 @@ class WorkingSet {
   WorkingSetFrame update(const FrameInput& input);
 
   // Repeats update(), waiting for the reads it asked for, until the cut is complete or maxFrames updates were
-  // made. The uploads of all those updates are merged (the last one per slot).
+  // made. The uploads of all those updates are merged (the last one per slot); the stats are the last
+  // update's, with the counts of work done (uploads, refine time, evictions) summed over all of them.
   WorkingSetFrame updateUntilConverged(const FrameInput& input, uint32_t maxFrames = 100000);
 
   const BrickSourceInfo& info() const { return source_.info(); }
@@ -88,7 +94,8 @@ class WorkingSet {
   uint64_t brickBytes_;
   BrickCache cache_;
   SlotTable slots_;
-  std::unique_ptr<IoQueue> io_;  // last member: its workers stop before the rest goes away
+  uint64_t bytesReadSinceUpdate_ = 0;  // by the reads taken since the last update()'s stats
+  std::unique_ptr<IoQueue> io_;        // last member: its workers stop before the rest goes away
   uint64_t frame_ = 0;
 };
 

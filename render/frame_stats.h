@@ -43,7 +43,9 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"cache_hits", s.cacheHits},
                         {"cache_misses", s.cacheMisses},
                         {"cpu_cache_bytes", s.cpuCacheBytes},
+                        {"bytes_read", s.bytesRead},
                         {"gpu_pool_used", s.gpuPoolUsedBytes},
+                        {"used_evictions", s.usedBricksEvicted},
                         {"converged", s.converged}};
 }
 

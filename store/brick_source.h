@@ -51,6 +51,13 @@ class BrickSource {
   // damaged brick (naming the file and the node).
   virtual void readBrick(const NodeKey& key, std::span<std::byte> out) const = 0;
 
+  // Bytes readBrick takes from storage for the node (what the loader counts as read): a store's compressed
+  // payload (0 for payload-less nodes); by default, for sources that generate their bricks (procedural), the
+  // decompressed brick of a Data node and 0 for the others. Cheap (no I/O).
+  virtual uint64_t compressedBytes(const NodeKey& key) const {
+    return node(key).kind == NodeKind::Data ? brickBytes() : 0;
+  }
+
   size_t brickBytes() const {
     return size_t(info().layout.storedBrickSamples()) * bytesPerSample(info().storedType);
   }

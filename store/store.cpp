@@ -270,6 +270,11 @@ void Store::readBrick(const NodeKey& key, std::span<std::byte> out) const {
   if (planes) joinBytePlanes(decoder.planes.data(), bytes / 2, reinterpret_cast<uint16_t*>(out.data()));
 }
 
+uint64_t Store::compressedBytes(const NodeKey& key) const {
+  if (!info_.layout.isInside(key)) return 0;
+  return entries_[info_.layout.nodeIndex(key)].payloadBytes;
+}
+
 StoreSummary summarizeStore(const Store& store) {
   StoreSummary s;
   const OctreeLayout& layout = store.info().layout;

@@ -29,6 +29,7 @@ class Store final : public BrickSource {
   const BrickSourceInfo& info() const override { return info_; }
   NodeInfo node(const NodeKey& key) const override;
   void readBrick(const NodeKey& key, std::span<std::byte> out) const override;
+  uint64_t compressedBytes(const NodeKey& key) const override;
 
   const StoreMetadata& metadata() const { return metadata_; }
   std::span<const StoreNodeEntry> entries() const { return entries_; }

@@ -1,6 +1,7 @@
 // Refinement order and stopping rules on hand-made trees, with a fake data path (BrickResidency).
 #include "loader/refiner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -21,6 +22,7 @@ using testing::KeyLess;
 class FakeResidency : public BrickResidency {
  public:
   Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
+    askedFor.insert(keys.begin(), keys.end());
     for (const NodeKey& k : keys) {
       if (notInCore.count(k)) return Outcome::NotInCore;
     }
@@ -32,6 +34,7 @@ class FakeResidency : public BrickResidency {
   }
   std::set<NodeKey, KeyLess> notInCore;
   std::set<NodeKey, KeyLess> acquired;
+  std::set<NodeKey, KeyLess> askedFor;  // acquired or not
   size_t slotCapacity = 1u << 30;
   size_t pinned = 0;
   uint32_t nextSlot = 0;
@@ -249,6 +252,101 @@ TEST(Refiner, NodesOutsideTheFrustumAreCulled) {
     }
   }
   EXPECT_GT(culled, 0u);
+}
+
+TEST(Refiner, AnOccludedNodeStaysALeafAndItsChildrenAreNeverAcquired) {
+  const FakeBrickSource src = makeSource();
+  const RefineView v = viewFrom({32, 32, -1}, {32, 32, 32}, 4000);
+  const NodeKey hidden{1, {1, 1, 1}};
+  FakeResidency res;
+  const RefineResult r = refine(
+      src, v, {}, res, [&](const NodeKey& k) { return k == hidden ? NodeHint::Occluded : NodeHint::None; });
+  EXPECT_TRUE(r.complete);  // an occluded leaf waits for nothing
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  size_t occluded = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.key == hidden) {
+      ++occluded;
+      EXPECT_EQ(l.reason, LeafReason::Occluded);
+      EXPECT_EQ(l.content, LeafContent::Brick);  // still drawn at its own level
+    } else {
+      EXPECT_EQ(l.key.depth, 2u);
+    }
+  }
+  EXPECT_EQ(occluded, 1u);
+  for (uint32_t o = 0; o < 8; ++o) EXPECT_EQ(res.acquired.count(hidden.child(o)), 0u);
+  EXPECT_STREQ(leafReasonName(LeafReason::Occluded), "occluded");
+  EXPECT_STREQ(leafReasonName(LeafReason::Unused), "unused");
+
+  // A missing child of the hidden node is not requested either: the data path is never asked for it.
+  FakeResidency cold;
+  cold.notInCore.insert(hidden.child(3));
+  const RefineResult rc = refine(
+      src, v, {}, cold, [&](const NodeKey& k) { return k == hidden ? NodeHint::Occluded : NodeHint::None; });
+  EXPECT_TRUE(rc.complete);
+  EXPECT_EQ(cold.askedFor.count(hidden.child(3)), 0u);
+}
+
+TEST(Refiner, AnOccludedOrUnusedInnerNodeCollapsesItsSubtree) {
+  // 256^3, bricks of 16: depths 0..4; the near view refines node (1, 0,0,0) down to depth 4.
+  const FakeBrickSource src({256, 256, 256}, 16);
+  const RefineView v = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
+  FakeResidency plain;
+  const RefineResult full = refine(src, v, {}, plain);
+  const NodeKey inner{1, {0, 0, 0}};
+  ASSERT_TRUE(std::find(full.refinedOrder.begin(), full.refinedOrder.end(), inner) !=
+              full.refinedOrder.end());
+
+  for (const NodeHint hint : {NodeHint::Occluded, NodeHint::Unused}) {
+    FakeResidency res;
+    const RefineResult r =
+        refine(src, v, {}, res, [&](const NodeKey& k) { return k == inner ? hint : NodeHint::None; });
+    EXPECT_TRUE(r.complete);
+    EXPECT_TRUE(isFullTiling(r.leaves, 4));
+    EXPECT_LT(r.leaves.size(), full.leaves.size());
+    const auto it =
+        std::find_if(r.leaves.begin(), r.leaves.end(), [&](const PlannedLeaf& l) { return l.key == inner; });
+    ASSERT_NE(it, r.leaves.end());
+    EXPECT_EQ(it->reason, hint == NodeHint::Occluded ? LeafReason::Occluded : LeafReason::Unused);
+    EXPECT_EQ(std::count(r.refinedOrder.begin(), r.refinedOrder.end(), inner), 0);
+  }
+}
+
+TEST(Refiner, RequestedNodesAreRefinedBeforeHigherPriorityOnes) {
+  const FakeBrickSource src = makeSource();
+  const RefineView v = viewFrom({-20, -30, -40}, {32, 32, 32}, 2000);
+  // Without hints the depth-1 node nearest the eye is refined first; (1, 1,1,1) is the farthest.
+  const NodeKey nearest{1, {0, 0, 0}}, farthest{1, {1, 1, 1}};
+  const auto px = [&](const NodeKey& k) {
+    return projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), k, v);
+  };
+  ASSERT_GT(px(nearest), px(farthest));
+  ASSERT_GT(px(farthest), 1.0);  // both would be refined given room
+
+  // Root + its 8 children + one node's 8 children: room to refine only one depth-1 node.
+  FakeResidency plain;
+  plain.slotCapacity = 17;
+  const RefineResult r0 = refine(src, v, {}, plain);
+  ASSERT_EQ(r0.refinedOrder.size(), 2u);
+  EXPECT_EQ(r0.refinedOrder[1], nearest);
+
+  FakeResidency res;
+  res.slotCapacity = 17;
+  const RefineResult r = refine(src, v, {}, res, [&](const NodeKey& k) {
+    return k == farthest ? NodeHint::Requested : NodeHint::None;
+  });
+  ASSERT_EQ(r.refinedOrder.size(), 2u);
+  EXPECT_EQ(r.refinedOrder[0], NodeKey{});  // the root first, always
+  EXPECT_EQ(r.refinedOrder[1], farthest);
+  for (uint32_t o = 0; o < 8; ++o) {
+    EXPECT_EQ(res.acquired.count(farthest.child(o)), 1u);
+    EXPECT_EQ(res.acquired.count(nearest.child(o)), 0u);
+  }
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.key == nearest) {
+      EXPECT_EQ(l.reason, LeafReason::PoolFull);
+    }
+  }
 }
 
 }  // namespace

@@ -73,5 +73,33 @@ TEST(SlotTable, RejectsAnEmptyPool) {
   EXPECT_THROW(SlotTable(0), Error);
 }
 
+TEST(SlotTable, TouchedSlotsAreReusedLastAndTheirEvictionsCounted) {
+  SlotTable t(4);
+  for (uint32_t i = 0; i < 4; ++i) t.acquire(key(i));
+  t.beginCut();  // recency now key(0) (least) .. key(3) (most)
+  t.touch(*t.find(key(0)));
+  t.touch(*t.find(key(1)));
+  EXPECT_EQ(t.keyOf(*t.acquire(key(10))), key(10));
+  EXPECT_FALSE(t.find(key(2)));  // the least recently used unused brick went first
+  EXPECT_FALSE(t.acquire(key(11)) == std::nullopt);
+  EXPECT_FALSE(t.find(key(3)));
+  EXPECT_EQ(t.usedEvictions(), 0u);
+  t.acquire(key(12));  // only used bricks are left to reuse
+  EXPECT_FALSE(t.find(key(0)));
+  EXPECT_EQ(t.usedEvictions(), 1u);
+
+  // A pinned slot keeps its mark; beginCut clears the marks.
+  t.beginCut();
+  t.pin(*t.find(key(1)));
+  t.touch(*t.find(key(1)));
+  EXPECT_TRUE(t.isPinned(*t.find(key(1))));
+  t.beginCut();
+  t.acquire(key(13));
+  t.acquire(key(14));
+  t.acquire(key(15));
+  t.acquire(key(16));
+  EXPECT_EQ(t.usedEvictions(), 1u);
+}
+
 }  // namespace
 }  // namespace ropecast

@@ -155,11 +155,13 @@ TEST(WorkingSet, EmptinessChangesAndRevisitedViewsNeedNoIo) {
   const WorkingSetFrame all = ws.updateUntilConverged(a);  // nothing empty but the source's own
   ASSERT_TRUE(all.converged);
   const uint64_t reads = src.reads();
+  EXPECT_EQ(all.stats.bytesRead, reads * src.brickBytes());  // a generated source counts whole bricks
 
   a.isEmpty = isoEmpty;  // a narrower selection: every node it keeps was already read
   const WorkingSetFrame iso = ws.updateUntilConverged(a);
   EXPECT_TRUE(iso.converged);
   EXPECT_EQ(src.reads(), reads);
+  EXPECT_EQ(iso.stats.bytesRead, 0u);
   EXPECT_NE(cutOf(iso), cutOf(all));
   EXPECT_TRUE(iso.uploads.empty());  // all on the GPU already
 
@@ -238,6 +240,74 @@ TEST(WorkingSet, APerFrameUploadLimitIsNeverExceededAndStillConverges) {
   WorkingSet sync(fake2, cfg);
   in.uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
   EXPECT_EQ(cutOf(sync.updateUntilConverged(in)), cutOf(ws.update(in)));
+}
+
+// The nodes holding a brick in a WorkingSet's GPU pool.
+std::set<NodeKey, KeyLess> residentKeys(const WorkingSet& ws) {
+  std::set<NodeKey, KeyLess> keys;
+  for (uint32_t s = 0; s < ws.slots().slotCount(); ++s) {
+    if (const auto k = ws.slots().keyOf(s)) keys.insert(*k);
+  }
+  return keys;
+}
+
+TEST(WorkingSet, BricksTheRaysUseStayInAPoolTooSmallForTheWorkingSet) {
+  // Two opposite views whose trees do not fit the pool together; the feedback says that the same 12 bricks of
+  // the first view, none in the second's tree, are used in every frame. The pool holds the larger tree and
+  // those 12.
+  FakeBrickSource src = makeScene();
+  FrameInput a = frameFrom({-60, -60, -60}, 60, {20, 20, 20});
+  FrameInput b = frameFrom({188, 188, 188}, 60, {108, 108, 108});
+  a.isEmpty = b.isEmpty = isoEmpty;
+  WorkingSetConfig big = config(2000);
+  big.cpuCacheBytes = 2000 * src.brickBytes();
+  WorkingSet measureA(src, big), measureB(src, big);
+  ASSERT_TRUE(measureA.updateUntilConverged(a).converged);
+  ASSERT_TRUE(measureB.updateUntilConverged(b).converged);
+  const auto treeA = residentKeys(measureA), treeB = residentKeys(measureB);
+  std::vector<NodeKey> used;
+  for (const NodeKey& k : treeA) {
+    if (!treeB.count(k) && used.size() < 12) used.push_back(k);
+  }
+  ASSERT_EQ(used.size(), 12u);
+  std::set<NodeKey, KeyLess> all = treeA;
+  all.insert(treeB.begin(), treeB.end());
+  WorkingSetConfig cfg = big;
+  cfg.gpuSlots = uint32_t(std::max(treeA.size(), treeB.size()) + used.size());
+  ASSERT_LT(cfg.gpuSlots, all.size());  // the pool is smaller than the working set of both views
+
+  struct Outcome {
+    uint64_t usedEvictions = 0;  // as the loader counted them
+    uint64_t unusedEvicted = 0;  // bricks not in `used` that left the pool
+    uint64_t usedMissing = 0;    // bricks of `used` not in the pool after a turn to b
+  };
+  const auto alternate = [&](bool withFeedback) {
+    WorkingSet ws(src, cfg);
+    Outcome o;
+    for (int round = 0; round < 3; ++round) {
+      for (FrameInput* in : {&a, &b}) {
+        in->usedNodes = withFeedback ? used : std::vector<NodeKey>{};
+        const auto before = residentKeys(ws);
+        const WorkingSetFrame f = ws.updateUntilConverged(*in);
+        EXPECT_TRUE(f.converged);
+        o.usedEvictions += f.stats.usedBricksEvicted;
+        const auto after = residentKeys(ws);
+        for (const NodeKey& k : before) {
+          if (!after.count(k) && std::find(used.begin(), used.end(), k) == used.end()) ++o.unusedEvicted;
+        }
+        if (in == &b) {
+          for (const NodeKey& k : used) o.usedMissing += !after.count(k);
+        }
+      }
+    }
+    return o;
+  };
+  const Outcome withFeedback = alternate(true);
+  EXPECT_EQ(withFeedback.usedEvictions, 0u);
+  EXPECT_EQ(withFeedback.usedMissing, 0u);
+  EXPECT_GT(withFeedback.unusedEvicted, 0u);  // the pool was too small: the unused bricks made room
+  // Without feedback, eviction by residency takes some of them whenever the camera turns to b.
+  EXPECT_GT(alternate(false).usedMissing, 0u);
 }
 
 TEST(WorkingSet, ReadsOnlyWhatTheGpuPoolHasRoomFor) {

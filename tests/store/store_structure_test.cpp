@@ -50,6 +50,7 @@ std::array<uint64_t, 4> expectNodesMatchDirectComputation(const Store& store,
     EXPECT_EQ(node.minValue, e.min) << name;
     EXPECT_EQ(node.maxValue, e.max) << name;
     ++kinds[size_t(node.kind)];
+    EXPECT_EQ(store.compressedBytes(key), store.entries()[layout.nodeIndex(key)].payloadBytes) << name;
     if (discardBelow && store.info().mapping.toData(e.max) < *discardBelow) {
       EXPECT_EQ(node.kind, NodeKind::Empty) << name;
       continue;
