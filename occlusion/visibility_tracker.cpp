@@ -84,29 +84,31 @@ void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_
   const bool occluded = samplesPassed < config_.thresholdPixels;
   ++roundAnswers_;
   if (occluded != wasOccluded) roundFlipped_ = true;
-  it->second = {issuedFrame, occluded};
+  it->second = {issuedFrame, occluded, samplesPassed};
 }
 
 void VisibilityTracker::propagate(std::span<const NodeKey> nonEmptyLeaves) {
+  // Per inner node: the visible samples of its leaves (an unanswered leaf counts the threshold: visible) and
+  // the oldest answer among them.
   std::unordered_map<NodeKey, Mark, NodeKeyHash> inner;
   for (const NodeKey& leaf : nonEmptyLeaves) {
     Mark m;
-    m.occluded = occludedAt(leaf, lastPlanFrame_);
-    if (m.occluded) m.issuedFrame = marks_.at(leaf).issuedFrame;
+    m.issuedFrame = UINT64_MAX;
+    m.samples = config_.thresholdPixels;
+    if (const auto it = marks_.find(leaf); it != marks_.end() && live(it->second, lastPlanFrame_) &&
+                                           !unqueryable_.contains(leaf)) {
+      m.issuedFrame = it->second.issuedFrame;
+      m.samples = it->second.samples;
+    }
     for (NodeKey k = leaf; k.depth > 0;) {
       k = k.parent();
-      const auto [it, inserted] = inner.try_emplace(k, m);
-      if (inserted) continue;
-      Mark& above = it->second;
-      // Already visible, or occluded no later than this leaf: every node further up has absorbed this
-      // leaf's state through an earlier leaf below `k`.
-      if (!above.occluded || (m.occluded && above.issuedFrame <= m.issuedFrame)) break;
-      // Visible when any descendant is; otherwise as old as the oldest answer below.
-      above.occluded = m.occluded;
-      above.issuedFrame = std::min(above.issuedFrame, m.issuedFrame);
+      auto [it, inserted] = inner.try_emplace(k, Mark{UINT64_MAX, false, 0});
+      it->second.samples += m.samples;
+      it->second.issuedFrame = std::min(it->second.issuedFrame, m.issuedFrame);
     }
   }
-  for (const auto& [key, mark] : inner) {
+  for (auto& [key, mark] : inner) {
+    mark.occluded = mark.samples < config_.thresholdPixels;
     if (mark.occluded)
       marks_[key] = mark;
     else

@@ -74,10 +74,13 @@ class VisibilityTracker {
   void answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
 
   // Propagation to parents (Gobbetti et al. 2008, Sect. 6: an inner node is visible when any child is): given
-  // the last cut's non-empty leaves, every inner node above them gets a mark: occluded when all its non-empty
-  // descendants in the cut are occluded (a leaf never answered, or whose answer expired at the last plan()'s
-  // frame, counts visible), with the age of the oldest answer below it. So a node collapsed because its
-  // children were occluded keeps its mark until it is queried itself.
+  // the last cut's non-empty leaves, every inner node above them gets a mark from the visible samples of its
+  // leaves together: occluded when their sum is below the threshold (a leaf never answered, or whose answer
+  // expired at the last plan()'s frame, counts as visible on its own), with the age of the oldest answer
+  // below it. The sum, not "any child": a node whose box shows a few pixels spread over children that each
+  // show fewer than the threshold is visible, as its own query would say; with "any child" it would collapse,
+  // be queried, answer visible, refine, and collapse again. A node collapsed because its leaves were occluded
+  // keeps its mark until it is queried itself.
   void propagate(std::span<const NodeKey> nonEmptyLeaves);
 
   // Whether the refiner should treat the node as occluded at frame `frame`: it has an unexpired occluded
@@ -106,6 +109,7 @@ class VisibilityTracker {
   struct Mark {
     uint64_t issuedFrame = 0;  // the frame of the query, or of the oldest answer below an inner node
     bool occluded = false;
+    uint64_t samples = 0;  // visible samples: the query's, or the sum below an inner node
   };
   // Not expired at `frame` (written without the sum, which a lifetime of UINT64_MAX would overflow).
   bool live(const Mark& m, uint64_t frame) const {

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <string_view>
 
 #include "core/error.h"
 #include "render/backend_choice.h"
@@ -16,6 +18,20 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// What decides which nodes are empty (mode, isovalue, transfer function), as a hash: occlusion marks made
+// under another one describe another image.
+uint64_t emptinessKeyOf(const FrameRequest& request) {
+  std::string_view tfBytes;
+  if (request.params.mode == RenderMode::Dvr && request.tf)
+    tfBytes = {reinterpret_cast<const char*>(request.tf->entries().data()),
+               request.tf->entries().size() * sizeof(glm::vec4)};
+  uint64_t h = std::hash<std::string_view>{}(tfBytes);
+  h = h * 0x9E3779B97F4A7C15ull ^ uint64_t(request.params.mode);
+  if (request.params.mode == RenderMode::Iso)
+    h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(request.params.isoValue);
+  return h;
 }
 }  // namespace
 
@@ -51,6 +67,10 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   wsConfig.uploadBudgetBytes = config.uploadBudgetBytes;
   wsConfig.ioThreads = config.ioThreads;
   workingSet_ = std::make_unique<WorkingSet>(source, wsConfig);
+  if (config.occlusion) {
+    queries_ = std::make_unique<OcclusionQueries>();
+    visibility_ = std::make_unique<VisibilityTracker>(config.visibility);
+  }
 }
 
 FrameRenderer::~FrameRenderer() = default;
@@ -101,9 +121,71 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   raycast_.lastRaycastMs();  // waits for the draw
 }
 
+void FrameRenderer::collectVisibility(const FrameRequest& request, FrameStats& stats) {
+  const auto start = Clock::now();
+  const uint64_t key = emptinessKeyOf(request);
+  if (key != emptinessKey_) {
+    emptinessKey_ = key;
+    visibility_->reset();
+    queries_->dropPending();
+  }
+  for (const QueryAnswer& a : queries_->collect()) {
+    visibility_->answer(a.key, a.issuedFrame, a.samplesPassed);
+    ++stats.occlusionAnswered;
+  }
+  visibility_->propagate(queriedLeaves_);
+  stats.occlusionMs += msSince(start);
+}
+
+TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
+                                      FrameStats& stats) {
+  const auto start = Clock::now();
+  const BrickSourceInfo& info = source_.info();
+  std::vector<LeafToQuery> toQuery;
+  queriedLeaves_.clear();
+  for (const PlannedLeaf& leaf : leaves) {
+    if (leaf.content != LeafContent::Brick) continue;
+    const WorldBox box = nodeWorldBox(info.layout, info.volume.spacing, leaf.key);
+    toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
+    queriedLeaves_.push_back(leaf.key);
+  }
+  const FrameQueryPlan plan = visibility_->plan(frame_, request.width, request.height, toQuery);
+  const VisibilityCounts counts = visibility_->counts(frame_);
+  stats.nodesVisible = counts.visible;
+  stats.nodesOccluded = counts.occluded;
+  stats.occlusionLatencyFrames = visibility_->lastRoundFrames();
+
+  queryBoxes_.clear();
+  for (const NodeKey& key : plan.queries) {
+    const WorldBox box = nodeWorldBox(info.layout, info.volume.spacing, key);
+    queryBoxes_.push_back({key, box.lo, box.hi});
+  }
+  TileSchedule schedule;
+  for (const ScreenRect& r : plan.tiles)
+    if (!r.empty())
+      schedule.tiles.push_back({uint32_t(r.x0), uint32_t(r.y0), uint32_t(r.width()), uint32_t(r.height())});
+  stats.occlusionQueries = queryBoxes_.size();
+  if (!queryBoxes_.empty()) {
+    const DepthRange depth =
+        windowDepthRange(request.camera, glm::dvec3(info.volume.dims) * info.volume.spacing);
+    schedule.afterFirstTile = [this, &request, depth, &stats] {
+      const auto issueStart = Clock::now();
+      queries_->issue(queryBoxes_, request.camera, request.width, request.height, depth, frame_);
+      stats.occlusionMs += msSince(issueStart);
+    };
+  }
+  stats.occlusionMs += msSince(start);
+  return schedule;
+}
+
 FrameStats FrameRenderer::render(const FrameRequest& request) {
   const auto frameStart = Clock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
+  FrameStats stats;
+  const bool occlusion = visibility_ && !request.synchronous;
+
+  // Pass 0, hear back: the occlusion answers that arrived since (never waiting for one).
+  if (occlusion) collectVisibility(request, stats);
 
   // Pass 1, refine: the loader plans the cut and the uploads of this frame.
   FrameInput input;
@@ -112,6 +194,11 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.viewportHeight = request.height;
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
+  if (occlusion) {
+    input.hints = [this](const NodeKey& key) {
+      return visibility_->isOccluded(key, frame_) ? NodeHint::Occluded : NodeHint::None;
+    };
+  }
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan =
       request.synchronous ? workingSet_->updateUntilConverged(input) : workingSet_->update(input);
@@ -147,12 +234,18 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   uploadIndex(cut_, index_);
   const double indexMs = msSince(indexStart);
 
-  // Pass 4, ray cast.
-  const RaycastFrame frame = raycastFrame(request, request.width, request.height);
-  raycast_.render(frame);
+  // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
+  const TileSchedule schedule = occlusion ? planTiles(request, plan.leaves, stats) : TileSchedule{};
 
-  FrameStats stats;
+  // Pass 5, ray cast, with the occlusion queries after the first tile.
+  const RaycastFrame frame = raycastFrame(request, request.width, request.height);
+  raycast_.render(frame, schedule);
+
   static_cast<LoaderStats&>(stats) = plan.stats;
+  stats.tiles = std::max<uint64_t>(schedule.tiles.size(), 1);
+  stats.workingSetBricks = workingSet_->slots().pinnedCount();
+  // Converged also means the occlusion state settled: a round of answers that changed no mark.
+  if (occlusion) stats.converged = plan.stats.converged && visibility_->settled();
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;

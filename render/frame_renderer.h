@@ -1,6 +1,7 @@
 // FrameRenderer: one frame of the out-of-core ray caster as named passes (docs/ARCHITECTURE.md):
-//   refine (loader WorkingSet) -> upload (BrickPool) -> build index (RopeIndexBuilder, IndexTexture)
-//   -> ray cast (RaycastPass) -> stats.
+//   hear back (occlusion answers) -> refine (loader WorkingSet) -> upload (BrickPool)
+//   -> build index (RopeIndexBuilder, IndexTexture) -> plan tiles (VisibilityTracker)
+//   -> ray cast + queries (RaycastPass, OcclusionQueries) -> stats.
 // It owns the GL objects of a volume (pool, index texture, ray-cast pass) and the loader's WorkingSet, and is
 // handed the BrickSource and the transfer function. The loader decides what to load; this class only carries
 // its plan to the GPU.
@@ -21,7 +22,9 @@
 #include "core/transfer_function.h"
 #include "index/rope_index.h"
 #include "loader/working_set.h"
+#include "occlusion/visibility_tracker.h"
 #include "render/frame_stats.h"
+#include "render/occlusion_queries.h"
 #include "render/raycast_pass.h"
 #include "render/upload_pacer.h"
 #include "store/brick_source.h"
@@ -46,6 +49,10 @@ struct FrameRendererConfig {
   // A GradientPool beside the brick pool, derived at every upload, for DVR requests with stored gradients
   // (RenderParams::gradients); it takes its share of the GPU budget. usesStoredGradients() says when.
   bool storedGradients = false;
+  // --occlusion: occlusion queries between screen tiles steer refinement (Gobbetti et al. 2008, Sect. 6), in
+  // asynchronous frames (a synchronous frame loads its whole view before any query could answer).
+  bool occlusion = true;
+  VisibilityConfig visibility;  // --query-budget, --visibility-threshold
 };
 
 struct FrameRequest {
@@ -83,6 +90,9 @@ class FrameRenderer {
   const Cut& lastCut() const { return cut_; }
   const WorkingSet& workingSet() const { return *workingSet_; }
   const BrickPool& pool() const { return *pool_; }
+  // The occlusion side (null with FrameRendererConfig::occlusion off); tests substitute its result reader.
+  OcclusionQueries* occlusionQueries() { return queries_.get(); }
+  const VisibilityTracker* visibility() const { return visibility_.get(); }
 
  private:
   const GradientPool* gradientsFor(const RenderParams& params) const;
@@ -91,6 +101,11 @@ class FrameRenderer {
   // Builds the rope index of `cut` into `index` and uploads it to the index texture.
   void uploadIndex(const Cut& cut, RopeIndex& index);
   RaycastFrame raycastFrame(const FrameRequest& request, uint32_t width, uint32_t height) const;
+  // Hear back: the occlusion answers that arrived, into the tracker; marks reset when what is empty changed.
+  void collectVisibility(const FrameRequest& request, FrameStats& stats);
+  // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them.
+  TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
+                         FrameStats& stats);
 
   const BrickSource& source_;
   std::string glRenderer_;  // GL_RENDERER, for RenderBackend::Auto
@@ -106,6 +121,12 @@ class FrameRenderer {
   RopeIndex index_;
   Cut cut_;
   uint64_t frame_ = 0;
+
+  std::unique_ptr<OcclusionQueries> queries_;      // config.occlusion only
+  std::unique_ptr<VisibilityTracker> visibility_;  // config.occlusion only
+  std::vector<NodeKey> queriedLeaves_;             // the non-empty leaves of the last asynchronous frame
+  std::vector<QueryBox> queryBoxes_;               // this frame's queries
+  uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the

@@ -23,6 +23,15 @@ struct FrameStats : LoaderStats {
   double indexMs = 0.0;     // building and uploading the rope index
   double stepVoxels = 0.0;  // the sample step of this frame (--step, scaled by --target-frame-ms)
   RenderBackend backend = RenderBackend::Fragment;  // the backend that drew it (never Auto: resolved)
+  uint64_t workingSetBricks = 0;  // bricks of this frame's refined tree (the cut and the nodes above it)
+  // Occlusion queries (Gobbetti et al. 2008, Sect. 6); zero with --occlusion off and in synchronous frames.
+  uint64_t occlusionQueries = 0;        // issued this frame
+  uint64_t occlusionAnswered = 0;       // answers collected this frame (issued in earlier frames)
+  uint64_t nodesVisible = 0;            // non-empty leaves of the cut counted visible
+  uint64_t nodesOccluded = 0;           // non-empty leaves of the cut marked occluded
+  double occlusionMs = 0.0;             // CPU side: collecting, planning the tiles, issuing the queries
+  uint64_t tiles = 0;                   // screen tiles cast (1 without queries)
+  uint64_t occlusionLatencyFrames = 0;  // frames the last round of queries took to cover every leaf
 };
 
 inline nlohmann::json toJson(const FrameStats& s) {
@@ -37,6 +46,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"refine_ms", s.refineMs},
                         {"leaves", s.leaves},
                         {"bricks_resident", s.bricksResident},
+                        {"working_set_bricks", s.workingSetBricks},
                         {"bricks_uploaded", s.bricksUploaded},
                         {"bytes_uploaded", s.bytesUploaded},
                         {"requests_pending", s.requestsPending},
@@ -46,6 +56,13 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"bytes_read", s.bytesRead},
                         {"gpu_pool_used", s.gpuPoolUsedBytes},
                         {"used_evictions", s.usedBricksEvicted},
+                        {"occlusion_queries", s.occlusionQueries},
+                        {"occlusion_answered", s.occlusionAnswered},
+                        {"nodes_visible", s.nodesVisible},
+                        {"nodes_occluded", s.nodesOccluded},
+                        {"occlusion_ms", s.occlusionMs},
+                        {"tiles", s.tiles},
+                        {"occlusion_latency_frames", s.occlusionLatencyFrames},
                         {"converged", s.converged}};
 }
 

@@ -56,6 +56,9 @@ struct RenderOptions {
   uint32_t every = 0;
   double ioDelayMs = 0.0;
   uint32_t brick = kDefaultBrickSize;  // procedural inputs only
+  bool occlusion = true;
+  uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
+  uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
 };
 
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
@@ -257,6 +260,9 @@ struct OctreeRender {
     config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
     config.storedGradients = usesStoredGradients(s.params);
     config.uploadThroughPbo = o.uploadPbo;
+    config.occlusion = o.occlusion;
+    config.visibility.tiles.queryBudget = o.queryBudget;
+    config.visibility.thresholdPixels = o.visibilityThreshold;
     renderer = std::make_unique<FrameRenderer>(gl.info(), s.bricks(), config);
     request.width = s.width;
     request.height = s.height;
@@ -309,6 +315,7 @@ void renderProgressive(const RenderOptions& o, RenderSetup& s) {
 
 const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
                                                                  {"dvr", RenderMode::Dvr}};
+const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
 std::vector<std::pair<std::string, RenderBackend>> backendNames() {
@@ -397,6 +404,16 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--every", o->every, "also write every K-th frame as OUT_NNNN.png");
   app.add_option("--io-delay-ms", o->ioDelayMs, "added latency per brick read (shows asynchrony)")
       ->check(finiteIn(0.0, 10000.0));
+  addEnumOption(app, "--occlusion", o->occlusion, kOnOffNames,
+                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining "
+                "(default on)");
+  app.add_option("--query-budget", o->queryBudget, "occlusion queries per frame")
+      ->check(CLI::Range(1u, 1000000u))
+      ->capture_default_str();
+  app.add_option("--visibility-threshold", o->visibilityThreshold,
+                 "visible pixels below which a queried node counts as occluded")
+      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 32))
+      ->capture_default_str();
   app.add_option("--brick", o->brick, "brick size for procedural inputs")
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
   return [o] { return runRender(*o); };

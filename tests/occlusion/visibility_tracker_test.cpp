@@ -178,7 +178,7 @@ struct SmallTree {
   }
 };
 
-TEST(VisibilityTracker, PropagatesOcclusionOnlyWhenEveryNonEmptyDescendantIsOccluded) {
+TEST(VisibilityTracker, PropagatesOcclusionOnlyWhenTheNonEmptyDescendantsShowTooFewSamples) {
   VisibilityTracker tracker({{}, 4, 64});
   const SmallTree t;
   tracker.plan(30, 8, 8, t.toQuery());
@@ -204,6 +204,16 @@ TEST(VisibilityTracker, PropagatesOcclusionOnlyWhenEveryNonEmptyDescendantIsOccl
   EXPECT_FALSE(tracker.isOccluded(t.g.parent(), 31));
   EXPECT_FALSE(tracker.isOccluded(t.p, 31));
   EXPECT_FALSE(tracker.isOccluded(t.root, 31));
+
+  // Leaves each below the threshold but together above it: their parent shows as many pixels as a visible
+  // node would, and is visible (so it is not collapsed only to be refined again when queried itself).
+  tracker.answer(t.g, 32, 0);
+  tracker.answer(t.c0, 32, 2);
+  tracker.answer(t.c1, 32, 1);
+  tracker.answer(t.c2, 32, 1);
+  tracker.propagate(t.cut);
+  EXPECT_TRUE(tracker.isOccluded(t.c0, 32));
+  EXPECT_FALSE(tracker.isOccluded(t.p, 32));
 }
 
 bool isBelow(NodeKey node, const NodeKey& ancestor) {
@@ -231,17 +241,22 @@ TEST(VisibilityTracker, PropagatesAsTheDefinitionSaysOnRandomCuts) {
     for (const NodeKey& k : leaves) toQuery.push_back(leafAt(k, {0, 0, 1, 1}));
     const uint64_t now = 100;
     tracker.plan(now, 8, 8, toQuery);
-    // Each leaf: occluded (fresh or expired), visible, or never answered; mostly occluded, so that some
-    // inner nodes are.
+    // Each leaf: occluded (0 to 3 samples, fresh or expired), visible, or never answered; mostly occluded
+    // with no sample, so that some inner nodes are.
     std::unordered_map<NodeKey, uint64_t, NodeKeyHash> occludedSince;  // live occluded leaves
+    std::unordered_map<NodeKey, uint64_t, NodeKeyHash> samplesOf;      // of those
     for (const NodeKey& k : leaves) {
       const uint32_t kind = rng() % 20;
       const uint64_t issued = now - rng() % 80;
+      const uint64_t samples = kind < 13 ? 0 : rng() % 4;
       if (kind < 16)
-        tracker.answer(k, issued, 0);
+        tracker.answer(k, issued, samples);
       else if (kind < 18)
         tracker.answer(k, issued, 10);
-      if (kind < 16 && now - issued <= 64) occludedSince[k] = issued;
+      if (kind < 16 && now - issued <= 64) {
+        occludedSince[k] = issued;
+        samplesOf[k] = samples;
+      }
     }
     tracker.propagate(leaves);
 
@@ -249,14 +264,17 @@ TEST(VisibilityTracker, PropagatesAsTheDefinitionSaysOnRandomCuts) {
     for (const NodeKey& k : leaves)
       for (NodeKey a = k; a.depth > 0;) inner.insert(a = a.parent());
     for (const NodeKey& a : inner) {
-      bool occluded = true;
+      // Occluded when the leaves below show fewer samples than the threshold together (a leaf not live and
+      // occluded counts as visible: at least the threshold).
+      uint64_t samples = 0;
       uint64_t oldest = now;
       for (const NodeKey& k : leaves) {
         if (!isBelow(k, a)) continue;
         const auto it = occludedSince.find(k);
-        occluded = occluded && it != occludedSince.end();
+        samples += it == occludedSince.end() ? 4 : samplesOf.at(k);
         if (it != occludedSince.end()) oldest = std::min(oldest, it->second);
       }
+      const bool occluded = samples < 4;
       ++(occluded ? occludedInner : visibleInner);
       ASSERT_EQ(tracker.isOccluded(a, now), occluded) << "trial " << trial << " depth " << a.depth;
       if (occluded) {
