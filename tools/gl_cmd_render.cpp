@@ -405,8 +405,7 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
   app.add_option("--io-delay-ms", o->ioDelayMs, "added latency per brick read (shows asynchrony)")
       ->check(finiteIn(0.0, 10000.0));
   addEnumOption(app, "--occlusion", o->occlusion, kOnOffNames,
-                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining "
-                "(default on)");
+                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
   app.add_option("--query-budget", o->queryBudget, "occlusion queries per frame")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();
