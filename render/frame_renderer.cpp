@@ -20,6 +20,12 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// The same camera and image size: the occlusion marks of the last frame describe this one.
+bool sameView(const FrameRequest& a, const FrameRequest& b) {
+  return a.camera.eye == b.camera.eye && a.camera.target == b.camera.target && a.camera.up == b.camera.up &&
+         a.camera.fovYDeg == b.camera.fovYDeg && a.width == b.width && a.height == b.height;
+}
+
 // What decides which nodes are empty (mode, isovalue, transfer function), as a hash: occlusion marks made
 // under another one describe another image.
 uint64_t emptinessKeyOf(const FrameRequest& request) {
@@ -143,7 +149,9 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
   queriedLeaves_.clear();
+  lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : leaves) {
+    for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
     if (leaf.content != LeafContent::Brick) continue;
     const WorldBox box = nodeWorldBox(info.layout, info.volume.spacing, leaf.key);
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
@@ -195,9 +203,15 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
   if (occlusion) {
-    input.hints = [this](const NodeKey& key) {
-      return visibility_->isOccluded(key, frame_) ? NodeHint::Occluded : NodeHint::None;
+    // Marks keep leaves from refining, and collapse a refined node only while the view changes. On a still
+    // view the tree then only grows, so it converges; collapsing there can cycle (a node refined because it
+    // showed hides another's leaves, that one collapses, its coarse data no longer hides the first, ...).
+    const bool viewChanged = !lastView_ || !sameView(*lastView_, request);
+    input.hints = [this, viewChanged](const NodeKey& key) {
+      if (!visibility_->isOccluded(key, frame_)) return NodeHint::None;
+      return viewChanged || !lastInnerNodes_.contains(key) ? NodeHint::Occluded : NodeHint::None;
     };
+    lastView_ = request;
   }
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan =

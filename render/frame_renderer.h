@@ -11,7 +11,9 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -127,6 +129,8 @@ class FrameRenderer {
   std::vector<NodeKey> queriedLeaves_;             // the non-empty leaves of the last asynchronous frame
   std::vector<QueryBox> queryBoxes_;               // this frame's queries
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
+  std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;  // of the last asynchronous frame's tree
+  std::optional<FrameRequest> lastView_;                     // the last asynchronous frame's request
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the
