@@ -61,36 +61,11 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
     const RayLeaves rl = indexSamples(trace);
     const size_t leafCount = trace.leaves.size();
 
-    // Where the ray may end (earliest) and where it surely has ended (latest), as global sample indices.
-    size_t earliest = kNever, latest = kNever;
-    {
-      size_t g = 0;
-      bool hasPrev = false;
-      double fPrev = 0.0;
-      for (const MirrorLeafVisit& v : trace.leaves)
-        for (const MirrorSample& s : v.samples) {
-          bool possible = false, sure = false;
-          if (iso) {
-            if (hasPrev) {
-              const bool crosses = (s.f >= 0.0) != (fPrev >= 0.0);
-              const bool close = std::abs(s.f) < tol.value || std::abs(fPrev) < tol.value;
-              possible = crosses || close;
-              sure = crosses && !close;
-            }
-            hasPrev = true;
-            fPrev = s.f;
-          } else if (s.addsOpacity) {
-            possible = s.alpha >= ert - tol.alpha;
-            sure = s.alpha >= ert + tol.alpha;
-          }
-          if (possible && earliest == kNever) earliest = g;
-          if (sure && latest == kNever) latest = g;
-          ++g;
-        }
-    }
-
-    // Leaves with a sample within rounding of a border: their sample count, and what follows, is uncertain.
+    // Samples within rounding of a leaf border (tolerance.relative): in float the sample may fall in the
+    // neighbouring leaf (sampled at its level), or a sample of the leaf's grid just past the border may be
+    // taken too. The leaves on either side may gain or lose that one sample, and its value is uncertain.
     std::vector<bool> tie(leafCount, false);
+    std::set<size_t> tieSamples;  // global indices of the samples next to such a border
     if (tol.relative > 0.0) {
       for (size_t v = 0; v < leafCount; ++v) {
         const MirrorLeafVisit& l = trace.leaves[v];
@@ -100,14 +75,57 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
         };
         const double kEnd = l.kBegin + double(l.samples.size());
         const double tStop = std::min(l.tExit, trace.t1);
-        if (!l.firstLeaf && (near(at(l.kBegin), l.tEnter) || near(at(l.kBegin - 1.0), l.tEnter)))
+        const size_t first = rl.position[v], past = rl.position[v] + rl.count[v];
+        if (!l.firstLeaf && (near(at(l.kBegin), l.tEnter) || near(at(l.kBegin - 1.0), l.tEnter))) {
           tie[v] = true;
-        if (near(at(kEnd), tStop) || near(at(kEnd - 1.0), tStop)) tie[v] = true;
-        if (tie[v]) {
-          earliest = std::min(earliest, rl.position[v]);
-          if (rl.position[v] <= latest) latest = kNever;  // the samples after it may differ
+          if (first > 0) tieSamples.insert(first - 1);
+          tieSamples.insert(first);
+        }
+        if (near(at(kEnd), tStop) || near(at(kEnd - 1.0), tStop)) {
+          tie[v] = true;
+          if (past > 0) tieSamples.insert(past - 1);
+          tieSamples.insert(past);
         }
       }
+      // A leaf keeps at least one sample unless it has at most two (one lost at either border).
+      for (size_t v = 0; v < leafCount; ++v) {
+        const size_t first = rl.position[v], past = rl.position[v] + rl.count[v];
+        const bool touched = tieSamples.count(first) > 0 || (past > 0 && tieSamples.count(past - 1) > 0);
+        tie[v] = (tie[v] || touched) && rl.count[v] <= 2;
+      }
+    }
+
+    // Where the ray may end (earliest) and where it surely has ended (latest), as global sample indices.
+    size_t earliest = kNever, latest = kNever;
+    {
+      size_t g = 0;
+      bool hasPrev = false, prevUncertain = false, opacityUnknown = false;
+      double fPrev = 0.0;
+      for (const MirrorLeafVisit& v : trace.leaves)
+        for (const MirrorSample& s : v.samples) {
+          bool possible = false, sure = false;
+          const bool uncertain = tieSamples.count(g) > 0;
+          if (iso) {
+            if (hasPrev) {
+              const bool crosses = (s.f >= 0.0) != (fPrev >= 0.0);
+              const bool close =
+                  std::abs(s.f) < tol.value || std::abs(fPrev) < tol.value || uncertain || prevUncertain;
+              possible = crosses || close;
+              sure = crosses && !close;
+            }
+            hasPrev = true;
+            fPrev = s.f;
+            prevUncertain = uncertain;
+          } else {
+            // An uncertain sample's opacity is unknown, and so is the opacity accumulated from it on.
+            opacityUnknown = opacityUnknown || uncertain;
+            possible = uncertain || (s.addsOpacity && s.alpha >= ert - tol.alpha);
+            sure = !opacityUnknown && s.addsOpacity && s.alpha >= ert + tol.alpha;
+          }
+          if (possible && earliest == kNever) earliest = g;
+          if (sure && latest == kNever) latest = g;
+          ++g;
+        }
     }
     if (earliest != latest || std::find(tie.begin(), tie.end(), true) != tie.end()) ++out.uncertainRays;
 
@@ -128,13 +146,11 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
       const double ratio = pixels * voxelsPerPixel;  // a miss: ratio > 1
       const bool miss = level > 0 && ratio > 1.0;
       const bool marginal = level > 0 && std::abs(ratio - 1.0) <= tol.relative;
-      if (sureRequestOpen) {
-        if (!isSure || marginal) {
-          sureRequestOpen = false;
-        } else if (miss) {
-          sureRequested.insert(l.leafIndex);
-          sureRequestOpen = false;
-        }
+      // The ray's request is the first leaf that may be a miss: sure if that leaf surely is one and surely
+      // sampled.
+      if (sureRequestOpen && (miss || marginal)) {
+        if (isSure && !marginal) sureRequested.insert(l.leafIndex);
+        sureRequestOpen = false;
       }
       if (possibleRequestOpen && (miss || marginal)) {
         possibleRequested.insert(l.leafIndex);
