@@ -60,7 +60,8 @@ class FeedbackBuffer {
   FeedbackBuffer& operator=(const FeedbackBuffer&) = delete;
 
   // Starts a frame over a cut of leafCount leaves: zero masks and counters (glClearNamedBufferSubData) and a
-  // 32-byte header. Throws ropecast::Error if a frame is already open.
+  // 32-byte header; the rays do not record leaves of index leafCount or more. Throws ropecast::Error if a
+  // frame is already open.
   void begin(uint32_t leafCount);
   // Binds the storage buffer to kFeedbackBinding (RaycastPass calls it).
   void bind() const;

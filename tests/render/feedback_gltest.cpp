@@ -121,7 +121,7 @@ void expectWithinBounds(const FeedbackReadback& gpu, const FeedbackBounds& cpu, 
 
 // How far a GPU may stray from the mirror before it can decide otherwise (reference/feedback_twin.h). Exact
 // agreement is the rule but not guaranteed: a ray whose mirror opacity crosses the termination threshold by
-// less than the GPU's error at the last sample of a leaf (seen: 0.9507 against ert 0.95) goes on into the
+// less than the GPU's error at the last sample of a leaf (0.9507 against ert 0.95, say) goes on into the
 // next leaf on the GPU. Values: filtering with 8-bit weights (llvmpipe for 8-bit textures, most GPUs for all)
 // is off by up to 3/512 of the largest difference between neighbouring texels, below 0.8 in these scenes
 // (level 4): 5e-3. Opacity: per-sample errors of a few 1e-3 (that value error through the transfer
