@@ -67,9 +67,11 @@ class RayIntegrator {
 
   // Samples [tEnter, tExit) at level `level` with `sampler`; false once the ray is finished (iso hit, ERT).
   // `fromEntry`: the segment is the first the traversal reports, so it starts at t0 and its first sample is
-  // t0 itself even where the float traversal rounded tEnter just above t0 (as the shader does).
+  // t0 itself even where the float traversal rounded tEnter just above t0 (as the shader does). With `visit`,
+  // records the samples, and goes on sampling (without changing the image) after the ray has finished.
   template <class Sampler>
-  bool march(double tEnter, double tExit, uint32_t level, const Sampler& sampler, bool fromEntry) {
+  bool march(double tEnter, double tExit, uint32_t level, const Sampler& sampler, bool fromEntry,
+             MirrorLeafVisit* visit = nullptr) {
     const double levelScale = std::ldexp(1.0, int(level));
     const double dt = fc_.params.stepVoxels * levelScale * fc_.minSpacing;
     const glm::dvec3 cell = fc_.spacing * levelScale;
@@ -80,24 +82,49 @@ class RayIntegrator {
       k = std::ceil((tEnter - t0_) / dt);
       if (t0_ + k * dt < tEnter) k += 1.0;
     }
+    if (visit) {
+      visit->dt = dt;
+      visit->kBegin = k;
+    }
     for (double t = t0_ + k * dt; t < tStop; k += 1.0, t = t0_ + k * dt) {
       const glm::dvec3 x = ray_.origin + t * ray_.dir;
       const double v = sampler.value(x);
+      if (visit) {
+        if (ended_) {
+          traceAfterEnd(*visit, t, v, dt);
+          continue;
+        }
+        MirrorSample m{t, v - fc_.isoNormalized, 0.0, false};
+        if (fc_.params.mode == RenderMode::Dvr) {
+          const double a = opacity(v, dt);
+          m.addsOpacity = a > 0.0;
+          m.alpha = m.addsOpacity ? alpha_ + (1.0 - alpha_) * a : alpha_;
+        }
+        visit->samples.push_back(m);
+      }
       if (fc_.params.mode == RenderMode::Iso) {
         const double f = v - fc_.isoNormalized;
         if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
           hitIso(sampler, tPrev_, fPrev_, t, cell);
-          return false;
+          ended_ = true;
+          if (visit) endSample_ = visit->samples.size() - 1;
+          if (!visit) return false;
+          continue;
         }
         hasPrev_ = true;
         tPrev_ = t;
         fPrev_ = f;
       } else if (compositeDvr(sampler, x, v, dt, cell)) {
-        return false;
+        ended_ = true;
+        if (visit) endSample_ = visit->samples.size() - 1;
+        if (!visit) return false;
       }
     }
-    return true;
+    return !ended_;
   }
+
+  // Traced rays: the sample of its leaf's visit at which the ray ended.
+  size_t endSample() const { return endSample_; }
 
   // Final color = C + (1 - A) * background; alpha = A; depth along the camera axis.
   void finish(float* rgba, float* depth) const {
@@ -143,6 +170,23 @@ class RayIntegrator {
     depth_ = glm::dot(x - fc_.eye, fc_.forward);
   }
 
+  // The opacity of a DVR sample of value v over a step dt.
+  double opacity(double v, double dt) const {
+    return 1.0 - std::pow(1.0 - fc_.tf->lookup(v).a, dt / fc_.minSpacing);
+  }
+
+  // A traced sample after the ray ended: its f, and the opacity accumulated on as if the ray went on.
+  void traceAfterEnd(MirrorLeafVisit& visit, double t, double v, double dt) {
+    MirrorSample m{t, v - fc_.isoNormalized, 0.0, false};
+    if (fc_.params.mode == RenderMode::Dvr) {
+      const double a = opacity(v, dt);
+      m.addsOpacity = a > 0.0;
+      if (m.addsOpacity) traceAlpha_ += (1.0 - traceAlpha_) * a;
+      m.alpha = traceAlpha_;
+    }
+    visit.samples.push_back(m);
+  }
+
   // One DVR sample; true when early ray termination ends the ray.
   template <class Sampler>
   bool compositeDvr(const Sampler& sampler, glm::dvec3 x, double v, double dt, glm::dvec3 cell) {
@@ -160,6 +204,7 @@ class RayIntegrator {
     }
     color_ += (1.0 - alpha_) * a * c;
     alpha_ += (1.0 - alpha_) * a;
+    traceAlpha_ = alpha_;
     depth_ = glm::dot(x - fc_.eye, fc_.forward);
     return alpha_ >= fc_.params.ert;
   }
@@ -167,6 +212,9 @@ class RayIntegrator {
   const FrameConstants& fc_;
   const Ray& ray_;
   double t0_, t1_;
+  bool ended_ = false;  // by an iso hit or early ray termination
+  size_t endSample_ = 0;
+  double traceAlpha_ = 0.0;  // traced rays: the opacity accumulated on past the end
   bool hasPrev_ = false;
   double tPrev_ = 0.0, fPrev_ = 0.0;
   glm::dvec3 color_{0.0};
@@ -226,7 +274,7 @@ BricksBySlot readCutBricks(const Cut& cut, const BrickSource& source) {
 }
 
 CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const BrickSourceInfo& volume,
-                      const CpuRenderInput& input) {
+                      const CpuRenderInput& input, std::vector<MirrorRayTrace>* traces) {
   const FrameConstants fc(volume, input);
   const OctreeLayout& layout = volume.layout;
   const size_t brickBytes = size_t(layout.storedBrickSamples()) * bytesPerSample(volume.storedType);
@@ -236,6 +284,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
                   " bytes, expected " + std::to_string(brickBytes));
   // Root cube coordinates: u = x / (C s) per axis; the traversal's t stays the world t.
   const glm::dvec3 cubeWorld = double(layout.cubeSamples()) * fc.spacing;
+  if (traces) traces->assign(size_t(input.width) * input.height, MirrorRayTrace{});
 
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
@@ -244,6 +293,14 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
     // The GPU clips in float: anchor the sample grid where the shader does.
     t0 = double(float(t0));
     t1 = double(float(t1));
+    MirrorRayTrace* trace = traces ? &(*traces)[size_t(py) * input.width + px] : nullptr;
+    if (trace) {
+      trace->entered = true;
+      trace->t0 = t0;
+      trace->t1 = t1;
+    }
+    size_t endLeaf = 0, endSample = 0;
+    bool ended = false;
     RayIntegrator rayLoop(fc, ray, t0, t1);
     RopeCursor cursor;
     RopeLeaf leaf;
@@ -263,9 +320,29 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
         const NodeKey node{
             leaf.depth, glm::u32vec3(glm::round(glm::dvec3(leaf.boxMin) * double(ropeBoxScale(leaf.depth))))};
         const BrickSampler sampler(it->second.data(), volume.storedType, layout, node, fc.spacing);
-        if (!rayLoop.march(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), sampler, firstLeaf))
-          break;
+        MirrorLeafVisit* visit = nullptr;
+        if (trace) {
+          visit = &trace->leaves.emplace_back();
+          visit->leafIndex = leaf.leafIndex;
+          visit->depth = leaf.depth;
+          visit->tEnter = leaf.tEnter;
+          visit->tExit = leaf.tExit;
+          visit->firstLeaf = firstLeaf;
+        }
+        if (!rayLoop.march(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), sampler, firstLeaf,
+                           visit)) {
+          if (!trace) break;
+          if (!ended) {
+            ended = true;
+            endLeaf = trace->leaves.size() - 1;
+            endSample = rayLoop.endSample();
+          }
+        }
       }
+    }
+    if (trace) {
+      trace->endLeaf = ended ? endLeaf : trace->leaves.size();
+      trace->endSample = ended ? endSample : 0;
     }
     rayLoop.finish(rgba, depth);
   });

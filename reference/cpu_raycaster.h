@@ -54,13 +54,42 @@ struct CpuRenderInput {
 // Brick bytes (storedBrickEdge()^3 samples of the stored type, border included) by GPU pool slot.
 using BricksBySlot = std::unordered_map<uint32_t, std::vector<std::byte>>;
 
+// One ray of the mirror as the feedback twin (reference/feedback_twin.h) reads it: the data leaves it walked
+// in order with the samples it took in each. A traced ray goes on sampling past where it ended (its image
+// does not change), so that a test can ask where a ray within rounding of ending would have ended.
+struct MirrorSample {
+  double t = 0.0;
+  double f = 0.0;      // iso: v - vIso
+  double alpha = 0.0;  // DVR: the opacity after the sample (accumulation continued past the end)
+  bool addsOpacity = false;
+};
+struct MirrorLeafVisit {
+  uint32_t leafIndex = 0;  // in the Cut's leaves
+  uint32_t depth = 0;
+  double tEnter = 0.0;  // the traversal's [tEnter, tExit), float like the shader's
+  double tExit = 0.0;
+  bool firstLeaf = false;  // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
+  double dt = 0.0;         // the leaf's step
+  double kBegin = 0.0;     // its first sample index on the grid t0 + k dt
+  std::vector<MirrorSample> samples;
+};
+struct MirrorRayTrace {
+  bool entered = false;  // the ray met the volume box
+  double t0 = 0.0, t1 = 0.0;
+  std::vector<MirrorLeafVisit> leaves;
+  // Where the mirror ended the ray (iso hit or early ray termination): leaves[endLeaf].samples[endSample];
+  // endLeaf == leaves.size() when it left the volume.
+  size_t endLeaf = 0, endSample = 0;
+};
+
 // Reads the brick of every Data leaf of `cut` from `source`, keyed by the leaf's brickSlot.
 BricksBySlot readCutBricks(const Cut& cut, const BrickSource& source);
 
 // The mirror of the GL ray caster. `volume` gives dims, spacing, layout, stored type and mapping; every Data
 // leaf's brickSlot must be in `bricks`. Throws ropecast::Error on a missing slot or missing TF in DVR mode.
+// With `traces`, also each pixel's ray (traces[y * width + x]).
 CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const BrickSourceInfo& volume,
-                      const CpuRenderInput& input);
+                      const CpuRenderInput& input, std::vector<MirrorRayTrace>* traces = nullptr);
 
 // The brute-force reference. Keeps the level-0 bricks it has read for later frames.
 class ReferenceRenderer {

@@ -7,11 +7,13 @@
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "core/error.h"
 #include "core/transfer_function.h"
 #include "render/backend_choice.h"
 #include "render/brick_pool.h"
+#include "render/feedback_buffer.h"
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
 #include "render/index_texture.h"
@@ -59,14 +61,16 @@ RaycastPass::~RaycastPass() {
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
 
-const ShaderProgram& RaycastPass::program(const RenderParams& params) {
+const ShaderProgram& RaycastPass::program(const RenderParams& params, bool feedback) {
   const RenderBackend backend = params.backend;
   const RenderMode mode = params.mode;
   const bool leafBatch = dvrLeafBatch_ && mode == RenderMode::Dvr;
-  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, usesStoredGradients(params), leafBatch}];
+  std::unique_ptr<ShaderProgram>& p =
+      programs_[{backend, mode, usesStoredGradients(params), leafBatch, feedback}];
   if (!p) {
     std::vector<std::string> defines = raycastDefines(params);
     if (leafBatch) defines.push_back("LLVMPIPE_DVR_LEAF_BATCH");
+    if (feedback) defines.push_back("RAYCAST_FEEDBACK");
     if (backend == RenderBackend::Compute)
       p = std::make_unique<ShaderProgram>(
           std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/raycast.comp"}}, defines);
@@ -100,6 +104,13 @@ RaycastBlock RaycastPass::block(const RaycastFrame& f) const {
   const DepthRange depth = windowDepthRange(f.camera, glm::dvec3(vol.dims) * vol.spacing);
   b.depthNear = float(depth.nearDepth);
   b.depthFar = float(depth.farDepth);
+
+  // Feedback: 2^L R > d <=> pixels(L) > 1 / voxelsPerPixel (docs/RENDERING.md "Feedback").
+  const double maxSpacing = std::max({vol.spacing.x, vol.spacing.y, vol.spacing.z});
+  const double minSpacing = std::min({vol.spacing.x, vol.spacing.y, vol.spacing.z});
+  const double tanHalfFov = std::tan(glm::radians(f.camera.fovYDeg) * 0.5);
+  b.feedbackRequestDistance = float(f.voxelsPerPixel * maxSpacing * double(f.height) / (2.0 * tanHalfFov));
+  b.feedbackMinDistance = float(0.5 * minSpacing);
   return b;
 }
 
@@ -115,6 +126,10 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   if (f.pool->storedType() != f.volume.storedType)
     throw Error("RaycastPass::render: the pool's sample type differs from the volume's");
   checkRaycastInputs(f.params, f.tf, "RaycastPass::render");
+  if (f.feedback && !f.feedback->inFrame())
+    throw Error("RaycastPass::render: the FeedbackBuffer has no frame begun (FeedbackBuffer::begin)");
+  if (f.feedback && !(f.voxelsPerPixel > 0.0))
+    throw Error("RaycastPass::render: voxelsPerPixel must be positive with feedback on");
 
   if (usesStoredGradients(f.params)) {
     if (!f.gradients)
@@ -123,7 +138,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
       throw Error("RaycastPass::render: the GradientPool's dimensions differ from the brick pool's");
   }
 
-  const ShaderProgram& p = program(f.params);
+  const ShaderProgram& p = program(f.params, f.feedback != nullptr);
   target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
   blockBuffer_.upload(block(f));
@@ -172,6 +187,7 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
   glBindTextureUnit(kRaycastTfUnit, tfTexture_);
   f.index->bind(kRaycastRopeIndexUnit);
   if (usesStoredGradients(f.params)) glBindTextureUnit(kRaycastSampleUnit, f.gradients->texture());
+  if (f.feedback) f.feedback->bind();
   blockBuffer_.bind();
   p.use();
   if (f.params.backend == RenderBackend::Compute) {

@@ -33,6 +33,7 @@
 namespace ropecast {
 
 class BrickPool;
+class FeedbackBuffer;
 class GradientPool;
 class IndexTexture;
 class ShaderProgram;
@@ -61,6 +62,11 @@ struct RaycastFrame {
   const GradientPool* gradients = nullptr;
   const TfTable* tf = nullptr;  // required in DVR mode
   uint32_t width = 0, height = 0;
+  // Usage and miss feedback (docs/RENDERING.md "Feedback"): the rays write into this buffer, between the
+  // caller's FeedbackBuffer::begin and end; null: off, and the programs have no feedback code
+  // (RAYCAST_FEEDBACK). voxelsPerPixel is the refinement target the requests are measured against.
+  FeedbackBuffer* feedback = nullptr;
+  double voxelsPerPixel = 1.0;
 };
 
 // A pixel rectangle of the image (row 0 at the top).
@@ -112,7 +118,7 @@ class RaycastPass {
   bool dvrLeafBatch() const { return dvrLeafBatch_; }
 
  private:
-  const ShaderProgram& program(const RenderParams& params);
+  const ShaderProgram& program(const RenderParams& params, bool feedback);
   RaycastBlock block(const RaycastFrame& frame) const;
   // Binds what the ray-cast program reads and, for the fragment entry point, the target and its state.
   void bindForCasting(const RaycastFrame& frame, const ShaderProgram& p);
@@ -120,8 +126,8 @@ class RaycastPass {
   // Compute entry point: the stop depths of `tile` into the depth attachment (shaders/stop_depth.frag).
   void copyStopDepth(const PixelRect& tile);
 
-  // (backend, mode, stored gradients, leaf batch) -> program
-  std::map<std::tuple<RenderBackend, RenderMode, bool, bool>, std::unique_ptr<ShaderProgram>> programs_;
+  // (backend, mode, stored gradients, leaf batch, feedback) -> program
+  std::map<std::tuple<RenderBackend, RenderMode, bool, bool, bool>, std::unique_ptr<ShaderProgram>> programs_;
   bool dvrLeafBatch_ = false;
   RenderTarget target_{"RaycastPass", true};
   RaycastBlockBuffer blockBuffer_;

@@ -28,11 +28,14 @@ struct IsoMarch {
 
 IsoMarch isoMarchBegin() { return IsoMarch(false, 0.0, 0.0, false, 0.0); }
 
-// The samples t0 + k dt of a segment, from k = kBegin while t < tEnd, up to the first crossing.
-void marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
+// The samples t0 + k dt of a segment, from k = kBegin while t < tEnd, up to the first crossing. True when it
+// took a sample.
+bool marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
+  bool sampled = false;
   for (float k = kBegin; !m.hit; k += 1.0) {
     float t = t0 + k * s.dt;
     if (!(t < tEnd)) break;
+    sampled = true;
     float f = sampleValue(segmentCoord(s, t)) - raycast.isoValue;
     if (m.hasPrev && (f >= 0.0) != (m.fPrev >= 0.0)) {
       m.hit = true;
@@ -43,6 +46,7 @@ void marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
       m.fPrev = f;
     }
   }
+  return sampled;
 }
 
 // The hit of a march, refined by bisection between the samples around the crossing in the segment of the

@@ -78,8 +78,10 @@ RAYCAST_BLOCK_BEGIN
   float diffuse;             // 188: kd
   float specular;            // 192: ks
   float shininess;           // 196
-  float pad0;                // 200
-  float pad1;                // 204
+  // Feedback (shaders/feedback.glsl, RAYCAST_FEEDBACK): a leaf of level L > 0 is requested where the ray
+  // enters it closer than 2^L feedbackRequestDistance, the distance clamped below at feedbackMinDistance.
+  float feedbackRequestDistance;  // 200: voxelsPerPixel maxSpacing imageHeight / (2 tanHalfFov)
+  float feedbackMinDistance;      // 204: 0.5 minSpacing
 RAYCAST_BLOCK_END
 
 #ifdef __cplusplus
@@ -98,6 +100,8 @@ static_assert(offsetof(RaycastBlock, poolSlotGrid) == 144 && offsetof(RaycastBlo
 static_assert(offsetof(RaycastBlock, background) == 160 && offsetof(RaycastBlock, ambient) == 172);
 static_assert(offsetof(RaycastBlock, isoBaseColor) == 176 && offsetof(RaycastBlock, diffuse) == 188);
 static_assert(offsetof(RaycastBlock, specular) == 192 && offsetof(RaycastBlock, shininess) == 196);
+static_assert(offsetof(RaycastBlock, feedbackRequestDistance) == 200 &&
+              offsetof(RaycastBlock, feedbackMinDistance) == 204);
 }  // namespace glsl
 using glsl::RaycastBlock;
 }  // namespace ropecast

@@ -6,11 +6,15 @@
 //
 // Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO or RAYCAST_MODE_DVR;
 // BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_STORED_GRADIENTS (DVR samples
-// a GradientPool, render/gradient_pool.h).
+// a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the leaves they used and request finer
+// ones, shaders/feedback.glsl).
 
 #include "shaders/rope_traversal.glsl"
 #include "shaders/brick_pool.glsl"
 #include "shaders/compositing.glsl"
+#ifdef RAYCAST_FEEDBACK
+#include "shaders/feedback.glsl"
+#endif
 
 // The segment of a data leaf: its brick's texels in the pool and the sampling of its level L = maxDepth - depth.
 // Root-cube coordinates u = x / (C s) keep the world t (docs/RENDERING.md "Spaces"); a leaf at depth d holds
@@ -48,6 +52,10 @@ struct GatheredLeaf {
   vec3 coordAtZero;
   float kBegin, kEnd;
   float levelScale;
+#ifdef RAYCAST_FEEDBACK
+  uint leafIndex;
+  bool wantsFiner;
+#endif
 };
 
 // The Segment of a gathered leaf, from the level-0 segment of the ray (exact: 2^L scales exactly).
@@ -75,6 +83,9 @@ GatheredLeaf pickLeaf(uint i, GatheredLeaf g1, GatheredLeaf g2, GatheredLeaf g3,
 
 DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 dirCube) {
   DvrAccum acc = dvrAccumBegin();
+#ifdef RAYCAST_FEEDBACK
+  RayFeedback fb = rayFeedbackBegin();
+#endif
   RopeLeaf leaf;
   // The Segment of a full-resolution leaf, less its position.
   RopeLeaf finest;
@@ -93,9 +104,15 @@ DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 
       entryLeaf = false;
       if (leaf.kind != kRopeTagDataLeaf) continue;
       Segment s = leafSegment(leaf, originCube, dirCube);
-      GatheredLeaf g = GatheredLeaf(s.coordAtZero, firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry),
-                                    firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false),
-                                    ldexp(1.0, int(raycast.maxDepth - leaf.depth)));
+      GatheredLeaf g;
+      g.coordAtZero = s.coordAtZero;
+      g.kBegin = firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry);
+      g.kEnd = firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false);
+      g.levelScale = ldexp(1.0, int(raycast.maxDepth - leaf.depth));
+#ifdef RAYCAST_FEEDBACK
+      g.leafIndex = leaf.leafIndex;
+      g.wantsFiner = feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0);
+#endif
       if (count == 0u) g0 = g;
       if (count == 1u) g1 = g;
       if (count == 2u) g2 = g;
@@ -111,6 +128,10 @@ DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 
 
     Segment s = dvrLeafSegment(g0, level0);
     float k = g0.kBegin, kEnd = g0.kEnd;
+#ifdef RAYCAST_FEEDBACK
+    // A leaf is used when sampling moves on to it with samples to take: the ray has not ended before it.
+    if (k < kEnd) feedbackSampled(fb, g0.leafIndex, g0.wantsFiner);
+#endif
     uint next = 1u;
     for (;;) {
       bool terminated = false;
@@ -124,6 +145,9 @@ DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 
         s = dvrLeafSegment(g, level0);
         k = g.kBegin;
         kEnd = g.kEnd;
+#ifdef RAYCAST_FEEDBACK
+        if (k < kEnd) feedbackSampled(fb, g.leafIndex, g.wantsFiner);
+#endif
         ++next;
       }
     }
@@ -142,6 +166,9 @@ RayResult castRay(uvec2 pixel) {
   RopeLeaf leaf;
   ropeBegin(cursor, originCube, dirCube, ray.t0, ray.t1);  // a ray that misses the root cube gets no leaf
   bool firstLeaf = true;
+#ifdef RAYCAST_FEEDBACK
+  RayFeedback fb = rayFeedbackBegin();
+#endif
 #ifdef RAYCAST_MODE_ISO
   IsoMarch march = isoMarchBegin();
   Segment hitSegment;
@@ -150,7 +177,12 @@ RayResult castRay(uvec2 pixel) {
     firstLeaf = false;
     if (leaf.kind != kRopeTagDataLeaf) continue;
     Segment s = leafSegment(leaf, originCube, dirCube);
-    marchIso(march, s, ray.t0, firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry), min(leaf.tExit, ray.t1));
+    bool sampled = marchIso(march, s, ray.t0, firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry),
+                            min(leaf.tExit, ray.t1));
+#ifdef RAYCAST_FEEDBACK
+    // The leaf of the hit took the hit's sample; the ray goes no further.
+    if (sampled) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
+#endif
     if (march.hit) hitSegment = s;
   }
   return march.hit ? shadeIsoHit(march, hitSegment, ray) : missedRay();
@@ -165,6 +197,9 @@ RayResult castRay(uvec2 pixel) {
     Segment s = leafSegment(leaf, originCube, dirCube);
     float kBegin = firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry);
     float kEnd = firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false);
+#ifdef RAYCAST_FEEDBACK
+    if (kBegin < kEnd) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
+#endif
     if (compositeDvr(acc, s, ray, kBegin, kEnd)) break;
   }
   return dvrResult(acc);

@@ -1,0 +1,174 @@
+#include "reference/feedback_twin.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <glm/trigonometric.hpp>
+
+namespace ropecast {
+
+namespace {
+
+constexpr size_t kNever = std::numeric_limits<size_t>::max();
+
+// One ray's leaves in walk order, each with the global index (over the ray's samples) of its first sample,
+// or of the next sample when it has none.
+struct RayLeaves {
+  std::vector<size_t> position;
+  std::vector<size_t> count;
+};
+
+RayLeaves indexSamples(const MirrorRayTrace& trace) {
+  RayLeaves r;
+  size_t g = 0;
+  for (size_t v = 0; v < trace.leaves.size(); ++v) {
+    r.position.push_back(g);
+    r.count.push_back(trace.leaves[v].samples.size());
+    g += trace.leaves[v].samples.size();
+  }
+  return r;
+}
+
+std::vector<uint32_t> sorted(const std::set<uint32_t>& s) {
+  return {s.begin(), s.end()};
+}
+
+}  // namespace
+
+double feedbackVoxelPixels(uint32_t level, double distance, glm::dvec3 spacing, double fovYDeg,
+                           uint32_t height) {
+  const double minSpacing = std::min({spacing.x, spacing.y, spacing.z});
+  const double maxSpacing = std::max({spacing.x, spacing.y, spacing.z});
+  const double d = std::max(distance, 0.5 * minSpacing);
+  const double tanHalf = std::tan(glm::radians(fovYDeg) * 0.5);
+  return std::ldexp(1.0, int(level)) * maxSpacing / (2.0 * d * tanHalf) * double(height);
+}
+
+FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const BrickSourceInfo& volume,
+                                const CpuRenderInput& input, double voxelsPerPixel,
+                                const FeedbackTolerance& tol) {
+  const bool iso = input.params.mode == RenderMode::Iso;
+  const double ert = input.params.ert;
+  const glm::dvec3 spacing = volume.volume.spacing;
+  const double cubeExtent = double(volume.layout.cubeSamples()) * std::max({spacing.x, spacing.y, spacing.z});
+  std::set<uint32_t> sureUsed, possibleUsed, sureRequested, possibleRequested;
+  FeedbackBounds out;
+
+  for (const MirrorRayTrace& trace : traces) {
+    if (!trace.entered || trace.leaves.empty()) continue;
+    const RayLeaves rl = indexSamples(trace);
+    const size_t leafCount = trace.leaves.size();
+
+    // Samples within rounding of a leaf border (tolerance.relative): in float the sample may fall in the
+    // neighbouring leaf (sampled at its level), or a sample of the leaf's grid just past the border may be
+    // taken too. The leaves on either side may gain or lose that one sample, and its value is uncertain.
+    std::vector<bool> tie(leafCount, false);
+    std::set<size_t> tieSamples;  // global indices of the samples next to such a border
+    if (tol.relative > 0.0) {
+      for (size_t v = 0; v < leafCount; ++v) {
+        const MirrorLeafVisit& l = trace.leaves[v];
+        const auto at = [&](double k) { return trace.t0 + k * l.dt; };
+        const auto near = [&](double a, double b) {
+          return std::abs(a - b) <= tol.relative * (std::abs(b) + cubeExtent);
+        };
+        const double kEnd = l.kBegin + double(l.samples.size());
+        const double tStop = std::min(l.tExit, trace.t1);
+        const size_t first = rl.position[v], past = rl.position[v] + rl.count[v];
+        if (!l.firstLeaf && (near(at(l.kBegin), l.tEnter) || near(at(l.kBegin - 1.0), l.tEnter))) {
+          tie[v] = true;
+          if (first > 0) tieSamples.insert(first - 1);
+          tieSamples.insert(first);
+        }
+        if (near(at(kEnd), tStop) || near(at(kEnd - 1.0), tStop)) {
+          tie[v] = true;
+          if (past > 0) tieSamples.insert(past - 1);
+          tieSamples.insert(past);
+        }
+      }
+      // A leaf keeps at least one sample unless it has at most two (one lost at either border).
+      for (size_t v = 0; v < leafCount; ++v) {
+        const size_t first = rl.position[v], past = rl.position[v] + rl.count[v];
+        const bool touched = tieSamples.count(first) > 0 || (past > 0 && tieSamples.count(past - 1) > 0);
+        tie[v] = (tie[v] || touched) && rl.count[v] <= 2;
+      }
+    }
+
+    // Where the ray may end (earliest) and where it surely has ended (latest), as global sample indices.
+    size_t earliest = kNever, latest = kNever;
+    {
+      size_t g = 0;
+      bool hasPrev = false, prevUncertain = false, opacityUnknown = false;
+      double fPrev = 0.0;
+      for (const MirrorLeafVisit& v : trace.leaves)
+        for (const MirrorSample& s : v.samples) {
+          bool possible = false, sure = false;
+          const bool uncertain = tieSamples.count(g) > 0;
+          if (iso) {
+            if (hasPrev) {
+              const bool crosses = (s.f >= 0.0) != (fPrev >= 0.0);
+              const bool close =
+                  std::abs(s.f) < tol.value || std::abs(fPrev) < tol.value || uncertain || prevUncertain;
+              possible = crosses || close;
+              sure = crosses && !close;
+            }
+            hasPrev = true;
+            fPrev = s.f;
+            prevUncertain = uncertain;
+          } else {
+            // An uncertain sample's opacity is unknown, and so is the opacity accumulated from it on.
+            opacityUnknown = opacityUnknown || uncertain;
+            possible = uncertain || (s.addsOpacity && s.alpha >= ert - tol.alpha);
+            sure = !opacityUnknown && s.addsOpacity && s.alpha >= ert + tol.alpha;
+          }
+          if (possible && earliest == kNever) earliest = g;
+          if (sure && latest == kNever) latest = g;
+          ++g;
+        }
+    }
+    if (earliest != latest || std::find(tie.begin(), tie.end(), true) != tie.end()) ++out.uncertainRays;
+
+    // The rules. Sure: a leaf sampled no later than the earliest end; possible: no later than the latest.
+    bool sureRequestOpen = true, possibleRequestOpen = true;
+    for (size_t v = 0; v < leafCount; ++v) {
+      const MirrorLeafVisit& l = trace.leaves[v];
+      const bool isSure = rl.count[v] > 0 && rl.position[v] <= earliest && !tie[v];
+      if (rl.position[v] > latest) break;
+      if (rl.count[v] == 0 && !tie[v]) continue;  // a leaf the ray crossed between two samples
+      if (isSure) sureUsed.insert(l.leafIndex);
+      possibleUsed.insert(l.leafIndex);
+
+      const uint32_t level = volume.layout.levelOfDepth(l.depth);
+      const double pixels = level == 0 ? 0.0
+                                       : feedbackVoxelPixels(level, std::max(l.tEnter, trace.t0), spacing,
+                                                             input.camera.fovYDeg, input.height);
+      const double ratio = pixels * voxelsPerPixel;  // a miss: ratio > 1
+      const bool miss = level > 0 && ratio > 1.0;
+      const bool marginal = level > 0 && std::abs(ratio - 1.0) <= tol.relative;
+      // The ray's request is the first leaf that may be a miss: sure if that leaf surely is one and surely
+      // sampled.
+      if (sureRequestOpen && (miss || marginal)) {
+        if (isSure && !marginal) sureRequested.insert(l.leafIndex);
+        sureRequestOpen = false;
+      }
+      if (possibleRequestOpen && (miss || marginal)) {
+        possibleRequested.insert(l.leafIndex);
+        if (miss && !marginal && isSure) possibleRequestOpen = false;
+      }
+    }
+  }
+  out.sure = {sorted(sureUsed), sorted(sureRequested)};
+  out.possible = {sorted(possibleUsed), sorted(possibleRequested)};
+  return out;
+}
+
+FeedbackBounds mirrorFeedback(const RopeIndex& index, const BricksBySlot& bricks,
+                              const BrickSourceInfo& volume, const CpuRenderInput& input,
+                              double voxelsPerPixel, const FeedbackTolerance& tolerance) {
+  std::vector<MirrorRayTrace> traces;
+  renderMirror(index, bricks, volume, input, &traces);
+  return feedbackOfTraces(traces, volume, input, voxelsPerPixel, tolerance);
+}
+
+}  // namespace ropecast

@@ -1,0 +1,120 @@
+// Tests of reference/feedback_twin (CPU tier, no GL): the mirror's traces leave its image unchanged and end
+// where the mirror ended; with zero tolerance the sure and possible sets agree; a sphere's isosurface hides
+// the leaves behind it; a coarse cut is requested near the eye and not far from it; pixels(L) is the formula
+// of docs/RENDERING.md "Feedback".
+#include "reference/feedback_twin.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "index/cut.h"
+#include "index/rope_index.h"
+#include "store/procedural_bricks.h"
+
+namespace ropecast {
+namespace {
+
+// A cut of Data leaves at depth `depth` over the inside nodes, completed with Empty leaves.
+Cut cutAtDepth(const OctreeLayout& layout, uint32_t depth) {
+  std::vector<CutLeaf> leaves;
+  uint32_t slot = 0;
+  std::function<void(const NodeKey&)> visit = [&](const NodeKey& k) {
+    if (!layout.isInside(k)) return;
+    if (k.depth == depth) {
+      leaves.push_back({k.depth, k.coord, LeafKind::Data, slot++});
+      return;
+    }
+    for (uint32_t o = 0; o < 8; ++o) visit(k.child(o));
+  };
+  visit({0, {0, 0, 0}});
+  return completeCut(leaves);
+}
+
+CpuRenderInput sphereInput(double distance, uint32_t size) {
+  CpuRenderInput in;
+  in.camera = orbitCamera(30.0, 20.0, distance, glm::dvec3(0.0), glm::dvec3(64.0), 30.0);
+  in.width = in.height = size;
+  in.params.mode = RenderMode::Iso;
+  in.params.isoValue = 127.5;
+  return in;
+}
+
+TEST(FeedbackTwin, VoxelPixelsIsTheProjectedSizeOfOneVoxel) {
+  // 2^2 voxels of max spacing 2 at distance 50 under a 60 degree field of view, 100 pixels high.
+  const double expected = 4.0 * 2.0 / (2.0 * 50.0 * std::tan(std::numbers::pi / 6.0)) * 100.0;
+  EXPECT_NEAR(feedbackVoxelPixels(2, 50.0, {1.0, 2.0, 0.5}, 60.0, 100), expected, 1e-12);
+  // The distance is clamped below at half the smallest spacing.
+  EXPECT_EQ(feedbackVoxelPixels(1, 0.0, {1.0, 2.0, 0.5}, 60.0, 100),
+            feedbackVoxelPixels(1, 0.25, {1.0, 2.0, 0.5}, 60.0, 100));
+}
+
+TEST(FeedbackTwin, TracesLeaveTheImageUnchangedAndEndWhereTheMirrorEnded) {
+  const ProceduralBricks src({ProceduralKind::Sphere, 64}, 16);
+  const Cut cut = cutAtDepth(src.info().layout, 1);
+  const RopeIndex index = buildRopeIndex(cut);
+  const BricksBySlot bricks = readCutBricks(cut, src);
+  const CpuRenderInput in = sphereInput(2.0, 48);
+  const CpuImage plain = renderMirror(index, bricks, src.info(), in);
+  std::vector<MirrorRayTrace> traces;
+  const CpuImage traced = renderMirror(index, bricks, src.info(), in, &traces);
+  ASSERT_EQ(plain.rgba.size(), traced.rgba.size());
+  EXPECT_EQ(std::memcmp(plain.rgba.data(), traced.rgba.data(), plain.rgba.size() * sizeof(float)), 0);
+  ASSERT_EQ(traces.size(), size_t(48) * 48);
+  size_t hits = 0;
+  for (size_t i = 0; i < traces.size(); ++i) {
+    const MirrorRayTrace& t = traces[i];
+    const bool hit = plain.rgba[4 * i + 3] > 0.5f;
+    EXPECT_EQ(t.endLeaf < t.leaves.size(), hit) << "pixel " << i;
+    if (!hit) continue;
+    ++hits;
+    // The end sample is the first whose side of the isosurface differs from the previous sample's.
+    std::vector<MirrorSample> samples;
+    for (size_t v = 0; v <= t.endLeaf; ++v)
+      samples.insert(
+          samples.end(), t.leaves[v].samples.begin(),
+          t.leaves[v].samples.begin() + (v == t.endLeaf ? t.endSample + 1 : t.leaves[v].samples.size()));
+    ASSERT_GE(samples.size(), 2u);
+    for (size_t j = 1; j + 1 < samples.size(); ++j)
+      EXPECT_EQ(samples[j].f >= 0.0, samples[0].f >= 0.0) << "pixel " << i;
+    EXPECT_NE(samples.back().f >= 0.0, samples[0].f >= 0.0) << "pixel " << i;
+  }
+  EXPECT_GT(hits, 500u);
+}
+
+TEST(FeedbackTwin, TheSphereHidesTheLeavesBehindItAndNearLeavesAreRequested) {
+  const ProceduralBricks src({ProceduralKind::Sphere, 64}, 16);
+  const Cut cut = cutAtDepth(src.info().layout, 1);  // level 1: 8 leaves
+  const RopeIndex index = buildRopeIndex(cut);
+  const BricksBySlot bricks = readCutBricks(cut, src);
+  const CpuRenderInput near = sphereInput(1.2, 48);
+  // One level-1 voxel at distance ~70 covers 2 / (2 70 tan 15deg) 48 = 2.6 pixels.
+  const FeedbackBounds wanted = mirrorFeedback(index, bricks, src.info(), near, 1.0);
+  EXPECT_EQ(wanted.sure.usedLeaves, wanted.possible.usedLeaves);
+  EXPECT_EQ(wanted.sure.requestedLeaves, wanted.possible.requestedLeaves);
+  EXPECT_EQ(wanted.uncertainRays, 0u);
+  // The leaf farthest from the eye (the octant at the far corner) lies behind the sphere for every ray.
+  const glm::dvec3 eye = near.camera.eye;
+  const glm::u32vec3 far(eye.x < 32 ? 1 : 0, eye.y < 32 ? 1 : 0, eye.z < 32 ? 1 : 0);
+  uint32_t farLeaf = 0;
+  for (uint32_t i = 0; i < cut.leaves.size(); ++i)
+    if (cut.leaves[i].depth == 1 && cut.leaves[i].coord == far) farLeaf = i;
+  EXPECT_FALSE(std::binary_search(wanted.sure.usedLeaves.begin(), wanted.sure.usedLeaves.end(), farLeaf));
+  EXPECT_FALSE(wanted.sure.requestedLeaves.empty());
+  EXPECT_TRUE(std::includes(wanted.sure.usedLeaves.begin(), wanted.sure.usedLeaves.end(),
+                            wanted.sure.requestedLeaves.begin(), wanted.sure.requestedLeaves.end()));
+  // A tenth of a voxel per pixel is met everywhere: nothing requested, the same leaves used.
+  const FeedbackBounds enough = mirrorFeedback(index, bricks, src.info(), near, 0.1);
+  EXPECT_TRUE(enough.sure.requestedLeaves.empty());
+  EXPECT_EQ(enough.sure.usedLeaves, wanted.sure.usedLeaves);
+  // Level 0 is never requested.
+  const Cut fine = cutAtDepth(src.info().layout, src.info().layout.maxDepth);
+  EXPECT_TRUE(mirrorFeedback(buildRopeIndex(fine), readCutBricks(fine, src), src.info(), near, 100.0)
+                  .possible.requestedLeaves.empty());
+}
+
+}  // namespace
+}  // namespace ropecast
