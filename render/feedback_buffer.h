@@ -71,6 +71,8 @@ class FeedbackBuffer {
   // The oldest frame whose readback has arrived, or nothing; never waits.
   std::optional<FeedbackReadback> poll();
 
+  // Tests: ask `probe` whether a fence signaled instead of GL.
+  void setFenceProbe(std::unique_ptr<FenceProbe> probe) { probe_ = std::move(probe); }
   bool inFrame() const { return inFrame_; }
   uint32_t inFlight() const { return inFlightCount_; }
   // Frames whose readback end() skipped because the ring was full.

@@ -73,6 +73,7 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   wsConfig.uploadBudgetBytes = config.uploadBudgetBytes;
   wsConfig.ioThreads = config.ioThreads;
   workingSet_ = std::make_unique<WorkingSet>(source, wsConfig);
+  if (config.feedback) feedback_ = std::make_unique<FeedbackBuffer>();
   if (config.occlusion) {
     queries_ = std::make_unique<OcclusionQueries>();
     visibility_ = std::make_unique<VisibilityTracker>(config.visibility);
@@ -129,18 +130,27 @@ void FrameRenderer::prepare(const FrameRequest& request) {
 
 void FrameRenderer::collectVisibility(const FrameRequest& request, FrameStats& stats) {
   const auto start = Clock::now();
-  const uint64_t key = emptinessKeyOf(request);
-  if (key != emptinessKey_) {
-    emptinessKey_ = key;
-    visibility_->reset();
-    queries_->dropPending();
-  }
   for (const QueryAnswer& a : queries_->collect()) {
     visibility_->answer(a.key, a.issuedFrame, a.samplesPassed);
     ++stats.occlusionAnswered;
   }
   visibility_->propagate(queriedLeaves_);
   stats.occlusionMs += msSince(start);
+}
+
+void FrameRenderer::collectFeedback(FrameStats& stats) {
+  const auto start = Clock::now();
+  // Every readback that arrived; the latest one's nodes are what the hints say.
+  while (std::optional<FeedbackReadback> readback = feedback_->poll()) {
+    if (!rayFeedback_.answer(readback->frame, readback->usedLeaves, readback->requestedLeaves)) continue;
+    stats.feedbackRequests = readback->requestedLeaves.size();
+    stats.feedbackDropped = readback->usedDropped + readback->requestedDropped;
+    stats.bricksUsed = readback->usedLeaves.size();
+    answeredCutHash_ = cutHashes_.count(readback->frame) ? cutHashes_.at(readback->frame) : 0;
+  }
+  std::erase_if(cutHashes_, [&](const auto& entry) { return entry.first <= rayFeedback_.answeredFrame(); });
+  if (rayFeedback_.answered()) stats.feedbackLatencyFrames = frame_ - rayFeedback_.answeredFrame();
+  stats.feedbackMs += msSince(start);
 }
 
 TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
@@ -191,9 +201,21 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool occlusion = visibility_ && !request.synchronous;
+  const bool feedback = feedback_ && !request.synchronous;
 
-  // Pass 0, hear back: the occlusion answers that arrived since (never waiting for one).
+  // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for
+  // one). Marks and answers made under another isovalue or transfer function describe another image.
+  if (const uint64_t key = emptinessKeyOf(request); key != emptinessKey_) {
+    emptinessKey_ = key;
+    if (visibility_) {
+      visibility_->reset();
+      queries_->dropPending();
+    }
+    rayFeedback_.reset();
+    cutHashes_.clear();
+  }
   if (occlusion) collectVisibility(request, stats);
+  if (feedback) collectFeedback(stats);
 
   // Pass 1, refine: the loader plans the cut and the uploads of this frame.
   FrameInput input;
@@ -202,17 +224,20 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.viewportHeight = request.height;
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
-  if (occlusion) {
-    // Marks keep leaves from refining, and collapse a refined node only while the view changes. On a still
-    // view the tree then only grows, so it converges; collapsing there can cycle (a node refined because it
-    // showed hides another's leaves, that one collapses, its coarse data no longer hides the first, ...).
-    const bool viewChanged = !lastView_ || !sameView(*lastView_, request);
-    input.hints = [this, viewChanged](const NodeKey& key) {
-      if (!visibility_->isOccluded(key, frame_)) return NodeHint::None;
-      return viewChanged || !lastInnerNodes_.contains(key) ? NodeHint::Occluded : NodeHint::None;
+  // Occlusion marks keep leaves from refining, and collapse a refined node only while the view changes. On a
+  // still view the tree then only grows, so it converges; collapsing there can cycle (a node refined because
+  // it showed hides another's leaves, that one collapses, its coarse data no longer hides the first, ...).
+  const bool viewChanged = !lastView_ || !sameView(*lastView_, request);
+  if (occlusion || feedback) {
+    input.hints = [this, viewChanged, occlusion, feedback](const NodeKey& key) {
+      if (occlusion && visibility_->isOccluded(key, frame_) &&
+          (viewChanged || !lastInnerNodes_.contains(key)))
+        return NodeHint::Occluded;
+      return feedback ? rayFeedback_.hint(key, frame_) : NodeHint::None;
     };
-    lastView_ = request;
   }
+  if (feedback) input.usedNodes = rayFeedback_.usedNodes();
+  if (!request.synchronous) lastView_ = request;
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan =
       request.synchronous ? workingSet_->updateUntilConverged(input) : workingSet_->update(input);
@@ -251,15 +276,39 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
   const TileSchedule schedule = occlusion ? planTiles(request, plan.leaves, stats) : TileSchedule{};
 
-  // Pass 5, ray cast, with the occlusion queries after the first tile.
-  const RaycastFrame frame = raycastFrame(request, request.width, request.height);
+  // Pass 5, ray cast, with the occlusion queries after the first tile and the rays' feedback.
+  RaycastFrame frame = raycastFrame(request, request.width, request.height);
+  if (feedback) {
+    feedback_->begin(uint32_t(cut_.leaves.size()));
+    frame.feedback = feedback_.get();
+    frame.voxelsPerPixel = request.voxelsPerPixel;
+  }
   raycast_.render(frame, schedule);
+  if (feedback) {
+    feedback_->end(frame_);
+    std::vector<NodeKey> keys;
+    std::vector<uint8_t> dataLeaf;
+    keys.reserve(plan.leaves.size());
+    dataLeaf.reserve(plan.leaves.size());
+    uint64_t hash = plan.leaves.size();
+    for (const PlannedLeaf& leaf : plan.leaves) {
+      keys.push_back(leaf.key);
+      dataLeaf.push_back(leaf.content == LeafContent::Brick);
+      hash = hash * 0x9E3779B97F4A7C15ull ^ NodeKeyHash {}(leaf.key);
+    }
+    rayFeedback_.rememberCut(frame_, std::move(keys), std::move(dataLeaf));
+    cutHashes_[frame_] = hash;
+    currentCutHash_ = hash;
+  }
 
   static_cast<LoaderStats&>(stats) = plan.stats;
   stats.tiles = std::max<uint64_t>(schedule.tiles.size(), 1);
   stats.workingSetBricks = workingSet_->slots().pinnedCount();
   // Converged also means the occlusion state settled: a round of answers that changed no mark.
-  if (occlusion) stats.converged = plan.stats.converged && visibility_->settled();
+  if (occlusion) stats.converged = stats.converged && visibility_->settled();
+  // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
+  if (feedback)
+    stats.converged = stats.converged && rayFeedback_.answered() && answeredCutHash_ == currentCutHash_;
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;

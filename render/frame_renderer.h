@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,8 +24,10 @@
 #include "core/render_params.h"
 #include "core/transfer_function.h"
 #include "index/rope_index.h"
+#include "loader/ray_feedback.h"
 #include "loader/working_set.h"
 #include "occlusion/visibility_tracker.h"
+#include "render/feedback_buffer.h"
 #include "render/frame_stats.h"
 #include "render/occlusion_queries.h"
 #include "render/raycast_pass.h"
@@ -55,6 +58,10 @@ struct FrameRendererConfig {
   // asynchronous frames (a synchronous frame loads its whole view before any query could answer).
   bool occlusion = true;
   VisibilityConfig visibility;  // --query-budget, --visibility-threshold
+  // --feedback: the rays report the leaves they used and the ones they wanted finer (Crassin et al. 2009),
+  // read back frames later: requested nodes refine first, unused ones do not refine, used bricks stay in the
+  // pool. Asynchronous frames only.
+  bool feedback = true;
 };
 
 struct FrameRequest {
@@ -95,6 +102,8 @@ class FrameRenderer {
   // The occlusion side (null with FrameRendererConfig::occlusion off); tests substitute its result reader.
   OcclusionQueries* occlusionQueries() { return queries_.get(); }
   const VisibilityTracker* visibility() const { return visibility_.get(); }
+  // The feedback side (null with FrameRendererConfig::feedback off); tests delay its fences.
+  FeedbackBuffer* feedbackBuffer() { return feedback_.get(); }
 
  private:
   const GradientPool* gradientsFor(const RenderParams& params) const;
@@ -105,6 +114,8 @@ class FrameRenderer {
   RaycastFrame raycastFrame(const FrameRequest& request, uint32_t width, uint32_t height) const;
   // Hear back: the occlusion answers that arrived, into the tracker; marks reset when what is empty changed.
   void collectVisibility(const FrameRequest& request, FrameStats& stats);
+  // Hear back: the rays' usage and requests of earlier frames, into RayFeedback.
+  void collectFeedback(FrameStats& stats);
   // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                          FrameStats& stats);
@@ -131,6 +142,11 @@ class FrameRenderer {
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
   std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;  // of the last asynchronous frame's tree
   std::optional<FrameRequest> lastView_;                     // the last asynchronous frame's request
+
+  std::unique_ptr<FeedbackBuffer> feedback_;  // config.feedback only
+  RayFeedback rayFeedback_;
+  std::map<uint64_t, uint64_t> cutHashes_;  // frame -> its cut, for frames whose feedback is in flight
+  uint64_t currentCutHash_ = 0, answeredCutHash_ = 0;
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the

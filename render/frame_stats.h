@@ -32,6 +32,13 @@ struct FrameStats : LoaderStats {
   double occlusionMs = 0.0;             // CPU side: collecting, planning the tiles, issuing the queries
   uint64_t tiles = 0;                   // screen tiles cast (1 without queries)
   uint64_t occlusionLatencyFrames = 0;  // frames the last round of queries took to cover every leaf
+  // The rays' feedback (Crassin et al. 2009); zero with --feedback off and in synchronous frames. The counts
+  // are of the answer that arrived this frame.
+  uint64_t feedbackRequests = 0;       // leaves the rays wanted finer
+  uint64_t feedbackDropped = 0;        // entries past the lists' capacity (they come back in a later frame)
+  uint64_t bricksUsed = 0;             // leaves the rays sampled
+  double feedbackMs = 0.0;             // CPU side: reading the answers back and mapping them to nodes
+  uint64_t feedbackLatencyFrames = 0;  // frames between the latest answer's frame and this one
 };
 
 inline nlohmann::json toJson(const FrameStats& s) {
@@ -63,6 +70,11 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"occlusion_ms", s.occlusionMs},
                         {"tiles", s.tiles},
                         {"occlusion_latency_frames", s.occlusionLatencyFrames},
+                        {"feedback_requests", s.feedbackRequests},
+                        {"feedback_dropped", s.feedbackDropped},
+                        {"bricks_used", s.bricksUsed},
+                        {"feedback_ms", s.feedbackMs},
+                        {"feedback_latency_frames", s.feedbackLatencyFrames},
                         {"converged", s.converged}};
 }
 

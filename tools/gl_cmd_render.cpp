@@ -57,6 +57,7 @@ struct RenderOptions {
   double ioDelayMs = 0.0;
   uint32_t brick = kDefaultBrickSize;  // procedural inputs only
   bool occlusion = true;
+  bool feedback = true;
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
   uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
 };
@@ -261,6 +262,7 @@ struct OctreeRender {
     config.storedGradients = usesStoredGradients(s.params);
     config.uploadThroughPbo = o.uploadPbo;
     config.occlusion = o.occlusion;
+    config.feedback = o.feedback;
     config.visibility.tiles.queryBudget = o.queryBudget;
     config.visibility.thresholdPixels = o.visibilityThreshold;
     renderer = std::make_unique<FrameRenderer>(gl.info(), s.bricks(), config);
@@ -406,6 +408,9 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
       ->check(finiteIn(0.0, 10000.0));
   addEnumOption(app, "--occlusion", o->occlusion, kOnOffNames,
                 "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
+  addEnumOption(app, "--feedback", o->feedback, kOnOffNames,
+                "progressive frames: the rays report the bricks they used and where they wanted finer data; "
+                "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
   app.add_option("--query-budget", o->queryBudget, "occlusion queries per frame")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();

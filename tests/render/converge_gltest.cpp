@@ -71,9 +71,10 @@ class ConvergeTest : public ::testing::Test {
     config.uploadTimeBudgetMs = c.uploadTimeBudgetMs;
     config.uploadThroughPbo = c.uploadThroughPbo;
     config.storedGradients = c.storedGradients();
-    // Without occlusion queries the asynchronous cut must equal the synchronous one (with them, hidden nodes
-    // stay coarse: tests/render/occlusion_converge_gltest.cpp).
+    // Without occlusion queries and ray feedback the asynchronous cut must equal the synchronous one (with
+    // them, hidden nodes stay coarse: tests/render/visibility_converge_gltest.cpp).
     config.occlusion = false;
+    config.feedback = false;
     FrameRenderer renderer(gl_->info(), source, config);
 
     const BrickSourceInfo& info = source.info();

@@ -1,0 +1,52 @@
+#include "loader/ray_feedback.h"
+
+#include <algorithm>
+
+namespace ropecast {
+
+void RayFeedback::rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::vector<uint8_t> dataLeaf) {
+  cuts_.push_back({frame, std::move(leaves), std::move(dataLeaf)});
+}
+
+bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
+                         std::span<const uint32_t> requestedLeaves) {
+  while (!cuts_.empty() && cuts_.front().frame < frame) cuts_.pop_front();
+  if (cuts_.empty() || cuts_.front().frame != frame) return false;
+  const RememberedCut cut = std::move(cuts_.front());
+  cuts_.pop_front();
+
+  // Every data leaf of that cut is answered for: unused unless a ray said otherwise.
+  std::vector<NodeHint> hints(cut.leaves.size(), NodeHint::Unused);
+  usedNodes_.clear();
+  for (uint32_t i : usedLeaves) {
+    if (i >= cut.leaves.size()) continue;
+    hints[i] = NodeHint::None;
+    usedNodes_.push_back(cut.leaves[i]);
+  }
+  for (uint32_t i : requestedLeaves)
+    if (i < cut.leaves.size()) hints[i] = NodeHint::Requested;
+  for (size_t i = 0; i < cut.leaves.size(); ++i)
+    if (cut.dataLeaf[i]) answers_[cut.leaves[i]] = {frame, hints[i]};
+
+  // Bounded memory: answers past their lifetime say nothing.
+  std::erase_if(answers_,
+                [&](const auto& entry) { return frame - entry.second.frame > config_.answerLifetimeFrames; });
+  answered_ = true;
+  answeredFrame_ = frame;
+  return true;
+}
+
+NodeHint RayFeedback::hint(const NodeKey& key, uint64_t frame) const {
+  const auto it = answers_.find(key);
+  if (it == answers_.end() || frame - it->second.frame > config_.answerLifetimeFrames) return NodeHint::None;
+  return it->second.hint;
+}
+
+void RayFeedback::reset() {
+  cuts_.clear();
+  answers_.clear();
+  usedNodes_.clear();
+  answered_ = false;
+}
+
+}  // namespace ropecast

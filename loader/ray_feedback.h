@@ -1,0 +1,69 @@
+// RayFeedback: what the rays said about the nodes they met (Crassin et al. 2009, Sect. 5-6), turned into
+// refinement hints. The ray caster marks, per frame, the data leaves of the cut it sampled (used) and, at
+// most one per ray, a leaf coarser than the ray wanted there (requested); the lists come back one or more
+// frames later as indices into that frame's cut (render/feedback_buffer.h). This class keeps each frame's cut
+// until its answer arrives, maps the indices to nodes, and answers per node:
+//   Requested  requested in the latest answer that covered the node: refined before the rest;
+//   Unused     a data leaf of the answered cut that no ray sampled: not refined by priority alone;
+//   None       used and not requested, not a leaf of the answered cut, or the answer is too old.
+// An answer holds until a newer answer covers the node, at most answerLifetimeFrames frames after the frame
+// it describes (the view may have moved since). usedNodes() are the leaves the latest answer saw used: their
+// bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h).
+//
+// Plain CPU state, owned by the frame renderer: render thread only.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "loader/refiner.h"
+#include "store/octree_layout.h"
+
+namespace ropecast {
+
+struct RayFeedbackConfig {
+  uint64_t answerLifetimeFrames = 8;
+};
+
+class RayFeedback {
+ public:
+  explicit RayFeedback(const RayFeedbackConfig& config = {}) : config_(config) {}
+
+  // The cut frame `frame` was cast with, by cut index; dataLeaf[i] says whether leaf i held a brick.
+  void rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::vector<uint8_t> dataLeaf);
+  // The answer of frame `frame` (indices into its remembered cut). Answers come in frame order; cuts older
+  // than it are forgotten. An answer for a frame whose cut is not remembered is ignored (returns false).
+  bool answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
+              std::span<const uint32_t> requestedLeaves);
+
+  NodeHint hint(const NodeKey& key, uint64_t frame) const;
+  const std::vector<NodeKey>& usedNodes() const { return usedNodes_; }
+  // The frame of the latest answer, if any.
+  bool answered() const { return answered_; }
+  uint64_t answeredFrame() const { return answeredFrame_; }
+  // Forgets every answer and remembered cut (a change of isovalue or transfer function).
+  void reset();
+
+ private:
+  struct NodeAnswer {
+    uint64_t frame = 0;
+    NodeHint hint = NodeHint::None;
+  };
+  struct RememberedCut {
+    uint64_t frame = 0;
+    std::vector<NodeKey> leaves;
+    std::vector<uint8_t> dataLeaf;
+  };
+
+  RayFeedbackConfig config_;
+  std::deque<RememberedCut> cuts_;
+  std::unordered_map<NodeKey, NodeAnswer, NodeKeyHash> answers_;
+  std::vector<NodeKey> usedNodes_;
+  bool answered_ = false;
+  uint64_t answeredFrame_ = 0;
+};
+
+}  // namespace ropecast

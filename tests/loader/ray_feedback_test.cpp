@@ -1,0 +1,66 @@
+// RayFeedback: answers mapped to the cut they describe, the hints they give and how long they hold.
+#include <gtest/gtest.h>
+
+#include "loader/ray_feedback.h"
+
+namespace ropecast {
+namespace {
+
+const NodeKey kA{1, {0, 0, 0}}, kB{1, {1, 0, 0}}, kC{1, {0, 1, 0}}, kEmpty{1, {1, 1, 0}};
+
+void rememberAbc(RayFeedback& f, uint64_t frame) {
+  f.rememberCut(frame, {kA, kB, kC, kEmpty}, {1, 1, 1, 0});
+}
+
+TEST(RayFeedback, AnswersMapIndicesOfTheirFramesCut) {
+  RayFeedback f;
+  rememberAbc(f, 0);
+  f.rememberCut(1, {kC, kB, kA, kEmpty}, {1, 1, 1, 0});  // another order: indices are per frame
+  EXPECT_FALSE(f.answered());
+  const uint32_t used[] = {0, 1}, requested[] = {1};
+  ASSERT_TRUE(f.answer(1, used, requested));  // frame 0's cut is forgotten: its answer never came
+  EXPECT_EQ(f.answeredFrame(), 1u);
+  EXPECT_EQ(f.hint(kC, 2), NodeHint::None);       // used
+  EXPECT_EQ(f.hint(kB, 2), NodeHint::Requested);  // used and requested
+  EXPECT_EQ(f.hint(kA, 2), NodeHint::Unused);     // a data leaf no ray sampled
+  EXPECT_EQ(f.hint(kEmpty, 2), NodeHint::None);   // empty leaves are not answered for
+  EXPECT_EQ(f.hint(NodeKey{2, {0, 0, 0}}, 2), NodeHint::None);
+  EXPECT_EQ(f.usedNodes(), (std::vector<NodeKey>{kC, kB}));
+  EXPECT_FALSE(f.answer(0, used, requested)) << "frame 0's cut was forgotten";
+}
+
+TEST(RayFeedback, AnAnswerHoldsUntilANewerOneOrItsLifetime) {
+  RayFeedback f({/*answerLifetimeFrames=*/4});
+  rememberAbc(f, 10);
+  rememberAbc(f, 11);
+  const uint32_t none[] = {0};
+  ASSERT_TRUE(f.answer(10, std::span<const uint32_t>(), std::span<const uint32_t>()));
+  EXPECT_EQ(f.hint(kA, 14), NodeHint::Unused);
+  EXPECT_EQ(f.hint(kA, 15), NodeHint::None) << "too old: the view may have moved";
+  ASSERT_TRUE(f.answer(11, none, std::span<const uint32_t>()));
+  EXPECT_EQ(f.hint(kA, 15), NodeHint::None);    // used in frame 11
+  EXPECT_EQ(f.hint(kB, 15), NodeHint::Unused);  // frame 11 says unused again, and it is newer
+}
+
+TEST(RayFeedback, ResetForgetsAnswersAndCuts) {
+  RayFeedback f;
+  rememberAbc(f, 0);
+  ASSERT_TRUE(f.answer(0, std::span<const uint32_t>(), std::span<const uint32_t>()));
+  rememberAbc(f, 1);
+  f.reset();
+  EXPECT_EQ(f.hint(kA, 1), NodeHint::None);
+  EXPECT_FALSE(f.answered());
+  EXPECT_FALSE(f.answer(1, std::span<const uint32_t>(), std::span<const uint32_t>()));
+}
+
+TEST(RayFeedback, IndicesPastTheCutAreIgnored) {
+  RayFeedback f;
+  rememberAbc(f, 0);
+  const uint32_t bad[] = {99};
+  ASSERT_TRUE(f.answer(0, bad, bad));
+  EXPECT_TRUE(f.usedNodes().empty());
+  EXPECT_EQ(f.hint(kA, 0), NodeHint::Unused);
+}
+
+}  // namespace
+}  // namespace ropecast
