@@ -64,8 +64,7 @@ const char* leafReasonName(LeafReason r);
 // the feedback readback).
 enum class NodeHint : uint8_t {
   None,       // refine by priority, as without hints
-  Occluded,   // the last answered occlusion queries found it hidden: not refined (Gobbetti et al. 2008, Sect.
-              // 6)
+  Occluded,   // hidden in the last answered occlusion queries: not refined (Gobbetti et al. 2008, Sect. 6)
   Unused,     // the rays' feedback answered for it and no ray used it: not refined (Crassin et al. 2009)
   Requested,  // a ray wanted finer data there: refined before the nodes that were not requested
 };

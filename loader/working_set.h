@@ -2,9 +2,10 @@
 // I/O workers read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns
 // GPU pool slots (LRU, never one of the cut being built), asks the I/O workers for the bricks the refinement
 // lacked and for those the next refinements will lack (read-ahead; dropping requests no longer wanted) and
-// returns a plain plan: the cut with its slots, and the
-// uploads to do now within the upload budget. A frame always renders what is present: a node whose children
-// are not all ready stays a leaf at its coarser level, and update() never waits for the disk.
+// returns a plain plan: the cut with its slots, and the uploads to do now within the upload budget. A frame
+// always renders what is present: a node whose children are not all ready stays a leaf at its coarser level,
+// and update() never waits for the disk; nor do the I/O workers wait for frames (up to half the CPU cache is
+// read without being taken).
 // updateUntilConverged() is the synchronous mode (for `render` without progression, and tests): the same
 // code, repeated until the cut is complete.
 //
@@ -75,7 +76,8 @@ class WorkingSet {
 
   // Repeats update(), waiting for the reads it asked for, until the cut is complete or maxFrames updates were
   // made. The uploads of all those updates are merged (the last one per slot); the stats are the last
-  // update's, with the counts of work done (uploads, refine time, evictions) summed over all of them.
+  // update's, with the counts of work done (uploads, refine time, evictions, bytes read) summed over all of
+  // them.
   WorkingSetFrame updateUntilConverged(const FrameInput& input, uint32_t maxFrames = 100000);
 
   const BrickSourceInfo& info() const { return source_.info(); }
