@@ -125,6 +125,7 @@ class RefineRun {
       heap_.pop();
       refineOrStop(n);
     }
+    readAhead(residency_.readAheadRoom());
     result_.complete = complete_;
     return std::move(result_);
   }
@@ -165,6 +166,47 @@ class RefineRun {
       } else {
         heap_.push({k, px, slot, hintOf(k)});
       }
+    }
+  }
+
+  // RefineResult::readAhead: a breadth-first walk below the waiting leaves, as the next frames would refine
+  // with every brick in core, so that a cold start reads the tree in about one wave instead of one per level.
+  void readAhead(size_t room) {
+    if (room == 0) return;
+    struct Wanted {
+      NodeKey key;
+      double voxelPixels;
+    };
+    std::vector<Wanted> wanted;  // nodes whose bricks are being read: the waiting leaves' children
+    for (const PlannedLeaf& l : result_.leaves) {
+      if (l.reason != LeafReason::NotInCore && l.reason != LeafReason::UploadBudget) continue;
+      if (l.content == LeafContent::Missing) {
+        wanted.push_back({l.key, l.voxelPixels});
+        continue;
+      }
+      for (uint32_t o = 0; o < 8; ++o) {
+        const NodeKey c = l.key.child(o);
+        if (classify(c).cls == Class::DataBrick) wanted.push_back({c, pixels(c)});
+      }
+    }
+    std::vector<NodeKey>& ahead = result_.readAhead;
+    while (!wanted.empty() && ahead.size() < room) {
+      std::stable_sort(wanted.begin(), wanted.end(),
+                       [](const Wanted& a, const Wanted& b) { return a.voxelPixels > b.voxelPixels; });
+      std::vector<Wanted> next;
+      for (const Wanted& w : wanted) {
+        if (ahead.size() >= room) break;
+        if (w.voxelPixels <= adequatePixels_ || w.key.depth >= layout_.maxDepth) continue;
+        const NodeHint hint = hintOf(w.key);
+        if (hint == NodeHint::Occluded || hint == NodeHint::Unused) continue;
+        for (uint32_t o = 0; o < 8 && ahead.size() < room; ++o) {
+          const NodeKey c = w.key.child(o);
+          if (classify(c).cls != Class::DataBrick) continue;  // constant bricks need no read
+          ahead.push_back(c);
+          next.push_back({c, pixels(c)});
+        }
+      }
+      wanted = std::move(next);
     }
   }
 

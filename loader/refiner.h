@@ -64,12 +64,12 @@ const char* leafReasonName(LeafReason r);
 // the feedback readback).
 enum class NodeHint : uint8_t {
   None,       // refine by priority, as without hints
-  Occluded,   // the last answered occlusion queries found it hidden: not refined (Gobbetti et al. 2008, Sect.
-              // 6)
+  Occluded,   // hidden in the last answered occlusion queries: not refined (Gobbetti et al. 2008, Sect. 6)
   Unused,     // the rays' feedback answered for it and no ray used it: not refined (Crassin et al. 2009)
   Requested,  // a ray wanted finer data there: refined before the nodes that were not requested
 };
-// Asked once per node the refinement reaches (the root included), on the refining thread. Null: no hints.
+// Asked once per node the refinement or its read-ahead reaches (the root included), on the refining thread.
+// Null: no hints.
 using NodeHints = std::function<NodeHint(const NodeKey&)>;
 
 struct PlannedLeaf {
@@ -92,11 +92,20 @@ class BrickResidency {
   // needs no upload in the next frame and zooming out needs none either. Called with an empty `keys` too (a
   // node whose children are all empty).
   virtual Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) = 0;
+  // How many bricks beyond those acquire() asked for may be read ahead (RefineResult::readAhead), asked once
+  // after the refinement: the room left in the GPU pool and in the read requests. 0: no read-ahead.
+  virtual size_t readAheadRoom() const { return 0; }
 };
 
 struct RefineResult {
   std::vector<PlannedLeaf> leaves;    // the cut: a tiling of the octree's root cube
   std::vector<NodeKey> refinedOrder;  // inner nodes, in the order they were refined
+  // Data bricks the next refinements will ask for once those they wait for arrive, so that the reads need
+  // not wait for frames: below each leaf waiting for its children (NotInCore, UploadBudget), the children of
+  // every node that would then be refined (neither adequate nor finest, neither empty, culled, constant nor
+  // hinted Occluded or Unused), level by level and by decreasing projected voxel size within a level, at most
+  // BrickResidency::readAheadRoom(). Some may be resident already.
+  std::vector<NodeKey> readAhead;
   // No leaf waits for data or for upload budget: the next frame with the same input gives the same cut
   // (Occluded and Unused leaves wait for nothing the loader can do).
   bool complete = false;

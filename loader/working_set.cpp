@@ -86,6 +86,13 @@ class WorkingSet::Residency final : public BrickResidency {
     return Outcome::Ready;
   }
 
+  size_t readAheadRoom() const override {
+    const uint64_t poolRoom =
+        ws_.slots_.availableCount() - std::min<uint64_t>(reservedSlots_, ws_.slots_.availableCount());
+    const size_t requestRoom = ws_.maxRequests_ - std::min(requests.size(), ws_.maxRequests_);
+    return size_t(std::min<uint64_t>(poolRoom, requestRoom));
+  }
+
   std::vector<BrickRequest> requests;
   std::vector<BrickUpload> uploads;
   LoaderStats stats;
@@ -158,7 +165,11 @@ WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config
     throw Error("WorkingSet: --upload-budget " + std::to_string(config.uploadBudgetBytes) +
                 " bytes cannot carry one brick of " + std::to_string(brickBytes_) + " bytes");
   }
-  io_ = std::make_unique<IoQueue>(source, config.ioThreads, config.maxReadyBricks);
+  // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
+  // needs all children of a node at once) could use them. The workers may read all of it without waiting for
+  // a frame to take what they read.
+  maxRequests_ = std::max<uint64_t>(cache_.budgetBytes() / brickBytes_ / 2, 1);
+  io_ = std::make_unique<IoQueue>(source, config.ioThreads, maxRequests_);
 }
 
 WorkingSet::~WorkingSet() = default;
@@ -189,13 +200,16 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
       std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);
   Residency residency(*this, uploadBudgetBytes);
   RefineResult refined = refine(source_, input.view, input.isEmpty, residency, input.hints);
-  // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
-  // needs all children of a node at once) could use them.
+  // The bricks this frame waits for by priority, then those read ahead in their order; the queue reads them
+  // in this order (priority by rank).
   std::vector<BrickRequest>& requests = residency.requests;
   std::stable_sort(requests.begin(), requests.end(),
                    [](const BrickRequest& a, const BrickRequest& b) { return a.priority > b.priority; });
-  const size_t maxRequests = std::max<uint64_t>(cache_.budgetBytes() / brickBytes_ / 2, 1);
-  if (requests.size() > maxRequests) requests.resize(maxRequests);
+  for (const NodeKey& k : refined.readAhead) {
+    if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
+  }
+  if (requests.size() > maxRequests_) requests.resize(maxRequests_);
+  for (size_t i = 0; i < requests.size(); ++i) requests[i].priority = double(requests.size() - i);
   io_->replaceRequests(std::move(requests));
 
   WorkingSetFrame out;

@@ -1,9 +1,11 @@
 // WorkingSet: the per-frame loader (Gobbetti et al. 2008, Sect. 4 and 7). Each update() drains the bricks the
 // I/O workers read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns
 // GPU pool slots (LRU, never one of the cut being built), asks the I/O workers for the bricks the refinement
-// lacked (dropping requests no longer wanted) and returns a plain plan: the cut with its slots, and the
-// uploads to do now within the upload budget. A frame always renders what is present: a node whose children
-// are not all ready stays a leaf at its coarser level, and update() never waits for the disk.
+// lacked and for those the next refinements will lack (read-ahead; dropping requests no longer wanted) and
+// returns a plain plan: the cut with its slots, and the uploads to do now within the upload budget. A frame
+// always renders what is present: a node whose children are not all ready stays a leaf at its coarser level,
+// and update() never waits for the disk; nor do the I/O workers wait for frames (up to half the CPU cache is
+// read without being taken).
 // updateUntilConverged() is the synchronous mode (for `render` without progression, and tests): the same
 // code, repeated until the cut is complete.
 //
@@ -34,7 +36,6 @@ struct WorkingSetConfig {
   uint32_t gpuSlots = 0;                       // bricks the GPU pool holds (from --gpu-budget); required
   uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();  // --upload-budget, per frame
   uint32_t ioThreads = 2;
-  size_t maxReadyBricks = 64;  // bricks read by the workers and not yet taken into the cache
 };
 
 struct FrameInput {
@@ -75,7 +76,8 @@ class WorkingSet {
 
   // Repeats update(), waiting for the reads it asked for, until the cut is complete or maxFrames updates were
   // made. The uploads of all those updates are merged (the last one per slot); the stats are the last
-  // update's, with the counts of work done (uploads, refine time, evictions) summed over all of them.
+  // update's, with the counts of work done (uploads, refine time, evictions, bytes read) summed over all of
+  // them.
   WorkingSetFrame updateUntilConverged(const FrameInput& input, uint32_t maxFrames = 100000);
 
   const BrickSourceInfo& info() const { return source_.info(); }
@@ -92,6 +94,9 @@ class WorkingSet {
   const BrickSource& source_;
   WorkingSetConfig config_;
   uint64_t brickBytes_;
+  // Bricks requested at once, and read without being taken: half the CPU cache. Memory for bricks is thus at
+  // most 1.5x --cpu-cache while frames are slower than the reads.
+  size_t maxRequests_ = 1;
   BrickCache cache_;
   SlotTable slots_;
   uint64_t bytesReadSinceUpdate_ = 0;  // by the reads taken since the last update()'s stats

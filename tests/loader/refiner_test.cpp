@@ -34,7 +34,9 @@ class FakeResidency : public BrickResidency {
   }
   std::set<NodeKey, KeyLess> notInCore;
   std::set<NodeKey, KeyLess> acquired;
+  size_t readAheadRoom() const override { return aheadRoom; }
   std::set<NodeKey, KeyLess> askedFor;  // acquired or not
+  size_t aheadRoom = 0;
   size_t slotCapacity = 1u << 30;
   size_t pinned = 0;
   uint32_t nextSlot = 0;
@@ -347,6 +349,53 @@ TEST(Refiner, RequestedNodesAreRefinedBeforeHigherPriorityOnes) {
       EXPECT_EQ(l.reason, LeafReason::PoolFull);
     }
   }
+}
+
+TEST(Refiner, ReadsAheadWhatTheNextRefinementsWillAskFor) {
+  // 256^3, bricks of 16: depths 0..4. The root's children are not in core: the refinement stops at the root
+  // and reads ahead every brick a refinement with everything in core would acquire below them.
+  const FakeBrickSource src({256, 256, 256}, 16);
+  const RefineView v = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
+  FakeResidency all;
+  refine(src, v, {}, all);
+  std::set<NodeKey, KeyLess> expected = all.acquired;
+  expected.erase(NodeKey{});
+  for (uint32_t o = 0; o < 8; ++o) expected.erase(NodeKey{}.child(o));
+  ASSERT_GT(expected.size(), 100u);
+
+  FakeResidency cold;
+  cold.aheadRoom = 1u << 20;
+  for (uint32_t o = 0; o < 8; ++o) cold.notInCore.insert(NodeKey{}.child(o));
+  const RefineResult r = refine(src, v, {}, cold);
+  ASSERT_EQ(r.leaves.size(), 1u);
+  EXPECT_EQ(r.leaves[0].reason, LeafReason::NotInCore);
+  const std::set<NodeKey, KeyLess> ahead(r.readAhead.begin(), r.readAhead.end());
+  EXPECT_EQ(ahead.size(), r.readAhead.size());  // each once
+  EXPECT_EQ(ahead, expected);
+  for (size_t i = 1; i < r.readAhead.size(); ++i) EXPECT_LE(r.readAhead[i - 1].depth, r.readAhead[i].depth);
+
+  // Within the room only, the first ones of the same order; none without room (the default).
+  FakeResidency small = cold;
+  small.aheadRoom = 10;
+  const RefineResult r10 = refine(src, v, {}, small);
+  ASSERT_EQ(r10.readAhead.size(), 10u);
+  EXPECT_TRUE(std::equal(r10.readAhead.begin(), r10.readAhead.end(), r.readAhead.begin()));
+  FakeResidency none = cold;
+  none.aheadRoom = 0;
+  EXPECT_TRUE(refine(src, v, {}, none).readAhead.empty());
+
+  // Nothing below an occluded node is read ahead.
+  const NodeKey hidden{1, {0, 0, 0}};
+  FakeResidency hinted = cold;
+  const RefineResult rh = refine(src, v, {}, hinted, [&](const NodeKey& k) {
+    return k == hidden ? NodeHint::Occluded : NodeHint::None;
+  });
+  for (const NodeKey& k : rh.readAhead) {
+    NodeKey a = k;
+    while (a.depth > 1) a = a.parent();
+    EXPECT_NE(a, hidden);
+  }
+  EXPECT_LT(rh.readAhead.size(), r.readAhead.size());
 }
 
 }  // namespace

@@ -310,6 +310,34 @@ TEST(WorkingSet, BricksTheRaysUseStayInAPoolTooSmallForTheWorkingSet) {
   EXPECT_GT(alternate(false).usedMissing, 0u);
 }
 
+TEST(WorkingSet, AColdStartReadsTheTreeWithoutWaitingForFrames) {
+  // The first update finds nothing in core; the workers then read every brick the view needs while no
+  // update() is called, and the next update refines the whole tree at once.
+  FakeBrickSource fake = makeScene();
+  WorkingSetConfig cfg = config(2000);
+  cfg.cpuCacheBytes = 2000 * fake.brickBytes();
+  WorkingSet ws(fake, cfg);
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  in.isEmpty = isoEmpty;
+  const WorkingSetFrame first = ws.update(in);
+  ASSERT_FALSE(first.converged);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (ws.io().pendingCount() > 0 && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_EQ(ws.io().pendingCount(), 0u);
+
+  const WorkingSetFrame second = ws.update(in);
+  EXPECT_TRUE(second.converged);
+  FakeBrickSource fake2 = makeScene();
+  WorkingSet sync(fake2, cfg);
+  EXPECT_EQ(cutOf(second), cutOf(sync.updateUntilConverged(in)));
+  EXPECT_EQ(sync.frameCount(), 2u);  // one wave of reads
+  // Every brick read was used: nothing read ahead was wasted.
+  uint64_t dataUploads = 0;
+  for (const BrickUpload& u : second.uploads) dataUploads += fake.node(u.key).kind == NodeKind::Data;
+  EXPECT_EQ(fake.reads(), dataUploads);
+}
+
 TEST(WorkingSet, ReadsOnlyWhatTheGpuPoolHasRoomFor) {
   FakeBrickSource fake = makeScene();
   WorkingSetConfig cfg = config(/*slots=*/40);

@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Progressive loading against synchronous loading (docs/BENCHMARKS.md): the same view of the same store,
+# rendered once with everything loaded first (`ropecast render`, one frame) and once with frames drawn while
+# the asynchronous loader streams (`ropecast render --converge`), from a cold cache each time. Also
+# --converge with --upload-budget, whose per-frame bound must hold (bytes_uploaded in --stats).
+# The store: a CT-like int16 volume (a smooth field over a ball plus noise, the converter benchmark's
+# generator), converted into WORK once and reused.
+# Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratio converge / synchronous (goal
+# <= 1.3), and the largest bytes_uploaded of a frame against --upload-budget.
+# Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
+# env: DIMS (default 1024x1024x864, 1.7 GiB raw), ORBIT (30,20,1.6: a view that needs 2862 bricks of the
+#      default store), IMAGE (512x512), GPU (256M), CPU (256M), UPLOAD (--upload-budget, 8M), REPS (2),
+#      WORK (a folder kept between runs), RENDER_ARGS (more render options).
+# The page cache is dropped before each render when the script runs as root ("cold"), else it is warm.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+. "$here/lib/common.sh"
+bench_setup converge_vs_sync "${1:-build/perf}"
+DIMS=${DIMS:-1024x1024x864}
+GPU=${GPU:-256M}
+CPU=${CPU:-256M}
+UPLOAD=${UPLOAD:-8M}
+ORBIT=${ORBIT:-30,20,1.6}
+REPS=${REPS:-2}
+IFS=x read -r nx ny nz <<<"$DIMS"
+
+store="$WORK/ct_${DIMS}.rcast"
+if [ ! -f "$store" ]; then
+  sed -n '/^cat > "\$scratch\/gen.cpp"/,/^CPP$/p' "$here/convert_bench.sh" | sed '1d;$d' >"$WORK/gen.cpp"
+  c++ -O2 -o "$WORK/gen" "$WORK/gen.cpp"
+  raw="$WORK/ct_${DIMS}_int16.raw"
+  "$WORK/gen" "$nx" "$ny" "$nz" "$raw"
+  "$ROPECAST" convert "$raw" -o "$store" --quiet
+  rm -f "$raw"
+fi
+
+cold() {
+  if [ "$(id -u)" = 0 ] && sync && echo 3 >/proc/sys/vm/drop_caches 2>/dev/null; then echo cold; else echo warm; fi
+}
+
+# run NAME ARGS...: one render with --stats, its wall time in WORK/NAME.s
+run() {
+  local name=$1
+  shift
+  local cache
+  cache=$(cold)
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" --cpu-cache "$CPU" \
+    ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.png" "$@" >/dev/null
+  t1=$(date +%s.%N)
+  awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
+  echo "$cache" >"$WORK/$name.cache"
+}
+
+echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); store $store ($(du -m "$store" | cut -f1) MiB)"
+for rep in $(seq 1 "$REPS"); do
+  run "sync$rep"
+  run "converge$rep" --converge
+  run "budget$rep" --converge --upload-budget "$UPLOAD"
+done
+
+python3 - "$WORK" "$REPS" "$UPLOAD" <<'PY'
+import json, sys
+work, reps, upload = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}
+budget = int(float(upload[:-1]) * units[upload[-1]]) if upload[-1] in units else int(upload)
+MiB = 1 << 20
+def load(name):
+    rows = [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
+    return {"s": float(open(f"{work}/{name}.s").read()), "cache": open(f"{work}/{name}.cache").read().strip(),
+            "frames": len(rows), "uploaded": sum(r["bricks_uploaded"] for r in rows),
+            "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
+            "maxUpload": max(r["bytes_uploaded"] for r in rows), "converged": rows[-1]["converged"],
+            "frameMs": sorted(r["frame_ms"] for r in rows)[len(rows) // 2]}
+print(f"{'run':<11} {'cache':<5} {'wall s':>7} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
+      f"{'MiB read':>8} {'converged':>9}")
+for rep in range(1, reps + 1):
+    runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "budget")}
+    for n, r in runs.items():
+        print(f"{n + str(rep):<11} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
+              f"{r['uploaded']:9d} {r['read']:8.1f} {str(r['converged']):>9}")
+    s = runs["sync"]["s"]
+    print(f"  converge / sync: {runs['converge']['s'] / s:.2f} (goal <= 1.3); with --upload-budget {upload}: "
+          f"{runs['budget']['s'] / s:.2f}, largest frame upload {runs['budget']['maxUpload'] / MiB:.2f} MiB "
+          f"({'within' if runs['budget']['maxUpload'] <= budget else 'OVER'} the budget)")
+PY
