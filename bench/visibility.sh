@@ -8,7 +8,7 @@
 # The store has depth complexity: procedural:menger:SIZE (a Menger sponge: holes behind holes), converted into
 # WORK once and reused.
 # 1. Cold cache to convergence at IMAGE, `render --converge`, an opaque isosurface and a semi-transparent DVR
-#    (a ramp reaching opacity 0.3 per voxel): the working set at convergence (bricks of the refined tree),
+#    (a ramp reaching opacity 0.3 per voxel, gradients computed): the working set at convergence (bricks of the refined tree),
 #    bricks resident, bytes read and uploaded in total, frames and seconds to converge, the converged frame's
 #    time, the query and feedback latencies, and the PSNR of each image against priority.
 # 2. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
@@ -40,7 +40,9 @@ flags() {
     both) echo --occlusion on --feedback on ;;
   esac
 }
-mode_args() { [ "$1" = iso ] && echo --mode iso || echo --mode dvr --tf "$WORK/semi.json"; }
+# DVR computes its gradients: stored ones take 8 more bytes per pool texel, and the pool would bound the
+# working set instead of the view.
+mode_args() { [ "$1" = iso ] && echo --mode iso || echo --mode dvr --tf "$WORK/semi.json" --gradients computed; }
 
 for mode in $modes; do
   for config in $configs; do
