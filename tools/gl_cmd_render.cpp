@@ -23,6 +23,7 @@
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/output_guard.h"
 
 namespace ropecast::tools {
 namespace {
@@ -142,6 +143,29 @@ void checkImageOutputs(const RenderOptions& o) {
   check("-o", o.output, ImageOutputKind::Color8);
   check("--exr", o.exr, ImageOutputKind::FloatExr);
   check("--depth", o.depth, ImageOutputKind::FloatExr);
+}
+
+// No output may be an input (the store, --tf, --path) or another output; checked before anything is written.
+void checkOutputsAreNew(const RenderOptions& o) {
+  OutputGuard guard("render");
+  guard.addInput("the input", o.input);
+  if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
+  guard.addInput("--path", o.path);
+  guard.addOutput("-o", o.output);
+  guard.addOutput("--exr", o.exr);
+  guard.addOutput("--depth", o.depth);
+  guard.addOutput("--stats", o.stats);
+  if (o.every > 0) {
+    const std::filesystem::path out(o.output);
+    const std::string stem = out.stem().string() + "_", ext = out.extension().string();
+    guard.addOutputSeries(
+        "--every", out.parent_path().string(), stem + "NNNN" + ext, [stem, ext](const std::string& name) {
+          if (!name.starts_with(stem) || !name.ends_with(ext)) return false;
+          const std::string digits = name.substr(stem.size(), name.size() - stem.size() - ext.size());
+          return digits.size() >= 4 && digits.find_first_not_of("0123456789") == std::string::npos;
+        });
+  }
+  guard.check();
 }
 
 // What every path shares, read and checked before anything renders: the bricks, the image size, the render
@@ -329,6 +353,7 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
 int runRender(const RenderOptions& o) {
   if (o.output.empty()) throw Error("render: -o OUT.png is required");
   checkImageOutputs(o);
+  checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
   RenderSetup setup(o);
   if (o.reference)
@@ -408,9 +433,10 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
       ->check(finiteIn(0.0, 10000.0));
   addEnumOption(app, "--occlusion", o->occlusion, kOnOffNames,
                 "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
-  addEnumOption(app, "--feedback", o->feedback, kOnOffNames,
-                "progressive frames: the rays report the bricks they used and where they wanted finer data; "
-                "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
+  addEnumOption(
+      app, "--feedback", o->feedback, kOnOffNames,
+      "progressive frames: the rays report the bricks they used and where they wanted finer data; "
+      "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
   app.add_option("--query-budget", o->queryBudget, "occlusion queries per frame")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();
