@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# No command overwrites what it reads: every output option of convert, render, extract and regress aimed at an
-# input (by its name, a symlink or a hard link; a file of an input folder or glob) or at another output of the
-# same run fails with 1..127 and a message naming both, writes nothing and leaves the inputs as they were.
+# No command overwrites what it reads: every output option of convert, render and extract (regress's in
+# regress.sh) aimed at an input (by its name, a symlink or a hard link; a file of an input folder or glob) or at
+# another output of the same run fails with 1..127 and a message naming both, writes nothing and leaves the
+# inputs as they were.
 # Usage: bash output_guard.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$(realpath "$1")"
