@@ -47,7 +47,8 @@ struct RegressArgs {
 };
 
 // A case's render options as `ropecast render` parses them; file outputs are regress's business.
-RenderOptions parseCaseOptions(const RegressCase& c) {
+RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePath) {
+  const std::string where = suitePath + ": case '" + c.name + "'";
   RenderOptions o;
   CLI::App app{"ropecast render options of case " + c.name};
   addRenderOptions(app, o);
@@ -55,11 +56,11 @@ RenderOptions parseCaseOptions(const RegressCase& c) {
   try {
     app.parse(args);
   } catch (const CLI::ParseError& e) {
-    throw SuiteError("case '" + c.name + "': options: " + e.what());
+    throw SuiteError(where + ": options: " + e.what());
   }
-  const auto refuse = [&c](bool given, const char* option) {
+  const auto refuse = [&where](bool given, const char* option) {
     if (given)
-      throw SuiteError("case '" + c.name + "': options: " + option +
+      throw SuiteError(where + ": options: " + option +
                        " writes a file; regress renders to its report or a temporary folder");
   };
   refuse(!o.exr.empty(), "--exr");
@@ -69,7 +70,7 @@ RenderOptions parseCaseOptions(const RegressCase& c) {
   o.input = c.input;
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
   if (!c.input.starts_with("procedural:") && !fs::is_regular_file(c.input))
-    throw SuiteError("case '" + c.name + "': input " + c.input + ": no such store file");
+    throw SuiteError(where + ": input " + c.input + ": no such store file");
   return o;
 }
 
@@ -244,7 +245,7 @@ int runRegress(const RegressArgs& a) {
   std::vector<RenderOptions> options;
   try {
     suite = loadRegressSuite(a.suite);
-    for (const RegressCase& c : suite.cases) options.push_back(parseCaseOptions(c));
+    for (const RegressCase& c : suite.cases) options.push_back(parseCaseOptions(c, suite.path));
   } catch (const SuiteError& e) {
     std::fprintf(stderr, "ropecast regress: bad suite: %s\n", e.what());
     return 2;
