@@ -1,4 +1,5 @@
 // `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence.
+// renderFrames and the options (tools/render_command.h) are shared with `ropecast regress`.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,44 +24,11 @@
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/output_guard.h"
+#include "tools/render_command.h"
 
 namespace ropecast::tools {
 namespace {
-
-struct RenderOptions {
-  std::string input;
-  RenderMode mode = RenderMode::Iso;
-  std::optional<double> iso;
-  std::string tf;
-  std::vector<uint32_t> size{512, 512};
-  std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
-  double fov = 40.0;
-  std::vector<double> background{0.0, 0.0, 0.0};
-  RenderBackend backend = RenderBackend::Auto;
-  GradientSource gradients = GradientSource::Stored;
-  std::string output, exr, depth, stats;
-  bool reference = false;
-  double step = 0.5;
-  double ert = 0.99;
-  double voxelsPerPixel = 1.0;
-  uint64_t gpuBudget = 0;  // 0: from the driver
-  uint64_t cpuCache = uint64_t(1) << 30;
-  uint64_t uploadBudget = UINT64_MAX;
-  double uploadTimeBudgetMs = 0.0;
-  double targetFrameMs = 0.0;
-  bool uploadPbo = false;
-  uint32_t frames = 1;
-  std::string path;
-  bool converge = false;
-  uint32_t maxFrames = 1000;
-  uint32_t every = 0;
-  double ioDelayMs = 0.0;
-  uint32_t brick = kDefaultBrickSize;  // procedural inputs only
-  bool occlusion = true;
-  bool feedback = true;
-  uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
-  uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
-};
 
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
   if (o.input.rfind("procedural:", 0) == 0) return openProceduralBricks(o.input, o.brick);
@@ -144,6 +112,29 @@ void checkImageOutputs(const RenderOptions& o) {
   check("--depth", o.depth, ImageOutputKind::FloatExr);
 }
 
+// No output may be an input (the store, --tf, --path) or another output; checked before anything is written.
+void checkOutputsAreNew(const RenderOptions& o) {
+  OutputGuard guard("render");
+  guard.addInput("the input", o.input);
+  if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
+  guard.addInput("--path", o.path);
+  guard.addOutput("-o", o.output);
+  guard.addOutput("--exr", o.exr);
+  guard.addOutput("--depth", o.depth);
+  guard.addOutput("--stats", o.stats);
+  if (o.every > 0) {
+    const std::filesystem::path out(o.output);
+    const std::string stem = out.stem().string() + "_", ext = out.extension().string();
+    guard.addOutputSeries(
+        "--every", out.parent_path().string(), stem + "NNNN" + ext, [stem, ext](const std::string& name) {
+          if (!name.starts_with(stem) || !name.ends_with(ext)) return false;
+          const std::string digits = name.substr(stem.size(), name.size() - stem.size() - ext.size());
+          return digits.size() >= 4 && digits.find_first_not_of("0123456789") == std::string::npos;
+        });
+  }
+  guard.check();
+}
+
 // What every path shares, read and checked before anything renders: the bricks, the image size, the render
 // parameters, the transfer function, the camera of each frame, the --stats file.
 class RenderSetup {
@@ -209,7 +200,7 @@ class RenderSetup {
 };
 
 // --reference: the CPU ray marcher over the full-resolution data, the last frame's camera.
-void renderReference(const RenderOptions& o, const RenderSetup& s) {
+RenderedFrame renderReference(const RenderSetup& s) {
   ReferenceRenderer reference(s.bricks());
   CpuRenderInput input;
   input.camera = s.cameraOf(s.frames - 1);
@@ -218,13 +209,13 @@ void renderReference(const RenderOptions& o, const RenderSetup& s) {
   input.params = s.params;
   input.tf = s.tf();
   const CpuImage image = reference.render(input);
-  writeOutputs(o, toFloatImage(image.rgba, image.width, image.height, 4),
-               toFloatImage(image.depth, image.width, image.height, 1));
+  return {toFloatImage(image.rgba, image.width, image.height, 4),
+          toFloatImage(image.depth, image.width, image.height, 1)};
 }
 
 // --backend brute: the baseline of bench/render_vs_brute.sh, level 0 in one 3D texture and no index
 // (render/brute_force_pass).
-void renderBrute(const RenderOptions& o, RenderSetup& s) {
+RenderedFrame renderBrute(RenderSetup& s) {
   GlContext gl;
   BruteForcePass brute(s.bricks());
   BruteForceFrame bf;
@@ -247,7 +238,7 @@ void renderBrute(const RenderOptions& o, RenderSetup& s) {
     stats.converged = true;
     s.stats->write(stats);
   }
-  writeOutputs(o, brute.readColor(), brute.readDepth());
+  return {brute.readColor(), brute.readDepth()};
 }
 
 // The octree ray caster of both remaining paths, its shader compiled (FrameRenderer::prepare) and the request
@@ -280,16 +271,16 @@ struct OctreeRender {
 };
 
 // One frame without --frames, --converge or --path: load everything the view needs, then draw.
-void renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
+RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/true);
   s.stats->write(octree.renderer->render(octree.request));
-  writeOutputs(o, octree.renderer->readColor(), octree.renderer->readDepth());
+  return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
 // --frames, --converge, --path: the asynchronous loader streams bricks while frames render, and no frame
 // waits for the disk.
-void renderProgressive(const RenderOptions& o, RenderSetup& s) {
+RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/false);
   FrameRequest& request = octree.request;
@@ -312,7 +303,7 @@ void renderProgressive(const RenderOptions& o, RenderSetup& s) {
       break;
     }
   }
-  writeOutputs(o, octree.renderer->readColor(), octree.renderer->readDepth());
+  return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
 const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
@@ -326,100 +317,121 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
   return names;
 }
 
+}  // namespace
+
+RenderedFrame renderFrames(const RenderOptions& o) {
+  RenderSetup setup(o);
+  RenderedFrame frame;
+  if (o.reference)
+    frame = renderReference(setup);
+  else if (o.backend == RenderBackend::Brute)
+    frame = renderBrute(setup);
+  else if (o.converge || o.frames > 1 || !o.path.empty())
+    frame = renderProgressive(o, setup);
+  else
+    frame = renderSingleFrame(o, setup);
+  setup.stats->finish();
+  return frame;
+}
+
+namespace {
+
 int runRender(const RenderOptions& o) {
   if (o.output.empty()) throw Error("render: -o OUT.png is required");
   checkImageOutputs(o);
+  checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
-  RenderSetup setup(o);
-  if (o.reference)
-    renderReference(o, setup);
-  else if (o.backend == RenderBackend::Brute)
-    renderBrute(o, setup);
-  else if (o.converge || o.frames > 1 || !o.path.empty())
-    renderProgressive(o, setup);
-  else
-    renderSingleFrame(o, setup);
-  setup.stats->finish();
+  const RenderedFrame frame = renderFrames(o);
+  writeOutputs(o, frame.color, frame.depth);
   return 0;
 }
+
+}  // namespace
+
+void addRenderOptions(CLI::App& app, RenderOptions& o) {
+  addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
+  app.add_option("--iso", o.iso, "isovalue in data units (default: middle of the value range)")
+      ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
+  app.add_option("--tf", o.tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
+  addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
+  addTripleOption(app, "--orbit", o.orbit,
+                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
+  addTripleOption(app, "--eye", o.eye, "camera position X,Y,Z (world units)");
+  addTripleOption(app, "--target", o.target, "point looked at X,Y,Z");
+  addTripleOption(app, "--up", o.up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
+  app.add_option("--fov", o.fov, "vertical field of view, degrees")
+      ->check(finiteIn(1.0, 179.0))
+      ->capture_default_str();
+  addTripleOption(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)");
+  addEnumOption(app, "--backend", o.backend, backendNames(),
+                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
+                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
+                "benchmark baseline). --stats names the one used");
+  addEnumOption(
+      app, "--gradients", o.gradients, kGradientNames,
+      "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
+      "or computed (six more lookups per sample)");
+  app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)");
+  app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR");
+  app.add_option("--stats", o.stats, "write one JSON object per frame, one per line");
+  app.add_flag("--reference", o.reference,
+               "brute-force CPU ray marching of the full-resolution data instead");
+  app.add_option("--step", o.step, "sample distance in voxels of the level crossed")
+      ->check(finiteIn(0.01, 8.0))
+      ->capture_default_str();
+  app.add_option("--ert", o.ert, "early ray termination opacity (DVR)")
+      ->check(finiteIn(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--voxels-per-pixel", o.voxelsPerPixel, "refinement target: voxels per pixel")
+      ->check(finiteIn(0.01, 64.0))
+      ->capture_default_str();
+  addByteSizeOption(app, "--gpu-budget", o.gpuBudget,
+                    "GPU brick pool bytes (e.g. 512M; default from the driver)");
+  addByteSizeOption(app, "--cpu-cache", o.cpuCache, "CPU brick cache bytes")->default_str("1G");
+  addByteSizeOption(app, "--upload-budget", o.uploadBudget,
+                    "brick upload bytes per frame (default: unlimited)");
+  app.add_option(
+         "--upload-time-budget", o.uploadTimeBudgetMs,
+         "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
+      ->check(finiteIn(0.0, 100000.0));
+  app.add_flag("--upload-pbo", o.uploadPbo, "upload bricks through a pixel buffer object");
+  app.add_option("--target-frame-ms", o.targetFrameMs,
+                 "progressive frames: sample at up to 4x --step while a frame takes longer than this (the "
+                 "written images too; default: off)")
+      ->check(finiteIn(0.0, 100000.0));
+  app.add_option("--frames", o.frames, "frames to render (progressive loading)")
+      ->check(CLI::Range(1u, 1000000u));
+  app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
+  app.add_flag("--converge", o.converge, "render until the working set is complete and nothing is pending");
+  app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")->capture_default_str();
+  app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
+  app.add_option("--io-delay-ms", o.ioDelayMs, "added latency per brick read (shows asynchrony)")
+      ->check(finiteIn(0.0, 10000.0));
+  addEnumOption(app, "--occlusion", o.occlusion, kOnOffNames,
+                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
+  addEnumOption(
+      app, "--feedback", o.feedback, kOnOffNames,
+      "progressive frames: the rays report the bricks they used and where they wanted finer data; "
+      "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
+  app.add_option("--query-budget", o.queryBudget, "occlusion queries per frame")
+      ->check(CLI::Range(1u, 1000000u))
+      ->capture_default_str();
+  app.add_option("--visibility-threshold", o.visibilityThreshold,
+                 "visible pixels below which a queried node counts as occluded")
+      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 32))
+      ->capture_default_str();
+  app.add_option("--brick", o.brick, "brick size for procedural inputs")
+      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
+}
+
+namespace {
 
 const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<RenderOptions>();
   app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
   app.add_option("-o,--output", o->output, "output PNG")->required();
-  addEnumOption(app, "--mode", o->mode, kModeNames, "isosurface or direct volume rendering");
-  app.add_option("--iso", o->iso, "isovalue in data units (default: middle of the value range)")
-      ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
-  addImageSizeOption(app, "--size", o->size, "image size WxH, each in [1, 16384] (default 512x512)");
-  addTripleOption(app, "--orbit", o->orbit,
-                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
-  addTripleOption(app, "--eye", o->eye, "camera position X,Y,Z (world units)");
-  addTripleOption(app, "--target", o->target, "point looked at X,Y,Z");
-  addTripleOption(app, "--up", o->up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
-  app.add_option("--fov", o->fov, "vertical field of view, degrees")
-      ->check(finiteIn(1.0, 179.0))
-      ->capture_default_str();
-  addTripleOption(app, "--background", o->background, "background R,G,B in [0,1] (default 0,0,0)");
-  addEnumOption(app, "--backend", o->backend, backendNames(),
-                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
-                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
-                "benchmark baseline). --stats names the one used");
-  addEnumOption(
-      app, "--gradients", o->gradients, kGradientNames,
-      "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
-      "or computed (six more lookups per sample)");
-  app.add_option("--exr", o->exr, "also write float RGBA EXR (alpha = coverage)");
-  app.add_option("--depth", o->depth, "also write the depth (world units along the view axis) as EXR");
-  app.add_option("--stats", o->stats, "write one JSON object per frame, one per line");
-  app.add_flag("--reference", o->reference,
-               "brute-force CPU ray marching of the full-resolution data instead");
-  app.add_option("--step", o->step, "sample distance in voxels of the level crossed")
-      ->check(finiteIn(0.01, 8.0))
-      ->capture_default_str();
-  app.add_option("--ert", o->ert, "early ray termination opacity (DVR)")
-      ->check(finiteIn(0.0, 1.0))
-      ->capture_default_str();
-  app.add_option("--voxels-per-pixel", o->voxelsPerPixel, "refinement target: voxels per pixel")
-      ->check(finiteIn(0.01, 64.0))
-      ->capture_default_str();
-  addByteSizeOption(app, "--gpu-budget", o->gpuBudget,
-                    "GPU brick pool bytes (e.g. 512M; default from the driver)");
-  addByteSizeOption(app, "--cpu-cache", o->cpuCache, "CPU brick cache bytes")->default_str("1G");
-  addByteSizeOption(app, "--upload-budget", o->uploadBudget,
-                    "brick upload bytes per frame (default: unlimited)");
-  app.add_option(
-         "--upload-time-budget", o->uploadTimeBudgetMs,
-         "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
-      ->check(finiteIn(0.0, 100000.0));
-  app.add_flag("--upload-pbo", o->uploadPbo, "upload bricks through a pixel buffer object");
-  app.add_option("--target-frame-ms", o->targetFrameMs,
-                 "progressive frames: sample at up to 4x --step while a frame takes longer than this (the "
-                 "written images too; default: off)")
-      ->check(finiteIn(0.0, 100000.0));
-  app.add_option("--frames", o->frames, "frames to render (progressive loading)")
-      ->check(CLI::Range(1u, 1000000u));
-  app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes");
-  app.add_flag("--converge", o->converge, "render until the working set is complete and nothing is pending");
-  app.add_option("--max-frames", o->maxFrames, "frame cap for --converge")->capture_default_str();
-  app.add_option("--every", o->every, "also write every K-th frame as OUT_NNNN.png");
-  app.add_option("--io-delay-ms", o->ioDelayMs, "added latency per brick read (shows asynchrony)")
-      ->check(finiteIn(0.0, 10000.0));
-  addEnumOption(app, "--occlusion", o->occlusion, kOnOffNames,
-                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
-  addEnumOption(app, "--feedback", o->feedback, kOnOffNames,
-                "progressive frames: the rays report the bricks they used and where they wanted finer data; "
-                "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
-  app.add_option("--query-budget", o->queryBudget, "occlusion queries per frame")
-      ->check(CLI::Range(1u, 1000000u))
-      ->capture_default_str();
-  app.add_option("--visibility-threshold", o->visibilityThreshold,
-                 "visible pixels below which a queried node counts as occluded")
-      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 32))
-      ->capture_default_str();
-  app.add_option("--brick", o->brick, "brick size for procedural inputs")
-      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
+  addRenderOptions(app, *o);
   return [o] { return runRender(*o); };
 });
 
