@@ -291,28 +291,33 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     frame.voxelsPerPixel = request.voxelsPerPixel;
   }
   raycast_.render(frame, schedule);
+  uint64_t cutHash = plan.leaves.size();
+  for (const PlannedLeaf& leaf : plan.leaves)
+    cutHash = cutHash * 0x9E3779B97F4A7C15ull ^ NodeKeyHash {}(leaf.key);
+  if (cutHash != currentCutHash_) cutChangedFrame_ = frame_;
+  currentCutHash_ = cutHash;
   if (feedback) {
     feedback_->end(frame_);
     std::vector<NodeKey> keys;
     std::vector<uint8_t> dataLeaf;
     keys.reserve(plan.leaves.size());
     dataLeaf.reserve(plan.leaves.size());
-    uint64_t hash = plan.leaves.size();
     for (const PlannedLeaf& leaf : plan.leaves) {
       keys.push_back(leaf.key);
       dataLeaf.push_back(leaf.content == LeafContent::Brick);
-      hash = hash * 0x9E3779B97F4A7C15ull ^ NodeKeyHash {}(leaf.key);
     }
     rayFeedback_.rememberCut(frame_, std::move(keys), std::move(dataLeaf));
-    cutHashes_[frame_] = hash;
-    currentCutHash_ = hash;
+    cutHashes_[frame_] = cutHash;
   }
 
   static_cast<LoaderStats&>(stats) = plan.stats;
   stats.tiles = std::max<uint64_t>(schedule.tiles.size(), 1);
   stats.workingSetBricks = workingSet_->slots().pinnedCount();
-  // Converged also means the occlusion state settled: a round of answers that changed no mark.
-  if (occlusion) stats.converged = stats.converged && visibility_->settled();
+  // Converged also means the cut held through a whole round of occlusion answers about it (a mark may still
+  // flip on a leaf whose refinement it does not change: a sample count at the threshold).
+  if (occlusion)
+    stats.converged =
+        stats.converged && frame_ - cutChangedFrame_ > std::max<uint64_t>(visibility_->lastRoundFrames(), 1);
   // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
   if (feedback)
     stats.converged = stats.converged && rayFeedback_.answered() && answeredCutHash_ == currentCutHash_;

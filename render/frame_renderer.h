@@ -148,6 +148,7 @@ class FrameRenderer {
   RayFeedback rayFeedback_;
   std::map<uint64_t, uint64_t> cutHashes_;  // frame -> its cut, for frames whose feedback is in flight
   uint64_t currentCutHash_ = 0, answeredCutHash_ = 0;
+  uint64_t cutChangedFrame_ = 0;  // the last frame whose cut differed from the one before
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the
