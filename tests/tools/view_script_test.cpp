@@ -32,8 +32,8 @@ TEST(ViewScript, ADragIsAPressStepMovesAndARelease) {
 }
 
 TEST(ViewScript, AHeldKeyIsReleasedSecondsLaterAndLaterEventsFollowIt) {
-  const ViewScript s =
-      parseViewScript(R"({"events": [{"event": "key", "key": "W", "seconds": 0.5}, {"event": "quit"}]})", "t");
+  const ViewScript s = parseViewScript(
+      R"({"events": [{"event": "key", "key": "W", "seconds": 0.5}, {"event": "quit"}]})", "t");
   ASSERT_EQ(s.events.size(), 3u);
   EXPECT_EQ(s.events[0].kind, ViewEventKind::KeyDown);
   EXPECT_EQ(s.events[0].key, 'w');

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# `ropecast view` end to end under Xvfb (llvmpipe through GLX): the converged screenshot is the image `render
+# --converge` draws with the same camera and settings; a scripted drag lands on the orbit docs/VIEWER.md
+# documents, and the camera it saves is one `render --path` reads; a scripted isovalue change and a transfer
+# function load draw what `render` draws with them; without a display the viewer refuses cleanly and names
+# `ropecast render`.
+# Usage: bash view.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+data="$(cd "$(dirname "$0")/../data" && pwd)"
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+run() {  # run NAME COMMAND...: must exit 0
+  local name="$1"; shift
+  if "$@" > "$dir/out.txt" 2> "$dir/err.txt"; then echo "ok   $name"; else fail "$name: exit $?: $(cat "$dir/err.txt")"; fi
+}
+same() {  # same NAME A.png B.png: at least 40 dB apart
+  if "$ropecast" compare "$2" "$3" --min-psnr 40 > "$dir/cmp.txt" 2>&1; then echo "ok   $1"
+  else fail "$1: $(cat "$dir/cmp.txt")"; fi
+}
+differs() {  # differs NAME A.png B.png: below 40 dB (the event changed the image)
+  if "$ropecast" compare "$2" "$3" --min-psnr 40 > "$dir/cmp.txt" 2>&1; then fail "$1: no change: $(cat "$dir/cmp.txt")"
+  else echo "ok   $1"; fi
+}
+
+vol="procedural:marschner-lobb:48 --brick 16 --size 96x96"
+
+# No display: a clean error that names the headless way, before any window or work.
+env -u DISPLAY -u WAYLAND_DISPLAY "$ropecast" view $vol --screenshot "$dir/none.png" > /dev/null 2> "$dir/err.txt"
+rc=$?
+if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ]; then echo "ok   no display: exit $rc"; else fail "no display: exit $rc"; fi
+grep -q "ropecast render" "$dir/err.txt" || fail "no display: the message does not name ropecast render: $(cat "$dir/err.txt")"
+grep -qi "display" "$dir/err.txt" || fail "no display: the message does not say so: $(cat "$dir/err.txt")"
+[ ! -e "$dir/none.png" ] || fail "no display: a screenshot was written"
+
+if ! command -v xvfb-run > /dev/null; then
+  echo "skip: xvfb-run is not installed (scripts/bootstrap installs xvfb)"
+  exit "$((failures > 0))"
+fi
+xview() { xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view "$@"; }
+
+# --screenshot alone: the converged view, as render --converge draws it at the default orbit.
+run "view --screenshot" xview $vol --screenshot "$dir/v0.png"
+run "render --converge" "$ropecast" render $vol --converge -o "$dir/r0.png"
+same "converged view = render" "$dir/v0.png" "$dir/r0.png"
+
+# A drag of (+40, +20) pixels: azimuth 30 - 40 * 0.25, elevation 20 + 20 * 0.25; the saved camera is that orbit.
+cat > "$dir/drag.json" << JSON
+[{"event": "drag", "from": [48, 48], "to": [88, 68], "steps": 4, "seconds": 0.2},
+ {"event": "screenshot", "file": "$dir/v1.png"},
+ {"event": "save_camera", "file": "$dir/cameras.json"}]
+JSON
+run "view --script drag" xview $vol --script "$dir/drag.json"
+run "render --orbit 20,25,3" "$ropecast" render $vol --converge --orbit 20,25,3 -o "$dir/r1.png"
+same "dragged view = render at the documented orbit" "$dir/v1.png" "$dir/r1.png"
+differs "the drag turned the view" "$dir/v1.png" "$dir/v0.png"
+grep -q '"orbit"' "$dir/cameras.json" 2> /dev/null || fail "save_camera wrote no orbit keyframe: $(cat "$dir/cameras.json")"
+run "render --path the saved camera" "$ropecast" render $vol --converge --path "$dir/cameras.json" -o "$dir/r1p.png"
+same "saved camera = the dragged view" "$dir/v1.png" "$dir/r1p.png"
+
+# set_iso, then a screenshot (and --screenshot at the end): render with --iso.
+cat > "$dir/iso.json" << JSON
+[{"event": "set_iso", "value": 0.3}, {"event": "screenshot", "file": "$dir/v2.png"}]
+JSON
+run "view --script set_iso" xview $vol --script "$dir/iso.json"
+run "render --iso 0.3" "$ropecast" render $vol --converge --iso 0.3 -o "$dir/r2.png"
+same "isovalue change = render --iso" "$dir/v2.png" "$dir/r2.png"
+differs "the isovalue changed the view" "$dir/v2.png" "$dir/v0.png"
+
+# DVR: load a transfer function file; --screenshot after the script.
+cat > "$dir/tf.json" << JSON
+[{"event": "set_mode", "mode": "dvr"}, {"event": "load_tf", "tf": "$data/tf/sphere_shells.json"}]
+JSON
+run "view --script set_mode load_tf" xview $vol --script "$dir/tf.json" --screenshot "$dir/v3.png"
+run "render --mode dvr --tf" "$ropecast" render $vol --converge --mode dvr --tf "$data/tf/sphere_shells.json" \
+  -o "$dir/r3.png"
+same "DVR with a loaded TF = render --tf" "$dir/v3.png" "$dir/r3.png"
+
+# A bad script is refused with its name and the event, before any window opens.
+echo '[{"event": "spin"}]' > "$dir/bad.json"
+"$ropecast" view $vol --script "$dir/bad.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -q "bad.json: event 0 (spin)" "$dir/err.txt"; } ||
+  fail "bad script: exit $rc: $(cat "$dir/err.txt")"
+
+echo "$failures failure(s)"
+[ "$failures" -eq 0 ]

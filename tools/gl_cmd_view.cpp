@@ -1,0 +1,42 @@
+// `ropecast view`: the interactive viewer (docs/VIEWER.md) over the FrameRenderer that `render` uses; the
+// options it shares with `render` come from tools/gl_render_options.h. The viewer is tools/gl_view_app.
+#include <memory>
+
+#include "core/error.h"
+#include "reference/image_io.h"
+#include "tools/command.h"
+#include "tools/gl_view_app.h"
+
+namespace ropecast::tools {
+namespace {
+
+int runView(const ViewOptions& o) {
+  if (!o.screenshot.empty())
+    if (const std::string problem = imageOutputProblem(o.screenshot, ImageOutputKind::Color8);
+        !problem.empty())
+      throw Error("--screenshot " + o.screenshot + ": " + problem);
+  std::optional<ViewScript> script;
+  if (!o.script.empty()) script = loadViewScript(o.script);
+  return runViewer(o, std::move(script));
+}
+
+const CommandRegistration registration("view", 55, [](CLI::App& app) -> std::function<int()> {
+  auto o = std::make_shared<ViewOptions>();
+  app.description(
+      "view a store or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; panels for "
+      "mode, isovalue, transfer function, rendering settings, stats");
+  addSceneOptions(app, *o);
+  app.add_option("--script", o->script,
+                 "timed input events and UI actions (JSON, docs/VIEWER.md); the viewer exits after the last");
+  app.add_option(
+      "--screenshot", o->screenshot,
+      "once the view has converged (after --script, if given), write the 3D view without the panels "
+      "as PNG and exit");
+  app.add_option("--max-frames", o->maxFrames, "frames a screenshot waits for the view to converge")
+      ->check(CLI::Range(1u, 1000000u))
+      ->capture_default_str();
+  return [o] { return runView(*o); };
+});
+
+}  // namespace
+}  // namespace ropecast::tools
