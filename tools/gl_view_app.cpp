@@ -29,6 +29,7 @@
 #include "render/step_pacer.h"
 #include "render/window_context.h"
 #include "tools/cli_values.h"
+#include "tools/gl_view_tf_editor.h"
 
 namespace ropecast::tools {
 
@@ -127,6 +128,7 @@ class Viewer {
  private:
   // Scene state the panels and the script change.
   void setTransferFunction(const std::string& spec);
+  void setTransferFunction(TransferFunction function, const std::string& name);
   void ensureRenderer();
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
@@ -157,6 +159,7 @@ class Viewer {
   TransferFunction tf_;
   std::optional<TfTable> tfTable_;
   uint64_t tfVersion_ = 0;
+  TfEditor tfEditor_;
 
   std::unique_ptr<WindowContext> window_;
   std::unique_ptr<FrameRenderer> renderer_;
@@ -263,11 +266,13 @@ Viewer::~Viewer() {
 }
 
 void Viewer::setTransferFunction(const std::string& spec) {
-  const BrickSourceInfo& info = bricks().info();
-  TransferFunction function = transferFunctionOf(spec, info);
-  tfTable_ = bakeFor(function, info);
+  setTransferFunction(transferFunctionOf(spec, bricks().info()), spec.empty() ? "linear" : spec);
+}
+
+void Viewer::setTransferFunction(TransferFunction function, const std::string& name) {
+  tfTable_ = bakeFor(function, bricks().info());
   tf_ = std::move(function);
-  tfSpec_ = spec.empty() ? "linear" : spec;
+  tfSpec_ = name;
   ++tfVersion_;
 }
 
@@ -471,8 +476,21 @@ bool Viewer::runScript(bool converged) {
 }
 
 void Viewer::screenshot(const std::string& path, bool panels) {
-  if (const std::string problem = imageOutputProblem(path, ImageOutputKind::Color8); !problem.empty())
+  const bool exr = std::filesystem::path(path).extension() == ".exr";
+  if (const std::string problem =
+          imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
+      !problem.empty())
     throw Error("view: screenshot " + path + ": " + problem);
+  if (exr) {
+    // Float RGBA (alpha = coverage) and, beside it as NAME_depth.exr, the depth, as render --exr --depth.
+    if (color_.pixels.empty()) throw Error("view: screenshot " + path + ": nothing rendered yet");
+    const std::filesystem::path p(path);
+    const std::string depthPath = (p.parent_path() / (p.stem().string() + "_depth.exr")).string();
+    writeExr(path, color_);
+    writeDepthExr(depthPath, renderer_->readDepth());
+    message_ = "wrote " + path + " and " + depthPath;
+    return;
+  }
   if (panels) {
     panelShot_ = path;  // read back once the panels are drawn
     return;
@@ -486,9 +504,10 @@ void Viewer::screenshot(const std::string& path, bool panels) {
 void Viewer::drawPanels() {
   const BrickSourceInfo& info = bricks().info();
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(320, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.85f);
-  if (ImGui::Begin("Volume")) {
+  if (ImGui::Begin("Volume", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::PushItemWidth(200.0f);
     ImGui::Text("%s", o_.input.c_str());
     ImGui::Text("%u x %u x %u, values %g .. %g", info.volume.dims.x, info.volume.dims.y, info.volume.dims.z,
                 valueRange_.first, valueRange_.second);
@@ -505,29 +524,27 @@ void Viewer::drawPanels() {
 
     ImGui::Separator();
     ImGui::Text("transfer function");
-    // The function as a strip: color over opacity-weighted black, across the value range.
-    ImDrawList* draw = ImGui::GetWindowDrawList();
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const float stripWidth = ImGui::GetContentRegionAvail().x, stripHeight = 18.0f;
-    constexpr int kStrip = 64;
-    for (int i = 0; i < kStrip; ++i) {
-      const double v = valueRange_.first + (valueRange_.second - valueRange_.first) * (i + 0.5) / kStrip;
-      const glm::dvec4 c = tf_.evaluate(v);
-      const float a = float(std::min(1.0, c.a * 4.0));
-      draw->AddRectFilled(ImVec2(origin.x + stripWidth * i / kStrip, origin.y),
-                          ImVec2(origin.x + stripWidth * (i + 1) / kStrip, origin.y + stripHeight),
-                          ImGui::GetColorU32(ImVec4(float(c.r) * a, float(c.g) * a, float(c.b) * a, 1.0f)));
+    std::vector<TfPoint> points = tf_.points();
+    if (tfEditor_.draw(points, valueRange_.first, valueRange_.second)) {
+      try {
+        setTransferFunction(TransferFunction(std::move(points)), "edited");
+      } catch (const Error& e) {
+        message_ = e.what();
+      }
     }
-    ImGui::Dummy(ImVec2(stripWidth, stripHeight));
     if (ImGui::BeginCombo("preset", tfSpec_.c_str())) {
       for (const std::string& name : TransferFunction::presetNames())
-        if (ImGui::Selectable(name.c_str(), name == tfSpec_)) setTransferFunction(name);
+        if (ImGui::Selectable(name.c_str(), name == tfSpec_)) {
+          setTransferFunction(name);
+          tfEditor_.deselect();
+        }
       ImGui::EndCombo();
     }
     ImGui::InputText("file##tf", &tfPath_);
     if (ImGui::Button("load")) {
       try {
         setTransferFunction(tfPath_);
+        tfEditor_.deselect();
         message_ = "loaded " + tfPath_;
       } catch (const Error& e) {
         message_ = e.what();
@@ -542,13 +559,17 @@ void Viewer::drawPanels() {
         message_ = e.what();
       }
     }
+    ImGui::PopItemWidth();
   }
   ImGui::End();
 
-  ImGui::SetNextWindowPos(ImVec2(8, 330), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(320, 0), ImGuiCond_FirstUseEver);
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
+                          ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.85f);
-  if (ImGui::Begin("Rendering")) {
+  if (ImGui::Begin("Rendering", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::PushItemWidth(200.0f);
     float step = float(params_.stepVoxels), vpp = float(voxelsPerPixel_), target = float(targetFrameMs_);
     if (ImGui::SliderFloat("step (voxels)", &step, 0.05f, 4.0f, "%.2f", ImGuiSliderFlags_Logarithmic))
       params_.stepVoxels = step;
@@ -558,6 +579,9 @@ void Viewer::drawPanels() {
       targetFrameMs_ = target;
       stepPacer_ = StepPacer(targetFrameMs_);
     }
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
+    ImGui::TextDisabled("budgets (--gpu-budget, --cpu-cache, --upload-*) are set at start");
+    ImGui::PopTextWrapPos();
     int backend = params_.backend == RenderBackend::Auto       ? 0
                   : params_.backend == RenderBackend::Fragment ? 1
                                                                : 2;
@@ -591,14 +615,19 @@ void Viewer::drawPanels() {
         message_ = e.what();
       }
     }
-    if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
+    if (!message_.empty()) {
+      ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
+      ImGui::TextUnformatted(message_.c_str());
+      ImGui::PopTextWrapPos();
+    }
+    ImGui::PopItemWidth();
   }
   ImGui::End();
 
-  // Stats overlay, top right.
-  const ImGuiViewport* viewport = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
-                          ImGuiCond_Always, ImVec2(1.0f, 0.0f));
+  // Stats overlay, bottom right.
+  ImGui::SetNextWindowPos(
+      ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + viewport->WorkSize.y - 8),
+      ImGuiCond_Always, ImVec2(1.0f, 1.0f));
   ImGui::SetNextWindowBgAlpha(0.6f);
   const ImGuiWindowFlags overlay = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
@@ -609,8 +638,9 @@ void Viewer::drawPanels() {
                 std::string(renderBackendName(st.backend)).c_str());
     ImGui::Text("leaves %llu  resident %llu  uploads %llu", (unsigned long long)st.leaves,
                 (unsigned long long)st.bricksResident, (unsigned long long)st.bricksUploaded);
-    ImGui::Text("pending %llu  cache %.0f MiB  step %.2f", (unsigned long long)st.requestsPending,
-                st.cpuCacheBytes / 1048576.0, st.stepVoxels);
+    ImGui::Text("pending %llu  step %.2f", (unsigned long long)st.requestsPending, st.stepVoxels);
+    ImGui::Text("CPU cache %.1f MiB  GPU pool %.1f MiB", st.cpuCacheBytes / 1048576.0,
+                st.gpuPoolUsedBytes / 1048576.0);
     ImGui::Text("visible %llu  occluded %llu  queries %llu", (unsigned long long)st.nodesVisible,
                 (unsigned long long)st.nodesOccluded, (unsigned long long)st.occlusionQueries);
     ImGui::Text("feedback: used %llu  requests %llu", (unsigned long long)st.bricksUsed,
