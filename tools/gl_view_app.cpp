@@ -266,7 +266,9 @@ Viewer::~Viewer() {
 }
 
 void Viewer::setTransferFunction(const std::string& spec) {
-  setTransferFunction(transferFunctionOf(spec, bricks().info()), spec.empty() ? "linear" : spec);
+  // A file shows as its name alone: the panel's combo is narrow.
+  setTransferFunction(transferFunctionOf(spec, bricks().info()),
+                      spec.empty() ? "linear" : std::filesystem::path(spec).filename().string());
 }
 
 void Viewer::setTransferFunction(TransferFunction function, const std::string& name) {
