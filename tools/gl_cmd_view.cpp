@@ -32,6 +32,8 @@ const CommandRegistration registration("view", 55, [](CLI::App& app) -> std::fun
       "--screenshot", o->screenshot,
       "once the view has converged (after --script, if given), write the 3D view without the panels "
       "as PNG and exit");
+  app.add_option("--stats", o->stats,
+                 "write one JSON object per rendered frame, one per line (render's fields)");
   app.add_option("--max-frames", o->maxFrames, "frames a screenshot waits for the view to converge")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();

@@ -175,6 +175,7 @@ class Viewer {
   FloatImage color_;
   uint64_t framesSinceChange_ = 0;
   std::deque<float> frameMsHistory_;
+  std::optional<std::ofstream> stats_;  // --stats
   uint32_t viewTexture_ = 0, viewFramebuffer_ = 0;
   uint32_t viewWidth_ = 0, viewHeight_ = 0;
 
@@ -226,6 +227,10 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
         OrbitController::orbitAroundBox(glm::dvec3(0.0), boxMax_, orbit.x, orbit.y, orbit.z, o.fov));
   }
   lastCamera_ = controller_->camera();
+  if (!o.stats.empty()) {
+    stats_.emplace(o.stats);
+    if (!*stats_) throw Error("view: --stats " + o.stats + ": cannot open for writing");
+  }
 
   WindowContextOptions windowOptions;
   windowOptions.title = "ropecast view " + o.input;
@@ -322,6 +327,10 @@ void Viewer::renderFrame(const FrameRequest& request) {
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
+  if (stats_) {
+    *stats_ << toJsonLine(lastStats_) << '\n';
+    if (!*stats_) throw Error("view: --stats " + o_.stats + ": write failed");
+  }
   frameMsHistory_.push_back(float(lastStats_.frameMs));
   if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
 

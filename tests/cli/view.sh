@@ -61,12 +61,24 @@ grep -q '"orbit"' "$dir/cameras.json" 2> /dev/null || fail "save_camera wrote no
 run "render --path the saved camera" "$ropecast" render $vol --converge --path "$dir/cameras.json" -o "$dir/r1p.png"
 same "saved camera = the dragged view" "$dir/v1.png" "$dir/r1p.png"
 
-# set_iso, then a screenshot (and --screenshot at the end): render with --iso.
+# --target-frame-ms: frames while the camera moves sample coarser (a target no frame meets: the largest step), and
+# the still camera refines to the full-quality image of the same orbit.
+run "view --target-frame-ms while dragging" xview $vol --script "$dir/drag.json" --target-frame-ms 0.001 \
+  --stats "$dir/drag.jsonl"
+same "coarse while moving, full quality once still" "$dir/v1.png" "$dir/r1.png"
+steps=$(python3 -c 'import json, sys; print(" ".join(str(json.loads(l)["step_voxels"]) for l in open(sys.argv[1])))' \
+  "$dir/drag.jsonl")
+grep -qE "(^| )2\.0( |$)" <<< "$steps" || fail "--target-frame-ms: no frame sampled at 4x --step while moving: $steps"
+last=$(tail -n 1 "$dir/drag.jsonl")
+grep -q '"step_voxels":0.5' <<< "$last" && grep -q '"converged":true' <<< "$last" ||
+  fail "--target-frame-ms: the last frame is not a converged full-step one: $last"
+
+# set_iso, then a screenshot: render with --iso.
 cat > "$dir/iso.json" << JSON
-[{"event": "set_iso", "value": 0.3}, {"event": "screenshot", "file": "$dir/v2.png"}]
+[{"event": "set_iso", "value": 60}, {"event": "screenshot", "file": "$dir/v2.png"}]
 JSON
 run "view --script set_iso" xview $vol --script "$dir/iso.json"
-run "render --iso 0.3" "$ropecast" render $vol --converge --iso 0.3 -o "$dir/r2.png"
+run "render --iso 60" "$ropecast" render $vol --converge --iso 60 -o "$dir/r2.png"
 same "isovalue change = render --iso" "$dir/v2.png" "$dir/r2.png"
 differs "the isovalue changed the view" "$dir/v2.png" "$dir/v0.png"
 
