@@ -192,7 +192,6 @@ class Viewer {
   std::optional<ViewScript> script_;
   size_t nextEvent_ = 0;
   Clock::time_point start_;
-  bool quit_ = false;
 
   // Panel fields.
   std::string screenshotPath_ = "view.png", cameraPath_ = "cameras.json", tfPath_ = "tf.json";
@@ -668,7 +667,7 @@ int Viewer::run() {
   start_ = Clock::now();
   auto lastLoop = Clock::now();
   bool converged = false;
-  while (!window_->shouldClose() && !quit_) {
+  while (!window_->shouldClose()) {
     const bool scriptActive = script_ && nextEvent_ < script_->events.size();
     const bool idle = converged && !scriptActive && !windowDragOwned_ && scriptKeys_.empty() &&
                       secondsSince(start_) - lastMoveSeconds_ > kStillAfterSeconds;
@@ -679,7 +678,10 @@ int Viewer::run() {
     const double dt = std::min(0.1, std::chrono::duration<double>(Clock::now() - lastLoop).count());
     lastLoop = Clock::now();
     window_->framebufferSize(viewWidth_, viewHeight_);
-    if (viewWidth_ == 0 || viewHeight_ == 0) continue;  // minimized
+    if (viewWidth_ == 0 || viewHeight_ == 0) {  // minimized: nothing to draw into
+      glfwWaitEventsTimeout(0.1);
+      continue;
+    }
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
