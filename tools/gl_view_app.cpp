@@ -28,6 +28,7 @@
 #include "render/frame_renderer.h"
 #include "render/step_pacer.h"
 #include "render/window_context.h"
+#include "store/value_histogram.h"
 #include "tools/cli_values.h"
 #include "tools/gl_view_tf_editor.h"
 
@@ -150,6 +151,9 @@ class Viewer {
   std::unique_ptr<BrickSource> source_, delayed_;
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
   std::pair<double, double> valueRange_;
+  // The value histogram of the octree's root brick (store/value_histogram.h): log bar heights in [0, 1].
+  std::vector<float> histogram_;
+  uint32_t histogramLevel_ = 0;
   glm::dvec3 boxMax_{0.0};
 
   RenderParams params_;
@@ -210,6 +214,13 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
   const BrickSourceInfo& info = bricks().info();
   valueRange_ = valueRangeOf(info);
   boxMax_ = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  {
+    const ValueHistogram h = coarseHistogram(bricks(), 64, valueRange_.first, valueRange_.second);
+    histogramLevel_ = h.level;
+    double top = 0.0;
+    for (uint64_t c : h.counts) top = std::max(top, std::log1p(double(c)));
+    for (uint64_t c : h.counts) histogram_.push_back(top > 0.0 ? float(std::log1p(double(c)) / top) : 0.0f);
+  }
   params_ = renderParamsOf(o, info, "view");
   voxelsPerPixel_ = o.voxelsPerPixel;
   targetFrameMs_ = o.targetFrameMs;
@@ -226,10 +237,6 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
         OrbitController::orbitAroundBox(glm::dvec3(0.0), boxMax_, orbit.x, orbit.y, orbit.z, o.fov));
   }
   lastCamera_ = controller_->camera();
-  if (!o.stats.empty()) {
-    stats_.emplace(o.stats);
-    if (!*stats_) throw Error("view: --stats " + o.stats + ": cannot open for writing");
-  }
 
   WindowContextOptions windowOptions;
   windowOptions.title = "ropecast view " + o.input;
@@ -241,6 +248,12 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
     throw Error(
         std::string("view: ") + e.what() +
         ". The viewer needs an X11 display (DISPLAY); `ropecast render` draws the same images headless");
+  }
+
+  // Opened once the window exists: a run without a display leaves no file behind.
+  if (!o.stats.empty()) {
+    stats_.emplace(o.stats);
+    if (!*stats_) throw Error("view: --stats " + o.stats + ": cannot open for writing");
   }
 
   glfwSetWindowUserPointer(window_->window(), this);
@@ -426,7 +439,9 @@ bool Viewer::runScript(bool converged) {
     next.shift = e.shift;
     switch (e.kind) {
       case ViewEventKind::MouseDown:
-        (e.button == MouseButton::Left ? next.left : next.middle) = e.button != MouseButton::Right;
+        // The right button moves nothing (docs/VIEWER.md "Camera").
+        if (e.button == MouseButton::Left) next.left = true;
+        if (e.button == MouseButton::Middle) next.middle = true;
         scriptPointer_ = next;
         break;
       case ViewEventKind::MouseMove:
@@ -530,12 +545,15 @@ void Viewer::drawPanels() {
     if (ImGui::SliderScalar("isovalue", ImGuiDataType_Double, &iso, &valueRange_.first, &valueRange_.second,
                             "%.4g"))
       params_.isoValue = iso;
-    ImGui::TextDisabled("(no histogram: the store keeps none)");
+    ImGui::PlotHistogram("##histogram", histogram_.data(), int(histogram_.size()), 0, nullptr, 0.0f, 1.0f,
+                         ImVec2(200.0f, 40.0f));
+    ImGui::SameLine();
+    ImGui::TextDisabled("values, level %u\n(log counts)", histogramLevel_);
 
     ImGui::Separator();
     ImGui::Text("transfer function");
     std::vector<TfPoint> points = tf_.points();
-    if (tfEditor_.draw(points, valueRange_.first, valueRange_.second)) {
+    if (tfEditor_.draw(points, valueRange_.first, valueRange_.second, histogram_)) {
       try {
         setTransferFunction(TransferFunction(std::move(points)), "edited");
       } catch (const Error& e) {

@@ -17,7 +17,7 @@ ImU32 colorOf(const glm::dvec4& rgba, float alpha = 1.0f) {
 
 }  // namespace
 
-bool TfEditor::draw(std::vector<TfPoint>& points, double lo, double hi) {
+bool TfEditor::draw(std::vector<TfPoint>& points, double lo, double hi, const std::vector<float>& histogram) {
   if (hi <= lo) hi = lo + 1.0;
   const TransferFunction function(points);
   ImDrawList* draw = ImGui::GetWindowDrawList();
@@ -35,6 +35,12 @@ bool TfEditor::draw(std::vector<TfPoint>& points, double lo, double hi) {
   };
 
   draw->AddRectFilled(origin, ImVec2(origin.x + width, origin.y + kCanvasHeight), IM_COL32(20, 20, 24, 255));
+  for (size_t i = 0; i < histogram.size(); ++i) {
+    const float x0 = origin.x + width * float(i) / float(histogram.size());
+    const float x1 = origin.x + width * float(i + 1) / float(histogram.size());
+    draw->AddRectFilled(ImVec2(x0, origin.y + kCanvasHeight * (1.0f - histogram[i])),
+                        ImVec2(x1, origin.y + kCanvasHeight), IM_COL32(50, 50, 60, 255));
+  }
   constexpr int kSteps = 96;
   for (int i = 0; i < kSteps; ++i) {
     const double v = lo + (hi - lo) * (i + 0.5) / kSteps;

@@ -15,9 +15,10 @@ namespace ropecast::tools {
 
 class TfEditor {
  public:
-  // Draws the editor for `points` over the value range [lo, hi]; true when the user changed them (still
-  // sorted by value and non-empty, so TransferFunction accepts them).
-  bool draw(std::vector<TfPoint>& points, double lo, double hi);
+  // Draws the editor for `points` over the value range [lo, hi], behind them `histogram` (bar heights in
+  // [0, 1] over equal bins of [lo, hi]; empty: none); true when the user changed the points (still sorted by
+  // value and non-empty, so TransferFunction accepts them).
+  bool draw(std::vector<TfPoint>& points, double lo, double hi, const std::vector<float>& histogram);
   // Forgets the selection (the points were replaced).
   void deselect() { selected_ = -1; }
 
