@@ -82,6 +82,24 @@ run "render --iso 60" "$ropecast" render $vol --converge --iso 60 -o "$dir/r2.pn
 same "isovalue change = render --iso" "$dir/v2.png" "$dir/r2.png"
 differs "the isovalue changed the view" "$dir/v2.png" "$dir/v0.png"
 
+# Back to an isovalue seen before: what it needs is still resident, so nothing is read or uploaded again (the
+# round trip reads and uploads what the one-way change does).
+cat > "$dir/iso_there.json" << JSON
+[{"event": "wait_converged"}, {"event": "set_iso", "value": 60}, {"event": "wait_converged"}]
+JSON
+cat > "$dir/iso_back.json" << JSON
+[{"event": "wait_converged"}, {"event": "set_iso", "value": 60}, {"event": "wait_converged"},
+ {"event": "set_iso", "value": 127.5}, {"event": "wait_converged"}]
+JSON
+run "view set_iso there" xview $vol --script "$dir/iso_there.json" --stats "$dir/there.jsonl"
+run "view set_iso there and back" xview $vol --script "$dir/iso_back.json" --stats "$dir/back.jsonl"
+sums() { python3 -c 'import json, sys
+rows = [json.loads(l) for l in open(sys.argv[1])]
+print(sum(r["bytes_read"] for r in rows), sum(r["bricks_uploaded"] for r in rows))' "$1"; }
+there=$(sums "$dir/there.jsonl"); back=$(sums "$dir/back.jsonl")
+[ "$there" = "$back" ] || fail "returning to an isovalue read or uploaded again: bytes, uploads $there one way, $back there and back"
+[ "$(tail -n 1 "$dir/back.jsonl" | grep -c '"converged":true')" = 1 ] || fail "set_iso round trip did not converge"
+
 # DVR: load a transfer function file; --screenshot after the script.
 cat > "$dir/tf.json" << JSON
 [{"event": "set_mode", "mode": "dvr"}, {"event": "load_tf", "tf": "$data/tf/sphere_shells.json"}]
