@@ -61,6 +61,20 @@ grep -q '"orbit"' "$dir/cameras.json" 2> /dev/null || fail "save_camera wrote no
 run "render --path the saved camera" "$ropecast" render $vol --converge --path "$dir/cameras.json" -o "$dir/r1p.png"
 same "saved camera = the dragged view" "$dir/v1.png" "$dir/r1p.png"
 
+# Two wheel clicks: the distance 3 * 0.9^2; then a middle-button pan, saved as an eye/target keyframe.
+cat > "$dir/zoom_pan.json" << JSON
+[{"event": "wheel", "clicks": 2}, {"event": "screenshot", "file": "$dir/v4.png"},
+ {"event": "drag", "button": "middle", "from": [48, 48], "to": [60, 40], "steps": 3},
+ {"event": "screenshot", "file": "$dir/v5.png"}, {"event": "save_camera", "file": "$dir/panned.json"}]
+JSON
+run "view --script wheel, pan" xview $vol --script "$dir/zoom_pan.json"
+run "render --orbit 30,20,2.43" "$ropecast" render $vol --converge --orbit 30,20,2.43 -o "$dir/r4.png"
+same "zoomed view = render at the documented distance" "$dir/v4.png" "$dir/r4.png"
+grep -q '"eye"' "$dir/panned.json" 2> /dev/null || fail "a panned camera saves eye and target: $(cat "$dir/panned.json")"
+run "render --path the panned camera" "$ropecast" render $vol --converge --path "$dir/panned.json" -o "$dir/r5.png"
+same "saved panned camera = the panned view" "$dir/v5.png" "$dir/r5.png"
+differs "the pan moved the view" "$dir/v5.png" "$dir/v4.png"
+
 # --target-frame-ms: frames while the camera moves sample coarser (a target no frame meets: the largest step), and
 # the still camera refines to the full-quality image of the same orbit.
 run "view --target-frame-ms while dragging" xview $vol --script "$dir/drag.json" --target-frame-ms 0.001 \
