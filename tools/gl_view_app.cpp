@@ -379,9 +379,12 @@ void Viewer::present(uint32_t width, uint32_t height) {
 void Viewer::drive(const Pointer& before, const Pointer& now) {
   const glm::dvec2 d = now.pos - before.pos;
   if (d == glm::dvec2(0.0)) return;
-  if ((before.middle && now.middle) || (before.left && now.left && now.shift))
-    controller_->pan(d.x, d.y, std::max<uint32_t>(viewHeight_, 1));
-  else if (before.left && now.left)
+  if ((before.middle && now.middle) || (before.left && now.left && now.shift)) {
+    // Mouse positions are in window coordinates, which differ from framebuffer pixels on scaled displays.
+    int windowWidth = 0, windowHeight = 0;
+    glfwGetWindowSize(window_->window(), &windowWidth, &windowHeight);
+    controller_->pan(d.x, d.y, uint32_t(std::max(windowHeight, 1)));
+  } else if (before.left && now.left)
     controller_->rotate(d.x, d.y);
 }
 
