@@ -7,6 +7,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -187,7 +188,14 @@ class Viewer {
   Pointer windowPointer_, scriptPointer_;
   bool windowDragOwned_ = false;  // the button went down over the 3D view, not over a panel
   double wheelClicks_ = 0.0;
-  std::set<char> scriptKeys_;
+  // Scripted fly keys held: they fly on the script's clock, so a key held for S seconds flies S seconds
+  // however long the frames take.
+  struct ScriptKey {
+    double downAt = 0.0, upAt = 0.0;  // script seconds; upAt: its release, or +inf
+    double flownSeconds = 0.0;
+  };
+  std::map<char, ScriptKey> scriptKeys_;
+  void flyScriptKeys(double nowSeconds);
   bool resetKeyDown_ = false;
   double lastMoveSeconds_ = -1e9;
   Camera lastCamera_;
@@ -384,8 +392,17 @@ void Viewer::drive(const Pointer& before, const Pointer& now) {
     int windowWidth = 0, windowHeight = 0;
     glfwGetWindowSize(window_->window(), &windowWidth, &windowHeight);
     controller_->pan(d.x, d.y, uint32_t(std::max(windowHeight, 1)));
-  } else if (before.left && now.left)
+  } else if (before.left && now.left) {
     controller_->rotate(d.x, d.y);
+  }
+}
+
+void Viewer::flyScriptKeys(double nowSeconds) {
+  for (auto& [key, held] : scriptKeys_) {
+    const double until = std::min(nowSeconds, held.upAt) - held.downAt;
+    if (until > held.flownSeconds) flyHeld({key}, until - held.flownSeconds);
+    held.flownSeconds = std::max(held.flownSeconds, until);
+  }
 }
 
 void Viewer::flyHeld(const std::set<char>& keys, double dtSeconds) {
@@ -461,12 +478,20 @@ bool Viewer::runScript(bool converged) {
         controller_->zoom(e.clicks);
         break;
       case ViewEventKind::KeyDown:
-        if (e.key == 'r')
+        if (e.key == 'r') {
           controller_->reset();
-        else
-          scriptKeys_.insert(e.key);
+        } else {
+          ScriptKey held{e.atSeconds, HUGE_VAL, 0.0};
+          for (size_t i = nextEvent_ + 1; i < script_->events.size(); ++i)
+            if (script_->events[i].kind == ViewEventKind::KeyUp && script_->events[i].key == e.key) {
+              held.upAt = script_->events[i].atSeconds;
+              break;
+            }
+          scriptKeys_[e.key] = held;
+        }
         break;
       case ViewEventKind::KeyUp:
+        flyScriptKeys(e.atSeconds);  // the rest of its flight
         scriptKeys_.erase(e.key);
         break;
       case ViewEventKind::SetIso:
@@ -709,7 +734,7 @@ int Viewer::run() {
     ImGui::NewFrame();
     readWindowInput(dt);
     if (!runScript(converged)) break;
-    flyHeld(scriptKeys_, dt);
+    flyScriptKeys(secondsSince(start_));
     drawPanels();
     ImGui::Render();
 

@@ -75,6 +75,24 @@ run "render --path the panned camera" "$ropecast" render $vol --converge --path 
 same "saved panned camera = the panned view" "$dir/v5.png" "$dir/r5.png"
 differs "the pan moved the view" "$dir/v5.png" "$dir/v4.png"
 
+# Holding W for 0.5 s of the script's clock flies 0.25 bounding-sphere radii forward, whatever the frame times;
+# the saved eye/target camera draws the same.
+cat > "$dir/fly.json" << JSON
+[{"event": "key", "key": "w", "seconds": 0.5}, {"event": "screenshot", "file": "$dir/v6.png"},
+ {"event": "save_camera", "file": "$dir/flown.json"}]
+JSON
+run "view --script key w" xview $vol --script "$dir/fly.json"
+differs "flying moved the view" "$dir/v6.png" "$dir/v0.png"
+run "render --path the flown camera" "$ropecast" render $vol --converge --path "$dir/flown.json" -o "$dir/r6.png"
+same "saved flown camera = the flown view" "$dir/v6.png" "$dir/r6.png"
+python3 -c 'import json, math, sys
+k = json.load(open(sys.argv[1]))[0]
+radius = 0.5 * math.sqrt(3 * 48 ** 2)
+kept = math.dist(k["eye"], k["target"]) / radius            # eye and center move together
+flown = math.dist(k["target"], [24, 24, 24]) / radius       # the center left the volume center by 0.5 * 0.5
+sys.exit(abs(kept - 3.0) > 1e-9 or abs(flown - 0.25) > 1e-9)' "$dir/flown.json" ||
+  fail "0.5 s of W: expected the center 0.25 radii forward, 3 radii from the eye: $(cat "$dir/flown.json")"
+
 # --target-frame-ms: frames while the camera moves sample coarser (a target no frame meets: the largest step), and
 # the still camera refines to the full-quality image of the same orbit.
 run "view --target-frame-ms while dragging" xview $vol --script "$dir/drag.json" --target-frame-ms 0.001 \
