@@ -25,8 +25,20 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
   }
   for (uint32_t i : requestedLeaves)
     if (i < cut.leaves.size()) hints[i] = NodeHint::Requested;
-  for (size_t i = 0; i < cut.leaves.size(); ++i)
-    if (cut.dataLeaf[i]) answers_[cut.leaves[i]] = {frame, hints[i]};
+  // Inner nodes above the data leaves: unused when no data leaf below them was used.
+  std::unordered_map<NodeKey, bool, NodeKeyHash> innerUsed;
+  for (size_t i = 0; i < cut.leaves.size(); ++i) {
+    if (!cut.dataLeaf[i]) continue;
+    answers_[cut.leaves[i]] = {frame, hints[i]};
+    const bool used = hints[i] != NodeHint::Unused;
+    for (NodeKey k = cut.leaves[i]; k.depth > 0;) {
+      k = k.parent();
+      const auto [it, inserted] = innerUsed.try_emplace(k, used);
+      if (!inserted && (it->second || !used)) break;  // the nodes above already know as much
+      it->second = it->second || used;
+    }
+  }
+  for (const auto& [key, used] : innerUsed) answers_[key] = {frame, used ? NodeHint::None : NodeHint::Unused};
 
   // Bounded memory: answers past their lifetime say nothing.
   std::erase_if(answers_,

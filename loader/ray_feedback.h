@@ -5,7 +5,8 @@
 // until its answer arrives, maps the indices to nodes, and answers per node:
 //   Requested  requested in the latest answer that covered the node: refined before the rest;
 //   Unused     a data leaf of the answered cut that no ray sampled: not refined by priority alone;
-//   None       used and not requested, not a leaf of the answered cut, or the answer is too old.
+//   None       used and not requested, not in the answered tree, or the answer is too old.
+// An inner node of the answered tree is Unused when no data leaf below it was used, None otherwise.
 // An answer holds until a newer answer covers the node, at most answerLifetimeFrames frames after the frame
 // it describes (the view may have moved since). usedNodes() are the leaves the latest answer saw used: their
 // bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h).

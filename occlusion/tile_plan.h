@@ -20,7 +20,7 @@ struct QueryCandidate {
 };
 
 struct TilePlanConfig {
-  uint32_t queryBudget = 512;  // --query-budget: queries per frame
+  uint32_t queryBudget = 1024;  // --query-budget: queries per frame
   int32_t minTilePixels = 64;  // splitting stops when the tile's longer side is below this
 };
 

@@ -159,9 +159,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
   queriedLeaves_.clear();
-  lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : leaves) {
-    for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
     if (leaf.content != LeafContent::Brick) continue;
     const WorldBox box = nodeWorldBox(info.layout, info.volume.spacing, leaf.key);
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
@@ -224,16 +222,22 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.viewportHeight = request.height;
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
-  // Occlusion marks keep leaves from refining, and collapse a refined node only while the view changes. On a
-  // still view the tree then only grows, so it converges; collapsing there can cycle (a node refined because
-  // it showed hides another's leaves, that one collapses, its coarse data no longer hides the first, ...).
-  const bool viewChanged = !lastView_ || !sameView(*lastView_, request);
+  // Occluded or unused leaves do not refine, and a refined node whose leaves are all occluded or unused
+  // collapses. While the view changes it may collapse every frame; on a still view at most once, so that the
+  // tree converges: collapsing there can cycle (a node refined because it showed hides another's leaves, that
+  // one collapses, its coarse data no longer hides the first, ...).
+  if (!lastView_ || !sameView(*lastView_, request)) collapsedOnThisView_.clear();
   if (occlusion || feedback) {
-    input.hints = [this, viewChanged, occlusion, feedback](const NodeKey& key) {
-      if (occlusion && visibility_->isOccluded(key, frame_) &&
-          (viewChanged || !lastInnerNodes_.contains(key)))
-        return NodeHint::Occluded;
-      return feedback ? rayFeedback_.hint(key, frame_) : NodeHint::None;
+    input.hints = [this, occlusion, feedback](const NodeKey& key) {
+      NodeHint hint = NodeHint::None;
+      if (occlusion && visibility_->isOccluded(key, frame_))
+        hint = NodeHint::Occluded;
+      else if (feedback)
+        hint = rayFeedback_.hint(key, frame_);
+      const bool collapses =
+          (hint == NodeHint::Occluded || hint == NodeHint::Unused) && lastInnerNodes_.contains(key);
+      if (collapses && !collapsedOnThisView_.insert(key).second) return NodeHint::None;
+      return hint;
     };
   }
   if (feedback) input.usedNodes = rayFeedback_.usedNodes();
@@ -241,6 +245,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan =
       request.synchronous ? workingSet_->updateUntilConverged(input) : workingSet_->update(input);
+  lastInnerNodes_.clear();
+  for (const PlannedLeaf& leaf : plan.leaves)
+    for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
 
   // Pass 2, upload: bricks into their pool slots.
   const auto uploadStart = Clock::now();

@@ -140,8 +140,9 @@ class FrameRenderer {
   std::vector<NodeKey> queriedLeaves_;             // the non-empty leaves of the last asynchronous frame
   std::vector<QueryBox> queryBoxes_;               // this frame's queries
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
-  std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;  // of the last asynchronous frame's tree
-  std::optional<FrameRequest> lastView_;                     // the last asynchronous frame's request
+  std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;       // of the last frame's tree
+  std::unordered_set<NodeKey, NodeKeyHash> collapsedOnThisView_;  // since the camera last moved
+  std::optional<FrameRequest> lastView_;                          // the last asynchronous frame's request
 
   std::unique_ptr<FeedbackBuffer> feedback_;  // config.feedback only
   RayFeedback rayFeedback_;

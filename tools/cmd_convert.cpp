@@ -12,6 +12,7 @@
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/output_guard.h"
 #include "tools/progress_bar.h"
 
 namespace ropecast::tools {
@@ -46,6 +47,10 @@ int runConvert(const ConvertArgs& a) {
                   ": expected three positive numbers SX,SY,SZ");
   }
   sourceOptions.type = a.type;
+  OutputGuard guard("convert");
+  for (const std::string& file : volumeSpecFiles(a.input)) guard.addInput("the input", file);
+  guard.addOutput("-o", a.output);
+  guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto source = openVolumeSource(a.input, sourceOptions);
 

@@ -7,6 +7,7 @@
 #include "store/store.h"
 #include "store/store_writer.h"
 #include "tools/command.h"
+#include "tools/output_guard.h"
 
 namespace ropecast::tools {
 namespace {
@@ -18,6 +19,10 @@ struct ExtractArgs {
 };
 
 int runExtract(const ExtractArgs& a) {
+  OutputGuard guard("extract");
+  guard.addInput("the store", a.store);
+  guard.addOutput("-o", a.output);
+  guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto store = Store::open(a.store);
   extractLevelToFile(*store, a.level, a.output);

@@ -1,4 +1,5 @@
 // `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence.
+// renderFrames and the options (tools/render_command.h) are shared with `ropecast regress`.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,22 +23,11 @@
 #include "tools/cli_values.h"
 #include "tools/command.h"
 #include "tools/gl_render_options.h"
+#include "tools/output_guard.h"
+#include "tools/render_command.h"
 
 namespace ropecast::tools {
 namespace {
-
-// What only `render` takes beside the scene options of tools/gl_render_options.h.
-struct RenderOutputOptions {
-  std::string output, exr, depth, stats;
-  bool reference = false;
-  uint32_t frames = 1;
-  std::string path;
-  bool converge = false;
-  uint32_t maxFrames = 1000;
-  uint32_t every = 0;
-};
-
-struct CommandOptions : RenderOptions, RenderOutputOptions {};
 
 FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h, uint32_t channels) {
   FloatImage image;
@@ -48,7 +38,7 @@ FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h
   return image;
 }
 
-void writeOutputs(const CommandOptions& o, const FloatImage& color, const FloatImage& depth) {
+void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatImage& depth) {
   writePng(o.output, color, false);
   if (!o.exr.empty()) writeExr(o.exr, color);
   if (!o.depth.empty()) writeDepthExr(o.depth, depth);
@@ -85,7 +75,7 @@ class StatsWriter {
 };
 
 // The image outputs are checked before anything is loaded or rendered.
-void checkImageOutputs(const CommandOptions& o) {
+void checkImageOutputs(const RenderOptions& o) {
   const auto check = [](const char* option, const std::string& path, ImageOutputKind kind) {
     if (path.empty()) return;
     if (const std::string problem = imageOutputProblem(path, kind); !problem.empty())
@@ -96,17 +86,40 @@ void checkImageOutputs(const CommandOptions& o) {
   check("--depth", o.depth, ImageOutputKind::FloatExr);
 }
 
+// No output may be an input (the store, --tf, --path) or another output; checked before anything is written.
+void checkOutputsAreNew(const RenderOptions& o) {
+  OutputGuard guard("render");
+  guard.addInput("the input", o.input);
+  if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
+  guard.addInput("--path", o.path);
+  guard.addOutput("-o", o.output);
+  guard.addOutput("--exr", o.exr);
+  guard.addOutput("--depth", o.depth);
+  guard.addOutput("--stats", o.stats);
+  if (o.every > 0) {
+    const std::filesystem::path out(o.output);
+    const std::string stem = out.stem().string() + "_", ext = out.extension().string();
+    guard.addOutputSeries(
+        "--every", out.parent_path().string(), stem + "NNNN" + ext, [stem, ext](const std::string& name) {
+          if (!name.starts_with(stem) || !name.ends_with(ext)) return false;
+          const std::string digits = name.substr(stem.size(), name.size() - stem.size() - ext.size());
+          return digits.size() >= 4 && digits.find_first_not_of("0123456789") == std::string::npos;
+        });
+  }
+  guard.check();
+}
+
 // What every path shares, read and checked before anything renders: the bricks, the image size, the render
 // parameters, the transfer function, the camera of each frame, the --stats file.
 class RenderSetup {
-  const CommandOptions& o_;
+  const RenderOptions& o_;
   std::unique_ptr<BrickSource> source_;
   std::unique_ptr<BrickSource> delayed_;  // --io-delay-ms
   std::optional<TfTable> tf_;
   std::optional<CameraPath> path_;
 
  public:
-  explicit RenderSetup(const CommandOptions& o) : o_(o), source_(openBrickSource(o)) {
+  explicit RenderSetup(const RenderOptions& o) : o_(o), source_(openBrickSource(o)) {
     if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
     const BrickSourceInfo& info = bricks().info();
     width = o.size.at(0);
@@ -146,7 +159,7 @@ class RenderSetup {
 };
 
 // --reference: the CPU ray marcher over the full-resolution data, the last frame's camera.
-void renderReference(const CommandOptions& o, const RenderSetup& s) {
+RenderedFrame renderReference(const RenderSetup& s) {
   ReferenceRenderer reference(s.bricks());
   CpuRenderInput input;
   input.camera = s.cameraOf(s.frames - 1);
@@ -155,13 +168,13 @@ void renderReference(const CommandOptions& o, const RenderSetup& s) {
   input.params = s.params;
   input.tf = s.tf();
   const CpuImage image = reference.render(input);
-  writeOutputs(o, toFloatImage(image.rgba, image.width, image.height, 4),
-               toFloatImage(image.depth, image.width, image.height, 1));
+  return {toFloatImage(image.rgba, image.width, image.height, 4),
+          toFloatImage(image.depth, image.width, image.height, 1)};
 }
 
 // --backend brute: the baseline of bench/render_vs_brute.sh, level 0 in one 3D texture and no index
 // (render/brute_force_pass).
-void renderBrute(const CommandOptions& o, RenderSetup& s) {
+RenderedFrame renderBrute(RenderSetup& s) {
   GlContext gl;
   BruteForcePass brute(s.bricks());
   BruteForceFrame bf;
@@ -184,13 +197,13 @@ void renderBrute(const CommandOptions& o, RenderSetup& s) {
     stats.converged = true;
     s.stats->write(stats);
   }
-  writeOutputs(o, brute.readColor(), brute.readDepth());
+  return {brute.readColor(), brute.readDepth()};
 }
 
 // The octree ray caster of both remaining paths, its shader compiled (FrameRenderer::prepare) and the request
 // of frame 0; the FrameRenderer resolves --backend auto for the context's GL renderer.
 struct OctreeRender {
-  OctreeRender(const CommandOptions& o, const RenderSetup& s, const GlContext& gl, bool synchronous) {
+  OctreeRender(const RenderOptions& o, const RenderSetup& s, const GlContext& gl, bool synchronous) {
     const FrameRendererConfig config = frameRendererConfigOf(o, s.params);
     renderer = std::make_unique<FrameRenderer>(gl.info(), s.bricks(), config);
     request.width = s.width;
@@ -207,16 +220,16 @@ struct OctreeRender {
 };
 
 // One frame without --frames, --converge or --path: load everything the view needs, then draw.
-void renderSingleFrame(const CommandOptions& o, RenderSetup& s) {
+RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/true);
   s.stats->write(octree.renderer->render(octree.request));
-  writeOutputs(o, octree.renderer->readColor(), octree.renderer->readDepth());
+  return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
 // --frames, --converge, --path: the asynchronous loader streams bricks while frames render, and no frame
 // waits for the disk.
-void renderProgressive(const CommandOptions& o, RenderSetup& s) {
+RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/false);
   FrameRequest& request = octree.request;
@@ -239,42 +252,63 @@ void renderProgressive(const CommandOptions& o, RenderSetup& s) {
       break;
     }
   }
-  writeOutputs(o, octree.renderer->readColor(), octree.renderer->readDepth());
+  return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
-int runRender(const CommandOptions& o) {
+}  // namespace
+
+RenderedFrame renderFrames(const RenderOptions& o) {
+  RenderSetup setup(o);
+  RenderedFrame frame;
+  if (o.reference)
+    frame = renderReference(setup);
+  else if (o.backend == RenderBackend::Brute)
+    frame = renderBrute(setup);
+  else if (o.converge || o.frames > 1 || !o.path.empty())
+    frame = renderProgressive(o, setup);
+  else
+    frame = renderSingleFrame(o, setup);
+  setup.stats->finish();
+  return frame;
+}
+
+namespace {
+
+int runRender(const RenderOptions& o) {
   if (o.output.empty()) throw Error("render: -o OUT.png is required");
   checkImageOutputs(o);
+  checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
-  RenderSetup setup(o);
-  if (o.reference)
-    renderReference(o, setup);
-  else if (o.backend == RenderBackend::Brute)
-    renderBrute(o, setup);
-  else if (o.converge || o.frames > 1 || !o.path.empty())
-    renderProgressive(o, setup);
-  else
-    renderSingleFrame(o, setup);
-  setup.stats->finish();
+  const RenderedFrame frame = renderFrames(o);
+  writeOutputs(o, frame.color, frame.depth);
   return 0;
 }
 
-const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::function<int()> {
-  auto o = std::make_shared<CommandOptions>();
-  app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
-  app.add_option("-o,--output", o->output, "output PNG")->required();
-  addSceneOptions(app, *o);
-  app.add_option("--exr", o->exr, "also write float RGBA EXR (alpha = coverage)");
-  app.add_option("--depth", o->depth, "also write the depth (world units along the view axis) as EXR");
-  app.add_option("--stats", o->stats, "write one JSON object per frame, one per line");
-  app.add_flag("--reference", o->reference,
+}  // namespace
+
+void addRenderOptions(CLI::App& app, RenderOptions& o) {
+  addSceneOptions(app, o);
+  app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)");
+  app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR");
+  app.add_option("--stats", o.stats, "write one JSON object per frame, one per line");
+  app.add_flag("--reference", o.reference,
                "brute-force CPU ray marching of the full-resolution data instead");
-  app.add_option("--frames", o->frames, "frames to render (progressive loading)")
+  app.add_option("--frames", o.frames, "frames to render (progressive loading)")
       ->check(CLI::Range(1u, 1000000u));
-  app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes");
-  app.add_flag("--converge", o->converge, "render until the working set is complete and nothing is pending");
-  app.add_option("--max-frames", o->maxFrames, "frame cap for --converge")->capture_default_str();
-  app.add_option("--every", o->every, "also write every K-th frame as OUT_NNNN.png");
+  app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
+  app.add_flag("--converge", o.converge, "render until the working set is complete and nothing is pending");
+  app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")->capture_default_str();
+  app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
+}
+
+namespace {
+
+const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::function<int()> {
+  auto o = std::make_shared<RenderOptions>();
+  app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
+  app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
+  app.add_option("-o,--output", o->output, "output PNG")->required();
+  addRenderOptions(app, *o);
   return [o] { return runRender(*o); };
 });
 

@@ -25,6 +25,7 @@ const CommandRegistration registration("view", 55, [](CLI::App& app) -> std::fun
   app.description(
       "view a store or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; panels for "
       "mode, isovalue, transfer function, rendering settings, stats");
+  app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
   addSceneOptions(app, *o);
   app.add_option("--script", o->script,
                  "timed input events and UI actions (JSON, docs/VIEWER.md); the viewer exits after the last");

@@ -25,7 +25,6 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
 }
 
 void addSceneOptions(CLI::App& app, RenderOptions& o) {
-  app.add_option("input", o.input, "store file (.rcast) or procedural:NAME:SIZE")->required();
   addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
   app.add_option("--iso", o.iso, "isovalue in data units (default: middle of the value range)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));

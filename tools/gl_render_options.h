@@ -1,7 +1,8 @@
-// The options `ropecast render` and `ropecast view` share, and what both make of them before anything draws:
-// the brick source, the render parameters, the transfer function table, the camera, the FrameRenderer's
-// configuration. One place, so that a view and a render given the same options draw the same image.
-// Main thread.
+// The options `ropecast render` and `ropecast view` share (the scene and how it is drawn: the part of
+// RenderOptions, tools/render_command.h, that is not about output files or frame sequences), and what both
+// make of them before anything draws: the brick source, the render parameters, the transfer function table,
+// the camera, the FrameRenderer's configuration. One place, so that a view and a render given the same
+// options draw the same image. Main thread.
 #pragma once
 
 #include <cstdint>
@@ -20,36 +21,9 @@
 #include "render/frame_renderer.h"
 #include "store/brick_source.h"
 #include "store/octree_layout.h"
+#include "tools/render_command.h"
 
 namespace ropecast::tools {
-
-struct RenderOptions {
-  std::string input;
-  RenderMode mode = RenderMode::Iso;
-  std::optional<double> iso;
-  std::string tf;
-  std::vector<uint32_t> size{512, 512};
-  std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
-  double fov = 40.0;
-  std::vector<double> background{0.0, 0.0, 0.0};
-  RenderBackend backend = RenderBackend::Auto;
-  GradientSource gradients = GradientSource::Stored;
-  double step = 0.5;
-  double ert = 0.99;
-  double voxelsPerPixel = 1.0;
-  uint64_t gpuBudget = 0;  // 0: from the driver
-  uint64_t cpuCache = uint64_t(1) << 30;
-  uint64_t uploadBudget = UINT64_MAX;
-  double uploadTimeBudgetMs = 0.0;
-  double targetFrameMs = 0.0;
-  bool uploadPbo = false;
-  double ioDelayMs = 0.0;
-  uint32_t brick = kDefaultBrickSize;  // procedural inputs only
-  bool occlusion = true;
-  bool feedback = true;
-  uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
-  uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
-};
 
 // The default orbit (docs/ARCHITECTURE.md): azimuth, elevation (degrees), distance (bounding-sphere radii).
 inline constexpr double kDefaultOrbit[3] = {30.0, 20.0, 3.0};
@@ -59,8 +33,8 @@ extern const std::vector<std::pair<std::string, bool>> kOnOffNames;
 extern const std::vector<std::pair<std::string, GradientSource>> kGradientNames;
 std::vector<std::pair<std::string, RenderBackend>> backendNames();
 
-// Registers the options that describe the scene and how it is drawn (input, mode, camera, size, budgets,
-// backend, ...).
+// Registers the options that describe the scene and how it is drawn (mode, camera, size, budgets, backend,
+// ...), not the input.
 void addSceneOptions(CLI::App& app, RenderOptions& o);
 
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).

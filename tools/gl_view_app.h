@@ -15,11 +15,13 @@
 
 namespace ropecast::tools {
 
+// The scene options of render (addSceneOptions) and the viewer's own; of RenderOptions' other fields the
+// viewer reads maxFrames and stats (below), the rest (-o, --exr, --frames, --path, ...) are render's alone.
 struct ViewOptions : RenderOptions {
-  std::string script;         // --script EVENTS.json
-  std::string screenshot;     // --screenshot OUT.png: after the script (if any), once converged; then exit
-  uint32_t maxFrames = 1000;  // frames a screenshot waits for convergence before it is taken anyway
-  std::string stats;          // --stats OUT.jsonl: one JSON line per rendered frame, as render writes
+  std::string script;      // --script EVENTS.json
+  std::string screenshot;  // --screenshot OUT.png: after the script (if any), once converged; then exit
+  // RenderOptions' maxFrames (--max-frames): frames a screenshot waits for convergence before it is taken
+  // anyway; its stats (--stats): one JSON line per rendered frame, as render writes.
 };
 
 // Runs the viewer until its window closes, the script quits or ends, or a --screenshot is written. Returns

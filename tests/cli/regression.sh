@@ -1,3 +1,10 @@
 #!/usr/bin/env bash
-# Golden-image regression renders (tests/regression/): every case must match its golden image.
-exec bash "$(dirname "$0")/../regression/run.sh" check "$1"
+# The project's golden images (tests/regression/suite.json) through `ropecast regress`: every case must match.
+# With ROPECAST_REGRESSION_OUT=DIR the HTML report (renders, goldens, difference images) is kept there.
+# Usage: bash regression.sh /path/to/ropecast
+set -uo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+report=()
+[ -n "${ROPECAST_REGRESSION_OUT:-}" ] && report=(--report "$ROPECAST_REGRESSION_OUT")
+exec "$1" regress "$here/../regression/suite.json" "${report[@]}"

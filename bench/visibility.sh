@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Visibility-driven refinement side by side (docs/BENCHMARKS.md): occlusion queries (Gobbetti et al. 2008,
+# Sect. 6) and ray feedback (Crassin et al. 2009), in four configurations on the same store, camera and budgets:
+#   priority   --occlusion off --feedback off   (projected voxel size only)
+#   occlusion  --occlusion on  --feedback off
+#   feedback   --occlusion off --feedback on
+#   both       --occlusion on  --feedback on
+# The store has depth complexity: procedural:menger:SIZE (a Menger sponge: holes behind holes), converted into
+# WORK once and reused.
+# 1. Cold cache to convergence at IMAGE, `render --converge`, an opaque isosurface and a semi-transparent DVR
+#    (a ramp reaching opacity 0.3 per voxel, gradients computed): the working set at convergence (bricks of the refined tree),
+#    bricks resident, bytes read and uploaded in total, frames and seconds to converge, the converged frame's
+#    time, the query and feedback latencies, and the PSNR of each image against priority.
+# 2. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
+#    the path's working set: frame time median and max, bytes read and uploaded, evictions of bricks the rays
+#    used in the frame before (used_evictions).
+# Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
+#   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), GPU (1G), CPU (1G), PATH_GPU (128M),
+#   PATH_CPU (128M), WORK (a fresh folder), SKIP_PATH=1 skips part 2
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+source "$here/lib/common.sh"
+SIZE=${SIZE:-729}
+IMAGE=${IMAGE:-1024x1024}
+bench_setup visibility "${1:-build/perf}"
+path_image=${PATH_IMAGE:-512x512}
+frames=${FRAMES:-120}
+modes=${MODES:-iso dvr}
+configs=${CONFIGS:-priority occlusion feedback both}
+store="$WORK/menger$SIZE.rcast"
+[ -f "$store" ] || "$ROPECAST" convert "procedural:menger:$SIZE" -o "$store" --quiet
+printf '{"points": [[0, 0.0, 0.0, 0.0, 0.0], [100, 0.9, 0.6, 0.3, 0.0], [255, 1.0, 0.9, 0.7, 0.3]]}\n' \
+  >"$WORK/semi.json"
+
+flags() {
+  case $1 in
+    priority) echo --occlusion off --feedback off ;;
+    occlusion) echo --occlusion on --feedback off ;;
+    feedback) echo --occlusion off --feedback on ;;
+    both) echo --occlusion on --feedback on ;;
+  esac
+}
+# DVR computes its gradients: stored ones take 8 more bytes per pool texel, and the pool would bound the
+# working set instead of the view.
+mode_args() { [ "$1" = iso ] && echo --mode iso || echo --mode dvr --tf "$WORK/semi.json" --gradients computed; }
+
+for mode in $modes; do
+  for config in $configs; do
+    echo "visibility.sh: converge, $mode, $config" >&2
+    # shellcheck disable=SC2046
+    "$ROPECAST" render "$store" $(mode_args "$mode") --size "$IMAGE" --orbit 30,20,1.6 --converge \
+      --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
+      --stats "$WORK/converge-$mode-$config.jsonl" -o "$WORK/converge-$mode-$config.png"
+  done
+done
+if [ "${SKIP_PATH:-0}" != 1 ]; then
+  for config in $configs; do
+    echo "visibility.sh: path, $config" >&2
+    # shellcheck disable=SC2046
+    "$ROPECAST" render "$store" --mode iso --size "$path_image" --path "$here/flyby_path.json" --frames "$frames" \
+      --gpu-budget "${PATH_GPU:-128M}" --cpu-cache "${PATH_CPU:-128M}" $(flags "$config") \
+      --stats "$WORK/path-$config.jsonl" -o "$WORK/path-$config.png"
+  done
+fi
+
+python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" <<'PY'
+import json, statistics, subprocess, sys
+work, modes, configs, image, size, path_image, skip_path, ropecast = sys.argv[1:]
+modes, configs = modes.split(), configs.split()
+MiB = 1 << 20
+def rows(name):
+    return [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
+def psnr(a, b):
+    out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
+    return float(json.loads(out)["psnr_db"])
+print(f"procedural:menger:{size} store, cold cache to convergence at {image}")
+for mode in modes:
+    head = ["working set", "resident", "read MiB", "upload MiB", "frames", "seconds", "frame ms", "q.lat", "fb.lat", "PSNR"]
+    print(f"\n{mode:<10}" + "".join(f"{h:>12}" for h in head))
+    base = None
+    for config in configs:
+        r = rows(f"converge-{mode}-{config}")
+        last = r[-1]
+        s = {"working set": last["working_set_bricks"], "resident": last["bricks_resident"],
+             "read MiB": sum(x["bytes_read"] for x in r) / MiB, "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
+             "frames": len(r), "seconds": sum(x["frame_ms"] for x in r) / 1000, "frame ms": last["frame_ms"],
+             "q.lat": last["occlusion_latency_frames"], "fb.lat": last["feedback_latency_frames"],
+             "PSNR": psnr(f"{work}/converge-{mode}-{config}.png", f"{work}/converge-{mode}-{configs[0]}.png")}
+        base = base or s
+        print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if last["converged"] else "  NOT CONVERGED"))
+    print("  " + mode + ", against " + configs[0] + ": working set " + ", ".join(
+        f"{c} {rows(f'converge-{mode}-{c}')[-1]['working_set_bricks'] / base['working set']:.2f}" for c in configs[1:]))
+if skip_path != "1":
+    print(f"\nflyby_path.json at {path_image}, iso")
+    head = ["frame med", "frame max", "read MiB", "upload MiB", "used evict"]
+    print(f"{'':<10}" + "".join(f"{h:>12}" for h in head))
+    for config in configs:
+        r = rows(f"path-{config}")
+        ms = [x["frame_ms"] for x in r[1:]]
+        s = {"frame med": statistics.median(ms), "frame max": max(ms),
+             "read MiB": sum(x["bytes_read"] for x in r) / MiB, "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
+             "used evict": sum(x["used_evictions"] for x in r)}
+        print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head))
+PY

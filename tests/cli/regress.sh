@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# `ropecast regress` end to end: a missing golden fails and says how to create it, --update writes the failing
+# and missing goldens only, --update-all all of them, renders repeat exactly, a changed image fails with its
+# figures, --report writes the page with failing cases first, --jobs renders the same images, bad suites exit
+# 2, and no golden or report file may be an input.
+# Usage: bash regress.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$(realpath "$1")"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+# expect RC NAME PATTERN ARGS...: `ropecast regress ARGS` exits RC and prints PATTERN (stdout or stderr).
+expect() {
+  local want="$1" name="$2" pattern="$3"
+  shift 3
+  "$ropecast" regress "$@" > "$dir/out.txt" 2>&1
+  local rc=$?
+  if [ "$rc" != "$want" ]; then fail "$name: exit $rc, expected $want: $(cat "$dir/out.txt")"; return; fi
+  if ! grep -qF -- "$pattern" "$dir/out.txt"; then fail "$name: output lacks '$pattern': $(cat "$dir/out.txt")"; return; fi
+  echo "ok   $name (exit $rc)"
+}
+inode() { stat -c %i "$1"; }
+
+cd "$dir" || exit 1
+mkdir -p suite/data suite/golden
+"$ropecast" convert procedural:sphere:32 --brick 8 -o suite/data/s.rcast --quiet || fail "convert for the setup"
+cat > suite/suite.json <<'JSON'
+{
+  "tolerances": {"min_psnr_db": 40},
+  "cases": [
+    {"name": "a", "input": "procedural:sphere:32", "options": ["--size", "48x48", "--brick", "8"],
+     "golden": "golden/a.png", "tolerances": {"max_pixel_error": 0, "max_failing_share": 0}},
+    {"name": "b", "input": "procedural:noise:24", "options": ["--size", "48x48", "--mode", "dvr", "--tf", "linear"],
+     "golden": "golden/b.png"},
+    {"name": "store", "input": "data/s.rcast", "options": ["--size", "40x32", "--orbit", "60,10,2.5"],
+     "golden": "golden/store.png"}
+  ]
+}
+JSON
+
+expect 1 "missing goldens fail" "run \`ropecast regress suite/suite.json --update\` to create it" suite/suite.json
+expect 0 "--update creates them" "3 goldens updated" suite/suite.json --update
+for f in a b store; do [ -s "suite/golden/$f.png" ] || fail "--update wrote no golden/$f.png"; done
+# Case a allows no difference at all: the same options give the same pixels run after run.
+expect 0 "a second run passes exactly" "3 cases, 0 failed" suite/suite.json
+expect 0 "--jobs 2 renders the same images" "3 cases, 0 failed" suite/suite.json --jobs 2
+
+# A golden that no longer matches: the case fails with its figures, the others pass.
+cp suite/golden/b.png b_saved.png
+oiiotool suite/golden/b.png --addc 0.2,0,0 -o suite/golden/b.png 2> /dev/null || fail "oiiotool for the setup"
+expect 1 "a changed image fails" "FAIL b" suite/suite.json --report report
+grep -q "^ok   a" "$dir/out.txt" || fail "case a should still pass: $(cat "$dir/out.txt")"
+grep -q "max error 0.2" "$dir/out.txt" || fail "the figures of b: $(cat "$dir/out.txt")"
+for f in index.html b.render.png b.golden.png b.difference.png a.render.png; do
+  [ -s "report/$f" ] || fail "--report wrote no $f"
+done
+first=$(grep -o '<h2>[^<]*' report/index.html | head -1)
+[ "$first" = "<h2>FAIL b" ] || fail "the report should list the failing case first, got '$first'"
+grep -q 'class=scale' report/index.html || fail "the difference image has no scale"
+if grep -qE '(src|href)="(/|https?:)' report/index.html; then fail "the report refers outside its folder"; fi
+
+# --update rewrites the failing golden only; --update-all all of them.
+a_inode=$(inode suite/golden/a.png)
+expect 0 "--update rewrites the failing golden" "1 goldens updated" suite/suite.json --update
+[ "$(inode suite/golden/a.png)" = "$a_inode" ] || fail "--update rewrote the passing golden a.png"
+cmp -s suite/golden/b.png b_saved.png || fail "--update did not restore b.png from the render"
+expect 0 "--update-all rewrites all" "3 goldens updated" suite/suite.json --update-all
+[ "$(inode suite/golden/a.png)" != "$a_inode" ] || fail "--update-all left a.png"
+[ -z "$(find suite report -name '*.tmp*')" ] || fail "temporaries left: $(find suite report -name '*.tmp*')"
+
+# A render that fails is a failing case, not a bad suite.
+cat > bad_render.json <<'JSON'
+{"cases": [{"name": "r", "input": "procedural:nothing:32", "options": [], "golden": "r.png"}]}
+JSON
+expect 1 "a failing render fails its case" "render failed" bad_render.json
+
+# Bad suites: exit 2 with what was expected.
+bad() {  # bad NAME PATTERN JSON
+  printf '%s' "$3" > bad.json
+  expect 2 "bad suite: $1" "$2" bad.json
+}
+bad "not JSON" "not valid JSON" '{"cases": ['
+bad "no cases" 'expected "cases"' '{"tolerances": {}}'
+bad "unknown key" "unknown key 'golde'" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golde": "x.png"}]}'
+bad "missing golden" 'missing "golden"' '{"cases": [{"name": "x", "input": "procedural:sphere:16"}]}'
+bad "bad option" "--mode" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--mode", "foo"], "golden": "x.png"}]}'
+bad "option writing a file" "--stats writes a file" \
+  '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--stats", "s.jsonl"], "golden": "x.png"}]}'
+bad "-o in options" "-o" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["-o", "y.png"], "golden": "x.png"}]}'
+bad "two cases one name" "names two cases" \
+  '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "x.png"}, {"name": "x", "input": "procedural:sphere:16", "golden": "y.png"}]}'
+bad "missing store" "no such store file" '{"cases": [{"name": "x", "input": "nowhere.rcast", "golden": "x.png"}]}'
+bad "unknown tolerance" "unknown tolerance 'min_psnr'" '{"tolerances": {"min_psnr": 3}, "cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "x.png"}]}'
+bad "tolerance out of range" "expected a number in [0, 1]" \
+  '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "x.png", "tolerances": {"max_failing_share": 2}}]}'
+
+# Outputs never replace inputs: a golden written by --update that is the store (by a hard link) or the suite
+# (by a symlink), a report file that is the suite, and two updated cases with one golden.
+ln suite/data/s.rcast suite/golden/hard.png
+ln -s ../guard2.json suite/golden/link.png
+one_case() { printf '{"cases": [{"name": "%s", "input": "data/s.rcast", "options": ["--size", "16x16"], "golden": "%s"}]}' "$1" "$2"; }
+one_case x golden/hard.png > suite/guard1.json
+expect 2 "--update onto the store" "the same file as the input of case 'x'" suite/guard1.json --update
+one_case x golden/link.png > suite/guard2.json
+expect 2 "--update-all onto the suite" "the golden of case 'x' suite/golden/link.png: the same file as the suite suite/guard2.json" \
+  suite/guard2.json --update-all
+cmp -s suite/data/s.rcast suite/golden/hard.png || fail "the store changed"
+mkdir -p rep2
+ln suite/suite.json rep2/index.html
+expect 2 "--report onto the suite" "--report rep2/index.html: the same file as the suite" suite/suite.json --report rep2
+printf '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "g.png"}, {"name": "y", "input": "procedural:sphere:16", "golden": "g.png"}]}' > twice.json
+expect 2 "two updated cases, one golden" "are the same file" twice.json --update
+[ ! -e g.png ] || fail "g.png was written"
+expect 1 "one golden shared by cases that are only checked" "no golden image" twice.json
+
+[ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,132 @@
+// OutputGuard: an output that is an input (by name, symlink or hard link, or inside an input folder or glob)
+// or another output is refused with both options named; new files pass.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "tests/common/temp_dir.h"
+#include "tools/output_guard.h"
+
+namespace ropecast::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+class OutputGuardTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = test::freshTempDir();
+    input = (dir / "scan_4x4x4_uint8.raw").string();
+    test::writeText(input, std::string(64, 'x'));
+  }
+  std::string problemWith(const std::string& output) const {
+    OutputGuard guard("convert");
+    guard.addInput("the input", input);
+    guard.addOutput("-o", output);
+    return guard.problem();
+  }
+  fs::path dir;
+  std::string input;
+};
+
+TEST_F(OutputGuardTest, ANewFilePasses) {
+  EXPECT_EQ(problemWith((dir / "scan.rcast").string()), "");
+  OutputGuard guard("render");
+  guard.addInput("the input", "procedural:sphere:64");
+  guard.addOutput("-o", (dir / "a.png").string());
+  guard.addOutput("--exr", (dir / "a.exr").string());
+  EXPECT_NO_THROW(guard.check());
+}
+
+TEST_F(OutputGuardTest, TheInputItselfIsRefusedNamingBoth) {
+  EXPECT_EQ(problemWith(input), "convert: -o " + input + ": the same file as the input " + input +
+                                    "; refusing to overwrite an input, nothing was written");
+  OutputGuard guard("convert");
+  guard.addInput("the input", input);
+  guard.addOutput("-o", input);
+  EXPECT_THROW(guard.check(), Error);
+}
+
+TEST_F(OutputGuardTest, AnotherSpellingOfTheInputIsRefused) {
+  EXPECT_NE(problemWith((dir / "." / "scan_4x4x4_uint8.raw").string()), "");
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir);
+  EXPECT_NE(problemWith("scan_4x4x4_uint8.raw"), "");
+  fs::current_path(cwd);
+}
+
+TEST_F(OutputGuardTest, ASymlinkToTheInputIsRefused) {
+  fs::create_symlink(input, dir / "link.raw");
+  const std::string problem = problemWith((dir / "link.raw").string());
+  EXPECT_NE(problem.find("the same file as the input"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("through a link"), std::string::npos) << problem;
+}
+
+TEST_F(OutputGuardTest, AHardLinkToTheInputIsRefused) {
+  fs::create_hard_link(input, dir / "hard.raw");
+  EXPECT_NE(problemWith((dir / "hard.raw").string()), "");
+}
+
+TEST_F(OutputGuardTest, AFolderOfSymlinksIsFollowed) {
+  fs::create_directories(dir / "real");
+  fs::create_directory_symlink(dir, dir / "real" / "up");
+  EXPECT_NE(problemWith((dir / "real" / "up" / "scan_4x4x4_uint8.raw").string()), "");
+}
+
+TEST_F(OutputGuardTest, AFileInAnInputFolderOrGlobIsRefused) {
+  test::writeText(dir / "slices" / "s0.png", "a");
+  test::writeText(dir / "slices" / "s1.png", "b");
+  for (const std::string& source : {(dir / "slices").string(), (dir / "slices" / "s*.png").string()}) {
+    OutputGuard guard("convert");
+    guard.addInput("the input", source);
+    guard.addOutput("-o", (dir / "slices" / "s1.png").string());
+    EXPECT_NE(guard.problem(), "") << source;
+    OutputGuard fresh("convert");
+    fresh.addInput("the input", source);
+    fresh.addOutput("-o", (dir / "slices" / "volume.rcast").string());
+    EXPECT_EQ(fresh.problem(), "") << source;
+  }
+}
+
+TEST_F(OutputGuardTest, TwoOutputsOnOneFileAreRefusedNamingBoth) {
+  OutputGuard guard("render");
+  guard.addInput("the input", input);
+  const std::string exr = (dir / "a.exr").string();
+  guard.addOutput("--exr", exr);
+  guard.addOutput("--depth", (dir / "sub" / ".." / "a.exr").string());
+  EXPECT_EQ(guard.problem(),
+            "render: --exr " + exr + " and --depth " + (dir / "sub" / ".." / "a.exr").string() +
+                " are the same file (through a link or another name): give each output its own "
+                "file; nothing was written");
+}
+
+TEST_F(OutputGuardTest, ASeriesMeetsInputsAndOutputs) {
+  const auto frames = [](const std::string& name) {
+    return name.starts_with("out_") && name.ends_with(".png");
+  };
+  fs::create_hard_link(input, dir / "out_0003.png");
+  OutputGuard guard("render");
+  guard.addInput("the input", input);
+  guard.addOutputSeries("--every", dir.string(), "out_NNNN.png", frames);
+  EXPECT_NE(guard.problem().find("the same file as the input"), std::string::npos) << guard.problem();
+
+  OutputGuard outputs("render");
+  outputs.addOutput("--stats", (dir / "out_0007.png").string());
+  outputs.addOutputSeries("--every", dir.string(), "out_NNNN.png", frames);
+  EXPECT_NE(outputs.problem().find("are the same file"), std::string::npos) << outputs.problem();
+}
+
+TEST(VolumeSpecFiles, NameTheHeaderAndTheDetachedDataOfNrrd) {
+  const fs::path dir = test::freshTempDir();
+  test::writeText(dir / "v.nhdr",
+                  "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: v.raw\n");
+  EXPECT_EQ(volumeSpecFiles((dir / "v.nhdr").string()),
+            (std::vector<std::string>{(dir / "v.nhdr").string(), (dir / "v.raw").string()}));
+  EXPECT_TRUE(volumeSpecFiles("procedural:sphere:64").empty());
+  EXPECT_EQ(volumeSpecFiles("a.raw"), std::vector<std::string>{"a.raw"});
+}
+
+}  // namespace
+}  // namespace ropecast::tools

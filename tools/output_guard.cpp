@@ -1,0 +1,160 @@
+#include "tools/output_guard.h"
+
+#include <glob.h>
+#include <sys/stat.h>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+#include "core/error.h"
+#include "store/nrrd_header.h"
+
+namespace ropecast::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FileId {
+  dev_t device;
+  ino_t inode;
+  bool operator==(const FileId&) const = default;
+};
+
+// stat() follows symlinks, so a link and its target share the id, as do hard links.
+std::optional<FileId> fileIdOf(const std::string& path) {
+  struct stat s {};
+  if (::stat(path.c_str(), &s) != 0) return std::nullopt;
+  return FileId{s.st_dev, s.st_ino};
+}
+
+// For a path that does not exist yet: absolute, lexically normal, with the symlinks of the folders that
+// exist resolved ("out/../a.png" and "a.png" are one file to be).
+std::string futureName(const std::string& path) {
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? fs::absolute(path).lexically_normal().string() : canonical.string();
+}
+
+bool sameFile(const std::string& a, const std::string& b) {
+  const std::optional<FileId> idA = fileIdOf(a), idB = fileIdOf(b);
+  if (idA && idB) return *idA == *idB;
+  if (idA || idB) return false;  // one exists, the other is still to be written
+  return futureName(a) == futureName(b);
+}
+
+bool isGlobPattern(const std::string& path) {
+  return path.find_first_of("*?[") != std::string::npos;
+}
+
+// The files an input stands for: a directory and its entries, a pattern's matches, or the path itself.
+std::vector<std::string> expandInput(const std::string& path) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    files.push_back(path);
+    for (const auto& entry : fs::directory_iterator(path, ec)) files.push_back(entry.path().string());
+    return files;
+  }
+  if (!fs::exists(path, ec) && isGlobPattern(path)) {
+    glob_t matches{};
+    if (::glob(path.c_str(), 0, nullptr, &matches) == 0)
+      for (size_t i = 0; i < matches.gl_pathc; ++i) files.push_back(matches.gl_pathv[i]);
+    globfree(&matches);
+    return files;
+  }
+  files.push_back(path);
+  return files;
+}
+
+// `subject` is the output as the user named it ("-o a.png", "--every out_NNNN.png would write out_0003.png").
+std::string sameFileMessage(const std::string& who, const std::string& subject, const std::string& path,
+                            const std::string& otherName, const std::string& otherPath, bool otherIsInput) {
+  const std::string link = path == otherPath ? "" : " (through a link or another name)";
+  if (otherIsInput)
+    return who + ": " + subject + ": the same file as " + otherName + " " + otherPath + link +
+           "; refusing to overwrite an input, nothing was written";
+  return who + ": " + subject + " and " + otherName + " " + otherPath + " are the same file" + link +
+         ": give each output its own file; nothing was written";
+}
+
+}  // namespace
+
+void OutputGuard::addInput(std::string what, const std::string& path) {
+  if (path.empty() || path.starts_with("procedural:")) return;
+  for (std::string& file : expandInput(path)) inputs_.push_back({what, std::move(file)});
+}
+
+void OutputGuard::addOutput(std::string option, const std::string& path) {
+  if (!path.empty()) outputs_.push_back({std::move(option), path});
+}
+
+void OutputGuard::addOutputSeries(std::string option, const std::string& directory, std::string pattern,
+                                  std::function<bool(const std::string&)> nameMatches) {
+  series_.push_back(
+      {std::move(option), directory.empty() ? "." : directory, std::move(pattern), std::move(nameMatches)});
+}
+
+std::string OutputGuard::problem() const {
+  for (size_t o = 0; o < outputs_.size(); ++o) {
+    const Named& out = outputs_[o];
+    for (const Named& in : inputs_)
+      if (sameFile(out.path, in.path))
+        return sameFileMessage(who_, out.name + " " + out.path, out.path, in.name, in.path, true);
+    for (size_t p = 0; p < o; ++p)
+      if (sameFile(out.path, outputs_[p].path))
+        return sameFileMessage(who_, outputs_[p].name + " " + outputs_[p].path, outputs_[p].path, out.name,
+                               out.path, false);
+  }
+  for (const Series& series : series_) {
+    const std::string option = series.option + " " + (fs::path(series.directory) / series.pattern).string();
+    // Existing files of the series (found by listing its folder) against inputs and outputs.
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(series.directory, ec)) {
+      if (!series.nameMatches(entry.path().filename().string())) continue;
+      const std::string path = entry.path().string();
+      for (const Named& in : inputs_)
+        if (sameFile(path, in.path))
+          return sameFileMessage(who_, option + " would write " + path, path, in.name, in.path, true);
+      for (const Named& out : outputs_)
+        if (sameFile(path, out.path))
+          return sameFileMessage(who_, option + " would write " + path, path, out.name, out.path, false);
+    }
+    // Outputs still to be written that would be a file of the series.
+    for (const Named& out : outputs_) {
+      const fs::path future = futureName(out.path);
+      if (futureName(series.directory) == future.parent_path().string() &&
+          series.nameMatches(future.filename().string()))
+        return sameFileMessage(who_, option + " would write " + out.path, out.path, out.name, out.path,
+                               false);
+    }
+  }
+  return "";
+}
+
+void OutputGuard::check() const {
+  if (const std::string message = problem(); !message.empty()) throw Error(message);
+}
+
+std::vector<std::string> volumeSpecFiles(const std::string& spec) {
+  if (spec.starts_with("procedural:")) return {};
+  std::vector<std::string> files{spec};
+  std::string ext = fs::path(spec).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".nhdr" && ext != ".nrrd") return files;
+  // A detached header names its data file; a header that does not parse is refused when the source opens.
+  std::ifstream in(spec, std::ios::binary);
+  std::string text(64 * 1024, '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(in.gcount()));
+  try {
+    const NrrdHeader header = parseNrrdHeader(text, spec);
+    if (!header.dataFile.empty()) files.push_back((fs::path(spec).parent_path() / header.dataFile).string());
+  } catch (const Error&) {
+  }
+  return files;
+}
+
+}  // namespace ropecast::tools

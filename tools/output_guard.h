@@ -1,0 +1,57 @@
+// OutputGuard: the check every command that writes files makes before it writes anything, so that no typo
+// replaces an input (a scan, a store) with an output, and no two outputs of one command land on one file.
+// A command lists what it reads and what it will write, each with the option that names it, and calls
+// check(), which throws ropecast::Error naming both options. Owned by the command; main thread.
+//
+// Two paths are the same file when stat() finds the same device and inode (through symlinks and hard links);
+// for paths that do not exist yet, when their absolute paths are equal with the symlinks of their existing
+// folders resolved. An input that is a directory counts as itself and every entry in it; a glob pattern
+// counts as every file it matches.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ropecast::tools {
+
+class OutputGuard {
+ public:
+  // `who` starts every message ("render", "convert").
+  explicit OutputGuard(std::string who) : who_(std::move(who)) {}
+
+  // A file, directory or glob pattern the command reads. `what` names it in messages: "the input",
+  // "--tf", "the suite". Empty paths and procedural:NAME:SIZE specs are ignored.
+  void addInput(std::string what, const std::string& path);
+  // A file the command will write. `option` names it in messages ("-o", "--stats").
+  void addOutput(std::string option, const std::string& path);
+  // Files of a series the command may write into `directory` (e.g. --every's OUT_NNNN.png), given by a test
+  // of the file name; `pattern` shows them in messages ("out_NNNN.png").
+  void addOutputSeries(std::string option, const std::string& directory, std::string pattern,
+                       std::function<bool(const std::string& fileName)> nameMatches);
+
+  // Throws ropecast::Error when an output is the same file as an input or as another output.
+  void check() const;
+  // What check() would throw, in words ("" when every output is its own new file).
+  std::string problem() const;
+
+ private:
+  struct Named {
+    std::string name;  // the option or input it came from
+    std::string path;
+  };
+  struct Series {
+    std::string option, directory, pattern;
+    std::function<bool(const std::string&)> nameMatches;
+  };
+  std::string who_;
+  std::vector<Named> inputs_, outputs_;
+  std::vector<Series> series_;
+};
+
+// The input files named by a volume spec as `ropecast convert` reads it (store/volume_source.h): nothing for
+// procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD header and its detached data file, a directory
+// or glob pattern as given (OutputGuard expands them).
+std::vector<std::string> volumeSpecFiles(const std::string& spec);
+
+}  // namespace ropecast::tools

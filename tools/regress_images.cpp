@@ -1,0 +1,80 @@
+#include "tools/regress_images.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "core/error.h"
+#include "core/float_image.h"
+#include "reference/image_io.h"
+
+namespace ropecast::tools {
+namespace {
+
+OIIO::ImageBuf readBuf(const std::string& path, const char* what) {
+  OIIO::ImageBuf image(path);
+  if (!image.read(0, 0, /*force=*/true, OIIO::TypeDesc::FLOAT))
+    throw Error("regress: cannot read the " + std::string(what) + " " + path + ": " + image.geterror());
+  return image;
+}
+
+// The smallest power of two in [1, 256] that brings the largest difference to at least half of white.
+double amplificationFor(double maxError) {
+  double amplification = 1.0;
+  while (amplification < 256.0 && maxError * amplification * 2.0 <= 1.0) amplification *= 2.0;
+  return amplification;
+}
+
+}  // namespace
+
+GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
+                                   double failingPixelError, const std::string& differenceImage) {
+  const OIIO::ImageBuf a = readBuf(golden, "golden image");
+  const OIIO::ImageBuf b = readBuf(render, "render");
+  const OIIO::ImageSpec &sa = a.spec(), &sb = b.spec();
+  if (sa.width != sb.width || sa.height != sb.height)
+    throw Error("regress: the golden image " + golden + " is " + std::to_string(sa.width) + "x" +
+                std::to_string(sa.height) + ", the render " + std::to_string(sb.width) + "x" +
+                std::to_string(sb.height));
+  const int channels = std::min({3, sa.nchannels, sb.nchannels});
+  OIIO::ROI roi = a.roi();
+  roi.chbegin = 0;
+  roi.chend = channels;
+  const OIIO::ImageBufAlgo::CompareResults r =
+      OIIO::ImageBufAlgo::compare(a, b, float(failingPixelError), float(failingPixelError), roi);
+  // compare() also sets `error` when pixels fail; only without failures does it mean the comparison broke.
+  if (r.error && r.nfail == 0)
+    throw Error("regress: comparing " + golden + " with " + render + " failed: " + OIIO::geterror());
+
+  GoldenDifference d;
+  d.width = uint32_t(sa.width);
+  d.height = uint32_t(sa.height);
+  d.psnrDb =
+      r.rms_error > 0.0 ? 20.0 * std::log10(1.0 / r.rms_error) : std::numeric_limits<double>::infinity();
+  d.maxError = r.maxerror;
+  d.failingPixels = r.nfail;
+  d.failingShare = double(r.nfail) / (double(d.width) * double(d.height));
+  d.amplification = amplificationFor(d.maxError);
+  if (differenceImage.empty()) return d;
+
+  OIIO::ImageBuf difference = OIIO::ImageBufAlgo::absdiff(a, b, roi);
+  difference = OIIO::ImageBufAlgo::mul(difference, float(d.amplification));
+  FloatImage image;
+  image.width = d.width;
+  image.height = d.height;
+  image.channels = 3;
+  image.pixels.assign(size_t(d.width) * d.height * 3, 0.0f);
+  OIIO::ROI all = difference.roi();
+  all.chend = channels;  // a one-channel golden leaves green and blue black
+  std::vector<float> pixels(size_t(d.width) * d.height * channels);
+  difference.get_pixels(all, OIIO::TypeDesc::FLOAT, pixels.data());
+  for (size_t p = 0; p < size_t(d.width) * d.height; ++p)
+    for (int c = 0; c < channels; ++c) image.pixels[p * 3 + c] = pixels[p * channels + c];
+  writePng(differenceImage, image, false);
+  return d;
+}
+
+}  // namespace ropecast::tools

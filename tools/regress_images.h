@@ -1,0 +1,26 @@
+// Image comparison for `ropecast regress`: a render against its golden image, and the amplified difference
+// image of the report, through OpenImageIO. GL-free; any thread (no shared state).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace ropecast::tools {
+
+// How a render differs from its golden image over the RGB channels (values in [0, 1]).
+struct GoldenDifference {
+  uint32_t width = 0, height = 0;
+  double psnrDb = 0.0;         // 20 log10(1 / RMS error), peak 1; +inf when identical
+  double maxError = 0.0;       // largest |golden - render| of any channel
+  uint64_t failingPixels = 0;  // pixels with a channel differing by more than the failing error
+  double failingShare = 0.0;   // failingPixels / (width * height)
+  double amplification = 1.0;  // of the difference image: a power of two that makes maxError visible
+};
+
+// Compares `render` with `golden` (both read by OpenImageIO). With `differenceImage` non-empty, also writes
+// |golden - render| * amplification there as a PNG. Throws ropecast::Error naming the file that cannot be
+// read and both sizes when they differ.
+GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
+                                   double failingPixelError, const std::string& differenceImage);
+
+}  // namespace ropecast::tools

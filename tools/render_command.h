@@ -1,0 +1,69 @@
+// The options of `ropecast render` and the one function that renders them, shared by the render command
+// (tools/gl_cmd_render.cpp) and `ropecast regress` (tools/gl_cmd_regress.cpp), so a regression case renders
+// exactly what `ropecast render` would with the same options. Main thread (it owns the GL context it makes).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "core/float_image.h"
+#include "core/render_params.h"
+#include "occlusion/visibility_tracker.h"
+#include "store/octree_layout.h"
+
+namespace ropecast::tools {
+
+// What `ropecast render` is told on its command line (addRenderOptions and the input and -o).
+struct RenderOptions {
+  std::string input;
+  RenderMode mode = RenderMode::Iso;
+  std::optional<double> iso;
+  std::string tf;
+  std::vector<uint32_t> size{512, 512};
+  std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
+  double fov = 40.0;
+  std::vector<double> background{0.0, 0.0, 0.0};
+  RenderBackend backend = RenderBackend::Auto;
+  GradientSource gradients = GradientSource::Stored;
+  std::string output, exr, depth, stats;
+  bool reference = false;
+  double step = 0.5;
+  double ert = 0.99;
+  double voxelsPerPixel = 1.0;
+  uint64_t gpuBudget = 0;  // 0: from the driver
+  uint64_t cpuCache = uint64_t(1) << 30;
+  uint64_t uploadBudget = UINT64_MAX;
+  double uploadTimeBudgetMs = 0.0;
+  double targetFrameMs = 0.0;
+  bool uploadPbo = false;
+  uint32_t frames = 1;
+  std::string path;
+  bool converge = false;
+  uint32_t maxFrames = 1000;
+  uint32_t every = 0;
+  double ioDelayMs = 0.0;
+  uint32_t brick = kDefaultBrickSize;  // procedural inputs only
+  bool occlusion = true;
+  bool feedback = true;
+  uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
+  uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
+};
+
+// Adds every option of `ropecast render` but the input and -o to `app`, bound to `o`.
+void addRenderOptions(CLI::App& app, RenderOptions& o);
+
+// The last frame of a render: RGBA color (alpha = coverage) and depth (world units, +inf = miss).
+struct RenderedFrame {
+  FloatImage color, depth;
+};
+
+// Renders as `ropecast render` does with these options (one synchronous frame, progressive frames until
+// --converge, --reference, --backend brute) and returns the last frame. Writes --stats and --every's frames
+// as it goes, not o.output, o.exr or o.depth. Throws ropecast::Error naming the option or file at fault.
+RenderedFrame renderFrames(const RenderOptions& o);
+
+}  // namespace ropecast::tools
