@@ -1,20 +1,37 @@
 // `ropecast view`: the interactive viewer (docs/VIEWER.md) over the FrameRenderer that `render` uses; the
 // options it shares with `render` come from tools/gl_render_options.h. The viewer is tools/gl_view_app.
+#include <filesystem>
 #include <memory>
 
 #include "core/error.h"
 #include "reference/image_io.h"
 #include "tools/command.h"
 #include "tools/gl_view_app.h"
+#include "tools/output_guard.h"
 
 namespace ropecast::tools {
 namespace {
 
 int runView(const ViewOptions& o) {
+  const bool exr = std::filesystem::path(o.screenshot).extension() == ".exr";
   if (!o.screenshot.empty())
-    if (const std::string problem = imageOutputProblem(o.screenshot, ImageOutputKind::Color8);
+    if (const std::string problem =
+            imageOutputProblem(o.screenshot, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
         !problem.empty())
       throw Error("--screenshot " + o.screenshot + ": " + problem);
+  // No file the viewer writes from its command line may be one it reads, or another of its outputs.
+  OutputGuard guard("view");
+  guard.addInput("the input", o.input);
+  if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
+  guard.addInput("--script", o.script);
+  guard.addOutput("--screenshot", o.screenshot);
+  if (exr) {
+    const std::filesystem::path p(o.screenshot);
+    guard.addOutput("--screenshot (its depth)",
+                    (p.parent_path() / (p.stem().string() + "_depth.exr")).string());
+  }
+  guard.addOutput("--stats", o.stats);
+  guard.check();
   std::optional<ViewScript> script;
   if (!o.script.empty()) script = loadViewScript(o.script);
   return runViewer(o, std::move(script));

@@ -148,5 +148,12 @@ rc=$?
 { [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -q "bad.json: event 0 (spin)" "$dir/err.txt"; } ||
   fail "bad script: exit $rc: $(cat "$dir/err.txt")"
 
+# An output that is an input is refused before anything is read or written.
+"$ropecast" view $vol --script "$dir/bad.json" --stats "$dir/bad.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -q -- "--stats" "$dir/err.txt" && grep -q -- "--script" "$dir/err.txt"; } ||
+  fail "--stats onto --script: exit $rc: $(cat "$dir/err.txt")"
+grep -q spin "$dir/bad.json" || fail "--stats onto --script overwrote the script"
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
