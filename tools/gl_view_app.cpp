@@ -335,9 +335,9 @@ FrameRequest Viewer::currentRequest(bool moving) {
 bool Viewer::sameAsLast(const FrameRequest& r) const {
   if (!lastRequest_) return false;
   const FrameRequest& l = *lastRequest_;
-  return !(!sameCamera(l.camera, r.camera) || l.width != r.width || l.height != r.height ||
-           !sameParams(l.params, r.params) || l.voxelsPerPixel != r.voxelsPerPixel ||
-           (r.params.mode == RenderMode::Dvr && lastTfVersion_ != tfVersion_));
+  return sameCamera(l.camera, r.camera) && l.width == r.width && l.height == r.height &&
+         sameParams(l.params, r.params) && l.voxelsPerPixel == r.voxelsPerPixel &&
+         (r.params.mode != RenderMode::Dvr || lastTfVersion_ == tfVersion_);
 }
 
 void Viewer::renderFrame(const FrameRequest& request) {
@@ -354,7 +354,9 @@ void Viewer::renderFrame(const FrameRequest& request) {
   frameMsHistory_.push_back(float(lastStats_.frameMs));
   if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
 
-  // The view shows what the PNG holds: 8-bit RGB, round(clamp(v) * 255), opaque.
+  // The view shows what the PNG holds: 8-bit RGB, round(clamp(v) * 255), opaque. The image goes through the
+  // CPU (readColor, FrameRenderer's one way out) and back: a float target cannot be blitted to the window's
+  // fixed-point framebuffer, and the copy is what a screenshot writes.
   std::vector<uint8_t> rgba(size_t(color_.width) * color_.height * 4);
   for (size_t i = 0; i < size_t(color_.width) * color_.height; ++i) {
     for (uint32_t c = 0; c < 3; ++c)
