@@ -153,29 +153,8 @@ GlContext::GlContext(const GlContextOptions& options) {
   display_ = attempt.display;
   context_ = attempt.context;
 
-  auto str = [](GLenum name) {
-    const auto* s = reinterpret_cast<const char*>(glGetString(name));
-    return std::string(s ? s : "");
-  };
-  info_.vendor = str(GL_VENDOR);
-  info_.renderer = str(GL_RENDERER);
-  info_.version = str(GL_VERSION);
-  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info_.max3DTextureSize);
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &info_.maxTextureBufferTexels);
-  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
-    GLint kib = 0;
-    glGetIntegerv(GL_GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX, &kib);
-    if (kib > 0) info_.totalGpuMemoryBytes = uint64_t(kib) * 1024;
-  } else if (epoxy_has_gl_extension("GL_ATI_meminfo")) {
-    GLint kib[4] = {};
-    glGetIntegerv(GL_TEXTURE_FREE_MEMORY_ATI, kib);
-    if (kib[0] > 0) info_.totalGpuMemoryBytes = uint64_t(kib[0]) * 1024;
-  }
-  if (options.debugOutput) {
-    glEnable(GL_DEBUG_OUTPUT);
-    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(debugCallback, nullptr);
-  }
+  info_ = describeCurrentContext(info_.platform);
+  if (options.debugOutput) enableDebugOutput();
   while (glGetError() != GL_NO_ERROR) {
   }
 }
@@ -192,6 +171,36 @@ GlContext::~GlContext() {
 void GlContext::makeCurrent() const {
   if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
     throw Error("GlContext::makeCurrent: eglMakeCurrent failed (" + eglErrorText() + ")");
+}
+
+GlContextInfo describeCurrentContext(const std::string& platform) {
+  GlContextInfo info;
+  info.platform = platform;
+  auto str = [](GLenum name) {
+    const auto* s = reinterpret_cast<const char*>(glGetString(name));
+    return std::string(s ? s : "");
+  };
+  info.vendor = str(GL_VENDOR);
+  info.renderer = str(GL_RENDERER);
+  info.version = str(GL_VERSION);
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info.max3DTextureSize);
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &info.maxTextureBufferTexels);
+  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+    GLint kib = 0;
+    glGetIntegerv(GL_GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX, &kib);
+    if (kib > 0) info.totalGpuMemoryBytes = uint64_t(kib) * 1024;
+  } else if (epoxy_has_gl_extension("GL_ATI_meminfo")) {
+    GLint kib[4] = {};
+    glGetIntegerv(GL_TEXTURE_FREE_MEMORY_ATI, kib);
+    if (kib[0] > 0) info.totalGpuMemoryBytes = uint64_t(kib[0]) * 1024;
+  }
+  return info;
+}
+
+void enableDebugOutput() {
+  glEnable(GL_DEBUG_OUTPUT);
+  glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+  glDebugMessageCallback(debugCallback, nullptr);
 }
 
 void checkGlError(const char* where) {

@@ -17,7 +17,7 @@
 namespace ropecast {
 
 struct GlContextInfo {
-  std::string platform;  // "device" or "surfaceless"
+  std::string platform;  // "device" or "surfaceless" (EGL), "glfw" (a window)
   std::string vendor, renderer, version;
   std::optional<uint64_t>
       totalGpuMemoryBytes;  // NVX_gpu_memory_info (total) or ATI_meminfo (free texture memory)
@@ -53,6 +53,12 @@ class GlContext {
   void* context_ = nullptr;  // EGLContext
   GlContextInfo info_;
 };
+
+// What the context current on the calling thread is: vendor, renderer, version, limits, memory; `platform`
+// names how it was made. Shared by GlContext and the viewer's window context (render/window_context.h).
+GlContextInfo describeCurrentContext(const std::string& platform);
+// Prints the current context's debug output (KHR_debug) to stderr, notifications left out.
+void enableDebugOutput();
 
 // Throws ropecast::Error("<where>: GL error 0x...") if glGetError reports one; for checks at pass boundaries.
 void checkGlError(const char* where);

@@ -19,41 +19,15 @@
 #include "render/frame_renderer.h"
 #include "render/gl_context.h"
 #include "render/step_pacer.h"
-#include "store/procedural_bricks.h"
-#include "store/store.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
 #include "tools/render_command.h"
 
 namespace ropecast::tools {
 namespace {
-
-std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
-  if (o.input.rfind("procedural:", 0) == 0) return openProceduralBricks(o.input, o.brick);
-  if (!std::filesystem::exists(o.input)) throw Error(o.input + ": no such store file");
-  return Store::open(o.input);
-}
-
-Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
-  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
-  if (!o.eye.empty() || !o.target.empty()) {
-    if (o.eye.empty() || o.target.empty()) throw Error("--eye and --target go together");
-    Camera c;
-    c.eye = toVec3(o.eye);
-    c.target = toVec3(o.target);
-    c.fovYDeg = o.fov;
-    c.up = o.up.empty() ? defaultUp(c.target - c.eye) : toVec3(o.up);
-    if (const std::string problem = cameraProblem(c); !problem.empty())
-      throw Error("--eye " + formatTriple(o.eye) + " --target " + formatTriple(o.target) +
-                  (o.up.empty() ? "" : " --up " + formatTriple(o.up)) + ": " + problem);
-    return c;
-  }
-  const glm::dvec3 orbit = o.orbit.empty() ? glm::dvec3(30.0, 20.0, 3.0) : toVec3(o.orbit);
-  if (orbit.z <= 0.0) throw Error("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
-  return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), boxMax, o.fov);
-}
 
 FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h, uint32_t channels) {
   FloatImage image;
@@ -150,27 +124,12 @@ class RenderSetup {
     const BrickSourceInfo& info = bricks().info();
     width = o.size.at(0);
     height = o.size.at(1);
-    params.mode = o.mode;
-    const uint32_t storedMax = storedMaxOf(info.storedType);
-    const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
-    const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
-    params.isoValue = o.iso.value_or(0.5 * (lo + hi));
-    params.stepVoxels = o.step;
-    params.ert = o.ert;
-    params.background = toVec3(o.background);
-    params.backend = o.backend;
-    params.gradients = o.gradients;
-    if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
-      std::fprintf(stderr,
-                   "ropecast render: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
-                   "isosurface is empty\n",
-                   params.isoValue, lo, hi);
-
+    params = renderParamsOf(o, info, "render");
     // A --tf that names no preset and no readable file is an error in either mode (a script that switches
     // modes should not learn of a typo only when it reaches DVR); the table is baked for DVR only.
     if (params.mode == RenderMode::Dvr || !o.tf.empty()) {
-      const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
-      if (params.mode == RenderMode::Dvr) tf_ = TfTable::bake(function, info.mapping, storedMax);
+      const TransferFunction function = transferFunctionOf(o.tf, info);
+      if (params.mode == RenderMode::Dvr) tf_ = bakeFor(function, info);
     }
 
     if (!o.path.empty()) path_ = loadCameraPath(o.path);
@@ -245,17 +204,7 @@ RenderedFrame renderBrute(RenderSetup& s) {
 // of frame 0; the FrameRenderer resolves --backend auto for the context's GL renderer.
 struct OctreeRender {
   OctreeRender(const RenderOptions& o, const RenderSetup& s, const GlContext& gl, bool synchronous) {
-    FrameRendererConfig config;
-    config.gpuBudgetBytes = o.gpuBudget;
-    config.cpuCacheBytes = o.cpuCache;
-    config.uploadBudgetBytes = o.uploadBudget;
-    config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
-    config.storedGradients = usesStoredGradients(s.params);
-    config.uploadThroughPbo = o.uploadPbo;
-    config.occlusion = o.occlusion;
-    config.feedback = o.feedback;
-    config.visibility.tiles.queryBudget = o.queryBudget;
-    config.visibility.thresholdPixels = o.visibilityThreshold;
+    const FrameRendererConfig config = frameRendererConfigOf(o, s.params);
     renderer = std::make_unique<FrameRenderer>(gl.info(), s.bricks(), config);
     request.width = s.width;
     request.height = s.height;
@@ -306,17 +255,6 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
-const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
-                                                                 {"dvr", RenderMode::Dvr}};
-const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
-const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
-    {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
-std::vector<std::pair<std::string, RenderBackend>> backendNames() {
-  std::vector<std::pair<std::string, RenderBackend>> names;
-  for (const auto& [name, backend] : kRenderBackendNames) names.emplace_back(name, backend);
-  return names;
-}
-
 }  // namespace
 
 RenderedFrame renderFrames(const RenderOptions& o) {
@@ -349,79 +287,18 @@ int runRender(const RenderOptions& o) {
 }  // namespace
 
 void addRenderOptions(CLI::App& app, RenderOptions& o) {
-  addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
-  app.add_option("--iso", o.iso, "isovalue in data units (default: middle of the value range)")
-      ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o.tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
-  addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
-  addTripleOption(app, "--orbit", o.orbit,
-                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
-  addTripleOption(app, "--eye", o.eye, "camera position X,Y,Z (world units)");
-  addTripleOption(app, "--target", o.target, "point looked at X,Y,Z");
-  addTripleOption(app, "--up", o.up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
-  app.add_option("--fov", o.fov, "vertical field of view, degrees")
-      ->check(finiteIn(1.0, 179.0))
-      ->capture_default_str();
-  addTripleOption(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)");
-  addEnumOption(app, "--backend", o.backend, backendNames(),
-                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
-                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
-                "benchmark baseline). --stats names the one used");
-  addEnumOption(
-      app, "--gradients", o.gradients, kGradientNames,
-      "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
-      "or computed (six more lookups per sample)");
+  addSceneOptions(app, o);
   app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)");
   app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR");
   app.add_option("--stats", o.stats, "write one JSON object per frame, one per line");
   app.add_flag("--reference", o.reference,
                "brute-force CPU ray marching of the full-resolution data instead");
-  app.add_option("--step", o.step, "sample distance in voxels of the level crossed")
-      ->check(finiteIn(0.01, 8.0))
-      ->capture_default_str();
-  app.add_option("--ert", o.ert, "early ray termination opacity (DVR)")
-      ->check(finiteIn(0.0, 1.0))
-      ->capture_default_str();
-  app.add_option("--voxels-per-pixel", o.voxelsPerPixel, "refinement target: voxels per pixel")
-      ->check(finiteIn(0.01, 64.0))
-      ->capture_default_str();
-  addByteSizeOption(app, "--gpu-budget", o.gpuBudget,
-                    "GPU brick pool bytes (e.g. 512M; default from the driver)");
-  addByteSizeOption(app, "--cpu-cache", o.cpuCache, "CPU brick cache bytes")->default_str("1G");
-  addByteSizeOption(app, "--upload-budget", o.uploadBudget,
-                    "brick upload bytes per frame (default: unlimited)");
-  app.add_option(
-         "--upload-time-budget", o.uploadTimeBudgetMs,
-         "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
-      ->check(finiteIn(0.0, 100000.0));
-  app.add_flag("--upload-pbo", o.uploadPbo, "upload bricks through a pixel buffer object");
-  app.add_option("--target-frame-ms", o.targetFrameMs,
-                 "progressive frames: sample at up to 4x --step while a frame takes longer than this (the "
-                 "written images too; default: off)")
-      ->check(finiteIn(0.0, 100000.0));
   app.add_option("--frames", o.frames, "frames to render (progressive loading)")
       ->check(CLI::Range(1u, 1000000u));
   app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
   app.add_flag("--converge", o.converge, "render until the working set is complete and nothing is pending");
   app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")->capture_default_str();
   app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
-  app.add_option("--io-delay-ms", o.ioDelayMs, "added latency per brick read (shows asynchrony)")
-      ->check(finiteIn(0.0, 10000.0));
-  addEnumOption(app, "--occlusion", o.occlusion, kOnOffNames,
-                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
-  addEnumOption(
-      app, "--feedback", o.feedback, kOnOffNames,
-      "progressive frames: the rays report the bricks they used and where they wanted finer data; "
-      "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
-  app.add_option("--query-budget", o.queryBudget, "occlusion queries per frame")
-      ->check(CLI::Range(1u, 1000000u))
-      ->capture_default_str();
-  app.add_option("--visibility-threshold", o.visibilityThreshold,
-                 "visible pixels below which a queried node counts as occluded")
-      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 32))
-      ->capture_default_str();
-  app.add_option("--brick", o.brick, "brick size for procedural inputs")
-      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
 }
 
 namespace {

@@ -1,0 +1,159 @@
+#!/usr/bin/env bash
+# `ropecast view` end to end under Xvfb (llvmpipe through GLX): the converged screenshot is the image `render
+# --converge` draws with the same camera and settings; a scripted drag lands on the orbit docs/VIEWER.md
+# documents, and the camera it saves is one `render --path` reads; a scripted isovalue change and a transfer
+# function load draw what `render` draws with them; without a display the viewer refuses cleanly and names
+# `ropecast render`.
+# Usage: bash view.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
+data="$(cd "$(dirname "$0")/../data" && pwd)"
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+run() {  # run NAME COMMAND...: must exit 0
+  local name="$1"; shift
+  if "$@" > "$dir/out.txt" 2> "$dir/err.txt"; then echo "ok   $name"; else fail "$name: exit $?: $(cat "$dir/err.txt")"; fi
+}
+same() {  # same NAME A.png B.png: at least 40 dB apart
+  if "$ropecast" compare "$2" "$3" --min-psnr 40 > "$dir/cmp.txt" 2>&1; then echo "ok   $1"
+  else fail "$1: $(cat "$dir/cmp.txt")"; fi
+}
+differs() {  # differs NAME A.png B.png: below 40 dB (the event changed the image)
+  if "$ropecast" compare "$2" "$3" --min-psnr 40 > "$dir/cmp.txt" 2>&1; then fail "$1: no change: $(cat "$dir/cmp.txt")"
+  else echo "ok   $1"; fi
+}
+
+vol="procedural:marschner-lobb:48 --brick 16 --size 96x96"
+
+# No display: a clean error that names the headless way, before any window or work.
+env -u DISPLAY -u WAYLAND_DISPLAY "$ropecast" view $vol --screenshot "$dir/none.png" > /dev/null 2> "$dir/err.txt"
+rc=$?
+if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ]; then echo "ok   no display: exit $rc"; else fail "no display: exit $rc"; fi
+grep -q "ropecast render" "$dir/err.txt" || fail "no display: the message does not name ropecast render: $(cat "$dir/err.txt")"
+grep -qi "display" "$dir/err.txt" || fail "no display: the message does not say so: $(cat "$dir/err.txt")"
+[ ! -e "$dir/none.png" ] || fail "no display: a screenshot was written"
+
+if ! command -v xvfb-run > /dev/null; then
+  echo "skip: xvfb-run is not installed (scripts/bootstrap installs xvfb)"
+  exit "$((failures > 0))"
+fi
+xview() { xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view "$@"; }
+
+# --screenshot alone: the converged view, as render --converge draws it at the default orbit.
+run "view --screenshot" xview $vol --screenshot "$dir/v0.png"
+run "render --converge" "$ropecast" render $vol --converge -o "$dir/r0.png"
+same "converged view = render" "$dir/v0.png" "$dir/r0.png"
+
+# A drag of (+40, +20) pixels: azimuth 30 - 40 * 0.25, elevation 20 + 20 * 0.25; the saved camera is that orbit.
+cat > "$dir/drag.json" << JSON
+[{"event": "drag", "from": [48, 48], "to": [88, 68], "steps": 4, "seconds": 0.2},
+ {"event": "screenshot", "file": "$dir/v1.png"},
+ {"event": "save_camera", "file": "$dir/cameras.json"}]
+JSON
+run "view --script drag" xview $vol --script "$dir/drag.json"
+run "render --orbit 20,25,3" "$ropecast" render $vol --converge --orbit 20,25,3 -o "$dir/r1.png"
+same "dragged view = render at the documented orbit" "$dir/v1.png" "$dir/r1.png"
+differs "the drag turned the view" "$dir/v1.png" "$dir/v0.png"
+grep -q '"orbit"' "$dir/cameras.json" 2> /dev/null || fail "save_camera wrote no orbit keyframe: $(cat "$dir/cameras.json")"
+run "render --path the saved camera" "$ropecast" render $vol --converge --path "$dir/cameras.json" -o "$dir/r1p.png"
+same "saved camera = the dragged view" "$dir/v1.png" "$dir/r1p.png"
+
+# Two wheel clicks: the distance 3 * 0.9^2; then a middle-button pan, saved as an eye/target keyframe.
+cat > "$dir/zoom_pan.json" << JSON
+[{"event": "wheel", "clicks": 2}, {"event": "screenshot", "file": "$dir/v4.png"},
+ {"event": "drag", "button": "middle", "from": [48, 48], "to": [60, 40], "steps": 3},
+ {"event": "screenshot", "file": "$dir/v5.png"}, {"event": "save_camera", "file": "$dir/panned.json"}]
+JSON
+run "view --script wheel, pan" xview $vol --script "$dir/zoom_pan.json"
+run "render --orbit 30,20,2.43" "$ropecast" render $vol --converge --orbit 30,20,2.43 -o "$dir/r4.png"
+same "zoomed view = render at the documented distance" "$dir/v4.png" "$dir/r4.png"
+grep -q '"eye"' "$dir/panned.json" 2> /dev/null || fail "a panned camera saves eye and target: $(cat "$dir/panned.json")"
+run "render --path the panned camera" "$ropecast" render $vol --converge --path "$dir/panned.json" -o "$dir/r5.png"
+same "saved panned camera = the panned view" "$dir/v5.png" "$dir/r5.png"
+differs "the pan moved the view" "$dir/v5.png" "$dir/v4.png"
+
+# Holding W for 0.5 s of the script's clock flies 0.25 bounding-sphere radii forward, whatever the frame times;
+# the saved eye/target camera draws the same.
+cat > "$dir/fly.json" << JSON
+[{"event": "key", "key": "w", "seconds": 0.5}, {"event": "screenshot", "file": "$dir/v6.png"},
+ {"event": "save_camera", "file": "$dir/flown.json"}]
+JSON
+run "view --script key w" xview $vol --script "$dir/fly.json"
+differs "flying moved the view" "$dir/v6.png" "$dir/v0.png"
+run "render --path the flown camera" "$ropecast" render $vol --converge --path "$dir/flown.json" -o "$dir/r6.png"
+same "saved flown camera = the flown view" "$dir/v6.png" "$dir/r6.png"
+python3 -c 'import json, math, sys
+k = json.load(open(sys.argv[1]))[0]
+radius = 0.5 * math.sqrt(3 * 48 ** 2)
+kept = math.dist(k["eye"], k["target"]) / radius            # eye and center move together
+flown = math.dist(k["target"], [24, 24, 24]) / radius       # the center left the volume center by 0.5 * 0.5
+sys.exit(abs(kept - 3.0) > 1e-9 or abs(flown - 0.25) > 1e-9)' "$dir/flown.json" ||
+  fail "0.5 s of W: expected the center 0.25 radii forward, 3 radii from the eye: $(cat "$dir/flown.json")"
+
+# --target-frame-ms: frames while the camera moves sample coarser (a target no frame meets: the largest step), and
+# the still camera refines to the full-quality image of the same orbit.
+run "view --target-frame-ms while dragging" xview $vol --script "$dir/drag.json" --target-frame-ms 0.001 \
+  --stats "$dir/drag.jsonl"
+same "coarse while moving, full quality once still" "$dir/v1.png" "$dir/r1.png"
+steps=$(python3 -c 'import json, sys; print(" ".join(str(json.loads(l)["step_voxels"]) for l in open(sys.argv[1])))' \
+  "$dir/drag.jsonl")
+grep -qE "(^| )2\.0( |$)" <<< "$steps" || fail "--target-frame-ms: no frame sampled at 4x --step while moving: $steps"
+last=$(tail -n 1 "$dir/drag.jsonl")
+grep -q '"step_voxels":0.5' <<< "$last" && grep -q '"converged":true' <<< "$last" ||
+  fail "--target-frame-ms: the last frame is not a converged full-step one: $last"
+
+# set_iso, then a screenshot: render with --iso.
+cat > "$dir/iso.json" << JSON
+[{"event": "set_iso", "value": 60}, {"event": "screenshot", "file": "$dir/v2.png"}]
+JSON
+run "view --script set_iso" xview $vol --script "$dir/iso.json"
+run "render --iso 60" "$ropecast" render $vol --converge --iso 60 -o "$dir/r2.png"
+same "isovalue change = render --iso" "$dir/v2.png" "$dir/r2.png"
+differs "the isovalue changed the view" "$dir/v2.png" "$dir/v0.png"
+
+# Back to an isovalue seen before: what it needs is still resident, so nothing is read or uploaded again (the
+# round trip reads and uploads what the one-way change does).
+cat > "$dir/iso_there.json" << JSON
+[{"event": "wait_converged"}, {"event": "set_iso", "value": 60}, {"event": "wait_converged"}]
+JSON
+cat > "$dir/iso_back.json" << JSON
+[{"event": "wait_converged"}, {"event": "set_iso", "value": 60}, {"event": "wait_converged"},
+ {"event": "set_iso", "value": 127.5}, {"event": "wait_converged"}]
+JSON
+run "view set_iso there" xview $vol --script "$dir/iso_there.json" --stats "$dir/there.jsonl"
+run "view set_iso there and back" xview $vol --script "$dir/iso_back.json" --stats "$dir/back.jsonl"
+sums() { python3 -c 'import json, sys
+rows = [json.loads(l) for l in open(sys.argv[1])]
+print(sum(r["bytes_read"] for r in rows), sum(r["bricks_uploaded"] for r in rows))' "$1"; }
+there=$(sums "$dir/there.jsonl"); back=$(sums "$dir/back.jsonl")
+[ "$there" = "$back" ] || fail "returning to an isovalue read or uploaded again: bytes, uploads $there one way, $back there and back"
+[ "$(tail -n 1 "$dir/back.jsonl" | grep -c '"converged":true')" = 1 ] || fail "set_iso round trip did not converge"
+
+# DVR: load a transfer function file; --screenshot after the script.
+cat > "$dir/tf.json" << JSON
+[{"event": "set_mode", "mode": "dvr"}, {"event": "load_tf", "tf": "$data/tf/sphere_shells.json"}]
+JSON
+run "view --script set_mode load_tf" xview $vol --script "$dir/tf.json" --screenshot "$dir/v3.png"
+run "render --mode dvr --tf" "$ropecast" render $vol --converge --mode dvr --tf "$data/tf/sphere_shells.json" \
+  -o "$dir/r3.png"
+same "DVR with a loaded TF = render --tf" "$dir/v3.png" "$dir/r3.png"
+
+# A bad script is refused with its name and the event, before any window opens.
+echo '[{"event": "spin"}]' > "$dir/bad.json"
+"$ropecast" view $vol --script "$dir/bad.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -q "bad.json: event 0 (spin)" "$dir/err.txt"; } ||
+  fail "bad script: exit $rc: $(cat "$dir/err.txt")"
+
+# An output that is an input is refused before anything is read or written.
+"$ropecast" view $vol --script "$dir/bad.json" --stats "$dir/bad.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -q -- "--stats" "$dir/err.txt" && grep -q -- "--script" "$dir/err.txt"; } ||
+  fail "--stats onto --script: exit $rc: $(cat "$dir/err.txt")"
+grep -q spin "$dir/bad.json" || fail "--stats onto --script overwrote the script"
+
+echo "$failures failure(s)"
+[ "$failures" -eq 0 ]

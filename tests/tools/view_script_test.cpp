@@ -1,0 +1,86 @@
+// The viewer's scripts (tools/view_script.h): drags and held keys expand into their parts at the documented
+// times, UI actions carry their values, and a bad event is refused with the file, its index and what was
+// expected.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "tools/view_script.h"
+
+namespace ropecast::tools {
+namespace {
+
+TEST(ViewScript, ADragIsAPressStepMovesAndARelease) {
+  const ViewScript s = parseViewScript(
+      R"([{"event": "drag", "at": 1, "from": [10, 20], "to": [50, 40], "steps": 4, "seconds": 2,
+           "button": "middle", "shift": true}])",
+      "t.json");
+  ASSERT_EQ(s.events.size(), 6u);
+  EXPECT_EQ(s.events[0].kind, ViewEventKind::MouseDown);
+  EXPECT_EQ(s.events[0].pos, glm::dvec2(10, 20));
+  EXPECT_EQ(s.events[0].button, MouseButton::Middle);
+  EXPECT_TRUE(s.events[0].shift);
+  for (int i = 1; i <= 4; ++i) {
+    EXPECT_EQ(s.events[i].kind, ViewEventKind::MouseMove);
+    EXPECT_DOUBLE_EQ(s.events[i].atSeconds, 1.0 + 0.5 * i);
+    EXPECT_EQ(s.events[i].pos, glm::dvec2(10 + 10 * i, 20 + 5 * i));
+  }
+  EXPECT_EQ(s.events[5].kind, ViewEventKind::MouseUp);
+  EXPECT_EQ(s.events[5].pos, glm::dvec2(50, 40));
+  EXPECT_DOUBLE_EQ(s.events[5].atSeconds, 3.0);
+}
+
+TEST(ViewScript, AHeldKeyIsReleasedSecondsLaterAndLaterEventsFollowIt) {
+  const ViewScript s = parseViewScript(
+      R"({"events": [{"event": "key", "key": "W", "seconds": 0.5}, {"event": "quit"}]})", "t");
+  ASSERT_EQ(s.events.size(), 3u);
+  EXPECT_EQ(s.events[0].kind, ViewEventKind::KeyDown);
+  EXPECT_EQ(s.events[0].key, 'w');
+  EXPECT_EQ(s.events[1].kind, ViewEventKind::KeyUp);
+  EXPECT_DOUBLE_EQ(s.events[1].atSeconds, 0.5);
+  EXPECT_EQ(s.events[2].kind, ViewEventKind::Quit);
+  EXPECT_DOUBLE_EQ(s.events[2].atSeconds, 0.5);
+}
+
+TEST(ViewScript, UiActionsCarryTheirValues) {
+  const ViewScript s = parseViewScript(
+      R"([{"event": "set_iso", "value": 0.25}, {"event": "set_mode", "mode": "dvr"},
+          {"event": "load_tf", "tf": "ct-bone"}, {"event": "screenshot", "file": "a.png", "panels": true},
+          {"event": "save_camera", "file": "c.json"}, {"event": "wheel", "clicks": -2},
+          {"event": "reset_camera"}, {"event": "wait_converged"}])",
+      "t");
+  ASSERT_EQ(s.events.size(), 8u);
+  EXPECT_EQ(s.events[0].value, 0.25);
+  EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
+  EXPECT_EQ(s.events[2].tf, "ct-bone");
+  EXPECT_EQ(s.events[3].file, "a.png");
+  EXPECT_TRUE(s.events[3].panels);
+  EXPECT_EQ(s.events[4].kind, ViewEventKind::SaveCamera);
+  EXPECT_EQ(s.events[5].clicks, -2.0);
+  EXPECT_EQ(s.events[6].kind, ViewEventKind::ResetCamera);
+  EXPECT_EQ(s.events[7].kind, ViewEventKind::WaitConverged);
+}
+
+void expectRefused(const std::string& text, const std::string& expected) {
+  try {
+    parseViewScript(text, "s.json");
+    FAIL() << "accepted " << text;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
+}
+
+TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
+  expectRefused("[1,", "s.json: not JSON");
+  expectRefused(R"({"cameras": []})", "s.json: expected an array of events");
+  expectRefused(R"([{"event": "spin"}])", "s.json: event 0 (spin): unknown event");
+  expectRefused(R"([{"event": "quit"}, {"event": "set_iso"}])", "event 1 (set_iso): \"value\" is required");
+  expectRefused(R"([{"event": "drag", "from": [0, 0], "to": [1]}])", "\"to\" must be [x, y]");
+  expectRefused(R"([{"event": "set_mode", "mode": "mip"}])", "\"mode\" must be iso or dvr");
+  expectRefused(R"([{"event": "key", "key": "x"}])", "\"key\" must be one of w a s d q e r");
+  expectRefused(R"([{"event": "quit", "at": -1}])", "\"at\" must not be negative");
+}
+
+}  // namespace
+}  // namespace ropecast::tools

@@ -1,0 +1,166 @@
+#include "tools/gl_render_options.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.h"
+#include "store/procedural_bricks.h"
+#include "store/store.h"
+#include "tools/cli_checks.h"
+#include "tools/cli_values.h"
+
+namespace ropecast::tools {
+
+const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
+                                                                 {"dvr", RenderMode::Dvr}};
+const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
+const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
+    {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
+
+std::vector<std::pair<std::string, RenderBackend>> backendNames() {
+  std::vector<std::pair<std::string, RenderBackend>> names;
+  for (const auto& [name, backend] : kRenderBackendNames) names.emplace_back(name, backend);
+  return names;
+}
+
+void addSceneOptions(CLI::App& app, RenderOptions& o) {
+  addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
+  app.add_option("--iso", o.iso, "isovalue in data units (default: middle of the value range)")
+      ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
+  app.add_option("--tf", o.tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
+  addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
+  addTripleOption(app, "--orbit", o.orbit,
+                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
+  addTripleOption(app, "--eye", o.eye, "camera position X,Y,Z (world units)");
+  addTripleOption(app, "--target", o.target, "point looked at X,Y,Z");
+  addTripleOption(app, "--up", o.up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
+  app.add_option("--fov", o.fov, "vertical field of view, degrees")
+      ->check(finiteIn(1.0, 179.0))
+      ->capture_default_str();
+  addTripleOption(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)");
+  addEnumOption(app, "--backend", o.backend, backendNames(),
+                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
+                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
+                "benchmark baseline). --stats names the one used");
+  addEnumOption(
+      app, "--gradients", o.gradients, kGradientNames,
+      "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
+      "or computed (six more lookups per sample)");
+  app.add_option("--step", o.step, "sample distance in voxels of the level crossed")
+      ->check(finiteIn(0.01, 8.0))
+      ->capture_default_str();
+  app.add_option("--ert", o.ert, "early ray termination opacity (DVR)")
+      ->check(finiteIn(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--voxels-per-pixel", o.voxelsPerPixel, "refinement target: voxels per pixel")
+      ->check(finiteIn(0.01, 64.0))
+      ->capture_default_str();
+  addByteSizeOption(app, "--gpu-budget", o.gpuBudget,
+                    "GPU brick pool bytes (e.g. 512M; default from the driver)");
+  addByteSizeOption(app, "--cpu-cache", o.cpuCache, "CPU brick cache bytes")->default_str("1G");
+  addByteSizeOption(app, "--upload-budget", o.uploadBudget,
+                    "brick upload bytes per frame (default: unlimited)");
+  app.add_option(
+         "--upload-time-budget", o.uploadTimeBudgetMs,
+         "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")
+      ->check(finiteIn(0.0, 100000.0));
+  app.add_flag("--upload-pbo", o.uploadPbo, "upload bricks through a pixel buffer object");
+  app.add_option(
+         "--target-frame-ms", o.targetFrameMs,
+         "progressive frames: sample at up to 4x --step while a frame takes longer than this (render: "
+         "the written images too; view: while the camera moves; default: off)")
+      ->check(finiteIn(0.0, 100000.0));
+  app.add_option("--io-delay-ms", o.ioDelayMs, "added latency per brick read (shows asynchrony)")
+      ->check(finiteIn(0.0, 10000.0));
+  addEnumOption(app, "--occlusion", o.occlusion, kOnOffNames,
+                "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
+  addEnumOption(
+      app, "--feedback", o.feedback, kOnOffNames,
+      "progressive frames: the rays report the bricks they used and where they wanted finer data; "
+      "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
+  app.add_option("--query-budget", o.queryBudget, "occlusion queries per frame")
+      ->check(CLI::Range(1u, 1000000u))
+      ->capture_default_str();
+  app.add_option("--visibility-threshold", o.visibilityThreshold,
+                 "visible pixels below which a queried node counts as occluded")
+      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 32))
+      ->capture_default_str();
+  app.add_option("--brick", o.brick, "brick size for procedural inputs")
+      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
+}
+
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
+  if (o.input.rfind("procedural:", 0) == 0) return openProceduralBricks(o.input, o.brick);
+  if (!std::filesystem::exists(o.input)) throw Error(o.input + ": no such store file");
+  return Store::open(o.input);
+}
+
+Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
+  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  if (!o.eye.empty() || !o.target.empty()) {
+    if (o.eye.empty() || o.target.empty()) throw Error("--eye and --target go together");
+    Camera c;
+    c.eye = toVec3(o.eye);
+    c.target = toVec3(o.target);
+    c.fovYDeg = o.fov;
+    c.up = o.up.empty() ? defaultUp(c.target - c.eye) : toVec3(o.up);
+    if (const std::string problem = cameraProblem(c); !problem.empty())
+      throw Error("--eye " + formatTriple(o.eye) + " --target " + formatTriple(o.target) +
+                  (o.up.empty() ? "" : " --up " + formatTriple(o.up)) + ": " + problem);
+    return c;
+  }
+  const glm::dvec3 orbit =
+      o.orbit.empty() ? glm::dvec3(kDefaultOrbit[0], kDefaultOrbit[1], kDefaultOrbit[2]) : toVec3(o.orbit);
+  if (orbit.z <= 0.0) throw Error("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
+  return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), boxMax, o.fov);
+}
+
+std::pair<double, double> valueRangeOf(const BrickSourceInfo& info) {
+  const uint32_t storedMax = storedMaxOf(info.storedType);
+  return {info.volume.valueMin.value_or(info.mapping.toData(0)),
+          info.volume.valueMax.value_or(info.mapping.toData(storedMax))};
+}
+
+RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command) {
+  const auto [lo, hi] = valueRangeOf(info);
+  RenderParams params;
+  params.mode = o.mode;
+  params.isoValue = o.iso.value_or(0.5 * (lo + hi));
+  params.stepVoxels = o.step;
+  params.ert = o.ert;
+  params.background = toVec3(o.background);
+  params.backend = o.backend;
+  params.gradients = o.gradients;
+  if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
+    std::fprintf(stderr,
+                 "ropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
+                 "isosurface is empty\n",
+                 command, params.isoValue, lo, hi);
+  return params;
+}
+
+TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info) {
+  return TransferFunction::fromSpec(spec, tfDataRangeFor(info));
+}
+
+TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info) {
+  return TfTable::bake(function, info.mapping, storedMaxOf(info.storedType));
+}
+
+FrameRendererConfig frameRendererConfigOf(const RenderOptions& o, const RenderParams& params) {
+  FrameRendererConfig config;
+  config.gpuBudgetBytes = o.gpuBudget;
+  config.cpuCacheBytes = o.cpuCache;
+  config.uploadBudgetBytes = o.uploadBudget;
+  config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
+  config.storedGradients = usesStoredGradients(params);
+  config.uploadThroughPbo = o.uploadPbo;
+  config.occlusion = o.occlusion;
+  config.feedback = o.feedback;
+  config.visibility.tiles.queryBudget = o.queryBudget;
+  config.visibility.thresholdPixels = o.visibilityThreshold;
+  return config;
+}
+
+}  // namespace ropecast::tools

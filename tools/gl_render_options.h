@@ -1,0 +1,60 @@
+// The options `ropecast render` and `ropecast view` share (the scene and how it is drawn: the part of
+// RenderOptions, tools/render_command.h, that is not about output files or frame sequences), and what both
+// make of them before anything draws: the brick source, the render parameters, the transfer function table,
+// the camera, the FrameRenderer's configuration. One place, so that a view and a render given the same
+// options draw the same image. Main thread.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "core/camera.h"
+#include "core/render_params.h"
+#include "core/transfer_function.h"
+#include "occlusion/visibility_tracker.h"
+#include "render/frame_renderer.h"
+#include "store/brick_source.h"
+#include "store/octree_layout.h"
+#include "tools/render_command.h"
+
+namespace ropecast::tools {
+
+// The default orbit (docs/ARCHITECTURE.md): azimuth, elevation (degrees), distance (bounding-sphere radii).
+inline constexpr double kDefaultOrbit[3] = {30.0, 20.0, 3.0};
+
+extern const std::vector<std::pair<std::string, RenderMode>> kModeNames;
+extern const std::vector<std::pair<std::string, bool>> kOnOffNames;
+extern const std::vector<std::pair<std::string, GradientSource>> kGradientNames;
+std::vector<std::pair<std::string, RenderBackend>> backendNames();
+
+// Registers the options that describe the scene and how it is drawn (mode, camera, size, budgets, backend,
+// ...), not the input.
+void addSceneOptions(CLI::App& app, RenderOptions& o);
+
+// The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o);
+
+// The camera of --eye/--target/--up/--fov, else of --orbit (default kDefaultOrbit) around the volume box.
+Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);
+
+// The volume's value range in data units: the source's known range, else what its stored type holds.
+std::pair<double, double> valueRangeOf(const BrickSourceInfo& info);
+
+// RenderParams of the options (isovalue default: the middle of the value range). Warns on stderr, as
+// `command`, when an isovalue lies outside the value range.
+RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command);
+
+// The transfer function of --tf (a preset or a JSON file; empty: the linear preset), placed for the data.
+TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info);
+TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info);
+
+// The FrameRenderer's configuration of the options, for a renderer drawing `params`.
+FrameRendererConfig frameRendererConfigOf(const RenderOptions& o, const RenderParams& params);
+
+}  // namespace ropecast::tools

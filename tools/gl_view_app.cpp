@@ -1,0 +1,790 @@
+#include "tools/gl_view_app.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include <epoxy/gl.h>
+// epoxy's GL header first: GLFW then includes no GL header of its own.
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <imgui_stdlib.h>
+#include <nlohmann/json.hpp>
+
+#include "core/camera_path.h"
+#include "core/error.h"
+#include "core/orbit_controller.h"
+#include "loader/io_queue.h"
+#include "reference/image_io.h"
+#include "render/frame_renderer.h"
+#include "render/step_pacer.h"
+#include "render/window_context.h"
+#include "store/value_histogram.h"
+#include "tools/cli_values.h"
+#include "tools/gl_view_tf_editor.h"
+
+namespace ropecast::tools {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The camera counts as moving this long after its last change: frames stay coarse between the events of one
+// drag, and refine once the user lets go.
+constexpr double kStillAfterSeconds = 0.25;
+// Frame times the stats graph shows.
+constexpr size_t kFrameHistory = 120;
+
+bool sameCamera(const Camera& a, const Camera& b) {
+  return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDeg == b.fovYDeg;
+}
+
+bool sameParams(const RenderParams& a, const RenderParams& b) {
+  return a.mode == b.mode && a.isoValue == b.isoValue && a.stepVoxels == b.stepVoxels && a.ert == b.ert &&
+         a.background == b.background && a.backend == b.backend && a.gradients == b.gradients;
+}
+
+// The mouse as the camera sees it: position in window pixels (y down) and the buttons held.
+struct Pointer {
+  glm::dvec2 pos{0.0};
+  bool left = false, middle = false, shift = false;
+};
+
+// Appends the view to a camera-path JSON (core/camera_path.h) that `render --path` reads: an orbit keyframe
+// while the camera orbits the volume's center, else eye, target, up.
+void appendCameraKeyframe(const std::string& path, const OrbitController& controller) {
+  nlohmann::json root = nlohmann::json::array();
+  if (std::filesystem::exists(path)) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    parseCameraPath(text.str(), path);  // refuses to append to something that is not a camera path
+    root = nlohmann::json::parse(text.str());
+  }
+  nlohmann::json& list = root.is_object() ? root["keyframes"] : root;
+  const Camera c = controller.camera();
+  nlohmann::json key;
+  if (const auto orbit = controller.renderOrbit())
+    key = {{"orbit", {orbit->x, orbit->y, orbit->z}}, {"fov", c.fovYDeg}};
+  else
+    key = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+           {"target", {c.target.x, c.target.y, c.target.z}},
+           {"up", {c.up.x, c.up.y, c.up.z}},
+           {"fov", c.fovYDeg}};
+  list.push_back(key);
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << root.dump(2) << '\n';
+    if (!out) throw Error("save camera: cannot write '" + tmp + "'");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+void saveTransferFunction(const std::string& path, const TransferFunction& tf) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const TfPoint& p : tf.points()) points.push_back({p.value, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
+  std::ofstream out(path);
+  out << nlohmann::json{{"points", points}}.dump() << '\n';
+  if (!out) throw Error("save transfer function: cannot write '" + path + "'");
+}
+
+// The window's default framebuffer, panels included, as an image with row 0 at the top.
+FloatImage readWindow(uint32_t width, uint32_t height) {
+  std::vector<uint8_t> rgba(size_t(width) * height * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, GLsizei(width), GLsizei(height), GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  FloatImage image;
+  image.width = width;
+  image.height = height;
+  image.channels = 4;
+  image.pixels.resize(rgba.size());
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t i = 0; i < width * 4; ++i)
+      image.pixels[size_t(y) * width * 4 + i] = rgba[size_t(height - 1 - y) * width * 4 + i] / 255.0f;
+  return image;
+}
+
+class Viewer {
+ public:
+  Viewer(const ViewOptions& o, std::optional<ViewScript> script);
+  ~Viewer();
+  int run();
+
+ private:
+  // Scene state the panels and the script change.
+  void setTransferFunction(const std::string& spec);
+  void setTransferFunction(TransferFunction function, const std::string& name);
+  void ensureRenderer();
+  FrameRequest currentRequest(bool moving);
+  bool sameAsLast(const FrameRequest& request) const;
+  bool needsFrame(const FrameRequest& request) const {
+    return !lastRequest_ || !lastStats_.converged || !sameAsLast(request);
+  }
+  void renderFrame(const FrameRequest& request);
+  void present(uint32_t width, uint32_t height);
+  // Input
+  void readWindowInput(double dtSeconds);
+  void drive(const Pointer& before, const Pointer& now);
+  void flyHeld(const std::set<char>& keys, double dtSeconds);
+  // Returns false when the script asks to quit; `converged` says whether the shown view has converged.
+  bool runScript(bool converged);
+  void screenshot(const std::string& path, bool panels);
+  void drawPanels();
+
+  const ViewOptions& o_;
+  std::unique_ptr<BrickSource> source_, delayed_;
+  const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
+  std::pair<double, double> valueRange_;
+  // The value histogram of the octree's root brick (store/value_histogram.h): log bar heights in [0, 1].
+  std::vector<float> histogram_;
+  uint32_t histogramLevel_ = 0;
+  glm::dvec3 boxMax_{0.0};
+
+  RenderParams params_;
+  double voxelsPerPixel_ = 1.0;
+  double targetFrameMs_ = 0.0;
+  std::string tfSpec_;
+  TransferFunction tf_;
+  std::optional<TfTable> tfTable_;
+  uint64_t tfVersion_ = 0;
+  TfEditor tfEditor_;
+
+  std::unique_ptr<WindowContext> window_;
+  std::unique_ptr<FrameRenderer> renderer_;
+  bool rendererHasGradients_ = false;
+  std::optional<OrbitController> controller_;
+  StepPacer stepPacer_;
+  bool coarser_ = false;  // --target-frame-ms: refining at twice --voxels-per-pixel while moving
+
+  // The last rendered frame.
+  std::optional<FrameRequest> lastRequest_;
+  uint64_t lastTfVersion_ = 0;
+  FrameStats lastStats_;
+  FloatImage color_;
+  uint64_t framesSinceChange_ = 0;
+  std::deque<float> frameMsHistory_;
+  std::optional<std::ofstream> stats_;  // --stats
+  uint32_t viewTexture_ = 0, viewFramebuffer_ = 0;
+  uint32_t viewWidth_ = 0, viewHeight_ = 0;
+
+  // Input state.
+  Pointer windowPointer_, scriptPointer_;
+  bool windowDragOwned_ = false;  // the button went down over the 3D view, not over a panel
+  double wheelClicks_ = 0.0;
+  // Scripted fly keys held: they fly on the script's clock, so a key held for S seconds flies S seconds
+  // however long the frames take.
+  struct ScriptKey {
+    double downAt = 0.0, upAt = 0.0;  // script seconds; upAt: its release, or +inf
+    double flownSeconds = 0.0;
+  };
+  std::map<char, ScriptKey> scriptKeys_;
+  void flyScriptKeys(double nowSeconds);
+  bool resetKeyDown_ = false;
+  double lastMoveSeconds_ = -1e9;
+  Camera lastCamera_;
+
+  // Script.
+  std::optional<ViewScript> script_;
+  size_t nextEvent_ = 0;
+  Clock::time_point start_;
+
+  // Panel fields.
+  std::string screenshotPath_ = "view.png", cameraPath_ = "cameras.json", tfPath_ = "tf.json";
+  std::string message_;
+  std::string panelShot_;  // a screenshot with panels, taken after this frame's panels are drawn
+};
+
+Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
+    : o_(o), stepPacer_(o.targetFrameMs), script_(std::move(script)) {
+  if (o.backend == RenderBackend::Brute)
+    throw Error(
+        "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
+        "(auto, fragment or compute)");
+  source_ = openBrickSource(o);
+  if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
+  const BrickSourceInfo& info = bricks().info();
+  valueRange_ = valueRangeOf(info);
+  boxMax_ = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  {
+    const ValueHistogram h = coarseHistogram(bricks(), 64, valueRange_.first, valueRange_.second);
+    histogramLevel_ = h.level;
+    double top = 0.0;
+    for (uint64_t c : h.counts) top = std::max(top, std::log1p(double(c)));
+    for (uint64_t c : h.counts) histogram_.push_back(top > 0.0 ? float(std::log1p(double(c)) / top) : 0.0f);
+  }
+  params_ = renderParamsOf(o, info, "view");
+  voxelsPerPixel_ = o.voxelsPerPixel;
+  targetFrameMs_ = o.targetFrameMs;
+  setTransferFunction(o.tf);  // a bad --tf is an error in either mode, as in render
+
+  const Camera initial = chooseCamera(o, info);
+  if (!o.eye.empty()) {
+    controller_ = OrbitController::fromCamera(glm::dvec3(0.0), boxMax_, initial);
+  } else {
+    const glm::dvec3 orbit =
+        o.orbit.empty() ? glm::dvec3(kDefaultOrbit[0], kDefaultOrbit[1], kDefaultOrbit[2]) : toVec3(o.orbit);
+    controller_.emplace(
+        glm::dvec3(0.0), boxMax_,
+        OrbitController::orbitAroundBox(glm::dvec3(0.0), boxMax_, orbit.x, orbit.y, orbit.z, o.fov));
+  }
+  lastCamera_ = controller_->camera();
+
+  WindowContextOptions windowOptions;
+  windowOptions.title = "ropecast view " + o.input;
+  windowOptions.width = o.size.at(0);
+  windowOptions.height = o.size.at(1);
+  try {
+    window_ = std::make_unique<WindowContext>(windowOptions);
+  } catch (const Error& e) {
+    throw Error(
+        std::string("view: ") + e.what() +
+        ". The viewer needs an X11 display (DISPLAY); `ropecast render` draws the same images headless");
+  }
+
+  // Opened once the window exists: a run without a display leaves no file behind.
+  if (!o.stats.empty()) {
+    stats_.emplace(o.stats);
+    if (!*stats_) throw Error("view: --stats " + o.stats + ": cannot open for writing");
+  }
+
+  glfwSetWindowUserPointer(window_->window(), this);
+  // Installed before ImGui's, which calls it after its own.
+  glfwSetScrollCallback(window_->window(), [](GLFWwindow* w, double, double dy) {
+    static_cast<Viewer*>(glfwGetWindowUserPointer(w))->wheelClicks_ += dy;
+  });
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working directory
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window_->window(), true);
+  ImGui_ImplOpenGL3_Init("#version 450");
+
+  glCreateTextures(GL_TEXTURE_2D, 1, &viewTexture_);
+  glCreateFramebuffers(1, &viewFramebuffer_);
+}
+
+Viewer::~Viewer() {
+  if (!window_) return;
+  renderer_.reset();
+  glDeleteFramebuffers(1, &viewFramebuffer_);
+  glDeleteTextures(1, &viewTexture_);
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+void Viewer::setTransferFunction(const std::string& spec) {
+  // A file shows as its name alone: the panel's combo is narrow.
+  setTransferFunction(transferFunctionOf(spec, bricks().info()),
+                      spec.empty() ? "linear" : std::filesystem::path(spec).filename().string());
+}
+
+void Viewer::setTransferFunction(TransferFunction function, const std::string& name) {
+  tfTable_ = bakeFor(function, bricks().info());
+  tf_ = std::move(function);
+  tfSpec_ = name;
+  ++tfVersion_;
+}
+
+// A renderer for the current parameters. A switch to DVR with stored gradients needs a GradientPool, which a
+// FrameRenderer gets at construction: then the renderer is made again (its bricks load again).
+void Viewer::ensureRenderer() {
+  if (renderer_ && (rendererHasGradients_ || !usesStoredGradients(params_))) return;
+  renderer_.reset();
+  const FrameRendererConfig config = frameRendererConfigOf(o_, params_);
+  renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
+  rendererHasGradients_ = config.storedGradients;
+  lastRequest_.reset();
+}
+
+FrameRequest Viewer::currentRequest(bool moving) {
+  FrameRequest r;
+  r.camera = controller_->camera();
+  r.width = viewWidth_;
+  r.height = viewHeight_;
+  r.params = params_;
+  r.voxelsPerPixel = voxelsPerPixel_;
+  r.tf = &*tfTable_;
+  r.synchronous = false;
+  // While the camera moves, --target-frame-ms trades quality for frame time: the step first (StepPacer), then
+  // a coarser refinement target once the step is at its largest. A still camera gets the full quality.
+  if (moving && stepPacer_.enabled()) {
+    r.params.stepVoxels *= stepPacer_.scale();
+    if (coarser_) r.voxelsPerPixel *= 2.0;
+  }
+  return r;
+}
+
+bool Viewer::sameAsLast(const FrameRequest& r) const {
+  if (!lastRequest_) return false;
+  const FrameRequest& l = *lastRequest_;
+  return sameCamera(l.camera, r.camera) && l.width == r.width && l.height == r.height &&
+         sameParams(l.params, r.params) && l.voxelsPerPixel == r.voxelsPerPixel &&
+         (r.params.mode != RenderMode::Dvr || lastTfVersion_ == tfVersion_);
+}
+
+void Viewer::renderFrame(const FrameRequest& request) {
+  if (!sameAsLast(request)) framesSinceChange_ = 0;
+  lastStats_ = renderer_->render(request);
+  ++framesSinceChange_;
+  lastRequest_ = request;
+  lastTfVersion_ = tfVersion_;
+  color_ = renderer_->readColor();
+  if (stats_) {
+    *stats_ << toJsonLine(lastStats_) << '\n';
+    if (!*stats_) throw Error("view: --stats " + o_.stats + ": write failed");
+  }
+  frameMsHistory_.push_back(float(lastStats_.frameMs));
+  if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
+
+  // The view shows what the PNG holds: 8-bit RGB, round(clamp(v) * 255), opaque. The image goes through the
+  // CPU (readColor, FrameRenderer's one way out) and back: a float target cannot be blitted to the window's
+  // fixed-point framebuffer, and the copy is what a screenshot writes.
+  std::vector<uint8_t> rgba(size_t(color_.width) * color_.height * 4);
+  for (size_t i = 0; i < size_t(color_.width) * color_.height; ++i) {
+    for (uint32_t c = 0; c < 3; ++c)
+      rgba[i * 4 + c] =
+          uint8_t(std::lround(std::clamp(color_.pixels[i * color_.channels + c], 0.0f, 1.0f) * 255.0f));
+    rgba[i * 4 + 3] = 255;
+  }
+  glBindTexture(GL_TEXTURE_2D, viewTexture_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, GLsizei(color_.width), GLsizei(color_.height), 0, GL_RGBA,
+               GL_UNSIGNED_BYTE, rgba.data());
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glNamedFramebufferTexture(viewFramebuffer_, GL_COLOR_ATTACHMENT0, viewTexture_, 0);
+}
+
+// The 3D view fills the window; image row 0 (the top) is texture row 0, so the blit turns it upright.
+void Viewer::present(uint32_t width, uint32_t height) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, GLsizei(width), GLsizei(height));
+  glDisable(GL_SCISSOR_TEST);
+  glClearColor(float(params_.background.r), float(params_.background.g), float(params_.background.b), 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  if (!color_.pixels.empty()) {
+    glBlitNamedFramebuffer(viewFramebuffer_, 0, 0, 0, GLint(color_.width), GLint(color_.height), 0,
+                           GLint(color_.height), GLint(color_.width), 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+  checkGlError("view: drawing the 3D view");
+}
+
+void Viewer::drive(const Pointer& before, const Pointer& now) {
+  const glm::dvec2 d = now.pos - before.pos;
+  if (d == glm::dvec2(0.0)) return;
+  if ((before.middle && now.middle) || (before.left && now.left && now.shift)) {
+    // Mouse positions are in window coordinates, which differ from framebuffer pixels on scaled displays.
+    int windowWidth = 0, windowHeight = 0;
+    glfwGetWindowSize(window_->window(), &windowWidth, &windowHeight);
+    controller_->pan(d.x, d.y, uint32_t(std::max(windowHeight, 1)));
+  } else if (before.left && now.left) {
+    controller_->rotate(d.x, d.y);
+  }
+}
+
+void Viewer::flyScriptKeys(double nowSeconds) {
+  for (auto& [key, held] : scriptKeys_) {
+    const double until = std::min(nowSeconds, held.upAt) - held.downAt;
+    if (until > held.flownSeconds) flyHeld({key}, until - held.flownSeconds);
+    held.flownSeconds = std::max(held.flownSeconds, until);
+  }
+}
+
+void Viewer::flyHeld(const std::set<char>& keys, double dtSeconds) {
+  auto axis = [&](char plus, char minus) { return int(keys.count(plus)) - int(keys.count(minus)); };
+  controller_->fly(axis('w', 's'), axis('d', 'a'), axis('e', 'q'), dtSeconds);
+}
+
+void Viewer::readWindowInput(double dtSeconds) {
+  GLFWwindow* w = window_->window();
+  const ImGuiIO& io = ImGui::GetIO();
+  Pointer now;
+  glfwGetCursorPos(w, &now.pos.x, &now.pos.y);
+  now.left = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  now.middle = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+  now.shift =
+      glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  const bool wasDown = windowPointer_.left || windowPointer_.middle;
+  if ((now.left || now.middle) && !wasDown) windowDragOwned_ = !io.WantCaptureMouse;
+  if (windowDragOwned_) drive(windowPointer_, now);
+  if (!now.left && !now.middle) windowDragOwned_ = false;
+  windowPointer_ = now;
+  if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) controller_->zoom(wheelClicks_);
+  wheelClicks_ = 0.0;
+  if (!io.WantCaptureKeyboard) {
+    std::set<char> keys;
+    for (const auto& [key, name] : {std::pair{GLFW_KEY_W, 'w'},
+                                    {GLFW_KEY_A, 'a'},
+                                    {GLFW_KEY_S, 's'},
+                                    {GLFW_KEY_D, 'd'},
+                                    {GLFW_KEY_Q, 'q'},
+                                    {GLFW_KEY_E, 'e'}})
+      if (glfwGetKey(w, key) == GLFW_PRESS) keys.insert(name);
+    flyHeld(keys, dtSeconds);
+    const bool reset = glfwGetKey(w, GLFW_KEY_R) == GLFW_PRESS;
+    if (reset && !resetKeyDown_) controller_->reset();
+    resetKeyDown_ = reset;
+  }
+}
+
+bool Viewer::runScript(bool converged) {
+  if (!script_) return true;
+  const double now = secondsSince(start_);
+  bool changedHere = false;  // the shown frame is not of the state the events left
+  while (nextEvent_ < script_->events.size()) {
+    const ViewEvent& e = script_->events[nextEvent_];
+    if (e.atSeconds > now) break;
+    const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged;
+    if (waits && (!converged || changedHere)) {
+      if (changedHere || framesSinceChange_ < o_.maxFrames) break;
+      std::fprintf(stderr, "ropecast view: not converged after %u frames (--max-frames)\n", o_.maxFrames);
+    }
+    Pointer next = scriptPointer_;
+    next.pos = e.pos;
+    next.shift = e.shift;
+    switch (e.kind) {
+      case ViewEventKind::MouseDown:
+        // The right button moves nothing (docs/VIEWER.md "Camera").
+        if (e.button == MouseButton::Left) next.left = true;
+        if (e.button == MouseButton::Middle) next.middle = true;
+        scriptPointer_ = next;
+        break;
+      case ViewEventKind::MouseMove:
+        drive(scriptPointer_, next);
+        scriptPointer_ = next;
+        break;
+      case ViewEventKind::MouseUp:
+        drive(scriptPointer_, Pointer{next.pos, scriptPointer_.left, scriptPointer_.middle, next.shift});
+        if (e.button == MouseButton::Left) next.left = false;
+        if (e.button == MouseButton::Middle) next.middle = false;
+        scriptPointer_ = next;
+        break;
+      case ViewEventKind::Wheel:
+        controller_->zoom(e.clicks);
+        break;
+      case ViewEventKind::KeyDown:
+        if (e.key == 'r') {
+          controller_->reset();
+        } else {
+          ScriptKey held{e.atSeconds, HUGE_VAL, 0.0};
+          for (size_t i = nextEvent_ + 1; i < script_->events.size(); ++i)
+            if (script_->events[i].kind == ViewEventKind::KeyUp && script_->events[i].key == e.key) {
+              held.upAt = script_->events[i].atSeconds;
+              break;
+            }
+          scriptKeys_[e.key] = held;
+        }
+        break;
+      case ViewEventKind::KeyUp:
+        flyScriptKeys(e.atSeconds);  // the rest of its flight
+        scriptKeys_.erase(e.key);
+        break;
+      case ViewEventKind::SetIso:
+        params_.isoValue = e.value;
+        break;
+      case ViewEventKind::SetMode:
+        params_.mode = e.mode;
+        break;
+      case ViewEventKind::LoadTf:
+        setTransferFunction(e.tf);
+        break;
+      case ViewEventKind::Screenshot:
+        screenshot(e.file, e.panels);
+        break;
+      case ViewEventKind::SaveCamera:
+        appendCameraKeyframe(e.file, *controller_);
+        break;
+      case ViewEventKind::ResetCamera:
+        controller_->reset();
+        break;
+      case ViewEventKind::WaitConverged:
+        break;
+      case ViewEventKind::Quit:
+        return false;
+    }
+    ++nextEvent_;
+    // What the shown frame converged to may have changed: a wait after this event waits for a new frame.
+    if (e.kind != ViewEventKind::Screenshot && e.kind != ViewEventKind::SaveCamera &&
+        e.kind != ViewEventKind::WaitConverged)
+      changedHere = true;
+    // One mouse move per frame, so that a scripted drag is seen moving as a hand-made one is.
+    if (e.kind == ViewEventKind::MouseMove) break;
+  }
+  return true;
+}
+
+void Viewer::screenshot(const std::string& path, bool panels) {
+  const bool exr = std::filesystem::path(path).extension() == ".exr";
+  if (const std::string problem =
+          imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
+      !problem.empty())
+    throw Error("view: screenshot " + path + ": " + problem);
+  if (exr) {
+    // Float RGBA (alpha = coverage) and, beside it as NAME_depth.exr, the depth, as render --exr --depth.
+    if (color_.pixels.empty()) throw Error("view: screenshot " + path + ": nothing rendered yet");
+    const std::filesystem::path p(path);
+    const std::string depthPath = (p.parent_path() / (p.stem().string() + "_depth.exr")).string();
+    writeExr(path, color_);
+    writeDepthExr(depthPath, renderer_->readDepth());
+    message_ = "wrote " + path + " and " + depthPath;
+    return;
+  }
+  if (panels) {
+    panelShot_ = path;  // read back once the panels are drawn
+    return;
+  } else {
+    if (color_.pixels.empty()) throw Error("view: screenshot " + path + ": nothing rendered yet");
+    writePng(path, color_, false);
+  }
+  message_ = "wrote " + path;
+}
+
+void Viewer::drawPanels() {
+  const BrickSourceInfo& info = bricks().info();
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  if (ImGui::Begin("Volume", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::PushItemWidth(200.0f);
+    ImGui::Text("%s", o_.input.c_str());
+    ImGui::Text("%u x %u x %u, values %g .. %g", info.volume.dims.x, info.volume.dims.y, info.volume.dims.z,
+                valueRange_.first, valueRange_.second);
+    int mode = params_.mode == RenderMode::Iso ? 0 : 1;
+    ImGui::RadioButton("iso", &mode, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("DVR", &mode, 1);
+    params_.mode = mode == 0 ? RenderMode::Iso : RenderMode::Dvr;
+    double iso = params_.isoValue;
+    if (ImGui::SliderScalar("isovalue", ImGuiDataType_Double, &iso, &valueRange_.first, &valueRange_.second,
+                            "%.4g"))
+      params_.isoValue = iso;
+    ImGui::PlotHistogram("##histogram", histogram_.data(), int(histogram_.size()), 0, nullptr, 0.0f, 1.0f,
+                         ImVec2(200.0f, 40.0f));
+    ImGui::SameLine();
+    ImGui::TextDisabled("values, level %u\n(log counts)", histogramLevel_);
+
+    ImGui::Separator();
+    ImGui::Text("transfer function");
+    std::vector<TfPoint> points = tf_.points();
+    if (tfEditor_.draw(points, valueRange_.first, valueRange_.second, histogram_)) {
+      try {
+        setTransferFunction(TransferFunction(std::move(points)), "edited");
+      } catch (const Error& e) {
+        message_ = e.what();
+      }
+    }
+    if (ImGui::BeginCombo("preset", tfSpec_.c_str())) {
+      for (const std::string& name : TransferFunction::presetNames())
+        if (ImGui::Selectable(name.c_str(), name == tfSpec_)) {
+          setTransferFunction(name);
+          tfEditor_.deselect();
+        }
+      ImGui::EndCombo();
+    }
+    ImGui::InputText("file##tf", &tfPath_);
+    if (ImGui::Button("load")) {
+      try {
+        setTransferFunction(tfPath_);
+        tfEditor_.deselect();
+        message_ = "loaded " + tfPath_;
+      } catch (const Error& e) {
+        message_ = e.what();
+      }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("save")) {
+      try {
+        saveTransferFunction(tfPath_, tf_);
+        message_ = "wrote " + tfPath_;
+      } catch (const Error& e) {
+        message_ = e.what();
+      }
+    }
+    ImGui::PopItemWidth();
+  }
+  ImGui::End();
+
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
+                          ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
+  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  if (ImGui::Begin("Rendering", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::PushItemWidth(200.0f);
+    float step = float(params_.stepVoxels), vpp = float(voxelsPerPixel_), target = float(targetFrameMs_);
+    if (ImGui::SliderFloat("step (voxels)", &step, 0.05f, 4.0f, "%.2f", ImGuiSliderFlags_Logarithmic))
+      params_.stepVoxels = step;
+    if (ImGui::SliderFloat("voxels per pixel", &vpp, 0.25f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic))
+      voxelsPerPixel_ = vpp;
+    if (ImGui::SliderFloat("target frame ms", &target, 0.0f, 200.0f, "%.0f")) {
+      targetFrameMs_ = target;
+      stepPacer_ = StepPacer(targetFrameMs_);
+    }
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
+    ImGui::TextDisabled("budgets (--gpu-budget, --cpu-cache, --upload-*) are set at start");
+    ImGui::PopTextWrapPos();
+    int backend = params_.backend == RenderBackend::Auto       ? 0
+                  : params_.backend == RenderBackend::Fragment ? 1
+                                                               : 2;
+    ImGui::Combo("backend", &backend, "auto\0fragment\0compute\0");
+    params_.backend = backend == 0   ? RenderBackend::Auto
+                      : backend == 1 ? RenderBackend::Fragment
+                                     : RenderBackend::Compute;
+    int gradients = params_.gradients == GradientSource::Stored ? 0 : 1;
+    ImGui::Combo("DVR gradients", &gradients, "stored\0computed\0");
+    params_.gradients = gradients == 0 ? GradientSource::Stored : GradientSource::Computed;
+
+    ImGui::Separator();
+    ImGui::Text("camera");
+    const OrbitState& s = controller_->state();
+    ImGui::Text("orbit %.1f, %.1f, %.2f", s.azimuthDeg, s.elevationDeg, s.distance);
+    if (ImGui::Button("reset camera")) controller_->reset();
+    ImGui::InputText("path##camera", &cameraPath_);
+    if (ImGui::Button("save camera")) {
+      try {
+        appendCameraKeyframe(cameraPath_, *controller_);
+        message_ = "appended the view to " + cameraPath_;
+      } catch (const std::exception& e) {
+        message_ = e.what();
+      }
+    }
+    ImGui::InputText("png##shot", &screenshotPath_);
+    if (ImGui::Button("screenshot")) {
+      try {
+        screenshot(screenshotPath_, false);
+      } catch (const Error& e) {
+        message_ = e.what();
+      }
+    }
+    if (!message_.empty()) {
+      ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
+      ImGui::TextUnformatted(message_.c_str());
+      ImGui::PopTextWrapPos();
+    }
+    ImGui::PopItemWidth();
+  }
+  ImGui::End();
+
+  // Stats overlay, bottom right.
+  ImGui::SetNextWindowPos(
+      ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + viewport->WorkSize.y - 8),
+      ImGuiCond_Always, ImVec2(1.0f, 1.0f));
+  ImGui::SetNextWindowBgAlpha(0.6f);
+  const ImGuiWindowFlags overlay = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                   ImGuiWindowFlags_NoNav;
+  if (ImGui::Begin("Stats", nullptr, overlay)) {
+    const FrameStats& st = lastStats_;
+    ImGui::Text("%.1f fps  %.1f ms/frame  %s", st.frameMs > 0 ? 1000.0 / st.frameMs : 0.0, st.frameMs,
+                std::string(renderBackendName(st.backend)).c_str());
+    ImGui::Text("leaves %llu  resident %llu  uploads %llu", (unsigned long long)st.leaves,
+                (unsigned long long)st.bricksResident, (unsigned long long)st.bricksUploaded);
+    ImGui::Text("pending %llu  step %.2f", (unsigned long long)st.requestsPending, st.stepVoxels);
+    ImGui::Text("CPU cache %.1f MiB  GPU pool %.1f MiB", st.cpuCacheBytes / 1048576.0,
+                st.gpuPoolUsedBytes / 1048576.0);
+    ImGui::Text("visible %llu  occluded %llu  queries %llu", (unsigned long long)st.nodesVisible,
+                (unsigned long long)st.nodesOccluded, (unsigned long long)st.occlusionQueries);
+    ImGui::Text("feedback: used %llu  requests %llu", (unsigned long long)st.bricksUsed,
+                (unsigned long long)st.feedbackRequests);
+    ImGui::Text("%s", st.converged ? "converged" : "streaming...");
+    std::vector<float> history(frameMsHistory_.begin(), frameMsHistory_.end());
+    ImGui::PlotLines("##frame ms", history.data(), int(history.size()), 0, "frame ms", 0.0f, FLT_MAX,
+                     ImVec2(220, 40));
+  }
+  ImGui::End();
+}
+
+int Viewer::run() {
+  start_ = Clock::now();
+  auto lastLoop = Clock::now();
+  bool converged = false;
+  while (!window_->shouldClose()) {
+    const bool scriptActive = script_ && nextEvent_ < script_->events.size();
+    const bool idle = converged && !scriptActive && !windowDragOwned_ && scriptKeys_.empty() &&
+                      secondsSince(start_) - lastMoveSeconds_ > kStillAfterSeconds;
+    if (idle)
+      glfwWaitEventsTimeout(0.1);  // nothing to refine: wait for the user
+    else
+      glfwPollEvents();
+    const double dt = std::min(0.1, std::chrono::duration<double>(Clock::now() - lastLoop).count());
+    lastLoop = Clock::now();
+    window_->framebufferSize(viewWidth_, viewHeight_);
+    if (viewWidth_ == 0 || viewHeight_ == 0) {  // minimized: nothing to draw into
+      glfwWaitEventsTimeout(0.1);
+      continue;
+    }
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    readWindowInput(dt);
+    if (!runScript(converged)) break;
+    flyScriptKeys(secondsSince(start_));
+    drawPanels();
+    ImGui::Render();
+
+    const Camera camera = controller_->camera();
+    if (!sameCamera(camera, lastCamera_)) lastMoveSeconds_ = secondsSince(start_);
+    lastCamera_ = camera;
+    const bool moving = secondsSince(start_) - lastMoveSeconds_ < kStillAfterSeconds;
+    if (!moving) coarser_ = false;
+    ensureRenderer();
+    const FrameRequest request = currentRequest(moving);
+    if (needsFrame(request)) {
+      renderFrame(request);
+      if (moving && stepPacer_.enabled()) {
+        stepPacer_.record(lastStats_.frameMs, lastStats_.raycastMs);
+        coarser_ = stepPacer_.scale() >= StepPacer::kMaxScale && lastStats_.frameMs > targetFrameMs_;
+      }
+    }
+    converged = !moving && !needsFrame(currentRequest(false));
+
+    present(viewWidth_, viewHeight_);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (!panelShot_.empty()) {
+      writePng(panelShot_, readWindow(viewWidth_, viewHeight_), false);
+      message_ = "wrote " + panelShot_;
+      panelShot_.clear();
+    }
+    window_->swapBuffers();
+
+    if (script_ && nextEvent_ >= script_->events.size()) {
+      if (o_.screenshot.empty()) break;
+      if (converged || framesSinceChange_ >= o_.maxFrames) {
+        if (!converged)
+          std::fprintf(stderr, "ropecast view: not converged after %u frames (--max-frames)\n", o_.maxFrames);
+        screenshot(o_.screenshot, false);
+        break;
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int runViewer(const ViewOptions& options, std::optional<ViewScript> script) {
+  // --screenshot alone: an empty script, so the viewer ends once the screenshot is written.
+  if (!script && !options.screenshot.empty()) script = ViewScript{};
+  Viewer viewer(options, std::move(script));
+  return viewer.run();
+}
+
+}  // namespace ropecast::tools

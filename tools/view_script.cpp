@@ -1,0 +1,195 @@
+#include "tools/view_script.h"
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace ropecast::tools {
+
+namespace {
+
+using nlohmann::json;
+
+struct EventReader {
+  const json& j;
+  std::string where;  // "EVENTS.json: event 3 (drag)"
+
+  [[noreturn]] void fail(const std::string& what) const { throw Error(where + ": " + what); }
+
+  double number(const char* name, double fallback, bool required = false) const {
+    if (!j.contains(name)) {
+      if (required) fail(std::string("\"") + name + "\" is required");
+      return fallback;
+    }
+    if (!j[name].is_number() || !std::isfinite(j[name].get<double>()))
+      fail(std::string("\"") + name + "\" must be a finite number");
+    return j[name].get<double>();
+  }
+  std::string text(const char* name, bool required = true) const {
+    if (!j.contains(name)) {
+      if (required) fail(std::string("\"") + name + "\" is required");
+      return "";
+    }
+    if (!j[name].is_string() || j[name].get<std::string>().empty())
+      fail(std::string("\"") + name + "\" must be a non-empty string");
+    return j[name].get<std::string>();
+  }
+  bool flag(const char* name) const {
+    if (!j.contains(name)) return false;
+    if (!j[name].is_boolean()) fail(std::string("\"") + name + "\" must be true or false");
+    return j[name].get<bool>();
+  }
+  glm::dvec2 point(const char* name) const {
+    if (!j.contains(name)) fail(std::string("\"") + name + "\" is required");
+    const json& p = j[name];
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() ||
+        !std::isfinite(p[0].get<double>()) || !std::isfinite(p[1].get<double>()))
+      fail(std::string("\"") + name + "\" must be [x, y] in window pixels");
+    return {p[0].get<double>(), p[1].get<double>()};
+  }
+  MouseButton button() const {
+    const std::string b = j.contains("button") ? text("button") : "left";
+    if (b == "left") return MouseButton::Left;
+    if (b == "middle") return MouseButton::Middle;
+    if (b == "right") return MouseButton::Right;
+    fail("\"button\" must be left, middle or right, got \"" + b + "\"");
+  }
+  char key() const {
+    const std::string k = text("key");
+    if (k.size() == 1 && std::string("wasdqer").find(char(std::tolower(k[0]))) != std::string::npos)
+      return char(std::tolower(k[0]));
+    fail("\"key\" must be one of w a s d q e r, got \"" + k + "\"");
+  }
+};
+
+}  // namespace
+
+ViewScript parseViewScript(const std::string& text, const std::string& sourceName) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw Error(sourceName + ": not JSON: " + e.what());
+  }
+  const json* list = &root;
+  if (root.is_object() && root.contains("events")) list = &root["events"];
+  if (!list->is_array()) throw Error(sourceName + ": expected an array of events or {\"events\": [...]}");
+
+  ViewScript script;
+  double lastAt = 0.0;
+  for (size_t i = 0; i < list->size(); ++i) {
+    const json& j = (*list)[i];
+    if (!j.is_object() || !j.contains("event") || !j["event"].is_string())
+      throw Error(sourceName + ": event " + std::to_string(i) + ": an object with \"event\" naming its kind");
+    const std::string kind = j["event"].get<std::string>();
+    EventReader r{j, sourceName + ": event " + std::to_string(i) + " (" + kind + ")"};
+    ViewEvent e;
+    e.atSeconds = r.number("at", lastAt);
+    if (e.atSeconds < 0.0) r.fail("\"at\" must not be negative");
+    lastAt = e.atSeconds;
+    auto add = [&](ViewEvent event) { script.events.push_back(std::move(event)); };
+    if (kind == "mouse_down" || kind == "mouse_up" || kind == "mouse_move") {
+      e.kind = kind == "mouse_down" ? ViewEventKind::MouseDown
+               : kind == "mouse_up" ? ViewEventKind::MouseUp
+                                    : ViewEventKind::MouseMove;
+      e.pos = r.point("pos");
+      e.button = r.button();
+      e.shift = r.flag("shift");
+      add(e);
+    } else if (kind == "drag") {
+      const glm::dvec2 from = r.point("from"), to = r.point("to");
+      const double steps = r.number("steps", 8.0);
+      const double seconds = r.number("seconds", 0.0);
+      if (steps < 1.0 || steps > 10000.0 || steps != std::floor(steps))
+        r.fail("\"steps\" must be in [1, 10000]");
+      if (seconds < 0.0) r.fail("\"seconds\" must not be negative");
+      e.button = r.button();
+      e.shift = r.flag("shift");
+      e.kind = ViewEventKind::MouseDown;
+      e.pos = from;
+      add(e);
+      for (int s = 1; s <= int(steps); ++s) {
+        ViewEvent move = e;
+        move.kind = ViewEventKind::MouseMove;
+        move.atSeconds = e.atSeconds + seconds * s / steps;
+        move.pos = from + (to - from) * (double(s) / steps);
+        add(move);
+      }
+      ViewEvent up = e;
+      up.kind = ViewEventKind::MouseUp;
+      up.atSeconds = e.atSeconds + seconds;
+      up.pos = to;
+      add(up);
+      lastAt = up.atSeconds;
+    } else if (kind == "wheel") {
+      e.kind = ViewEventKind::Wheel;
+      e.clicks = r.number("clicks", 0.0, true);
+      add(e);
+    } else if (kind == "key" || kind == "key_down" || kind == "key_up") {
+      e.key = r.key();
+      e.kind = kind == "key_up" ? ViewEventKind::KeyUp : ViewEventKind::KeyDown;
+      add(e);
+      if (kind == "key") {
+        const double seconds = r.number("seconds", 0.0);
+        if (seconds < 0.0) r.fail("\"seconds\" must not be negative");
+        ViewEvent up = e;
+        up.kind = ViewEventKind::KeyUp;
+        up.atSeconds = e.atSeconds + seconds;
+        add(up);
+        lastAt = up.atSeconds;
+      }
+    } else if (kind == "set_iso") {
+      e.kind = ViewEventKind::SetIso;
+      e.value = r.number("value", 0.0, true);
+      add(e);
+    } else if (kind == "set_mode") {
+      e.kind = ViewEventKind::SetMode;
+      const std::string mode = r.text("mode");
+      if (mode != "iso" && mode != "dvr") r.fail("\"mode\" must be iso or dvr, got \"" + mode + "\"");
+      e.mode = mode == "iso" ? RenderMode::Iso : RenderMode::Dvr;
+      add(e);
+    } else if (kind == "load_tf") {
+      e.kind = ViewEventKind::LoadTf;
+      e.tf = r.text("tf");
+      add(e);
+    } else if (kind == "screenshot") {
+      e.kind = ViewEventKind::Screenshot;
+      e.file = r.text("file");
+      e.panels = r.flag("panels");
+      add(e);
+    } else if (kind == "save_camera") {
+      e.kind = ViewEventKind::SaveCamera;
+      e.file = r.text("file");
+      add(e);
+    } else if (kind == "reset_camera") {
+      e.kind = ViewEventKind::ResetCamera;
+      add(e);
+    } else if (kind == "wait_converged") {
+      e.kind = ViewEventKind::WaitConverged;
+      add(e);
+    } else if (kind == "quit") {
+      e.kind = ViewEventKind::Quit;
+      add(e);
+    } else {
+      r.fail(
+          "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
+          "set_iso, set_mode, load_tf, screenshot, save_camera, reset_camera, wait_converged or quit");
+    }
+  }
+  return script;
+}
+
+ViewScript loadViewScript(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("--script " + path + ": cannot open");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseViewScript(text.str(), "--script " + path);
+}
+
+}  // namespace ropecast::tools

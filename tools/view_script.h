@@ -1,0 +1,67 @@
+// ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
+// tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
+// named UI actions (set the isovalue or mode, load a transfer function, take a screenshot, save the camera,
+// wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free;
+// any thread.
+//
+// File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
+// "at" (seconds after the first frame, default 0). Events run in file order; an event never runs before its
+// time, and "screenshot" and "wait_converged" hold back the ones after them until the view has converged.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "core/render_params.h"
+
+namespace ropecast::tools {
+
+enum class ViewEventKind {
+  MouseDown,      // button at pos (shift: shift held)
+  MouseMove,      // the pointer to pos
+  MouseUp,        // button at pos
+  Wheel,          // clicks (positive: closer)
+  KeyDown,        // key
+  KeyUp,          // key
+  SetIso,         // value (data units)
+  SetMode,        // mode
+  LoadTf,         // tf: a preset name or a JSON file
+  Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
+  SaveCamera,     // file: appended to as a camera path `render --path` reads
+  ResetCamera,    // back to the starting view
+  WaitConverged,  // nothing but waiting
+  Quit,
+};
+
+enum class MouseButton { Left, Middle, Right };
+
+struct ViewEvent {
+  double atSeconds = 0.0;
+  ViewEventKind kind = ViewEventKind::WaitConverged;
+  MouseButton button = MouseButton::Left;
+  glm::dvec2 pos{0.0};  // window pixels, y down
+  bool shift = false;
+  double clicks = 0.0;
+  char key = 0;  // lower case: w a s d q e r
+  double value = 0.0;
+  RenderMode mode = RenderMode::Iso;
+  std::string tf;
+  std::string file;
+  bool panels = false;
+};
+
+struct ViewScript {
+  std::vector<ViewEvent> events;  // "drag" and "key" with "seconds" are expanded into their parts
+};
+
+// Parses the JSON text; `sourceName` (a file name) is named in errors (ropecast::Error), with the event's
+// index. "drag" {"from": [x, y], "to": [x, y], "button", "shift", "steps" (moves, default 8), "seconds" (the
+// moves spread over it, default 0)} becomes a press, `steps` moves and a release; "key" {"key", "seconds"}
+// a key press and its release `seconds` later.
+ViewScript parseViewScript(const std::string& text, const std::string& sourceName);
+ViewScript loadViewScript(const std::string& path);
+
+}  // namespace ropecast::tools
