@@ -242,6 +242,8 @@ void renderBrute(const RenderOptions& o, RenderSetup& s) {
     stats.stepVoxels = bf.params.stepVoxels;
     stats.raycastWallClock = brute.raycastTimerUsedWallClock();
     stats.backend = RenderBackend::Brute;
+    stats.drawCalls = 1;
+    stats.glDrawCalls = 1;
     stats.frameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     stats.converged = true;
@@ -362,10 +364,12 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
   addTripleOption(app, "--background", o->background, "background R,G,B in [0,1] (default 0,0,0)");
-  addEnumOption(app, "--backend", o->backend, backendNames(),
-                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
-                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
-                "benchmark baseline). --stats names the one used");
+  addEnumOption(
+      app, "--backend", o->backend, backendNames(),
+      "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
+      "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
+      "benchmark baseline); multipass: the same cut drawn one data brick per pass, composited front "
+      "to back (no occlusion queries, no feedback). --stats names the one used");
   addEnumOption(
       app, "--gradients", o->gradients, kGradientNames,
       "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
@@ -408,9 +412,10 @@ const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::f
       ->check(finiteIn(0.0, 10000.0));
   addEnumOption(app, "--occlusion", o->occlusion, kOnOffNames,
                 "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
-  addEnumOption(app, "--feedback", o->feedback, kOnOffNames,
-                "progressive frames: the rays report the bricks they used and where they wanted finer data; "
-                "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
+  addEnumOption(
+      app, "--feedback", o->feedback, kOnOffNames,
+      "progressive frames: the rays report the bricks they used and where they wanted finer data; "
+      "requested nodes refine first, nodes no ray sampled do not refine, used bricks stay in the pool");
   app.add_option("--query-budget", o->queryBudget, "occlusion queries per frame")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();
