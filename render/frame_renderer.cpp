@@ -322,7 +322,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   if (multipass) {
     stats.drawCalls = multipass_.lastCounts().blocks;
     stats.glDrawCalls = multipass_.lastCounts().glDrawCalls;
+    stats.fragments = multipass_.lastCounts().fragments;
   } else {
+    stats.fragments = uint64_t(request.width) * request.height;
     // One pass over the image per screen tile; the fragment entry point draws each tile as triangles of
     // RaycastPass::kTileSize pixels square, the compute entry point dispatches it once.
     stats.drawCalls = stats.tiles;

@@ -31,6 +31,9 @@ struct FrameStats : LoaderStats {
   // pixels square, the compute entry point's dispatches; multi-pass: each block, its early-ray-termination
   // mark and the final resolve.
   uint64_t glDrawCalls = 0;
+  // Fragments (or compute invocations) that cast rays: the single pass one per pixel; multi-pass the
+  // fragments of its blocks and marks that passed the depth test (MultipassCounts::fragments).
+  uint64_t fragments = 0;
   // Occlusion queries (Gobbetti et al. 2008, Sect. 6); zero with --occlusion off and in synchronous frames.
   uint64_t occlusionQueries = 0;        // issued this frame
   uint64_t occlusionAnswered = 0;       // answers collected this frame (issued in earlier frames)
@@ -78,6 +81,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"tiles", s.tiles},
                         {"draw_calls", s.drawCalls},
                         {"gl_draw_calls", s.glDrawCalls},
+                        {"fragments", s.fragments},
                         {"occlusion_latency_frames", s.occlusionLatencyFrames},
                         {"feedback_requests", s.feedbackRequests},
                         {"feedback_dropped", s.feedbackDropped},

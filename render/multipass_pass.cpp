@@ -71,9 +71,11 @@ void sortFrontToBack(std::vector<MultipassLeaf>& leaves, const OctreeLayout& lay
 MultipassPass::MultipassPass() {
   glCreateVertexArrays(1, &emptyVertexArray_);
   tfTexture_ = createTfTexture();
+  glCreateQueries(GL_SAMPLES_PASSED, 1, &fragmentQuery_);
 }
 
 MultipassPass::~MultipassPass() {
+  glDeleteQueries(1, &fragmentQuery_);
   glDeleteFramebuffers(1, &framebuffer_);
   glDeleteRenderbuffers(1, &depthBuffer_);
   glDeleteTextures(1, &marchTexture_);
@@ -166,6 +168,7 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
   glProgramUniform1f(block.id(), kNdcZLocation, kBlockNdcZ);
   glProgramUniform1f(mark.id(), kNdcZLocation, kMarkNdcZ);
 
+  glBeginQuery(GL_SAMPLES_PASSED, fragmentQuery_);
   for (const MultipassLeaf& leaf : leaves) {
     const WorldBox box = nodeWorldBox(layout, f.volume.spacing, leaf.key);
     // A box with a corner at or behind the eye plane would be clipped at w = 0: it is drawn as the whole
@@ -204,6 +207,8 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
     counts_.glDrawCalls += 2;
   }
 
+  glEndQuery(GL_SAMPLES_PASSED);
+
   // Resolve: the background under the accumulation.
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
@@ -214,6 +219,9 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   timer_.end();
+  GLuint64 fragments = 0;
+  glGetQueryObjectui64v(fragmentQuery_, GL_QUERY_RESULT, &fragments);  // after the frame's work, as the timer
+  counts_.fragments = fragments;
   checkGlError("MultipassPass::render");
 }
 

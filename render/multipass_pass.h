@@ -53,6 +53,10 @@ struct MultipassCounts {
   uint64_t blocks = 0;       // data leaves drawn, one pass each
   uint64_t fullScreen = 0;   // of those, drawn as a full-screen triangle (the box reaches behind the eye)
   uint64_t glDrawCalls = 0;  // every draw: the blocks, their marks and the resolve
+  // Fragments that passed the depth test in the blocks and marks (GL_SAMPLES_PASSED): each block fragment
+  // sets up its ray and reads and writes the pixel's state; the marks add at most one per pixel. The single
+  // pass shades one fragment (or invocation) per pixel.
+  uint64_t fragments = 0;
 };
 
 class MultipassPass {
@@ -90,6 +94,7 @@ class MultipassPass {
   RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
+  uint32_t fragmentQuery_ = 0;  // GL_SAMPLES_PASSED over the blocks and marks
   MultipassCounts counts_;
   GpuTimer timer_;
 };

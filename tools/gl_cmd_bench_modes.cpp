@@ -332,26 +332,27 @@ int runModesBench(const Options& o) {
   std::printf("  times over %s; ratios: configuration / %s; PSNR of the last frame against %s\n",
               o.frames > 1 ? "frames 1.. of each repetition (frame 0 is the cold start)" : "every frame",
               configs[0].first.c_str(), configs[0].first.c_str());
-  std::printf("  %-16s %10s %10s %10s %12s %8s %8s %10s %8s %9s\n", "config", "median ms", "p95 ms", "max ms",
-              "raycast ms", "ratio", "p95 rat", "draws", "leaves", "PSNR dB");
+  std::printf("  %-16s %10s %10s %10s %12s %8s %8s %10s %8s %8s %9s\n", "config", "median ms", "p95 ms",
+              "max ms", "raycast ms", "ratio", "p95 rat", "draws", "frag/px", "leaves", "PSNR dB");
   double refMedian = 0.0, refP95 = 0.0;
   for (size_t c = 0; c < configs.size(); ++c) {
-    std::vector<double> frameMs, raycastMs;
+    std::vector<double> frameMs, raycastMs, fragmentsPerPixel;
     uint64_t draws = 0, leaves = 0;
     for (size_t i = 0; i < runs[c].frames.size(); ++i) {
       const FrameStats& s = runs[c].frames[i];
       if (o.frames > 1 && i % o.frames == 0) continue;
       frameMs.push_back(s.frameMs);
       raycastMs.push_back(s.raycastMs);
+      fragmentsPerPixel.push_back(double(s.fragments) / (double(request.width) * request.height));
       draws = std::max(draws, s.drawCalls);
       leaves = std::max(leaves, s.leaves);
     }
     const double median = percentile(frameMs, 0.5), p95 = percentile(frameMs, 0.95);
     if (c == 0) refMedian = median, refP95 = p95;
-    std::printf("  %-16s %10.1f %10.1f %10.1f %12.1f %8.2f %8.2f %10llu %8llu %9s\n",
+    std::printf("  %-16s %10.1f %10.1f %10.1f %12.1f %8.2f %8.2f %10llu %8.2f %8llu %9s\n",
                 configs[c].first.c_str(), median, p95, *std::max_element(frameMs.begin(), frameMs.end()),
                 percentile(raycastMs, 0.5), median / refMedian, p95 / refP95, (unsigned long long)draws,
-                (unsigned long long)leaves,
+                percentile(fragmentsPerPixel, 0.5), (unsigned long long)leaves,
                 std::isinf(psnr[c]) ? "inf" : std::to_string(psnr[c]).substr(0, 6).c_str());
   }
 

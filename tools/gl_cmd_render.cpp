@@ -244,6 +244,7 @@ void renderBrute(const RenderOptions& o, RenderSetup& s) {
     stats.backend = RenderBackend::Brute;
     stats.drawCalls = 1;
     stats.glDrawCalls = 1;
+    stats.fragments = uint64_t(bf.width) * bf.height;
     stats.frameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     stats.converged = true;
