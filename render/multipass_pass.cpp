@@ -7,6 +7,7 @@
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "core/error.h"
 #include "core/transfer_function.h"
@@ -138,6 +139,7 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
   const OctreeLayout layout = OctreeLayout::forVolume(f.volume.dims, f.volume.brickSize);
   sortFrontToBack(leaves, layout, f.volume.spacing, f.camera.eye);
   const glm::dvec3 forward = glm::normalize(f.camera.target - f.camera.eye);
+  const double tanHalfFov = std::tan(glm::radians(f.camera.fovYDeg) * 0.5);
 
   counts_ = {};
   timer_.begin();
@@ -170,15 +172,25 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
 
   glBeginQuery(GL_SAMPLES_PASSED, fragmentQuery_);
   for (const MultipassLeaf& leaf : leaves) {
-    const WorldBox box = nodeWorldBox(layout, f.volume.spacing, leaf.key);
-    // A box with a corner at or behind the eye plane would be clipped at w = 0: it is drawn as the whole
-    // viewport instead, and each fragment's own clip of its ray to the box decides.
-    double nearest = std::numeric_limits<double>::infinity();
+    WorldBox box = nodeWorldBox(layout, f.volume.spacing, leaf.key);
+    double nearest = std::numeric_limits<double>::infinity(), farthest = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
       const glm::dvec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
                          (corner & 4) ? box.hi.z : box.lo.z);
-      nearest = std::min(nearest, glm::dot(p - f.camera.eye, forward));
+      const double depth = glm::dot(p - f.camera.eye, forward);
+      nearest = std::min(nearest, depth);
+      farthest = std::max(farthest, depth);
     }
+    // The box is rasterized a twentieth of a pixel larger than it is: a pixel whose ray grazes the box's
+    // silhouette is then always shaded, and the fragment's own clip of its ray (exact, as the rope
+    // traversal's) decides which samples are the block's. Without it, the rasterizer's rounding at the
+    // silhouette drops the odd sample that the single pass takes.
+    const double grow = 0.05 * farthest * 2.0 * tanHalfFov / double(f.height);
+    box.lo -= grow;
+    box.hi += grow;
+    nearest -= grow * std::sqrt(3.0);
+    // A box with a corner at or behind the eye plane would be clipped at w = 0: it is drawn as the whole
+    // viewport instead, and each fragment's own clip of its ray to the box decides.
     const double extent = glm::length(box.hi - box.lo);
     const bool fullScreen = !(nearest > 1e-3 * extent);
     const GLint first = fullScreen ? kFullScreenFirst : 0;
