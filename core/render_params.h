@@ -14,15 +14,18 @@ namespace ropecast {
 enum class RenderMode { Iso, Dvr };
 // How the GL renderer draws (the CPU renderers ignore it): the octree ray caster's fragment or compute entry
 // point (render/raycast_pass), brute force over level 0 in one 3D texture without an index (the benchmark
-// baseline, render/brute_force_pass), or Auto: fragment or compute, whichever suits the GL renderer
+// baseline, render/brute_force_pass), the multi-pass block renderer over the same cut (each data leaf drawn
+// as its own pass and composited front to back, the strategy the single pass replaces: Gobbetti et al. 2008,
+// Sect. 2; render/multipass_pass), or Auto: fragment or compute, whichever suits the GL renderer
 // (render/backend_choice.h resolves it).
-enum class RenderBackend { Auto, Fragment, Compute, Brute };
+enum class RenderBackend { Auto, Fragment, Compute, Brute, Multipass };
 // The names of `ropecast render --backend` and of the "backend" field of --stats.
-inline constexpr std::array<std::pair<std::string_view, RenderBackend>, 4> kRenderBackendNames{
+inline constexpr std::array<std::pair<std::string_view, RenderBackend>, 5> kRenderBackendNames{
     {{"auto", RenderBackend::Auto},
      {"fragment", RenderBackend::Fragment},
      {"compute", RenderBackend::Compute},
-     {"brute", RenderBackend::Brute}}};
+     {"brute", RenderBackend::Brute},
+     {"multipass", RenderBackend::Multipass}}};
 constexpr std::string_view renderBackendName(RenderBackend backend) {
   for (const auto& [name, value] : kRenderBackendNames)
     if (value == backend) return name;

@@ -120,6 +120,12 @@ RaycastFrame FrameRenderer::raycastFrame(const FrameRequest& request, uint32_t w
 }
 
 void FrameRenderer::prepare(const FrameRequest& request) {
+  if (backendFor(request.params) == RenderBackend::Multipass) {
+    // One block of the root over pool slot 0, whatever it holds: the draw that makes the driver compile.
+    multipass_.render(raycastFrame(request, 1, 1), {MultipassLeaf{}});
+    multipass_.lastRaycastMs();
+    return;
+  }
   Cut empty;
   empty.leaves.push_back(CutLeaf{});  // the root, an empty leaf: rays traverse it and take no sample
   RopeIndex index;
@@ -198,8 +204,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   const auto frameStart = Clock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
-  const bool occlusion = visibility_ && !request.synchronous;
-  const bool feedback = feedback_ && !request.synchronous;
+  const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
+  const bool occlusion = visibility_ && !request.synchronous && !multipass;
+  const bool feedback = feedback_ && !request.synchronous && !multipass;
 
   // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for
   // one). Marks and answers made under another isovalue or transfer function describe another image.
@@ -290,7 +297,16 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     frame.feedback = feedback_.get();
     frame.voxelsPerPixel = request.voxelsPerPixel;
   }
-  raycast_.render(frame, schedule);
+  if (multipass) {
+    // The multi-pass renderer over the same cut: one pass per data leaf (empty leaves are not drawn).
+    std::vector<MultipassLeaf> leaves;
+    for (const PlannedLeaf& leaf : plan.leaves)
+      if (leaf.content == LeafContent::Brick) leaves.push_back({leaf.key, leaf.slot});
+    multipass_.render(frame, std::move(leaves));
+  } else {
+    raycast_.render(frame, schedule);
+  }
+  lastMultipass_ = multipass;
   uint64_t cutHash = plan.leaves.size();
   for (const PlannedLeaf& leaf : plan.leaves)
     cutHash = cutHash * 0x9E3779B97F4A7C15ull ^ NodeKeyHash {}(leaf.key);
@@ -312,6 +328,22 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
 
   static_cast<LoaderStats&>(stats) = plan.stats;
   stats.tiles = std::max<uint64_t>(schedule.tiles.size(), 1);
+  if (multipass) {
+    stats.drawCalls = multipass_.lastCounts().blocks;
+    stats.glDrawCalls = multipass_.lastCounts().glDrawCalls;
+    stats.fragments = multipass_.lastCounts().fragments;
+  } else {
+    stats.fragments = uint64_t(request.width) * request.height;
+    // One pass over the image per screen tile; the fragment entry point draws each tile as triangles of
+    // RaycastPass::kTileSize pixels square, the compute entry point dispatches it once.
+    stats.drawCalls = stats.tiles;
+    const PixelRect whole{0, 0, request.width, request.height};
+    const uint32_t side = RaycastPass::kTileSize;
+    for (const PixelRect& t : schedule.tiles.empty() ? std::vector<PixelRect>{whole} : schedule.tiles)
+      stats.glDrawCalls += frame.params.backend == RenderBackend::Compute
+                               ? 1
+                               : uint64_t((t.width + side - 1) / side) * ((t.height + side - 1) / side);
+  }
   stats.workingSetBricks = workingSet_->slots().pinnedCount();
   // Converged also means the cut held through a whole round of occlusion answers about it (a mark may still
   // flip on a leaf whose refinement it does not change: a sample count at the threshold).
@@ -326,8 +358,10 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   stats.stepVoxels = request.params.stepVoxels;
   stats.backend = frame.params.backend;
   stats.uploadMs = uploadMs;
-  stats.raycastMs = raycast_.lastRaycastMs();  // waits for the GPU: the frame time includes the ray cast
-  stats.raycastWallClock = raycast_.raycastTimerUsedWallClock();
+  // Waits for the GPU: the frame time includes the ray cast.
+  stats.raycastMs = multipass ? multipass_.lastRaycastMs() : raycast_.lastRaycastMs();
+  stats.raycastWallClock =
+      multipass ? multipass_.raycastTimerUsedWallClock() : raycast_.raycastTimerUsedWallClock();
   stats.frameMs = msSince(frameStart);
   return stats;
 }

@@ -4,7 +4,8 @@
 //   -> ray cast + queries (RaycastPass, OcclusionQueries) -> stats.
 // It owns the GL objects of a volume (pool, index texture, ray-cast pass) and the loader's WorkingSet, and is
 // handed the BrickSource and the transfer function. The loader decides what to load; this class only carries
-// its plan to the GPU.
+// its plan to the GPU. With RenderBackend::Multipass the ray cast is MultipassPass over the same cut and
+// pool, one pass per data leaf, with no occlusion queries and no ray feedback (those passes are skipped).
 //
 // Render thread only, with the GlContext current. The BrickSource must outlive the FrameRenderer.
 #pragma once
@@ -29,6 +30,7 @@
 #include "occlusion/visibility_tracker.h"
 #include "render/feedback_buffer.h"
 #include "render/frame_stats.h"
+#include "render/multipass_pass.h"
 #include "render/occlusion_queries.h"
 #include "render/raycast_pass.h"
 #include "render/upload_pacer.h"
@@ -92,8 +94,8 @@ class FrameRenderer {
   void prepare(const FrameRequest& request);
 
   // The last frame's targets (row 0 at the top): RGBA and depth.
-  FloatImage readColor() const { return raycast_.readColor(); }
-  FloatImage readDepth() const { return raycast_.readDepth(); }
+  FloatImage readColor() const { return lastMultipass_ ? multipass_.readColor() : raycast_.readColor(); }
+  FloatImage readDepth() const { return lastMultipass_ ? multipass_.readDepth() : raycast_.readDepth(); }
 
   // The last frame's cut, as handed to the index (tests and the CPU mirror).
   const Cut& lastCut() const { return cut_; }
@@ -107,7 +109,8 @@ class FrameRenderer {
 
  private:
   const GradientPool* gradientsFor(const RenderParams& params) const;
-  // params.backend with Auto resolved for this GL renderer (render/backend_choice.h); Fragment or Compute.
+  // params.backend with Auto resolved for this GL renderer (render/backend_choice.h); Fragment, Compute or
+  // Multipass.
   RenderBackend backendFor(const RenderParams& params) const;
   // Builds the rope index of `cut` into `index` and uploads it to the index texture.
   void uploadIndex(const Cut& cut, RopeIndex& index);
@@ -130,6 +133,8 @@ class FrameRenderer {
   UploadPacer uploadPacer_;
   std::vector<BrickPoolUpload> uploadBatch_;
   RaycastPass raycast_;
+  MultipassPass multipass_;
+  bool lastMultipass_ = false;  // which pass drew the last frame
   RopeIndexBuilder indexBuilder_;
   RopeIndex index_;
   Cut cut_;

@@ -24,6 +24,16 @@ struct FrameStats : LoaderStats {
   double stepVoxels = 0.0;  // the sample step of this frame (--step, scaled by --target-frame-ms)
   RenderBackend backend = RenderBackend::Fragment;  // the backend that drew it (never Auto: resolved)
   uint64_t workingSetBricks = 0;  // bricks of this frame's refined tree (the cut and the nodes above it)
+  // Passes that cast rays over (part of) the image: the single pass casts each screen tile in one pass (1
+  // without occlusion queries); the multi-pass backend one per data leaf drawn; brute force 1.
+  uint64_t drawCalls = 0;
+  // The GL draws and dispatches behind them: the fragment entry point's triangles of RaycastPass::kTileSize
+  // pixels square, the compute entry point's dispatches; multi-pass: each block, its early-ray-termination
+  // mark and the final resolve.
+  uint64_t glDrawCalls = 0;
+  // Fragments (or compute invocations) that cast rays: the single pass one per pixel; multi-pass the
+  // fragments of its blocks and marks that passed the depth test (MultipassCounts::fragments).
+  uint64_t fragments = 0;
   // Occlusion queries (Gobbetti et al. 2008, Sect. 6); zero with --occlusion off and in synchronous frames.
   uint64_t occlusionQueries = 0;        // issued this frame
   uint64_t occlusionAnswered = 0;       // answers collected this frame (issued in earlier frames)
@@ -69,6 +79,9 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"nodes_occluded", s.nodesOccluded},
                         {"occlusion_ms", s.occlusionMs},
                         {"tiles", s.tiles},
+                        {"draw_calls", s.drawCalls},
+                        {"gl_draw_calls", s.glDrawCalls},
+                        {"fragments", s.fragments},
                         {"occlusion_latency_frames", s.occlusionLatencyFrames},
                         {"feedback_requests", s.feedbackRequests},
                         {"feedback_dropped", s.feedbackDropped},

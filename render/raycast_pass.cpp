@@ -85,7 +85,7 @@ const ShaderProgram& RaycastPass::program(const RenderParams& params, bool feedb
   return *p;
 }
 
-RaycastBlock RaycastPass::block(const RaycastFrame& f) const {
+RaycastBlock raycastFrameBlock(const RaycastFrame& f) {
   const VolumeGeometry& vol = f.volume;
   RaycastBlock b = raycastBlock(f.camera, f.width, f.height, vol.dims, vol.spacing, vol.mapping,
                                 vol.storedMax(), f.params);
@@ -141,7 +141,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   const ShaderProgram& p = program(f.params, f.feedback != nullptr);
   target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
-  blockBuffer_.upload(block(f));
+  blockBuffer_.upload(raycastFrameBlock(f));
   if (f.params.backend == RenderBackend::Compute &&
       (stopDepthWidth_ != f.width || stopDepthHeight_ != f.height)) {
     glDeleteTextures(1, &stopDepthTexture_);

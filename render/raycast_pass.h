@@ -69,6 +69,11 @@ struct RaycastFrame {
   double voxelsPerPixel = 1.0;
 };
 
+// The uniform block of a frame: camera, volume, the pool's geometry, window depth range and feedback
+// distances (shaders/raycast_block.h). Shared by the passes that walk the cut's bricks (RaycastPass,
+// MultipassPass). Any thread.
+RaycastBlock raycastFrameBlock(const RaycastFrame& frame);
+
 // A pixel rectangle of the image (row 0 at the top).
 struct PixelRect {
   uint32_t x = 0, y = 0, width = 0, height = 0;
@@ -119,7 +124,6 @@ class RaycastPass {
 
  private:
   const ShaderProgram& program(const RenderParams& params, bool feedback);
-  RaycastBlock block(const RaycastFrame& frame) const;
   // Binds what the ray-cast program reads and, for the fragment entry point, the target and its state.
   void bindForCasting(const RaycastFrame& frame, const ShaderProgram& p);
   void castTile(const RaycastFrame& frame, const ShaderProgram& p, const PixelRect& tile);

@@ -15,6 +15,9 @@
 #include "index/rope_index.h"
 #include "index/rope_traversal.h"
 #include "tools/command.h"
+#ifdef ROPECAST_HAVE_GL
+#include "tools/bench_modes.h"
+#endif
 
 namespace ropecast::tools {
 namespace {
@@ -163,6 +166,13 @@ std::function<int()> setupIndexBench(CLI::App& app) {
 const Benchmark kBenchmarks[] = {
     {"index", "rope index build time over a random cut (goal: 10 000 leaves in <= 1 ms), CPU traversal speed",
      setupIndexBench},
+#ifdef ROPECAST_HAVE_GL
+    {"modes",
+     "single-pass ray casting against the multi-pass block renderer (and the other entry point) on one input "
+     "and "
+     "camera path: bench.json, frame_times.png, images/, a table",
+     setupModesBench},
+#endif
 };
 
 const CommandRegistration registration("bench", 80, [](CLI::App& app) -> std::function<int()> {

@@ -192,6 +192,9 @@ RenderedFrame renderBrute(RenderSetup& s) {
     stats.stepVoxels = bf.params.stepVoxels;
     stats.raycastWallClock = brute.raycastTimerUsedWallClock();
     stats.backend = RenderBackend::Brute;
+    stats.drawCalls = 1;
+    stats.glDrawCalls = 1;
+    stats.fragments = uint64_t(bf.width) * bf.height;
     stats.frameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     stats.converged = true;

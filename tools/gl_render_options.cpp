@@ -39,10 +39,12 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
   addTripleOption(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)");
-  addEnumOption(app, "--backend", o.backend, backendNames(),
-                "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
-                "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
-                "benchmark baseline). --stats names the one used");
+  addEnumOption(
+      app, "--backend", o.backend, backendNames(),
+      "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
+      "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
+      "benchmark baseline); multipass: the same cut drawn one data brick per pass, composited front "
+      "to back (no occlusion queries, no feedback). --stats names the one used");
   addEnumOption(
       app, "--gradients", o.gradients, kGradientNames,
       "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "

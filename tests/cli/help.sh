@@ -22,7 +22,7 @@ for cmd in $commands; do
   options=$(awk -v c="$cmd" '$1 == "ropecast" {on = ($2 == c)} $1 != "ropecast" && !/^    / {on = 0} on' "$readme" |
     grep -oE -- '--[a-z][a-z0-9-]*' | sort -u)
   cmd_help=$("$ropecast" "$cmd" --help) || fail "ropecast $cmd --help exited non-zero"
-  [ "$cmd" = bench ] && cmd_help=$("$ropecast" bench index --help)
+  [ "$cmd" = bench ] && cmd_help=$("$ropecast" bench index --help; "$ropecast" bench modes --help)
   for option in $options; do
     grep -qE -- "(^|[ ,])$option([ ,=]|\$)" <<< "$cmd_help" || fail "README.md shows $option for $cmd, its --help does not"
   done

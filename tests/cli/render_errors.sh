@@ -47,7 +47,7 @@ expect_failure "unknown procedural" "bogus" procedural:bogus:32
 expect_failure "bad size" "--size" "$vol" --size 0x4
 expect_failure "size not WxH" "--size" "$vol" --size 512
 expect_failure "bad mode" "--mode" "$vol" --mode foo
-expect_failure "bad backend" "--backend: vulkan not in {auto,fragment,compute,brute}" "$vol" --backend vulkan
+expect_failure "bad backend" "--backend: vulkan not in {auto,fragment,compute,brute,multipass}" "$vol" --backend vulkan
 expect_failure "backend by number" "--backend: 1 not in" "$vol" --backend 1
 expect_failure "bad gradients" "--gradients" "$vol" --gradients sobel
 expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5

@@ -1,0 +1,90 @@
+#version 450 core
+// One block of the multi-pass renderer (render/multipass_pass.h): the camera ray of each fragment is clipped to
+// the leaf's box and sampled there on the ray's global grid, continuing the pixel's front-to-back state held in
+// images between the passes. The box's entry and exit are computed as the rope traversal computes a leaf's
+// (ropePlaneT in root-cube coordinates, shaders/rope_traversal.glsl), and the first sample index as
+// castRay computes it (firstSampleIndex, anchored at the ray's entry into the volume), so two neighbouring
+// blocks split the grid exactly as the single pass splits it between two leaves (docs/RENDERING.md "Rays").
+// Early fragment tests: the depth test that skips the pixels whose ray has ended (the mark of
+// shaders/multipass_mark.frag) runs before the shader, which its image stores would otherwise forbid.
+
+layout(early_fragment_tests) in;
+
+#include "shaders/raycast_common.glsl"
+
+layout(rgba32f, binding = 0) uniform image2D uAccum;  // premultiplied color, opacity (iso: the hit, 1)
+layout(r32f, binding = 1) uniform image2D uDepth;     // world depth (+inf: none yet)
+#ifdef RAYCAST_MODE_ISO
+layout(rgba32f, binding = 2) uniform image2D uMarch;  // has previous sample, its t, its f, hit
+#endif
+layout(location = 3) uniform vec3 uLeafBoxMin;  // root-cube coordinates
+layout(location = 4) uniform uvec2 uLeaf;       // depth, brick slot
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  Ray ray;
+  if (!cameraRay(uvec2(pixel), ray)) return;
+  vec3 originCube = ray.origin / raycast.cubeWorld;
+  vec3 dirCube = ray.dir / raycast.cubeWorld;
+
+  // As ropeBegin: 1/dir on moving axes, and where the walk of the single pass starts (tStart) and ends.
+  vec3 invDir;
+  for (int a = 0; a < 3; ++a) {
+    float inv = dirCube[a] != 0.0 ? 1.0 / dirCube[a] : 0.0;
+    invDir[a] = (isinf(inv) || isnan(inv)) ? 0.0 : inv;
+  }
+  bvec3 moving = notEqual(invDir, vec3(0.0));
+  bvec3 positive = greaterThan(invDir, vec3(0.0));
+  vec3 cubeEntry = ropePlaneT(vec3(not(positive)), originCube, invDir);
+  vec3 cubeExit = ropePlaneT(vec3(positive), originCube, invDir);
+  float boxSize = ropeBoxSize(uLeaf.x);
+  vec3 boxEntry = ropePlaneT(uLeafBoxMin + vec3(not(positive)) * boxSize, originCube, invDir);
+  vec3 boxExit = ropePlaneT(uLeafBoxMin + vec3(positive) * boxSize, originCube, invDir);
+  float tStart = ray.t0, tEnd = ray.t1;
+  float tEnter = -kInfinity, tExit = kInfinity;
+  for (int a = 0; a < 3; ++a) {
+    if (!moving[a]) {
+      if (originCube[a] < uLeafBoxMin[a] || originCube[a] > uLeafBoxMin[a] + boxSize) return;
+      continue;
+    }
+    tStart = max(tStart, cubeEntry[a]);
+    tEnd = min(tEnd, cubeExit[a]);
+    tEnter = max(tEnter, boxEntry[a]);
+    tExit = min(tExit, boxExit[a]);
+  }
+  // The box holding the walk's start is the ray's first leaf: its grid starts at k = 0.
+  bool entry = tEnter <= tStart;
+  tEnter = max(tEnter, tStart);
+  tExit = min(tExit, tEnd);
+  if (!(tExit > tEnter)) return;
+
+  RopeLeaf leaf;
+  leaf.depth = uLeaf.x;
+  leaf.brickSlot = uLeaf.y;
+  leaf.boxMin = uLeafBoxMin;
+  Segment s = leafSegment(leaf, originCube, dirCube);
+  float kBegin = firstSampleIndex(ray.t0, tEnter, s.dt, entry);
+
+#ifdef RAYCAST_MODE_ISO
+  vec4 state = imageLoad(uMarch, pixel);
+  if (state.w != 0.0) return;
+  IsoMarch march = IsoMarch(state.x != 0.0, state.y, state.z, false, 0.0);
+  marchIso(march, s, ray.t0, kBegin, min(tExit, ray.t1));
+  if (march.hit) {
+    RayResult r = shadeIsoHit(march, s, ray);
+    // The nearest hit wins by depth; in front-to-back order the first hit is the nearest.
+    if (r.depth < imageLoad(uDepth, pixel).r) {
+      imageStore(uAccum, pixel, r.color);
+      imageStore(uDepth, pixel, vec4(r.depth));
+    }
+  }
+  imageStore(uMarch, pixel, vec4(march.hasPrev ? 1.0 : 0.0, march.tPrev, march.fPrev, march.hit ? 1.0 : 0.0));
+#else
+  vec4 accum = imageLoad(uAccum, pixel);
+  if (accum.a >= raycast.ert) return;
+  DvrAccum acc = DvrAccum(accum.rgb, accum.a, imageLoad(uDepth, pixel).r);
+  compositeDvr(acc, s, ray, kBegin, firstSampleIndex(ray.t0, min(tExit, ray.t1), s.dt, false));
+  imageStore(uAccum, pixel, vec4(acc.color, acc.alpha));
+  imageStore(uDepth, pixel, vec4(acc.depth));
+#endif
+}

@@ -1,0 +1,23 @@
+#version 450 core
+// Early ray termination across the blocks of the multi-pass renderer (render/multipass_pass.h): drawn over a
+// block's box after it, this pass keeps the fragments whose ray has ended (opacity >= --ert, or an isosurface
+// hit), which write their depth, and discards the others; the later blocks' fragments there fail the depth
+// test and are never shaded, as multi-pass ray casters terminate rays (Krüger and Westermann 2003).
+
+#include "shaders/raycast_block.h"
+
+#ifdef RAYCAST_MODE_ISO
+layout(rgba32f, binding = 2) uniform readonly image2D uMarch;
+#else
+layout(rgba32f, binding = 0) uniform readonly image2D uAccum;
+#endif
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+#ifdef RAYCAST_MODE_ISO
+  bool ended = imageLoad(uMarch, pixel).w != 0.0;
+#else
+  bool ended = imageLoad(uAccum, pixel).a >= raycast.ert;
+#endif
+  if (!ended) discard;
+}
