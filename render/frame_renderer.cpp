@@ -152,9 +152,7 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
     stats.feedbackRequests = readback->requestedLeaves.size();
     stats.feedbackDropped = readback->usedDropped + readback->requestedDropped;
     stats.bricksUsed = readback->usedLeaves.size();
-    answeredCutHash_ = cutHashes_.count(readback->frame) ? cutHashes_.at(readback->frame) : 0;
   }
-  std::erase_if(cutHashes_, [&](const auto& entry) { return entry.first <= rayFeedback_.answeredFrame(); });
   if (rayFeedback_.answered()) stats.feedbackLatencyFrames = frame_ - rayFeedback_.answeredFrame();
   stats.feedbackMs += msSince(start);
 }
@@ -217,7 +215,6 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
       queries_->dropPending();
     }
     rayFeedback_.reset();
-    cutHashes_.clear();
   }
   if (occlusion) collectVisibility(request, stats);
   if (feedback) collectFeedback(stats);
@@ -323,7 +320,6 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
       dataLeaf.push_back(leaf.content == LeafContent::Brick);
     }
     rayFeedback_.rememberCut(frame_, std::move(keys), std::move(dataLeaf));
-    cutHashes_[frame_] = cutHash;
   }
 
   static_cast<LoaderStats&>(stats) = plan.stats;
@@ -334,15 +330,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     stats.fragments = multipass_.lastCounts().fragments;
   } else {
     stats.fragments = uint64_t(request.width) * request.height;
-    // One pass over the image per screen tile; the fragment entry point draws each tile as triangles of
-    // RaycastPass::kTileSize pixels square, the compute entry point dispatches it once.
-    stats.drawCalls = stats.tiles;
-    const PixelRect whole{0, 0, request.width, request.height};
-    const uint32_t side = RaycastPass::kTileSize;
-    for (const PixelRect& t : schedule.tiles.empty() ? std::vector<PixelRect>{whole} : schedule.tiles)
-      stats.glDrawCalls += frame.params.backend == RenderBackend::Compute
-                               ? 1
-                               : uint64_t((t.width + side - 1) / side) * ((t.height + side - 1) / side);
+    stats.drawCalls = stats.tiles;  // one pass over the image per screen tile
+    stats.glDrawCalls = raycast_.lastDrawCalls();
   }
   stats.workingSetBricks = workingSet_->slots().pinnedCount();
   // Converged also means the cut held through a whole round of occlusion answers about it (a mark may still
@@ -352,7 +341,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
         stats.converged && frame_ - cutChangedFrame_ > std::max<uint64_t>(visibility_->lastRoundFrames(), 1);
   // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
   if (feedback)
-    stats.converged = stats.converged && rayFeedback_.answered() && answeredCutHash_ == currentCutHash_;
+    stats.converged =
+        stats.converged && rayFeedback_.answered() && rayFeedback_.answeredFrame() >= cutChangedFrame_;
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;

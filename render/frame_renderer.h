@@ -11,7 +11,6 @@
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -151,9 +150,10 @@ class FrameRenderer {
 
   std::unique_ptr<FeedbackBuffer> feedback_;  // config.feedback only
   RayFeedback rayFeedback_;
-  std::map<uint64_t, uint64_t> cutHashes_;  // frame -> its cut, for frames whose feedback is in flight
-  uint64_t currentCutHash_ = 0, answeredCutHash_ = 0;
-  uint64_t cutChangedFrame_ = 0;  // the last frame whose cut differed from the one before
+  uint64_t currentCutHash_ = 0;
+  // The last frame whose cut differed from the one before: every frame since has this cut, so an answer
+  // about one of them is about it.
+  uint64_t cutChangedFrame_ = 0;
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the

@@ -160,6 +160,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   const std::span<const PixelRect> tiles = schedule.tiles.empty()
                                                ? std::span<const PixelRect>(&whole, 1)
                                                : std::span<const PixelRect>(schedule.tiles);
+  lastDrawCalls_ = 0;
   bindForCasting(f, p);
   castTile(f, p, tiles[0]);
   if (schedule.afterFirstTile) {
@@ -212,6 +213,7 @@ void RaycastPass::castTile(const RaycastFrame& f, const ShaderProgram& p, const 
     glProgramUniform2ui(p.id(), kTileEndLocation, tile.x + tile.width, tile.y + tile.height);
     glDispatchCompute((tile.width + kWorkgroupSize - 1) / kWorkgroupSize,
                       (tile.height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
+    ++lastDrawCalls_;
     return;
   }
   // Each draw is one triangle around a kTileSize square, cut to it by the scissor: a quad's two triangles
@@ -224,6 +226,7 @@ void RaycastPass::castTile(const RaycastFrame& f, const ShaderProgram& p, const 
       glProgramUniform4ui(p.id(), kTileRectLocation, x, y, w, h);
       glScissor(GLint(x), GLint(y), GLsizei(w), GLsizei(h));
       glDrawArrays(GL_TRIANGLES, 0, 3);
+      ++lastDrawCalls_;
     }
 }
 

@@ -104,6 +104,9 @@ class RaycastPass {
 
   // GPU time of the last render() (GL_TIME_ELAPSED; waits for the result).
   double lastRaycastMs() { return timer_.elapsedMs(); }
+  // GL draws (or compute dispatches) of the last render()'s ray cast: one per kTileSize square of each tile
+  // for the fragment entry point, one per tile for the compute one.
+  uint64_t lastDrawCalls() const { return lastDrawCalls_; }
   bool raycastTimerUsedWallClock() const { return timer_.usedWallClock(); }
   // The targets of the last render, row 0 at the top: RGBA (final color, alpha = coverage) and depth (world
   // units along the camera axis, +inf = miss). Synchronous readback.
@@ -137,6 +140,7 @@ class RaycastPass {
   RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
+  uint64_t lastDrawCalls_ = 0;
   uint32_t stopDepthTexture_ = 0;  // compute entry point: R32F, the size of the target
   uint32_t stopDepthWidth_ = 0, stopDepthHeight_ = 0;
   std::unique_ptr<ShaderProgram> stopDepthProgram_;
