@@ -4,9 +4,13 @@
 // frames later as indices into that frame's cut (render/feedback_buffer.h). This class keeps each frame's cut
 // until its answer arrives, maps the indices to nodes, and answers per node:
 //   Requested  requested in the latest answer that covered the node: refined before the rest;
-//   Unused     a data leaf of the answered cut that no ray sampled: not refined by priority alone;
-//   None       used and not requested, not in the answered tree, or the answer is too old.
-// An inner node of the answered tree is Unused when no data leaf below it was used, None otherwise.
+//   Used       an inner node of the latest remembered cut (the tree on the GPU now) that no answer calls
+//              unused: ranked with Requested, so the bricks the rays are using are not given up for requests
+//              when the pool is full. It is the tree now, not the answered one: answers come a frame or two
+//              late, and hints about an older tree would let even and odd frames settle on different cuts;
+//   Unused     a data leaf of the answered cut that no ray sampled, or an inner node of it with no used data
+//              leaf below: not refined by priority alone;
+//   None       a used leaf not requested, not in the answered tree, or the answer is too old.
 // An answer holds until a newer answer covers the node, at most answerLifetimeFrames frames after the frame
 // it describes (the view may have moved since). usedNodes() are the leaves the latest answer saw used: their
 // bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h).
@@ -18,6 +22,7 @@
 #include <deque>
 #include <span>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "loader/refiner.h"
@@ -33,7 +38,8 @@ class RayFeedback {
  public:
   explicit RayFeedback(const RayFeedbackConfig& config = {}) : config_(config) {}
 
-  // The cut frame `frame` was cast with, by cut index; dataLeaf[i] says whether leaf i held a brick.
+  // The cut frame `frame` was cast with, by cut index; dataLeaf[i] says whether leaf i held a brick. Its
+  // inner nodes are the Used ones until the next cut is remembered.
   void rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::vector<uint8_t> dataLeaf);
   // The answer of frame `frame` (indices into its remembered cut). Answers come in frame order; cuts older
   // than it are forgotten. An answer for a frame whose cut is not remembered is ignored (returns false).
@@ -61,6 +67,7 @@ class RayFeedback {
 
   RayFeedbackConfig config_;
   std::deque<RememberedCut> cuts_;
+  std::unordered_set<NodeKey, NodeKeyHash> latestInner_;
   std::unordered_map<NodeKey, NodeAnswer, NodeKeyHash> answers_;
   std::vector<NodeKey> usedNodes_;
   bool answered_ = false;

@@ -70,12 +70,15 @@ struct Candidate {
   NodeHint hint;
 };
 
-// Requested nodes first, then larger projected voxels first; ties in a fixed node order so the cut does not
-// depend on history.
+// Nodes the rays asked for or use first, then larger projected voxels first; ties in a fixed node order so
+// the cut does not depend on history.
+bool wantedByRays(NodeHint h) {
+  return h == NodeHint::Requested || h == NodeHint::Used;
+}
 struct LowerPriority {
   bool operator()(const Candidate& a, const Candidate& b) const {
-    const bool aRequested = a.hint == NodeHint::Requested, bRequested = b.hint == NodeHint::Requested;
-    if (aRequested != bRequested) return bRequested;
+    const bool aWanted = wantedByRays(a.hint), bWanted = wantedByRays(b.hint);
+    if (aWanted != bWanted) return bWanted;
     if (a.voxelPixels != b.voxelPixels) return a.voxelPixels < b.voxelPixels;
     return std::tie(b.key.depth, b.key.coord.z, b.key.coord.y, b.key.coord.x) <
            std::tie(a.key.depth, a.key.coord.z, a.key.coord.y, a.key.coord.x);

@@ -67,6 +67,11 @@ enum class NodeHint : uint8_t {
   Occluded,   // hidden in the last answered occlusion queries: not refined (Gobbetti et al. 2008, Sect. 6)
   Unused,     // the rays' feedback answered for it and no ray used it: not refined (Crassin et al. 2009)
   Requested,  // a ray wanted finer data there: refined before the nodes that were not requested
+  // Refined in the last frame and used by the rays as far as they answered: ranked with Requested, so that
+  // when the GPU pool is full a request does not displace bricks the rays are using (a brick used in the last
+  // frame is not replaced; Crassin et al. 2009, Sect. 5). The two compete by projected voxel size, which
+  // keeps the cut of a still view from alternating between two trees.
+  Used,
 };
 // Asked once per node the refinement or its read-ahead reaches (the root included), on the refining thread.
 // Null: no hints.
@@ -137,9 +142,9 @@ inline bool boxInFrustum(const WorldBox& box, const RefineView& view) {
   return boxInFrustum(box, viewFrustum(view));
 }
 
-// Refinement order: Requested nodes before all others, each group by decreasing projected voxel size. The
-// root's brick is always acquired (a frame always needs the coarse cut); a hint stops a node's refinement
-// after the Adequate and Finest tests, before its children are acquired or requested.
+// Refinement order: Requested and Used nodes before all others, each group by decreasing projected voxel
+// size. The root's brick is always acquired (a frame always needs the coarse cut); a hint stops a node's
+// refinement after the Adequate and Finest tests, before its children are acquired or requested.
 RefineResult refine(const BrickSource& nodes, const RefineView& view, const EmptinessPredicate& isEmpty,
                     BrickResidency& residency, const NodeHints& hints = {});
 

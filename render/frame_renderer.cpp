@@ -229,7 +229,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   // Occluded or unused leaves do not refine, and a refined node whose leaves are all occluded or unused
   // collapses. While the view changes it may collapse every frame; on a still view at most once, so that the
   // tree converges: collapsing there can cycle (a node refined because it showed hides another's leaves, that
-  // one collapses, its coarse data no longer hides the first, ...).
+  // one collapses, its coarse data no longer hides the first, ...). A node refused its second collapse keeps
+  // its refinement as a Used node does: ranked as None, a full GPU pool would give it up to the rays'
+  // requests every other frame (its coarse brick is used and requested, its children are not used).
   if (!lastView_ || !sameView(*lastView_, request)) collapsedOnThisView_.clear();
   if (occlusion || feedback) {
     input.hints = [this, occlusion, feedback](const NodeKey& key) {
@@ -240,7 +242,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
         hint = rayFeedback_.hint(key, frame_);
       const bool collapses =
           (hint == NodeHint::Occluded || hint == NodeHint::Unused) && lastInnerNodes_.contains(key);
-      if (collapses && !collapsedOnThisView_.insert(key).second) return NodeHint::None;
+      if (collapses && !collapsedOnThisView_.insert(key).second) return NodeHint::Used;
       return hint;
     };
   }

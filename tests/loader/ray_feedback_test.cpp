@@ -68,7 +68,7 @@ TEST(RayFeedback, IndicesPastTheCutAreIgnored) {
 namespace ropecast {
 namespace {
 
-TEST(RayFeedback, InnerNodesAreUnusedWhenNoDataLeafBelowWasUsed) {
+TEST(RayFeedback, InnerNodesAreUsedWhenADataLeafBelowWasUsed) {
   // Root -> a (refined: a0 used, a1 unused) and b (refined: b0, b1 unused), one empty leaf.
   const NodeKey a{1, {0, 0, 0}}, b{1, {1, 0, 0}};
   const NodeKey a0 = a.child(0), a1 = a.child(1), b0 = b.child(0), b1 = b.child(1), e{1, {0, 1, 0}};
@@ -76,8 +76,8 @@ TEST(RayFeedback, InnerNodesAreUnusedWhenNoDataLeafBelowWasUsed) {
   f.rememberCut(3, {a0, a1, b0, b1, e}, {1, 1, 1, 1, 0});
   const uint32_t used[] = {0};
   ASSERT_TRUE(f.answer(3, used, std::span<const uint32_t>()));
-  EXPECT_EQ(f.hint(a, 3), NodeHint::None);
-  EXPECT_EQ(f.hint(NodeKey{}, 3), NodeHint::None);
+  EXPECT_EQ(f.hint(a, 3), NodeHint::Used);
+  EXPECT_EQ(f.hint(NodeKey{}, 3), NodeHint::Used);
   EXPECT_EQ(f.hint(b, 3), NodeHint::Unused);
   EXPECT_EQ(f.hint(a1, 3), NodeHint::Unused);
 

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "loader/ray_feedback.h"
 #include "tests/loader/testutil_fake_brick_source.h"
 
 namespace ropecast {
@@ -348,6 +349,68 @@ TEST(Refiner, RequestedNodesAreRefinedBeforeHigherPriorityOnes) {
     if (l.key == nearest) {
       EXPECT_EQ(l.reason, LeafReason::PoolFull);
     }
+  }
+}
+
+TEST(Refiner, UsedInnerNodesKeepTheirRefinementAgainstRequestsOfSmallerVoxels) {
+  const FakeBrickSource src = makeSource();
+  const RefineView v = viewFrom({-20, -30, -40}, {32, 32, 32}, 2000);
+  const NodeKey nearest{1, {0, 0, 0}}, farthest{1, {1, 1, 1}};
+  FakeResidency res;
+  res.slotCapacity = 17;  // room to refine one depth-1 node
+  const RefineResult r = refine(src, v, {}, res, [&](const NodeKey& k) {
+    if (k == farthest) return NodeHint::Requested;
+    return k == nearest || k == NodeKey{} ? NodeHint::Used : NodeHint::None;
+  });
+  ASSERT_EQ(r.refinedOrder.size(), 2u);
+  EXPECT_EQ(r.refinedOrder[1], nearest) << "ranked together, the larger projected voxel wins";
+}
+
+// The loop of a still view with feedback: each frame's hints come from the rays' answer about a cut cast
+// `latency` frames before (every data leaf used, every leaf the pool kept coarse requested). With a pool that
+// cannot hold what the view asks for, the cut must settle instead of alternating between the requested and
+// the kept nodes, whatever the latency.
+TEST(Refiner, AFullPoolWithFeedbackSettlesOnOneCut) {
+  const FakeBrickSource src({256, 256, 256}, 16);
+  const RefineView v = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
+  FakeResidency unlimited;
+  const size_t wanted = refine(src, v, {}, unlimited).refinedOrder.size() * 8 + 1;
+
+  for (uint64_t latency = 1; latency <= 3; ++latency) {
+    RayFeedback feedback;
+    struct Answer {
+      std::vector<uint32_t> used, requested;
+    };
+    std::vector<Answer> answers;
+    std::vector<std::vector<NodeKey>> cuts;
+    for (uint64_t frame = 0; frame < 16; ++frame) {
+      if (frame >= latency) {
+        const Answer& a = answers[frame - latency];
+        ASSERT_TRUE(feedback.answer(frame - latency, a.used, a.requested));
+      }
+      FakeResidency res;
+      res.slotCapacity = wanted / 2;
+      const RefineResult r =
+          refine(src, v, {}, res, [&](const NodeKey& k) { return feedback.hint(k, frame); });
+      std::vector<NodeKey> keys;
+      std::vector<uint8_t> dataLeaf;
+      Answer a;
+      for (const PlannedLeaf& l : r.leaves) {
+        if (l.content == LeafContent::Brick) {
+          a.used.push_back(uint32_t(keys.size()));
+          if (l.reason == LeafReason::PoolFull) a.requested.push_back(uint32_t(keys.size()));
+        }
+        keys.push_back(l.key);
+        dataLeaf.push_back(l.content == LeafContent::Brick);
+      }
+      ASSERT_FALSE(a.requested.empty()) << "the pool must be too small for the view";
+      feedback.rememberCut(frame, keys, dataLeaf);
+      answers.push_back(std::move(a));
+      cuts.push_back(std::move(keys));
+    }
+    for (size_t f = cuts.size() - 6; f < cuts.size(); ++f)
+      EXPECT_EQ(cuts[f], cuts[f - 1])
+          << "latency " << latency << ": frame " << f << " changed the cut of a still view";
   }
 }
 
