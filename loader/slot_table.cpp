@@ -11,12 +11,20 @@ SlotTable::SlotTable(uint32_t slotCount) : slots_(slotCount) {
 }
 
 void SlotTable::beginCut() {
-  for (uint32_t s : usedSlots_) slots_[s].used = false;
-  usedSlots_.clear();
-  for (uint32_t s : pinnedSlots_) {
-    if (slots_[s].pinned) unpin(s);
+  ++cut_;
+  const auto unpinLastCut = [&](bool marked) {
+    for (auto it = pinnedSlots_.rbegin(); it != pinnedSlots_.rend(); ++it)
+      if (slots_[*it].pinned && (slots_[*it].usedInCut == cut_) == marked) unpin(*it);
+  };
+  unpinLastCut(false);
+  for (uint32_t s : touchedSlots_) {
+    if (slots_[s].pinned || slots_[s].usedInCut != cut_) continue;
+    unlink(s);
+    linkAtMostRecent(s);
   }
+  unpinLastCut(true);
   pinnedSlots_.clear();
+  touchedSlots_.clear();
 }
 
 std::optional<uint32_t> SlotTable::find(const NodeKey& key) const {
@@ -37,11 +45,8 @@ void SlotTable::pin(uint32_t slot) {
 void SlotTable::touch(uint32_t slot) {
   Slot& s = slots_.at(slot);
   if (!s.occupied) return;
-  if (!s.used) usedSlots_.push_back(slot);
-  s.used = true;
-  if (s.pinned) return;
-  unlink(slot);
-  linkAtMostRecent(slot);
+  s.usedInCut = cut_ + 1;
+  touchedSlots_.push_back(slot);
 }
 
 void SlotTable::unpin(uint32_t slot) {
@@ -57,8 +62,8 @@ std::optional<uint32_t> SlotTable::acquire(const NodeKey& key) {
   const uint32_t slot = leastRecent_;
   Slot& s = slots_[slot];
   if (s.occupied) bySlotKey_.erase(s.key);
-  if (s.used) ++usedEvictions_;
-  s.used = false;
+  if (s.usedInCut == cut_) ++usedEvictions_;
+  s.usedInCut = 0;
   s.key = key;
   s.occupied = true;
   bySlotKey_[key] = slot;

@@ -21,13 +21,16 @@ class SlotTable {
  public:
   explicit SlotTable(uint32_t slotCount);
 
-  // Starts a new cut: every slot is unpinned (the previous cut's bricks become the most recently used ones)
-  // and the marks of touch() are cleared.
-  void beginCut();
-  // The rays used the slot's brick in the latest answered frame: an unpinned slot becomes the most recently
-  // used; a pinned one is marked too (it becomes the most recent when unpinned). Reusing a marked slot in
-  // this cut counts as a used eviction. Call after beginCut(), before the cut's acquires.
+  // The rays used the slot's brick in the latest answered frame. Call before beginCut(), for the cut about to
+  // be built: the slot is marked, and beginCut() makes it more recent than every unmarked one. Reusing a
+  // marked slot in that cut counts as a used eviction.
   void touch(uint32_t slot);
+  // Starts a new cut: the last cut's slots are unpinned and become the most recently used ones, in reverse
+  // order of pinning, and the slots touch() marked become more recent still (those of the last cut again in
+  // reverse order of pinning). The refinement pins by priority, so what it reuses first is what it would give
+  // up first: a slot the new refinement will reach later still holds a brick it needs, and reusing it would
+  // cost an upload and then another slot, and so on down the tree.
+  void beginCut();
 
   std::optional<uint32_t> find(const NodeKey& key) const;
   // Pins a slot holding a brick of the cut being built (idempotent).
@@ -56,7 +59,7 @@ class SlotTable {
     NodeKey key;
     bool occupied = false;
     bool pinned = false;
-    bool used = false;                    // touched in this cut
+    uint64_t usedInCut = 0;               // the cut touch() marked it for
     uint32_t prev = kNone, next = kNone;  // in the reuse list while unpinned
   };
   void linkAtMostRecent(uint32_t slot);
@@ -68,7 +71,8 @@ class SlotTable {
   uint32_t leastRecent_ = kNone, mostRecent_ = kNone;
   std::vector<uint32_t> pinnedSlots_;
   uint32_t pinnedCount_ = 0;
-  std::vector<uint32_t> usedSlots_;  // marked by touch() in this cut
+  uint64_t cut_ = 1;                    // the cut being built, counted by beginCut()
+  std::vector<uint32_t> touchedSlots_;  // marked by touch() for the next cut
   uint64_t usedEvictions_ = 0;
 };
 

@@ -191,10 +191,10 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   const auto start = std::chrono::steady_clock::now();
   takeLoadedBricks();
 
-  slots_.beginCut();
   for (const NodeKey& k : input.usedNodes) {
     if (const auto slot = slots_.find(k)) slots_.touch(*slot);
   }
+  slots_.beginCut();
   const uint64_t usedEvictionsBefore = slots_.usedEvictions();
   const uint64_t uploadBudgetBytes =
       std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);

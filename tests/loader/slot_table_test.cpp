@@ -74,31 +74,53 @@ TEST(SlotTable, RejectsAnEmptyPool) {
 }
 
 TEST(SlotTable, TouchedSlotsAreReusedLastAndTheirEvictionsCounted) {
-  SlotTable t(4);
+  SlotTable t(6);
   for (uint32_t i = 0; i < 4; ++i) t.acquire(key(i));
-  t.beginCut();  // recency now key(0) (least) .. key(3) (most)
+  t.beginCut();  // recency now key(3) (least) .. key(0) (most): the reverse of the order they were pinned
+  t.acquire(key(4));
+  t.acquire(key(5));  // the two free slots first
+  t.beginCut();
+  t.pin(*t.find(key(4)));
+  t.pin(*t.find(key(5)));
+  // The next cut: the rays used key(0) and key(4), unpinned and pinned.
   t.touch(*t.find(key(0)));
-  t.touch(*t.find(key(1)));
+  t.touch(*t.find(key(4)));
+  t.beginCut();  // least .. most: key(3), key(2), key(1), key(5) (last cut), key(0), key(4) (touched)
   EXPECT_EQ(t.keyOf(*t.acquire(key(10))), key(10));
-  EXPECT_FALSE(t.find(key(2)));  // the least recently used unused brick went first
-  EXPECT_FALSE(t.acquire(key(11)) == std::nullopt);
   EXPECT_FALSE(t.find(key(3)));
+  t.acquire(key(11));
+  t.acquire(key(12));
+  EXPECT_FALSE(t.find(key(2)));
+  EXPECT_FALSE(t.find(key(1)));
+  t.acquire(key(13));
+  EXPECT_FALSE(t.find(key(5)));
   EXPECT_EQ(t.usedEvictions(), 0u);
-  t.acquire(key(12));  // only used bricks are left to reuse
+  t.acquire(key(14));
   EXPECT_FALSE(t.find(key(0)));
   EXPECT_EQ(t.usedEvictions(), 1u);
-
-  // A pinned slot keeps its mark; beginCut clears the marks.
-  t.beginCut();
-  t.pin(*t.find(key(1)));
-  t.touch(*t.find(key(1)));
-  EXPECT_TRUE(t.isPinned(*t.find(key(1))));
-  t.beginCut();
-  t.acquire(key(13));
-  t.acquire(key(14));
   t.acquire(key(15));
-  t.acquire(key(16));
-  EXPECT_EQ(t.usedEvictions(), 1u);
+  EXPECT_FALSE(t.find(key(4)));
+  EXPECT_EQ(t.usedEvictions(), 2u);
+
+  // A mark holds for the one cut after the touch.
+  t.touch(*t.find(key(15)));
+  t.beginCut();
+  t.beginCut();
+  for (uint32_t i = 20; i < 26; ++i) t.acquire(key(i));
+  EXPECT_EQ(t.usedEvictions(), 2u);
+}
+
+TEST(SlotTable, ReusesTheLastCutsLowestPrioritySlotsFirst) {
+  // A cut pinned by priority: key(0) first, key(3) last. The next refinement keeps key(0) and key(1) and
+  // needs a new brick: it takes key(3)'s slot, the one it would reach last, not key(2)'s.
+  SlotTable t(4);
+  for (uint32_t i = 0; i < 4; ++i) t.acquire(key(i));
+  t.beginCut();
+  t.pin(*t.find(key(0)));
+  t.pin(*t.find(key(1)));
+  t.acquire(key(10));
+  EXPECT_FALSE(t.find(key(3)));
+  EXPECT_TRUE(t.find(key(2)));
 }
 
 }  // namespace
