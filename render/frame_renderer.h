@@ -57,12 +57,12 @@ struct FrameRendererConfig {
   bool storedGradients = false;
   // --occlusion: occlusion queries between screen tiles steer refinement (Gobbetti et al. 2008, Sect. 6), in
   // asynchronous frames (a synchronous frame loads its whole view before any query could answer).
-  bool occlusion = false;
+  bool occlusion = true;
   VisibilityConfig visibility;  // --query-budget, --visibility-threshold
   // --feedback: the rays report the leaves they used and the ones they wanted finer (Crassin et al. 2009),
   // read back frames later: requested nodes refine first, unused ones do not refine, used bricks stay in the
   // pool. Asynchronous frames only.
-  bool feedback = false;
+  bool feedback = true;
 };
 
 struct FrameRequest {

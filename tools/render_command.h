@@ -47,8 +47,8 @@ struct RenderOptions {
   uint32_t every = 0;
   double ioDelayMs = 0.0;
   uint32_t brick = kDefaultBrickSize;  // procedural inputs only
-  bool occlusion = false;
-  bool feedback = false;
+  bool occlusion = true;
+  bool feedback = true;
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
   uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
 };
