@@ -13,8 +13,13 @@ SlotTable::SlotTable(uint32_t slotCount) : slots_(slotCount) {
 void SlotTable::beginCut() {
   for (uint32_t s : usedSlots_) slots_[s].used = false;
   usedSlots_.clear();
+  for (uint32_t s : lastTreeSlots_) slots_[s].inLastTree = false;
+  lastTreeSlots_.clear();
   for (uint32_t s : pinnedSlots_) {
-    if (slots_[s].pinned) unpin(s);
+    if (!slots_[s].pinned) continue;
+    unpin(s);
+    slots_[s].inLastTree = true;
+    lastTreeSlots_.push_back(s);
   }
   pinnedSlots_.clear();
 }
@@ -44,6 +49,13 @@ void SlotTable::touch(uint32_t slot) {
   linkAtMostRecent(slot);
 }
 
+void SlotTable::demote(uint32_t slot) {
+  const Slot& s = slots_.at(slot);
+  if (!s.occupied || s.pinned || s.used || s.inLastTree) return;
+  unlink(slot);
+  linkAfterFree(slot);
+}
+
 void SlotTable::unpin(uint32_t slot) {
   Slot& s = slots_.at(slot);
   if (!s.pinned) return;
@@ -59,6 +71,7 @@ std::optional<uint32_t> SlotTable::acquire(const NodeKey& key) {
   if (s.occupied) bySlotKey_.erase(s.key);
   if (s.used) ++usedEvictions_;
   s.used = false;
+  s.inLastTree = false;
   s.key = key;
   s.occupied = true;
   bySlotKey_[key] = slot;
@@ -79,6 +92,23 @@ void SlotTable::linkAtMostRecent(uint32_t slot) {
   if (mostRecent_ != kNone) slots_[mostRecent_].next = slot;
   mostRecent_ = slot;
   if (leastRecent_ == kNone) leastRecent_ = slot;
+}
+
+void SlotTable::linkAfterFree(uint32_t slot) {
+  // Free slots are taken in slot order from the least recent end and never come back, so while any is left
+  // the last slot is the last free one.
+  const uint32_t lastFree = slots_.back().occupied ? kNone : slotCount() - 1;
+  Slot& s = slots_[slot];
+  s.prev = lastFree;
+  s.next = lastFree == kNone ? leastRecent_ : slots_[lastFree].next;
+  if (s.next != kNone)
+    slots_[s.next].prev = slot;
+  else
+    mostRecent_ = slot;
+  if (lastFree != kNone)
+    slots_[lastFree].next = slot;
+  else
+    leastRecent_ = slot;
 }
 
 void SlotTable::unlink(uint32_t slot) {
