@@ -38,6 +38,7 @@ void SlotTable::pin(uint32_t slot) {
   if (s.pinned) return;
   unlink(slot);
   s.pinned = true;
+  s.pinnedInCut = cut_;
   ++pinnedCount_;
   pinnedSlots_.push_back(slot);
 }
@@ -47,6 +48,14 @@ void SlotTable::touch(uint32_t slot) {
   if (!s.occupied) return;
   s.usedInCut = cut_ + 1;
   touchedSlots_.push_back(slot);
+}
+
+void SlotTable::demote(uint32_t slot) {
+  const Slot& s = slots_.at(slot);
+  if (!s.occupied || s.pinned || s.usedInCut == cut_ || (s.pinnedInCut != 0 && s.pinnedInCut + 1 == cut_))
+    return;
+  unlink(slot);
+  linkAfterFree(slot);
 }
 
 void SlotTable::unpin(uint32_t slot) {
@@ -84,6 +93,23 @@ void SlotTable::linkAtMostRecent(uint32_t slot) {
   if (mostRecent_ != kNone) slots_[mostRecent_].next = slot;
   mostRecent_ = slot;
   if (leastRecent_ == kNone) leastRecent_ = slot;
+}
+
+void SlotTable::linkAfterFree(uint32_t slot) {
+  // Free slots are taken in slot order from the least recent end and never come back, so while any is left
+  // the last slot is the last free one.
+  const uint32_t lastFree = slots_.back().occupied ? kNone : slotCount() - 1;
+  Slot& s = slots_[slot];
+  s.prev = lastFree;
+  s.next = lastFree == kNone ? leastRecent_ : slots_[lastFree].next;
+  if (s.next != kNone)
+    slots_[s.next].prev = slot;
+  else
+    mostRecent_ = slot;
+  if (lastFree != kNone)
+    slots_[lastFree].next = slot;
+  else
+    leastRecent_ = slot;
 }
 
 void SlotTable::unlink(uint32_t slot) {

@@ -3,7 +3,8 @@
 // the tree being built (the cut and the inner nodes above it) are pinned and never reused; the others are
 // reused least recently used first, free slots before any of them. A brick that left the cut keeps its slot
 // until it is reused, so it comes back without an upload. Recency is by use when the rays' feedback is known
-// (touch): bricks the rays used are reused last (Crassin et al. 2009).
+// (touch): bricks the rays used are reused last (Crassin et al. 2009). Bricks of nodes that stay occluded
+// are reused first, right after the free slots (demote; Gobbetti et al. 2008, Sect. 6).
 //
 // Owned by the WorkingSet. Not thread-safe: the render thread only.
 #pragma once
@@ -31,6 +32,12 @@ class SlotTable {
   // up first: a slot the new refinement will reach later still holds a brick it needs, and reusing it would
   // cost an upload and then another slot, and so on down the tree.
   void beginCut();
+  // The slot's node stays occluded (the latest answered occlusion queries): an unpinned slot becomes the
+  // next one reused, after the free slots. Left alone: a pinned slot (it is in the cut being built), a slot
+  // touch() marked in this cut (the rays used it: use wins), and a slot of the previous cut's tree (the
+  // refinement, which pins the tree again from the root down, would likely ask for it after reusing it; it
+  // is demoted in the next cut if it left this one). Call after beginCut(), before the cut's acquires.
+  void demote(uint32_t slot);
 
   std::optional<uint32_t> find(const NodeKey& key) const;
   // Pins a slot holding a brick of the cut being built (idempotent).
@@ -60,14 +67,16 @@ class SlotTable {
     bool occupied = false;
     bool pinned = false;
     uint64_t usedInCut = 0;               // the cut touch() marked it for
+    uint64_t pinnedInCut = 0;             // the last cut that pinned it
     uint32_t prev = kNone, next = kNone;  // in the reuse list while unpinned
   };
   void linkAtMostRecent(uint32_t slot);
+  void linkAfterFree(uint32_t slot);
   void unlink(uint32_t slot);
 
   std::vector<Slot> slots_;
   std::unordered_map<NodeKey, uint32_t, NodeKeyHash> bySlotKey_;
-  // Unpinned slots: free ones sit at the least recent end so they are taken first.
+  // Unpinned slots: free ones sit at the least recent end so they are taken first, demoted ones next.
   uint32_t leastRecent_ = kNone, mostRecent_ = kNone;
   std::vector<uint32_t> pinnedSlots_;
   uint32_t pinnedCount_ = 0;

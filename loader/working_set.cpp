@@ -195,6 +195,12 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
     if (const auto slot = slots_.find(k)) slots_.touch(*slot);
   }
   slots_.beginCut();
+  hidden_.clear();
+  hidden_.insert(input.hiddenNodes.begin(), input.hiddenNodes.end());
+  for (const NodeKey& k : input.hiddenNodes) {
+    if (k.depth == 0 || !hidden_.contains(k.parent())) continue;
+    if (const auto slot = slots_.find(k)) slots_.demote(*slot);
+  }
   const uint64_t usedEvictionsBefore = slots_.usedEvictions();
   const uint64_t uploadBudgetBytes =
       std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);

@@ -1,11 +1,11 @@
 // WorkingSet: the per-frame loader (Gobbetti et al. 2008, Sect. 4 and 7). Each update() drains the bricks the
 // I/O workers read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns
-// GPU pool slots (LRU, never one of the cut being built), asks the I/O workers for the bricks the refinement
-// lacked and for those the next refinements will lack (read-ahead; dropping requests no longer wanted) and
-// returns a plain plan: the cut with its slots, and the uploads to do now within the upload budget. A frame
-// always renders what is present: a node whose children are not all ready stays a leaf at its coarser level,
-// and update() never waits for the disk; nor do the I/O workers wait for frames (up to half the CPU cache is
-// read without being taken).
+// GPU pool slots (LRU, occluded ones first, never one of the cut being built), asks the I/O workers for the
+// bricks the refinement lacked and for those the next refinements will lack (read-ahead; dropping requests no
+// longer wanted) and returns a plain plan: the cut with its slots, and the uploads to do now within the
+// upload budget. A frame always renders what is present: a node whose children are not all ready stays a leaf
+// at its coarser level, and update() never waits for the disk; nor do the I/O workers wait for frames (up to
+// half the CPU cache is read without being taken).
 // updateUntilConverged() is the synchronous mode (for `render` without progression, and tests): the same
 // code, repeated until the cut is complete.
 //
@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <unordered_set>
 #include <vector>
 
 #include "loader/brick_cache.h"
@@ -46,6 +47,13 @@ struct FrameInput {
   // unknown. Their GPU slots become the most recently used before refinement, so the pool evicts least
   // recently used bricks, not least recently resident ones (Crassin et al. 2009).
   std::vector<NodeKey> usedNodes;
+  // Nodes hidden in the latest answered occlusion queries (those hinted Occluded); empty when unknown. The
+  // GPU slots of those below a hidden node are reused first, right after the free ones (Gobbetti et al. 2008,
+  // Sect. 6: bricks of nodes that stay occluded are dropped first when the pool is full): the refinement
+  // stops at that node or above, so they are not in the tree being built. Kept in their place: a node whose
+  // parent is not hidden (an occluded leaf of a visible node is in the cut), a node of usedNodes (use wins),
+  // and a node of the last frame's tree (SlotTable::demote).
+  std::vector<NodeKey> hiddenNodes;
   // This frame's upload limit on top of WorkingSetConfig::uploadBudgetBytes (the smaller one applies, never
   // less than one brick): the renderer's time budget (render/upload_pacer.h) arrives here as bytes.
   uint64_t uploadBudgetBytes = std::numeric_limits<uint64_t>::max();
@@ -99,6 +107,8 @@ class WorkingSet {
   size_t maxRequests_ = 1;
   BrickCache cache_;
   SlotTable slots_;
+  // FrameInput::hiddenNodes, during update().
+  std::unordered_set<NodeKey, NodeKeyHash> hidden_;
   uint64_t bytesReadSinceUpdate_ = 0;  // by the reads taken since the last update()'s stats
   std::unique_ptr<IoQueue> io_;        // last member: its workers stop before the rest goes away
   uint64_t frame_ = 0;

@@ -7,9 +7,13 @@ namespace ropecast {
 VisibilityTracker::VisibilityTracker(const VisibilityConfig& config) : config_(config) {}
 
 bool VisibilityTracker::occludedAt(const NodeKey& key, uint64_t frame) const {
-  if (unqueryable_.contains(key)) return false;  // nearEye: its projection says nothing, so it is visible
   const auto it = marks_.find(key);
-  return it != marks_.end() && it->second.occluded && live(it->second, frame);
+  return it != marks_.end() && occludedBy(key, it->second, frame);
+}
+
+bool VisibilityTracker::occludedBy(const NodeKey& key, const Mark& mark, uint64_t frame) const {
+  if (!mark.occluded || !live(mark, frame)) return false;
+  return !unqueryable_.contains(key);  // nearEye: its projection says nothing, so it is visible
 }
 
 void VisibilityTracker::finishRound() {
@@ -95,8 +99,8 @@ void VisibilityTracker::propagate(std::span<const NodeKey> nonEmptyLeaves) {
     Mark m;
     m.issuedFrame = UINT64_MAX;
     m.samples = config_.thresholdPixels;
-    if (const auto it = marks_.find(leaf); it != marks_.end() && live(it->second, lastPlanFrame_) &&
-                                           !unqueryable_.contains(leaf)) {
+    if (const auto it = marks_.find(leaf);
+        it != marks_.end() && live(it->second, lastPlanFrame_) && !unqueryable_.contains(leaf)) {
       m.issuedFrame = it->second.issuedFrame;
       m.samples = it->second.samples;
     }
@@ -118,6 +122,13 @@ void VisibilityTracker::propagate(std::span<const NodeKey> nonEmptyLeaves) {
 
 bool VisibilityTracker::isOccluded(const NodeKey& key, uint64_t frame) const {
   return occludedAt(key, frame);
+}
+
+void VisibilityTracker::occludedNodes(uint64_t frame, std::vector<NodeKey>& out) const {
+  out.clear();
+  for (const auto& [key, mark] : marks_) {
+    if (occludedBy(key, mark, frame)) out.push_back(key);
+  }
 }
 
 VisibilityCounts VisibilityTracker::counts(uint64_t frame) const {

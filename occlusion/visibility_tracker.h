@@ -86,6 +86,10 @@ class VisibilityTracker {
   // Whether the refiner should treat the node as occluded at frame `frame`: it has an unexpired occluded
   // mark.
   bool isOccluded(const NodeKey& key, uint64_t frame) const;
+  // Every node isOccluded() says is occluded at frame `frame`, into `out` (cleared first; in no particular
+  // order): the nodes whose bricks the loader reuses first (FrameInput::hiddenNodes). One pass over the
+  // marks.
+  void occludedNodes(uint64_t frame, std::vector<NodeKey>& out) const;
 
   // Clears every mark and the round (a change of isovalue or transfer function changes what occludes what);
   // answers to queries issued before the next plan() are ignored. lastRoundFrames() and settled() start over.
@@ -116,6 +120,8 @@ class VisibilityTracker {
     return frame <= m.issuedFrame || frame - m.issuedFrame <= config_.markLifetimeFrames;
   }
   bool occludedAt(const NodeKey& key, uint64_t frame) const;
+  // Whether `mark`, the node's, makes it occluded at `frame`.
+  bool occludedBy(const NodeKey& key, const Mark& mark, uint64_t frame) const;
   void finishRound();
 
   VisibilityConfig config_;

@@ -247,6 +247,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     };
   }
   if (feedback) input.usedNodes = rayFeedback_.usedNodes();
+  // The pool reuses the bricks of nodes that stay occluded first (Gobbetti et al. 2008, Sect. 6).
+  if (occlusion) visibility_->occludedNodes(frame_, input.hiddenNodes);
   if (!request.synchronous) lastView_ = request;
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan =

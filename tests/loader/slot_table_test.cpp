@@ -1,4 +1,5 @@
-// GPU slot assignment: free slots first, then least recently used; slots of the cut being built never reused.
+// GPU slot assignment: free slots first, then demoted ones, then least recently used; slots of the cut being
+// built never reused.
 #include "loader/slot_table.h"
 
 #include <random>
@@ -121,6 +122,95 @@ TEST(SlotTable, ReusesTheLastCutsLowestPrioritySlotsFirst) {
   t.acquire(key(10));
   EXPECT_FALSE(t.find(key(3)));
   EXPECT_TRUE(t.find(key(2)));
+}
+
+TEST(SlotTable, DemotedSlotsAreReusedAfterTheFreeOnesBeforeOlderOnes) {
+  SlotTable t(6);
+  for (uint32_t i = 0; i < 4; ++i) t.acquire(key(i));
+  t.beginCut();  // the first tree, all four
+  t.pin(*t.find(key(0)));
+  t.beginCut();  // key(1..3) left the tree a cut ago: recency key(3) (least), key(2), key(1), then key(0)
+  t.demote(*t.find(key(1)));
+  EXPECT_EQ(t.acquire(key(10)), 4u);  // free slots still come first
+  EXPECT_EQ(t.acquire(key(11)), 5u);
+  EXPECT_EQ(t.acquire(key(12)), 1u);  // the demoted brick, before the older key(3) and key(2)
+  EXPECT_FALSE(t.find(key(1)));
+  EXPECT_TRUE(t.find(key(3)));
+  t.acquire(key(13));
+  EXPECT_FALSE(t.find(key(3)));  // then least recently used again
+  EXPECT_TRUE(t.find(key(2)));
+  EXPECT_TRUE(t.find(key(0)));
+}
+
+TEST(SlotTable, DemoteLeavesPinnedUsedAndLastTreeSlotsAlone) {
+  SlotTable t(4);
+  for (uint32_t i = 0; i < 4; ++i) t.acquire(key(i));
+  t.beginCut();
+  t.pin(*t.find(key(2)));
+  t.pin(*t.find(key(3)));
+  t.touch(*t.find(key(1)));
+  t.beginCut();  // key(0), key(1) left the tree; key(2), key(3) were in it: recency 0, 3, 2, 1 (touched)
+  t.pin(*t.find(key(0)));
+  t.demote(*t.find(key(0)));  // pinned: in the cut being built
+  EXPECT_TRUE(t.isPinned(*t.find(key(0))));
+  t.demote(*t.find(key(1)));  // the rays used it: use wins
+  t.demote(*t.find(key(2)));  // in the last tree: the refinement may pin it again
+  // Reuse order unchanged by the demotions: key(3), key(2), then the touched key(1).
+  t.acquire(key(10));
+  EXPECT_FALSE(t.find(key(3)));
+  t.acquire(key(11));
+  EXPECT_FALSE(t.find(key(2)));
+  t.acquire(key(12));
+  EXPECT_FALSE(t.find(key(1)));
+  EXPECT_EQ(t.acquire(key(13)), std::nullopt);
+  EXPECT_TRUE(t.find(key(0)));
+  EXPECT_EQ(t.usedEvictions(), 1u);
+
+  // Once a whole cut has passed without it in the tree, key(0) can be demoted.
+  t.beginCut();
+  t.pin(*t.find(key(10)));
+  t.pin(*t.find(key(12)));
+  t.beginCut();  // recency key(11), key(0), key(12), key(10)
+  t.demote(*t.find(key(0)));
+  t.acquire(key(14));
+  EXPECT_FALSE(t.find(key(0)));
+  EXPECT_TRUE(t.find(key(11)));
+}
+
+TEST(SlotTable, NeverReusesAPinnedSlotWithRandomDemotions) {
+  std::mt19937 rng(5);
+  SlotTable t(16);
+  for (int frame = 0; frame < 200; ++frame) {
+    t.beginCut();
+    for (int i = 0; i < 6; ++i) {
+      if (const auto s = t.find(key(std::uniform_int_distribution<uint32_t>(0, 40)(rng)))) {
+        if (rng() % 2)
+          t.touch(*s);
+        else
+          t.demote(*s);
+      }
+    }
+    std::set<uint32_t> cut;
+    const int wanted = std::uniform_int_distribution<int>(1, 20)(rng);
+    for (int i = 0; i < wanted; ++i) {
+      const NodeKey k = key(std::uniform_int_distribution<uint32_t>(0, 40)(rng));
+      if (const auto s = t.find(k)) {
+        t.pin(*s);
+        cut.insert(*s);
+        continue;
+      }
+      const auto s = t.acquire(k);
+      if (!s) {
+        EXPECT_EQ(t.pinnedCount(), 16u);
+        continue;
+      }
+      EXPECT_FALSE(cut.count(*s)) << "slot " << *s << " reused inside its cut";
+      cut.insert(*s);
+    }
+    EXPECT_EQ(t.pinnedCount(), cut.size());
+    EXPECT_LE(t.occupiedCount(), 16u);
+    for (uint32_t s : cut) EXPECT_TRUE(t.isPinned(s));
+  }
 }
 
 }  // namespace

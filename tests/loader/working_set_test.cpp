@@ -1,5 +1,6 @@
 // The per-frame loader end to end on a fake source: convergence from a cold cache to the synchronous cut,
-// budgets never exceeded, never a hole, no I/O for emptiness changes or revisited views, shutdown in flight.
+// budgets never exceeded, never a hole, no I/O for emptiness changes or revisited views, which bricks a full
+// GPU pool gives up (used ones last, hidden ones first), shutdown in flight.
 #include "loader/working_set.h"
 
 #include <algorithm>
@@ -308,6 +309,81 @@ TEST(WorkingSet, BricksTheRaysUseStayInAPoolTooSmallForTheWorkingSet) {
   EXPECT_GT(withFeedback.unusedEvicted, 0u);  // the pool was too small: the unused bricks made room
   // Without feedback, eviction by residency takes some of them whenever the camera turns to b.
   EXPECT_GT(alternate(false).usedMissing, 0u);
+}
+
+TEST(WorkingSet, BricksOfHiddenNodesAreReusedBeforeThoseThatLeftTheCutEarlier) {
+  // Three views in turn, a, b, c, in a pool 12 bricks smaller than their trees together. Turning to c, the
+  // pool's least recently used bricks are those that left the cut at the turn to b (only in a's tree). Hidden
+  // are: nodes only in b's tree with their parents (they leave the cut now), nodes only in b's tree without
+  // their parents, and the nodes of b's tree that c's keeps. The pool reuses the slots of the first kind, the
+  // hidden nodes below a hidden node that left the cut, and no other; three of them the rays used, and those
+  // stay (use wins).
+  FakeBrickSource src = makeScene();
+  FrameInput a = frameFrom({-60, -60, -60}, 60, {20, 20, 20});
+  FrameInput b = frameFrom({188, 188, 188}, 60, {108, 108, 108});
+  FrameInput c = frameFrom({188, -60, -60}, 60, {108, 20, 20});
+  a.isEmpty = b.isEmpty = c.isEmpty = isoEmpty;
+  WorkingSetConfig big = config(2000);
+  big.cpuCacheBytes = 2000 * src.brickBytes();
+  const auto treeOf = [&](const FrameInput& in) {
+    WorkingSet measure(src, big);
+    EXPECT_TRUE(measure.updateUntilConverged(in).converged);
+    return residentKeys(measure);
+  };
+  const auto treeA = treeOf(a), treeB = treeOf(b), treeC = treeOf(c);
+  std::set<NodeKey, KeyLess> all = treeA, onlyA, onlyB, onlyC, hidden;
+  all.insert(treeB.begin(), treeB.end());
+  all.insert(treeC.begin(), treeC.end());
+  for (const NodeKey& k : all) {
+    const int in = int(treeA.count(k)) + 2 * int(treeB.count(k)) + 4 * int(treeC.count(k));
+    if (in == 1) onlyA.insert(k);
+    if (in == 2) onlyB.insert(k);
+    if (in == 4) onlyC.insert(k);
+    if (in == 6) hidden.insert(k);  // in b's tree and c's
+  }
+  size_t withParent = 0;
+  for (auto it = onlyB.begin(); it != onlyB.end() && withParent < 16; ++it, ++withParent)
+    hidden.insert({*it, it->parent()});
+  std::vector<NodeKey> bAlone;
+  for (const NodeKey& k : onlyB) {
+    if (bAlone.size() < 16 && !hidden.count(k) && !hidden.count(k.parent())) bAlone.push_back(k);
+  }
+  hidden.insert(bAlone.begin(), bAlone.end());
+  std::set<NodeKey, KeyLess> reusable;  // hidden, below a hidden node, leaving the cut
+  for (const NodeKey& k : hidden)
+    if (onlyB.count(k) && hidden.count(k.parent())) reusable.insert(k);
+  const std::vector<NodeKey> used(std::prev(reusable.end(), 3), reusable.end());
+  for (const NodeKey& k : used) reusable.erase(k);
+  ASSERT_EQ(bAlone.size(), 16u);
+  ASSERT_GE(reusable.size(), 12u);
+  ASSERT_GT(onlyA.size(), 12u);
+
+  WorkingSetConfig cfg = big;
+  cfg.gpuSlots = uint32_t(all.size() - 12);
+  for (const bool withHidden : {false, true}) {
+    WorkingSet ws(src, cfg);
+    ASSERT_TRUE(ws.updateUntilConverged(a).converged);
+    ASSERT_TRUE(ws.updateUntilConverged(b).converged);
+    const auto before = residentKeys(ws);
+    ASSERT_EQ(before.size(), all.size() - onlyC.size());  // nothing evicted yet
+    c.hiddenNodes = withHidden ? std::vector<NodeKey>(hidden.begin(), hidden.end()) : std::vector<NodeKey>{};
+    c.usedNodes = withHidden ? used : std::vector<NodeKey>{};
+    const WorkingSetFrame f = ws.updateUntilConverged(c);
+    ASSERT_TRUE(f.converged);
+    const auto after = residentKeys(ws);
+    std::set<NodeKey, KeyLess> evicted;
+    for (const NodeKey& k : before)
+      if (!after.count(k)) evicted.insert(k);
+    EXPECT_EQ(evicted.size(), 12u);
+    EXPECT_EQ(f.stats.bricksUploaded, onlyC.size());  // nothing uploaded twice
+    EXPECT_EQ(f.stats.usedBricksEvicted, 0u);
+    for (const NodeKey& k : evicted) {
+      if (withHidden)
+        EXPECT_TRUE(reusable.count(k)) << "reused the brick of a node not hidden, or in c's tree, or alone";
+      else
+        EXPECT_TRUE(onlyA.count(k)) << "by recency alone, the bricks that left the cut first go first";
+    }
+  }
 }
 
 TEST(WorkingSet, AColdStartReadsTheTreeWithoutWaitingForFrames) {

@@ -1,5 +1,6 @@
 // VisibilityTracker: rounds that query every leaf of the cut in a bounded number of frames, answers against
-// the threshold and their lifetime, reset, propagation to inner nodes, and the settled state.
+// the threshold and their lifetime, reset, propagation to inner nodes, the list of occluded nodes, and the
+// settled state.
 #include "occlusion/visibility_tracker.h"
 
 #include <algorithm>
@@ -221,21 +222,26 @@ bool isBelow(NodeKey node, const NodeKey& ancestor) {
   return node == ancestor;
 }
 
+// The non-empty leaves of a random cut down to depth 5; a third of the cut's nodes are empty and left out.
+std::vector<NodeKey> randomNonEmptyLeaves(std::mt19937& rng) {
+  std::vector<NodeKey> leaves, open{NodeKey{}};
+  while (!open.empty()) {
+    const NodeKey n = open.back();
+    open.pop_back();
+    if (n.depth < 5 && (n.depth == 0 || rng() % 5 < 3)) {
+      for (uint32_t o = 0; o < 8; ++o) open.push_back(n.child(o));
+    } else if (rng() % 3 != 0) {
+      leaves.push_back(n);
+    }
+  }
+  return leaves;
+}
+
 TEST(VisibilityTracker, PropagatesAsTheDefinitionSaysOnRandomCuts) {
   std::mt19937 rng(11);
   int occludedInner = 0, visibleInner = 0;
   for (int trial = 0; trial < 60; ++trial) {
-    // A random cut down to depth 5; a third of the nodes are empty and left out of the non-empty leaves.
-    std::vector<NodeKey> leaves, open{NodeKey{}};
-    while (!open.empty()) {
-      const NodeKey n = open.back();
-      open.pop_back();
-      if (n.depth < 5 && (n.depth == 0 || rng() % 5 < 3)) {
-        for (uint32_t o = 0; o < 8; ++o) open.push_back(n.child(o));
-      } else if (rng() % 3 != 0) {
-        leaves.push_back(n);
-      }
-    }
+    const std::vector<NodeKey> leaves = randomNonEmptyLeaves(rng);
     VisibilityTracker tracker({{}, 4, 64});
     std::vector<LeafToQuery> toQuery;
     for (const NodeKey& k : leaves) toQuery.push_back(leafAt(k, {0, 0, 1, 1}));
@@ -285,6 +291,49 @@ TEST(VisibilityTracker, PropagatesAsTheDefinitionSaysOnRandomCuts) {
   }
   EXPECT_GT(occludedInner, 50);
   EXPECT_GT(visibleInner, 50);
+}
+
+TEST(VisibilityTracker, ListsExactlyTheNodesItSaysAreOccluded) {
+  std::mt19937 rng(17);
+  size_t listed = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::vector<NodeKey> leaves = randomNonEmptyLeaves(rng);
+    VisibilityTracker tracker({{}, 4, 64});
+    const uint64_t now = 100;
+    // Leaves answered occluded or visible, fresh or expiring, some never; a few near the eye (unqueryable,
+    // visible whatever they answered).
+    std::vector<LeafToQuery> toQuery;
+    for (const NodeKey& k : leaves) toQuery.push_back({k, {{0, 0, 1, 1}, rng() % 10 == 0}});
+    tracker.plan(now, 8, 8, toQuery);
+    for (const NodeKey& k : leaves) {
+      if (rng() % 5 == 0) continue;
+      const uint64_t issued = now - rng() % 80;
+      const uint64_t samples = rng() % 3 == 0 ? 10 : rng() % 4;
+      tracker.answer(k, issued, samples);
+    }
+    tracker.propagate(leaves);
+    // Every node that may hold a mark (the leaves and the nodes above them), and some that cannot.
+    std::unordered_set<NodeKey, NodeKeyHash> nodes;
+    for (const NodeKey& k : leaves) {
+      nodes.insert(k.child(rng() % 8));
+      for (NodeKey a = k;; a = a.parent()) {
+        nodes.insert(a);
+        if (a.depth == 0) break;
+      }
+    }
+    std::vector<NodeKey> out{leaves.front()};  // cleared first
+    for (const uint64_t frame : {now, now + 10, now + 40}) {
+      tracker.occludedNodes(frame, out);
+      const std::unordered_set<NodeKey, NodeKeyHash> got(out.begin(), out.end());
+      ASSERT_EQ(got.size(), out.size()) << "a node listed twice";
+      std::unordered_set<NodeKey, NodeKeyHash> expected;
+      for (const NodeKey& k : nodes)
+        if (tracker.isOccluded(k, frame)) expected.insert(k);
+      ASSERT_EQ(got, expected) << "trial " << trial << " frame " << frame;
+      listed += out.size();
+    }
+  }
+  EXPECT_GT(listed, 200u);
 }
 
 TEST(VisibilityTracker, ACollapsedParentKeepsItsMarkUntilItIsQueried) {
