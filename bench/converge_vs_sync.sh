@@ -5,8 +5,13 @@
 # --converge with --upload-budget, whose per-frame bound must hold (bytes_uploaded in --stats).
 # The store: a CT-like int16 volume (a smooth field over a ball plus noise, the converter benchmark's
 # generator), converted into WORK once and reused.
-# Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratio converge / synchronous (goal
-# <= 1.3), and the largest bytes_uploaded of a frame against --upload-budget.
+# Runs per repetition: sync (one synchronous frame), converge (--converge, the defaults: occlusion queries and
+# ray feedback on), loader (--converge with them off: the streaming loader alone), budget (--converge
+# --upload-budget). Once: a --converge run writing every frame, to find the first frame from which the image
+# stays within 40 dB of the converged one (the rest of the frames wait for answers confirming the cut), and a
+# synchronous render with budgets that hold everything, against which both images are compared.
+# Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratios to synchronous (goal <= 1.3),
+# the seconds to the final image, and the largest bytes_uploaded of a frame against --upload-budget.
 # Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
 # env: DIMS (default 1024x1024x864, 1.7 GiB raw), ORBIT (30,20,1.6: a view that needs 2862 bricks of the
 #      default store), IMAGE (512x512), GPU (256M), CPU (256M), UPLOAD (--upload-budget, 8M), REPS (2),
@@ -57,12 +62,24 @@ echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); store $sto
 for rep in $(seq 1 "$REPS"); do
   run "sync$rep"
   run "converge$rep" --converge
+  run "loader$rep" --converge --occlusion off --feedback off
   run "budget$rep" --converge --upload-budget "$UPLOAD"
 done
+rm -rf "$WORK/frames" && mkdir -p "$WORK/frames"
+run frames/every --converge --every 1
+GPU=2G CPU=2G run full
 
-python3 - "$WORK" "$REPS" "$UPLOAD" <<'PY'
-import json, sys
-work, reps, upload = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" <<'PY'
+import glob, json, subprocess, sys
+work, reps, upload, ropecast = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+def psnr(a, b):
+    out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
+    return float(json.loads(out)["psnr_db"])
+# The first frame from which every frame is within 40 dB of the converged image.
+frames = sorted(glob.glob(f"{work}/frames/every_*.png"))
+final_frame = len(frames) - 1
+while final_frame > 0 and psnr(frames[final_frame - 1], f"{work}/frames/every.png") >= 40.0:
+    final_frame -= 1
 units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}
 budget = int(float(upload[:-1]) * units[upload[-1]]) if upload[-1] in units else int(upload)
 MiB = 1 << 20
@@ -76,12 +93,19 @@ def load(name):
 print(f"{'run':<11} {'cache':<5} {'wall s':>7} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
       f"{'MiB read':>8} {'converged':>9}")
 for rep in range(1, reps + 1):
-    runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "budget")}
+    runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "loader", "budget")}
     for n, r in runs.items():
         print(f"{n + str(rep):<11} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
               f"{r['uploaded']:9d} {r['read']:8.1f} {str(r['converged']):>9}")
     s = runs["sync"]["s"]
-    print(f"  converge / sync: {runs['converge']['s'] / s:.2f} (goal <= 1.3); with --upload-budget {upload}: "
+    rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
+    to_final = runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[final_frame + 1:]) / 1000
+    print(f"  converge / sync: {runs['converge']['s'] / s:.2f}, to the final image (frame {final_frame}) "
+          f"{to_final / s:.2f}; loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
+    print(f"  with --upload-budget {upload}: "
           f"{runs['budget']['s'] / s:.2f}, largest frame upload {runs['budget']['maxUpload'] / MiB:.2f} MiB "
           f"({'within' if runs['budget']['maxUpload'] <= budget else 'OVER'} the budget)")
+print(f"PSNR against a synchronous render with every brick it wants (budgets 2G): sync "
+      f"{psnr(f'{work}/sync1.png', f'{work}/full.png'):.1f} dB, converge {psnr(f'{work}/converge1.png', f'{work}/full.png'):.1f} dB, "
+      f"loader alone {psnr(f'{work}/loader1.png', f'{work}/full.png'):.1f} dB")
 PY
