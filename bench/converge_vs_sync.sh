@@ -76,8 +76,8 @@ def psnr(a, b):
     out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
     return float(json.loads(out)["psnr_db"])
 # The first frame from which every frame is within 40 dB of the converged image.
-frames = sorted(glob.glob(f"{work}/frames/every_*.png"))
-final_frame = len(frames) - 1
+frames = sorted(glob.glob(f"{work}/frames/every_*.png"))  # all but the last frame, written as every.png
+final_frame = len(frames)
 while final_frame > 0 and psnr(frames[final_frame - 1], f"{work}/frames/every.png") >= 40.0:
     final_frame -= 1
 units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}

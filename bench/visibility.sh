@@ -10,13 +10,16 @@
 # 1. Cold cache to convergence at IMAGE, `render --converge`, an opaque isosurface and a semi-transparent DVR
 #    (a ramp reaching opacity 0.3 per voxel, gradients computed): the working set at convergence (bricks of the refined tree),
 #    bricks resident, bytes read and uploaded in total, frames and seconds to converge, the converged frame's
-#    time, the query and feedback latencies, and the PSNR of each image against priority.
+#    time, the query and feedback latencies, the PSNR of each image against priority, and the frame from which
+#    the image stays within 40 dB of the converged one, with the seconds to it (every frame is written to
+#    WORK/frames-MODE-CONFIG/ for that; the seconds are frame times, which the writes do not enter).
 # 2. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
 #    the path's working set: frame time median and max, bytes read and uploaded, evictions of bricks the rays
 #    used in the frame before (used_evictions).
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
 #   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), GPU (1G), CPU (1G), PATH_GPU (128M),
-#   PATH_CPU (128M), WORK (a fresh folder), SKIP_PATH=1 skips part 2
+#   PATH_CPU (128M), WORK (a fresh folder), SKIP_PATH=1 skips part 2, SKIP_CONVERGE=1 reuses part 1's results
+#   in WORK
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/lib/common.sh"
@@ -45,12 +48,16 @@ flags() {
 mode_args() { [ "$1" = iso ] && echo --mode iso || echo --mode dvr --tf "$WORK/semi.json" --gradients computed; }
 
 for mode in $modes; do
+  [ "${SKIP_CONVERGE:-0}" = 1 ] && break  # summarize the results already in WORK
   for config in $configs; do
     echo "visibility.sh: converge, $mode, $config" >&2
+    frames_dir="$WORK/frames-$mode-$config"
+    rm -rf "$frames_dir" && mkdir -p "$frames_dir"
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" $(mode_args "$mode") --size "$IMAGE" --orbit 30,20,1.6 --converge \
       --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
-      --stats "$WORK/converge-$mode-$config.jsonl" -o "$WORK/converge-$mode-$config.png"
+      --stats "$WORK/converge-$mode-$config.jsonl" --every 1 -o "$frames_dir/f.png"
+    cp "$frames_dir/f.png" "$WORK/converge-$mode-$config.png"
   done
 done
 if [ "${SKIP_PATH:-0}" != 1 ]; then
@@ -64,7 +71,7 @@ if [ "${SKIP_PATH:-0}" != 1 ]; then
 fi
 
 python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" <<'PY'
-import json, statistics, subprocess, sys
+import glob, json, statistics, subprocess, sys
 work, modes, configs, image, size, path_image, skip_path, ropecast = sys.argv[1:]
 modes, configs = modes.split(), configs.split()
 MiB = 1 << 20
@@ -73,15 +80,26 @@ def rows(name):
 def psnr(a, b):
     out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
     return float(json.loads(out)["psnr_db"])
+def final_frame(mode, config):
+    # The first frame from which every frame is within 40 dB of the converged image (the last frame, written
+    # as f.png only).
+    frames = sorted(glob.glob(f"{work}/frames-{mode}-{config}/f_*.png"))
+    k = len(frames)
+    while k > 0 and psnr(frames[k - 1], f"{work}/frames-{mode}-{config}/f.png") >= 40.0:
+        k -= 1
+    return k
 print(f"procedural:menger:{size} store, cold cache to convergence at {image}")
 for mode in modes:
-    head = ["working set", "resident", "read MiB", "upload MiB", "frames", "seconds", "frame ms", "q.lat", "fb.lat", "PSNR"]
+    head = ["working set", "resident", "read MiB", "upload MiB", "frames", "seconds", "final at", "s to final",
+            "frame ms", "q.lat", "fb.lat", "PSNR"]
     print(f"\n{mode:<10}" + "".join(f"{h:>12}" for h in head))
     base = None
     for config in configs:
         r = rows(f"converge-{mode}-{config}")
         last = r[-1]
+        k = final_frame(mode, config)
         s = {"working set": last["working_set_bricks"], "resident": last["bricks_resident"],
+             "final at": k, "s to final": sum(x["frame_ms"] for x in r[:k + 1]) / 1000,
              "read MiB": sum(x["bytes_read"] for x in r) / MiB, "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
              "frames": len(r), "seconds": sum(x["frame_ms"] for x in r) / 1000, "frame ms": last["frame_ms"],
              "q.lat": last["occlusion_latency_frames"], "fb.lat": last["feedback_latency_frames"],
