@@ -20,7 +20,9 @@ struct QueryCandidate {
 };
 
 struct TilePlanConfig {
-  uint32_t queryBudget = 1024;  // --query-budget: queries per frame
+  // --query-budget: queries per frame. A query is one box drawn against the depth buffer; a cold cut of about
+  // 10 000 leaves is covered in a few frames.
+  uint32_t queryBudget = 4096;
   int32_t minTilePixels = 64;  // splitting stops when the tile's longer side is below this
 };
 
