@@ -25,13 +25,14 @@ struct Converged {
   uint64_t dataLeaves = 0;
   uint64_t occludedMarksSeen = 0;  // largest nodes_occluded of any frame
   uint64_t answersSeen = 0;        // frames in which a feedback answer arrived
+  uint64_t bricksUploaded = 0;     // over all frames
 };
 
 Converged renderUntilConverged(const BrickSource& source, RenderMode mode, RenderBackend backend,
                                Visibility v, const std::function<void(FrameRenderer&)>& setUp = {},
-                               uint32_t maxFrames = 400) {
+                               uint32_t maxFrames = 400, uint64_t gpuBudgetBytes = 64ull << 20) {
   FrameRendererConfig config;
-  config.gpuBudgetBytes = 64ull << 20;
+  config.gpuBudgetBytes = gpuBudgetBytes;
   config.occlusion = v.occlusion;
   config.feedback = v.feedback;
   config.storedGradients = mode == RenderMode::Dvr;
@@ -54,6 +55,7 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
     out.last = renderer.render(request);
     out.occludedMarksSeen = std::max(out.occludedMarksSeen, out.last.nodesOccluded);
     out.answersSeen += out.last.bricksUsed > 0;
+    out.bricksUploaded += out.last.bricksUploaded;
     if (out.last.converged) break;
   }
   out.color = renderer.readColor();
@@ -99,6 +101,24 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) {
       return std::string(renderBackendName(std::get<0>(info.param))) + "_" + nameOf(std::get<1>(info.param));
     });
+
+// A GPU pool with room for half the bricks the view asks for: the rays' requests and the tree they use
+// compete for it. The cut settles (it used to alternate between two trees every frame, uploading without
+// end).
+TEST(VisibilityConverge, APoolTooSmallForTheViewSettles) {
+  const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
+  const Converged roomy = renderUntilConverged(source, RenderMode::Iso, RenderBackend::Fragment, {});
+  ASSERT_TRUE(roomy.last.converged);
+  const uint64_t halfPool = roomy.last.workingSetBricks / 2 * source.brickBytes();
+  for (const Visibility v : {Visibility{false, true}, Visibility{true, true}}) {
+    const Converged tight =
+        renderUntilConverged(source, RenderMode::Iso, RenderBackend::Fragment, v, {}, 200, halfPool);
+    ASSERT_TRUE(tight.last.converged) << nameOf(v) << ": not converged after " << tight.frames << " frames";
+    EXPECT_LT(tight.last.workingSetBricks, roomy.last.workingSetBricks * 3 / 5) << nameOf(v);
+    EXPECT_LT(tight.bricksUploaded, 2 * roomy.last.workingSetBricks)
+        << nameOf(v) << ": bricks uploaded again and again";
+  }
+}
 
 // A driver that never answers: frames go on, nothing is marked.
 class NeverAvailable final : public QueryResultReader {
