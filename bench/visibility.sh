@@ -8,18 +8,19 @@
 # The store has depth complexity: procedural:menger:SIZE (a Menger sponge: holes behind holes), converted into
 # WORK once and reused.
 # 1. Cold cache to convergence at IMAGE, `render --converge`, an opaque isosurface and a semi-transparent DVR
-#    (a ramp reaching opacity 0.3 per voxel, gradients computed): the working set at convergence (bricks of the refined tree),
-#    bricks resident, bytes read and uploaded in total, frames and seconds to converge, the converged frame's
-#    time, the query and feedback latencies, the PSNR of each image against priority, and the frame from which
-#    the image stays within 40 dB of the converged one, with the seconds to it (every frame is written to
+#    (a ramp reaching opacity 0.3 per voxel, gradients computed): the working set at convergence (bricks of
+#    the refined tree), bricks resident, bytes read and uploaded in total, frames and seconds to converge, the
+#    converged frame time (median of STEADY frames past the convergence, from a second run), the query and
+#    feedback latencies, the PSNR of each image against priority, and the frame from which the image stays
+#    within 40 dB of the converged one, with the seconds to it (every frame is written to
 #    WORK/frames-MODE-CONFIG/ for that; the seconds are frame times, which the writes do not enter).
 # 2. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
 #    the path's working set: frame time median and max, bytes read and uploaded, evictions of bricks the rays
 #    used in the frame before (used_evictions).
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
-#   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), GPU (1G), CPU (1G), PATH_GPU (128M),
-#   PATH_CPU (128M), WORK (a fresh folder), SKIP_PATH=1 skips part 2, SKIP_CONVERGE=1 reuses part 1's results
-#   in WORK
+#   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), STEADY (4), GPU (1G), CPU (1G),
+#   PATH_GPU (128M), PATH_CPU (128M), WORK (a fresh folder), SKIP_PATH=1 skips part 2, SKIP_CONVERGE=1 reuses
+#   part 1's results in WORK
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/lib/common.sh"
@@ -30,6 +31,7 @@ path_image=${PATH_IMAGE:-512x512}
 frames=${FRAMES:-120}
 modes=${MODES:-iso dvr}
 configs=${CONFIGS:-priority occlusion feedback both}
+steady=${STEADY:-4}
 store="$WORK/menger$SIZE.rcast"
 [ -f "$store" ] || "$ROPECAST" convert "procedural:menger:$SIZE" -o "$store" --quiet
 printf '{"points": [[0, 0.0, 0.0, 0.0, 0.0], [100, 0.9, 0.6, 0.3, 0.0], [255, 1.0, 0.9, 0.7, 0.3]]}\n' \
@@ -58,6 +60,12 @@ for mode in $modes; do
       --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
       --stats "$WORK/converge-$mode-$config.jsonl" --every 1 -o "$frames_dir/f.png"
     cp "$frames_dir/f.png" "$WORK/converge-$mode-$config.png"
+    # The converged frame time: the same start again, STEADY frames past the convergence.
+    n=$(wc -l <"$WORK/converge-$mode-$config.jsonl")
+    # shellcheck disable=SC2046
+    "$ROPECAST" render "$store" $(mode_args "$mode") --size "$IMAGE" --orbit 30,20,1.6 --frames $((n + steady)) \
+      --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
+      --stats "$WORK/steady-$mode-$config.jsonl" -o "$WORK/steady-$mode-$config.png"
   done
 done
 if [ "${SKIP_PATH:-0}" != 1 ]; then
@@ -80,6 +88,11 @@ def rows(name):
 def psnr(a, b):
     out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
     return float(json.loads(out)["psnr_db"])
+def steady_ms(mode, config):
+    # Median frame time of the second run's frames past the convergence (converged ones only).
+    ms = [x["frame_ms"] for x in rows(f"steady-{mode}-{config}")[len(rows(f"converge-{mode}-{config}")):]
+          if x["converged"]]
+    return statistics.median(ms) if ms else float("nan")
 def final_frame(mode, config):
     # The first frame from which every frame is within 40 dB of the converged image (the last frame, written
     # as f.png only).
@@ -101,7 +114,7 @@ for mode in modes:
         s = {"working set": last["working_set_bricks"], "resident": last["bricks_resident"],
              "final at": k, "s to final": sum(x["frame_ms"] for x in r[:k + 1]) / 1000,
              "read MiB": sum(x["bytes_read"] for x in r) / MiB, "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
-             "frames": len(r), "seconds": sum(x["frame_ms"] for x in r) / 1000, "frame ms": last["frame_ms"],
+             "frames": len(r), "seconds": sum(x["frame_ms"] for x in r) / 1000, "frame ms": steady_ms(mode, config),
              "q.lat": last["occlusion_latency_frames"], "fb.lat": last["feedback_latency_frames"],
              "PSNR": psnr(f"{work}/converge-{mode}-{config}.png", f"{work}/converge-{mode}-{configs[0]}.png")}
         base = base or s
