@@ -80,8 +80,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
   addEnumOption(app, "--feedback", o.feedback, kOnOffNames,
                 "progressive frames: the rays report the bricks they used and where they wanted finer data; "
                 "requested nodes and the tree in use refine first, nodes no ray sampled do not refine, used "
-                "bricks stay "
-                "in the pool");
+                "bricks stay in the pool");
   app.add_option("--query-budget", o.queryBudget, "occlusion queries per frame")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();
