@@ -14,13 +14,15 @@
 #    feedback latencies, the PSNR of each image against priority, and the frame from which the image stays
 #    within 40 dB of the converged one, with the seconds to it (every frame is written to
 #    WORK/frames-MODE-CONFIG/ for that; the seconds are frame times, which the writes do not enter).
-# 2. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
+# 2. The same, iso only, with a slow disk (--io-delay-ms SLOW_IO per brick read): answers come back while the
+#    tree is still being read, as in Gobbetti et al. 2008's out-of-core setting.
+# 3. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
 #    the path's working set: frame time median and max, bytes read and uploaded, evictions of bricks the rays
 #    used in the frame before (used_evictions).
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
 #   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), STEADY (4), GPU (1G), CPU (1G),
-#   PATH_GPU (128M), PATH_CPU (128M), WORK (a fresh folder), SKIP_PATH=1 skips part 2, SKIP_CONVERGE=1 reuses
-#   part 1's results in WORK
+#   PATH_GPU (128M), PATH_CPU (128M), SLOW_IO (2, milliseconds; 0 skips part 2), WORK (a fresh folder),
+#   SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/lib/common.sh"
@@ -32,6 +34,7 @@ frames=${FRAMES:-120}
 modes=${MODES:-iso dvr}
 configs=${CONFIGS:-priority occlusion feedback both}
 steady=${STEADY:-4}
+slow_io=${SLOW_IO:-2}
 store="$WORK/menger$SIZE.rcast"
 [ -f "$store" ] || "$ROPECAST" convert "procedural:menger:$SIZE" -o "$store" --quiet
 printf '{"points": [[0, 0.0, 0.0, 0.0, 0.0], [100, 0.9, 0.6, 0.3, 0.0], [255, 1.0, 0.9, 0.7, 0.3]]}\n' \
@@ -68,6 +71,15 @@ for mode in $modes; do
       --stats "$WORK/steady-$mode-$config.jsonl" -o "$WORK/steady-$mode-$config.png"
   done
 done
+if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
+  for config in $configs; do
+    echo "visibility.sh: converge with a slow disk, iso, $config" >&2
+    # shellcheck disable=SC2046
+    "$ROPECAST" render "$store" --mode iso --size "$IMAGE" --orbit 30,20,1.6 --converge --max-frames 400 \
+      --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") --io-delay-ms "$slow_io" \
+      --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.png"
+  done
+fi
 if [ "${SKIP_PATH:-0}" != 1 ]; then
   for config in $configs; do
     echo "visibility.sh: path, $config" >&2
@@ -78,9 +90,9 @@ if [ "${SKIP_PATH:-0}" != 1 ]; then
   done
 fi
 
-python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" <<'PY'
-import glob, json, statistics, subprocess, sys
-work, modes, configs, image, size, path_image, skip_path, ropecast = sys.argv[1:]
+python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" "$slow_io" <<'PY'
+import glob, json, os, statistics, subprocess, sys
+work, modes, configs, image, size, path_image, skip_path, ropecast, slow_io = sys.argv[1:]
 modes, configs = modes.split(), configs.split()
 MiB = 1 << 20
 def rows(name):
@@ -121,6 +133,17 @@ for mode in modes:
         print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if last["converged"] else "  NOT CONVERGED"))
     print("  " + mode + ", against " + configs[0] + ": working set " + ", ".join(
         f"{c} {rows(f'converge-{mode}-{c}')[-1]['working_set_bricks'] / base['working set']:.2f}" for c in configs[1:]))
+if slow_io != "0" and os.path.exists(f"{work}/slow-iso-{configs[0]}.jsonl"):
+    print(f"\niso with --io-delay-ms {slow_io} per brick read (a slow disk), cold cache to convergence at {image}")
+    head = ["working set", "read MiB", "upload MiB", "frames", "seconds", "PSNR"]
+    print(f"{'':<10}" + "".join(f"{h:>12}" for h in head))
+    for config in configs:
+        r = rows(f"slow-iso-{config}")
+        s = {"working set": r[-1]["working_set_bricks"], "read MiB": sum(x["bytes_read"] for x in r) / MiB,
+             "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB, "frames": len(r),
+             "seconds": sum(x["frame_ms"] for x in r) / 1000,
+             "PSNR": psnr(f"{work}/slow-iso-{config}.png", f"{work}/slow-iso-{configs[0]}.png")}
+        print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if r[-1]["converged"] else "  NOT CONVERGED"))
 if skip_path != "1":
     print(f"\nflyby_path.json at {path_image}, iso")
     head = ["frame med", "frame max", "read MiB", "upload MiB", "used evict"]
