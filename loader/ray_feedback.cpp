@@ -5,9 +5,6 @@
 namespace ropecast {
 
 void RayFeedback::rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::vector<uint8_t> dataLeaf) {
-  latestInner_.clear();
-  for (const NodeKey& leaf : leaves)
-    for (NodeKey k = leaf; k.depth > 0 && latestInner_.insert(k.parent()).second;) k = k.parent();
   cuts_.push_back({frame, std::move(leaves), std::move(dataLeaf)});
 }
 
@@ -51,18 +48,17 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
   return true;
 }
 
-NodeHint RayFeedback::hint(const NodeKey& key, uint64_t frame) const {
+NodeHint RayFeedback::hint(const NodeKey& key, uint64_t frame, bool innerNodeNow) const {
   const auto it = answers_.find(key);
   const NodeHint answered = it == answers_.end() || frame - it->second.frame > config_.answerLifetimeFrames
                                 ? NodeHint::None
                                 : it->second.hint;
-  if (answered != NodeHint::Unused && latestInner_.contains(key)) return NodeHint::Used;
+  if (answered != NodeHint::Unused && innerNodeNow) return NodeHint::Used;
   return answered;
 }
 
 void RayFeedback::reset() {
   cuts_.clear();
-  latestInner_.clear();
   answers_.clear();
   usedNodes_.clear();
   answered_ = false;

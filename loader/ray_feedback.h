@@ -4,10 +4,11 @@
 // frames later as indices into that frame's cut (render/feedback_buffer.h). This class keeps each frame's cut
 // until its answer arrives, maps the indices to nodes, and answers per node:
 //   Requested  requested in the latest answer that covered the node: refined before the rest;
-//   Used       an inner node of the latest remembered cut (the tree on the GPU now) that no answer calls
-//              unused: ranked with Requested, so the bricks the rays are using are not given up for requests
-//              when the pool is full. It is the tree now, not the answered one: answers come a frame or two
-//              late, and hints about an older tree would let even and odd frames settle on different cuts;
+//   Used       an inner node of the tree on the GPU now (the last frame's; the caller says) that no answer
+//              calls unused: ranked with Requested, so the bricks the rays are using are not given up for
+//              requests when the pool is full. It is the tree now, not the answered one: answers come a frame
+//              or two late, and hints about an older tree would let even and odd frames settle on different
+//              cuts;
 //   Unused     a data leaf of the answered cut that no ray sampled, or an inner node of it with no used data
 //              leaf below: not refined by priority alone;
 //   None       a used leaf not requested, not in the answered tree, or the answer is too old.
@@ -22,7 +23,6 @@
 #include <deque>
 #include <span>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "loader/refiner.h"
@@ -38,15 +38,15 @@ class RayFeedback {
  public:
   explicit RayFeedback(const RayFeedbackConfig& config = {}) : config_(config) {}
 
-  // The cut frame `frame` was cast with, by cut index; dataLeaf[i] says whether leaf i held a brick. Its
-  // inner nodes are the Used ones until the next cut is remembered.
+  // The cut frame `frame` was cast with, by cut index; dataLeaf[i] says whether leaf i held a brick.
   void rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::vector<uint8_t> dataLeaf);
   // The answer of frame `frame` (indices into its remembered cut). Answers come in frame order; cuts older
   // than it are forgotten. An answer for a frame whose cut is not remembered is ignored (returns false).
   bool answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
               std::span<const uint32_t> requestedLeaves);
 
-  NodeHint hint(const NodeKey& key, uint64_t frame) const;
+  // innerNodeNow: the node is an inner node of the tree on the GPU now (the caller keeps that tree).
+  NodeHint hint(const NodeKey& key, uint64_t frame, bool innerNodeNow = false) const;
   const std::vector<NodeKey>& usedNodes() const { return usedNodes_; }
   // The frame of the latest answer, if any.
   bool answered() const { return answered_; }
@@ -67,7 +67,6 @@ class RayFeedback {
 
   RayFeedbackConfig config_;
   std::deque<RememberedCut> cuts_;
-  std::unordered_set<NodeKey, NodeKeyHash> latestInner_;
   std::unordered_map<NodeKey, NodeAnswer, NodeKeyHash> answers_;
   std::vector<NodeKey> usedNodes_;
   bool answered_ = false;

@@ -235,13 +235,13 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   if (!lastView_ || !sameView(*lastView_, request)) collapsedOnThisView_.clear();
   if (occlusion || feedback) {
     input.hints = [this, occlusion, feedback](const NodeKey& key) {
+      const bool refinedNow = lastInnerNodes_.contains(key);
       NodeHint hint = NodeHint::None;
       if (occlusion && visibility_->isOccluded(key, frame_))
         hint = NodeHint::Occluded;
       else if (feedback)
-        hint = rayFeedback_.hint(key, frame_);
-      const bool collapses =
-          (hint == NodeHint::Occluded || hint == NodeHint::Unused) && lastInnerNodes_.contains(key);
+        hint = rayFeedback_.hint(key, frame_, refinedNow);
+      const bool collapses = (hint == NodeHint::Occluded || hint == NodeHint::Unused) && refinedNow;
       if (collapses && !collapsedOnThisView_.insert(key).second) return NodeHint::Used;
       return hint;
     };

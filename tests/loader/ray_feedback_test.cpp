@@ -76,14 +76,14 @@ TEST(RayFeedback, InnerNodesAreUsedWhenADataLeafBelowWasUsed) {
   f.rememberCut(3, {a0, a1, b0, b1, e}, {1, 1, 1, 1, 0});
   const uint32_t used[] = {0};
   ASSERT_TRUE(f.answer(3, used, std::span<const uint32_t>()));
-  EXPECT_EQ(f.hint(a, 3), NodeHint::Used);
-  EXPECT_EQ(f.hint(NodeKey{}, 3), NodeHint::Used);
-  EXPECT_EQ(f.hint(b, 3), NodeHint::Unused);
+  EXPECT_EQ(f.hint(a, 3, true), NodeHint::Used);
+  EXPECT_EQ(f.hint(NodeKey{}, 3, true), NodeHint::Used);
+  EXPECT_EQ(f.hint(b, 3, true), NodeHint::Unused);
   EXPECT_EQ(f.hint(a1, 3), NodeHint::Unused);
 
   f.rememberCut(4, {a0, a1, b0, b1, e}, {1, 1, 1, 1, 0});
   ASSERT_TRUE(f.answer(4, std::span<const uint32_t>(), std::span<const uint32_t>()));
-  EXPECT_EQ(f.hint(NodeKey{}, 4), NodeHint::Unused) << "no ray sampled anything";
+  EXPECT_EQ(f.hint(NodeKey{}, 4, true), NodeHint::Unused) << "no ray sampled anything";
 }
 
 }  // namespace

@@ -383,6 +383,7 @@ TEST(Refiner, AFullPoolWithFeedbackSettlesOnOneCut) {
     };
     std::vector<Answer> answers;
     std::vector<std::vector<NodeKey>> cuts;
+    std::set<NodeKey, KeyLess> innerNow;  // the last frame's refined nodes: the tree on the GPU
     for (uint64_t frame = 0; frame < 16; ++frame) {
       if (frame >= latency) {
         const Answer& a = answers[frame - latency];
@@ -390,8 +391,9 @@ TEST(Refiner, AFullPoolWithFeedbackSettlesOnOneCut) {
       }
       FakeResidency res;
       res.slotCapacity = wanted / 2;
-      const RefineResult r =
-          refine(src, v, {}, res, [&](const NodeKey& k) { return feedback.hint(k, frame); });
+      const RefineResult r = refine(
+          src, v, {}, res, [&](const NodeKey& k) { return feedback.hint(k, frame, innerNow.count(k)); });
+      innerNow = {r.refinedOrder.begin(), r.refinedOrder.end()};
       std::vector<NodeKey> keys;
       std::vector<uint8_t> dataLeaf;
       Answer a;
