@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <queue>
 #include <tuple>
 
@@ -28,6 +29,23 @@ WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const Node
   b.lo = glm::min(glm::dvec3(key.coord) * edgeSamples * spacing, dataHi);
   b.hi = glm::min(glm::dvec3(key.coord + 1u) * edgeSamples * spacing, dataHi);
   return b;
+}
+
+WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key) {
+  const OctreeLayout& layout = nodes.info().layout;
+  const glm::dvec3 spacing = nodes.info().volume.spacing;
+  if (key.depth >= layout.maxDepth) return nodeWorldBox(layout, spacing, key);
+  std::optional<WorldBox> box;
+  for (uint32_t o = 0; o < 8; ++o) {
+    const NodeKey child = key.child(o);
+    if (!layout.isInside(child)) continue;
+    const NodeInfo info = nodes.node(child);
+    if (info.kind == NodeKind::Outside || info.kind == NodeKind::Empty) continue;
+    if (isEmpty && isEmpty(info.minValue, info.maxValue)) continue;
+    const WorldBox b = nodeWorldBox(layout, spacing, child);
+    box = box ? WorldBox{glm::min(box->lo, b.lo), glm::max(box->hi, b.hi)} : b;
+  }
+  return box ? *box : nodeWorldBox(layout, spacing, key);
 }
 
 double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
@@ -150,8 +168,13 @@ class RefineRun {
       classes[o] = classify(children[o]);
       if (classes[o].cls != Class::NoBrick) withBrick[brickCount++] = children[o];
     }
+    // The pool goes to nodes in priority order: once a node's children do not fit, no node after it takes
+    // slots, though one with fewer data children would fit. Otherwise which node fits the rest depends on the
+    // hints' order, which the next frame's feedback changes, and a full pool swaps nodes every frame.
+    if (poolFull_ && brickCount > 0) return leaf(n, LeafReason::PoolFull);
     const auto outcome = residency_.acquire(std::span(withBrick.data(), brickCount), n.voxelPixels,
                                             std::span(slots.data(), brickCount));
+    if (outcome == BrickResidency::Outcome::PoolFull) poolFull_ = true;
     if (outcome != BrickResidency::Outcome::Ready) return leaf(n, reasonOf(outcome));
 
     result_.refinedOrder.push_back(n.key);
@@ -261,6 +284,7 @@ class RefineRun {
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;
   RefineResult result_;
   bool complete_ = true;
+  bool poolFull_ = false;  // a node's children did not fit in the GPU pool
 };
 
 }  // namespace

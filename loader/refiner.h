@@ -53,7 +53,8 @@ enum class LeafReason : uint8_t {
   Culled,        // outside the view frustum
   Constant,      // every sample equal: children would look the same
   NotInCore,     // its children's bricks (or the root's) were requested and are not read yet
-  PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut
+  PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut, or a node before it
+                 // could not (the pool goes to nodes in priority order)
   UploadBudget,  // this frame's upload budget cannot carry its children
   Occluded,      // NodeHint::Occluded
   Unused,        // NodeHint::Unused
@@ -121,6 +122,11 @@ struct WorldBox {
   glm::dvec3 lo{0.0}, hi{0.0};
 };
 WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key);
+// The part of a node's box that holds its data: the bounding box of its children that are neither outside
+// the volume nor empty (NodeKind::Empty or `isEmpty`); the node's box at the finest depth or when no child
+// qualifies. What an occlusion query of the node tests: the box of an empty child would show where no ray
+// meets the node's data, and a node collapsed because its data leaves were hidden would answer visible.
+WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key);
 
 // Pixels covered by one voxel of the node's level, seen at the node's point nearest to the eye (distance
 // clamped to half a full-resolution voxel, so a node containing the eye gets a very large value).

@@ -18,6 +18,8 @@ bool VisibilityTracker::occludedBy(const NodeKey& key, const Mark& mark, uint64_
 
 void VisibilityTracker::finishRound() {
   lastRoundFrames_ = roundFrames_;
+  if (!rounds_.empty()) rounds_.back().finished = true;
+  dropAnsweredRounds();
   // A round during which no answer arrived says nothing about stability.
   settled_ = roundAnswers_ > 0 && !roundFlipped_;
   roundQueried_.clear();
@@ -73,7 +75,12 @@ FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t 
     result.queries.push_back(leaves[i].key);
     roundQueried_.insert(leaves[i].key);
   }
+  nothingToQueryFrame_.reset();
+  if (queryable.empty()) nothingToQueryFrame_ = frame;
   if (!queryable.empty()) {
+    if (roundFrames_ == 0) rounds_.push_back({frame, frame, 0, 0, false});
+    rounds_.back().lastFrame = frame;
+    rounds_.back().issued += result.queries.size();
     ++roundFrames_;
     if (roundQueried_.size() == queryable.size()) finishRound();
   }
@@ -82,6 +89,7 @@ FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t 
 
 void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed) {
   if (dropAll_ || issuedFrame < firstValidFrame_) return;  // asked before reset(), about another image
+  countAnswer(issuedFrame);
   const auto [it, inserted] = marks_.try_emplace(key);
   if (!inserted && issuedFrame < it->second.issuedFrame) return;  // an older answer than the one held
   const bool wasOccluded = !inserted && it->second.occluded && live(it->second, lastPlanFrame_);
@@ -89,6 +97,32 @@ void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_
   ++roundAnswers_;
   if (occluded != wasOccluded) roundFlipped_ = true;
   it->second = {issuedFrame, occluded, samplesPassed};
+}
+
+void VisibilityTracker::countAnswer(uint64_t issuedFrame) {
+  for (RoundAnswers& r : rounds_) {
+    if (issuedFrame >= r.firstFrame && issuedFrame <= r.lastFrame) {
+      ++r.answered;
+      break;
+    }
+  }
+  dropAnsweredRounds();
+}
+
+void VisibilityTracker::dropAnsweredRounds() {
+  std::erase_if(rounds_, [this](const RoundAnswers& r) {
+    if (!r.finished || r.answered < r.issued) return false;
+    answeredRoundFrame_ = std::max(answeredRoundFrame_.value_or(0), r.firstFrame);
+    return true;
+  });
+  // Answers that never come (queries the renderer stopped collecting) must not hold memory forever.
+  constexpr size_t kMaxRounds = 64;
+  if (rounds_.size() > kMaxRounds) rounds_.erase(rounds_.begin(), rounds_.end() - kMaxRounds);
+}
+
+bool VisibilityTracker::answeredSince(uint64_t frame) const {
+  if (nothingToQueryFrame_ && *nothingToQueryFrame_ >= frame) return true;
+  return answeredRoundFrame_ && *answeredRoundFrame_ >= frame;
 }
 
 void VisibilityTracker::propagate(std::span<const NodeKey> nonEmptyLeaves) {
@@ -145,6 +179,9 @@ void VisibilityTracker::reset() {
   roundAnswers_ = 0;
   lastRoundFrames_ = 0;
   settled_ = false;
+  rounds_.clear();
+  answeredRoundFrame_.reset();
+  nothingToQueryFrame_.reset();
   dropAll_ = true;
 }
 

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <unordered_map>
 #include <unordered_set>
@@ -102,6 +103,11 @@ class VisibilityTracker {
   // ends. The query latency is this plus the frames an answer takes to come back.
   uint64_t lastRoundFrames() const { return lastRoundFrames_; }
 
+  // True when every query of a round planned at frame `frame` or later has been answered, or when the last
+  // plan(), at `frame` or later, had no leaf to query. Then the marks describe what the cut drawn since
+  // `frame` hides: if the refinement with them kept that cut, the cut is a fixed point of the queries.
+  bool answeredSince(uint64_t frame) const;
+
   // True when the last completed round flipped no mark of a leaf in the cut between visible and occluded
   // (the occlusion state is stable). Flips count in the round during which their answer arrived.
   bool settled() const { return settled_; }
@@ -124,6 +130,16 @@ class VisibilityTracker {
   bool occludedBy(const NodeKey& key, const Mark& mark, uint64_t frame) const;
   void finishRound();
 
+  // A round of queries and how many of its answers came back; answeredRoundFrame_: the first frame of the
+  // latest round whose answers all came back.
+  struct RoundAnswers {
+    uint64_t firstFrame = 0, lastFrame = 0;
+    uint64_t issued = 0, answered = 0;
+    bool finished = false;  // every leaf of the cut queried: no more queries join it
+  };
+  void countAnswer(uint64_t issuedFrame);
+  void dropAnsweredRounds();
+
   VisibilityConfig config_;
   std::unordered_map<NodeKey, Mark, NodeKeyHash> marks_;
 
@@ -138,6 +154,9 @@ class VisibilityTracker {
   uint64_t roundAnswers_ = 0;  // answers that arrived during the round
   uint64_t lastRoundFrames_ = 0;
   bool settled_ = false;
+  std::vector<RoundAnswers> rounds_;  // the current round, then finished ones with answers outstanding
+  std::optional<uint64_t> answeredRoundFrame_;
+  std::optional<uint64_t> nothingToQueryFrame_;  // the last plan()'s frame if it had no leaf to query
 
   // After reset(): answers issued before this frame are dropped (dropAll_ until the next plan() sets it).
   uint64_t firstValidFrame_ = 0;

@@ -158,14 +158,16 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
 }
 
 TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
-                                      FrameStats& stats) {
+                                      const EmptinessPredicate& isEmpty, FrameStats& stats) {
   const auto start = Clock::now();
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
   queriedLeaves_.clear();
+  std::unordered_map<NodeKey, WorldBox, NodeKeyHash> boxes;
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
-    const WorldBox box = nodeWorldBox(info.layout, info.volume.spacing, leaf.key);
+    const WorldBox box = nodeDataBox(source_, isEmpty, leaf.key);
+    boxes.emplace(leaf.key, box);
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
     queriedLeaves_.push_back(leaf.key);
   }
@@ -177,7 +179,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
 
   queryBoxes_.clear();
   for (const NodeKey& key : plan.queries) {
-    const WorldBox box = nodeWorldBox(info.layout, info.volume.spacing, key);
+    const WorldBox& box = boxes.at(key);
     queryBoxes_.push_back({key, box.lo, box.hi});
   }
   TileSchedule schedule;
@@ -289,7 +291,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   const double indexMs = msSince(indexStart);
 
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
-  const TileSchedule schedule = occlusion ? planTiles(request, plan.leaves, stats) : TileSchedule{};
+  const TileSchedule schedule =
+      occlusion ? planTiles(request, plan.leaves, input.isEmpty, stats) : TileSchedule{};
 
   // Pass 5, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);
@@ -308,9 +311,15 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     raycast_.render(frame, schedule);
   }
   lastMultipass_ = multipass;
+  // The cut as a set: the refiner's leaf order follows its heap, which hints reorder without changing the
+  // cut.
   uint64_t cutHash = plan.leaves.size();
-  for (const PlannedLeaf& leaf : plan.leaves)
-    cutHash = cutHash * 0x9E3779B97F4A7C15ull ^ NodeKeyHash {}(leaf.key);
+  for (const PlannedLeaf& leaf : plan.leaves) {
+    uint64_t h = NodeKeyHash{}(leaf.key) ^ (uint64_t(leaf.content) << 61);  // splitmix64's finalizer
+    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+    cutHash += h ^ (h >> 31);
+  }
   if (cutHash != currentCutHash_) cutChangedFrame_ = frame_;
   currentCutHash_ = cutHash;
   if (feedback) {
@@ -338,11 +347,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     stats.glDrawCalls = raycast_.lastDrawCalls();
   }
   stats.workingSetBricks = workingSet_->slots().pinnedCount();
-  // Converged also means the cut held through a whole round of occlusion answers about it (a mark may still
-  // flip on a leaf whose refinement it does not change: a sample count at the threshold).
-  if (occlusion)
-    stats.converged =
-        stats.converged && frame_ - cutChangedFrame_ > std::max<uint64_t>(visibility_->lastRoundFrames(), 1);
+  // Converged also means the refinement kept the cut with a whole round of occlusion answers about it.
+  if (occlusion) stats.converged = stats.converged && visibility_->answeredSince(cutChangedFrame_);
   // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
   if (feedback)
     stats.converged =

@@ -118,9 +118,10 @@ class FrameRenderer {
   void collectVisibility(const FrameRequest& request, FrameStats& stats);
   // Hear back: the rays' usage and requests of earlier frames, into RayFeedback.
   void collectFeedback(FrameStats& stats);
-  // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them.
+  // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them. A
+  // leaf is queried, and projected, by the box of its data (nodeDataBox under `isEmpty`).
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
-                         FrameStats& stats);
+                         const EmptinessPredicate& isEmpty, FrameStats& stats);
 
   const BrickSource& source_;
   std::string glRenderer_;  // GL_RENDERER, for RenderBackend::Auto

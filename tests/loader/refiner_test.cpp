@@ -82,6 +82,34 @@ TEST(Refiner, EyeInsideANodeGivesAHugeButFiniteSize) {
   EXPECT_GT(px, 50.0);
 }
 
+TEST(Refiner, ANodesDataBoxBoundsItsChildrenThatHoldData) {
+  // 64^3, bricks of 16: depths 0..2. Below the root, child (1,1,1) is NodeKind::Empty and children with
+  // x = 1 have values [0, 10]; below depth-1 node (0,0,0) every child but (0,0,0) is empty.
+  auto fn = [](const NodeKey& k) -> NodeInfo {
+    if (k.depth == 1 && k.coord == glm::u32vec3(1, 1, 1)) return {NodeKind::Empty, 0, 0};
+    if (k.depth == 1 && k.coord.x == 1) return {NodeKind::Data, 0, 10};
+    if (k.depth == 2 && k.coord.x < 2 && k.coord.y < 2 && k.coord.z < 2 && k.coord != glm::u32vec3(0))
+      return {NodeKind::Empty, 0, 0};
+    return {NodeKind::Data, 0, 255};
+  };
+  const FakeBrickSource src({64, 64, 64}, 16, fn);
+  const auto isoEmpty = [](uint16_t lo, uint16_t hi) { return !(lo <= 100 && 100 <= hi); };  // iso 100
+  auto expectBox = [](const WorldBox& b, glm::dvec3 lo, glm::dvec3 hi) {
+    EXPECT_EQ(b.lo, lo);
+    EXPECT_EQ(b.hi, hi);
+  };
+  // Without a predicate only NodeKind::Empty is empty: the children's bounding box is the whole root.
+  expectBox(nodeDataBox(src, {}, NodeKey{}), glm::dvec3(0), glm::dvec3(64));
+  // With the isovalue the x = 1 children are empty too: the x = 0 half.
+  expectBox(nodeDataBox(src, isoEmpty, NodeKey{}), glm::dvec3(0), glm::dvec3(32, 64, 64));
+  // One child with data: its box.
+  expectBox(nodeDataBox(src, isoEmpty, NodeKey{1, {0, 0, 0}}), glm::dvec3(0), glm::dvec3(16));
+  // The finest depth, and a node whose children all count empty: the node's own box.
+  expectBox(nodeDataBox(src, isoEmpty, NodeKey{2, {1, 0, 0}}), glm::dvec3(16, 0, 0), glm::dvec3(32, 16, 16));
+  const auto allEmpty = [](uint16_t, uint16_t) { return true; };
+  expectBox(nodeDataBox(src, allEmpty, NodeKey{}), glm::dvec3(0), glm::dvec3(64));
+}
+
 TEST(Refiner, FrustumCullingIsConservative) {
   const RefineView v = viewFrom({0, 0, -10}, {0, 0, 0});  // looking along +z, 90 degrees
   EXPECT_TRUE(boxInFrustum({{-1, -1, 0}, {1, 1, 1}}, v));
@@ -236,6 +264,34 @@ TEST(Refiner, FullPoolStopsRefinementButTheCutIsComplete) {
   }
   EXPECT_LE(bricks, 30u);
   EXPECT_GT(poolFull, 0u);
+}
+
+TEST(Refiner, AFullPoolGoesToNodesInPriorityOrder) {
+  // Depth-2 nodes with an odd x have one data child, the others eight: once a node's eight children no longer
+  // fit, a node of lower priority with one child would, and taking it would make the cut depend on which
+  // children happen to be empty: the next frame's hints reorder the nodes and the cut swaps them back and
+  // forth.
+  auto fn = [](const NodeKey& k) -> NodeInfo {
+    if (k.depth == 3 && k.coord.x / 2 % 2 == 1 && k.coord != k.parent().child(0).coord)
+      return {NodeKind::Empty, 0, 0};
+    return {NodeKind::Data, 0, 255};
+  };
+  const FakeBrickSource src({256, 256, 256}, 16, fn);
+  const RefineView view = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
+  for (size_t capacity = 40; capacity < 200; capacity += 3) {
+    FakeResidency res;
+    res.slotCapacity = capacity;
+    const RefineResult r = refine(src, view, {}, res);
+    EXPECT_TRUE(isFullTiling(r.leaves, 4));
+    double lowestRefined = INFINITY, highestRefused = 0.0;
+    for (const NodeKey& k : r.refinedOrder)
+      lowestRefined =
+          std::min(lowestRefined, projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), k, view));
+    for (const PlannedLeaf& l : r.leaves)
+      if (l.reason == LeafReason::PoolFull) highestRefused = std::max(highestRefused, l.voxelPixels);
+    EXPECT_GT(highestRefused, 0.0) << "capacity " << capacity;
+    EXPECT_GE(lowestRefined, highestRefused) << "capacity " << capacity;
+  }
 }
 
 TEST(Refiner, NodesOutsideTheFrustumAreCulled) {

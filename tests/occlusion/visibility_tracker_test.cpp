@@ -399,6 +399,74 @@ TEST(VisibilityTracker, SettlesWhenARoundFlipsNoMark) {
   EXPECT_EQ(tracker.counts(120).occluded, hidden.size());
 }
 
+TEST(VisibilityTracker, AnswersSinceAFrameOnceARoundStartedThenCameBackWhole) {
+  const uint32_t width = 320, height = 240, n = 400;
+  std::mt19937 rng(5);
+  const std::vector<LeafToQuery> leaves = randomLeaves(rng, n, width, height);
+  VisibilityTracker tracker({{64, 16}, 4, 64});
+  std::deque<std::pair<NodeKey, uint64_t>> inFlight;
+  NodeKey heldBack{};
+  uint64_t heldIssued = 0;
+  bool holdOne = false;
+  // Each query's answer comes back two frames after it was issued; with holdOne, the first query issued
+  // from then on never comes back.
+  auto run = [&](uint64_t from, uint64_t to) {
+    for (uint64_t frame = from; frame < to; ++frame) {
+      while (!inFlight.empty() && inFlight.front().second + 2 <= frame) {
+        const auto [key, issued] = inFlight.front();
+        inFlight.pop_front();
+        if (holdOne && key == heldBack && issued == heldIssued) continue;
+        tracker.answer(key, issued, 100);
+      }
+      for (const NodeKey& k : tracker.plan(frame, width, height, leaves).queries) {
+        if (holdOne && heldBack == NodeKey{}) {
+          heldBack = k;
+          heldIssued = frame;
+        }
+        inFlight.push_back({k, frame});
+      }
+    }
+  };
+  run(0, 1);
+  EXPECT_FALSE(tracker.answeredSince(0));
+  // The first round: frames [0, rounds); its last answers come back in frame rounds + 1.
+  uint64_t frame = 1;
+  for (; tracker.lastRoundFrames() == 0; ++frame) run(frame, frame + 1);
+  const uint64_t rounds = tracker.lastRoundFrames();
+  ASSERT_GT(rounds, 1u);
+  ASSERT_EQ(frame, rounds);
+  run(frame, rounds + 1);
+  EXPECT_FALSE(tracker.answeredSince(0)) << "the answers of frame " << rounds - 1 << " are still out";
+  run(rounds + 1, rounds + 2);
+  EXPECT_TRUE(tracker.answeredSince(0));
+  EXPECT_FALSE(tracker.answeredSince(1)) << "no round started at frame 1 or later came back yet";
+  // The second round, frames [rounds, 2 rounds), comes back whole in frame 2 rounds + 1.
+  run(rounds + 2, 2 * rounds + 1);
+  EXPECT_FALSE(tracker.answeredSince(rounds));
+  run(2 * rounds + 1, 2 * rounds + 2);
+  EXPECT_TRUE(tracker.answeredSince(rounds));
+
+  // A round with an answer missing does not count; the next one, whole, does.
+  run(2 * rounds + 2, 3 * rounds);
+  holdOne = true;
+  run(3 * rounds, 4 * rounds + 2);
+  EXPECT_NE(heldBack, NodeKey{});
+  EXPECT_TRUE(tracker.answeredSince(2 * rounds));
+  EXPECT_FALSE(tracker.answeredSince(3 * rounds))
+      << "an answer of the round of frame " << 3 * rounds << " is missing";
+  run(4 * rounds + 2, 5 * rounds + 2);
+  EXPECT_TRUE(tracker.answeredSince(3 * rounds)) << "the round of frame " << 4 * rounds << " came back whole";
+  holdOne = false;
+  const uint64_t from = 5 * rounds + 2;
+
+  // reset() forgets every answer; a cut with no leaf to query has nothing to wait for.
+  tracker.reset();
+  EXPECT_FALSE(tracker.answeredSince(0));
+  tracker.plan(from + 4 * rounds, width, height, {});
+  EXPECT_TRUE(tracker.answeredSince(from + 4 * rounds));
+  EXPECT_FALSE(tracker.answeredSince(from + 4 * rounds + 1));
+}
+
 TEST(VisibilityTracker, KeepsMemoryBoundedAsTheCutChanges) {
   VisibilityTracker tracker({{64, 16}, 4, 16});
   for (uint64_t frame = 0; frame < 400; ++frame) {

@@ -145,7 +145,9 @@ class ConvergeTest : public ::testing::Test {
     }
     EXPECT_GT(dataLeaves, 8u);  // a real tree, not the root alone
     if (c.expectPoolFull) {
-      EXPECT_EQ(async.frames.back().gpuPoolUsedBytes, poolBytes);
+      // The pool goes to nodes in priority order: what is left cannot hold another node's eight children.
+      EXPECT_LE(async.frames.back().gpuPoolUsedBytes, poolBytes);
+      EXPECT_GT(async.frames.back().gpuPoolUsedBytes + 8 * brickBytes, poolBytes);
     }
 
     // The same image up to float rounding: a brick may sit in another pool slot, and the pool coordinate
@@ -235,12 +237,12 @@ TEST_F(ConvergeTest, ASmallPoolConvergesToTheSameCoarserImage) {
   // The pool holds fewer bricks than the view wants at one voxel per pixel: both modes stop at PoolFull.
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
   Case c;
-  c.gpuBudgetBytes = 40 * c.gpuBytesPerSlot(source);
+  c.gpuBudgetBytes = 60 * c.gpuBytesPerSlot(source);
   c.voxelsPerPixel = 2.0;
   c.expectPoolFull = true;
   expectConvergesToSynchronous(source, c);
   c.mode = RenderMode::Dvr;
-  c.gpuBudgetBytes = 40 * c.gpuBytesPerSlot(source);
+  c.gpuBudgetBytes = 60 * c.gpuBytesPerSlot(source);
   c.uploadBudgetBytes = 5 * source.brickBytes();
   expectConvergesToSynchronous(source, c);
 }

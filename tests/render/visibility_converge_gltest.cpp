@@ -77,8 +77,12 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
   ASSERT_TRUE(off.last.converged);
   ASSERT_TRUE(on.last.converged) << "not converged after " << on.frames << " frames";
   EXPECT_EQ(off.last.occlusionQueries, 0u);
-  if (visibility.occlusion) EXPECT_GT(on.occludedMarksSeen, 0u);
-  if (visibility.feedback) EXPECT_GT(on.answersSeen, 0u);
+  if (visibility.occlusion) {
+    EXPECT_GT(on.occludedMarksSeen, 0u);
+  }
+  if (visibility.feedback) {
+    EXPECT_GT(on.answersSeen, 0u);
+  }
   EXPECT_GE(test::psnrDb(on.color, off.color), 40.0);
   EXPECT_LT(on.dataLeaves, off.dataLeaves) << "hidden nodes stay coarse";
 }
