@@ -73,6 +73,7 @@ FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t 
   result.queries.reserve(tiles.queried.size());
   for (uint32_t i : tiles.queried) {
     result.queries.push_back(leaves[i].key);
+    result.queriedIndices.push_back(i);
     roundQueried_.insert(leaves[i].key);
   }
   nothingToQueryFrame_.reset();

@@ -50,6 +50,7 @@ struct LeafToQuery {
 struct FrameQueryPlan {
   std::vector<ScreenRect> tiles;  // as TilePlan::tiles: tiles[0] first, then the queries, then the others
   std::vector<NodeKey> queries;   // leaves to query after tiles[0], each projecting entirely inside it
+  std::vector<uint32_t> queriedIndices;  // the same leaves, as indices into the span given to plan()
 };
 
 // Over the leaves given to the last plan().

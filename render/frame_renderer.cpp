@@ -163,11 +163,11 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
   queriedLeaves_.clear();
-  std::unordered_map<NodeKey, WorldBox, NodeKeyHash> boxes;
+  dataBoxes_.clear();
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
     const WorldBox box = nodeDataBox(source_, isEmpty, leaf.key);
-    boxes.emplace(leaf.key, box);
+    dataBoxes_.push_back(box);
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
     queriedLeaves_.push_back(leaf.key);
   }
@@ -178,9 +178,9 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   stats.occlusionLatencyFrames = visibility_->lastRoundFrames();
 
   queryBoxes_.clear();
-  for (const NodeKey& key : plan.queries) {
-    const WorldBox& box = boxes.at(key);
-    queryBoxes_.push_back({key, box.lo, box.hi});
+  for (const uint32_t i : plan.queriedIndices) {
+    const WorldBox& box = dataBoxes_[i];
+    queryBoxes_.push_back({toQuery[i].key, box.lo, box.hi});
   }
   TileSchedule schedule;
   for (const ScreenRect& r : plan.tiles)

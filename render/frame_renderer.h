@@ -144,6 +144,7 @@ class FrameRenderer {
   std::unique_ptr<VisibilityTracker> visibility_;  // config.occlusion only
   std::vector<NodeKey> queriedLeaves_;             // the non-empty leaves of the last asynchronous frame
   std::vector<QueryBox> queryBoxes_;               // this frame's queries
+  std::vector<WorldBox> dataBoxes_;                // this frame's queryable leaves' data boxes, as planned
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
   std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;       // of the last frame's tree
   std::unordered_set<NodeKey, NodeKeyHash> collapsedOnThisView_;  // since the camera last moved

@@ -71,6 +71,9 @@ TEST(VisibilityTracker, QueriesEveryLeafOnceARoundWithinTheBound) {
         const FrameQueryPlan plan = tracker.plan(frame++, width, height, leaves);
         ++frames;
         ASSERT_LE(plan.queries.size(), budget);
+        ASSERT_EQ(plan.queriedIndices.size(), plan.queries.size());
+        for (size_t q = 0; q < plan.queries.size(); ++q)
+          ASSERT_EQ(leaves[plan.queriedIndices[q]].key, plan.queries[q]);
         for (const NodeKey& k : plan.queries) {
           const uint32_t i = k.coord.x + 64 * k.coord.y + 4096 * k.coord.z;
           ASSERT_LT(i, n) << "a nearEye or outside leaf was queried";
