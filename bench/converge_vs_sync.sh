@@ -27,17 +27,7 @@ CPU=${CPU:-256M}
 UPLOAD=${UPLOAD:-8M}
 ORBIT=${ORBIT:-30,20,1.6}
 REPS=${REPS:-2}
-IFS=x read -r nx ny nz <<<"$DIMS"
-
-store="$WORK/ct_${DIMS}.rcast"
-if [ ! -f "$store" ]; then
-  sed -n '/^cat > "\$scratch\/gen.cpp"/,/^CPP$/p' "$here/convert_bench.sh" | sed '1d;$d' >"$WORK/gen.cpp"
-  c++ -O2 -o "$WORK/gen" "$WORK/gen.cpp"
-  raw="$WORK/ct_${DIMS}_int16.raw"
-  "$WORK/gen" "$nx" "$ny" "$nz" "$raw"
-  "$ROPECAST" convert "$raw" -o "$store" --quiet
-  rm -f "$raw"
-fi
+store=$(ct_store "$DIMS")
 
 cold() {
   if [ "$(id -u)" = 0 ] && sync && echo 3 >/proc/sys/vm/drop_caches 2>/dev/null; then echo cold; else echo warm; fi

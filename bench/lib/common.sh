@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Shared by the bench scripts (sourced, not run).
 
 # bench_setup NAME BUILD: sets ROPECAST (BUILD/tools/ropecast, which must exist), WORK (from the environment, or
@@ -20,4 +21,23 @@ bench_setup() {
 write_ramp_tf() {
   printf '{"points": [[0, 0.0, 0.0, 0.0, 0.0], [%s, 0.2, 0.1, 0.05, 0.0], [255, 1.0, 0.95, 0.85, 0.1]]}\n' \
     "${2:-25.5}" > "$1"
+}
+
+# ct_store DIMS: prints the path of the CT-like int16 store of DIMS (NXxNYxNZ: a smooth field over a ball plus
+# noise, convert_bench.sh's generator) in WORK, converting it first when it is not there.
+ct_store() {
+  local dims=$1 here nx ny nz
+  here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  local store="$WORK/ct_${dims}.rcast"
+  if [ ! -f "$store" ]; then
+    IFS=x read -r nx ny nz <<<"$dims"
+    # shellcheck disable=SC2016  # a sed address, not a shell expansion
+    sed -n '/^cat > "\$scratch\/gen.cpp"/,/^CPP$/p' "$here/convert_bench.sh" | sed '1d;$d' >"$WORK/gen.cpp"
+    c++ -O2 -o "$WORK/gen" "$WORK/gen.cpp" >&2 || return 1
+    local raw="$WORK/ct_${dims}_int16.raw"
+    "$WORK/gen" "$nx" "$ny" "$nz" "$raw" >&2 || return 1
+    "$ROPECAST" convert "$raw" -o "$store" --quiet >&2 || return 1
+    rm -f "$raw"
+  fi
+  echo "$store"
 }
