@@ -94,7 +94,8 @@ class VisibilityTracker {
   void occludedNodes(uint64_t frame, std::vector<NodeKey>& out) const;
 
   // Clears every mark and the round (a change of isovalue or transfer function changes what occludes what);
-  // answers to queries issued before the next plan() are ignored. lastRoundFrames() and settled() start over.
+  // answers to queries issued before the next plan() are ignored. lastRoundFrames(), settled() and
+  // answeredSince() start over.
   void reset();
 
   // Of the leaves handed to the last plan().

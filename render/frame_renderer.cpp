@@ -39,6 +39,19 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
     h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(request.params.isoValue);
   return h;
 }
+
+// The cut as a set of leaves and their content: the refiner's leaf order follows its heap, which hints
+// reorder without changing the cut.
+uint64_t cutSetHash(const std::vector<PlannedLeaf>& leaves) {
+  uint64_t hash = leaves.size();
+  for (const PlannedLeaf& leaf : leaves) {
+    uint64_t h = NodeKeyHash{}(leaf.key) ^ (uint64_t(leaf.content) << 61);  // splitmix64's finalizer
+    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+    hash += h ^ (h >> 31);
+  }
+  return hash;
+}
 }  // namespace
 
 EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInfo& info, const TfTable* tf) {
@@ -311,15 +324,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     raycast_.render(frame, schedule);
   }
   lastMultipass_ = multipass;
-  // The cut as a set: the refiner's leaf order follows its heap, which hints reorder without changing the
-  // cut.
-  uint64_t cutHash = plan.leaves.size();
-  for (const PlannedLeaf& leaf : plan.leaves) {
-    uint64_t h = NodeKeyHash{}(leaf.key) ^ (uint64_t(leaf.content) << 61);  // splitmix64's finalizer
-    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
-    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-    cutHash += h ^ (h >> 31);
-  }
+  const uint64_t cutHash = cutSetHash(plan.leaves);
   if (cutHash != currentCutHash_) cutChangedFrame_ = frame_;
   currentCutHash_ = cutHash;
   if (feedback) {
