@@ -365,6 +365,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   stats.uploadMs = uploadMs;
   // Waits for the GPU: the frame time includes the ray cast.
   stats.raycastMs = multipass ? multipass_.lastRaycastMs() : raycast_.lastRaycastMs();
+  if (!multipass) stats.occlusionDrawMs = raycast_.lastAfterFirstTileMs();
   stats.raycastWallClock =
       multipass ? multipass_.raycastTimerUsedWallClock() : raycast_.raycastTimerUsedWallClock();
   stats.frameMs = msSince(frameStart);

@@ -15,8 +15,9 @@ namespace ropecast {
 
 struct FrameStats : LoaderStats {
   uint64_t frame = 0;
-  double frameMs = 0.0;    // wall time of the whole frame
-  double raycastMs = 0.0;  // GL timestamp queries around the ray-cast pass (see GpuTimer)
+  double frameMs = 0.0;  // wall time of the whole frame
+  // GL timestamp queries around the ray-cast pass (see GpuTimer), without the occlusion queries' draws.
+  double raycastMs = 0.0;
   bool raycastWallClock =
       false;                // raycast_ms is the wall-clock bound: the driver's timestamps were implausible
   double uploadMs = 0.0;    // handing this frame's bricks to the GPU pool (CPU side of the texture uploads)
@@ -35,11 +36,15 @@ struct FrameStats : LoaderStats {
   // fragments of its blocks and marks that passed the depth test (MultipassCounts::fragments).
   uint64_t fragments = 0;
   // Occlusion queries (Gobbetti et al. 2008, Sect. 6); zero with --occlusion off and in synchronous frames.
-  uint64_t occlusionQueries = 0;        // issued this frame
-  uint64_t occlusionAnswered = 0;       // answers collected this frame (issued in earlier frames)
-  uint64_t nodesVisible = 0;            // non-empty leaves of the cut counted visible
-  uint64_t nodesOccluded = 0;           // non-empty leaves of the cut marked occluded
-  double occlusionMs = 0.0;             // CPU side: collecting, planning the tiles, issuing the queries
+  uint64_t occlusionQueries = 0;   // issued this frame
+  uint64_t occlusionAnswered = 0;  // answers collected this frame (issued in earlier frames)
+  uint64_t nodesVisible = 0;       // non-empty leaves of the cut counted visible
+  uint64_t nodesOccluded = 0;      // non-empty leaves of the cut marked occluded
+  double occlusionMs = 0.0;        // CPU side: collecting, planning the tiles, issuing the queries
+  // GPU side: drawing the query boxes after the first tile, timed as raycast_ms is and not part of it. On
+  // llvmpipe the driver rasterizes while the queries are issued, so there this also holds that part of
+  // occlusion_ms.
+  double occlusionDrawMs = 0.0;
   uint64_t tiles = 0;                   // screen tiles cast (1 without queries)
   uint64_t occlusionLatencyFrames = 0;  // frames the last round of queries took to cover every leaf
   // The rays' feedback (Crassin et al. 2009); zero with --feedback off and in synchronous frames. The counts
@@ -78,6 +83,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"nodes_visible", s.nodesVisible},
                         {"nodes_occluded", s.nodesOccluded},
                         {"occlusion_ms", s.occlusionMs},
+                        {"occlusion_draw_ms", s.occlusionDrawMs},
                         {"tiles", s.tiles},
                         {"draw_calls", s.drawCalls},
                         {"gl_draw_calls", s.glDrawCalls},

@@ -33,6 +33,10 @@ void GpuTimer::begin() {
 void GpuTimer::end() {
   if (!running_) throw Error("GpuTimer::end: no span is running");
   glQueryCounter(queries_[1], GL_TIMESTAMP);
+  if (softwareRenderer_) {
+    glFinish();
+    wallEnd_ = std::chrono::steady_clock::now();
+  }
   running_ = false;
   measured_ = true;
 }
@@ -41,8 +45,8 @@ double GpuTimer::elapsedMs() {
   if (!measured_ || running_) throw Error("GpuTimer::elapsedMs: no completed span to report");
   if (resolved_) return resolvedMs_;
   glFinish();
-  const double wallMs =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wallBegin_).count();
+  const auto wallEnd = softwareRenderer_ ? wallEnd_ : std::chrono::steady_clock::now();
+  const double wallMs = std::chrono::duration<double, std::milli>(wallEnd - wallBegin_).count();
   GLuint64 stamps[2] = {0, 0};
   glGetQueryObjectui64v(queries_[0], GL_QUERY_RESULT, &stamps[0]);
   glGetQueryObjectui64v(queries_[1], GL_QUERY_RESULT, &stamps[1]);

@@ -3,8 +3,9 @@
 // drivers report timestamps that cannot be right (llvmpipe stamps per rasterizer thread, so a span can read
 // as hours): a GPU span longer than the wall time from begin() to the result is replaced by that wall time,
 // which bounds it from above because elapsedMs() waits for the GPU. On llvmpipe/softpipe the stamps can
-// also read far too short (a piece of the work), so there begin() drains the pipeline and the wall time is
-// always reported. usedWallClock() says which one was reported. Owns two GL query objects: render thread
+// also read far too short (a piece of the work), so there begin() and end() drain the pipeline and the wall
+// time between them is always reported (so spans may nest or follow one another, as on a GPU).
+// usedWallClock() says which one was reported. Owns two GL query objects: render thread
 // only, with the GlContext current.
 #pragma once
 
@@ -37,6 +38,7 @@ class GpuTimer {
   bool usedWallClock_ = false;
   bool softwareRenderer_ = false;  // llvmpipe/softpipe: timestamps are not trustworthy, use the wall clock
   std::chrono::steady_clock::time_point wallBegin_{};
+  std::chrono::steady_clock::time_point wallEnd_{};  // software renderers: where end() drained
 };
 
 }  // namespace ropecast

@@ -152,6 +152,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   }
 
   timer_.begin();
+  afterFirstTileTimed_ = false;
   if (f.params.backend == RenderBackend::Fragment) {
     const float clearDepth = 1.0f;
     glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);
@@ -166,7 +167,10 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   if (schedule.afterFirstTile) {
     if (f.params.backend == RenderBackend::Compute) copyStopDepth(tiles[0]);
     target_.bindForDrawing();
+    afterFirstTileTimer_.begin();
     schedule.afterFirstTile();
+    afterFirstTileTimer_.end();
+    afterFirstTileTimed_ = true;
     bindForCasting(f, p);
   }
   for (const PixelRect& tile : tiles.subspan(1)) castTile(f, p, tile);
@@ -181,6 +185,14 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   }
   timer_.end();
   checkGlError("RaycastPass::render");
+}
+
+double RaycastPass::lastRaycastMs() {
+  return std::max(timer_.elapsedMs() - lastAfterFirstTileMs(), 0.0);
+}
+
+double RaycastPass::lastAfterFirstTileMs() {
+  return afterFirstTileTimed_ ? afterFirstTileTimer_.elapsedMs() : 0.0;
 }
 
 void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) {

@@ -102,8 +102,10 @@ class RaycastPass {
   // GL errors.
   void render(const RaycastFrame& frame, const TileSchedule& schedule = {});
 
-  // GPU time of the last render() (GL_TIME_ELAPSED; waits for the result).
-  double lastRaycastMs() { return timer_.elapsedMs(); }
+  // GPU time of the last render()'s ray cast (GL timestamps, see GpuTimer; waits for the result), without the
+  // schedule's callback, which is timed on its own: lastAfterFirstTileMs() (0 when there was none).
+  double lastRaycastMs();
+  double lastAfterFirstTileMs();
   // GL draws (or compute dispatches) of the last render()'s ray cast: one per kTileSize square of each tile
   // for the fragment entry point, one per tile for the compute one.
   uint64_t lastDrawCalls() const { return lastDrawCalls_; }
@@ -145,6 +147,8 @@ class RaycastPass {
   uint32_t stopDepthWidth_ = 0, stopDepthHeight_ = 0;
   std::unique_ptr<ShaderProgram> stopDepthProgram_;
   GpuTimer timer_;
+  GpuTimer afterFirstTileTimer_;
+  bool afterFirstTileTimed_ = false;  // the last render() ran a callback
 };
 
 }  // namespace ropecast

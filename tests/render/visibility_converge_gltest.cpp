@@ -26,6 +26,8 @@ struct Converged {
   uint64_t occludedMarksSeen = 0;  // largest nodes_occluded of any frame
   uint64_t answersSeen = 0;        // frames in which a feedback answer arrived
   uint64_t bricksUploaded = 0;     // over all frames
+  // Frames whose occlusion_draw_ms disagrees with whether they drew queries (timed when drawn, 0 otherwise).
+  uint64_t queryTimingMismatches = 0;
 };
 
 Converged renderUntilConverged(const BrickSource& source, RenderMode mode, RenderBackend backend,
@@ -56,6 +58,7 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
     out.occludedMarksSeen = std::max(out.occludedMarksSeen, out.last.nodesOccluded);
     out.answersSeen += out.last.bricksUsed > 0;
     out.bricksUploaded += out.last.bricksUploaded;
+    out.queryTimingMismatches += (out.last.occlusionQueries > 0) != (out.last.occlusionDrawMs > 0.0);
     if (out.last.converged) break;
   }
   out.color = renderer.readColor();
@@ -77,8 +80,11 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
   ASSERT_TRUE(off.last.converged);
   ASSERT_TRUE(on.last.converged) << "not converged after " << on.frames << " frames";
   EXPECT_EQ(off.last.occlusionQueries, 0u);
+  EXPECT_EQ(off.queryTimingMismatches, 0u);
+  EXPECT_EQ(on.queryTimingMismatches, 0u) << "occlusion_draw_ms is the time of the queries drawn, if any";
   if (visibility.occlusion) {
     EXPECT_GT(on.occludedMarksSeen, 0u);
+    EXPECT_GT(on.last.occlusionQueries, 0u);
   }
   if (visibility.feedback) {
     EXPECT_GT(on.answersSeen, 0u);
