@@ -100,6 +100,10 @@ void OutputGuard::addOutputSeries(std::string option, const std::string& directo
 std::string OutputGuard::problem() const {
   for (size_t o = 0; o < outputs_.size(); ++o) {
     const Named& out = outputs_[o];
+    std::error_code ec;
+    if (fs::is_directory(out.path, ec))
+      return who_ + ": " + out.name + " " + out.path + ": a folder; expected the name of a file to write, " +
+             "nothing was written";
     for (const Named& in : inputs_)
       if (sameFile(out.path, in.path))
         return sameFileMessage(who_, out.name + " " + out.path, out.path, in.name, in.path, true);

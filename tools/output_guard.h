@@ -1,7 +1,8 @@
 // OutputGuard: the check every command that writes files makes before it writes anything, so that no typo
 // replaces an input (a scan, a store) with an output, and no two outputs of one command land on one file.
 // A command lists what it reads and what it will write, each with the option that names it, and calls
-// check(), which throws ropecast::Error naming both options. Owned by the command; main thread.
+// check(), which throws ropecast::Error naming both options (or the one output that names a folder). Owned
+// by the command; main thread.
 //
 // Two paths are the same file when stat() finds the same device and inode (through symlinks and hard links);
 // for paths that do not exist yet, when their absolute paths are equal with the symlinks of their existing
@@ -30,7 +31,8 @@ class OutputGuard {
   void addOutputSeries(std::string option, const std::string& directory, std::string pattern,
                        std::function<bool(const std::string& fileName)> nameMatches);
 
-  // Throws ropecast::Error when an output is the same file as an input or as another output.
+  // Throws ropecast::Error when an output is an existing folder, or the same file as an input or as another
+  // output.
   void check() const;
   // What check() would throw, in words ("" when every output is its own new file).
   std::string problem() const;

@@ -2,7 +2,7 @@
 # No command overwrites what it reads: every output option of convert, render and extract (regress's in
 # regress.sh) aimed at an input (by its name, a symlink or a hard link; a file of an input folder or glob) or at
 # another output of the same run fails with 1..127 and a message naming both, writes nothing and leaves the
-# inputs as they were.
+# inputs as they were; so does an output that names a folder.
 # Usage: bash output_guard.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$(realpath "$1")"
@@ -76,6 +76,8 @@ refused "render --every onto a hard link" "--every ./out_NNNN.png would write" "
   "$ropecast" render s.rcast -o out.png --frames 5 --every 1
 refused "render --exr and --depth" "--exr a.exr" "--depth a.exr" \
   "$ropecast" render s.rcast -o a.png --exr a.exr --depth a.exr
+refused "render --stats a folder" "--stats slices" "a folder" "$ropecast" render s.rcast -o a.png --stats slices
+refused "convert -o a folder" "-o slices" "a folder" "$ropecast" convert scan_8x8x8_uint8.raw -o slices
 refused "render --stats onto a --every frame" "--every" "--stats b_0002.png" \
   "$ropecast" render s.rcast -o b.png --frames 5 --every 1 --stats b_0002.png
 

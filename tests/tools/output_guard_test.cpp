@@ -1,5 +1,5 @@
-// OutputGuard: an output that is an input (by name, symlink or hard link, or inside an input folder or glob)
-// or another output is refused with both options named; new files pass.
+// OutputGuard: an output that is an input (by name, symlink or hard link, or inside an input folder or glob),
+// another output, or an existing folder, is refused naming the options; new files pass.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -38,6 +38,16 @@ TEST_F(OutputGuardTest, ANewFilePasses) {
   guard.addOutput("-o", (dir / "a.png").string());
   guard.addOutput("--exr", (dir / "a.exr").string());
   EXPECT_NO_THROW(guard.check());
+}
+
+TEST_F(OutputGuardTest, AFolderIsRefusedAsAnOutput) {
+  EXPECT_EQ(problemWith(dir.string()),
+            "convert: -o " + dir.string() +
+                ": a folder; expected the name of a file to write, nothing was written");
+  OutputGuard guard("render");
+  guard.addOutput("-o", (dir / "a.png").string());
+  guard.addOutput("--stats", dir.string());
+  EXPECT_THROW(guard.check(), Error);
 }
 
 TEST_F(OutputGuardTest, TheInputItselfIsRefusedNamingBoth) {
