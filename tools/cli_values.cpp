@@ -54,6 +54,14 @@ std::string formatTriple(const std::vector<double>& xyz) {
   return text;
 }
 
+CLI::Validator nonZeroSize(const std::string& instead) {
+  return CLI::Validator(
+      [instead](std::string& input) -> std::string {
+        return input == "0" ? "expected a size above 0 bytes (" + instead + "), got 0" : "";
+      },
+      "", "nonZeroSize");
+}
+
 CLI::Validator integerIn(double lo, double hi) {
   const std::string range = "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
   return CLI::Validator(

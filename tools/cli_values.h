@@ -38,6 +38,9 @@ std::string formatTriple(const std::vector<double>& xyz);
 
 // The CLI11 transform of addByteSizeOption: rewrites a size to its byte count, or returns what was expected.
 CLI::Validator byteSize();
+// A check after byteSize() that refuses a size of 0 bytes; `instead` says what the user may want ("leave
+// --gpu-budget out for the driver's default").
+CLI::Validator nonZeroSize(const std::string& instead);
 // The CLI11 transform of integer options given as numbers ("512", "5e2", "512.0"): rewrites the value to the
 // integer's digits, or returns what was expected.
 CLI::Validator integerIn(double lo, double hi);

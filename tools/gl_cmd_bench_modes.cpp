@@ -407,7 +407,8 @@ std::function<int()> setupModesBench(CLI::App& app) {
   app.add_option("--voxels-per-pixel", o->voxelsPerPixel, "refinement target: voxels per pixel")
       ->check(finiteIn(0.01, 64.0))
       ->capture_default_str();
-  addByteSizeOption(app, "--gpu-budget", o->gpuBudget, "GPU brick pool bytes (default from the driver)");
+  addByteSizeOption(app, "--gpu-budget", o->gpuBudget, "GPU brick pool bytes (default from the driver)")
+      ->check(nonZeroSize("leave --gpu-budget out for the driver's default"));
   addByteSizeOption(app, "--cpu-cache", o->cpuCache, "CPU brick cache bytes")->default_str("1G");
   app.add_option("--brick", o->brick, "brick size for procedural inputs")
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));

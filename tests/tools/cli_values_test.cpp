@@ -100,6 +100,21 @@ TEST(CliValues, ParsesByteSizesInBinaryUnits) {
   }
 }
 
+TEST(CliValues, RefusesAZeroSizeWhereZeroWouldMeanTheDefault) {
+  const auto addBudget = [](CLI::App& app, const std::string& name, uint64_t& bytes,
+                            const std::string& help) {
+    return addByteSizeOption(app, name, bytes, help)->check(nonZeroSize("leave it out for the default"));
+  };
+  uint64_t v = 0;
+  EXPECT_EQ(parseOne(addBudget, "--gpu-budget", "1K", v), "");
+  EXPECT_EQ(v, 1024u);
+  for (const char* zero : {"0", "0M", "0.0G"}) {
+    const std::string message = parseOne(addBudget, "--gpu-budget", zero, v);
+    EXPECT_NE(message.find("--gpu-budget"), std::string::npos) << zero << " gave: " << message;
+    EXPECT_NE(message.find("leave it out for the default"), std::string::npos) << message;
+  }
+}
+
 TEST(CliValues, MapsNamesStraightToEnums) {
   const std::vector<std::pair<std::string, RenderBackend>> names{{"auto", RenderBackend::Auto},
                                                                  {"compute", RenderBackend::Compute}};
