@@ -15,7 +15,8 @@
 # Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
 # env: DIMS (default 1024x1024x864, 1.7 GiB raw), ORBIT (30,20,1.6: a view that needs 2862 bricks of the
 #      default store), IMAGE (512x512), GPU (256M), CPU (256M), UPLOAD (--upload-budget, 8M), REPS (2),
-#      WORK (a folder kept between runs), RENDER_ARGS (more render options).
+#      WORK (a folder kept between runs), RENDER_ARGS (more render options), EXT (png, or ppm for a build
+#      without OpenImageIO: then the images are not compared).
 # The page cache is dropped before each render when the script runs as root ("cold"), else it is warm.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -27,6 +28,7 @@ CPU=${CPU:-256M}
 UPLOAD=${UPLOAD:-8M}
 ORBIT=${ORBIT:-30,20,1.6}
 REPS=${REPS:-2}
+EXT=${EXT:-png}
 store=$(ct_store "$DIMS")
 
 cold() {
@@ -42,7 +44,7 @@ run() {
   local t0 t1
   t0=$(date +%s.%N)
   "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" --cpu-cache "$CPU" \
-    ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.png" "$@" >/dev/null
+    ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.$EXT" "$@" >/dev/null
   t1=$(date +%s.%N)
   awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
   echo "$cache" >"$WORK/$name.cache"
@@ -59,16 +61,18 @@ rm -rf "$WORK/frames" && mkdir -p "$WORK/frames"
 run frames/every --converge --every 1
 GPU=2G CPU=2G run full
 
-python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" <<'PY'
+python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" "$EXT" <<'PY'
 import glob, json, subprocess, sys
-work, reps, upload, ropecast = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+work, reps, upload, ropecast, ext = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
 def psnr(a, b):
+    if ext != "png":
+        return float("nan")  # a build without OpenImageIO cannot read images back
     out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
     return float(json.loads(out)["psnr_db"])
 # The first frame from which every frame is within 40 dB of the converged image.
-frames = sorted(glob.glob(f"{work}/frames/every_*.png"))  # all but the last frame, written as every.png
+frames = sorted(glob.glob(f"{work}/frames/every_*.{ext}"))  # all but the last frame, written as every.EXT
 final_frame = len(frames)
-while final_frame > 0 and psnr(frames[final_frame - 1], f"{work}/frames/every.png") >= 40.0:
+while final_frame > 0 and psnr(frames[final_frame - 1], f"{work}/frames/every.{ext}") >= 40.0:
     final_frame -= 1
 units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}
 budget = int(float(upload[:-1]) * units[upload[-1]]) if upload[-1] in units else int(upload)
@@ -90,12 +94,13 @@ for rep in range(1, reps + 1):
     s = runs["sync"]["s"]
     rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
     to_final = runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[final_frame + 1:]) / 1000
-    print(f"  converge / sync: {runs['converge']['s'] / s:.2f}, to the final image (frame {final_frame}) "
-          f"{to_final / s:.2f}; loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
+    final = f", to the final image (frame {final_frame}) {to_final / s:.2f}" if ext == "png" else ""
+    print(f"  converge / sync: {runs['converge']['s'] / s:.2f}{final}; "
+          f"loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
     print(f"  with --upload-budget {upload}: "
           f"{runs['budget']['s'] / s:.2f}, largest frame upload {runs['budget']['maxUpload'] / MiB:.2f} MiB "
           f"({'within' if runs['budget']['maxUpload'] <= budget else 'OVER'} the budget)")
 print(f"PSNR against a synchronous render with every brick it wants (budgets 2G): sync "
-      f"{psnr(f'{work}/sync1.png', f'{work}/full.png'):.1f} dB, converge {psnr(f'{work}/converge1.png', f'{work}/full.png'):.1f} dB, "
-      f"loader alone {psnr(f'{work}/loader1.png', f'{work}/full.png'):.1f} dB")
+      f"{psnr(f'{work}/sync1.{ext}', f'{work}/full.{ext}'):.1f} dB, converge {psnr(f'{work}/converge1.{ext}', f'{work}/full.{ext}'):.1f} dB, "
+      f"loader alone {psnr(f'{work}/loader1.{ext}', f'{work}/full.{ext}'):.1f} dB")
 PY

@@ -14,30 +14,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-$(mktemp -d /tmp/device_render_vs_brute.XXXXXX)}
-if ls .gl/*.deb > /dev/null 2>&1 && command -v nvidia-smi > /dev/null; then
-  for f in .gl/*.deb; do dpkg -x "$f" /; done
-  ldconfig
-  vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-  [ -f "$vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
-  export EGL_PLATFORM=device  # not surfaceless, which render_vs_brute.sh would otherwise ask for
-fi
-command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem \
-  --format=csv | tee "$OUT/gpu.txt"
+source bench/lib/device.sh
+device_gl_setup
 
 export ROPECAST_SHADER_DIR=$PWD  # the GL index test reads its test shader from the tree (ropecast embeds its own)
-libs=$PWD/.devlibs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 if [ -x build/vg/tests/index_gltests ]; then
-  LD_LIBRARY_PATH=$libs build/vg/tests/index_gltests 2>&1 |
+  LD_LIBRARY_PATH=$DEVICE_LIBS build/vg/tests/index_gltests 2>&1 |
     tee "$OUT/index_gltests.txt" | grep -E "^GL:|compared|PASSED|FAILED" || true
 fi
-[ -x build/vg/tools/ropecast ] || { echo "device_render_vs_brute: build/vg/tools/ropecast not carried" >&2; exit 1; }
-wrapper=$(mktemp -d /tmp/ropecast_build.XXXXXX)
-mkdir -p "$wrapper/tools"
-cat > "$wrapper/tools/ropecast" <<EOF
-#!/bin/sh
-LD_LIBRARY_PATH=$libs exec $PWD/build/vg/tools/ropecast "\$@"
-EOF
-chmod +x "$wrapper/tools/ropecast"
+wrapper=$(device_ropecast_build)
 
 EXT=ppm IMAGE=${IMAGE:-512x512} FRAMES=${FRAMES:-20} STILL=${STILL:-12} ROUNDS=${ROUNDS:-3} WORK="$OUT/work" \
   bench/render_vs_brute.sh "$wrapper" 2>&1 | tee "$OUT/render_vs_brute.txt"

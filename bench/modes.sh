@@ -9,7 +9,8 @@
 #   bench/modes.sh [BUILD_DIR]            (default build/perf)
 #
 # Environment: VOLUME (menger), SIZE (256), BRICK (16), IMAGES ("512x512 1024x1024"), MODES ("iso dvr"),
-# FRAMES (4 along a 90-degree orbit), REPS (2), WORK (scratch dir; the store is converted once and reused).
+# FRAMES (4 along a 90-degree orbit), REPS (2), WORK (scratch dir; the store is converted once and reused),
+# PLOT (1; 0 writes no frame_times.png, for a machine without matplotlib).
 # DVR uses the ramp of bench/lib/common.sh from 127.5 up, so the sponge's holes are empty space.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,7 +30,7 @@ for image in $IMAGES; do
   for mode in $MODES; do
     out="$WORK/${VOLUME}_${mode}_${image}"
     "$ROPECAST" bench modes "$store" --mode "$mode" --tf "$WORK/tf_sparse.json" --size "$image" \
-      --frames "$FRAMES" --reps "$REPS" --out "$out" --quiet
+      --frames "$FRAMES" --reps "$REPS" --out "$out" --quiet $([ "${PLOT:-1}" = 0 ] && echo --no-plot)
     echo
   done
 done

@@ -22,7 +22,8 @@
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
 #   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), STEADY (4), GPU (1G), CPU (1G),
 #   PATH_GPU (128M), PATH_CPU (128M), SLOW_IO (2, milliseconds; 0 skips part 2), WORK (a fresh folder),
-#   SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK
+#   SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK, EXT (png, or ppm
+#   for a build without OpenImageIO: then the images are not compared, and PSNR and "final at" read nan)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/lib/common.sh"
@@ -35,6 +36,7 @@ modes=${MODES:-iso dvr}
 configs=${CONFIGS:-priority occlusion feedback both}
 steady=${STEADY:-4}
 slow_io=${SLOW_IO:-2}
+EXT=${EXT:-png}
 store="$WORK/menger$SIZE.rcast"
 [ -f "$store" ] || "$ROPECAST" convert "procedural:menger:$SIZE" -o "$store" --quiet
 printf '{"points": [[0, 0.0, 0.0, 0.0, 0.0], [100, 0.9, 0.6, 0.3, 0.0], [255, 1.0, 0.9, 0.7, 0.3]]}\n' \
@@ -61,14 +63,14 @@ for mode in $modes; do
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" $(mode_args "$mode") --size "$IMAGE" --orbit 30,20,1.6 --converge \
       --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
-      --stats "$WORK/converge-$mode-$config.jsonl" --every 1 -o "$frames_dir/f.png"
-    cp "$frames_dir/f.png" "$WORK/converge-$mode-$config.png"
+      --stats "$WORK/converge-$mode-$config.jsonl" --every 1 -o "$frames_dir/f.$EXT"
+    cp "$frames_dir/f.$EXT" "$WORK/converge-$mode-$config.$EXT"
     # The converged frame time: the same start again, STEADY frames past the convergence.
     n=$(wc -l <"$WORK/converge-$mode-$config.jsonl")
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" $(mode_args "$mode") --size "$IMAGE" --orbit 30,20,1.6 --frames $((n + steady)) \
       --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
-      --stats "$WORK/steady-$mode-$config.jsonl" -o "$WORK/steady-$mode-$config.png"
+      --stats "$WORK/steady-$mode-$config.jsonl" -o "$WORK/steady-$mode-$config.$EXT"
   done
 done
 if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
@@ -77,7 +79,7 @@ if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" --mode iso --size "$IMAGE" --orbit 30,20,1.6 --converge --max-frames 400 \
       --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") --io-delay-ms "$slow_io" \
-      --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.png"
+      --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.$EXT"
   done
 fi
 if [ "${SKIP_PATH:-0}" != 1 ]; then
@@ -86,18 +88,20 @@ if [ "${SKIP_PATH:-0}" != 1 ]; then
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" --mode iso --size "$path_image" --path "$here/flyby_path.json" --frames "$frames" \
       --gpu-budget "${PATH_GPU:-128M}" --cpu-cache "${PATH_CPU:-128M}" $(flags "$config") \
-      --stats "$WORK/path-$config.jsonl" -o "$WORK/path-$config.png"
+      --stats "$WORK/path-$config.jsonl" -o "$WORK/path-$config.$EXT"
   done
 fi
 
-python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" "$slow_io" <<'PY'
+python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" "$slow_io" "$EXT" <<'PY'
 import glob, json, os, statistics, subprocess, sys
-work, modes, configs, image, size, path_image, skip_path, ropecast, slow_io = sys.argv[1:]
+work, modes, configs, image, size, path_image, skip_path, ropecast, slow_io, ext = sys.argv[1:]
 modes, configs = modes.split(), configs.split()
 MiB = 1 << 20
 def rows(name):
     return [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
 def psnr(a, b):
+    if ext != "png":
+        return float("nan")  # a build without OpenImageIO cannot read images back
     out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
     return float(json.loads(out)["psnr_db"])
 def steady_ms(mode, config):
@@ -108,6 +112,8 @@ def steady_ms(mode, config):
 def final_frame(mode, config):
     # The first frame from which every frame is within 40 dB of the converged image (the last frame, written
     # as f.png only).
+    if ext != "png":
+        return float("nan")
     frames = sorted(glob.glob(f"{work}/frames-{mode}-{config}/f_*.png"))
     k = len(frames)
     while k > 0 and psnr(frames[k - 1], f"{work}/frames-{mode}-{config}/f.png") >= 40.0:
@@ -124,11 +130,11 @@ for mode in modes:
         last = r[-1]
         k = final_frame(mode, config)
         s = {"working set": last["working_set_bricks"], "resident": last["bricks_resident"],
-             "final at": k, "s to final": sum(x["frame_ms"] for x in r[:k + 1]) / 1000,
+             "final at": k, "s to final": sum(x["frame_ms"] for x in r[:k + 1]) / 1000 if k == k else k,
              "read MiB": sum(x["bytes_read"] for x in r) / MiB, "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
              "frames": len(r), "seconds": sum(x["frame_ms"] for x in r) / 1000, "frame ms": steady_ms(mode, config),
              "q.lat": last["occlusion_latency_frames"], "fb.lat": last["feedback_latency_frames"],
-             "PSNR": psnr(f"{work}/converge-{mode}-{config}.png", f"{work}/converge-{mode}-{configs[0]}.png")}
+             "PSNR": psnr(f"{work}/converge-{mode}-{config}.{ext}", f"{work}/converge-{mode}-{configs[0]}.{ext}")}
         base = base or s
         print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if last["converged"] else "  NOT CONVERGED"))
     print("  " + mode + ", against " + configs[0] + ": working set " + ", ".join(
@@ -142,7 +148,7 @@ if slow_io != "0" and os.path.exists(f"{work}/slow-iso-{configs[0]}.jsonl"):
         s = {"working set": r[-1]["working_set_bricks"], "read MiB": sum(x["bytes_read"] for x in r) / MiB,
              "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB, "frames": len(r),
              "seconds": sum(x["frame_ms"] for x in r) / 1000,
-             "PSNR": psnr(f"{work}/slow-iso-{config}.png", f"{work}/slow-iso-{configs[0]}.png")}
+             "PSNR": psnr(f"{work}/slow-iso-{config}.{ext}", f"{work}/slow-iso-{configs[0]}.{ext}")}
         print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if r[-1]["converged"] else "  NOT CONVERGED"))
 if skip_path != "1":
     print(f"\nflyby_path.json at {path_image}, iso")

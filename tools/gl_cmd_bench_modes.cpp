@@ -4,7 +4,7 @@
 // (repetition 1 of every configuration, then repetition 2, ...) so that a change of the machine's load falls
 // on all of them. Writes DIR/bench.json, DIR/frame_times.png (matplotlib, through the script it writes as
 // DIR/plot_frame_times.py), DIR/images/ (each configuration's last frame and its difference from the first
-// configuration's) and prints a table. Main thread only.
+// configuration's; PPM from a build without OpenImageIO) and prints a table. Main thread only.
 #include <spawn.h>
 #include <sys/wait.h>
 
@@ -69,6 +69,7 @@ struct Options {
   std::string configs;
   std::string out = "bench_modes";
   bool quiet = false;
+  bool noPlot = false;  // no frame_times.png
 };
 
 // The plot, run as `python3 plot_frame_times.py bench.json frame_times.png`: frame time along the path per
@@ -232,12 +233,16 @@ int runModesBench(const Options& o) {
       throw Error("camera path frame " + std::to_string(f) + ": " + problem);
   }
 
-  // The outputs' folder is made and checked before the first frame.
+  // The outputs' folder is made and checked before the first frame. Images are PNG, or PPM from a build
+  // without OpenImageIO (made to be carried to a GPU machine), which writes nothing else.
   std::error_code error;
   std::filesystem::create_directories(out / "images", error);
   if (error) throw Error("--out " + o.out + ": cannot create the folder: " + error.message());
+  const std::string imageExt =
+      imageOutputProblem((out / "images" / "x.png").string(), ImageOutputKind::Color8).empty() ? ".png"
+                                                                                               : ".ppm";
   if (const std::string problem =
-          imageOutputProblem((out / "images" / "x.png").string(), ImageOutputKind::Color8);
+          imageOutputProblem((out / "images" / ("x" + imageExt)).string(), ImageOutputKind::Color8);
       !problem.empty())
     throw Error("--out " + o.out + ": " + problem);
 
@@ -313,7 +318,7 @@ int runModesBench(const Options& o) {
   std::vector<double> psnr(configs.size(), std::numeric_limits<double>::infinity());
   for (size_t c = 0; c < configs.size(); ++c) {
     const FloatImage& image = runs[c].lastColor;
-    writePng((out / "images" / (configs[c].first + ".png")).string(), image, false);
+    writePng((out / "images" / (configs[c].first + imageExt)).string(), image, false);
     if (c == 0) continue;
     psnr[c] = compareImages(reference.pixels, 4, image.pixels, 4, 3).psnrDb;
     FloatImage diff = image;
@@ -322,7 +327,7 @@ int runModesBench(const Options& o) {
           i % 4 == 3
               ? 1.0f
               : std::min(1.0f, float(kDifferenceScale) * std::abs(image.pixels[i] - reference.pixels[i]));
-    writePng((out / "images" / ("diff_" + configs[c].first + "_vs_" + configs[0].first + ".png")).string(),
+    writePng((out / "images" / ("diff_" + configs[c].first + "_vs_" + configs[0].first + imageExt)).string(),
              diff, false);
   }
 
@@ -358,6 +363,10 @@ int runModesBench(const Options& o) {
   }
 
   // The plot.
+  if (o.noPlot) {
+    std::printf("  wrote %s, %s\n", (out / "bench.json").string().c_str(), (out / "images").string().c_str());
+    return 0;
+  }
   writeText(out / "plot_frame_times.py", kPlotScript);
   const int status = runPython({(out / "plot_frame_times.py").string(), (out / "bench.json").string(),
                                 (out / "frame_times.png").string()});
@@ -419,6 +428,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
   app.add_option("--out", o->out, "output folder: bench.json, frame_times.png, images/")
       ->capture_default_str();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  app.add_flag("--no-plot", o->noPlot, "write no frame_times.png (a machine without matplotlib)");
   return [o] { return runModesBench(*o); };
 }
 

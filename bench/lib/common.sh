@@ -23,19 +23,30 @@ write_ramp_tf() {
     "${2:-25.5}" > "$1"
 }
 
-# ct_store DIMS: prints the path of the CT-like int16 store of DIMS (NXxNYxNZ: a smooth field over a ball plus
-# noise, convert_bench.sh's generator) in WORK, converting it first when it is not there.
-ct_store() {
-  local dims=$1 here nx ny nz
+# ct_generator_source: the C++ of convert_bench.sh's generator of CT-like int16 volumes.
+ct_generator_source() {
+  local here
   here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  # shellcheck disable=SC2016  # a sed address, not a shell expansion
+  sed -n '/^cat > "\$scratch\/gen.cpp"/,/^CPP$/p' "$here/convert_bench.sh" | sed '1d;$d'
+}
+
+# ct_store DIMS: prints the path of the CT-like int16 store of DIMS (NXxNYxNZ: a smooth field over a ball plus
+# noise) in WORK, converting it first when it is not there. CT_GEN names a built generator
+# (scripts/device_prepare makes one for machines without a compiler); else it is compiled here.
+ct_store() {
+  local dims=$1 nx ny nz
   local store="$WORK/ct_${dims}.rcast"
   if [ ! -f "$store" ]; then
     IFS=x read -r nx ny nz <<<"$dims"
-    # shellcheck disable=SC2016  # a sed address, not a shell expansion
-    sed -n '/^cat > "\$scratch\/gen.cpp"/,/^CPP$/p' "$here/convert_bench.sh" | sed '1d;$d' >"$WORK/gen.cpp"
-    c++ -O2 -o "$WORK/gen" "$WORK/gen.cpp" >&2 || return 1
+    local gen=${CT_GEN:-}
+    if [ -z "$gen" ]; then
+      ct_generator_source >"$WORK/gen.cpp"
+      c++ -O2 -o "$WORK/gen" "$WORK/gen.cpp" >&2 || return 1
+      gen="$WORK/gen"
+    fi
     local raw="$WORK/ct_${dims}_int16.raw"
-    "$WORK/gen" "$nx" "$ny" "$nz" "$raw" >&2 || return 1
+    "$gen" "$nx" "$ny" "$nz" "$raw" >&2 || return 1
     "$ROPECAST" convert "$raw" -o "$store" --quiet >&2 || return 1
     rm -f "$raw"
   fi

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `ropecast bench modes` on a small procedural input: bench.json has every configuration and every frame in
 # the documented schema, frame_times.png is a real PNG of some size, images/ holds each configuration's last
-# frame and the difference images; bad options fail with an exit code in 1..127 and a message naming them.
+# frame and the difference images (--no-plot: no frame_times.png); bad options fail with an exit code in
+# 1..127 and a message naming them.
 # Usage: bash bench_modes.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -48,6 +49,17 @@ PY
     [ -s "$dir/run/images/$f" ] && [ -z "$(find "$dir/run/images/$f" -size -20c)" ] || fail "images/$f missing"
   done
   grep -q "multipass" "$dir/out.txt" && grep -q "PSNR" "$dir/out.txt" || fail "no table printed"
+fi
+
+# --no-plot: the table, bench.json and images/, no frame_times.png (a machine without matplotlib).
+if ! timeout 300 "$ropecast" bench modes procedural:sphere:32 --brick 8 --size 32x32 --frames 1 --reps 1 \
+    --configs single-fragment --out "$dir/noplot" --no-plot > "$dir/out.txt" 2> "$dir/err.txt"; then
+  fail "bench modes --no-plot: exit $?"; cat "$dir/err.txt"
+elif [ -e "$dir/noplot/frame_times.png" ] || [ ! -s "$dir/noplot/bench.json" ] ||
+    [ ! -s "$dir/noplot/images/single-fragment.png" ] || ! grep -q "PSNR" "$dir/out.txt"; then
+  fail "bench modes --no-plot wrote: $(ls "$dir/noplot")"
+else
+  echo "ok   --no-plot: $(ls "$dir/noplot" | tr '\n' ' ')"
 fi
 
 # expect_failure NAME PATTERN ARGS...
