@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Shared by the bench/device_*.sh scripts, sourced from the repository root: on a lent NVIDIA device machine
 # (the device tool's README, its headless rendering paragraph), the GL loader packages carried in .gl are
 # unpacked (nothing can be installed there otherwise), NVIDIA's EGL vendor file is named and EGL_PLATFORM=device

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# The prepared GPU bench (docs/BENCHMARKS.md "On a lent GPU"): on a lent NVIDIA device machine, in one call,
+# what only a GPU can measure, most wanted first, each part bounded by PART_S seconds so that a slow part
+# leaves time for the others:
+#   1. the GL index tests: the GLSL rope traversal (compute shader) against the CPU reference, on the GPU;
+#   2. bench/modes.sh: the single pass against the multi-pass renderer, iso and DVR, 512x512 and 1024x1024
+#      (the goal: >= 2x on a GPU);
+#   3. bench/converge_vs_sync.sh: progressive loading against a synchronous render of the CT-like store, with
+#      occlusion and feedback on and off (the goal: <= 1.3x; generating and converting the store included);
+#   4. bench/visibility.sh, iso from the page cache and a slow disk: what occlusion queries and ray feedback
+#      cost a GPU frame (frame ms, occlusion_draw_ms in the stats) and how fast they converge;
+#   5. bench/render_vs_brute.sh at 512x512.
+#
+#   run(command="bench/device_bench.sh", carry=[".gl", ".devlibs", "build/vg/tools/ropecast",
+#       "build/vg/tests/index_gltests", "build/vg/ct_gen"], timeout_s=590)
+#
+# scripts/device_prepare makes what is carried. Each part's output is in $OUT/PART.txt and its stats under
+# $OUT/PART/ (stores and images stay on the device); the parts' tables are printed last, with each part's exit
+# status and seconds. Env: PART_S (110), PARTS ("index modes converge visibility brute"). Off the device it
+# runs the same against whatever GL this machine has (slowly on llvmpipe: narrow it with PARTS and PART_S).
+set -uo pipefail
+cd "$(dirname "$0")/.." || exit 1
+OUT=${OUT:-$(mktemp -d /tmp/device_bench.XXXXXX)}
+mkdir -p "$OUT"
+PART_S=${PART_S:-110}
+PARTS=${PARTS:-"index modes converge visibility brute"}
+source bench/lib/device.sh
+device_gl_setup
+build=$(device_ropecast_build) || exit 1
+export ROPECAST_SHADER_DIR=$PWD # the GL index tests read their test shader from the tree
+[ -x build/vg/ct_gen ] && export CT_GEN=$PWD/build/vg/ct_gen
+
+# part NAME COMMAND...: runs COMMAND for at most PART_S seconds into $OUT/NAME.txt.
+summary=()
+part() {
+  local name=$1 t0 rc
+  shift
+  echo "device_bench: $name" >&2
+  t0=$(date +%s)
+  timeout --kill-after=5 "$PART_S" "$@" >"$OUT/$name.txt" 2>&1
+  rc=$?
+  summary+=("$name: exit $rc$([ "$rc" = 124 ] && echo ' (timed out)') in $(($(date +%s) - t0)) s")
+}
+
+for p in $PARTS; do
+  case $p in
+    index)
+      if [ -x build/vg/tests/index_gltests ]; then
+        part index env LD_LIBRARY_PATH="$DEVICE_LIBS" build/vg/tests/index_gltests
+      fi
+      ;;
+    modes) part modes env PLOT=0 REPS=2 WORK="$OUT/modes" bench/modes.sh "$build" ;;
+    converge) part converge env EXT=ppm REPS=1 WORK="$OUT/converge" bench/converge_vs_sync.sh "$build" ;;
+    visibility)
+      part visibility env EXT=ppm MODES=iso SKIP_PATH=1 STEADY=4 WORK="$OUT/visibility" bench/visibility.sh "$build"
+      ;;
+    brute)
+      part brute env EXT=ppm IMAGE="${IMAGE:-512x512}" FRAMES=20 STILL=12 ROUNDS=3 WORK="$OUT/brute" \
+        bench/render_vs_brute.sh "$build"
+      ;;
+    *) summary+=("$p: unknown part (index, modes, converge, visibility, brute)") ;;
+  esac
+done
+# What comes back: stats and tables, not stores, raw volumes or images.
+find "$OUT" \( -name '*.rcast' -o -name '*.raw' -o -name '*.ppm' -o -name 'gen' \) -delete 2>/dev/null
+for p in $PARTS; do
+  [ -f "$OUT/$p.txt" ] || continue
+  echo "=== $p"
+  case $p in
+    index) grep -E "^GL:|compared|PASSED|FAILED" "$OUT/$p.txt" | tail -8 ;;
+    *) tail -40 "$OUT/$p.txt" ;;
+  esac
+done
+printf '%s\n' "${summary[@]}"
