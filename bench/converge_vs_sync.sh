@@ -10,6 +10,8 @@
 # --upload-budget). Once: a --converge run writing every frame, to find the first frame from which the image
 # stays within 40 dB of the converged one (the rest of the frames wait for answers confirming the cut), and a
 # synchronous render with budgets that hold everything, against which both images are compared.
+# Per repetition also sync and converge of the same cut with frames 16 times cheaper (IMAGE / 4 on a side,
+# --voxels-per-pixel 4, which asks for the same bricks): what the frames' cost on this machine adds.
 # Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratios to synchronous (goal <= 1.3),
 # the seconds to the final image, and the largest bytes_uploaded of a frame against --upload-budget.
 # Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
@@ -35,7 +37,7 @@ cold() {
   if [ "$(id -u)" = 0 ] && sync && echo 3 >/proc/sys/vm/drop_caches 2>/dev/null; then echo cold; else echo warm; fi
 }
 
-# run NAME ARGS...: one render with --stats, its wall time in WORK/NAME.s
+# run NAME ARGS...: one render with --stats, its wall time in WORK/NAME.s; RUN_SIZE replaces IMAGE
 run() {
   local name=$1
   shift
@@ -43,27 +45,31 @@ run() {
   cache=$(cold)
   local t0 t1
   t0=$(date +%s.%N)
-  "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" --cpu-cache "$CPU" \
+  "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "${RUN_SIZE:-$IMAGE}" --gpu-budget "$GPU" --cpu-cache "$CPU" \
     ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.$EXT" "$@" >/dev/null
   t1=$(date +%s.%N)
   awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
   echo "$cache" >"$WORK/$name.cache"
 }
 
+IFS=x read -r width height <<<"$IMAGE"
+small="$((width / 4))x$((height / 4))"
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); store $store ($(du -m "$store" | cut -f1) MiB)"
 for rep in $(seq 1 "$REPS"); do
   run "sync$rep"
   run "converge$rep" --converge
   run "loader$rep" --converge --occlusion off --feedback off
   run "budget$rep" --converge --upload-budget "$UPLOAD"
+  RUN_SIZE=$small run "sync_small$rep" --voxels-per-pixel 4
+  RUN_SIZE=$small run "converge_small$rep" --converge --voxels-per-pixel 4
 done
 rm -rf "$WORK/frames" && mkdir -p "$WORK/frames"
 run frames/every --converge --every 1
 GPU=2G CPU=2G run full
 
-python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" "$EXT" <<'PY'
+python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" "$EXT" "$small" <<'PY'
 import glob, json, subprocess, sys
-work, reps, upload, ropecast, ext = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
+work, reps, upload, ropecast, ext, small = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6]
 def psnr(a, b):
     if ext != "png":
         return float("nan")  # a build without OpenImageIO cannot read images back
@@ -84,12 +90,12 @@ def load(name):
             "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
             "maxUpload": max(r["bytes_uploaded"] for r in rows), "converged": rows[-1]["converged"],
             "frameMs": sorted(r["frame_ms"] for r in rows)[len(rows) // 2]}
-print(f"{'run':<11} {'cache':<5} {'wall s':>7} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
+print(f"{'run':<16} {'cache':<5} {'wall s':>7} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
       f"{'MiB read':>8} {'converged':>9}")
 for rep in range(1, reps + 1):
-    runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "loader", "budget")}
+    runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "loader", "budget", "sync_small", "converge_small")}
     for n, r in runs.items():
-        print(f"{n + str(rep):<11} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
+        print(f"{n + str(rep):<16} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
               f"{r['uploaded']:9d} {r['read']:8.1f} {str(r['converged']):>9}")
     s = runs["sync"]["s"]
     rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
@@ -97,6 +103,8 @@ for rep in range(1, reps + 1):
     final = f", to the final image (frame {final_frame}) {to_final / s:.2f}" if ext == "png" else ""
     print(f"  converge / sync: {runs['converge']['s'] / s:.2f}{final}; "
           f"loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
+    print(f"  the same cut at {small}, --voxels-per-pixel 4 (frames 16x cheaper): converge / sync "
+          f"{runs['converge_small']['s'] / runs['sync_small']['s']:.2f}")
     print(f"  with --upload-budget {upload}: "
           f"{runs['budget']['s'] / s:.2f}, largest frame upload {runs['budget']['maxUpload'] / MiB:.2f} MiB "
           f"({'within' if runs['budget']['maxUpload'] <= budget else 'OVER'} the budget)")
