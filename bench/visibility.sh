@@ -14,6 +14,9 @@
 #    feedback latencies, the PSNR of each image against priority, and the frame from which the image stays
 #    within 40 dB of the converged one, with the seconds to it (every frame is written to
 #    WORK/frames-MODE-CONFIG/ for that; the seconds are frame times, which the writes do not enter).
+# 1b. Iso from the page cache again, the same cut with frames 16 times cheaper (IMAGE / 4 on a side,
+#    --voxels-per-pixel 4, which asks for the same bricks), CHEAP_REPS times: frames and seconds to converge,
+#    medians (what the frames' cost on this machine adds to the answers' round trips).
 # 2. The same, iso only, with a slow disk (--io-delay-ms SLOW_IO per brick read): answers come back while the
 #    tree is still being read, as in Gobbetti et al. 2008's out-of-core setting.
 # 3. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
@@ -22,7 +25,7 @@
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
 #   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), STEADY (4), GPU (1G), CPU (1G),
 #   PATH_GPU (128M), PATH_CPU (128M), SLOW_IO (2, milliseconds; 0 skips part 2), WORK (a fresh folder),
-#   SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK, EXT (png, or ppm
+#   CHEAP_REPS (3; 0 skips part 1b), SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK, EXT (png, or ppm
 #   for a build without OpenImageIO: then the images are not compared, and PSNR and "final at" read nan)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -73,6 +76,20 @@ for mode in $modes; do
       --stats "$WORK/steady-$mode-$config.jsonl" -o "$WORK/steady-$mode-$config.$EXT"
   done
 done
+cheap_reps=${CHEAP_REPS:-3}
+IFS=x read -r width height <<<"$IMAGE"
+cheap_image="$((width / 4))x$((height / 4))"
+if [ "${SKIP_CONVERGE:-0}" != 1 ]; then
+  for rep in $(seq 1 "$cheap_reps"); do
+    for config in $configs; do
+      echo "visibility.sh: converge with cheap frames, iso, $config, $rep" >&2
+      # shellcheck disable=SC2046
+      "$ROPECAST" render "$store" --mode iso --size "$cheap_image" --voxels-per-pixel 4 --orbit 30,20,1.6 \
+        --converge --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
+        --stats "$WORK/cheap-iso-$config-$rep.jsonl" -o "$WORK/cheap-iso-$config.$EXT"
+    done
+  done
+fi
 if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
   for config in $configs; do
     echo "visibility.sh: converge with a slow disk, iso, $config" >&2
@@ -92,9 +109,9 @@ if [ "${SKIP_PATH:-0}" != 1 ]; then
   done
 fi
 
-python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" "$slow_io" "$EXT" <<'PY'
+python3 - "$WORK" "$modes" "$configs" "$IMAGE" "$SIZE" "$path_image" "${SKIP_PATH:-0}" "$ROPECAST" "$slow_io" "$EXT" "$cheap_image" "$cheap_reps" <<'PY'
 import glob, json, os, statistics, subprocess, sys
-work, modes, configs, image, size, path_image, skip_path, ropecast, slow_io, ext = sys.argv[1:]
+work, modes, configs, image, size, path_image, skip_path, ropecast, slow_io, ext, cheap_image, cheap_reps = sys.argv[1:]
 modes, configs = modes.split(), configs.split()
 MiB = 1 << 20
 def rows(name):
@@ -139,6 +156,20 @@ for mode in modes:
         print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if last["converged"] else "  NOT CONVERGED"))
     print("  " + mode + ", against " + configs[0] + ": working set " + ", ".join(
         f"{c} {rows(f'converge-{mode}-{c}')[-1]['working_set_bricks'] / base['working set']:.2f}" for c in configs[1:]))
+if int(cheap_reps) > 0 and os.path.exists(f"{work}/cheap-iso-{configs[0]}-1.jsonl"):
+    print(f"\niso, the same cut with frames 16x cheaper ({cheap_image}, --voxels-per-pixel 4), cold cache to "
+          f"convergence, medians of {cheap_reps}")
+    head = ["working set", "frames", "seconds", "vs " + configs[0]]
+    print(f"{'':<10}" + "".join(f"{h:>12}" for h in head))
+    base = None
+    for config in configs:
+        runs = [rows(f"cheap-iso-{config}-{k}") for k in range(1, int(cheap_reps) + 1)]
+        seconds = statistics.median(sum(x["frame_ms"] for x in r) / 1000 for r in runs)
+        base = base or seconds
+        s = {"working set": runs[0][-1]["working_set_bricks"], "frames": statistics.median(len(r) for r in runs),
+             "seconds": seconds, "vs " + configs[0]: seconds / base}
+        print(f"{config:<10}" + "".join(f"{s[h]:12.2f}" for h in head) +
+              ("" if all(r[-1]["converged"] for r in runs) else "  NOT CONVERGED"))
 if slow_io != "0" and os.path.exists(f"{work}/slow-iso-{configs[0]}.jsonl"):
     print(f"\niso with --io-delay-ms {slow_io} per brick read (a slow disk), cold cache to convergence at {image}")
     head = ["working set", "read MiB", "upload MiB", "frames", "seconds", "PSNR"]
