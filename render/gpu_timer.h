@@ -1,4 +1,4 @@
-// GpuTimer: GPU time of a span of GL commands (the frame's raycast_ms).
+// GpuTimer: GPU time of a span of GL commands (the frame's raycast_ms, occlusion_draw_ms).
 // begin()/end() bracket the commands with GL_TIMESTAMP queries; elapsedMs() waits for the results. Some
 // drivers report timestamps that cannot be right (llvmpipe stamps per rasterizer thread, so a span can read
 // as hours): a GPU span longer than the wall time from begin() to the result is replaced by that wall time,
