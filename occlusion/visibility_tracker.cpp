@@ -100,6 +100,12 @@ void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_
   it->second = {issuedFrame, occluded, samplesPassed};
 }
 
+void VisibilityTracker::markUnseen(const NodeKey& key, uint64_t frame) {
+  const auto [it, inserted] = marks_.try_emplace(key);
+  if (!inserted && frame < it->second.issuedFrame) return;
+  it->second = {frame, true, 0};
+}
+
 void VisibilityTracker::countAnswer(uint64_t issuedFrame) {
   for (RoundAnswers& r : rounds_) {
     if (issuedFrame >= r.firstFrame && issuedFrame <= r.lastFrame) {

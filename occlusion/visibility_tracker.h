@@ -74,6 +74,9 @@ class VisibilityTracker {
   // A query's answer, collected in a later frame: the node, the frame its query was issued in, samples
   // passed. An answer older than the node's current mark, or issued before the last reset(), is ignored.
   void answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
+  // A leaf known hidden without a query (no ray reached it: the rays' feedback), left out of plan(): marked
+  // as an answer of 0 samples to a query issued in `frame` would mark it, but counted in no round.
+  void markUnseen(const NodeKey& key, uint64_t frame);
 
   // Propagation to parents (Gobbetti et al. 2008, Sect. 6: an inner node is visible when any child is): given
   // the last cut's non-empty leaves, every inner node above them gets a mark from the visible samples of its

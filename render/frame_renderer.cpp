@@ -153,7 +153,7 @@ void FrameRenderer::collectVisibility(const FrameRequest& request, FrameStats& s
     visibility_->answer(a.key, a.issuedFrame, a.samplesPassed);
     ++stats.occlusionAnswered;
   }
-  visibility_->propagate(queriedLeaves_);
+  visibility_->propagate(dataLeaves_);
   stats.occlusionMs += msSince(start);
 }
 
@@ -171,18 +171,22 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
 }
 
 TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
-                                      const EmptinessPredicate& isEmpty, FrameStats& stats) {
+                                      const EmptinessPredicate& isEmpty, bool feedback, FrameStats& stats) {
   const auto start = Clock::now();
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
-  queriedLeaves_.clear();
+  dataLeaves_.clear();
   dataBoxes_.clear();
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
+    dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
+    if (feedback && rayFeedback_.hint(leaf.key, frame_) == NodeHint::Unused) {
+      visibility_->markUnseen(leaf.key, frame_);
+      continue;
+    }
     const WorldBox box = nodeDataBox(source_, isEmpty, leaf.key);
     dataBoxes_.push_back(box);
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
-    queriedLeaves_.push_back(leaf.key);
   }
   const FrameQueryPlan plan = visibility_->plan(frame_, request.width, request.height, toQuery);
   const VisibilityCounts counts = visibility_->counts(frame_);
@@ -305,7 +309,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
 
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
   const TileSchedule schedule =
-      occlusion ? planTiles(request, plan.leaves, input.isEmpty, stats) : TileSchedule{};
+      occlusion ? planTiles(request, plan.leaves, input.isEmpty, feedback, stats) : TileSchedule{};
 
   // Pass 5, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);

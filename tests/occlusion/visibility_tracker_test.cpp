@@ -1,6 +1,6 @@
 // VisibilityTracker: rounds that query every leaf of the cut in a bounded number of frames, answers against
-// the threshold and their lifetime, reset, propagation to inner nodes, the list of occluded nodes, and the
-// settled state.
+// the threshold and their lifetime, leaves marked unseen without a query, reset, propagation to inner nodes,
+// the list of occluded nodes, and the settled state.
 #include "occlusion/visibility_tracker.h"
 
 #include <algorithm>
@@ -360,6 +360,32 @@ TEST(VisibilityTracker, ACollapsedParentKeepsItsMarkUntilItIsQueried) {
   tracker.propagate(collapsed);
   EXPECT_FALSE(tracker.isOccluded(t.p, 22));
   EXPECT_FALSE(tracker.isOccluded(t.root, 22));
+}
+
+TEST(VisibilityTracker, ALeafMarkedUnseenIsOccludedWithoutAQueryOrARound) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const SmallTree t;
+  // c0 and c1 were answered visible; the rays then left c0, c1 and c2 unused: only g is queried.
+  tracker.plan(10, 8, 8, t.toQuery());
+  tracker.answer(t.c0, 10, 9);
+  tracker.answer(t.c1, 10, 9);
+  std::vector<LeafToQuery> queried = t.toQuery();
+  queried.erase(queried.begin(), queried.begin() + 3);
+  for (const NodeKey& k : {t.c0, t.c1, t.c2}) tracker.markUnseen(k, 11);
+  const FrameQueryPlan plan = tracker.plan(11, 8, 8, queried);
+  EXPECT_EQ(plan.queries, std::vector<NodeKey>{t.g});
+  EXPECT_FALSE(tracker.answeredSince(11)) << "g's query is out; the unseen leaves count in no round";
+  tracker.answer(t.g, 11, 0);
+  EXPECT_TRUE(tracker.answeredSince(11));
+  tracker.propagate(t.cut);
+  for (const NodeKey& k : {t.c0, t.c1, t.c2, t.g, t.p, t.root}) EXPECT_TRUE(tracker.isOccluded(k, 12));
+  // An older answer does not replace the mark; a newer one does.
+  tracker.answer(t.c0, 10, 9);
+  EXPECT_TRUE(tracker.isOccluded(t.c0, 12));
+  tracker.answer(t.c0, 12, 9);
+  tracker.propagate(t.cut);
+  EXPECT_FALSE(tracker.isOccluded(t.c0, 13));
+  EXPECT_FALSE(tracker.isOccluded(t.p, 13));
 }
 
 TEST(VisibilityTracker, SettlesWhenARoundFlipsNoMark) {

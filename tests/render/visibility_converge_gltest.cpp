@@ -93,6 +93,22 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
   EXPECT_LT(on.dataLeaves, off.dataLeaves) << "hidden nodes stay coarse";
 }
 
+// With feedback on, the leaves no ray reached are marked occluded without a query: fewer queries, the same
+// image and no more data leaves than with the queries alone.
+TEST(VisibilityConverge, WithFeedbackTheLeavesNoRayReachedAreNotQueried) {
+  const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
+  const Converged occlusion =
+      renderUntilConverged(source, RenderMode::Iso, RenderBackend::Fragment, {true, false});
+  const Converged both = renderUntilConverged(source, RenderMode::Iso, RenderBackend::Fragment, {true, true});
+  ASSERT_TRUE(occlusion.last.converged);
+  ASSERT_TRUE(both.last.converged);
+  EXPECT_GT(both.last.occlusionQueries, 0u);
+  EXPECT_LT(both.last.occlusionQueries, occlusion.last.occlusionQueries);
+  EXPECT_LT(both.last.occlusionQueries, both.dataLeaves) << "every data leaf was queried";
+  EXPECT_LE(both.dataLeaves, occlusion.dataLeaves);
+  EXPECT_GE(test::psnrDb(both.color, occlusion.color), 40.0);
+}
+
 TEST_P(VisibilityConvergeTest, SemiTransparentDvrLooksTheSame) {
   const auto [backend, visibility] = GetParam();
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
