@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <iterator>
-#include <optional>
 #include <queue>
 #include <tuple>
 
@@ -31,21 +30,35 @@ WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const Node
   return b;
 }
 
-WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key) {
+NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key) {
   const OctreeLayout& layout = nodes.info().layout;
   const glm::dvec3 spacing = nodes.info().volume.spacing;
-  if (key.depth >= layout.maxDepth) return nodeWorldBox(layout, spacing, key);
-  std::optional<WorldBox> box;
-  for (uint32_t o = 0; o < 8; ++o) {
-    const NodeKey child = key.child(o);
-    if (!layout.isInside(child)) continue;
-    const NodeInfo info = nodes.node(child);
-    if (info.kind == NodeKind::Outside || info.kind == NodeKind::Empty) continue;
-    if (isEmpty && isEmpty(info.minValue, info.maxValue)) continue;
-    const WorldBox b = nodeWorldBox(layout, spacing, child);
-    box = box ? WorldBox{glm::min(box->lo, b.lo), glm::max(box->hi, b.hi)} : b;
+  NodeDataParts parts;
+  if (key.depth < layout.maxDepth) {
+    for (uint32_t o = 0; o < 8; ++o) {
+      const NodeKey child = key.child(o);
+      if (!layout.isInside(child)) continue;
+      const NodeInfo info = nodes.node(child);
+      if (info.kind == NodeKind::Outside || info.kind == NodeKind::Empty) continue;
+      if (isEmpty && isEmpty(info.minValue, info.maxValue)) continue;
+      parts.boxes[parts.count++] = nodeWorldBox(layout, spacing, child);
+    }
   }
-  return box ? *box : nodeWorldBox(layout, spacing, key);
+  if (parts.count == 0) parts.boxes[parts.count++] = nodeWorldBox(layout, spacing, key);
+  return parts;
+}
+
+WorldBox boundingBox(const NodeDataParts& parts) {
+  WorldBox box = parts.boxes[0];
+  for (uint32_t i = 1; i < parts.count; ++i) {
+    box.lo = glm::min(box.lo, parts.boxes[i].lo);
+    box.hi = glm::max(box.hi, parts.boxes[i].hi);
+  }
+  return box;
+}
+
+WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key) {
+  return boundingBox(nodeDataParts(nodes, isEmpty, key));
 }
 
 double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,

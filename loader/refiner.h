@@ -122,11 +122,20 @@ struct WorldBox {
   glm::dvec3 lo{0.0}, hi{0.0};
 };
 WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key);
-// The part of a node's box that holds its data: the bounding box of its children that are neither outside
-// the volume nor empty (NodeKind::Empty or `isEmpty`); the node's box at the finest depth or when no child
-// qualifies. What an occlusion query of the node tests: the box of an empty child would show where no ray
-// meets the node's data, and a node collapsed because its data leaves were hidden would answer visible.
+// The parts of a node's box that hold its data: the boxes of its children that are neither outside the
+// volume nor empty (NodeKind::Empty or `isEmpty`); the node's own box at the finest depth or when no child
+// qualifies. What an occlusion query of the node draws, all parts under one query: the box of an empty child
+// would show where no ray meets the node's data, and the parts' samples together are the sum its children's
+// answers gave, so a node collapsed because its data leaves were hidden answers hidden too (their bounding
+// box, covering the gaps between them, could answer visible, refine the node, and hide its leaves again).
+struct NodeDataParts {
+  std::array<WorldBox, 8> boxes;
+  uint32_t count = 0;
+};
+NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key);
+// The parts' bounding box: where the node projects on the screen.
 WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key);
+WorldBox boundingBox(const NodeDataParts& parts);
 
 // Pixels covered by one voxel of the node's level, seen at the node's point nearest to the eye (distance
 // clamped to half a full-resolution voxel, so a node containing the eye gets a very large value).

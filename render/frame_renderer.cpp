@@ -176,7 +176,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
-  dataBoxes_.clear();
+  dataParts_.clear();
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
     dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
@@ -184,8 +184,8 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       visibility_->markUnseen(leaf.key, frame_);
       continue;
     }
-    const WorldBox box = nodeDataBox(source_, isEmpty, leaf.key);
-    dataBoxes_.push_back(box);
+    dataParts_.push_back(nodeDataParts(source_, isEmpty, leaf.key));
+    const WorldBox box = boundingBox(dataParts_.back());
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
   }
   const FrameQueryPlan plan = visibility_->plan(frame_, request.width, request.height, toQuery);
@@ -196,8 +196,13 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
 
   queryBoxes_.clear();
   for (const uint32_t i : plan.queriedIndices) {
-    const WorldBox& box = dataBoxes_[i];
-    queryBoxes_.push_back({toQuery[i].key, box.lo, box.hi});
+    QueryBox& query = queryBoxes_.emplace_back();
+    query.key = toQuery[i].key;
+    query.count = dataParts_[i].count;
+    for (uint32_t p = 0; p < query.count; ++p) {
+      query.lo[p] = dataParts_[i].boxes[p].lo;
+      query.hi[p] = dataParts_[i].boxes[p].hi;
+    }
   }
   TileSchedule schedule;
   for (const ScreenRect& r : plan.tiles)

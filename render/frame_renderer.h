@@ -119,7 +119,8 @@ class FrameRenderer {
   // Hear back: the rays' usage and requests of earlier frames, into RayFeedback.
   void collectFeedback(FrameStats& stats);
   // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them. A
-  // leaf is queried, and projected, by the box of its data (nodeDataBox under `isEmpty`). With `feedback`,
+  // leaf is queried by the boxes of its data and projected by their bounding box (nodeDataParts under
+  // `isEmpty`). With `feedback`,
   // the leaves the rays' latest answer found unused are not queried but marked occluded: no ray reached
   // them, so no pixel of their box could pass the depth test, and the rays will say when one does.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
@@ -146,7 +147,7 @@ class FrameRenderer {
   std::unique_ptr<VisibilityTracker> visibility_;  // config.occlusion only
   std::vector<NodeKey> dataLeaves_;                // the non-empty leaves of the last asynchronous frame
   std::vector<QueryBox> queryBoxes_;               // this frame's queries
-  std::vector<WorldBox> dataBoxes_;                // this frame's queryable leaves' data boxes, as planned
+  std::vector<NodeDataParts> dataParts_;           // this frame's queryable leaves' data parts, as planned
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
   std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;       // of the last frame's tree
   std::unordered_set<NodeKey, NodeKeyHash> collapsedOnThisView_;  // since the camera last moved

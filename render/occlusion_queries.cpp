@@ -8,6 +8,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "core/error.h"
 #include "render/gl_context.h"
 #include "render/shader_program.h"
 
@@ -16,8 +17,8 @@ namespace ropecast {
 namespace {
 
 constexpr GLint kViewProjectionLocation = 0;  // shaders/occlusion_box.vert
-constexpr GLint kBoxLoLocation = 1;
-constexpr GLint kBoxHiLocation = 2;
+constexpr GLint kBoxLoLocation = 1;           // uBoxLo[8]: locations 1 to 8
+constexpr GLint kBoxHiLocation = 9;           // uBoxHi[8]: locations 9 to 16
 constexpr GLsizei kBoxVertices = 36;
 
 class GlQueryResultReader final : public QueryResultReader {
@@ -107,13 +108,19 @@ void OcclusionQueries::issue(std::span<const QueryBox> boxes, const Camera& came
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glFrontFace(GL_CW);  // the y flip mirrors the counter-clockwise faces of shaders/occlusion_box.vert
+  std::array<glm::vec3, QueryBox::kMaxParts> lo, hi;
   for (const QueryBox& box : boxes) {
-    const glm::vec3 lo(box.lo), hi(box.hi);
-    glProgramUniform3fv(program_->id(), kBoxLoLocation, 1, glm::value_ptr(lo));
-    glProgramUniform3fv(program_->id(), kBoxHiLocation, 1, glm::value_ptr(hi));
+    if (box.count == 0 || box.count > QueryBox::kMaxParts)
+      throw Error("OcclusionQueries::issue: a query of " + std::to_string(box.count) + " boxes (1 to 8)");
+    for (uint32_t i = 0; i < box.count; ++i) {
+      lo[i] = glm::vec3(box.lo[i]);
+      hi[i] = glm::vec3(box.hi[i]);
+    }
+    glProgramUniform3fv(program_->id(), kBoxLoLocation, GLsizei(box.count), glm::value_ptr(lo[0]));
+    glProgramUniform3fv(program_->id(), kBoxHiLocation, GLsizei(box.count), glm::value_ptr(hi[0]));
     const uint32_t query = takeQuery();
     glBeginQuery(GL_SAMPLES_PASSED, query);
-    glDrawArrays(GL_TRIANGLES, 0, kBoxVertices);
+    glDrawArraysInstanced(GL_TRIANGLES, 0, kBoxVertices, GLsizei(box.count));
     glEndQuery(GL_SAMPLES_PASSED);
     pending_.push_back({query, box.key, frame});
   }

@@ -1,14 +1,15 @@
-// OcclusionQueries: the GL side of the visibility feedback (Gobbetti et al. 2008, Sect. 6). issue() draws one
-// box per node under its own GL_SAMPLES_PASSED query, against the depth buffer where the ray caster left the
-// depth at which each ray stopped (front faces only, so a pixel counts once; no color or depth writes; depth
-// clamped so a box reaching the near plane is not clipped away). collect() takes, in a later frame, the
-// answers the driver says are available (GL_QUERY_RESULT_AVAILABLE) and leaves the others pending: it never
-// waits. Planning which nodes to query is occlusion/'s (VisibilityTracker); this class only asks and hears
-// back.
+// OcclusionQueries: the GL side of the visibility feedback (Gobbetti et al. 2008, Sect. 6). issue() draws
+// each node's boxes (up to 8, one instanced draw) under its own GL_SAMPLES_PASSED query, against the depth
+// buffer where the ray caster left the depth at which each ray stopped (front faces only, so a pixel counts
+// once; no color or depth writes; depth clamped so a box reaching the near plane is not clipped away).
+// collect() takes, in a later frame, the answers the driver says are available (GL_QUERY_RESULT_AVAILABLE)
+// and leaves the others pending: it never waits. Planning which nodes to query is occlusion/'s
+// (VisibilityTracker); this class only asks and hears back.
 //
 // Owns GL objects: render thread only, with the GlContext current.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -25,9 +26,12 @@ namespace ropecast {
 
 class ShaderProgram;
 
+// One query: the boxes drawn under it (world space), their samples counted together.
 struct QueryBox {
+  static constexpr uint32_t kMaxParts = 8;
   NodeKey key;
-  glm::dvec3 lo{0.0}, hi{0.0};  // world space
+  std::array<glm::dvec3, kMaxParts> lo{}, hi{};
+  uint32_t count = 0;
 };
 
 struct QueryAnswer {
@@ -51,9 +55,9 @@ class OcclusionQueries {
   OcclusionQueries(const OcclusionQueries&) = delete;
   OcclusionQueries& operator=(const OcclusionQueries&) = delete;
 
-  // Issues one query per box into the bound framebuffer (width x height, the ray caster's image), projected
-  // as the ray caster's rays see them, `depth` as the ray caster mapped it. Changes the program, vertex
-  // array, viewport and depth test; leaves writes enabled.
+  // Issues one query per QueryBox into the bound framebuffer (width x height, the ray caster's image),
+  // projected as the ray caster's rays see them, `depth` as the ray caster mapped it. Changes the program,
+  // vertex array, viewport and depth test; leaves writes enabled.
   void issue(std::span<const QueryBox> boxes, const Camera& camera, uint32_t width, uint32_t height,
              DepthRange depth, uint64_t frame);
 

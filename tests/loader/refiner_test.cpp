@@ -82,7 +82,7 @@ TEST(Refiner, EyeInsideANodeGivesAHugeButFiniteSize) {
   EXPECT_GT(px, 50.0);
 }
 
-TEST(Refiner, ANodesDataBoxBoundsItsChildrenThatHoldData) {
+TEST(Refiner, ANodesDataPartsAreItsChildrenThatHoldDataAndTheirBoxBoundsThem) {
   // 64^3, bricks of 16: depths 0..2. Below the root, child (1,1,1) is NodeKind::Empty and children with
   // x = 1 have values [0, 10]; below depth-1 node (0,0,0) every child but (0,0,0) is empty.
   auto fn = [](const NodeKey& k) -> NodeInfo {
@@ -108,6 +108,15 @@ TEST(Refiner, ANodesDataBoxBoundsItsChildrenThatHoldData) {
   expectBox(nodeDataBox(src, isoEmpty, NodeKey{2, {1, 0, 0}}), glm::dvec3(16, 0, 0), glm::dvec3(32, 16, 16));
   const auto allEmpty = [](uint16_t, uint16_t) { return true; };
   expectBox(nodeDataBox(src, allEmpty, NodeKey{}), glm::dvec3(0), glm::dvec3(64));
+  // The parts themselves: the four x = 0 children of the root, each its own box.
+  const NodeDataParts parts = nodeDataParts(src, isoEmpty, NodeKey{});
+  ASSERT_EQ(parts.count, 4u);
+  for (uint32_t i = 0; i < parts.count; ++i) {
+    EXPECT_EQ(parts.boxes[i].lo.x, 0.0);
+    EXPECT_EQ(parts.boxes[i].hi - parts.boxes[i].lo, glm::dvec3(32));
+  }
+  EXPECT_EQ(nodeDataParts(src, allEmpty, NodeKey{}).count, 1u);
+  expectBox(nodeDataParts(src, allEmpty, NodeKey{}).boxes[0], glm::dvec3(0), glm::dvec3(64));
 }
 
 TEST(Refiner, FrustumCullingIsConservative) {

@@ -33,7 +33,11 @@ QueriedScene buildQueried(const SceneSpec& spec) {
     if (leaf.kind != LeafKind::Data) continue;
     const NodeKey key{leaf.depth, leaf.coord};
     const WorldBox box = nodeWorldBox(q.scene.info.layout, q.scene.info.volume.spacing, key);
-    q.boxes.push_back({key, box.lo, box.hi});
+    QueryBox& query = q.boxes.emplace_back();
+    query.key = key;
+    query.lo[0] = box.lo;
+    query.hi[0] = box.hi;
+    query.count = 1;
   }
   return q;
 }
@@ -91,8 +95,8 @@ TEST_P(OcclusionQueriesTest, SlabHidesTheSphereBehindIt) {
 
   int slabLeaves = 0, sphereLeaves = 0;
   for (size_t i = 0; i < answers.size(); ++i) {
-    const QueryBox& box = q.boxes[i];
-    ASSERT_EQ(answers[i].key, box.key);
+    ASSERT_EQ(answers[i].key, q.boxes[i].key);
+    const WorldBox box{q.boxes[i].lo[0], q.boxes[i].hi[0]};
     // The view covers x and y in about [7, 57] at the slab: the leaves at the volume's side show a sliver.
     const bool inView = box.lo.x >= 8.0 && box.hi.x <= 56.0 && box.lo.y >= 8.0 && box.hi.y <= 56.0;
     if (inView && box.lo.z <= 8.0 && box.hi.z > 8.0) {  // holds the slab's front face: seen
@@ -115,7 +119,7 @@ double worldDepth(double window, DepthRange range) {
 }
 
 // Samples of `box` whose pixel-center ray enters it before the ray stopped (the stop depths, world units).
-uint64_t cpuVisibleSamples(const QueryBox& box, const Camera& camera, const FloatImage& stopDepth) {
+uint64_t cpuVisibleSamples(const WorldBox& box, const Camera& camera, const FloatImage& stopDepth) {
   const CameraFrame f = cameraFrame(camera);
   uint64_t count = 0;
   for (uint32_t y = 0; y < stopDepth.height; ++y)
@@ -165,7 +169,7 @@ TEST_P(OcclusionQueriesTest, CountsMatchTheDepthImageOnARandomScene) {
 
   int occluded = 0, visible = 0, disagreements = 0;
   for (size_t i = 0; i < answers.size(); ++i) {
-    const uint64_t cpu = cpuVisibleSamples(q.boxes[i], camera, depth);
+    const uint64_t cpu = cpuVisibleSamples({q.boxes[i].lo[0], q.boxes[i].hi[0]}, camera, depth);
     const uint64_t gl = answers[i].samplesPassed;
     // Rasterization and ray tests differ only on pixels whose center lies on a box edge or whose stop depth
     // equals the box's entry depth: a few per box.
@@ -179,6 +183,26 @@ TEST_P(OcclusionQueriesTest, CountsMatchTheDepthImageOnARandomScene) {
   EXPECT_EQ(disagreements, 0);
   EXPECT_GT(occluded, 20) << "the scene should hide part of its leaves";
   EXPECT_GT(visible, 20);
+
+  // A query of several boxes (a node's data parts) counts the samples of all of them: the sum of their own
+  // queries, exactly, as the same fragments pass the same depth test.
+  std::vector<QueryBox> groups;
+  std::vector<uint64_t> sums;
+  for (size_t i = 0; i < q.boxes.size();) {
+    QueryBox& group = groups.emplace_back();
+    group.key = q.boxes[i].key;
+    uint64_t sum = 0;
+    for (; group.count < 1 + groups.size() % QueryBox::kMaxParts && i < q.boxes.size(); ++i) {
+      group.lo[group.count] = q.boxes[i].lo[0];
+      group.hi[group.count++] = q.boxes[i].hi[0];
+      sum += answers[i].samplesPassed;
+    }
+    sums.push_back(sum);
+  }
+  const std::vector<QueryAnswer> grouped = castAndQuery(pass, q, frame, groups);
+  ASSERT_EQ(grouped.size(), groups.size());
+  for (size_t g = 0; g < groups.size(); ++g)
+    EXPECT_EQ(grouped[g].samplesPassed, sums[g]) << "a query of " << groups[g].count << " boxes";
 }
 
 TEST_P(OcclusionQueriesTest, TiledScheduleCastsTheSameImage) {
