@@ -124,10 +124,10 @@ struct WorldBox {
 WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key);
 // The parts of a node's box that hold its data: the boxes of its children that are neither outside the
 // volume nor empty (NodeKind::Empty or `isEmpty`); the node's own box at the finest depth or when no child
-// qualifies. What an occlusion query of the node draws, all parts under one query: the box of an empty child
-// would show where no ray meets the node's data, and the parts' samples together are the sum its children's
-// answers gave, so a node collapsed because its data leaves were hidden answers hidden too (their bounding
-// box, covering the gaps between them, could answer visible, refine the node, and hide its leaves again).
+// qualifies. What an occlusion query of the node tests: the box of an empty child would show where no ray
+// meets the node's data. Drawn part by part under one query, the samples are the sum its children's answers
+// gave, so a node collapsed because its data leaves were hidden answers hidden too (their bounding box,
+// covering the gaps between them, could answer visible, refine the node, and hide its leaves again).
 struct NodeDataParts {
   std::array<WorldBox, 8> boxes;
   uint32_t count = 0;

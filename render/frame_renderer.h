@@ -119,8 +119,8 @@ class FrameRenderer {
   // Hear back: the rays' usage and requests of earlier frames, into RayFeedback.
   void collectFeedback(FrameStats& stats);
   // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them. A
-  // leaf is queried by the boxes of its data and projected by their bounding box (nodeDataParts under
-  // `isEmpty`). With `feedback`,
+  // leaf is projected and queried by the bounding box of its data parts (nodeDataParts under `isEmpty`); a
+  // node collapsed on this view because its leaves were hidden is queried part by part. With `feedback`,
   // the leaves the rays' latest answer found unused are not queried but marked occluded: no ray reached
   // them, so no pixel of their box could pass the depth test, and the rays will say when one does.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
