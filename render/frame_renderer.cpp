@@ -198,15 +198,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   stats.occlusionLatencyFrames = visibility_->lastRoundFrames();
 
   queryBoxes_.clear();
-  for (const uint32_t i : plan.queriedIndices) {
-    QueryBox& query = queryBoxes_.emplace_back();
-    query.key = toQuery[i].key;
-    query.count = dataParts_[i].count;
-    for (uint32_t p = 0; p < query.count; ++p) {
-      query.lo[p] = dataParts_[i].boxes[p].lo;
-      query.hi[p] = dataParts_[i].boxes[p].hi;
-    }
-  }
+  for (const uint32_t i : plan.queriedIndices) queryBoxes_.push_back({toQuery[i].key, dataParts_[i]});
   TileSchedule schedule;
   for (const ScreenRect& r : plan.tiles)
     if (!r.empty())

@@ -108,19 +108,20 @@ void OcclusionQueries::issue(std::span<const QueryBox> boxes, const Camera& came
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glFrontFace(GL_CW);  // the y flip mirrors the counter-clockwise faces of shaders/occlusion_box.vert
-  std::array<glm::vec3, QueryBox::kMaxParts> lo, hi;
+  std::array<glm::vec3, 8> lo, hi;  // shaders/occlusion_box.vert's uBoxLo, uBoxHi
   for (const QueryBox& box : boxes) {
-    if (box.count == 0 || box.count > QueryBox::kMaxParts)
-      throw Error("OcclusionQueries::issue: a query of " + std::to_string(box.count) + " boxes (1 to 8)");
-    for (uint32_t i = 0; i < box.count; ++i) {
-      lo[i] = glm::vec3(box.lo[i]);
-      hi[i] = glm::vec3(box.hi[i]);
+    const uint32_t count = box.parts.count;
+    if (count == 0 || count > lo.size())
+      throw Error("OcclusionQueries::issue: a query of " + std::to_string(count) + " boxes (1 to 8)");
+    for (uint32_t i = 0; i < count; ++i) {
+      lo[i] = glm::vec3(box.parts.boxes[i].lo);
+      hi[i] = glm::vec3(box.parts.boxes[i].hi);
     }
-    glProgramUniform3fv(program_->id(), kBoxLoLocation, GLsizei(box.count), glm::value_ptr(lo[0]));
-    glProgramUniform3fv(program_->id(), kBoxHiLocation, GLsizei(box.count), glm::value_ptr(hi[0]));
+    glProgramUniform3fv(program_->id(), kBoxLoLocation, GLsizei(count), glm::value_ptr(lo[0]));
+    glProgramUniform3fv(program_->id(), kBoxHiLocation, GLsizei(count), glm::value_ptr(hi[0]));
     const uint32_t query = takeQuery();
     glBeginQuery(GL_SAMPLES_PASSED, query);
-    glDrawArraysInstanced(GL_TRIANGLES, 0, kBoxVertices, GLsizei(box.count));
+    glDrawArraysInstanced(GL_TRIANGLES, 0, kBoxVertices, GLsizei(count));
     glEndQuery(GL_SAMPLES_PASSED);
     pending_.push_back({query, box.key, frame});
   }

@@ -9,7 +9,6 @@
 // Owns GL objects: render thread only, with the GlContext current.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -19,6 +18,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/camera.h"
+#include "loader/refiner.h"
 #include "render/raycast_uniforms.h"
 #include "store/octree_layout.h"
 
@@ -26,12 +26,10 @@ namespace ropecast {
 
 class ShaderProgram;
 
-// One query: the boxes drawn under it (world space), their samples counted together.
+// One query: the node and the boxes drawn under it (world space), their samples counted together.
 struct QueryBox {
-  static constexpr uint32_t kMaxParts = 8;
   NodeKey key;
-  std::array<glm::dvec3, kMaxParts> lo{}, hi{};
-  uint32_t count = 0;
+  NodeDataParts parts;
 };
 
 struct QueryAnswer {

@@ -33,11 +33,7 @@ QueriedScene buildQueried(const SceneSpec& spec) {
     if (leaf.kind != LeafKind::Data) continue;
     const NodeKey key{leaf.depth, leaf.coord};
     const WorldBox box = nodeWorldBox(q.scene.info.layout, q.scene.info.volume.spacing, key);
-    QueryBox& query = q.boxes.emplace_back();
-    query.key = key;
-    query.lo[0] = box.lo;
-    query.hi[0] = box.hi;
-    query.count = 1;
+    q.boxes.push_back({key, {{box}, 1}});
   }
   return q;
 }
@@ -96,7 +92,7 @@ TEST_P(OcclusionQueriesTest, SlabHidesTheSphereBehindIt) {
   int slabLeaves = 0, sphereLeaves = 0;
   for (size_t i = 0; i < answers.size(); ++i) {
     ASSERT_EQ(answers[i].key, q.boxes[i].key);
-    const WorldBox box{q.boxes[i].lo[0], q.boxes[i].hi[0]};
+    const WorldBox& box = q.boxes[i].parts.boxes[0];
     // The view covers x and y in about [7, 57] at the slab: the leaves at the volume's side show a sliver.
     const bool inView = box.lo.x >= 8.0 && box.hi.x <= 56.0 && box.lo.y >= 8.0 && box.hi.y <= 56.0;
     if (inView && box.lo.z <= 8.0 && box.hi.z > 8.0) {  // holds the slab's front face: seen
@@ -169,7 +165,7 @@ TEST_P(OcclusionQueriesTest, CountsMatchTheDepthImageOnARandomScene) {
 
   int occluded = 0, visible = 0, disagreements = 0;
   for (size_t i = 0; i < answers.size(); ++i) {
-    const uint64_t cpu = cpuVisibleSamples({q.boxes[i].lo[0], q.boxes[i].hi[0]}, camera, depth);
+    const uint64_t cpu = cpuVisibleSamples(q.boxes[i].parts.boxes[0], camera, depth);
     const uint64_t gl = answers[i].samplesPassed;
     // Rasterization and ray tests differ only on pixels whose center lies on a box edge or whose stop depth
     // equals the box's entry depth: a few per box.
@@ -192,9 +188,9 @@ TEST_P(OcclusionQueriesTest, CountsMatchTheDepthImageOnARandomScene) {
     QueryBox& group = groups.emplace_back();
     group.key = q.boxes[i].key;
     uint64_t sum = 0;
-    for (; group.count < 1 + groups.size() % QueryBox::kMaxParts && i < q.boxes.size(); ++i) {
-      group.lo[group.count] = q.boxes[i].lo[0];
-      group.hi[group.count++] = q.boxes[i].hi[0];
+    NodeDataParts& parts = group.parts;
+    for (; parts.count < 1 + groups.size() % parts.boxes.size() && i < q.boxes.size(); ++i) {
+      parts.boxes[parts.count++] = q.boxes[i].parts.boxes[0];
       sum += answers[i].samplesPassed;
     }
     sums.push_back(sum);
@@ -202,7 +198,7 @@ TEST_P(OcclusionQueriesTest, CountsMatchTheDepthImageOnARandomScene) {
   const std::vector<QueryAnswer> grouped = castAndQuery(pass, q, frame, groups);
   ASSERT_EQ(grouped.size(), groups.size());
   for (size_t g = 0; g < groups.size(); ++g)
-    EXPECT_EQ(grouped[g].samplesPassed, sums[g]) << "a query of " << groups[g].count << " boxes";
+    EXPECT_EQ(grouped[g].samplesPassed, sums[g]) << "a query of " << groups[g].parts.count << " boxes";
 }
 
 TEST_P(OcclusionQueriesTest, TiledScheduleCastsTheSameImage) {
