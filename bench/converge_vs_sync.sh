@@ -10,8 +10,8 @@
 # --upload-budget). Once: a --converge run writing every frame, to find the first frame from which the image
 # stays within 40 dB of the converged one (the rest of the frames wait for answers confirming the cut), and a
 # synchronous render with budgets that hold everything, against which both images are compared.
-# Per repetition also sync and converge of the same cut with frames 16 times cheaper (IMAGE / 4 on a side,
-# --voxels-per-pixel 4, which asks for the same bricks): what the frames' cost on this machine adds.
+# Per repetition also sync and converge of the same cut with 16 times fewer pixels (IMAGE / 4 on a side,
+# --voxels-per-pixel 4, which asks for the same bricks; frames several times cheaper): what the frames' cost on this machine adds.
 # Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratios to synchronous (goal <= 1.3),
 # the seconds to the final image, and the largest bytes_uploaded of a frame against --upload-budget.
 # Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
@@ -103,7 +103,7 @@ for rep in range(1, reps + 1):
     final = f", to the final image (frame {final_frame}) {to_final / s:.2f}" if ext == "png" else ""
     print(f"  converge / sync: {runs['converge']['s'] / s:.2f}{final}; "
           f"loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
-    print(f"  the same cut at {small}, --voxels-per-pixel 4 (frames 16x cheaper): converge / sync "
+    print(f"  the same cut at {small}, --voxels-per-pixel 4 (16x fewer pixels): converge / sync "
           f"{runs['converge_small']['s'] / runs['sync_small']['s']:.2f}")
     print(f"  with --upload-budget {upload}: "
           f"{runs['budget']['s'] / s:.2f}, largest frame upload {runs['budget']['maxUpload'] / MiB:.2f} MiB "

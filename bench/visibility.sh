@@ -14,7 +14,7 @@
 #    feedback latencies, the PSNR of each image against priority, and the frame from which the image stays
 #    within 40 dB of the converged one, with the seconds to it (every frame is written to
 #    WORK/frames-MODE-CONFIG/ for that; the seconds are frame times, which the writes do not enter).
-# 1b. Iso from the page cache again, the same cut with frames 16 times cheaper (IMAGE / 4 on a side,
+# 1b. Iso from the page cache again, the same cut with 16 times fewer pixels (IMAGE / 4 on a side,
 #    --voxels-per-pixel 4, which asks for the same bricks), CHEAP_REPS times: frames and seconds to converge,
 #    medians (what the frames' cost on this machine adds to the answers' round trips).
 # 2. The same, iso only, with a slow disk (--io-delay-ms SLOW_IO per brick read): answers come back while the
@@ -157,7 +157,7 @@ for mode in modes:
     print("  " + mode + ", against " + configs[0] + ": working set " + ", ".join(
         f"{c} {rows(f'converge-{mode}-{c}')[-1]['working_set_bricks'] / base['working set']:.2f}" for c in configs[1:]))
 if int(cheap_reps) > 0 and os.path.exists(f"{work}/cheap-iso-{configs[0]}-1.jsonl"):
-    print(f"\niso, the same cut with frames 16x cheaper ({cheap_image}, --voxels-per-pixel 4), cold cache to "
+    print(f"\niso, the same cut with 16x fewer pixels ({cheap_image}, --voxels-per-pixel 4), cold cache to "
           f"convergence, medians of {cheap_reps}")
     head = ["working set", "frames", "seconds", "vs " + configs[0]]
     print(f"{'':<10}" + "".join(f"{h:>12}" for h in head))
