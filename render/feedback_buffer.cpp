@@ -10,22 +10,8 @@
 
 namespace ropecast {
 
-namespace {
-
-class GlFenceProbe final : public FenceProbe {
- public:
-  // Timeout 0 and no flush bit: a question, never a wait (end() flushed after the fence).
-  bool signaled(GlSync fence) override {
-    const GLenum status = glClientWaitSync(fence, 0, 0);
-    if (status == GL_WAIT_FAILED) throw Error("FeedbackBuffer::poll: glClientWaitSync failed");
-    return status == GL_ALREADY_SIGNALED || status == GL_CONDITION_SATISFIED;
-  }
-};
-
-}  // namespace
-
 FeedbackBuffer::FeedbackBuffer(const FeedbackBufferConfig& config, std::unique_ptr<FenceProbe> probe)
-    : config_(config), probe_(probe ? std::move(probe) : std::make_unique<GlFenceProbe>()) {
+    : config_(config), probe_(probe ? std::move(probe) : makeGlFenceProbe()) {
   if (config.usedCapacity == 0 || config.requestedCapacity == 0)
     throw Error("FeedbackBuffer: list capacities must be positive");
   if (config.ringSize == 0) throw Error("FeedbackBuffer: the readback ring needs at least one slot");

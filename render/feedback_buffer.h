@@ -18,13 +18,10 @@
 #include <optional>
 #include <vector>
 
+#include "render/gl_fence.h"
 #include "shaders/feedback_layout.h"
 
-struct __GLsync;  // GL's sync object (GLsync is a pointer to it); keeps GL headers out of this header
-
 namespace ropecast {
-
-using GlSync = __GLsync*;
 
 // One frame's feedback as read back. Lists hold at most the buffer's capacities; dropped = how many more
 // leaves the rays marked than the list could hold.
@@ -40,14 +37,6 @@ struct FeedbackBufferConfig {
   uint32_t usedCapacity = 16384;      // entries of the used list
   uint32_t requestedCapacity = 4096;  // entries of the requested list
   uint32_t ringSize = 3;              // readback buffers: frames in flight at most
-};
-
-// Whether a fence has signaled, asked without waiting. The default asks GL (glClientWaitSync, timeout 0);
-// tests substitute one that answers "not yet".
-class FenceProbe {
- public:
-  virtual ~FenceProbe() = default;
-  virtual bool signaled(GlSync fence) = 0;
 };
 
 class FeedbackBuffer {

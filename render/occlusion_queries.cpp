@@ -1,5 +1,6 @@
 #include "render/occlusion_queries.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -17,23 +18,18 @@ namespace ropecast {
 namespace {
 
 constexpr GLint kViewProjectionLocation = 0;  // shaders/occlusion_box.vert
-constexpr GLint kBoxLoLocation = 1;           // uBoxLo[8]: locations 1 to 8
-constexpr GLint kBoxHiLocation = 9;           // uBoxHi[8]: locations 9 to 16
 constexpr GLsizei kBoxVertices = 36;
+constexpr uint32_t kMaxBoxesPerQuery = 8;
 
-class GlQueryResultReader final : public QueryResultReader {
- public:
-  bool available(uint32_t query) override {
-    GLuint ready = GL_FALSE;
-    glGetQueryObjectuiv(query, GL_QUERY_RESULT_AVAILABLE, &ready);
-    return ready == GL_TRUE;
-  }
-  uint64_t result(uint32_t query) override {
-    GLuint64 samples = 0;
-    glGetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
-    return samples;
-  }
-};
+// A buffer of at least `wanted` elements, grown by half again so that a slowly growing frame reallocates
+// rarely; its contents are not kept.
+void ensureCapacity(uint32_t& buffer, uint32_t& capacity, uint32_t wanted, size_t elementBytes) {
+  if (wanted <= capacity) return;
+  capacity = std::max(wanted, capacity + capacity / 2);
+  glDeleteBuffers(1, &buffer);
+  glCreateBuffers(1, &buffer);
+  glNamedBufferStorage(buffer, GLsizeiptr(capacity * elementBytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
 
 // World -> clip space as the ray caster's rays see it (core/camera.h pixelRay): view axes from cameraFrame,
 // image row 0 at framebuffer row 0 (so y is flipped), depth as shaders/window_depth.glsl.
@@ -62,38 +58,79 @@ glm::mat4 viewProjection(const Camera& camera, uint32_t width, uint32_t height, 
 
 }  // namespace
 
-OcclusionQueries::OcclusionQueries()
+OcclusionQueries::OcclusionQueries(std::unique_ptr<FenceProbe> probe)
     : program_(std::make_unique<ShaderProgram>(
           std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/occlusion_box.vert"},
                                   {ShaderStage::Fragment, "shaders/occlusion_box.frag"}})),
-      reader_(std::make_unique<GlQueryResultReader>()) {
+      probe_(probe ? std::move(probe) : makeGlFenceProbe()) {
   glCreateVertexArrays(1, &vertexArray_);
 }
 
 OcclusionQueries::~OcclusionQueries() {
-  if (!allQueries_.empty()) glDeleteQueries(GLsizei(allQueries_.size()), allQueries_.data());
+  for (Batch& b : pending_) release(b);
+  for (Batch& b : free_) release(b);
+  glDeleteBuffers(1, &boxBuffer_);
+  glDeleteBuffers(1, &countBuffer_);
   glDeleteVertexArrays(1, &vertexArray_);
 }
 
-void OcclusionQueries::setReader(std::unique_ptr<QueryResultReader> reader) {
-  reader_ = std::move(reader);
+void OcclusionQueries::release(Batch& batch) {
+  if (batch.fence) glDeleteSync(batch.fence);
+  if (batch.mapped) glUnmapNamedBuffer(batch.buffer);
+  glDeleteBuffers(1, &batch.buffer);
+  batch = {};
 }
 
-uint32_t OcclusionQueries::takeQuery() {
-  if (freeQueries_.empty()) {
-    GLuint q = 0;
-    glCreateQueries(GL_SAMPLES_PASSED, 1, &q);
-    allQueries_.push_back(q);
-    return q;
+OcclusionQueries::Batch OcclusionQueries::takeBatch(uint32_t queries) {
+  // A free readback buffer large enough, else a new one (the ring grows with the frames in flight).
+  for (auto it = free_.begin(); it != free_.end(); ++it) {
+    if (it->capacity < queries) continue;
+    Batch b = std::move(*it);
+    free_.erase(it);
+    return b;
   }
-  const uint32_t q = freeQueries_.back();
-  freeQueries_.pop_back();
-  return q;
+  if (!free_.empty()) {  // all too small: replace one rather than keep more buffers than frames in flight
+    release(free_.back());
+    free_.pop_back();
+  }
+  Batch b;
+  b.capacity = queries;
+  const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+  glCreateBuffers(1, &b.buffer);
+  glNamedBufferStorage(b.buffer, GLsizeiptr(b.capacity) * 4, nullptr, flags);
+  b.mapped =
+      static_cast<const uint32_t*>(glMapNamedBufferRange(b.buffer, 0, GLsizeiptr(b.capacity) * 4, flags));
+  if (!b.mapped) throw Error("OcclusionQueries: could not map a readback buffer persistently");
+  return b;
 }
 
 void OcclusionQueries::issue(std::span<const QueryBox> boxes, const Camera& camera, uint32_t width,
                              uint32_t height, DepthRange depth, uint64_t frame) {
   if (boxes.empty()) return;
+  records_.clear();
+  for (uint32_t q = 0; q < boxes.size(); ++q) {
+    const NodeDataParts& parts = boxes[q].parts;
+    if (parts.count == 0 || parts.count > kMaxBoxesPerQuery)
+      throw Error("OcclusionQueries::issue: a query of " + std::to_string(parts.count) + " boxes (1 to 8)");
+    for (uint32_t i = 0; i < parts.count; ++i) {
+      const WorldBox& b = parts.boxes[i];
+      records_.push_back({{float(b.lo.x), float(b.lo.y), float(b.lo.z)},
+                          q,
+                          {float(b.hi.x), float(b.hi.y), float(b.hi.z)},
+                          0});
+    }
+  }
+  const uint32_t queryCount = uint32_t(boxes.size());
+  ensureCapacity(boxBuffer_, boxCapacity_, uint32_t(records_.size()), sizeof(OcclusionBoxRecord));
+  glNamedBufferSubData(boxBuffer_, 0, GLsizeiptr(records_.size() * sizeof(OcclusionBoxRecord)),
+                       records_.data());
+  ensureCapacity(countBuffer_, countCapacity_, queryCount, sizeof(uint32_t));
+  const GLuint zero = 0;
+  glClearNamedBufferSubData(countBuffer_, GL_R32UI, 0, GLsizeiptr(queryCount) * 4, GL_RED_INTEGER,
+                            GL_UNSIGNED_INT, &zero);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOcclusionBoxBinding, boxBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOcclusionCountBinding, countBuffer_);
+
   program_->use();
   glProgramUniformMatrix4fv(program_->id(), kViewProjectionLocation, 1, GL_FALSE,
                             glm::value_ptr(viewProjection(camera, width, height, depth)));
@@ -108,50 +145,54 @@ void OcclusionQueries::issue(std::span<const QueryBox> boxes, const Camera& came
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glFrontFace(GL_CW);  // the y flip mirrors the counter-clockwise faces of shaders/occlusion_box.vert
-  std::array<glm::vec3, 8> lo, hi;  // shaders/occlusion_box.vert's uBoxLo, uBoxHi
-  for (const QueryBox& box : boxes) {
-    const uint32_t count = box.parts.count;
-    if (count == 0 || count > lo.size())
-      throw Error("OcclusionQueries::issue: a query of " + std::to_string(count) + " boxes (1 to 8)");
-    for (uint32_t i = 0; i < count; ++i) {
-      lo[i] = glm::vec3(box.parts.boxes[i].lo);
-      hi[i] = glm::vec3(box.parts.boxes[i].hi);
-    }
-    glProgramUniform3fv(program_->id(), kBoxLoLocation, GLsizei(count), glm::value_ptr(lo[0]));
-    glProgramUniform3fv(program_->id(), kBoxHiLocation, GLsizei(count), glm::value_ptr(hi[0]));
-    const uint32_t query = takeQuery();
-    glBeginQuery(GL_SAMPLES_PASSED, query);
-    glDrawArraysInstanced(GL_TRIANGLES, 0, kBoxVertices, GLsizei(count));
-    glEndQuery(GL_SAMPLES_PASSED);
-    pending_.push_back({query, box.key, frame});
-  }
+  glDrawArraysInstanced(GL_TRIANGLES, 0, kBoxVertices, GLsizei(records_.size()));
   glFrontFace(GL_CCW);
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_CLAMP);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glBindVertexArray(0);
+
+  Batch batch = takeBatch(queryCount);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the copy reads what the fragments added
+  glCopyNamedBufferSubData(countBuffer_, batch.buffer, 0, 0, GLsizeiptr(queryCount) * 4);
+  batch.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  glFlush();  // so that the fence is submitted and can signal without a later wait flushing it
+  batch.issuedFrame = frame;
+  batch.keys.clear();
+  for (const QueryBox& box : boxes) batch.keys.push_back(box.key);
+  pending_.push_back(std::move(batch));
   checkGlError("OcclusionQueries::issue");
 }
 
 std::vector<QueryAnswer> OcclusionQueries::collect() {
   std::vector<QueryAnswer> answers;
-  for (auto it = pending_.begin(); it != pending_.end();) {
-    if (!reader_->available(it->query)) {
-      ++it;
-      continue;
-    }
-    answers.push_back({it->key, it->issuedFrame, reader_->result(it->query)});
-    freeQueries_.push_back(it->query);
-    it = pending_.erase(it);
+  // Fences signal in the order they were set: the first one pending holds back the rest.
+  while (!pending_.empty() && probe_->signaled(pending_.front().fence)) {
+    Batch b = std::move(pending_.front());
+    pending_.pop_front();
+    glDeleteSync(b.fence);
+    b.fence = nullptr;
+    for (size_t i = 0; i < b.keys.size(); ++i) answers.push_back({b.keys[i], b.issuedFrame, b.mapped[i]});
+    free_.push_back(std::move(b));
   }
   return answers;
 }
 
 void OcclusionQueries::dropPending() {
-  // A query still in flight may be reused: glBeginQuery on it replaces the old result.
-  for (const Pending& p : pending_) freeQueries_.push_back(p.query);
+  // A readback buffer still being copied into may be reused: the next copy into it comes later in GL's order.
+  for (Batch& b : pending_) {
+    glDeleteSync(b.fence);
+    b.fence = nullptr;
+    free_.push_back(std::move(b));
+  }
   pending_.clear();
+}
+
+size_t OcclusionQueries::pendingCount() const {
+  size_t n = 0;
+  for (const Batch& b : pending_) n += b.keys.size();
+  return n;
 }
 
 }  // namespace ropecast

@@ -1,9 +1,12 @@
-// OcclusionQueries: the GL side of the visibility feedback (Gobbetti et al. 2008, Sect. 6). issue() draws
-// each node's boxes (up to 8, one instanced draw) under its own GL_SAMPLES_PASSED query, against the depth
-// buffer where the ray caster left the depth at which each ray stopped (front faces only, so a pixel counts
-// once; no color or depth writes; depth clamped so a box reaching the near plane is not clipped away).
-// collect() takes, in a later frame, the answers the driver says are available (GL_QUERY_RESULT_AVAILABLE)
-// and leaves the others pending: it never waits. Planning which nodes to query is occlusion/'s
+// OcclusionQueries: the GL side of the visibility feedback (Gobbetti et al. 2008, Sect. 6). issue() counts,
+// for each node, the samples of its boxes (up to 8) that pass the depth test where the ray caster left the
+// depth at which each ray stopped: what a GL_SAMPLES_PASSED query per node counts (front faces only, so a
+// pixel counts once per box; no color or depth writes; depth clamped so a box reaching the near plane is not
+// clipped away), for every node of the frame in one instanced draw whose fragment shader adds to a counter
+// per node (shaders/occlusion_box.frag). A query object per node costs a draw, a begin and an end each, and
+// that per-query work, not the pixels, is what thousands of queries a frame cost. The counters are copied
+// into a persistently mapped buffer and fenced; collect() takes, in a later frame, the frames whose fence has
+// signaled and leaves the others pending: it never waits. Planning which nodes to query is occlusion/'s
 // (VisibilityTracker); this class only asks and hears back.
 //
 // Owns GL objects: render thread only, with the GlContext current.
@@ -19,7 +22,9 @@
 
 #include "core/camera.h"
 #include "loader/refiner.h"
+#include "render/gl_fence.h"
 #include "render/raycast_uniforms.h"
+#include "shaders/occlusion_layout.h"
 #include "store/octree_layout.h"
 
 namespace ropecast {
@@ -38,17 +43,10 @@ struct QueryAnswer {
   uint64_t samplesPassed = 0;
 };
 
-// How collect() reads a query: from GL in the renderer; tests substitute one that holds results back.
-class QueryResultReader {
- public:
-  virtual ~QueryResultReader() = default;
-  virtual bool available(uint32_t query) = 0;   // must not wait
-  virtual uint64_t result(uint32_t query) = 0;  // called only when available() said so
-};
-
 class OcclusionQueries {
  public:
-  OcclusionQueries();
+  // A null probe asks GL whether a frame's counts have arrived.
+  explicit OcclusionQueries(std::unique_ptr<FenceProbe> probe = nullptr);
   ~OcclusionQueries();
   OcclusionQueries(const OcclusionQueries&) = delete;
   OcclusionQueries& operator=(const OcclusionQueries&) = delete;
@@ -63,25 +61,33 @@ class OcclusionQueries {
   std::vector<QueryAnswer> collect();
   // Forgets the pending queries (their answers would describe another isovalue or transfer function).
   void dropPending();
-  size_t pendingCount() const { return pending_.size(); }
+  // Queries issued whose answers collect() has not returned.
+  size_t pendingCount() const;
 
-  // Tests: read results through `reader` instead of GL.
-  void setReader(std::unique_ptr<QueryResultReader> reader);
+  // Tests: ask `probe` whether a frame's counts have arrived instead of GL.
+  void setFenceProbe(std::unique_ptr<FenceProbe> probe) { probe_ = std::move(probe); }
 
  private:
-  struct Pending {
-    uint32_t query = 0;
-    NodeKey key;
+  // One issue()'s queries: their nodes, and the readback buffer their counts are copied into.
+  struct Batch {
+    uint32_t buffer = 0;
+    const uint32_t* mapped = nullptr;  // capacity words, persistently mapped
+    uint32_t capacity = 0;
+    GlSync fence = nullptr;
     uint64_t issuedFrame = 0;
+    std::vector<NodeKey> keys;  // query i counts into word i
   };
-  uint32_t takeQuery();
+  Batch takeBatch(uint32_t queries);
+  static void release(Batch& batch);
 
   std::unique_ptr<ShaderProgram> program_;
-  std::unique_ptr<QueryResultReader> reader_;
+  std::unique_ptr<FenceProbe> probe_;
   uint32_t vertexArray_ = 0;
-  std::deque<Pending> pending_;
-  std::vector<uint32_t> freeQueries_;
-  std::vector<uint32_t> allQueries_;
+  uint32_t boxBuffer_ = 0, boxCapacity_ = 0;      // records
+  uint32_t countBuffer_ = 0, countCapacity_ = 0;  // words
+  std::vector<OcclusionBoxRecord> records_;       // this frame's, kept for their allocation
+  std::deque<Batch> pending_;                     // in flight, oldest first
+  std::vector<Batch> free_;                       // readback buffers to reuse
 };
 
 }  // namespace ropecast

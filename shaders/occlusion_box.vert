@@ -1,11 +1,17 @@
 #version 450 core
-// The axis-aligned boxes of an occlusion query (render/occlusion_queries.cpp), one instance each: 36
-// vertices from gl_VertexID, 12 triangles wound counter-clockwise seen from outside, projected by
-// uViewProjection (the ray caster's camera, depth as shaders/window_depth.glsl maps it).
+// The axis-aligned boxes of the occlusion queries (render/occlusion_queries.cpp), one instance each, read
+// from the boxes buffer: 36 vertices from gl_VertexID, 12 triangles wound counter-clockwise seen from
+// outside, projected by uViewProjection (the ray caster's camera, depth as shaders/window_depth.glsl maps it).
+
+#include "shaders/occlusion_layout.h"
 
 layout(location = 0) uniform mat4 uViewProjection;
-layout(location = 1) uniform vec3 uBoxLo[8];  // locations 1 to 8
-layout(location = 9) uniform vec3 uBoxHi[8];  // locations 9 to 16
+
+layout(std430, binding = kOcclusionBoxBinding) readonly buffer OcclusionBoxes {
+  OcclusionBoxRecord boxes[];
+};
+
+flat out uint vQuery;
 
 // Per face (-x, +x, -y, +y, -z, +z) two triangles over the corners, corner bit 0 = x, 1 = y, 2 = z.
 const int kCorners[36] = int[36](0, 4, 6, 0, 6, 2,   // -x
@@ -16,7 +22,9 @@ const int kCorners[36] = int[36](0, 4, 6, 0, 6, 2,   // -x
                                  4, 5, 7, 4, 7, 6);  // +z
 
 void main() {
-  int c = kCorners[gl_VertexID];
-  vec3 corner = mix(uBoxLo[gl_InstanceID], uBoxHi[gl_InstanceID], vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+  const OcclusionBoxRecord box = boxes[gl_InstanceID];
+  const int c = kCorners[gl_VertexID];
+  const vec3 corner = mix(box.lo, box.hi, vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+  vQuery = box.query;
   gl_Position = uViewProjection * vec4(corner, 1.0);
 }

@@ -412,18 +412,24 @@ TEST(Feedback, ReadbackNeverWaitsAndArrivesInFrameOrder) {
   EXPECT_FALSE(feedback.poll());
   EXPECT_EQ(feedback.inFlight(), 0u);
 
-  // The source waits nowhere: no glFinish, and glClientWaitSync only with a zero timeout.
-  std::ifstream in(std::string(ROPECAST_SOURCE_DIR) + "/render/feedback_buffer.cpp");
-  ASSERT_TRUE(in) << "render/feedback_buffer.cpp";
-  const std::string source((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(source.find("glFinish"), std::string::npos);
-  EXPECT_EQ(source.find("glWaitSync"), std::string::npos);
-  const std::regex wait(R"(glClientWaitSync\(([^;]*)\))");
+  // The readback sources wait nowhere: no glFinish, and glClientWaitSync only in the fence probe, with a zero
+  // timeout.
   int waits = 0;
-  for (auto it = std::sregex_iterator(source.begin(), source.end(), wait); it != std::sregex_iterator();
-       ++it) {
-    ++waits;
-    EXPECT_TRUE(std::regex_search((*it)[1].str(), std::regex(R"(,\s*0\s*,\s*0\s*$)"))) << (*it)[0];
+  for (const char* file :
+       {"render/feedback_buffer.cpp", "render/occlusion_queries.cpp", "render/gl_fence.cpp"}) {
+    std::ifstream in(std::string(ROPECAST_SOURCE_DIR) + "/" + file);
+    ASSERT_TRUE(in) << file;
+    const std::string source((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(source.find("glFinish"), std::string::npos) << file;
+    EXPECT_EQ(source.find("glWaitSync"), std::string::npos) << file;
+    EXPECT_EQ(source.find("glGetQueryObject"), std::string::npos) << file;
+    const std::regex wait(R"(glClientWaitSync\(([^;]*)\))");
+    for (auto it = std::sregex_iterator(source.begin(), source.end(), wait); it != std::sregex_iterator();
+         ++it) {
+      ++waits;
+      EXPECT_TRUE(std::regex_search((*it)[1].str(), std::regex(R"(,\s*0\s*,\s*0\s*$)")))
+          << file << ": " << (*it)[0];
+    }
   }
   EXPECT_EQ(waits, 1);
 }

@@ -230,17 +230,11 @@ INSTANTIATE_TEST_SUITE_P(Backends, OcclusionQueriesTest,
                          ::testing::Values(RenderBackend::Fragment, RenderBackend::Compute),
                          [](const auto& info) { return std::string(renderBackendName(info.param)); });
 
-// Holds every result back until released: what a driver does while the GPU is still busy.
-class HeldBackReader final : public QueryResultReader {
+// Says a fence signaled only once released; until then the counts stay pending.
+class HeldBackFences final : public FenceProbe {
  public:
-  explicit HeldBackReader(bool* released) : released_(released) {}
-  bool available(uint32_t query) override { return *released_; }
-  uint64_t result(uint32_t query) override {
-    if (!*released_) ADD_FAILURE() << "a result was read before it was available (that read would wait)";
-    GLuint64 samples = 0;
-    glGetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
-    return samples;
-  }
+  explicit HeldBackFences(const bool* released) : released_(released) {}
+  bool signaled(GlSync) override { return *released_; }
 
  private:
   const bool* released_;
@@ -255,7 +249,7 @@ TEST(OcclusionQueries, AnswersNotAvailableStayPending) {
   const Camera camera = orbitCamera(20.0, 10.0, 2.5, glm::dvec3(0.0), glm::dvec3(32.0));
   bool released = false;
   OcclusionQueries queries;
-  queries.setReader(std::make_unique<HeldBackReader>(&released));
+  queries.setFenceProbe(std::make_unique<HeldBackFences>(&released));
   RaycastPass pass;
   RaycastFrame frame = isoFrame(camera, RenderBackend::Fragment);
   TileSchedule schedule;

@@ -147,14 +147,6 @@ TEST(VisibilityConverge, APoolTooSmallForTheViewSettles) {
 }
 
 // A driver that never answers: frames go on, nothing is marked.
-class NeverAvailable final : public QueryResultReader {
- public:
-  bool available(uint32_t) override { return false; }
-  uint64_t result(uint32_t) override {
-    ADD_FAILURE() << "a result was read that was never available";
-    return 0;
-  }
-};
 class NeverSignaled final : public FenceProbe {
  public:
   bool signaled(GlSync) override { return false; }
@@ -165,7 +157,7 @@ TEST(VisibilityConverge, FramesGoOnWithoutAnswers) {
   const Converged held = renderUntilConverged(
       source, RenderMode::Iso, RenderBackend::Fragment, {true, true},
       [](FrameRenderer& r) {
-        r.occlusionQueries()->setReader(std::make_unique<NeverAvailable>());
+        r.occlusionQueries()->setFenceProbe(std::make_unique<NeverSignaled>());
         r.feedbackBuffer()->setFenceProbe(std::make_unique<NeverSignaled>());
       },
       60);
