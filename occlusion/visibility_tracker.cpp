@@ -20,12 +20,8 @@ void VisibilityTracker::finishRound() {
   lastRoundFrames_ = roundFrames_;
   if (!rounds_.empty()) rounds_.back().finished = true;
   dropAnsweredRounds();
-  // A round during which no answer arrived says nothing about stability.
-  settled_ = roundAnswers_ > 0 && !roundFlipped_;
   roundQueried_.clear();
   roundFrames_ = 0;
-  roundFlipped_ = false;
-  roundAnswers_ = 0;
 }
 
 FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t height,
@@ -91,19 +87,17 @@ FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t 
 void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed) {
   if (dropAll_ || issuedFrame < firstValidFrame_) return;  // asked before reset(), about another image
   countAnswer(issuedFrame);
-  const auto [it, inserted] = marks_.try_emplace(key);
-  if (!inserted && issuedFrame < it->second.issuedFrame) return;  // an older answer than the one held
-  const bool wasOccluded = !inserted && it->second.occluded && live(it->second, lastPlanFrame_);
-  const bool occluded = samplesPassed < config_.thresholdPixels;
-  ++roundAnswers_;
-  if (occluded != wasOccluded) roundFlipped_ = true;
-  it->second = {issuedFrame, occluded, samplesPassed};
+  setMark(key, issuedFrame, samplesPassed);
 }
 
 void VisibilityTracker::markUnseen(const NodeKey& key, uint64_t frame) {
+  setMark(key, frame, 0);
+}
+
+void VisibilityTracker::setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed) {
   const auto [it, inserted] = marks_.try_emplace(key);
-  if (!inserted && frame < it->second.issuedFrame) return;
-  it->second = {frame, true, 0};
+  if (!inserted && issuedFrame < it->second.issuedFrame) return;  // an older answer than the one held
+  it->second = {issuedFrame, samplesPassed < config_.thresholdPixels, samplesPassed};
 }
 
 void VisibilityTracker::countAnswer(uint64_t issuedFrame) {
@@ -182,10 +176,7 @@ void VisibilityTracker::reset() {
   marks_.clear();
   roundQueried_.clear();
   roundFrames_ = 0;
-  roundFlipped_ = false;
-  roundAnswers_ = 0;
   lastRoundFrames_ = 0;
-  settled_ = false;
   rounds_.clear();
   answeredRoundFrame_.reset();
   nothingToQueryFrame_.reset();

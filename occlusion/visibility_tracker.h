@@ -97,7 +97,7 @@ class VisibilityTracker {
   void occludedNodes(uint64_t frame, std::vector<NodeKey>& out) const;
 
   // Clears every mark and the round (a change of isovalue or transfer function changes what occludes what);
-  // answers to queries issued before the next plan() are ignored. lastRoundFrames(), settled() and
+  // answers to queries issued before the next plan() are ignored. lastRoundFrames() and
   // answeredSince() start over.
   void reset();
 
@@ -112,10 +112,6 @@ class VisibilityTracker {
   // plan(), at `frame` or later, had no leaf to query. Then the marks describe what the cut drawn since
   // `frame` hides: if the refinement with them kept that cut, the cut is a fixed point of the queries.
   bool answeredSince(uint64_t frame) const;
-
-  // True when the last completed round flipped no mark of a leaf in the cut between visible and occluded
-  // (the occlusion state is stable). Flips count in the round during which their answer arrived.
-  bool settled() const { return settled_; }
 
   // Marks held (leaves' answers and inner nodes' propagated marks), for tests and statistics.
   size_t markCount() const { return marks_.size(); }
@@ -134,6 +130,9 @@ class VisibilityTracker {
   // Whether `mark`, the node's, makes it occluded at `frame`.
   bool occludedBy(const NodeKey& key, const Mark& mark, uint64_t frame) const;
   void finishRound();
+  // The node's mark from an answer of `samplesPassed` to a query issued in `issuedFrame`, unless it holds a
+  // newer one.
+  void setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
 
   // A round of queries and how many of its answers came back; answeredRoundFrame_: the first frame of the
   // latest round whose answers all came back.
@@ -155,10 +154,7 @@ class VisibilityTracker {
   // The current round: leaves of the cut queried in it, and the plan() calls it has taken so far.
   std::unordered_set<NodeKey, NodeKeyHash> roundQueried_;
   uint64_t roundFrames_ = 0;
-  bool roundFlipped_ = false;
-  uint64_t roundAnswers_ = 0;  // answers that arrived during the round
   uint64_t lastRoundFrames_ = 0;
-  bool settled_ = false;
   std::vector<RoundAnswers> rounds_;  // the current round, then finished ones with answers outstanding
   std::optional<uint64_t> answeredRoundFrame_;
   std::optional<uint64_t> nothingToQueryFrame_;  // the last plan()'s frame if it had no leaf to query

@@ -53,7 +53,8 @@ class OcclusionQueries {
 
   // Issues one query per QueryBox into the bound framebuffer (width x height, the ray caster's image),
   // projected as the ray caster's rays see them, `depth` as the ray caster mapped it. Changes the program,
-  // vertex array, viewport and depth test; leaves writes enabled.
+  // vertex array, viewport, depth test and the storage buffers bound at kOcclusionBoxBinding and
+  // kOcclusionCountBinding; leaves writes enabled.
   void issue(std::span<const QueryBox> boxes, const Camera& camera, uint32_t width, uint32_t height,
              DepthRange depth, uint64_t frame);
 
