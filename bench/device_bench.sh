@@ -3,6 +3,9 @@
 # what only a GPU can measure, most wanted first, each part bounded by PART_S seconds so that a slow part
 # leaves time for the others:
 #   1. the GL index tests: the GLSL rope traversal (compute shader) against the CPU reference, on the GPU;
+#      then the GL tests of the occlusion queries and the ray feedback: each node's count of visible samples
+#      (one draw, a counter per node) against a count from the depth image, the rays' requests and usage
+#      against their CPU twin, convergence with both on (part "visgl");
 #   2. bench/modes.sh: the single pass against the multi-pass renderer, iso and DVR, 512x512 and 1024x1024
 #      (the goal: >= 2x on a GPU);
 #   3. bench/converge_vs_sync.sh: progressive loading against a synchronous render of the CT-like store, with
@@ -12,18 +15,18 @@
 #   5. bench/render_vs_brute.sh at 512x512.
 #
 #   run(command="bench/device_bench.sh", carry=[".gl", ".devlibs", "build/vg/tools/ropecast",
-#       "build/vg/tests/index_gltests", "build/vg/ct_gen"], timeout_s=590)
+#       "build/vg/tests/index_gltests", "build/vg/tests/render_gltests", "build/vg/ct_gen"], timeout_s=590)
 #
 # scripts/device_prepare makes what is carried. Each part's output is in $OUT/PART.txt and its stats under
 # $OUT/PART/ (stores and images stay on the device); the parts' tables are printed last, with each part's exit
-# status and seconds. Env: PART_S (110), PARTS ("index modes converge visibility brute"). Off the device it
+# status and seconds. Env: PART_S (110), PARTS ("index visgl modes converge visibility brute"). Off the device it
 # runs the same against whatever GL this machine has (slowly on llvmpipe: narrow it with PARTS and PART_S).
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
 OUT=${OUT:-$(mktemp -d /tmp/device_bench.XXXXXX)}
 mkdir -p "$OUT"
 PART_S=${PART_S:-110}
-PARTS=${PARTS:-"index modes converge visibility brute"}
+PARTS=${PARTS:-"index visgl modes converge visibility brute"}
 source bench/lib/device.sh
 device_gl_setup
 build=$(device_ropecast_build) || exit 1
@@ -49,6 +52,13 @@ for p in $PARTS; do
         part index env LD_LIBRARY_PATH="$DEVICE_LIBS" build/vg/tests/index_gltests
       fi
       ;;
+    visgl)
+      # Not the readback test that reads the sources by the path they had where the tests were built.
+      if [ -x build/vg/tests/render_gltests ]; then
+        part visgl env LD_LIBRARY_PATH="$DEVICE_LIBS" build/vg/tests/render_gltests \
+          --gtest_filter='*OcclusionQueries*:*VisibilityConverge*:Feedback.*-Feedback.ReadbackNeverWaits*'
+      fi
+      ;;
     modes) part modes env PLOT=0 REPS=2 WORK="$OUT/modes" bench/modes.sh "$build" ;;
     converge) part converge env EXT=ppm REPS=1 WORK="$OUT/converge" bench/converge_vs_sync.sh "$build" ;;
     visibility)
@@ -58,7 +68,7 @@ for p in $PARTS; do
       part brute env EXT=ppm IMAGE="${IMAGE:-512x512}" FRAMES=20 STILL=12 ROUNDS=3 WORK="$OUT/brute" \
         bench/render_vs_brute.sh "$build"
       ;;
-    *) summary+=("$p: unknown part (index, modes, converge, visibility, brute)") ;;
+    *) summary+=("$p: unknown part (index, visgl, modes, converge, visibility, brute)") ;;
   esac
 done
 # What comes back: stats and tables, not stores, raw volumes or images.
@@ -67,7 +77,7 @@ for p in $PARTS; do
   [ -f "$OUT/$p.txt" ] || continue
   echo "=== $p"
   case $p in
-    index) grep -E "^GL:|compared|PASSED|FAILED" "$OUT/$p.txt" | tail -8 ;;
+    index | visgl) grep -E "^GL:|compared|PASSED|FAILED" "$OUT/$p.txt" | tail -8 ;;
     *) tail -40 "$OUT/$p.txt" ;;
   esac
 done
