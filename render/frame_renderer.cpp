@@ -234,6 +234,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
       queries_->dropPending();
     }
     rayFeedback_.reset();
+    // The once-per-view rule below is about what hides what, which the change has changed too: a node that
+    // collapsed under the old answers may need to collapse again under the new ones.
+    collapsedOnThisView_.clear();
   }
   if (occlusion) collectVisibility(request, stats);
   if (feedback) collectFeedback(stats);

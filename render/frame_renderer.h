@@ -149,9 +149,10 @@ class FrameRenderer {
   std::vector<QueryBox> queryBoxes_;               // this frame's queries
   std::vector<NodeDataParts> dataParts_;           // this frame's queryable leaves' data parts, as planned
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
-  std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;       // of the last frame's tree
-  std::unordered_set<NodeKey, NodeKeyHash> collapsedOnThisView_;  // since the camera last moved
-  std::optional<FrameRequest> lastView_;                          // the last asynchronous frame's request
+  std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;  // of the last frame's tree
+  // since the camera last moved or the emptiness (mode, isovalue, transfer function) changed
+  std::unordered_set<NodeKey, NodeKeyHash> collapsedOnThisView_;
+  std::optional<FrameRequest> lastView_;  // the last asynchronous frame's request
 
   std::unique_ptr<FeedbackBuffer> feedback_;  // config.feedback only
   RayFeedback rayFeedback_;
