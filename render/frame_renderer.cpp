@@ -249,11 +249,12 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
   // Occluded or unused leaves do not refine, and a refined node whose leaves are all occluded or unused
-  // collapses. While the view changes it may collapse every frame; on a still view at most once, so that the
-  // tree converges: collapsing there can cycle (a node refined because it showed hides another's leaves, that
-  // one collapses, its coarse data no longer hides the first, ...). A node refused its second collapse keeps
-  // its refinement as a Used node does: ranked as None, a full GPU pool would give it up to the rays'
-  // requests every other frame (its coarse brick is used and requested, its children are not used).
+  // collapses. While the view changes it may collapse every frame; on a still view (and emptiness, above) at
+  // most once, so that the tree converges: collapsing there can cycle (a node refined because it showed hides
+  // another's leaves, that one collapses, its coarse data no longer hides the first, ...). A node refused its
+  // second collapse keeps its refinement as a Used node does: ranked as None, a full GPU pool would give it
+  // up to the rays' requests every other frame (its coarse brick is used and requested, its children are not
+  // used).
   if (!lastView_ || !sameView(*lastView_, request)) collapsedOnThisView_.clear();
   if (occlusion || feedback) {
     input.hints = [this, occlusion, feedback](const NodeKey& key) {
