@@ -372,20 +372,10 @@ TEST(Feedback, ListsHoldTheirCapacityAndCountTheRestAsDropped) {
   }
 }
 
-// A fence that has signaled only when the test says so.
-class HeldFence final : public FenceProbe {
- public:
-  explicit HeldFence(const bool& released) : released_(released) {}
-  bool signaled(GlSync) override { return released_; }
-
- private:
-  const bool& released_;
-};
-
 TEST(Feedback, ReadbackNeverWaitsAndArrivesInFrameOrder) {
   const test::GlScene scene = test::buildScene(coarseScene());
   bool released = false;
-  FeedbackBuffer feedback({16384, 4096, 3}, std::make_unique<HeldFence>(released));
+  FeedbackBuffer feedback({16384, 4096, 3}, std::make_unique<test::HeldBackFences>(&released));
   RaycastPass pass;
   RaycastFrame frame = frameLookingAlongX(52.0, 1.0);
   frame.feedback = &feedback;

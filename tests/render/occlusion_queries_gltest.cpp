@@ -230,16 +230,6 @@ INSTANTIATE_TEST_SUITE_P(Backends, OcclusionQueriesTest,
                          ::testing::Values(RenderBackend::Fragment, RenderBackend::Compute),
                          [](const auto& info) { return std::string(renderBackendName(info.param)); });
 
-// Says a fence signaled only once released; until then the counts stay pending.
-class HeldBackFences final : public FenceProbe {
- public:
-  explicit HeldBackFences(const bool* released) : released_(released) {}
-  bool signaled(GlSync) override { return *released_; }
-
- private:
-  const bool* released_;
-};
-
 TEST(OcclusionQueries, AnswersNotAvailableStayPending) {
   test::sharedGlContext();
   SceneSpec spec;
@@ -249,7 +239,7 @@ TEST(OcclusionQueries, AnswersNotAvailableStayPending) {
   const Camera camera = orbitCamera(20.0, 10.0, 2.5, glm::dvec3(0.0), glm::dvec3(32.0));
   bool released = false;
   OcclusionQueries queries;
-  queries.setFenceProbe(std::make_unique<HeldBackFences>(&released));
+  queries.setFenceProbe(std::make_unique<test::HeldBackFences>(&released));
   RaycastPass pass;
   RaycastFrame frame = isoFrame(camera, RenderBackend::Fragment);
   TileSchedule schedule;

@@ -16,6 +16,7 @@
 #include "reference/image_io.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
+#include "render/gl_fence.h"
 #include "render/gradient_pool.h"
 #include "render/index_texture.h"
 #include "render/raycast_pass.h"
@@ -67,5 +68,15 @@ GlScene buildScene(const SceneSpec& spec);
 // Renders the scene with the pass; fills frame.pool/gradients/index/volume from the scene.
 void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame,
                  const TileSchedule& schedule = {});
+
+// Says a fence signaled only once *released is true: readbacks held back, as a GPU still busy holds them.
+class HeldBackFences final : public FenceProbe {
+ public:
+  explicit HeldBackFences(const bool* released) : released_(released) {}
+  bool signaled(GlSync) override { return *released_; }
+
+ private:
+  const bool* released_;
+};
 
 }  // namespace ropecast::test

@@ -184,15 +184,6 @@ TEST(VisibilityConverge, FramesGoOnWithoutAnswers) {
 // Answers are about one isovalue: after a change on the same view, those still in flight are dropped, and the
 // nodes collapsed under the old isovalue may collapse again under the new one (once per view and isovalue),
 // so the tree converges to what a fresh start at the new isovalue gives.
-class HeldFences final : public FenceProbe {
- public:
-  explicit HeldFences(const bool* released) : released_(released) {}
-  bool signaled(GlSync) override { return *released_; }
-
- private:
-  const bool* released_;
-};
-
 TEST(VisibilityConverge, AChangeOfIsovalueConvergesAsAFreshStartAtTheNewOne) {
   const ProceduralBricks source({ProceduralKind::Menger, 81}, 8);
   const FrameRendererConfig config = visibilityConfig({true, true}, 64ull << 20);
@@ -212,8 +203,8 @@ TEST(VisibilityConverge, AChangeOfIsovalueConvergesAsAFreshStartAtTheNewOne) {
   ASSERT_TRUE(converge(switched).converged);
   // A frame whose answers are still on their way when the isovalue changes.
   bool released = false;
-  switched.occlusionQueries()->setFenceProbe(std::make_unique<HeldFences>(&released));
-  switched.feedbackBuffer()->setFenceProbe(std::make_unique<HeldFences>(&released));
+  switched.occlusionQueries()->setFenceProbe(std::make_unique<test::HeldBackFences>(&released));
+  switched.feedbackBuffer()->setFenceProbe(std::make_unique<test::HeldBackFences>(&released));
   switched.render(request);
   EXPECT_GT(switched.occlusionQueries()->pendingCount(), 0u);
   request.params.isoValue = 110.0;
