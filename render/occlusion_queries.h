@@ -3,8 +3,8 @@
 // depth at which each ray stopped: what a GL_SAMPLES_PASSED query per node counts (front faces only, so a
 // pixel counts once per box; no color or depth writes; depth clamped so a box reaching the near plane is not
 // clipped away), for every node of the frame in one instanced draw whose fragment shader adds to a counter
-// per node (shaders/occlusion_box.frag). A query object per node costs a draw, a begin and an end each, and
-// that per-query work, not the pixels, is what thousands of queries a frame cost. The counters are copied
+// per node (shaders/occlusion_box.frag). A query object per node would cost a begin, a draw and an end
+// each, which with thousands of nodes a frame costs more than drawing their boxes. The counters are copied
 // into a persistently mapped buffer and fenced; collect() takes, in a later frame, the frames whose fence has
 // signaled and leaves the others pending: it never waits. Planning which nodes to query is occlusion/'s
 // (VisibilityTracker); this class only asks and hears back.

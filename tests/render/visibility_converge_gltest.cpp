@@ -217,8 +217,7 @@ TEST(VisibilityConverge, AChangeOfIsovalueConvergesAsAFreshStartAtTheNewOne) {
   const FrameStats freshStart = converge(fresh);
   ASSERT_TRUE(freshStart.converged);
   // Within a few per cent, not equal: which bricks a loading frame has decides when nodes collapse, and the
-  // once-per-view rule can then keep a node or two refined in one run and not the other. Refusing every
-  // second collapse after the change kept about a quarter more.
+  // once-per-view rule can then keep a node or two refined in one run and not the other.
   EXPECT_LE(dataLeaves(switched), dataLeaves(fresh) * 21 / 20);
   EXPECT_LE(afterChange.workingSetBricks, freshStart.workingSetBricks * 21 / 20);
   EXPECT_GE(test::psnrDb(switched.readColor(), fresh.readColor()), 40.0);
