@@ -57,10 +57,6 @@ WorldBox boundingBox(const NodeDataParts& parts) {
   return box;
 }
 
-WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key) {
-  return boundingBox(nodeDataParts(nodes, isEmpty, key));
-}
-
 double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
                             const RefineView& view) {
   const WorldBox box = nodeWorldBox(layout, spacing, key);

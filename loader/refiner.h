@@ -134,7 +134,6 @@ struct NodeDataParts {
 };
 NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key);
 // The parts' bounding box: where the node projects on the screen.
-WorldBox nodeDataBox(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key);
 WorldBox boundingBox(const NodeDataParts& parts);
 
 // Pixels covered by one voxel of the node's level, seen at the node's point nearest to the eye (distance

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -19,7 +20,7 @@ namespace {
 
 constexpr GLint kViewProjectionLocation = 0;  // shaders/occlusion_box.vert
 constexpr GLsizei kBoxVertices = 36;
-constexpr uint32_t kMaxBoxesPerQuery = 8;
+constexpr uint32_t kMaxBoxesPerQuery = std::tuple_size_v<decltype(NodeDataParts::boxes)>;
 
 // A buffer of at least `wanted` elements, grown by half again so that a slowly growing frame reallocates
 // rarely; its contents are not kept.

@@ -99,15 +99,16 @@ TEST(Refiner, ANodesDataPartsAreItsChildrenThatHoldDataAndTheirBoxBoundsThem) {
     EXPECT_EQ(b.hi, hi);
   };
   // Without a predicate only NodeKind::Empty is empty: the children's bounding box is the whole root.
-  expectBox(nodeDataBox(src, {}, NodeKey{}), glm::dvec3(0), glm::dvec3(64));
+  expectBox(boundingBox(nodeDataParts(src, {}, NodeKey{})), glm::dvec3(0), glm::dvec3(64));
   // With the isovalue the x = 1 children are empty too: the x = 0 half.
-  expectBox(nodeDataBox(src, isoEmpty, NodeKey{}), glm::dvec3(0), glm::dvec3(32, 64, 64));
+  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{})), glm::dvec3(0), glm::dvec3(32, 64, 64));
   // One child with data: its box.
-  expectBox(nodeDataBox(src, isoEmpty, NodeKey{1, {0, 0, 0}}), glm::dvec3(0), glm::dvec3(16));
+  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{1, {0, 0, 0}})), glm::dvec3(0), glm::dvec3(16));
   // The finest depth, and a node whose children all count empty: the node's own box.
-  expectBox(nodeDataBox(src, isoEmpty, NodeKey{2, {1, 0, 0}}), glm::dvec3(16, 0, 0), glm::dvec3(32, 16, 16));
+  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{2, {1, 0, 0}})), glm::dvec3(16, 0, 0),
+            glm::dvec3(32, 16, 16));
   const auto allEmpty = [](uint16_t, uint16_t) { return true; };
-  expectBox(nodeDataBox(src, allEmpty, NodeKey{}), glm::dvec3(0), glm::dvec3(64));
+  expectBox(boundingBox(nodeDataParts(src, allEmpty, NodeKey{})), glm::dvec3(0), glm::dvec3(64));
   // The parts themselves: the four x = 0 children of the root, each its own box.
   const NodeDataParts parts = nodeDataParts(src, isoEmpty, NodeKey{});
   ASSERT_EQ(parts.count, 4u);
