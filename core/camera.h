@@ -17,6 +17,8 @@ struct Camera {
   glm::dvec3 target{0.0};
   glm::dvec3 up{0.0, 0.0, 1.0};
   double fovYDeg = 40.0;
+
+  friend bool operator==(const Camera&, const Camera&) = default;
 };
 
 struct Ray {

@@ -44,6 +44,8 @@ struct LightingParams {
   double diffuse = 0.75;   // kd
   double specular = 0.25;  // ks
   double shininess = 32.0;
+
+  friend bool operator==(const LightingParams&, const LightingParams&) = default;
 };
 
 // Gradient magnitude (times min spacing) below which DVR samples are left unshaded.
@@ -62,6 +64,8 @@ struct RenderParams {
   // GradientPool beside the pool (FrameRendererConfig::storedGradients).
   GradientSource gradients = GradientSource::Computed;
   LightingParams lighting;
+
+  friend bool operator==(const RenderParams&, const RenderParams&) = default;
 };
 
 // Whether a GL ray caster samples a GradientPool for these params.

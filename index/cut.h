@@ -25,6 +25,8 @@ struct CutLeaf {
   glm::u32vec3 coord{0};  // at that depth, each in [0, 2^depth)
   LeafKind kind = LeafKind::Empty;
   uint32_t brickSlot = 0;  // slot of the brick in the GPU pool; only meaningful for Data leaves
+
+  friend bool operator==(const CutLeaf&, const CutLeaf&) = default;
 };
 
 struct Cut {

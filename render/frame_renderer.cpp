@@ -147,12 +147,18 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   raycast_.lastRaycastMs();  // waits for the draw
 }
 
-void FrameRenderer::collectVisibility(const FrameRequest& request, FrameStats& stats) {
+void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
   const auto start = Clock::now();
   for (const QueryAnswer& a : queries_->collect()) {
     visibility_->answer(a.key, a.issuedFrame, a.samplesPassed);
     ++stats.occlusionAnswered;
   }
+  // The leaves the rays' latest answer found unused are hidden (planTiles does not query them): marked before
+  // the marks propagate, so that this frame's refinement hears it with the answers that arrived with it.
+  // Marked only when planned, it reached the refinement a frame after a cut was declared converged.
+  if (feedback)
+    for (const NodeKey& leaf : dataLeaves_)
+      if (rayFeedback_.hint(leaf, frame_) == NodeHint::Unused) visibility_->markUnseen(leaf, frame_);
   visibility_->propagate(dataLeaves_);
   stats.occlusionMs += msSince(start);
 }
@@ -181,7 +187,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
     if (leaf.content != LeafContent::Brick) continue;
     dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
     if (feedback && rayFeedback_.hint(leaf.key, frame_) == NodeHint::Unused) {
-      visibility_->markUnseen(leaf.key, frame_);
+      visibility_->markUnseen(leaf.key, frame_);  // again for the last cut's leaves (collectVisibility)
       continue;
     }
     NodeDataParts& parts = dataParts_.emplace_back(nodeDataParts(source_, isEmpty, leaf.key));
@@ -217,6 +223,27 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   return schedule;
 }
 
+bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feedback) const {
+  // With occlusion, the refinement kept the cut with a whole round of answers about it.
+  if (occlusion && !visibility_->answeredSince(cutChangedFrame_)) return false;
+  // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
+  if (feedback && !(rayFeedback_.answered() && rayFeedback_.answeredFrame() >= cutChangedFrame_))
+    return false;
+  return loaderConverged;
+}
+
+bool FrameRenderer::keepsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan,
+                                        const Cut& cut, bool occlusion, bool feedback) const {
+  if (request.synchronous || !lastDrawn_ || !plan.uploads.empty()) return false;
+  const FrameRequest& last = *lastDrawn_;
+  const bool sameImage = last.camera == request.camera && last.width == request.width &&
+                         last.height == request.height && last.params == request.params &&
+                         last.voxelsPerPixel == request.voxelsPerPixel && !last.synchronous &&
+                         lastDrawnEmptinessKey_ == emptinessKey_ && cut.leaves == cut_.leaves;
+  // The cut is the last frame's, so cutChangedFrame_ still says since when it is drawn.
+  return sameImage && cutConverged(plan.stats.converged, occlusion, feedback);
+}
+
 FrameStats FrameRenderer::render(const FrameRequest& request) {
   const auto frameStart = Clock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
@@ -238,8 +265,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     // collapsed under the old answers may need to collapse again under the new ones.
     collapsedOnThisView_.clear();
   }
-  if (occlusion) collectVisibility(request, stats);
   if (feedback) collectFeedback(stats);
+  if (occlusion) collectVisibility(feedback, stats);
 
   // Pass 1, refine: the loader plans the cut and the uploads of this frame.
   FrameInput input;
@@ -279,6 +306,35 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : plan.leaves)
     for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
+  const auto cutStart = Clock::now();
+  Cut cut;
+  cut.leaves.reserve(plan.leaves.size());
+  for (const PlannedLeaf& leaf : plan.leaves) {
+    CutLeaf cutLeaf;
+    cutLeaf.depth = leaf.key.depth;
+    cutLeaf.coord = leaf.key.coord;
+    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data : LeafKind::Empty;
+    cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
+    cut.leaves.push_back(cutLeaf);
+  }
+  const double cutMs = msSince(cutStart);
+
+  // The frame would draw the last one's converged image again: the targets keep it.
+  const bool keep = request.keepConvergedImage && !keptLastImage_ &&
+                    keepsConvergedImage(request, plan, cut, occlusion, feedback);
+  keptLastImage_ = keep;
+  if (keep) {
+    static_cast<LoaderStats&>(stats) = plan.stats;
+    stats.converged = true;
+    stats.drawn = false;
+    stats.tiles = 0;
+    stats.workingSetBricks = workingSet_->slots().pinnedCount();
+    stats.frame = frame_++;
+    stats.stepVoxels = request.params.stepVoxels;
+    stats.backend = backendFor(request.params);
+    stats.frameMs = msSince(frameStart);
+    return stats;
+  }
 
   // Pass 2, upload: bricks into their pool slots.
   const auto uploadStart = Clock::now();
@@ -298,18 +354,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
 
   // Pass 3, build index: the rope octree over the cut, into the index texture.
   const auto indexStart = Clock::now();
-  cut_.leaves.clear();
-  cut_.leaves.reserve(plan.leaves.size());
-  for (const PlannedLeaf& leaf : plan.leaves) {
-    CutLeaf cutLeaf;
-    cutLeaf.depth = leaf.key.depth;
-    cutLeaf.coord = leaf.key.coord;
-    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data : LeafKind::Empty;
-    cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
-    cut_.leaves.push_back(cutLeaf);
-  }
+  cut_ = std::move(cut);
   uploadIndex(cut_, index_);
-  const double indexMs = msSince(indexStart);
+  const double indexMs = cutMs + msSince(indexStart);
 
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
   const TileSchedule schedule =
@@ -360,12 +407,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     stats.glDrawCalls = raycast_.lastDrawCalls();
   }
   stats.workingSetBricks = workingSet_->slots().pinnedCount();
-  // Converged also means the refinement kept the cut with a whole round of occlusion answers about it.
-  if (occlusion) stats.converged = stats.converged && visibility_->answeredSince(cutChangedFrame_);
-  // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
-  if (feedback)
-    stats.converged =
-        stats.converged && rayFeedback_.answered() && rayFeedback_.answeredFrame() >= cutChangedFrame_;
+  stats.converged = cutConverged(stats.converged, occlusion, feedback);
+  lastDrawn_ = request;
+  lastDrawnEmptinessKey_ = emptinessKey_;
   stats.frame = frame_++;
   stats.indexMs = indexMs;
   stats.stepVoxels = request.params.stepVoxels;

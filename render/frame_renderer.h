@@ -74,6 +74,13 @@ struct FrameRequest {
   // Synchronous: refine until the working set is complete before rendering; otherwise one asynchronous
   // loader step that never waits for the disk.
   bool synchronous = false;
+  // For a caller that reads the targets (readColor, readDepth) and stops once a frame is converged: an
+  // asynchronous frame that would draw the last frame's image again (the same request, the same cut,
+  // nothing uploaded), when that image is converged, keeps it instead of drawing it (FrameStats::drawn
+  // false). Such a frame only learns that the answers about the cut left it as it is (with occlusion or
+  // feedback, the answers about a cut come a frame after it is drawn). Never two such frames in a row, so
+  // that a caller that goes on rendering the still view keeps the occlusion rounds going.
+  bool keepConvergedImage = false;
 };
 
 class FrameRenderer {
@@ -84,7 +91,8 @@ class FrameRenderer {
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   // Renders one frame; returns its stats (loader fields, index_ms, raycast_ms, frame_ms). The upload time
-  // budget applies to asynchronous frames only (a synchronous frame loads everything at once).
+  // budget applies to asynchronous frames only (a synchronous frame loads everything at once). A frame may
+  // keep the last one's image instead of drawing (FrameRequest::keepConvergedImage).
   FrameStats render(const FrameRequest& request);
 
   // Compiles the ray-cast program of the request's backend and mode and draws it once, on a 1x1 image of an
@@ -114,8 +122,10 @@ class FrameRenderer {
   // Builds the rope index of `cut` into `index` and uploads it to the index texture.
   void uploadIndex(const Cut& cut, RopeIndex& index);
   RaycastFrame raycastFrame(const FrameRequest& request, uint32_t width, uint32_t height) const;
-  // Hear back: the occlusion answers that arrived, into the tracker; marks reset when what is empty changed.
-  void collectVisibility(const FrameRequest& request, FrameStats& stats);
+  // Hear back: the occlusion answers that arrived, into the tracker, and with `feedback` the leaves of the
+  // last cut that the rays' latest answer found unused, as hidden; then the marks propagate to inner nodes.
+  // After collectFeedback.
+  void collectVisibility(bool feedback, FrameStats& stats);
   // Hear back: the rays' usage and requests of earlier frames, into RayFeedback.
   void collectFeedback(FrameStats& stats);
   // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them. A
@@ -125,6 +135,13 @@ class FrameRenderer {
   // them, so no pixel of their box could pass the depth test, and the rays will say when one does.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                          const EmptinessPredicate& isEmpty, bool feedback, FrameStats& stats);
+  // Whether the cut drawn since cutChangedFrame_ is converged, given whether the loader is done with it:
+  // with occlusion, a whole round of answers about it kept it; with feedback, an answer about it did.
+  bool cutConverged(bool loaderConverged, bool occlusion, bool feedback) const;
+  // Whether this frame, planned as `plan` with the cut `cut`, would draw the last frame's image again and
+  // that image is converged (FrameRequest::keepConvergedImage).
+  bool keepsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, const Cut& cut,
+                           bool occlusion, bool feedback) const;
 
   const BrickSource& source_;
   std::string glRenderer_;  // GL_RENDERER, for RenderBackend::Auto
@@ -160,6 +177,9 @@ class FrameRenderer {
   // The last frame whose cut differed from the one before: every frame since has this cut, so an answer
   // about one of them is about it.
   uint64_t cutChangedFrame_ = 0;
+  std::optional<FrameRequest> lastDrawn_;  // the request of the last frame drawn
+  uint64_t lastDrawnEmptinessKey_ = 0;     // its transfer function's content too (emptinessKeyOf)
+  bool keptLastImage_ = false;             // the last frame kept the image before it
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the

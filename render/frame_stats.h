@@ -16,6 +16,9 @@ namespace ropecast {
 struct FrameStats : LoaderStats {
   uint64_t frame = 0;
   double frameMs = 0.0;  // wall time of the whole frame
+  // False when the frame kept the last one's converged image instead of drawing it
+  // (FrameRequest::keepConvergedImage): no upload, index, tiles or rays, and raycast_ms 0.
+  bool drawn = true;
   // GL timestamp queries around the ray-cast pass (see GpuTimer), without the occlusion queries' draws.
   double raycastMs = 0.0;
   bool raycastWallClock =
@@ -59,6 +62,7 @@ struct FrameStats : LoaderStats {
 inline nlohmann::json toJson(const FrameStats& s) {
   return nlohmann::json{{"frame", s.frame},
                         {"frame_ms", s.frameMs},
+                        {"drawn", s.drawn},
                         {"raycast_ms", s.raycastMs},
                         {"raycast_timer", s.raycastWallClock ? "wall" : "gpu"},
                         {"upload_ms", s.uploadMs},

@@ -215,6 +215,9 @@ struct OctreeRender {
     request.voxelsPerPixel = o.voxelsPerPixel;
     request.tf = s.tf();
     request.synchronous = synchronous;
+    // --converge stops at the first converged frame: one that would only draw the converged image again
+    // keeps it.
+    request.keepConvergedImage = o.converge;
     request.camera = s.cameraOf(0);
     renderer->prepare(request);  // shader compilation before frame 0, not in its frame_ms
   }
@@ -242,7 +245,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     request.camera = s.cameraOf(std::min(frame, s.frames - 1));
     request.params.stepVoxels = s.params.stepVoxels * stepPacer.scale();
     const FrameStats stats = octree.renderer->render(request);
-    stepPacer.record(stats.frameMs, stats.raycastMs);
+    if (stats.drawn) stepPacer.record(stats.frameMs, stats.raycastMs);
     s.stats->write(stats);
     const bool last = o.converge ? (frame + 1 >= s.frames && stats.converged) || frame + 1 >= frameCap
                                  : frame + 1 >= s.frames;

@@ -49,15 +49,6 @@ constexpr double kStillAfterSeconds = 0.25;
 // Frame times the stats graph shows.
 constexpr size_t kFrameHistory = 120;
 
-bool sameCamera(const Camera& a, const Camera& b) {
-  return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDeg == b.fovYDeg;
-}
-
-bool sameParams(const RenderParams& a, const RenderParams& b) {
-  return a.mode == b.mode && a.isoValue == b.isoValue && a.stepVoxels == b.stepVoxels && a.ert == b.ert &&
-         a.background == b.background && a.backend == b.backend && a.gradients == b.gradients;
-}
-
 // The mouse as the camera sees it: position in window pixels (y down) and the buttons held.
 struct Pointer {
   glm::dvec2 pos{0.0};
@@ -323,6 +314,7 @@ FrameRequest Viewer::currentRequest(bool moving) {
   r.voxelsPerPixel = voxelsPerPixel_;
   r.tf = &*tfTable_;
   r.synchronous = false;
+  r.keepConvergedImage = true;  // the view shows readColor's image, and idles once converged
   // While the camera moves, --target-frame-ms trades quality for frame time: the step first (StepPacer), then
   // a coarser refinement target once the step is at its largest. A still camera gets the full quality.
   if (moving && stepPacer_.enabled()) {
@@ -335,8 +327,8 @@ FrameRequest Viewer::currentRequest(bool moving) {
 bool Viewer::sameAsLast(const FrameRequest& r) const {
   if (!lastRequest_) return false;
   const FrameRequest& l = *lastRequest_;
-  return sameCamera(l.camera, r.camera) && l.width == r.width && l.height == r.height &&
-         sameParams(l.params, r.params) && l.voxelsPerPixel == r.voxelsPerPixel &&
+  return l.camera == r.camera && l.width == r.width && l.height == r.height && l.params == r.params &&
+         l.voxelsPerPixel == r.voxelsPerPixel &&
          (r.params.mode != RenderMode::Dvr || lastTfVersion_ == tfVersion_);
 }
 
@@ -741,7 +733,7 @@ int Viewer::run() {
     ImGui::Render();
 
     const Camera camera = controller_->camera();
-    if (!sameCamera(camera, lastCamera_)) lastMoveSeconds_ = secondsSince(start_);
+    if (camera != lastCamera_) lastMoveSeconds_ = secondsSince(start_);
     lastCamera_ = camera;
     const bool moving = secondsSince(start_) - lastMoveSeconds_ < kStillAfterSeconds;
     if (!moving) coarser_ = false;
@@ -749,7 +741,7 @@ int Viewer::run() {
     const FrameRequest request = currentRequest(moving);
     if (needsFrame(request)) {
       renderFrame(request);
-      if (moving && stepPacer_.enabled()) {
+      if (moving && stepPacer_.enabled() && lastStats_.drawn) {
         stepPacer_.record(lastStats_.frameMs, lastStats_.raycastMs);
         coarser_ = stepPacer_.scale() >= StepPacer::kMaxScale && lastStats_.frameMs > targetFrameMs_;
       }

@@ -2,7 +2,8 @@
 // cache to convergence, what they keep from refining is not seen (the converged image matches the one without
 // them at >= 40 dB PSNR, opaque isosurface and semi-transparent DVR, both backends) and the working set is
 // smaller; frames go on when no answer comes back; after a change of isovalue the tree converges as a fresh
-// start at the new one would.
+// start at the new one would; the frame that only learns the image converged keeps it instead of drawing it
+// again.
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -29,7 +30,12 @@ struct Converged {
   uint64_t bricksUploaded = 0;     // over all frames
   // Frames whose occlusion_draw_ms disagrees with whether they drew queries (timed when drawn, 0 otherwise).
   uint64_t queryTimingMismatches = 0;
+  // Of kFramesAfterConvergence more frames of the same view: those not converged or with another cut.
+  uint32_t changesAfterConvergence = 0;
 };
+
+// Converged means the cut is a fixed point of the answers: so many more frames keep it.
+constexpr uint32_t kFramesAfterConvergence = 2;
 
 // The view every test here renders (a transfer function is the caller's).
 FrameRequest viewRequest(const BrickSourceInfo& info, RenderMode mode, RenderBackend backend) {
@@ -73,6 +79,11 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
     out.queryTimingMismatches += (out.last.occlusionQueries > 0) != (out.last.occlusionDrawMs > 0.0);
     if (out.last.converged) break;
   }
+  if (out.last.converged) {
+    const std::vector<CutLeaf> cut = renderer.lastCut().leaves;
+    for (uint32_t i = 0; i < kFramesAfterConvergence; ++i)
+      out.changesAfterConvergence += !renderer.render(request).converged || renderer.lastCut().leaves != cut;
+  }
   out.color = renderer.readColor();
   for (const CutLeaf& leaf : renderer.lastCut().leaves) out.dataLeaves += leaf.kind == LeafKind::Data;
   return out;
@@ -91,6 +102,8 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
   const Converged on = renderUntilConverged(source, RenderMode::Iso, backend, visibility);
   ASSERT_TRUE(off.last.converged);
   ASSERT_TRUE(on.last.converged) << "not converged after " << on.frames << " frames";
+  EXPECT_EQ(off.changesAfterConvergence, 0u);
+  EXPECT_EQ(on.changesAfterConvergence, 0u) << "declared converged, and then the cut changed";
   EXPECT_EQ(off.last.occlusionQueries, 0u);
   EXPECT_EQ(off.queryTimingMismatches, 0u);
   EXPECT_EQ(on.queryTimingMismatches, 0u) << "occlusion_draw_ms is the time of the queries drawn, if any";
@@ -127,6 +140,7 @@ TEST_P(VisibilityConvergeTest, SemiTransparentDvrLooksTheSame) {
   const Converged off = renderUntilConverged(source, RenderMode::Dvr, backend, {});
   const Converged on = renderUntilConverged(source, RenderMode::Dvr, backend, visibility);
   ASSERT_TRUE(on.last.converged) << "not converged after " << on.frames << " frames";
+  EXPECT_EQ(on.changesAfterConvergence, 0u) << "declared converged, and then the cut changed";
   EXPECT_GE(test::psnrDb(on.color, off.color), 40.0);
   EXPECT_LE(on.dataLeaves, off.dataLeaves);
 }
@@ -155,6 +169,47 @@ TEST(VisibilityConverge, APoolTooSmallForTheViewSettles) {
     EXPECT_LT(tight.last.workingSetBricks, roomy.last.workingSetBricks * 3 / 5) << nameOf(v);
     EXPECT_LT(tight.bricksUploaded, 2 * roomy.last.workingSetBricks)
         << nameOf(v) << ": bricks uploaded again and again";
+  }
+}
+
+// With occlusion and feedback the answers about a cut come a frame after it is drawn, so the frame that
+// learns the cut converged would draw the same image again: with FrameRequest::keepConvergedImage it keeps
+// the image instead, and drawing it anyway gives the same pixels.
+TEST(VisibilityConverge, AFrameThatWouldRedrawTheConvergedImageKeepsIt) {
+  const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
+  FrameRenderer renderer(test::sharedGlContext().info(), source, visibilityConfig({true, true}, 64ull << 20));
+  FrameRequest request = viewRequest(source.info(), RenderMode::Iso, RenderBackend::Fragment);
+  request.keepConvergedImage = true;
+  FrameStats last;
+  FloatImage lastDrawn;
+  uint32_t frames = 0;
+  for (; frames < 200 && !last.converged; ++frames) {
+    last = renderer.render(request);
+    if (!last.converged) {
+      ASSERT_TRUE(last.drawn) << "frame " << frames << " is not converged, yet kept the image before it";
+      lastDrawn = renderer.readColor();
+    }
+  }
+  ASSERT_TRUE(last.converged);
+  EXPECT_FALSE(last.drawn) << "the converged image was drawn again to learn that it is converged";
+  EXPECT_EQ(last.bricksUploaded, 0u);
+  EXPECT_EQ(last.raycastMs, 0.0);
+  EXPECT_EQ(renderer.readColor().pixels, lastDrawn.pixels) << "the kept frame shows the last drawn image";
+
+  // Never two kept frames in a row: the next one draws, the same image, and is converged too.
+  const FrameStats next = renderer.render(request);
+  EXPECT_TRUE(next.drawn);
+  EXPECT_TRUE(next.converged);
+  EXPECT_EQ(renderer.readColor().pixels, lastDrawn.pixels);
+
+  // Another view is drawn; so is every frame of a caller that does not ask to keep images.
+  request.camera = orbitCamera(50.0, 25.0, 1.6, glm::dvec3(0.0), glm::dvec3(source.info().volume.dims), 40.0);
+  EXPECT_TRUE(renderer.render(request).drawn);
+  request.keepConvergedImage = false;
+  for (uint32_t frame = 0; frame < 200; ++frame) {
+    const FrameStats stats = renderer.render(request);
+    ASSERT_TRUE(stats.drawn);
+    if (stats.converged) break;
   }
 }
 
