@@ -1,8 +1,10 @@
 // Cut validation and completion, over the CutTree skeleton.
 #include "index/cut.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "index/cut_tree.h"
 #include "index/rope_layout.h"
@@ -88,6 +90,18 @@ void CutTree::requireNoHoles() const {
     if (nodes_[n].isHole())
       throw std::invalid_argument("validateCut: the leaves leave a hole at " + describe(placeOf(n)) +
                                   " (every point of the root cube needs exactly one leaf; see completeCut)");
+}
+
+bool sameLeaves(const Cut& a, const Cut& b) {
+  if (a.leaves.size() != b.leaves.size()) return false;
+  const auto byPlace = [](const CutLeaf& l, const CutLeaf& r) {
+    return std::tie(l.depth, l.coord.x, l.coord.y, l.coord.z) <
+           std::tie(r.depth, r.coord.x, r.coord.y, r.coord.z);
+  };
+  std::vector<CutLeaf> sortedA = a.leaves, sortedB = b.leaves;
+  std::sort(sortedA.begin(), sortedA.end(), byPlace);
+  std::sort(sortedB.begin(), sortedB.end(), byPlace);
+  return sortedA == sortedB;
 }
 
 void validateCut(const Cut& cut) {

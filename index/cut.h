@@ -37,6 +37,10 @@ struct Cut {
 // its depth, a Data leaf whose brickSlot is 0xFFFFFFFF (reserved), two leaves overlapping, or a hole.
 void validateCut(const Cut& cut);
 
+// Whether two cuts have the same leaves (place, kind and brick slot) in any order: the order is the caller's,
+// and the loader's can change from frame to frame while the cut does not.
+bool sameLeaves(const Cut& a, const Cut& b);
+
 // Completes leaves that tile part of the cube into a valid cut by adding Empty leaves: every sibling of a
 // given leaf or of one of its ancestors that no given leaf covers becomes an Empty leaf. The given leaves
 // come first, in order. No leaves at all gives one Empty root. Throws std::invalid_argument as validateCut

@@ -239,9 +239,9 @@ bool FrameRenderer::keepsConvergedImage(const FrameRequest& request, const Worki
   const bool sameImage = last.camera == request.camera && last.width == request.width &&
                          last.height == request.height && last.params == request.params &&
                          last.voxelsPerPixel == request.voxelsPerPixel && !last.synchronous &&
-                         lastDrawnEmptinessKey_ == emptinessKey_ && cut.leaves == cut_.leaves;
-  // The cut is the last frame's, so cutChangedFrame_ still says since when it is drawn.
-  return sameImage && cutConverged(plan.stats.converged, occlusion, feedback);
+                         lastDrawnEmptinessKey_ == emptinessKey_;
+  // With the last frame's cut, cutChangedFrame_ still says since when it is drawn.
+  return sameImage && cutConverged(plan.stats.converged, occlusion, feedback) && sameLeaves(cut, cut_);
 }
 
 FrameStats FrameRenderer::render(const FrameRequest& request) {

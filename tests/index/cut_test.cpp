@@ -1,6 +1,8 @@
-// validateCut names each kind of problem; completeCut fills exactly the uncovered regions with Empty leaves.
+// validateCut names each kind of problem; completeCut fills exactly the uncovered regions with Empty leaves;
+// sameLeaves compares cuts in any order of their leaves.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,20 @@ TEST(Cut, AcceptsTilings) {
     params.targetLeaves = 300;
     EXPECT_EQ(problemOf(makeRandomCut(params)), "");
   }
+}
+
+TEST(Cut, SameLeavesInAnyOrder) {
+  const Cut cut = octants();
+  Cut reversed = cut;
+  std::reverse(reversed.leaves.begin(), reversed.leaves.end());
+  EXPECT_TRUE(sameLeaves(cut, reversed));
+  Cut otherSlot = reversed;
+  otherSlot.leaves[3].brickSlot = 99;
+  EXPECT_FALSE(sameLeaves(cut, otherSlot));
+  Cut otherKind = cut;
+  otherKind.leaves[0].kind = LeafKind::Empty;
+  EXPECT_FALSE(sameLeaves(cut, otherKind));
+  EXPECT_FALSE(sameLeaves(cut, octants(2)));
 }
 
 TEST(Cut, NamesTheProblem) {

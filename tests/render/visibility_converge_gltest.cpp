@@ -80,9 +80,10 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
     if (out.last.converged) break;
   }
   if (out.last.converged) {
-    const std::vector<CutLeaf> cut = renderer.lastCut().leaves;
+    const Cut cut = renderer.lastCut();
     for (uint32_t i = 0; i < kFramesAfterConvergence; ++i)
-      out.changesAfterConvergence += !renderer.render(request).converged || renderer.lastCut().leaves != cut;
+      out.changesAfterConvergence +=
+          !renderer.render(request).converged || !sameLeaves(renderer.lastCut(), cut);
   }
   out.color = renderer.readColor();
   for (const CutLeaf& leaf : renderer.lastCut().leaves) out.dataLeaves += leaf.kind == LeafKind::Data;
