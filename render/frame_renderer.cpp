@@ -176,6 +176,13 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
   stats.feedbackMs += msSince(start);
 }
 
+void FrameRenderer::countVisibility(FrameStats& stats) const {
+  const VisibilityCounts counts = visibility_->counts(frame_);
+  stats.nodesVisible = counts.visible;
+  stats.nodesOccluded = counts.occluded;
+  stats.occlusionLatencyFrames = visibility_->lastRoundFrames();
+}
+
 TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                                       const EmptinessPredicate& isEmpty, bool feedback, FrameStats& stats) {
   const auto start = Clock::now();
@@ -198,10 +205,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
   }
   const FrameQueryPlan plan = visibility_->plan(frame_, request.width, request.height, toQuery);
-  const VisibilityCounts counts = visibility_->counts(frame_);
-  stats.nodesVisible = counts.visible;
-  stats.nodesOccluded = counts.occluded;
-  stats.occlusionLatencyFrames = visibility_->lastRoundFrames();
+  countVisibility(stats);
 
   queryBoxes_.clear();
   for (const uint32_t i : plan.queriedIndices) queryBoxes_.push_back({toQuery[i].key, dataParts_[i]});
@@ -328,6 +332,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     stats.converged = true;
     stats.drawn = false;
     stats.tiles = 0;
+    if (occlusion) countVisibility(stats);  // of the cut it keeps, as the last frame counted them
     stats.workingSetBricks = workingSet_->slots().pinnedCount();
     stats.frame = frame_++;
     stats.stepVoxels = request.params.stepVoxels;

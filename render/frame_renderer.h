@@ -135,6 +135,8 @@ class FrameRenderer {
   // them, so no pixel of their box could pass the depth test, and the rays will say when one does.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                          const EmptinessPredicate& isEmpty, bool feedback, FrameStats& stats);
+  // The visible and occluded leaves of the last planned cut and the query latency, into `stats`.
+  void countVisibility(FrameStats& stats) const;
   // Whether the cut drawn since cutChangedFrame_ is converged, given whether the loader is done with it:
   // with occlusion, a whole round of answers about it kept it; with feedback, an answer about it did.
   bool cutConverged(bool loaderConverged, bool occlusion, bool feedback) const;
