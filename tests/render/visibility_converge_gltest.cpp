@@ -195,6 +195,8 @@ TEST(VisibilityConverge, AFrameThatWouldRedrawTheConvergedImageKeepsIt) {
   EXPECT_FALSE(last.drawn) << "the converged image was drawn again to learn that it is converged";
   EXPECT_EQ(last.bricksUploaded, 0u);
   EXPECT_EQ(last.raycastMs, 0.0);
+  EXPECT_GT(last.nodesVisible, 0u) << "the kept cut's counts, as the frame before counted them";
+  EXPECT_GT(last.occlusionLatencyFrames, 0u);
   EXPECT_EQ(renderer.readColor().pixels, lastDrawn.pixels) << "the kept frame shows the last drawn image";
 
   // Never two kept frames in a row: the next one draws, the same image, and is converged too.
