@@ -90,6 +90,12 @@ void VisibilityTracker::answer(const NodeKey& key, uint64_t issuedFrame, uint64_
   setMark(key, issuedFrame, samplesPassed);
 }
 
+void VisibilityTracker::renew(uint64_t frame) {
+  lastPlanFrame_ = frame;
+  for (auto& [key, mark] : marks_)
+    if (live(mark, frame)) mark.issuedFrame = std::max(mark.issuedFrame, frame);
+}
+
 void VisibilityTracker::markUnseen(const NodeKey& key, uint64_t frame) {
   setMark(key, frame, 0);
 }

@@ -8,7 +8,8 @@
 //
 // A frame, in order: answer() for each query result that came back; propagate() with the last cut's
 // non-empty leaves; refinement, asking isOccluded() before refining a node; plan() with the new cut's
-// non-empty leaves; ray cast tiles[0], issue the planned queries, ray cast the other tiles.
+// non-empty leaves; ray cast tiles[0], issue the planned queries, ray cast the other tiles. A frame that
+// draws the last one's image again calls renew() instead of plan() and queries nothing.
 //
 // How marks age. A leaf's answer is occluded when fewer than thresholdPixels samples passed. An occluded mark
 // holds until the node's next answer, and at most markLifetimeFrames after the frame its query was issued
@@ -74,6 +75,10 @@ class VisibilityTracker {
   // A query's answer, collected in a later frame: the node, the frame its query was issued in, samples
   // passed. An answer older than the node's current mark, or issued before the last reset(), is ignored.
   void answer(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
+  // Instead of plan(), for a frame that draws the image of the last planned frame again (the same view and
+  // cut, and marks that kept that cut): its queries would answer as the held marks say, so none is planned
+  // and every live mark is renewed as if answered so at `frame`. The round stands as it was.
+  void renew(uint64_t frame);
   // A leaf known hidden without a query (no ray reached it: the rays' feedback), left out of plan(): marked
   // as an answer of 0 samples to a query issued in `frame` would mark it, but counted in no round.
   void markUnseen(const NodeKey& key, uint64_t frame);

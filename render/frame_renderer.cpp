@@ -184,7 +184,8 @@ void FrameRenderer::countVisibility(FrameStats& stats) const {
 }
 
 TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
-                                      const EmptinessPredicate& isEmpty, bool feedback, FrameStats& stats) {
+                                      const EmptinessPredicate& isEmpty, bool feedback, bool query,
+                                      FrameStats& stats) {
   const auto start = Clock::now();
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
@@ -197,12 +198,20 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       visibility_->markUnseen(leaf.key, frame_);  // again for the last cut's leaves (collectVisibility)
       continue;
     }
+    if (!query) continue;
     NodeDataParts& parts = dataParts_.emplace_back(nodeDataParts(source_, isEmpty, leaf.key));
     const WorldBox box = boundingBox(parts);
     // A node collapsed because its leaves were hidden is queried as they were, part by part; the others by
     // the parts' bounding box, which draws fewer fragments.
     if (!collapsedOnThisView_.contains(leaf.key)) parts = {{box}, 1};
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
+  }
+  if (!query) {
+    visibility_->renew(frame_);
+    countVisibility(stats);
+    queryBoxes_.clear();
+    stats.occlusionMs += msSince(start);
+    return {};
   }
   const FrameQueryPlan plan = visibility_->plan(frame_, request.width, request.height, toQuery);
   countVisibility(stats);
@@ -236,8 +245,8 @@ bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feed
   return loaderConverged;
 }
 
-bool FrameRenderer::keepsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan,
-                                        const Cut& cut, bool occlusion, bool feedback) const {
+bool FrameRenderer::redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan,
+                                          const Cut& cut, bool occlusion, bool feedback) const {
   if (request.synchronous || !lastDrawn_ || !plan.uploads.empty()) return false;
   const FrameRequest& last = *lastDrawn_;
   const bool sameImage = last.camera == request.camera && last.width == request.width &&
@@ -323,9 +332,10 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   }
   const double cutMs = msSince(cutStart);
 
-  // The frame would draw the last one's converged image again: the targets keep it.
-  const bool keep = request.keepConvergedImage && !keptLastImage_ &&
-                    keepsConvergedImage(request, plan, cut, occlusion, feedback);
+  // The frame would draw the last one's converged image again: the targets keep it, or, drawn, it queries
+  // nothing (the answers could only repeat the marks).
+  const bool redraw = redrawsConvergedImage(request, plan, cut, occlusion, feedback);
+  const bool keep = request.keepConvergedImage && !keptLastImage_ && redraw;
   keptLastImage_ = keep;
   if (keep) {
     static_cast<LoaderStats&>(stats) = plan.stats;
@@ -365,7 +375,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
 
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
   const TileSchedule schedule =
-      occlusion ? planTiles(request, plan.leaves, input.isEmpty, feedback, stats) : TileSchedule{};
+      occlusion ? planTiles(request, plan.leaves, input.isEmpty, feedback, !redraw, stats) : TileSchedule{};
 
   // Pass 5, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);

@@ -79,7 +79,8 @@ struct FrameRequest {
   // nothing uploaded), when that image is converged, keeps it instead of drawing it (FrameStats::drawn
   // false). Such a frame only learns that the answers about the cut left it as it is (with occlusion or
   // feedback, the answers about a cut come a frame after it is drawn). Never two such frames in a row, so
-  // that a caller that goes on rendering the still view keeps the occlusion rounds going.
+  // that a caller that goes on rendering the still view keeps the rays' answers coming (a drawn frame of a
+  // converged view casts its rays, and renews the occlusion marks without querying).
   bool keepConvergedImage = false;
 };
 
@@ -132,18 +133,21 @@ class FrameRenderer {
   // leaf is projected and queried by the bounding box of its data parts (nodeDataParts under `isEmpty`); a
   // node collapsed on this view because its leaves were hidden is queried part by part. With `feedback`,
   // the leaves the rays' latest answer found unused are not queried but marked occluded: no ray reached
-  // them, so no pixel of their box could pass the depth test, and the rays will say when one does.
+  // them, so no pixel of their box could pass the depth test, and the rays will say when one does. Without
+  // `query` (a frame that draws the last one's converged image again) nothing is queried and the marks are
+  // renewed (VisibilityTracker::renew): one tile.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
-                         const EmptinessPredicate& isEmpty, bool feedback, FrameStats& stats);
+                         const EmptinessPredicate& isEmpty, bool feedback, bool query, FrameStats& stats);
   // The visible and occluded leaves of the last planned cut and the query latency, into `stats`.
   void countVisibility(FrameStats& stats) const;
   // Whether the cut drawn since cutChangedFrame_ is converged, given whether the loader is done with it:
   // with occlusion, a whole round of answers about it kept it; with feedback, an answer about it did.
   bool cutConverged(bool loaderConverged, bool occlusion, bool feedback) const;
   // Whether this frame, planned as `plan` with the cut `cut`, would draw the last frame's image again and
-  // that image is converged (FrameRequest::keepConvergedImage).
-  bool keepsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, const Cut& cut,
-                           bool occlusion, bool feedback) const;
+  // that image is converged: then it keeps that image (FrameRequest::keepConvergedImage) or, drawn, queries
+  // nothing.
+  bool redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, const Cut& cut,
+                             bool occlusion, bool feedback) const;
 
   const BrickSource& source_;
   std::string glRenderer_;  // GL_RENDERER, for RenderBackend::Auto

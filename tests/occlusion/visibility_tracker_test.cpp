@@ -1,6 +1,6 @@
 // VisibilityTracker: rounds that query every leaf of the cut in a bounded number of frames, answers against
-// the threshold and their lifetime, leaves marked unseen without a query, reset, propagation to inner nodes,
-// the list of occluded nodes, and convergence (answers since a frame).
+// the threshold and their lifetime, renewed marks, leaves marked unseen without a query, reset, propagation
+// to inner nodes, the list of occluded nodes, and convergence (answers since a frame).
 #include "occlusion/visibility_tracker.h"
 
 #include <algorithm>
@@ -134,6 +134,27 @@ TEST(VisibilityTracker, MarksOccludedBelowTheThresholdUntilTheAnswerExpires) {
   tracker.plan(200, 8, 8, leaves);
   EXPECT_EQ(tracker.markCount(), 0u);
   EXPECT_FALSE(tracker.isOccluded(a, 200));
+}
+
+// A frame that draws the same image again renews the marks instead of querying: they outlive their
+// lifetime while renewed, a round's convergence stands, and an answer from before the renewal is stale.
+TEST(VisibilityTracker, RenewedMarksHoldWithoutQueries) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const NodeKey a = leafKey(0), b = leafKey(1);
+  const std::vector<LeafToQuery> leaves{leafAt(a, {0, 0, 4, 4}), leafAt(b, {4, 0, 8, 4})};
+  EXPECT_EQ(tracker.plan(10, 8, 8, leaves).queries.size(), 2u);
+  tracker.answer(a, 10, 0);
+  tracker.answer(b, 10, 9);
+  ASSERT_TRUE(tracker.answeredSince(10));
+  for (uint64_t frame = 11; frame <= 200; ++frame) tracker.renew(frame);
+  EXPECT_TRUE(tracker.isOccluded(a, 200));
+  EXPECT_FALSE(tracker.isOccluded(b, 200));
+  EXPECT_TRUE(tracker.answeredSince(10));
+  tracker.answer(a, 150, 50);  // asked before the last renewal: the renewed mark is newer
+  EXPECT_TRUE(tracker.isOccluded(a, 200));
+  // Not renewed, the mark expires as an answer would.
+  EXPECT_TRUE(tracker.isOccluded(a, 264));
+  EXPECT_FALSE(tracker.isOccluded(a, 265));
 }
 
 TEST(VisibilityTracker, ResetForgetsMarksAndAnswersAskedBeforeIt) {
