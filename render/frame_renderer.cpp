@@ -40,6 +40,21 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
   return h;
 }
 
+// The index's cut of the planned leaves, in their order.
+Cut cutOf(const std::vector<PlannedLeaf>& leaves) {
+  Cut cut;
+  cut.leaves.reserve(leaves.size());
+  for (const PlannedLeaf& leaf : leaves) {
+    CutLeaf cutLeaf;
+    cutLeaf.depth = leaf.key.depth;
+    cutLeaf.coord = leaf.key.coord;
+    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data : LeafKind::Empty;
+    cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
+    cut.leaves.push_back(cutLeaf);
+  }
+  return cut;
+}
+
 // The cut as a set of leaves and their content: the refiner's leaf order follows its heap, which hints
 // reorder without changing the cut.
 uint64_t cutSetHash(const std::vector<PlannedLeaf>& leaves) {
@@ -154,8 +169,9 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
     ++stats.occlusionAnswered;
   }
   // The leaves the rays' latest answer found unused are hidden (planTiles does not query them): marked before
-  // the marks propagate, so that this frame's refinement hears it with the answers that arrived with it.
-  // Marked only when planned, it reached the refinement a frame after a cut was declared converged.
+  // the marks propagate, so that this frame's refinement hears them with the answers that arrived with them
+  // (marked only when the tiles are planned, they would reach the refinement a frame after the cut they
+  // change was declared converged).
   if (feedback)
     for (const NodeKey& leaf : dataLeaves_)
       if (rayFeedback_.hint(leaf, frame_) == NodeHint::Unused) visibility_->markUnseen(leaf, frame_);
@@ -320,16 +336,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   for (const PlannedLeaf& leaf : plan.leaves)
     for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
   const auto cutStart = Clock::now();
-  Cut cut;
-  cut.leaves.reserve(plan.leaves.size());
-  for (const PlannedLeaf& leaf : plan.leaves) {
-    CutLeaf cutLeaf;
-    cutLeaf.depth = leaf.key.depth;
-    cutLeaf.coord = leaf.key.coord;
-    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data : LeafKind::Empty;
-    cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
-    cut.leaves.push_back(cutLeaf);
-  }
+  Cut cut = cutOf(plan.leaves);
   const double cutMs = msSince(cutStart);
 
   // The frame would draw the last one's converged image again: the targets keep it, or, drawn, it queries
