@@ -83,7 +83,8 @@ void OcclusionQueries::release(Batch& batch) {
 }
 
 OcclusionQueries::Batch OcclusionQueries::takeBatch(uint32_t queries) {
-  // A free readback buffer large enough, else a new one (the ring grows with the frames in flight).
+  // A free readback buffer large enough, else a new one (the ring grows with the frames in flight, up to
+  // kMaxBatchesInFlight).
   for (auto it = free_.begin(); it != free_.end(); ++it) {
     if (it->capacity < queries) continue;
     Batch b = std::move(*it);
@@ -108,6 +109,10 @@ OcclusionQueries::Batch OcclusionQueries::takeBatch(uint32_t queries) {
 void OcclusionQueries::issue(std::span<const QueryBox> boxes, const Camera& camera, uint32_t width,
                              uint32_t height, DepthRange depth, uint64_t frame) {
   if (boxes.empty()) return;
+  if (pending_.size() >= kMaxBatchesInFlight) {
+    ++skippedIssues_;
+    return;
+  }
   records_.clear();
   for (uint32_t q = 0; q < boxes.size(); ++q) {
     const NodeDataParts& parts = boxes[q].parts;

@@ -51,10 +51,15 @@ class OcclusionQueries {
   OcclusionQueries(const OcclusionQueries&) = delete;
   OcclusionQueries& operator=(const OcclusionQueries&) = delete;
 
+  // Frames of queries in flight at most: with that many whose fences have not signaled (a GPU far behind, or
+  // a driver that never signals), issue() draws nothing, so memory and GPU work stay bounded; the queries
+  // it skips are never answered, and the tracker plans their nodes again in a later round.
+  static constexpr size_t kMaxBatchesInFlight = 8;
+
   // Issues one query per QueryBox into the bound framebuffer (width x height, the ray caster's image),
   // projected as the ray caster's rays see them, `depth` as the ray caster mapped it. Changes the program,
   // vertex array, viewport, depth test and the storage buffers bound at kOcclusionBoxBinding and
-  // kOcclusionCountBinding; leaves writes enabled.
+  // kOcclusionCountBinding; leaves writes enabled. Skipped with kMaxBatchesInFlight batches pending.
   void issue(std::span<const QueryBox> boxes, const Camera& camera, uint32_t width, uint32_t height,
              DepthRange depth, uint64_t frame);
 
@@ -64,6 +69,8 @@ class OcclusionQueries {
   void dropPending();
   // Queries issued whose answers collect() has not returned.
   size_t pendingCount() const;
+  // issue() calls skipped because kMaxBatchesInFlight batches were pending.
+  uint64_t skippedIssues() const { return skippedIssues_; }
 
   // Tests: ask `probe` whether a frame's counts have arrived instead of GL.
   void setFenceProbe(std::unique_ptr<FenceProbe> probe) { probe_ = std::move(probe); }
@@ -89,6 +96,7 @@ class OcclusionQueries {
   std::vector<OcclusionBoxRecord> records_;       // this frame's, kept for their allocation
   std::deque<Batch> pending_;                     // in flight, oldest first
   std::vector<Batch> free_;                       // readback buffers to reuse
+  uint64_t skippedIssues_ = 0;
 };
 
 }  // namespace ropecast

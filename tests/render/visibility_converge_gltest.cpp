@@ -31,6 +31,8 @@ struct Converged {
   // Frames whose occlusion_draw_ms disagrees with whether they drew queries (timed when drawn, 0 otherwise).
   uint64_t queryTimingMismatches = 0;
   uint64_t lastQueries = 0;  // occlusion_queries of the last frame that queried
+  // Frames whose queries were not drawn: as many frames' queries were in flight as allowed.
+  uint64_t skippedQueryIssues = 0;
   // Of kFramesAfterConvergence more frames of the same view: those not converged or with another cut, and
   // their queries (none: a converged still view renews its marks instead).
   uint32_t changesAfterConvergence = 0;
@@ -91,6 +93,7 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
       out.queriesAfterConvergence += stats.occlusionQueries;
     }
   }
+  if (renderer.occlusionQueries()) out.skippedQueryIssues = renderer.occlusionQueries()->skippedIssues();
   out.color = renderer.readColor();
   for (const CutLeaf& leaf : renderer.lastCut().leaves) out.dataLeaves += leaf.kind == LeafKind::Data;
   return out;
@@ -112,6 +115,7 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
   EXPECT_EQ(off.changesAfterConvergence, 0u);
   EXPECT_EQ(on.changesAfterConvergence, 0u) << "declared converged, and then the cut changed";
   EXPECT_EQ(on.queriesAfterConvergence, 0u) << "a converged still view was queried again";
+  EXPECT_EQ(on.skippedQueryIssues, 0u) << "answers one frame late never fill the queries in flight";
   EXPECT_EQ(off.last.occlusionQueries, 0u);
   EXPECT_EQ(off.queryTimingMismatches, 0u);
   EXPECT_EQ(on.queryTimingMismatches, 0u) << "occlusion_draw_ms is the time of the queries drawn, if any";
@@ -247,6 +251,7 @@ TEST(VisibilityConverge, FramesGoOnWithoutAnswers) {
       60);
   const Converged off = renderUntilConverged(source, RenderMode::Iso, RenderBackend::Fragment, {});
   EXPECT_EQ(held.frames, 60u) << "never converged: no answer ever came";
+  EXPECT_GT(held.skippedQueryIssues, 0u) << "queries in flight kept growing";
   EXPECT_EQ(held.occludedMarksSeen, 0u);
   EXPECT_EQ(held.answersSeen, 0u);
   EXPECT_EQ(held.dataLeaves, off.dataLeaves) << "never-answered nodes count visible and used";
