@@ -2,6 +2,8 @@
 //   hear back (occlusion answers) -> refine (loader WorkingSet) -> upload (BrickPool)
 //   -> build index (RopeIndexBuilder, IndexTexture) -> plan tiles (VisibilityTracker)
 //   -> ray cast + queries (RaycastPass, OcclusionQueries) -> stats.
+// A frame that would draw the last one's converged image again may end after refine, keeping that image
+// (FrameRequest::keepConvergedImage).
 // It owns the GL objects of a volume (pool, index texture, ray-cast pass) and the loader's WorkingSet, and is
 // handed the BrickSource and the transfer function. The loader decides what to load; this class only carries
 // its plan to the GPU. With RenderBackend::Multipass the ray cast is MultipassPass over the same cut and
