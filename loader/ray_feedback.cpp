@@ -29,7 +29,7 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
   std::unordered_map<NodeKey, bool, NodeKeyHash> innerUsed;
   for (size_t i = 0; i < cut.leaves.size(); ++i) {
     if (!cut.dataLeaf[i]) continue;
-    answers_[cut.leaves[i]] = {frame, hints[i]};
+    setAnswer(cut.leaves[i], {frame, hints[i]});
     const bool used = hints[i] != NodeHint::Unused;
     for (NodeKey k = cut.leaves[i]; k.depth > 0;) {
       k = k.parent();
@@ -38,11 +38,12 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
       it->second = it->second || used;
     }
   }
-  for (const auto& [key, used] : innerUsed) answers_[key] = {frame, used ? NodeHint::None : NodeHint::Unused};
+  for (const auto& [key, used] : innerUsed) setAnswer(key, {frame, used ? NodeHint::None : NodeHint::Unused});
 
-  // Bounded memory: answers past their lifetime say nothing.
-  std::erase_if(answers_,
-                [&](const auto& entry) { return frame - entry.second.frame > config_.answerLifetimeFrames; });
+  // Bounded memory: answers past their lifetime say nothing (a renewed one may be newer than this answer).
+  std::erase_if(answers_, [&](const auto& entry) {
+    return entry.second.frame < frame && frame - entry.second.frame > config_.answerLifetimeFrames;
+  });
   answered_ = true;
   answeredFrame_ = frame;
   return true;
@@ -55,6 +56,17 @@ NodeHint RayFeedback::hint(const NodeKey& key, uint64_t frame, bool innerNodeNow
                                 : it->second.hint;
   if (answered != NodeHint::Unused && innerNodeNow) return NodeHint::Used;
   return answered;
+}
+
+void RayFeedback::setAnswer(const NodeKey& key, NodeAnswer answer) {
+  const auto [it, inserted] = answers_.try_emplace(key, answer);
+  if (!inserted && it->second.frame <= answer.frame) it->second = answer;  // a renewed answer is newer
+}
+
+void RayFeedback::renew(uint64_t frame) {
+  for (auto& [key, answer] : answers_)
+    if (frame - std::min(frame, answer.frame) <= config_.answerLifetimeFrames)
+      answer.frame = std::max(answer.frame, frame);
 }
 
 void RayFeedback::reset() {

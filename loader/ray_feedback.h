@@ -51,6 +51,10 @@ class RayFeedback {
   // The frame of the latest answer, if any.
   bool answered() const { return answered_; }
   uint64_t answeredFrame() const { return answeredFrame_; }
+  // For a frame cast without feedback because it draws the last frame's converged image again: its rays would
+  // say what the held answers say, so those are renewed as if given about `frame` (answeredFrame() stays the
+  // frame the rays last answered about; a later answer about an earlier frame does not replace them).
+  void renew(uint64_t frame);
   // Forgets every answer and remembered cut (a change of isovalue or transfer function).
   void reset();
 
@@ -64,6 +68,9 @@ class RayFeedback {
     std::vector<NodeKey> leaves;
     std::vector<uint8_t> dataLeaf;
   };
+
+  // The node's answer, unless it holds a newer one (renewed after the frame this one describes).
+  void setAnswer(const NodeKey& key, NodeAnswer answer);
 
   RayFeedbackConfig config_;
   std::deque<RememberedCut> cuts_;

@@ -386,10 +386,15 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
 
   // Pass 5, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);
-  if (feedback) {
+  // A frame that draws the converged image again is cast without feedback: its rays would say what the held
+  // answers say, which are renewed instead.
+  const bool castFeedback = feedback && !redraw;
+  if (castFeedback) {
     feedback_->begin(uint32_t(cut_.leaves.size()));
     frame.feedback = feedback_.get();
     frame.voxelsPerPixel = request.voxelsPerPixel;
+  } else if (feedback) {
+    rayFeedback_.renew(frame_);
   }
   if (multipass) {
     // The multi-pass renderer over the same cut: one pass per data leaf (empty leaves are not drawn).
@@ -404,7 +409,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   const uint64_t cutHash = cutSetHash(plan.leaves);
   if (cutHash != currentCutHash_) cutChangedFrame_ = frame_;
   currentCutHash_ = cutHash;
-  if (feedback) {
+  if (castFeedback) {
     feedback_->end(frame_);
     std::vector<NodeKey> keys;
     std::vector<uint8_t> dataLeaf;

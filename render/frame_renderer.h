@@ -80,9 +80,9 @@ struct FrameRequest {
   // asynchronous frame that would draw the last frame's image again (the same request, the same cut,
   // nothing uploaded), when that image is converged, keeps it instead of drawing it (FrameStats::drawn
   // false). Such a frame only learns that the answers about the cut left it as it is (with occlusion or
-  // feedback, the answers about a cut come a frame after it is drawn). Never two such frames in a row, so
-  // that a caller that goes on rendering the still view keeps the rays' answers coming (a drawn frame of a
-  // converged view casts its rays, and renews the occlusion marks without querying).
+  // feedback, the answers about a cut come a frame after it is drawn). Never two such frames in a row: a
+  // caller that goes on rendering the still view gets every other frame drawn (without queries or feedback,
+  // the held answers renewed instead).
   bool keepConvergedImage = false;
 };
 
@@ -147,7 +147,7 @@ class FrameRenderer {
   bool cutConverged(bool loaderConverged, bool occlusion, bool feedback) const;
   // Whether this frame, planned as `plan` with the cut `cut`, would draw the last frame's image again and
   // that image is converged: then it keeps that image (FrameRequest::keepConvergedImage) or, drawn, queries
-  // nothing.
+  // nothing and casts no feedback.
   bool redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, const Cut& cut,
                              bool occlusion, bool feedback) const;
 

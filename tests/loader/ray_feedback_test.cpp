@@ -42,6 +42,27 @@ TEST(RayFeedback, AnAnswerHoldsUntilANewerOneOrItsLifetime) {
   EXPECT_EQ(f.hint(kB, 15), NodeHint::Unused);  // frame 11 says unused again, and it is newer
 }
 
+// A frame that draws the converged image again casts no feedback: the held answers are renewed instead, and
+// an answer about an earlier frame arriving after the renewal does not drop them.
+TEST(RayFeedback, RenewedAnswersHoldPastTheirLifetime) {
+  RayFeedback f({/*answerLifetimeFrames=*/4});
+  rememberAbc(f, 10);
+  rememberAbc(f, 11);
+  const uint32_t used[] = {1, 2}, requested[] = {2};
+  ASSERT_TRUE(f.answer(10, used, requested));
+  for (uint64_t frame = 12; frame <= 40; ++frame) f.renew(frame);
+  EXPECT_EQ(f.hint(kA, 40), NodeHint::Unused);
+  EXPECT_EQ(f.hint(kC, 40), NodeHint::Requested);
+  EXPECT_EQ(f.answeredFrame(), 10u) << "no ray answered about the renewed frames";
+  ASSERT_TRUE(f.answer(11, used, requested));
+  EXPECT_EQ(f.hint(kA, 44), NodeHint::Unused) << "the late answer of frame 11 replaced the renewed ones";
+  EXPECT_EQ(f.hint(kA, 45), NodeHint::None);
+  EXPECT_EQ(f.answeredFrame(), 11u);
+  // Expired answers are not renewed.
+  f.renew(60);
+  EXPECT_EQ(f.hint(kA, 60), NodeHint::None);
+}
+
 TEST(RayFeedback, ResetForgetsAnswersAndCuts) {
   RayFeedback f;
   rememberAbc(f, 0);
