@@ -340,7 +340,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   const double cutMs = msSince(cutStart);
 
   // The frame would draw the last one's converged image again: the targets keep it, or, drawn, it queries
-  // nothing (the answers could only repeat the marks).
+  // nothing and casts no feedback (the answers could only repeat what is held).
   const bool redraw = redrawsConvergedImage(request, plan, cut, occlusion, feedback);
   const bool keep = request.keepConvergedImage && !keptLastImage_ && redraw;
   keptLastImage_ = keep;
