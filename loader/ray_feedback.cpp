@@ -40,10 +40,8 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
   }
   for (const auto& [key, used] : innerUsed) setAnswer(key, {frame, used ? NodeHint::None : NodeHint::Unused});
 
-  // Bounded memory: answers past their lifetime say nothing (a renewed one may be newer than this answer).
-  std::erase_if(answers_, [&](const auto& entry) {
-    return entry.second.frame < frame && frame - entry.second.frame > config_.answerLifetimeFrames;
-  });
+  // Bounded memory: answers past their lifetime say nothing.
+  std::erase_if(answers_, [&](const auto& entry) { return !live(entry.second, frame); });
   answered_ = true;
   answeredFrame_ = frame;
   return true;
@@ -51,9 +49,8 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
 
 NodeHint RayFeedback::hint(const NodeKey& key, uint64_t frame, bool innerNodeNow) const {
   const auto it = answers_.find(key);
-  const NodeHint answered = it == answers_.end() || frame - it->second.frame > config_.answerLifetimeFrames
-                                ? NodeHint::None
-                                : it->second.hint;
+  const NodeHint answered =
+      it == answers_.end() || !live(it->second, frame) ? NodeHint::None : it->second.hint;
   if (answered != NodeHint::Unused && innerNodeNow) return NodeHint::Used;
   return answered;
 }
@@ -65,8 +62,7 @@ void RayFeedback::setAnswer(const NodeKey& key, NodeAnswer answer) {
 
 void RayFeedback::renew(uint64_t frame) {
   for (auto& [key, answer] : answers_)
-    if (frame - std::min(frame, answer.frame) <= config_.answerLifetimeFrames)
-      answer.frame = std::max(answer.frame, frame);
+    if (live(answer, frame)) answer.frame = std::max(answer.frame, frame);
 }
 
 void RayFeedback::reset() {

@@ -71,6 +71,10 @@ class RayFeedback {
 
   // The node's answer, unless it holds a newer one (renewed after the frame this one describes).
   void setAnswer(const NodeKey& key, NodeAnswer answer);
+  // Not expired at `frame` (a renewed answer may be newer than `frame`).
+  bool live(const NodeAnswer& answer, uint64_t frame) const {
+    return frame <= answer.frame || frame - answer.frame <= config_.answerLifetimeFrames;
+  }
 
   RayFeedbackConfig config_;
   std::deque<RememberedCut> cuts_;

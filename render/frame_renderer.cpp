@@ -262,15 +262,16 @@ bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feed
 }
 
 bool FrameRenderer::redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan,
-                                          const Cut& cut, bool occlusion, bool feedback) const {
+                                          uint64_t cutHash, bool occlusion, bool feedback) const {
   if (request.synchronous || !lastDrawn_ || !plan.uploads.empty()) return false;
   const FrameRequest& last = *lastDrawn_;
   const bool sameImage = last.camera == request.camera && last.width == request.width &&
                          last.height == request.height && last.params == request.params &&
                          last.voxelsPerPixel == request.voxelsPerPixel && !last.synchronous &&
                          lastDrawnEmptinessKey_ == emptinessKey_;
-  // With the last frame's cut, cutChangedFrame_ still says since when it is drawn.
-  return sameImage && cutConverged(plan.stats.converged, occlusion, feedback) && sameLeaves(cut, cut_);
+  // The last frame's leaves, and nothing uploaded: every brick in the slot it had. With the last frame's cut,
+  // cutChangedFrame_ still says since when it is drawn.
+  return sameImage && cutHash == currentCutHash_ && cutConverged(plan.stats.converged, occlusion, feedback);
 }
 
 FrameStats FrameRenderer::render(const FrameRequest& request) {
@@ -335,13 +336,11 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : plan.leaves)
     for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
-  const auto cutStart = Clock::now();
-  Cut cut = cutOf(plan.leaves);
-  const double cutMs = msSince(cutStart);
+  const uint64_t cutHash = cutSetHash(plan.leaves);
 
   // The frame would draw the last one's converged image again: the targets keep it, or, drawn, it queries
   // nothing and casts no feedback (the answers could only repeat what is held).
-  const bool redraw = redrawsConvergedImage(request, plan, cut, occlusion, feedback);
+  const bool redraw = redrawsConvergedImage(request, plan, cutHash, occlusion, feedback);
   const bool keep = request.keepConvergedImage && !keptLastImage_ && redraw;
   keptLastImage_ = keep;
   if (keep) {
@@ -376,9 +375,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
 
   // Pass 3, build index: the rope octree over the cut, into the index texture.
   const auto indexStart = Clock::now();
-  cut_ = std::move(cut);
+  cut_ = cutOf(plan.leaves);
   uploadIndex(cut_, index_);
-  const double indexMs = cutMs + msSince(indexStart);
+  const double indexMs = msSince(indexStart);
 
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
   const TileSchedule schedule =
@@ -406,7 +405,6 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     raycast_.render(frame, schedule);
   }
   lastMultipass_ = multipass;
-  const uint64_t cutHash = cutSetHash(plan.leaves);
   if (cutHash != currentCutHash_) cutChangedFrame_ = frame_;
   currentCutHash_ = cutHash;
   if (castFeedback) {

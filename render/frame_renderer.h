@@ -145,10 +145,10 @@ class FrameRenderer {
   // Whether the cut drawn since cutChangedFrame_ is converged, given whether the loader is done with it:
   // with occlusion, a whole round of answers about it kept it; with feedback, an answer about it did.
   bool cutConverged(bool loaderConverged, bool occlusion, bool feedback) const;
-  // Whether this frame, planned as `plan` with the cut `cut`, would draw the last frame's image again and
-  // that image is converged: then it keeps that image (FrameRequest::keepConvergedImage) or, drawn, queries
-  // nothing and casts no feedback.
-  bool redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, const Cut& cut,
+  // Whether this frame, planned as `plan` (its leaves' cutSetHash: `cutHash`), would draw the last frame's
+  // image again and that image is converged: then it keeps that image (FrameRequest::keepConvergedImage) or,
+  // drawn, queries nothing and casts no feedback.
+  bool redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, uint64_t cutHash,
                              bool occlusion, bool feedback) const;
 
   const BrickSource& source_;
