@@ -4,8 +4,9 @@
 Each case is one `ropecast render ... --stats`, run by both builds in turn, the order alternating between
 repetitions so that a drifting machine affects both alike. Per case and build, medians over the repetitions:
 wall seconds, frames, the frames' own seconds (sum of frame_ms), the occlusion queries' draws (sum of
-occlusion_draw_ms, and the last frame's), queries issued, and the working set of the last frame; then the
-ratio B / A of wall seconds, frames' seconds and query draws.
+occlusion_draw_ms, and the last frame's), queries issued, the working set of the last frame, the last drawn
+frame's milliseconds and the peak resident memory; then the ratios B / A of wall seconds, frames' seconds,
+query draws, last frame and peak memory.
 
 Usage: bench/compare_builds.py A_ROPECAST B_ROPECAST --case 'NAME: INPUT RENDER-OPTIONS' [--case ...]
        [--reps N] [--cold]
@@ -43,11 +44,14 @@ def run(ropecast, args, cold, work):
                 pass
     stats = os.path.join(work, "stats.jsonl")
     start = time.monotonic()
-    done = subprocess.run([ropecast, "render", *args, "--stats", stats, "-o", os.path.join(work, "image.png")],
-                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    child = subprocess.Popen([ropecast, "render", *args, "--stats", stats, "-o", os.path.join(work, "image.png")],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    stderr = child.stderr.read()
+    _, status, usage = os.wait4(child.pid, 0)  # the child's own peak resident memory
+    child.returncode = os.waitstatus_to_exitcode(status)
     wall = time.monotonic() - start
-    if done.returncode != 0:
-        sys.exit(f"compare_builds: {ropecast} render {' '.join(args)} failed:\n{done.stderr}")
+    if child.returncode != 0:
+        sys.exit(f"compare_builds: {ropecast} render {' '.join(args)} failed:\n{stderr}")
     with open(stats) as f:
         rows = [json.loads(line) for line in f]
     return {
@@ -58,6 +62,8 @@ def run(ropecast, args, cold, work):
         "last draw ms": rows[-1].get("occlusion_draw_ms", 0.0),
         "queries": sum(r.get("occlusion_queries", 0) for r in rows),
         "working set": rows[-1]["working_set_bricks"],
+        "last frame ms": next((r["frame_ms"] for r in reversed(rows) if r.get("drawn", True)), 0.0),
+        "peak MiB": usage.ru_maxrss / 1024,  # KiB on Linux
     }
 
 
@@ -85,7 +91,8 @@ def main():
                     print(f"compare_builds: {name}, {label}, repetition {rep + 1}", file=sys.stderr)
                     results.setdefault((name, label), []).append(run(build, args, opts.cold, work))
 
-    keys = ["wall s", "frames", "frames' s", "query draws s", "last draw ms", "queries", "working set"]
+    keys = ["wall s", "frames", "frames' s", "query draws s", "last draw ms", "queries", "working set",
+            "last frame ms", "peak MiB"]
     print(f"A = {opts.a}\nB = {opts.b}\nmedians of {opts.reps} ({'cold' if opts.cold else 'warm'} page cache)")
     print(f"{'case':<24}" + "".join(f"{k:>15}" for k in keys))
     for name, _ in opts.case:
@@ -93,7 +100,8 @@ def main():
                for label in ("A", "B")}
         for label in ("A", "B"):
             print(f"{name + ' ' + label:<24}" + "".join(f"{med[label][k]:>15.3f}" for k in keys))
-        ratios = [f"{k} {med['B'][k] / med['A'][k]:.2f}" for k in ("wall s", "frames' s", "query draws s")
+        ratios = [f"{k} {med['B'][k] / med['A'][k]:.2f}"
+                  for k in ("wall s", "frames' s", "query draws s", "last frame ms", "peak MiB")
                   if med["A"][k] > 0]
         print(f"{name + ' B/A':<24}  " + ", ".join(ratios))
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numeric>
 #include <string>
+#include <tuple>
 
 #include <epoxy/gl.h>
 
@@ -14,6 +16,9 @@
 namespace ropecast {
 
 namespace {
+
+// What a linear texture layout pads each row to (llvmpipe: the CPU's cache line).
+constexpr uint64_t kPoolRowAlignBytes = 64;
 
 GLenum internalFormat(SampleType t) {
   return t == SampleType::UInt8 ? GL_R8 : GL_R16;
@@ -41,24 +46,35 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
                 " bytes holds no brick slot of " + std::to_string(slotBytes) +
                 " bytes (or GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3DTextureSize) +
                 " is below the slot edge)");
-  // One slot across in x, as far as the texture limit allows, the slots stacked along y and z: a texture lies
-  // in memory row by row (llvmpipe; any linear layout), so a brick's rows are then one contiguous run per
-  // slice and a ray through it touches a few pages per slice instead of one per row; tiled GPU layouts do not
+  // The slots stacked along y and z, across x as few as make a texture row a whole number of 64-byte lines:
+  // a linear layout pads every row to one (llvmpipe pads to a cache line), and one slot across (36 texels of
+  // a 32^3 brick, 1 or 2 bytes each) would take 64 or 128 bytes a row, 78 % more memory than the budget says.
+  // A gradient texture of the same dimensions (8 bytes a texel) is then aligned too; tiled GPU layouts do not
   // care. A pool is allocated whole (and zeroed, which is slow where the GL's memory is host memory), so it
-  // holds no more slots than the volume has bricks. The grid's sides are rounded up, then back down as far as
-  // the budget needs.
+  // holds no more slots than the volume has bricks.
   const uint64_t wanted = std::max<uint64_t>(1, std::min(fitting, maxSlots));
   const auto side = [&](uint64_t n) { return std::clamp<uint64_t>(n, 1, maxPerAxis); };
   const auto ceilDiv = [](uint64_t a, uint64_t b) { return (a + b - 1) / b; };
-  const uint64_t gx = ceilDiv(wanted, maxPerAxis * maxPerAxis);
-  uint64_t gy = side(uint64_t(std::floor(std::sqrt(double(ceilDiv(wanted, gx))))));
-  uint64_t gz = side(ceilDiv(wanted, gx * gy));
-  gy = side(ceilDiv(wanted, gx * gz));
-  while (gx * gy * gz > fitting) {
-    if (gz > 1)
-      --gz;
-    else
-      --gy;
+  const uint64_t slotsPerLine =
+      kPoolRowAlignBytes / std::gcd(uint64_t(g.slotEdge) * bytesPerSample(storedType), kPoolRowAlignBytes);
+  uint64_t gx = ceilDiv(wanted, maxPerAxis * maxPerAxis);
+  if (wanted >= slotsPerLine) gx = side(ceilDiv(gx, slotsPerLine) * slotsPerLine);
+  // Rows of gx slots: as many as hold `wanted`, at most as many as fit, on the y-z grid closest to that.
+  const uint64_t rowsFitting = fitting / gx;
+  const uint64_t rowsWanted = std::min(ceilDiv(wanted, gx), rowsFitting);
+  uint64_t gy = 1, gz = 1;
+  const auto worse = [&](uint64_t y, uint64_t z) {  // than (gy, gz): short of the rows wanted, then more
+    const auto cost = [&](uint64_t rows, uint64_t a, uint64_t b) {
+      return std::tuple(rowsWanted - std::min(rows, rowsWanted), rows, std::max(a, b));
+    };
+    return cost(y * z, y, z) >= cost(gy * gz, gy, gz);
+  };
+  for (uint64_t y = 1; y <= std::min(maxPerAxis, rowsWanted); ++y) {
+    const uint64_t z = std::min({ceilDiv(rowsWanted, y), rowsFitting / y, maxPerAxis});
+    if (z >= 1 && !worse(y, z)) {
+      gy = y;
+      gz = z;
+    }
   }
   g.slotGrid = {uint32_t(gx), uint32_t(gy), uint32_t(gz)};
   g.textureDims = g.slotGrid * g.slotEdge;

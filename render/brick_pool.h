@@ -41,9 +41,10 @@ struct BrickPoolGeometry {
 inline constexpr uint64_t kMaxPoolSlots = uint64_t(1) << 21;
 
 // The largest slot grid of `slotEdge`-texel slots within `budgetBytes` whose texture stays within
-// max3DTextureSize per axis, one slot across in x where that limit allows; `extraBytesPerTexel` are those of
-// textures of the same dimensions kept beside the pool (a GradientPool), which the budget pays for too.
-// With `maxSlots` (the bricks the volume has) the grid holds at least that many slots where the budget
+// max3DTextureSize per axis, with as few slots across x as make a texture row a multiple of 64 bytes
+// (rows of linear layouts are padded to that; fewer slots than that: one across); `extraBytesPerTexel` are
+// those of textures of the same dimensions kept beside the pool (a GradientPool), which the budget pays for
+// too. With `maxSlots` (the bricks the volume has) the grid holds at least that many slots where the budget
 // allows, and not many more: a small volume gets a small pool, not the whole budget. Never more than
 // kMaxPoolSlots. Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,

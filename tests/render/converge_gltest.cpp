@@ -237,12 +237,12 @@ TEST_F(ConvergeTest, ASmallPoolConvergesToTheSameCoarserImage) {
   // The pool holds fewer bricks than the view wants at one voxel per pixel: both modes stop at PoolFull.
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
   Case c;
-  c.gpuBudgetBytes = 60 * c.gpuBytesPerSlot(source);
+  c.gpuBudgetBytes = 64 * c.gpuBytesPerSlot(source);  // four rows of 16 slots
   c.voxelsPerPixel = 2.0;
   c.expectPoolFull = true;
   expectConvergesToSynchronous(source, c);
   c.mode = RenderMode::Dvr;
-  c.gpuBudgetBytes = 60 * c.gpuBytesPerSlot(source);
+  c.gpuBudgetBytes = 64 * c.gpuBytesPerSlot(source);  // four rows of 16 slots
   c.uploadBudgetBytes = 5 * source.brickBytes();
   expectConvergesToSynchronous(source, c);
 }
