@@ -274,6 +274,14 @@ bool FrameRenderer::redrawsConvergedImage(const FrameRequest& request, const Wor
   return sameImage && cutHash == currentCutHash_ && cutConverged(plan.stats.converged, occlusion, feedback);
 }
 
+void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFrame& plan, FrameStats& stats) {
+  static_cast<LoaderStats&>(stats) = plan.stats;
+  stats.workingSetBricks = workingSet_->slots().pinnedCount();
+  stats.frame = frame_++;
+  stats.stepVoxels = request.params.stepVoxels;
+  stats.backend = backendFor(request.params);
+}
+
 FrameStats FrameRenderer::render(const FrameRequest& request) {
   const auto frameStart = Clock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
@@ -344,15 +352,11 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   const bool keep = request.keepConvergedImage && !keptLastImage_ && redraw;
   keptLastImage_ = keep;
   if (keep) {
-    static_cast<LoaderStats&>(stats) = plan.stats;
+    if (occlusion) countVisibility(stats);  // of the cut it keeps, as the last frame counted them
+    finishStats(request, plan, stats);
     stats.converged = true;
     stats.drawn = false;
     stats.tiles = 0;
-    if (occlusion) countVisibility(stats);  // of the cut it keeps, as the last frame counted them
-    stats.workingSetBricks = workingSet_->slots().pinnedCount();
-    stats.frame = frame_++;
-    stats.stepVoxels = request.params.stepVoxels;
-    stats.backend = backendFor(request.params);
     stats.frameMs = msSince(frameStart);
     return stats;
   }
@@ -420,7 +424,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     rayFeedback_.rememberCut(frame_, std::move(keys), std::move(dataLeaf));
   }
 
-  static_cast<LoaderStats&>(stats) = plan.stats;
+  finishStats(request, plan, stats);
   stats.tiles = std::max<uint64_t>(schedule.tiles.size(), 1);
   if (multipass) {
     stats.drawCalls = multipass_.lastCounts().blocks;
@@ -431,14 +435,10 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     stats.drawCalls = stats.tiles;  // one pass over the image per screen tile
     stats.glDrawCalls = raycast_.lastDrawCalls();
   }
-  stats.workingSetBricks = workingSet_->slots().pinnedCount();
   stats.converged = cutConverged(stats.converged, occlusion, feedback);
   lastDrawn_ = request;
   lastDrawnEmptinessKey_ = emptinessKey_;
-  stats.frame = frame_++;
   stats.indexMs = indexMs;
-  stats.stepVoxels = request.params.stepVoxels;
-  stats.backend = frame.params.backend;
   stats.uploadMs = uploadMs;
   // Waits for the GPU: the frame time includes the ray cast.
   stats.raycastMs = multipass ? multipass_.lastRaycastMs() : raycast_.lastRaycastMs();

@@ -140,6 +140,9 @@ class FrameRenderer {
   // renewed (VisibilityTracker::renew): one tile.
   TileSchedule planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                          const EmptinessPredicate& isEmpty, bool feedback, bool query, FrameStats& stats);
+  // What a frame's stats say whether it draws or keeps the last image: the loader's counts, the working set,
+  // the frame number (counted here), the step and the backend.
+  void finishStats(const FrameRequest& request, const WorkingSetFrame& plan, FrameStats& stats);
   // The visible and occluded leaves of the last planned cut and the query latency, into `stats`.
   void countVisibility(FrameStats& stats) const;
   // Whether the cut drawn since cutChangedFrame_ is converged, given whether the loader is done with it:
