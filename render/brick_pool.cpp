@@ -59,19 +59,17 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
       kPoolRowAlignBytes / std::gcd(uint64_t(g.slotEdge) * bytesPerSample(storedType), kPoolRowAlignBytes);
   uint64_t gx = ceilDiv(wanted, maxPerAxis * maxPerAxis);
   if (wanted >= slotsPerLine) gx = side(ceilDiv(gx, slotsPerLine) * slotsPerLine);
-  // Rows of gx slots: as many as hold `wanted`, at most as many as fit, on the y-z grid closest to that.
+  // Rows of gx slots on a y-z grid: as many as hold `wanted` (at most as many as fit), then as few to spare,
+  // then the squarest.
   const uint64_t rowsFitting = fitting / gx;
   const uint64_t rowsWanted = std::min(ceilDiv(wanted, gx), rowsFitting);
-  uint64_t gy = 1, gz = 1;
-  const auto worse = [&](uint64_t y, uint64_t z) {  // than (gy, gz): short of the rows wanted, then more
-    const auto cost = [&](uint64_t rows, uint64_t a, uint64_t b) {
-      return std::tuple(rowsWanted - std::min(rows, rowsWanted), rows, std::max(a, b));
-    };
-    return cost(y * z, y, z) >= cost(gy * gz, gy, gz);
+  const auto rank = [&](uint64_t y, uint64_t z) {
+    return std::tuple(rowsWanted - std::min(y * z, rowsWanted), y * z, std::max(y, z));
   };
+  uint64_t gy = 1, gz = 1;
   for (uint64_t y = 1; y <= std::min(maxPerAxis, rowsWanted); ++y) {
     const uint64_t z = std::min({ceilDiv(rowsWanted, y), rowsFitting / y, maxPerAxis});
-    if (z >= 1 && !worse(y, z)) {
+    if (z >= 1 && rank(y, z) < rank(gy, gz)) {
       gy = y;
       gz = z;
     }
