@@ -219,7 +219,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
     const WorldBox box = boundingBox(parts);
     // A node collapsed because its leaves were hidden is queried as they were, part by part; the others by
     // the parts' bounding box, which draws fewer fragments.
-    if (!collapsedOnThisView_.contains(leaf.key)) parts = {{box}, 1};
+    if (!collapseGuard_.collapsed(leaf.key)) parts = {{box}, 1};
     toQuery.push_back({leaf.key, projectBox(box.lo, box.hi, request.camera, request.width, request.height)});
   }
   if (!query) {
@@ -301,7 +301,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
     rayFeedback_.reset();
     // The once-per-view rule below is about what hides what, which the change has changed too: a node that
     // collapsed under the old answers may need to collapse again under the new ones.
-    collapsedOnThisView_.clear();
+    collapseGuard_.reset();
   }
   if (feedback) collectFeedback(stats);
   if (occlusion) collectVisibility(feedback, stats);
@@ -314,13 +314,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
   // Occluded or unused leaves do not refine, and a refined node whose leaves are all occluded or unused
-  // collapses. While the view changes it may collapse every frame; on a still view (and emptiness, above) at
-  // most once, so that the tree converges: collapsing there can cycle (a node refined because it showed hides
-  // another's leaves, that one collapses, its coarse data no longer hides the first, ...). A node refused its
-  // second collapse keeps its refinement as a Used node does: ranked as None, a full GPU pool would give it
-  // up to the rays' requests every other frame (its coarse brick is used and requested, its children are not
-  // used).
-  if (!lastView_ || !sameView(*lastView_, request)) collapsedOnThisView_.clear();
+  // collapses: while the view changes, every frame; on a still view (and emptiness, above) as CollapseGuard
+  // allows, so that the tree converges.
+  if (!lastView_ || !sameView(*lastView_, request)) collapseGuard_.reset();
   if (occlusion || feedback) {
     input.hints = [this, occlusion, feedback](const NodeKey& key) {
       const bool refinedNow = lastInnerNodes_.contains(key);
@@ -329,9 +325,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
         hint = NodeHint::Occluded;
       else if (feedback)
         hint = rayFeedback_.hint(key, frame_, refinedNow);
-      const bool collapses = (hint == NodeHint::Occluded || hint == NodeHint::Unused) && refinedNow;
-      if (collapses && !collapsedOnThisView_.insert(key).second) return NodeHint::Used;
-      return hint;
+      return collapseGuard_.filter(key, hint, refinedNow);
     };
   }
   if (feedback) input.usedNodes = rayFeedback_.usedNodes();

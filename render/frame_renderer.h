@@ -26,6 +26,7 @@
 #include "core/render_params.h"
 #include "core/transfer_function.h"
 #include "index/rope_index.h"
+#include "loader/collapse_guard.h"
 #include "loader/ray_feedback.h"
 #include "loader/working_set.h"
 #include "occlusion/visibility_tracker.h"
@@ -178,8 +179,7 @@ class FrameRenderer {
   std::vector<NodeDataParts> dataParts_;           // this frame's queryable leaves' data parts, as planned
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made
   std::unordered_set<NodeKey, NodeKeyHash> lastInnerNodes_;  // of the last frame's tree
-  // since the camera last moved or the emptiness (mode, isovalue, transfer function) changed
-  std::unordered_set<NodeKey, NodeKeyHash> collapsedOnThisView_;
+  CollapseGuard collapseGuard_;           // reset when the camera moves or the emptiness changes
   std::optional<FrameRequest> lastView_;  // the last asynchronous frame's request
 
   std::unique_ptr<FeedbackBuffer> feedback_;  // config.feedback only
