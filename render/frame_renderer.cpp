@@ -22,8 +22,7 @@ double msSince(Clock::time_point start) {
 
 // The same camera and image size: the occlusion marks of the last frame describe this one.
 bool sameView(const FrameRequest& a, const FrameRequest& b) {
-  return a.camera.eye == b.camera.eye && a.camera.target == b.camera.target && a.camera.up == b.camera.up &&
-         a.camera.fovYDeg == b.camera.fovYDeg && a.width == b.width && a.height == b.height;
+  return a.camera == b.camera && a.width == b.width && a.height == b.height;
 }
 
 // What decides which nodes are empty (mode, isovalue, transfer function), as a hash: occlusion marks made
@@ -265,8 +264,7 @@ bool FrameRenderer::redrawsConvergedImage(const FrameRequest& request, const Wor
                                           uint64_t cutHash, bool occlusion, bool feedback) const {
   if (request.synchronous || !lastDrawn_ || !plan.uploads.empty()) return false;
   const FrameRequest& last = *lastDrawn_;
-  const bool sameImage = last.camera == request.camera && last.width == request.width &&
-                         last.height == request.height && last.params == request.params &&
+  const bool sameImage = sameView(last, request) && last.params == request.params &&
                          last.voxelsPerPixel == request.voxelsPerPixel && !last.synchronous &&
                          lastDrawnEmptinessKey_ == emptinessKey_;
   // The last frame's leaves, and nothing uploaded: every brick in the slot it had. With the last frame's cut,
@@ -299,8 +297,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
       queries_->dropPending();
     }
     rayFeedback_.reset();
-    // The once-per-view rule below is about what hides what, which the change has changed too: a node that
-    // collapsed under the old answers may need to collapse again under the new ones.
+    // CollapseGuard's rules (below) hold on one view of one image: a node that collapsed, or that the rays
+    // requested, under the old emptiness may need to collapse under the new one.
     collapseGuard_.reset();
   }
   if (feedback) collectFeedback(stats);
