@@ -19,7 +19,7 @@ namespace ropecast {
 namespace {
 
 constexpr GLint kViewProjectionLocation = 0;  // shaders/occlusion_box.vert
-constexpr GLsizei kBoxVertices = 36;
+constexpr GLsizei kVerticesPerBox = 36;       // shaders/occlusion_box.vert: 12 triangles
 constexpr uint32_t kMaxBoxesPerQuery = std::tuple_size_v<decltype(NodeDataParts::boxes)>;
 
 // A buffer of at least `wanted` elements, grown by half again so that a slowly growing frame reallocates
@@ -151,7 +151,7 @@ void OcclusionQueries::issue(std::span<const QueryBox> boxes, const Camera& came
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glFrontFace(GL_CW);  // the y flip mirrors the counter-clockwise faces of shaders/occlusion_box.vert
-  glDrawArraysInstanced(GL_TRIANGLES, 0, kBoxVertices, GLsizei(records_.size()));
+  glDrawArraysInstanced(GL_TRIANGLES, 0, kVerticesPerBox, GLsizei(records_.size()));
   glFrontFace(GL_CCW);
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_CLAMP);

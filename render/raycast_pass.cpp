@@ -25,10 +25,7 @@ namespace ropecast {
 
 namespace {
 
-// Image units and uniform locations of the entry points (the textures' units: shaders/raycast_block.h).
-constexpr GLuint kColorImageUnit = 0;  // match the binding = N of shaders/raycast.comp
-constexpr GLuint kDepthImageUnit = 1;
-constexpr GLuint kStopDepthImageUnit = 2;
+// A texture unit and uniform locations of the entry points (the other units: shaders/raycast_block.h).
 constexpr GLuint kStopDepthTextureUnit = 0;  // shaders/stop_depth.frag uStopDepth
 constexpr GLint kTileOriginLocation = 0;     // shaders/raycast.comp uTileOrigin
 constexpr GLint kTileEndLocation = 1;        // shaders/raycast.comp uTileEnd
@@ -204,9 +201,11 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
   blockBuffer_.bind();
   p.use();
   if (f.params.backend == RenderBackend::Compute) {
-    glBindImageTexture(kColorImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(kDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glBindImageTexture(kStopDepthImageUnit, stopDepthTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(kRaycastColorImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA32F);
+    glBindImageTexture(kRaycastDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_R32F);
+    glBindImageTexture(kRaycastStopDepthImageUnit, stopDepthTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     return;
   }
   target_.bindForDrawing();

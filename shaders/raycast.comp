@@ -6,9 +6,9 @@
 #include "shaders/raycast_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = 0) uniform writeonly image2D uColorImage;
-layout(r32f, binding = 1) uniform writeonly image2D uDepthImage;
-layout(r32f, binding = 2) uniform writeonly image2D uStopDepthImage;
+layout(rgba32f, binding = kRaycastColorImageUnit) uniform writeonly image2D uColorImage;
+layout(r32f, binding = kRaycastDepthImageUnit) uniform writeonly image2D uDepthImage;
+layout(r32f, binding = kRaycastStopDepthImageUnit) uniform writeonly image2D uStopDepthImage;
 layout(location = 0) uniform uvec2 uTileOrigin;
 layout(location = 1) uniform uvec2 uTileEnd;  // one past the tile's last pixel
 

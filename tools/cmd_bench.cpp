@@ -175,7 +175,7 @@ const Benchmark kBenchmarks[] = {
 #endif
 };
 
-const CommandRegistration registration("bench", 80, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration benchCommand("bench", 80, [](CLI::App& app) -> std::function<int()> {
   app.description("benchmarks, measured side by side in one run (see docs/BENCHMARKS.md)");
   app.require_subcommand(1);
   auto runs = std::make_shared<std::vector<std::pair<CLI::App*, std::function<int()>>>>();

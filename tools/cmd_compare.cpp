@@ -36,7 +36,7 @@ int runCompare(const CompareOptions& o) {
   return o.minPsnr >= 0.0 && d.psnrDb < o.minPsnr ? 1 : 0;
 }
 
-const CommandRegistration registration("compare", 70, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<CompareOptions>();
   app.description("PSNR (peak 1) and absolute differences of two images of the same size, as one JSON line");
   app.add_option("a", o->a, "first image (PNG, EXR, ...)")->required();

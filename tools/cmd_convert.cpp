@@ -85,7 +85,7 @@ int runConvert(const ConvertArgs& a) {
   return 0;
 }
 
-const CommandRegistration registration("convert", 10, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std::function<int()> {
   app.description("build an octree store from a volume (raw, NRRD, image stack, procedural:NAME:SIZE)");
   auto a = std::make_shared<ConvertArgs>();
   app.add_option("input", a->input,

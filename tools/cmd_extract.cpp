@@ -34,7 +34,7 @@ int runExtract(const ExtractArgs& a) {
   return 0;
 }
 
-const CommandRegistration registration("extract", 40, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration extractCommand("extract", 40, [](CLI::App& app) -> std::function<int()> {
   app.description("write one resolution level of a store as a raw volume in its original type");
   auto a = std::make_shared<ExtractArgs>();
   app.add_option("store", a->store, "store file")->required();

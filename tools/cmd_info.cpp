@@ -76,7 +76,7 @@ int runInfo(const std::string& path, bool json) {
   return 0;
 }
 
-const CommandRegistration registration("info", 20, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration infoCommand("info", 20, [](CLI::App& app) -> std::function<int()> {
   app.description("print what a store holds: dims, type, value range, levels, node counts, sizes");
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);

@@ -30,7 +30,7 @@ int runVerify(const std::string& path, bool quiet, size_t maxProblems) {
   return 0;
 }
 
-const CommandRegistration registration("verify", 30, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration verifyCommand("verify", 30, [](CLI::App& app) -> std::function<int()> {
   app.description("read every node of a store and check checksums, ranges, borders and filtering");
   auto path = std::make_shared<std::string>();
   auto quiet = std::make_shared<bool>(false);

@@ -111,7 +111,7 @@ void copyAtomically(const std::string& from, const std::string& to, const char* 
   file.commit();
 }
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
+double elapsedSeconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -132,7 +132,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       } catch (const std::exception& e) {
         o.problems.push_back(std::string("render failed: ") + e.what());
       }
-      o.seconds = secondsSince(start);
+      o.seconds = elapsedSeconds(start);
     }
     return;
   }
@@ -174,7 +174,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
     const auto [i, start] = it->second;
     running.erase(it);
     CaseOutcome& o = outcomes[i];
-    o.seconds = secondsSince(start);
+    o.seconds = elapsedSeconds(start);
     std::ifstream logFile(logOf(i));
     std::ostringstream log;
     log << logFile.rdbuf();
@@ -318,7 +318,7 @@ int runRegress(const RegressArgs& a) {
   return failed == 0 ? 0 : 1;
 }
 
-const CommandRegistration registration("regress", 60, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration regressCommand("regress", 60, [](CLI::App& app) -> std::function<int()> {
   auto a = std::make_shared<RegressArgs>();
   app.description("render a suite of cases (JSON) and compare each with its golden image (docs/REGRESS.md)");
   app.add_option("suite", a->suite, "suite file (JSON): cases of input, render options, golden image")

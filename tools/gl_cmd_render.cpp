@@ -309,7 +309,7 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
 
 namespace {
 
-const CommandRegistration registration("render", 50, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration renderCommand("render", 50, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<RenderOptions>();
   app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();

@@ -37,7 +37,7 @@ int runView(const ViewOptions& o) {
   return runViewer(o, std::move(script));
 }
 
-const CommandRegistration registration("view", 55, [](CLI::App& app) -> std::function<int()> {
+const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<ViewOptions>();
   app.description(
       "view a store or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; panels for "

@@ -10,7 +10,7 @@
 namespace ropecast {
 namespace {
 
-NodeKey key(uint32_t i) {
+NodeKey cacheKey(uint32_t i) {
   return {2, {i, 1, 0}};
 }
 SharedBrick brick(size_t bytes) {
@@ -19,24 +19,24 @@ SharedBrick brick(size_t bytes) {
 
 TEST(BrickCache, EvictsTheLeastRecentlyUsed) {
   BrickCache c(300, 100);
-  c.put(key(0), brick(100));
-  c.put(key(1), brick(100));
-  c.put(key(2), brick(100));
+  c.put(cacheKey(0), brick(100));
+  c.put(cacheKey(1), brick(100));
+  c.put(cacheKey(2), brick(100));
   EXPECT_EQ(c.bytes(), 300u);
-  EXPECT_TRUE(c.get(key(0)));  // key(1) is now the least recent
-  c.put(key(3), brick(100));
-  EXPECT_FALSE(c.contains(key(1)));
-  EXPECT_TRUE(c.contains(key(0)));
-  EXPECT_EQ(c.keysByRecency(), (std::vector<NodeKey>{key(3), key(0), key(2)}));
+  EXPECT_TRUE(c.get(cacheKey(0)));  // cacheKey(1) is now the least recent
+  c.put(cacheKey(3), brick(100));
+  EXPECT_FALSE(c.contains(cacheKey(1)));
+  EXPECT_TRUE(c.contains(cacheKey(0)));
+  EXPECT_EQ(c.keysByRecency(), (std::vector<NodeKey>{cacheKey(3), cacheKey(0), cacheKey(2)}));
   EXPECT_EQ(c.evictions(), 1u);
-  EXPECT_EQ(c.get(key(1)), nullptr);
+  EXPECT_EQ(c.get(cacheKey(1)), nullptr);
 }
 
 TEST(BrickCache, NeverExceedsItsBudget) {
   std::mt19937 rng(3);
   BrickCache c(1000, 64);
   for (int i = 0; i < 2000; ++i) {
-    const NodeKey k = key(std::uniform_int_distribution<uint32_t>(0, 50)(rng));
+    const NodeKey k = cacheKey(std::uniform_int_distribution<uint32_t>(0, 50)(rng));
     if (rng() % 3 == 0) {
       c.get(k);
     } else {
@@ -53,9 +53,9 @@ TEST(BrickCache, ABrickInUseOutlivesItsEviction) {
   BrickCache c(100, 100);
   SharedBrick held = brick(100);
   (*std::const_pointer_cast<BrickBytes>(held))[0] = std::byte{42};
-  c.put(key(0), held);
-  c.put(key(1), brick(100));
-  EXPECT_FALSE(c.contains(key(0)));
+  c.put(cacheKey(0), held);
+  c.put(cacheKey(1), brick(100));
+  EXPECT_FALSE(c.contains(cacheKey(0)));
   EXPECT_EQ((*held)[0], std::byte{42});
   EXPECT_EQ(held.use_count(), 1);
 }

@@ -15,12 +15,12 @@ namespace {
 using testing::FakeBrickSource;
 using namespace std::chrono_literals;
 
-NodeKey key(uint32_t i) {
+NodeKey nodeAtDepth2(uint32_t i) {
   return {2, {i % 4, i / 4 % 4, i / 16}};
 }
 
 // 64^3, bricks of 16: depth 2 has 4^3 nodes.
-FakeBrickSource makeSource() {
+FakeBrickSource makeSource64() {
   return FakeBrickSource({64, 64, 64}, 16);
 }
 
@@ -44,15 +44,20 @@ std::vector<LoadedBrick> takeAll(IoQueue& q, size_t count) {
 }
 
 TEST(IoQueue, ReadsInPriorityOrderAndDeliversTheBricks) {
-  FakeBrickSource src = makeSource();
+  FakeBrickSource src = makeSource64();
   src.setGate(false);
   IoQueue q(src, 1);
-  q.replaceRequests({{key(1), 1.0}, {key(2), 5.0}, {key(3), 3.0}, {key(4), 4.0}, {key(5), 2.0}});
+  q.replaceRequests({{nodeAtDepth2(1), 1.0},
+                     {nodeAtDepth2(2), 5.0},
+                     {nodeAtDepth2(3), 3.0},
+                     {nodeAtDepth2(4), 4.0},
+                     {nodeAtDepth2(5), 2.0}});
   ASSERT_TRUE(waitUntil([&] { return q.inFlightCount() == 1; }));
   src.setGate(true);
   const std::vector<LoadedBrick> loaded = takeAll(q, 5);
   ASSERT_EQ(loaded.size(), 5u);
-  EXPECT_EQ(src.readOrder(), (std::vector<NodeKey>{key(2), key(4), key(3), key(5), key(1)}));
+  EXPECT_EQ(src.readOrder(), (std::vector<NodeKey>{nodeAtDepth2(2), nodeAtDepth2(4), nodeAtDepth2(3),
+                                                   nodeAtDepth2(5), nodeAtDepth2(1)}));
   for (const LoadedBrick& b : loaded) {
     ASSERT_TRUE(b.brick);
     ASSERT_EQ(b.brick->size(), src.brickBytes());
@@ -62,33 +67,34 @@ TEST(IoQueue, ReadsInPriorityOrderAndDeliversTheBricks) {
 }
 
 TEST(IoQueue, DropsRequestsNoLongerWantedAndReadsThemWhenWantedAgain) {
-  FakeBrickSource src = makeSource();
+  FakeBrickSource src = makeSource64();
   src.setGate(false);
   IoQueue q(src, 1);
-  q.replaceRequests({{key(0), 10.0}, {key(1), 5.0}, {key(2), 1.0}});
-  ASSERT_TRUE(waitUntil([&] { return q.inFlightCount() == 1; }));  // key(0) is being read
-  // The next frame wants key(2) only: key(1) is dropped; key(0), in flight, is not read twice.
-  q.replaceRequests({{key(2), 1.0}, {key(0), 10.0}});
+  q.replaceRequests({{nodeAtDepth2(0), 10.0}, {nodeAtDepth2(1), 5.0}, {nodeAtDepth2(2), 1.0}});
+  ASSERT_TRUE(waitUntil([&] { return q.inFlightCount() == 1; }));  // nodeAtDepth2(0) is being read
+  // The next frame wants nodeAtDepth2(2) only: nodeAtDepth2(1) is dropped; nodeAtDepth2(0), in flight, is not
+  // read twice.
+  q.replaceRequests({{nodeAtDepth2(2), 1.0}, {nodeAtDepth2(0), 10.0}});
   EXPECT_EQ(q.queuedCount(), 1u);
   EXPECT_EQ(q.pendingCount(), 2u);
   src.setGate(true);
   std::vector<LoadedBrick> loaded = takeAll(q, 2);
   ASSERT_EQ(loaded.size(), 2u);
-  EXPECT_EQ(src.readOrder(), (std::vector<NodeKey>{key(0), key(2)}));
+  EXPECT_EQ(src.readOrder(), (std::vector<NodeKey>{nodeAtDepth2(0), nodeAtDepth2(2)}));
   EXPECT_EQ(q.readsStarted(), 2u);
 
-  q.replaceRequests({{key(1), 1.0}});
+  q.replaceRequests({{nodeAtDepth2(1), 1.0}});
   loaded = takeAll(q, 1);
   ASSERT_EQ(loaded.size(), 1u);
-  EXPECT_EQ(loaded[0].key, key(1));
+  EXPECT_EQ(loaded[0].key, nodeAtDepth2(1));
   EXPECT_EQ(q.readsStarted(), 3u);
 }
 
 TEST(IoQueue, BoundsTheBricksWaitingToBeTaken) {
-  FakeBrickSource src = makeSource();
+  FakeBrickSource src = makeSource64();
   IoQueue q(src, 2, /*maxReadyBricks=*/3);
   std::vector<BrickRequest> requests;
-  for (uint32_t i = 0; i < 20; ++i) requests.push_back({key(i), double(i)});
+  for (uint32_t i = 0; i < 20; ++i) requests.push_back({nodeAtDepth2(i), double(i)});
   q.replaceRequests(requests);
   ASSERT_TRUE(waitUntil([&] { return q.readsStarted() >= 3; }));
   std::this_thread::sleep_for(30ms);
@@ -99,14 +105,14 @@ TEST(IoQueue, BoundsTheBricksWaitingToBeTaken) {
 }
 
 TEST(IoQueue, ReportsAFailedRead) {
-  FakeBrickSource src = makeSource();
-  src.failOn(key(3));
+  FakeBrickSource src = makeSource64();
+  src.failOn(nodeAtDepth2(3));
   IoQueue q(src, 2);
-  q.replaceRequests({{key(2), 1.0}, {key(3), 2.0}});
+  q.replaceRequests({{nodeAtDepth2(2), 1.0}, {nodeAtDepth2(3), 2.0}});
   const std::vector<LoadedBrick> all = takeAll(q, 2);
   ASSERT_EQ(all.size(), 2u);
   for (const LoadedBrick& b : all) {
-    if (b.key == key(3)) {
+    if (b.key == nodeAtDepth2(3)) {
       EXPECT_FALSE(b.brick);
       EXPECT_NE(b.error.find("injected failure"), std::string::npos);
     } else {
@@ -117,13 +123,13 @@ TEST(IoQueue, ReportsAFailedRead) {
 }
 
 TEST(IoQueue, ShutsDownWithRequestsInFlightWithoutWaitingForTheQueue) {
-  FakeBrickSource fake = makeSource();
+  FakeBrickSource fake = makeSource64();
   DelayedBrickSource slow(fake, 40.0);
   const auto start = std::chrono::steady_clock::now();
   {
     IoQueue q(slow, 2);
     std::vector<BrickRequest> requests;
-    for (uint32_t i = 0; i < 64; ++i) requests.push_back({key(i), double(i)});
+    for (uint32_t i = 0; i < 64; ++i) requests.push_back({nodeAtDepth2(i), double(i)});
     q.replaceRequests(requests);
     ASSERT_TRUE(waitUntil([&] { return q.inFlightCount() > 0; }));
   }  // destroyed with 2 reads in flight and ~60 queued
@@ -134,17 +140,17 @@ TEST(IoQueue, ShutsDownWithRequestsInFlightWithoutWaitingForTheQueue) {
 }
 
 TEST(IoQueue, DelayedSourceAddsLatencyToEveryRead) {
-  FakeBrickSource fake = makeSource();
+  FakeBrickSource fake = makeSource64();
   DelayedBrickSource slow(fake, 25.0);
   BrickBytes out(slow.brickBytes());
   const auto start = std::chrono::steady_clock::now();
-  slow.readBrick(key(1), out);
-  slow.readBrick(key(2), out);
+  slow.readBrick(nodeAtDepth2(1), out);
+  slow.readBrick(nodeAtDepth2(2), out);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   EXPECT_GE(ms, 50.0);
-  EXPECT_EQ(out[5], std::byte(testing::patternByte(key(2), 5)));
-  EXPECT_EQ(slow.node(key(1)).kind, NodeKind::Data);
+  EXPECT_EQ(out[5], std::byte(testing::patternByte(nodeAtDepth2(2), 5)));
+  EXPECT_EQ(slow.node(nodeAtDepth2(1)).kind, NodeKind::Data);
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ struct Rendered {
   std::vector<FrameStats> frames;
 };
 
-struct Case {
+struct ConvergeCase {
   RenderMode mode = RenderMode::Iso;
   uint64_t gpuBudgetBytes = 4ull << 20;
   uint64_t cpuCacheBytes = 8ull << 20;
@@ -63,7 +63,8 @@ class ConvergeTest : public ::testing::Test {
 
   // Renders with a fresh FrameRenderer (cold caches): one synchronous frame, or asynchronous frames until
   // converged (at most maxFrames).
-  Rendered render(const BrickSource& source, const Case& c, bool synchronous, uint32_t maxFrames = 2000) {
+  Rendered render(const BrickSource& source, const ConvergeCase& c, bool synchronous,
+                  uint32_t maxFrames = 2000) {
     FrameRendererConfig config;
     config.gpuBudgetBytes = c.gpuBudgetBytes;
     config.cpuCacheBytes = c.cpuCacheBytes;
@@ -107,7 +108,7 @@ class ConvergeTest : public ::testing::Test {
   }
 
   // The asynchronous run converged to the synchronous cut and image, and respected the budgets every frame.
-  void expectConvergesToSynchronous(const BrickSource& source, const Case& c) {
+  void expectConvergesToSynchronous(const BrickSource& source, const ConvergeCase& c) {
     const Rendered sync = render(source, c, /*synchronous=*/true);
     ASSERT_TRUE(sync.frames.back().converged);
     const Rendered async = render(source, c, /*synchronous=*/false);
@@ -174,12 +175,12 @@ class ConvergeTest : public ::testing::Test {
 
 TEST_F(ConvergeTest, IsoFromAColdCacheEqualsTheSynchronousImage) {
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
-  expectConvergesToSynchronous(source, Case{});
+  expectConvergesToSynchronous(source, ConvergeCase{});
 }
 
 TEST_F(ConvergeTest, DvrFromAColdCacheEqualsTheSynchronousImage) {
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
-  Case c;
+  ConvergeCase c;
   c.mode = RenderMode::Dvr;
   expectConvergesToSynchronous(source, c);
   c.gradients = GradientSource::Computed;
@@ -188,7 +189,7 @@ TEST_F(ConvergeTest, DvrFromAColdCacheEqualsTheSynchronousImage) {
 
 TEST_F(ConvergeTest, ASmallUploadBudgetConvergesToTheSameImage) {
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
-  Case c;
+  ConvergeCase c;
   c.uploadBudgetBytes = 3 * source.brickBytes();  // fewer than the 8 children of a node
   expectConvergesToSynchronous(source, c);
   c.mode = RenderMode::Dvr;
@@ -199,7 +200,7 @@ TEST_F(ConvergeTest, ASmallUploadBudgetConvergesToTheSameImage) {
 TEST_F(ConvergeTest, ASlowSourceConvergesToTheSameImage) {
   const ProceduralBricks fast({ProceduralKind::Noise, 64}, 8);
   const DelayedBrickSource slow(fast, 3.0);
-  Case c;
+  ConvergeCase c;
   expectConvergesToSynchronous(slow, c);
   c.mode = RenderMode::Dvr;
   c.uploadBudgetBytes = 6 * fast.brickBytes();
@@ -208,7 +209,7 @@ TEST_F(ConvergeTest, ASlowSourceConvergesToTheSameImage) {
 
 TEST_F(ConvergeTest, AnUploadTimeBudgetAndPboUploadsConvergeToTheSameImage) {
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
-  Case c;
+  ConvergeCase c;
   c.uploadTimeBudgetMs = 0.5;  // tens of small bricks per frame on llvmpipe
   c.uploadThroughPbo = true;
   expectConvergesToSynchronous(source, c);
@@ -220,7 +221,7 @@ TEST_F(ConvergeTest, AnUploadTimeBudgetAndPboUploadsConvergeToTheSameImage) {
 TEST_F(ConvergeTest, PreparingTheProgramBeforeTheFirstFrameChangesNothing) {
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
   for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
-    Case c;
+    ConvergeCase c;
     c.mode = mode;
     const Rendered plain = render(source, c, /*synchronous=*/true);
     c.prepare = true;
@@ -236,7 +237,7 @@ TEST_F(ConvergeTest, PreparingTheProgramBeforeTheFirstFrameChangesNothing) {
 TEST_F(ConvergeTest, ASmallPoolConvergesToTheSameCoarserImage) {
   // The pool holds fewer bricks than the view wants at one voxel per pixel: both modes stop at PoolFull.
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
-  Case c;
+  ConvergeCase c;
   c.gpuBudgetBytes = 64 * c.gpuBytesPerSlot(source);  // four rows of 16 slots
   c.voxelsPerPixel = 2.0;
   c.expectPoolFull = true;

@@ -3,8 +3,8 @@
 // --backend multipass (the same cut, the same pool slots), for iso and DVR, procedural sphere, Menger sponge
 // and noise (the CT-like one), from outside the volume and from inside it. Both take the same samples of the
 // same global grid in the same order, so the images agree far above the 40 dB asked (identical here); what
-// could differ sits on block silhouettes, where a pixel's coverage by the rasterized box and its ray's clip to
-// the box disagree by rounding, which MultipassPass prevents by rasterizing each box slightly larger.
+// could differ sits on block silhouettes, where a pixel's coverage by the rasterized box and its ray's clip
+// to the box disagree by rounding, which MultipassPass prevents by rasterizing each box slightly larger.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,20 +23,20 @@ namespace {
 using test::psnrDb;
 using test::sharedGlContext;
 
-struct Case {
+struct MultipassCase {
   std::string volume;  // procedural spec
   RenderMode mode = RenderMode::Iso;
   bool inside = false;  // the eye inside the volume box
 };
 
-std::string caseName(const Case& c) {
+std::string multipassCaseName(const MultipassCase& c) {
   return c.volume + (c.mode == RenderMode::Iso ? " iso" : " dvr") + (c.inside ? " inside" : " outside");
 }
 
-class MultipassTest : public ::testing::TestWithParam<Case> {};
+class MultipassTest : public ::testing::TestWithParam<MultipassCase> {};
 
 TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
-  const Case& c = GetParam();
+  const MultipassCase& c = GetParam();
   GlContext& gl = sharedGlContext();
   const std::unique_ptr<ProceduralBricks> source = openProceduralBricks(c.volume, 8);
   const BrickSourceInfo& info = source->info();
@@ -94,7 +94,7 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
 
   // Color (with the background under it) and coverage.
   const double colorDb = psnrDb(singleColor, multiColor, 4);
-  EXPECT_GE(colorDb, 40.0) << caseName(c);
+  EXPECT_GE(colorDb, 40.0) << multipassCaseName(c);
   // Depth: the same hits and last opaque samples, compared where both have one.
   uint64_t both = 0, differ = 0, coverageDiffers = 0;
   for (size_t i = 0; i < singleDepth.pixels.size(); ++i) {
@@ -104,24 +104,25 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
     ++both;
     if (std::abs(a - b) > 1e-3f * std::max(1.0f, std::abs(a))) ++differ;
   }
-  EXPECT_GT(both, 0u) << caseName(c);
-  EXPECT_LE(differ + coverageDiffers, singleDepth.pixels.size() / 100) << caseName(c);
+  EXPECT_GT(both, 0u) << multipassCaseName(c);
+  EXPECT_LE(differ + coverageDiffers, singleDepth.pixels.size() / 100) << multipassCaseName(c);
   std::printf("  %s: %llu data leaves, color %.1f dB, depth: %llu of %llu differ, %llu differ in coverage\n",
-              caseName(c).c_str(), (unsigned long long)dataLeaves, colorDb, (unsigned long long)differ,
-              (unsigned long long)both, (unsigned long long)coverageDiffers);
+              multipassCaseName(c).c_str(), (unsigned long long)dataLeaves, colorDb,
+              (unsigned long long)differ, (unsigned long long)both, (unsigned long long)coverageDiffers);
 }
 
 INSTANTIATE_TEST_SUITE_P(Multipass, MultipassTest,
-                         ::testing::Values(Case{"procedural:sphere:64", RenderMode::Iso, false},
-                                           Case{"procedural:sphere:64", RenderMode::Dvr, false},
-                                           Case{"procedural:menger:54", RenderMode::Iso, false},
-                                           Case{"procedural:menger:54", RenderMode::Dvr, false},
-                                           Case{"procedural:noise:48", RenderMode::Iso, false},
-                                           Case{"procedural:noise:48", RenderMode::Dvr, false},
-                                           Case{"procedural:sphere:64", RenderMode::Iso, true},
-                                           Case{"procedural:noise:48", RenderMode::Dvr, true}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           std::string name = caseName(info.param).substr(std::string("procedural:").size());
+                         ::testing::Values(MultipassCase{"procedural:sphere:64", RenderMode::Iso, false},
+                                           MultipassCase{"procedural:sphere:64", RenderMode::Dvr, false},
+                                           MultipassCase{"procedural:menger:54", RenderMode::Iso, false},
+                                           MultipassCase{"procedural:menger:54", RenderMode::Dvr, false},
+                                           MultipassCase{"procedural:noise:48", RenderMode::Iso, false},
+                                           MultipassCase{"procedural:noise:48", RenderMode::Dvr, false},
+                                           MultipassCase{"procedural:sphere:64", RenderMode::Iso, true},
+                                           MultipassCase{"procedural:noise:48", RenderMode::Dvr, true}),
+                         [](const ::testing::TestParamInfo<MultipassCase>& info) {
+                           std::string name =
+                               multipassCaseName(info.param).substr(std::string("procedural:").size());
                            for (char& ch : name)
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return name;
