@@ -85,6 +85,11 @@ void FeedbackBuffer::end(uint64_t frame) {
   checkGlError("FeedbackBuffer::end");
 }
 
+void FeedbackBuffer::discard() {
+  if (!inFrame_) throw Error("FeedbackBuffer::discard: no frame begun");
+  inFrame_ = false;
+}
+
 std::optional<FeedbackReadback> FeedbackBuffer::poll() {
   if (inFlightCount_ == 0) return std::nullopt;
   Slot& s = ring_[oldest_];

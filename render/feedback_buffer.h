@@ -6,7 +6,8 @@
 //   the ray cast      RaycastFrame::feedback = this (RaycastPass binds it);
 //   end(frame)        copies counters and lists into a free ring slot and fences the copy; with every slot
 //                     still in flight it skips the frame's readback (counted) rather than wait;
-//   poll()            the oldest frame whose fence has signaled, else nothing; never waits.
+//   poll()            the oldest frame whose fence has signaled, else nothing; never waits;
+//   discard()         instead of end(): no readback (a draw that only compiles the shader).
 // Leaf indices are those of the frame's cut (RopeLeaf.leafIndex): the caller keeps the cuts of the frames in
 // flight to map them to nodes.
 //
@@ -57,6 +58,9 @@ class FeedbackBuffer {
   // Ends the frame: queues the readback of its counters and lists, fenced. Skips it when all ring slots are
   // in flight. Throws ropecast::Error without an open frame.
   void end(uint64_t frame);
+  // Ends the frame without a readback: for a draw that only makes the driver compile the shader
+  // (FrameRenderer::prepare). Throws ropecast::Error without an open frame.
+  void discard();
   // The oldest frame whose readback has arrived, or nothing; never waits.
   std::optional<FeedbackReadback> poll();
 

@@ -157,8 +157,31 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   empty.leaves.push_back(CutLeaf{});  // the root, an empty leaf: rays traverse it and take no sample
   RopeIndex index;
   uploadIndex(empty, index);
-  raycast_.render(raycastFrame(request, 1, 1));
+  RaycastFrame frame = raycastFrame(request, 1, 1);
+  // An asynchronous frame casts the variant with feedback and issues queries (their programs, and the
+  // compute entry point's stop-depth copy): those draw here too, and what they would answer is dropped.
+  const bool async = !request.synchronous;
+  if (feedback_ && async) {
+    feedback_->begin(1);
+    frame.feedback = feedback_.get();
+    frame.voxelsPerPixel = request.voxelsPerPixel;
+  }
+  TileSchedule schedule;
+  std::vector<QueryBox> volumeBox;
+  // Only with no query pending: dropPending() below forgets them all.
+  const bool query = queries_ && async && queries_->pendingCount() == 0;
+  if (query) {
+    const BrickSourceInfo& info = source_.info();
+    const glm::dvec3 extent = glm::dvec3(info.volume.dims) * info.volume.spacing;
+    volumeBox.push_back({NodeKey{}, {{WorldBox{glm::dvec3(0.0), extent}}, 1}});
+    schedule.afterFirstTile = [&] {
+      queries_->issue(volumeBox, request.camera, 1, 1, windowDepthRange(request.camera, extent), frame_);
+    };
+  }
+  raycast_.render(frame, schedule);
+  if (frame.feedback) feedback_->discard();
   raycast_.lastRaycastMs();  // waits for the draw
+  if (query) queries_->dropPending();
 }
 
 void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {

@@ -99,9 +99,11 @@ class FrameRenderer {
   // keep the last one's image instead of drawing (FrameRequest::keepConvergedImage).
   FrameStats render(const FrameRequest& request);
 
-  // Compiles the ray-cast program of the request's backend and mode and draws it once, on a 1x1 image of an
-  // empty cut: drivers that compile at the first draw (llvmpipe's JIT, ~0.1-0.4 s) do it here rather than in
-  // the first frame's time. Leaves the working set, the pool and the frame counter as they were.
+  // Compiles the ray-cast program of the request's backend and mode (with feedback for an asynchronous
+  // request when feedback is on) and draws it once, on a 1x1 image of an empty cut, with an occlusion query
+  // when occlusion is on: drivers that compile at the first draw (llvmpipe's JIT, ~0.1-0.4 s a program) do
+  // it here rather than in the first frames' times. Leaves the working set, the pool, the frame counter, the
+  // feedback and the occlusion answers as they were.
   void prepare(const FrameRequest& request);
 
   // The last frame's targets (row 0 at the top): RGBA and depth.

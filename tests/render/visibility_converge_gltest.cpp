@@ -3,7 +3,7 @@
 // them at >= 40 dB PSNR, opaque isosurface and semi-transparent DVR, both backends) and the working set is
 // smaller; frames go on when no answer comes back; after a change of isovalue the tree converges as a fresh
 // start at the new one would; the frame that only learns the image converged keeps it instead of drawing it
-// again.
+// again; the warm-up draw (FrameRenderer::prepare) leaves no query or feedback behind.
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -161,6 +161,28 @@ TEST_P(VisibilityConvergeTest, SemiTransparentDvrLooksTheSame) {
   EXPECT_EQ(on.changesAfterConvergence, 0u) << "declared converged, and then the cut changed";
   EXPECT_GE(test::psnrDb(on.color, off.color), 40.0);
   EXPECT_LE(on.dataLeaves, off.dataLeaves);
+}
+
+TEST_P(VisibilityConvergeTest, PreparingLeavesNoQueryOrFeedbackBehind) {
+  const auto [backend, visibility] = GetParam();
+  const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
+  FrameRenderer renderer(test::sharedGlContext().info(), source, visibilityConfig(visibility, 64ull << 20));
+  const FrameRequest request = viewRequest(source.info(), RenderMode::Iso, backend);
+  // The warm-up draws the feedback variant and a query (their programs compile there), and keeps neither.
+  renderer.prepare(request);
+  if (const OcclusionQueries* queries = renderer.occlusionQueries()) {
+    EXPECT_EQ(queries->pendingCount(), 0u);
+  }
+  if (const FeedbackBuffer* feedback = renderer.feedbackBuffer()) {
+    EXPECT_FALSE(feedback->inFrame());
+    EXPECT_EQ(feedback->inFlight(), 0u);
+  }
+  FrameStats stats = renderer.render(request);
+  EXPECT_EQ(stats.frame, 0u);
+  EXPECT_EQ(stats.occlusionAnswered, 0u);
+  EXPECT_EQ(stats.bricksUsed, 0u);
+  for (uint32_t frame = 1; frame < 400 && !stats.converged; ++frame) stats = renderer.render(request);
+  EXPECT_TRUE(stats.converged);
 }
 
 INSTANTIATE_TEST_SUITE_P(
