@@ -180,6 +180,7 @@ void WorkingSet::takeLoadedBricks() {
     bytesReadSinceUpdate_ += b.bytesRead;
     if (b.brick) {
       cache_.put(b.key, std::move(b.brick));
+      ++bricksTaken_;
     } else if (firstError.empty()) {
       firstError = "WorkingSet: reading the brick of " + describe(b.key) + " failed: " + b.error;
     }
@@ -237,11 +238,17 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   return out;
 }
 
-WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32_t maxFrames) {
+WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, const LoadProgressFn& progress,
+                                                 uint32_t maxFrames) {
   std::vector<BrickUpload> merged;
   std::unordered_map<uint32_t, size_t> indexOfSlot;
   double refineMs = 0.0;
   uint64_t usedBricksEvicted = 0, bytesRead = 0;
+  const uint64_t takenBefore = bricksTaken_;
+  const auto report = [&] {
+    if (progress)
+      progress({bricksTaken_ - takenBefore, io_->pendingCount(), bytesRead + bytesReadSinceUpdate_});
+  };
   WorkingSetFrame frame;
   for (uint32_t i = 0; i < std::max(maxFrames, 1u); ++i) {
     frame = update(input);
@@ -255,6 +262,7 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
       else
         merged[it->second] = std::move(u);  // the slot was reused: only its last brick matters
     }
+    report();
     if (frame.converged) break;
     // Wait for all the reads this frame asked for (they fit in the CPU cache: requests are capped), taking
     // them into the cache as they come, so that each refinement pass gets a whole wave of bricks. An
@@ -262,6 +270,7 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, uint32
     while (io_->pendingCount() > 0) {
       io_->waitForLoaded(std::chrono::milliseconds(1000));
       takeLoadedBricks();
+      report();
     }
   }
   frame.uploads = std::move(merged);

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <unordered_set>
@@ -65,6 +66,16 @@ struct BrickUpload {
   SharedBrick brick;  // storedBrickEdge()^3 samples of the stored type, kept alive by this pointer
 };
 
+// How far a synchronous load (WorkingSet::updateUntilConverged) has come, for a progress display: the bricks
+// read so far and the reads outstanding. The total is not known ahead: each refinement pass asks for the next
+// level's bricks once the level above is in, so readsPending grows in waves until the cut is complete.
+struct LoadProgress {
+  uint64_t bricksRead = 0;    // bricks the I/O workers delivered since the load began
+  uint64_t readsPending = 0;  // brick reads queued or in flight
+  uint64_t bytesRead = 0;     // what those reads took from the source (LoaderStats::bytesRead)
+};
+using LoadProgressFn = std::function<void(const LoadProgress&)>;
+
 struct WorkingSetFrame {
   std::vector<PlannedLeaf> leaves;   // the cut, a tiling of the root cube
   std::vector<BrickUpload> uploads;  // to upload before rendering this frame (at most one per slot)
@@ -85,8 +96,10 @@ class WorkingSet {
   // Repeats update(), waiting for the reads it asked for, until the cut is complete or maxFrames updates were
   // made. The uploads of all those updates are merged (the last one per slot); the stats are the last
   // update's, with the counts of work done (uploads, refine time, evictions, bytes read) summed over all of
-  // them.
-  WorkingSetFrame updateUntilConverged(const FrameInput& input, uint32_t maxFrames = 100000);
+  // them. `progress`, if set, hears how far the load has come after each update and each wave of reads
+  // taken (on the calling thread).
+  WorkingSetFrame updateUntilConverged(const FrameInput& input, const LoadProgressFn& progress = {},
+                                       uint32_t maxFrames = 100000);
 
   const BrickSourceInfo& info() const { return source_.info(); }
   uint64_t brickBytes() const { return brickBytes_; }
@@ -110,6 +123,7 @@ class WorkingSet {
   // FrameInput::hiddenNodes, during update().
   std::unordered_set<NodeKey, NodeKeyHash> hidden_;
   uint64_t bytesReadSinceUpdate_ = 0;  // by the reads taken since the last update()'s stats
+  uint64_t bricksTaken_ = 0;           // bricks read and taken into the CPU cache, ever
   std::unique_ptr<IoQueue> io_;        // last member: its workers stop before the rest goes away
   uint64_t frame_ = 0;
 };

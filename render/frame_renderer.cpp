@@ -354,8 +354,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   if (occlusion) visibility_->occludedNodes(frame_, input.hiddenNodes);
   if (!request.synchronous) lastView_ = request;
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
-  WorkingSetFrame plan =
-      request.synchronous ? workingSet_->updateUntilConverged(input) : workingSet_->update(input);
+  WorkingSetFrame plan = request.synchronous
+                             ? workingSet_->updateUntilConverged(input, request.onLoadProgress)
+                             : workingSet_->update(input);
   lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : plan.leaves)
     for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();

@@ -77,6 +77,9 @@ struct FrameRequest {
   // Synchronous: refine until the working set is complete before rendering; otherwise one asynchronous
   // loader step that never waits for the disk.
   bool synchronous = false;
+  // A synchronous frame's load as it goes (WorkingSet::updateUntilConverged), for a progress display; called
+  // on the render thread during render().
+  LoadProgressFn onLoadProgress;
   // For a caller that reads the targets (readColor, readDepth) and stops once a frame is converged: an
   // asynchronous frame that would draw the last frame's image again (the same request, the same cut,
   // nothing uploaded), when that image is converged, keeps it instead of drawing it (FrameStats::drawn

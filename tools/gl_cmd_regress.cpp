@@ -67,6 +67,7 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   refuse(!o.depth.empty(), "--depth");
   refuse(!o.stats.empty(), "--stats");
   refuse(o.every > 0, "--every");
+  o.quiet = true;  // cases render side by side (--jobs): their progress lines would mix
   o.input = c.input;
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
   if (!c.input.starts_with("procedural:") && !fs::is_regular_file(c.input))

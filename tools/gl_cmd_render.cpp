@@ -24,6 +24,7 @@
 #include "tools/command.h"
 #include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
+#include "tools/progress_bar.h"
 #include "tools/render_command.h"
 
 namespace ropecast::tools {
@@ -225,10 +226,24 @@ struct OctreeRender {
   FrameRequest request;
 };
 
+double mebibytes(uint64_t bytes) {
+  return double(bytes) / double(1 << 20);
+}
+
 // One frame without --frames, --converge or --path: load everything the view needs, then draw.
 RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/true);
+  ProgressBar progress("render", "", o.quiet);
+  if (progress.enabled()) {
+    octree.request.onLoadProgress = [&progress](const LoadProgress& p) {
+      char text[128];
+      std::snprintf(text, sizeof text, "loading, %llu bricks read, %llu pending, %.1f MiB",
+                    static_cast<unsigned long long>(p.bricksRead),
+                    static_cast<unsigned long long>(p.readsPending), mebibytes(p.bytesRead));
+      progress.status(text, p.readsPending == 0);
+    };
+  }
   s.stats->write(octree.renderer->render(octree.request));
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
@@ -241,6 +256,8 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
   FrameRequest& request = octree.request;
   const uint32_t frameCap = o.converge ? std::max(s.frames, o.maxFrames) : s.frames;
   StepPacer stepPacer(o.targetFrameMs);
+  ProgressBar progress("render", "", o.quiet);
+  uint64_t bytesRead = 0;
   for (uint32_t frame = 0;; ++frame) {
     request.camera = s.cameraOf(std::min(frame, s.frames - 1));
     request.params.stepVoxels = s.params.stepVoxels * stepPacer.scale();
@@ -249,6 +266,16 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     s.stats->write(stats);
     const bool last = o.converge ? (frame + 1 >= s.frames && stats.converged) || frame + 1 >= frameCap
                                  : frame + 1 >= s.frames;
+    bytesRead += stats.bytesRead;
+    if (progress.enabled()) {
+      char text[160];
+      const std::string of = o.converge && s.frames <= 1 ? "" : "/" + std::to_string(s.frames);
+      std::snprintf(text, sizeof text,
+                    "frame %u%s, working set %llu bricks, %llu reads pending, %.1f MiB read", frame + 1,
+                    of.c_str(), static_cast<unsigned long long>(stats.workingSetBricks),
+                    static_cast<unsigned long long>(stats.requestsPending), mebibytes(bytesRead));
+      progress.status(text, last);
+    }
     // --every writes the frame's PNG only: the EXR and depth outputs are the last frame's, written once.
     if (o.every > 0 && (frame % o.every == 0) && !last)
       writePng(framePath(o.output, frame), octree.renderer->readColor(), false);
@@ -305,6 +332,7 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
   app.add_flag("--converge", o.converge, "render until the working set is complete and nothing is pending");
   app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")->capture_default_str();
   app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
+  app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }
 
 namespace {

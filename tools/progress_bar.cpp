@@ -37,6 +37,21 @@ void ProgressBar::update(uint64_t done, uint64_t total) {
   draw(done, total);
 }
 
+void ProgressBar::status(const std::string& text, bool now) {
+  if (!enabled_ || finished_) return;
+  const auto time = std::chrono::steady_clock::now();
+  if (drawn_ && !now && time - lastDraw_ < std::chrono::milliseconds(100)) return;
+  lastDraw_ = time;
+  std::string line =
+      label_ + ": " + text + "  " + formatDuration(std::chrono::duration<double>(time - start_).count());
+  const size_t width = line.size();
+  if (width < lastStatusWidth_) line.append(lastStatusWidth_ - width, ' ');
+  lastStatusWidth_ = width;
+  std::fprintf(stderr, "\r%s", line.c_str());
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
 void ProgressBar::draw(uint64_t done, uint64_t total) {
   constexpr int kWidth = 30;
   const double fraction = total > 0 ? double(done) / double(total) : 1.0;

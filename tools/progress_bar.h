@@ -1,6 +1,7 @@
-// ProgressBar: a one-line bar with percentage, rate and ETA on stderr, for long commands (convert, verify).
-// Draws only when enabled (stderr is a terminal and --quiet was not given), at most ~10 times a second.
-// Owned by the command that runs; update() from one thread at a time.
+// ProgressBar: a one-line bar with percentage, rate and ETA on stderr, for long commands (convert, verify),
+// or a status line where the total is not known (render). Draws only when enabled (stderr is a terminal and
+// --quiet was not given), at most ~10 times a second. Owned by the command that runs; update() from one
+// thread at a time.
 #pragma once
 
 #include <chrono>
@@ -16,6 +17,9 @@ class ProgressBar {
   ~ProgressBar();
 
   void update(uint64_t done, uint64_t total);
+  // For work whose total is not known ahead (a render's loading): "label: text  elapsed" in place of the
+  // bar, at most ~10 times a second; `now` draws it whatever the time (the last state before finish()).
+  void status(const std::string& text, bool now = false);
   void finish();  // ends the line (once)
   bool enabled() const { return enabled_; }
 
@@ -27,6 +31,7 @@ class ProgressBar {
 
   std::string label_, unit_;
   bool enabled_ = false, drawn_ = false, finished_ = false;
+  size_t lastStatusWidth_ = 0;  // a shorter status line pads to cover the last one
   std::chrono::steady_clock::time_point start_, lastDraw_;
 };
 

@@ -51,6 +51,7 @@ struct RenderOptions {
   bool feedback = true;
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
   uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
+  bool quiet = false;  // no progress line (there is one only when stderr is a terminal)
 };
 
 // Adds every option of `ropecast render` but the input and -o to `app`, bound to `o`.

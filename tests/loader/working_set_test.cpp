@@ -1,6 +1,6 @@
 // The per-frame loader end to end on a fake source: convergence from a cold cache to the synchronous cut,
 // budgets never exceeded, never a hole, no I/O for emptiness changes or revisited views, which bricks a full
-// GPU pool gives up (used ones last, hidden ones first), shutdown in flight.
+// GPU pool gives up (used ones last, hidden ones first), shutdown in flight, a synchronous load's progress.
 #include "loader/working_set.h"
 
 #include <algorithm>
@@ -145,6 +145,26 @@ TEST(WorkingSet, ColdAsyncFramesConvergeToTheSynchronousCutWithinBudgets) {
   for (const NodeKey& k : fake.readOrder()) {
     EXPECT_NE(fake.node(k).kind, NodeKind::Constant);
   }
+}
+
+TEST(WorkingSet, ASynchronousLoadReportsItsProgressUntilNothingIsPending) {
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  in.isEmpty = isoEmpty;
+  FakeBrickSource src = makeScene();
+  WorkingSet ws(src, config());
+  std::vector<LoadProgress> reports;
+  const WorkingSetFrame f = ws.updateUntilConverged(in, [&](const LoadProgress& p) { reports.push_back(p); });
+  ASSERT_TRUE(f.converged);
+  // More than one report: the load comes in waves, a level at a time.
+  ASSERT_GT(reports.size(), 2u);
+  for (size_t i = 1; i < reports.size(); ++i) {
+    EXPECT_GE(reports[i].bricksRead, reports[i - 1].bricksRead);
+    EXPECT_GE(reports[i].bytesRead, reports[i - 1].bytesRead);
+  }
+  EXPECT_GT(reports.front().readsPending, 0u);  // the first pass asked for reads
+  EXPECT_EQ(reports.back().readsPending, 0u);
+  EXPECT_EQ(reports.back().bricksRead, src.reads());
+  EXPECT_EQ(reports.back().bytesRead, f.stats.bytesRead);
 }
 
 TEST(WorkingSet, EmptinessChangesAndRevisitedViewsNeedNoIo) {
