@@ -7,6 +7,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <set>
@@ -207,7 +208,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
   if (o.backend == RenderBackend::Brute)
     throw Error(
         "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
-        "(auto, fragment or compute)");
+        "(auto, fragment, compute or multipass)");
   source_ = openBrickSource(o);
   if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
   const BrickSourceInfo& info = bricks().info();
@@ -632,13 +633,12 @@ void Viewer::drawPanels() {
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
     ImGui::TextDisabled("budgets (--gpu-budget, --cpu-cache, --upload-*) are set at start");
     ImGui::PopTextWrapPos();
-    int backend = params_.backend == RenderBackend::Auto       ? 0
-                  : params_.backend == RenderBackend::Fragment ? 1
-                                                               : 2;
-    ImGui::Combo("backend", &backend, "auto\0fragment\0compute\0");
-    params_.backend = backend == 0   ? RenderBackend::Auto
-                      : backend == 1 ? RenderBackend::Fragment
-                                     : RenderBackend::Compute;
+    // In the combo's order; --backend brute never gets here (refused at start).
+    constexpr RenderBackend kBackends[] = {RenderBackend::Auto, RenderBackend::Fragment,
+                                           RenderBackend::Compute, RenderBackend::Multipass};
+    int backend = int(std::find(std::begin(kBackends), std::end(kBackends), params_.backend) - kBackends);
+    ImGui::Combo("backend", &backend, "auto\0fragment\0compute\0multipass\0");
+    params_.backend = kBackends[std::clamp(backend, 0, int(std::size(kBackends)) - 1)];
     int gradients = params_.gradients == GradientSource::Stored ? 0 : 1;
     ImGui::Combo("DVR gradients", &gradients, "stored\0computed\0");
     params_.gradients = gradients == 0 ? GradientSource::Stored : GradientSource::Computed;

@@ -47,6 +47,12 @@ run "view --screenshot" xview $vol --screenshot "$dir/v0.png"
 run "render --converge" "$ropecast" render $vol --converge -o "$dir/r0.png"
 same "converged view = render" "$dir/v0.png" "$dir/r0.png"
 
+# --backend multipass: the viewer draws with it (the panel's backend list has it), the image render's.
+run "view --backend multipass" xview $vol --backend multipass --screenshot "$dir/vm.png" --stats "$dir/vm.jsonl"
+grep -q '"backend":"multipass"' <<< "$(tail -n 1 "$dir/vm.jsonl")" ||
+  fail "--backend multipass: the last frame was drawn with another backend: $(tail -n 1 "$dir/vm.jsonl")"
+same "multipass view = render" "$dir/vm.png" "$dir/r0.png"
+
 # A drag of (+40, +20) pixels: azimuth 30 - 40 * 0.25, elevation 20 + 20 * 0.25; the saved camera is that orbit.
 cat > "$dir/drag.json" << JSON
 [{"event": "drag", "from": [48, 48], "to": [88, 68], "steps": 4, "seconds": 0.2},
