@@ -59,7 +59,8 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
       ->check(finiteIn(0.01, 64.0))
       ->capture_default_str();
   addByteSizeOption(app, "--gpu-budget", o.gpuBudget,
-                    "GPU brick pool bytes (e.g. 512M; default from the driver)")
+                    "GPU brick pool bytes, allocated at start (e.g. 512M; default: half the GPU memory the "
+                    "driver reports, at most 4G, or 512M if it reports none)")
       ->check(nonZeroSize("leave --gpu-budget out for the driver's default"));
   addByteSizeOption(app, "--cpu-cache", o.cpuCache, "CPU brick cache bytes")->default_str("1G");
   addByteSizeOption(app, "--upload-budget", o.uploadBudget,

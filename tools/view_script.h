@@ -5,8 +5,9 @@
 // any thread.
 //
 // File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
-// "at" (seconds after the first frame, default 0). Events run in file order; an event never runs before its
-// time, and "screenshot" and "wait_converged" hold back the ones after them until the view has converged.
+// "at" (seconds after the first frame; default: the event before's, 0 for the first). Events run in file
+// order; an event never runs before its time, and "screenshot" and "wait_converged" hold back the ones after
+// them until the view has converged.
 #pragma once
 
 #include <cstdint>
