@@ -35,6 +35,7 @@
 #include "tools/bench_modes.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
+#include "tools/output_guard.h"
 #include "tools/progress_bar.h"
 
 extern char** environ;
@@ -190,6 +191,18 @@ int runModesBench(const Options& o) {
   if (!o.path.empty() && !o.orbit.empty()) throw Error("--path and --orbit exclude each other");
   const std::filesystem::path out(o.out);
   if (!o.configs.empty()) chooseConfigs(o.configs, "");  // names checked before anything is read
+  // No output may be an input (the store, --tf, --path); checked before anything is written.
+  OutputGuard guard("bench modes");
+  guard.addInput("the input", o.input);
+  if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
+  guard.addInput("--path", o.path);
+  guard.addOutput("--out", (out / "bench.json").string());
+  if (!o.noPlot) {
+    guard.addOutput("--out", (out / "plot_frame_times.py").string());
+    guard.addOutput("--out", (out / "frame_times.png").string());
+  }
+  guard.addOutputSeries("--out", (out / "images").string(), "*", [](const std::string&) { return true; });
+  guard.check();
   const std::unique_ptr<BrickSource> source = openInput(o);
   const BrickSourceInfo& info = source->info();
   const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# No command overwrites what it reads: every output option of convert, render and extract (regress's in
-# regress.sh) aimed at an input (by its name, a symlink or a hard link; a file of an input folder or glob) or at
-# another output of the same run fails with 1..127 and a message naming both, writes nothing and leaves the
+# No command overwrites what it reads: every output option of convert, render, extract and bench modes (regress's
+# in regress.sh) aimed at an input (by its name, a symlink or a hard link; a file of an input folder or glob) or
+# at another output of the same run fails with 1..127 and a message naming both, writes nothing and leaves the
 # inputs as they were; so does an output that names a folder.
 # Usage: bash output_guard.sh /path/to/ropecast
 set -uo pipefail
@@ -85,6 +85,13 @@ refused "render --stats onto a --every frame" "--every" "--stats b_0002.png" \
 refused "extract -o input" "-o s.rcast" "the store s.rcast" "$ropecast" extract s.rcast -o s.rcast
 refused "extract -o symlink" "-o s_link.png" "the store s.rcast" "$ropecast" extract s.rcast -o s_link.png
 refused "extract -o hard link" "-o s_hard.exr" "the store s.rcast" "$ropecast" extract s.rcast -o s_hard.exr
+
+# bench modes --out DIR: its files there onto --tf or the input.
+mkdir -p bm/images && cp tf.json bm/bench.json && cp s.rcast bm/images/s.rcast
+refused "bench modes --out onto --tf" "--out bm/bench.json" "--tf bm/bench.json" \
+  "$ropecast" bench modes s.rcast --mode dvr --tf bm/bench.json --out bm --frames 1 --reps 1 --no-plot
+refused "bench modes --out images onto the input" "bm/images/s.rcast" "the input bm/images/s.rcast" \
+  "$ropecast" bench modes bm/images/s.rcast --out bm --frames 1 --reps 1 --no-plot
 
 # Other names are fine: the guard lets ordinary runs through.
 "$ropecast" extract s.rcast -o level0.raw --quiet && cmp level0.raw scan_8x8x8_uint8.raw && echo "ok   extract to a new file" ||
