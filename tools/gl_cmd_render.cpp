@@ -330,7 +330,9 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
       ->check(CLI::Range(1u, 1000000u));
   app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
   app.add_flag("--converge", o.converge, "render until the working set is complete and nothing is pending");
-  app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")->capture_default_str();
+  app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")
+      ->check(CLI::Range(1u, 1000000u))
+      ->capture_default_str();
   app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
   app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }
