@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `ropecast render` end to end: every output it promises (PNG, EXR, depth EXR, --stats lines with their fields),
-# stores and procedural inputs, both backends, --reference, and the progressive modes (--frames, --converge,
-# --path, --every).
+# stores and procedural inputs, both backends, --reference, the progressive modes (--frames, --converge,
+# --path, --every), and the progress line on a terminal.
 # Usage: bash render_outputs.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -96,6 +96,23 @@ if "$ropecast" render $small -o "$dir/p.png" --path "$dir/path.json" --frames 4 
 else
   fail "path: $(cat "$dir/err.txt")"
 fi
+
+# A progress line on a terminal (script(1), from bsdutils, gives the render one): the load's bricks, or each
+# frame of a progressive render; -q, or stderr not a terminal, silences it.
+on_terminal() {  # on_terminal LOG ARGS...: `ropecast render ARGS` with a terminal; what it showed into LOG
+  local log="$1"; shift
+  script -qec "$(printf '%q ' "$ropecast" render "$@")" "$log" > /dev/null || fail "on a terminal: render $*: exit $?"
+}
+on_terminal "$dir/t1.log" $small -o "$dir/t1.png"
+grep -q "render: loading, [0-9]* bricks read, 0 pending" "$dir/t1.log" && echo "ok   progress of the load" ||
+  fail "no load progress on a terminal: $(cat -v "$dir/t1.log")"
+on_terminal "$dir/t2.log" $small -o "$dir/t2.png" --converge
+grep -q "render: frame [0-9]*, working set [0-9]* bricks" "$dir/t2.log" && echo "ok   progress of the frames" ||
+  fail "no frame progress on a terminal: $(cat -v "$dir/t2.log")"
+on_terminal "$dir/t3.log" $small -o "$dir/t3.png" --converge -q
+! grep -q "render:" "$dir/t3.log" && echo "ok   -q: no progress" || fail "-q showed progress: $(cat -v "$dir/t3.log")"
+"$ropecast" render $small -o "$dir/t4.png" --converge 2> "$dir/t4.err"
+[ ! -s "$dir/t4.err" ] && echo "ok   no terminal: no progress" || fail "progress without a terminal: $(cat "$dir/t4.err")"
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
