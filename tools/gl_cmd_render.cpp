@@ -280,6 +280,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     if (o.every > 0 && (frame % o.every == 0) && !last)
       writePng(framePath(o.output, frame), octree.renderer->readColor(), false);
     if (last) {
+      progress.finish();  // the line ends before any message
       if (o.converge && !stats.converged)
         std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
       break;
