@@ -12,6 +12,7 @@
 #include <memory>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <epoxy/gl.h>
 // epoxy's GL header first: GLFW then includes no GL header of its own.
@@ -160,6 +161,7 @@ class Viewer {
 
   std::unique_ptr<WindowContext> window_;
   std::unique_ptr<FrameRenderer> renderer_;
+  bool rendererPrepared_ = false;  // prepare() ran for renderer_
   bool rendererHasGradients_ = false;
   std::optional<OrbitController> controller_;
   StepPacer stepPacer_;
@@ -303,6 +305,7 @@ void Viewer::ensureRenderer() {
   const FrameRendererConfig config = frameRendererConfigOf(o_, params_);
   renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
   rendererHasGradients_ = config.storedGradients;
+  rendererPrepared_ = false;
   lastRequest_.reset();
 }
 
@@ -739,6 +742,8 @@ int Viewer::run() {
     if (!moving) coarser_ = false;
     ensureRenderer();
     const FrameRequest request = currentRequest(moving);
+    // Shader compilation before a new renderer's first frame, not in its frame ms (as render does).
+    if (!std::exchange(rendererPrepared_, true)) renderer_->prepare(request);
     if (needsFrame(request)) {
       renderFrame(request);
       if (moving && stepPacer_.enabled() && lastStats_.drawn) {
