@@ -8,12 +8,14 @@
 # Runs per repetition: sync (one synchronous frame), converge (--converge, the defaults: occlusion queries and
 # ray feedback on), loader (--converge with them off: the streaming loader alone), budget (--converge
 # --upload-budget). Once: a --converge run writing every frame, to find the first frame from which the image
-# stays within 40 dB of the converged one (the rest of the frames wait for answers confirming the cut), and a
-# synchronous render with budgets that hold everything, against which both images are compared.
+# stays within 40 dB of the converged one (the rest of the frames wait for answers confirming the cut) and the
+# first frame at least as close to full detail as the synchronous image, and a synchronous render with budgets
+# that hold everything (full detail), against which the images are compared.
 # Per repetition also sync and converge of the same cut with 16 times fewer pixels (IMAGE / 4 on a side,
 # --voxels-per-pixel 4, which asks for the same bricks; frames several times cheaper): what the frames' cost on this machine adds.
 # Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratios to synchronous (goal <= 1.3),
-# the seconds to the final image, and the largest bytes_uploaded of a frame against --upload-budget.
+# the seconds to the final image and to the synchronous image's quality, and the largest bytes_uploaded of a
+# frame against --upload-budget.
 # Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
 # env: DIMS (default 1024x1024x864, 1.7 GiB raw), ORBIT (30,20,1.6: a view that needs 2862 bricks of the
 #      default store), IMAGE (512x512), GPU (256M), CPU (256M), UPLOAD (--upload-budget, 8M), REPS (2),
@@ -80,6 +82,10 @@ frames = sorted(glob.glob(f"{work}/frames/every_*.{ext}"))  # all but the last f
 final_frame = len(frames)
 while final_frame > 0 and psnr(frames[final_frame - 1], f"{work}/frames/every.{ext}") >= 40.0:
     final_frame -= 1
+# The first frame at least as close to full detail as the synchronous image (the defaults go on to a better one).
+sync_quality = psnr(f"{work}/sync1.{ext}", f"{work}/full.{ext}")
+every = frames + [f"{work}/frames/every.{ext}"]
+quality_frame = next((i for i, f in enumerate(every) if psnr(f, f"{work}/full.{ext}") >= sync_quality), None)
 units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}
 budget = int(float(upload[:-1]) * units[upload[-1]]) if upload[-1] in units else int(upload)
 MiB = 1 << 20
@@ -101,6 +107,9 @@ for rep in range(1, reps + 1):
     rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
     to_final = runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[final_frame + 1:]) / 1000
     final = f", to the final image (frame {final_frame}) {to_final / s:.2f}" if ext == "png" else ""
+    if ext == "png" and quality_frame is not None:
+        to_quality = runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[quality_frame + 1:]) / 1000
+        final += f", to the synchronous image's quality (frame {quality_frame}) {to_quality / s:.2f}"
     print(f"  converge / sync: {runs['converge']['s'] / s:.2f}{final}; "
           f"loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
     print(f"  the same cut at {small}, --voxels-per-pixel 4 (16x fewer pixels): converge / sync "
