@@ -100,9 +100,8 @@ void BruteForcePass::render(const BruteForceFrame& f) {
 
   // The block of the rope ray caster's shaders, which brute_force.frag shares; the volume is the value
   // texture.
-  RaycastBlock block =
-      raycastBlock(f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing, info_.mapping,
-                   storedMaxOf(info_.storedType), f.params);
+  RaycastBlock block = raycastBlock(f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing,
+                                    info_.mapping, storedMaxOf(info_.storedType), f.params);
   block.valueTexelSize = glm::vec3(1.0 / glm::dvec3(info_.layout.dims));
   blockBuffer_.upload(block);
 

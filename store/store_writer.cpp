@@ -14,7 +14,6 @@
 
 namespace ropecast {
 
-
 uint32_t storeCrc32(std::span<const std::byte> bytes) {
   uLong crc = crc32(0L, Z_NULL, 0);
   // zlib takes uInt lengths: feed large spans in pieces.
