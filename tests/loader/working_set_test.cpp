@@ -147,7 +147,7 @@ TEST(WorkingSet, ColdAsyncFramesConvergeToTheSynchronousCutWithinBudgets) {
   }
 }
 
-TEST(WorkingSet, ASynchronousLoadReportsItsProgressUntilNothingIsPending) {
+TEST(WorkingSet, TheSynchronousLoadReportsItsProgressUntilNothingIsPending) {
   FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
   in.isEmpty = isoEmpty;
   FakeBrickSource src = makeScene();
