@@ -310,6 +310,10 @@ namespace {
 
 int runRender(const RenderOptions& o) {
   if (o.output.empty()) throw Error("render: -o OUT.png is required");
+  if (o.reference && !o.stats.empty())
+    throw Error(
+        "render: --stats has nothing to record with --reference (one CPU render of the full-resolution "
+        "data, without the loader or the GPU); leave one of them out");
   checkImageOutputs(o);
   checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind

@@ -52,6 +52,9 @@ expect_failure "backend by number" "--backend: 1 not in" "$vol" --backend 1
 expect_failure "bad gradients" "--gradients" "$vol" --gradients sobel
 expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
 expect_failure "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0
+expect_failure "stats of the CPU reference" "--stats has nothing to record with --reference" "$vol" --reference \
+  --stats "$dir/ref.jsonl"
+[ ! -e "$dir/ref.jsonl" ] || { echo "FAIL stats of the CPU reference: wrote ref.jsonl"; failures=$((failures + 1)); }
 # CLI11's own range check lets NaN through; a NaN opacity or isovalue must not reach the renderer.
 expect_failure "NaN early termination" "--ert: expected a finite number in [0, 1], got 'nan'" "$vol" --ert nan
 expect_failure "NaN isovalue" "--iso: expected a finite number, got 'nan'" "$vol" --iso nan
