@@ -41,7 +41,7 @@ struct FrameConstants {
     isoNormalized = volume.mapping.toStored(params.isoValue) / storedMax;
     spacing = volume.volume.spacing;
     minSpacing = std::min({spacing.x, spacing.y, spacing.z});
-    volumeMax = glm::dvec3(volume.volume.dims) * spacing;
+    volumeMax = volume.volume.worldMax();
     eye = input.camera.eye;
     forward = cameraFrame(input.camera).forward;
   }

@@ -171,8 +171,7 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   // Only with no query pending: dropPending() below forgets them all.
   const bool query = queries_ && async && queries_->pendingCount() == 0;
   if (query) {
-    const BrickSourceInfo& info = source_.info();
-    const glm::dvec3 extent = glm::dvec3(info.volume.dims) * info.volume.spacing;
+    const glm::dvec3 extent = source_.info().volume.worldMax();
     volumeBox.push_back({NodeKey{}, {{WorldBox{glm::dvec3(0.0), extent}}, 1}});
     schedule.afterFirstTile = [&] {
       queries_->issue(volumeBox, request.camera, 1, 1, windowDepthRange(request.camera, extent), frame_);
@@ -262,8 +261,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       schedule.tiles.push_back({uint32_t(r.x0), uint32_t(r.y0), uint32_t(r.width()), uint32_t(r.height())});
   stats.occlusionQueries = queryBoxes_.size();
   if (!queryBoxes_.empty()) {
-    const DepthRange depth =
-        windowDepthRange(request.camera, glm::dvec3(info.volume.dims) * info.volume.spacing);
+    const DepthRange depth = windowDepthRange(request.camera, info.volume.worldMax());
     schedule.afterFirstTile = [this, &request, depth, &stats] {
       const auto issueStart = Clock::now();
       queries_->issue(queryBoxes_, request.camera, request.width, request.height, depth, frame_);
@@ -303,7 +301,7 @@ void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFra
   stats.backend = backendFor(request.params);
 }
 
-FrameStats FrameRenderer::render(const FrameRequest& request) {
+FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgressFn& onLoadProgress) {
   const auto frameStart = Clock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
@@ -354,9 +352,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request) {
   if (occlusion) visibility_->occludedNodes(frame_, input.hiddenNodes);
   if (!request.synchronous) lastView_ = request;
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
-  WorkingSetFrame plan = request.synchronous
-                             ? workingSet_->updateUntilConverged(input, request.onLoadProgress)
-                             : workingSet_->update(input);
+  WorkingSetFrame plan = request.synchronous ? workingSet_->updateUntilConverged(input, onLoadProgress)
+                                             : workingSet_->update(input);
   lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : plan.leaves)
     for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();

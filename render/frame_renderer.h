@@ -77,9 +77,6 @@ struct FrameRequest {
   // Synchronous: refine until the working set is complete before rendering; otherwise one asynchronous
   // loader step that never waits for the disk.
   bool synchronous = false;
-  // A synchronous frame's load as it goes (WorkingSet::updateUntilConverged), for a progress display; called
-  // on the render thread during render().
-  LoadProgressFn onLoadProgress;
   // For a caller that reads the targets (readColor, readDepth) and stops once a frame is converged: an
   // asynchronous frame that would draw the last frame's image again (the same request, the same cut,
   // nothing uploaded), when that image is converged, keeps it instead of drawing it (FrameStats::drawn
@@ -99,8 +96,9 @@ class FrameRenderer {
 
   // Renders one frame; returns its stats (loader fields, index_ms, raycast_ms, frame_ms). The upload time
   // budget applies to asynchronous frames only (a synchronous frame loads everything at once). A frame may
-  // keep the last one's image instead of drawing (FrameRequest::keepConvergedImage).
-  FrameStats render(const FrameRequest& request);
+  // keep the last one's image instead of drawing (FrameRequest::keepConvergedImage). `onLoadProgress` hears
+  // a synchronous frame's load as it goes (WorkingSet::updateUntilConverged), for a progress display.
+  FrameStats render(const FrameRequest& request, const LoadProgressFn& onLoadProgress = {});
 
   // Compiles the ray-cast program of the request's backend and mode (with feedback for an asynchronous
   // request when feedback is on) and draws it once, on a 1x1 image of an empty cut, with an occlusion query

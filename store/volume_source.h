@@ -30,6 +30,8 @@ struct VolumeInfo {
 
   uint64_t sampleCount() const { return uint64_t(dims.x) * dims.y * dims.z; }
   size_t sliceBytes() const { return size_t(dims.x) * dims.y * bytesPerSample(type); }
+  // The far corner of the volume's world box [0, n s].
+  glm::dvec3 worldMax() const { return glm::dvec3(dims) * spacing; }
 };
 
 // A spacing that gives the volume a box: finite and positive per axis (the world box is [0, n s]; zero or

@@ -7,15 +7,13 @@
 #include "store/store.h"
 #include "store/store_writer.h"
 #include "tools/command.h"
+#include "tools/progress_bar.h"
 
 namespace ropecast::tools {
 namespace {
 
 double ratio(uint64_t a, uint64_t b) {
   return b > 0 ? double(a) / double(b) : 0.0;
-}
-double mib(uint64_t bytes) {
-  return double(bytes) / (1024.0 * 1024.0);
 }
 
 int runInfo(const std::string& path, bool json) {
@@ -67,12 +65,12 @@ int runInfo(const std::string& path, bool json) {
   for (const auto& l : s.levels)
     std::printf("  %5u %5u %5ux%5ux%5u %8llu %7llu %9llu %7llu %13.2f\n", l.level, l.depth, l.dims.x,
                 l.dims.y, l.dims.z, (unsigned long long)l.total, (unsigned long long)l.data,
-                (unsigned long long)l.constant, (unsigned long long)l.empty, mib(l.payloadBytes));
+                (unsigned long long)l.constant, (unsigned long long)l.empty, mebibytes(l.payloadBytes));
   std::printf(
       "size       file %.2f MiB; payload %.2f MiB compressed from %.2f MiB (ratio %.2f); raw volume %.2f MiB "
       "(file/raw %.3f)\n",
-      mib(s.fileBytes), mib(s.payloadBytes), mib(s.uncompressedBytes),
-      ratio(s.uncompressedBytes, s.payloadBytes), mib(s.rawBytes), ratio(s.fileBytes, s.rawBytes));
+      mebibytes(s.fileBytes), mebibytes(s.payloadBytes), mebibytes(s.uncompressedBytes),
+      ratio(s.uncompressedBytes, s.payloadBytes), mebibytes(s.rawBytes), ratio(s.fileBytes, s.rawBytes));
   return 0;
 }
 

@@ -205,7 +205,7 @@ int runModesBench(const Options& o) {
   guard.check();
   const std::unique_ptr<BrickSource> source = openInput(o);
   const BrickSourceInfo& info = source->info();
-  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  const glm::dvec3 boxMax = info.volume.worldMax();
 
   FrameRequest request;
   request.width = o.size.at(0);

@@ -149,7 +149,7 @@ class RenderSetup {
   const TfTable* tf() const { return tf_ ? &*tf_ : nullptr; }
   Camera cameraOf(uint32_t frame) const {
     const BrickSourceInfo& info = bricks().info();
-    const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+    const glm::dvec3 boxMax = info.volume.worldMax();
     return path_ ? sampleCameraPath(*path_, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o_, info);
   }
 
@@ -226,17 +226,14 @@ struct OctreeRender {
   FrameRequest request;
 };
 
-double mebibytes(uint64_t bytes) {
-  return double(bytes) / double(1 << 20);
-}
-
 // One frame without --frames, --converge or --path: load everything the view needs, then draw.
 RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/true);
   ProgressBar progress("render", "", o.quiet);
+  LoadProgressFn showLoad;
   if (progress.enabled()) {
-    octree.request.onLoadProgress = [&progress](const LoadProgress& p) {
+    showLoad = [&progress](const LoadProgress& p) {
       char text[128];
       std::snprintf(text, sizeof text, "loading, %llu bricks read, %llu pending, %.1f MiB",
                     static_cast<unsigned long long>(p.bricksRead),
@@ -244,7 +241,7 @@ RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
       progress.status(text, p.readsPending == 0);
     };
   }
-  s.stats->write(octree.renderer->render(octree.request));
+  s.stats->write(octree.renderer->render(octree.request, showLoad));
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 

@@ -101,7 +101,7 @@ std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
 }
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
-  const glm::dvec3 boxMax = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  const glm::dvec3 boxMax = info.volume.worldMax();
   if (!o.eye.empty() || !o.target.empty()) {
     if (o.eye.empty() || o.target.empty()) throw Error("--eye and --target go together");
     Camera c;

@@ -215,7 +215,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
   if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
   const BrickSourceInfo& info = bricks().info();
   valueRange_ = valueRangeOf(info);
-  boxMax_ = glm::dvec3(info.volume.dims) * info.volume.spacing;
+  boxMax_ = info.volume.worldMax();
   {
     const ValueHistogram h = coarseHistogram(bricks(), 64, valueRange_.first, valueRange_.second);
     histogramLevel_ = h.level;

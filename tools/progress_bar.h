@@ -37,5 +37,9 @@ class ProgressBar {
 
 // "1:02:03", "4:05".
 std::string formatDuration(double seconds);
+// Bytes in MiB, for messages.
+inline double mebibytes(uint64_t bytes) {
+  return double(bytes) / (1024.0 * 1024.0);
+}
 
 }  // namespace ropecast::tools
