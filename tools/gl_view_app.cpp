@@ -124,7 +124,7 @@ class Viewer {
   // Scene state the panels and the script change.
   void setTransferFunction(const std::string& spec);
   void setTransferFunction(TransferFunction function, const std::string& name);
-  void ensureRenderer();
+  void ensureRenderer(const FrameRequest& request);
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
   bool needsFrame(const FrameRequest& request) const {
@@ -161,7 +161,6 @@ class Viewer {
 
   std::unique_ptr<WindowContext> window_;
   std::unique_ptr<FrameRenderer> renderer_;
-  bool rendererPrepared_ = false;  // prepare() ran for renderer_
   bool rendererHasGradients_ = false;
   std::optional<OrbitController> controller_;
   StepPacer stepPacer_;
@@ -298,15 +297,16 @@ void Viewer::setTransferFunction(TransferFunction function, const std::string& n
 }
 
 // A renderer for the current parameters. A switch to DVR with stored gradients needs a GradientPool, which a
-// FrameRenderer gets at construction: then the renderer is made again (its bricks load again).
-void Viewer::ensureRenderer() {
+// FrameRenderer gets at construction: then the renderer is made again (its bricks load again). A new one
+// compiles its shaders for `request` before its first frame, not in that frame's ms (as render does).
+void Viewer::ensureRenderer(const FrameRequest& request) {
   if (renderer_ && (rendererHasGradients_ || !usesStoredGradients(params_))) return;
   renderer_.reset();
   const FrameRendererConfig config = frameRendererConfigOf(o_, params_);
   renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
   rendererHasGradients_ = config.storedGradients;
-  rendererPrepared_ = false;
   lastRequest_.reset();
+  renderer_->prepare(request);
 }
 
 FrameRequest Viewer::currentRequest(bool moving) {
@@ -740,10 +740,8 @@ int Viewer::run() {
     lastCamera_ = camera;
     const bool moving = secondsSince(start_) - lastMoveSeconds_ < kStillAfterSeconds;
     if (!moving) coarser_ = false;
-    ensureRenderer();
     const FrameRequest request = currentRequest(moving);
-    // Shader compilation before a new renderer's first frame, not in its frame ms (as render does).
-    if (!std::exchange(rendererPrepared_, true)) renderer_->prepare(request);
+    ensureRenderer(request);
     if (needsFrame(request)) {
       renderFrame(request);
       if (moving && stepPacer_.enabled() && lastStats_.drawn) {
