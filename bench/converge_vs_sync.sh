@@ -105,11 +105,11 @@ for rep in range(1, reps + 1):
               f"{r['uploaded']:9d} {r['read']:8.1f} {str(r['converged']):>9}")
     s = runs["sync"]["s"]
     rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
-    to_final = runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[final_frame + 1:]) / 1000
-    final = f", to the final image (frame {final_frame}) {to_final / s:.2f}" if ext == "png" else ""
+    # Seconds until frame k ended: the run's wall time less the frames after k.
+    until = lambda k: runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[k + 1:]) / 1000
+    final = f", to the final image (frame {final_frame}) {until(final_frame) / s:.2f}" if ext == "png" else ""
     if ext == "png" and quality_frame is not None:
-        to_quality = runs["converge"]["s"] - sum(r["frame_ms"] for r in rows[quality_frame + 1:]) / 1000
-        final += f", to the synchronous image's quality (frame {quality_frame}) {to_quality / s:.2f}"
+        final += f", to the synchronous image's quality (frame {quality_frame}) {until(quality_frame) / s:.2f}"
     print(f"  converge / sync: {runs['converge']['s'] / s:.2f}{final}; "
           f"loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
     print(f"  the same cut at {small}, --voxels-per-pixel 4 (16x fewer pixels): converge / sync "
