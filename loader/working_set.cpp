@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/elapsed.h"
 #include "core/error.h"
 
 namespace ropecast {
@@ -189,7 +190,7 @@ void WorkingSet::takeLoadedBricks() {
 }
 
 WorkingSetFrame WorkingSet::update(const FrameInput& input) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   takeLoadedBricks();
 
   for (const NodeKey& k : input.usedNodes) {
@@ -234,7 +235,7 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   s.bytesRead = std::exchange(bytesReadSinceUpdate_, 0);
   s.requestsPending = io_->pendingCount();
   s.converged = refined.complete;
-  s.refineMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  s.refineMs = millisecondsSince(start);
   return out;
 }
 

@@ -1,10 +1,10 @@
 #include "render/frame_renderer.h"
 
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <string_view>
 
+#include "core/elapsed.h"
 #include "core/error.h"
 #include "render/backend_choice.h"
 #include "render/brick_pool.h"
@@ -15,11 +15,6 @@
 namespace ropecast {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
 // The same camera and image size: the occlusion marks of the last frame describe this one.
 bool sameView(const FrameRequest& a, const FrameRequest& b) {
   return a.camera == b.camera && a.width == b.width && a.height == b.height;
@@ -184,7 +179,7 @@ void FrameRenderer::prepare(const FrameRequest& request) {
 }
 
 void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   for (const QueryAnswer& a : queries_->collect()) {
     visibility_->answer(a.key, a.issuedFrame, a.samplesPassed);
     ++stats.occlusionAnswered;
@@ -197,11 +192,11 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
     for (const NodeKey& leaf : dataLeaves_)
       if (rayFeedback_.hint(leaf, frame_) == NodeHint::Unused) visibility_->markUnseen(leaf, frame_);
   visibility_->propagate(dataLeaves_);
-  stats.occlusionMs += msSince(start);
+  stats.occlusionMs += millisecondsSince(start);
 }
 
 void FrameRenderer::collectFeedback(FrameStats& stats) {
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   // Every readback that arrived; the latest one's nodes are what the hints say.
   while (std::optional<FeedbackReadback> readback = feedback_->poll()) {
     if (!rayFeedback_.answer(readback->frame, readback->usedLeaves, readback->requestedLeaves)) continue;
@@ -210,7 +205,7 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
     stats.bricksUsed = readback->usedLeaves.size();
   }
   if (rayFeedback_.answered()) stats.feedbackLatencyFrames = frame_ - rayFeedback_.answeredFrame();
-  stats.feedbackMs += msSince(start);
+  stats.feedbackMs += millisecondsSince(start);
 }
 
 void FrameRenderer::countVisibility(FrameStats& stats) const {
@@ -223,7 +218,7 @@ void FrameRenderer::countVisibility(FrameStats& stats) const {
 TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                                       const EmptinessPredicate& isEmpty, bool feedback, bool query,
                                       FrameStats& stats) {
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   const BrickSourceInfo& info = source_.info();
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
@@ -247,7 +242,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
     visibility_->renew(frame_);
     countVisibility(stats);
     queryBoxes_.clear();
-    stats.occlusionMs += msSince(start);
+    stats.occlusionMs += millisecondsSince(start);
     return {};
   }
   const FrameQueryPlan plan = visibility_->plan(frame_, request.width, request.height, toQuery);
@@ -263,12 +258,12 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   if (!queryBoxes_.empty()) {
     const DepthRange depth = windowDepthRange(request.camera, info.volume.worldMax());
     schedule.afterFirstTile = [this, &request, depth, &stats] {
-      const auto issueStart = Clock::now();
+      const auto issueStart = SteadyClock::now();
       queries_->issue(queryBoxes_, request.camera, request.width, request.height, depth, frame_);
-      stats.occlusionMs += msSince(issueStart);
+      stats.occlusionMs += millisecondsSince(issueStart);
     };
   }
-  stats.occlusionMs += msSince(start);
+  stats.occlusionMs += millisecondsSince(start);
   return schedule;
 }
 
@@ -302,7 +297,7 @@ void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFra
 }
 
 FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgressFn& onLoadProgress) {
-  const auto frameStart = Clock::now();
+  const auto frameStart = SteadyClock::now();
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
@@ -370,12 +365,12 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
     stats.converged = true;
     stats.drawn = false;
     stats.tiles = 0;
-    stats.frameMs = msSince(frameStart);
+    stats.frameMs = millisecondsSince(frameStart);
     return stats;
   }
 
   // Pass 2, upload: bricks into their pool slots.
-  const auto uploadStart = Clock::now();
+  const auto uploadStart = SteadyClock::now();
   uploadBatch_.clear();
   for (const BrickUpload& upload : plan.uploads)
     uploadBatch_.push_back(
@@ -387,14 +382,14 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
       uploadedOrigins_.push_back(pool_->geometry().slotOrigin(upload.slot));
     gradients_->derive(pool_->texture(), uploadedOrigins_, glm::u32vec3(pool_->geometry().slotEdge));
   }
-  const double uploadMs = msSince(uploadStart);
+  const double uploadMs = millisecondsSince(uploadStart);
   if (!request.synchronous) uploadPacer_.record(plan.stats.bytesUploaded, uploadMs);
 
   // Pass 3, build index: the rope octree over the cut, into the index texture.
-  const auto indexStart = Clock::now();
+  const auto indexStart = SteadyClock::now();
   cut_ = cutOf(plan.leaves);
   uploadIndex(cut_, index_);
-  const double indexMs = msSince(indexStart);
+  const double indexMs = millisecondsSince(indexStart);
 
   // Pass 4, plan tiles: the leaves to query and the screen tiles that put them first.
   const TileSchedule schedule =
@@ -458,7 +453,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (!multipass) stats.occlusionDrawMs = raycast_.lastAfterFirstTileMs();
   stats.raycastWallClock =
       multipass ? multipass_.raycastTimerUsedWallClock() : raycast_.raycastTimerUsedWallClock();
-  stats.frameMs = msSince(frameStart);
+  stats.frameMs = millisecondsSince(frameStart);
   return stats;
 }
 

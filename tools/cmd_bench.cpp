@@ -2,7 +2,6 @@
 // timed test). Each benchmark is one row of kBenchmarks: its name, a line of help, and a setup function that
 // adds its options and returns the function that runs it. Add a benchmark by adding a row. Main thread only.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <numeric>
@@ -11,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/elapsed.h"
 #include "index/random_cut.h"
 #include "index/rope_index.h"
 #include "index/rope_traversal.h"
@@ -44,10 +44,9 @@ std::vector<double> timeRepeatedMs(uint32_t repeats, F&& body) {
   std::vector<double> samplesMs;
   samplesMs.reserve(repeats);
   for (uint32_t i = 0; i < repeats; ++i) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = SteadyClock::now();
     body();
-    samplesMs.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    samplesMs.push_back(millisecondsSince(start));
   }
   return samplesMs;
 }
@@ -126,7 +125,7 @@ std::function<int()> setupIndexBench(CLI::App& app) {
         return float(state >> 40) / float(1 << 24);
       };
       uint64_t visited = 0;
-      const auto start = std::chrono::steady_clock::now();
+      const auto start = SteadyClock::now();
       for (uint32_t r = 0; r < o.rays; ++r) {
         const glm::vec3 target(uniform(), uniform(), uniform());
         const glm::vec3 origin = glm::vec3(uniform(), uniform(), uniform()) * 4.0f - 1.5f;
@@ -135,7 +134,7 @@ std::function<int()> setupIndexBench(CLI::App& app) {
         if (!ropeBegin(cursor, index, origin, target - origin, 0.0f, 1e30f)) continue;
         while (ropeNextLeaf(cursor, index, leaf)) ++visited;
       }
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds = secondsSince(start);
       leavesPerRay = double(visited) / double(o.rays);
       raysPerSecond = double(o.rays) / seconds;
       std::printf("  CPU reference traversal: %u rays, %.1f leaves/ray, %.2f M rays/s, %.1f ns/leaf\n",

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +22,7 @@
 #include <span>
 #include <sstream>
 
+#include "core/elapsed.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "reference/image_io.h"
@@ -112,10 +112,6 @@ void copyAtomically(const std::string& from, const std::string& to, const char* 
   file.commit();
 }
 
-double elapsedSeconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Renders the cases into `folder`/NAME.render.png: here, one after another, or in up to `jobs` child
 // processes running `ropecast render ... --converge -o` (the same code). Sets each outcome's seconds and
 // problems; a failed render leaves renderFile empty.
@@ -125,7 +121,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
   if (jobs <= 1) {
     for (size_t i = 0; i < outcomes.size(); ++i) {
       CaseOutcome& o = outcomes[i];
-      const auto start = std::chrono::steady_clock::now();
+      const auto start = SteadyClock::now();
       try {
         const RenderedFrame frame = renderFrames(options[i]);
         writePng((fs::path(folder) / renderFile(o)).string(), frame.color, false);
@@ -133,12 +129,12 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       } catch (const std::exception& e) {
         o.problems.push_back(std::string("render failed: ") + e.what());
       }
-      o.seconds = elapsedSeconds(start);
+      o.seconds = secondsSince(start);
     }
     return;
   }
   const std::string self = fs::read_symlink("/proc/self/exe").string();
-  std::map<pid_t, std::pair<size_t, std::chrono::steady_clock::time_point>> running;
+  std::map<pid_t, std::pair<size_t, SteadyClock::time_point>> running;
   size_t next = 0;
   const auto logOf = [&](size_t i) {
     return (fs::path(folder) / (outcomes[i].regressCase->name + ".log")).string();
@@ -164,7 +160,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       const int rc = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
       posix_spawn_file_actions_destroy(&actions);
       if (rc != 0) throw Error("regress: cannot start " + self + " render: " + std::strerror(rc));
-      running[pid] = {next, std::chrono::steady_clock::now()};
+      running[pid] = {next, SteadyClock::now()};
       ++next;
     }
     int status = 0;
@@ -175,7 +171,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
     const auto [i, start] = it->second;
     running.erase(it);
     CaseOutcome& o = outcomes[i];
-    o.seconds = elapsedSeconds(start);
+    o.seconds = secondsSince(start);
     std::ifstream logFile(logOf(i));
     std::ostringstream log;
     log << logFile.rdbuf();

@@ -1,6 +1,5 @@
 // `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence.
 // renderFrames and the options (tools/render_command.h) are shared with `ropecast regress`.
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +8,7 @@
 #include <span>
 
 #include "core/camera_path.h"
+#include "core/elapsed.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "core/transfer_function.h"
@@ -184,7 +184,7 @@ RenderedFrame renderBrute(RenderSetup& s) {
   bf.width = s.width;
   bf.height = s.height;
   for (uint32_t frame = 0; frame < s.frames; ++frame) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = SteadyClock::now();
     bf.camera = s.cameraOf(frame);
     brute.render(bf);
     FrameStats stats;
@@ -196,8 +196,7 @@ RenderedFrame renderBrute(RenderSetup& s) {
     stats.drawCalls = 1;
     stats.glDrawCalls = 1;
     stats.fragments = uint64_t(bf.width) * bf.height;
-    stats.frameMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats.frameMs = millisecondsSince(start);
     stats.converged = true;
     s.stats->write(stats);
   }

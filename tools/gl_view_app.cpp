@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/camera_path.h"
+#include "core/elapsed.h"
 #include "core/error.h"
 #include "core/orbit_controller.h"
 #include "loader/io_queue.h"
@@ -38,12 +39,6 @@
 namespace ropecast::tools {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // The camera counts as moving this long after its last change: frames stay coarse between the events of one
 // drag, and refine once the user lets go.
@@ -196,7 +191,7 @@ class Viewer {
   // Script.
   std::optional<ViewScript> script_;
   size_t nextEvent_ = 0;
-  Clock::time_point start_;
+  SteadyClock::time_point start_;
 
   // Panel fields.
   std::string screenshotPath_ = "view.png", cameraPath_ = "cameras.json", tfPath_ = "tf.json";
@@ -707,8 +702,8 @@ void Viewer::drawPanels() {
 }
 
 int Viewer::run() {
-  start_ = Clock::now();
-  auto lastLoop = Clock::now();
+  start_ = SteadyClock::now();
+  auto lastLoop = SteadyClock::now();
   bool converged = false;
   while (!window_->shouldClose()) {
     const bool scriptActive = script_ && nextEvent_ < script_->events.size();
@@ -718,8 +713,8 @@ int Viewer::run() {
       glfwWaitEventsTimeout(0.1);  // nothing to refine: wait for the user
     else
       glfwPollEvents();
-    const double dt = std::min(0.1, std::chrono::duration<double>(Clock::now() - lastLoop).count());
-    lastLoop = Clock::now();
+    const double dt = std::min(0.1, secondsSince(lastLoop));
+    lastLoop = SteadyClock::now();
     window_->framebufferSize(viewWidth_, viewHeight_);
     if (viewWidth_ == 0 || viewHeight_ == 0) {  // minimized: nothing to draw into
       glfwWaitEventsTimeout(0.1);

@@ -4,6 +4,8 @@
 
 #include <cstdio>
 
+#include "core/elapsed.h"
+
 namespace ropecast::tools {
 
 std::string formatDuration(double seconds) {
@@ -55,7 +57,7 @@ void ProgressBar::status(const std::string& text, bool now) {
 void ProgressBar::draw(uint64_t done, uint64_t total) {
   constexpr int kWidth = 30;
   const double fraction = total > 0 ? double(done) / double(total) : 1.0;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double seconds = secondsSince(start_);
   const double rate = seconds > 0 ? double(done) / seconds : 0.0;
   std::string bar(size_t(fraction * kWidth), '#');
   bar.resize(kWidth, ' ');

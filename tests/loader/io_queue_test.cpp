@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/elapsed.h"
 #include "tests/loader/testutil_fake_brick_source.h"
 
 namespace ropecast {
@@ -125,7 +126,7 @@ TEST(IoQueue, ReportsAFailedRead) {
 TEST(IoQueue, ShutsDownWithRequestsInFlightWithoutWaitingForTheQueue) {
   FakeBrickSource fake = makeSource64();
   DelayedBrickSource slow(fake, 40.0);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   {
     IoQueue q(slow, 2);
     std::vector<BrickRequest> requests;
@@ -133,8 +134,7 @@ TEST(IoQueue, ShutsDownWithRequestsInFlightWithoutWaitingForTheQueue) {
     q.replaceRequests(requests);
     ASSERT_TRUE(waitUntil([&] { return q.inFlightCount() > 0; }));
   }  // destroyed with 2 reads in flight and ~60 queued
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = millisecondsSince(start);
   EXPECT_LT(ms, 64 * 40.0 / 2 / 4);  // far less than reading the queue
   EXPECT_LE(fake.reads(), 6u);
 }
@@ -143,11 +143,10 @@ TEST(IoQueue, DelayedSourceAddsLatencyToEveryRead) {
   FakeBrickSource fake = makeSource64();
   DelayedBrickSource slow(fake, 25.0);
   BrickBytes out(slow.brickBytes());
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   slow.readBrick(nodeAtDepth2(1), out);
   slow.readBrick(nodeAtDepth2(2), out);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = millisecondsSince(start);
   EXPECT_GE(ms, 50.0);
   EXPECT_EQ(out[5], std::byte(testing::patternByte(nodeAtDepth2(2), 5)));
   EXPECT_EQ(slow.node(nodeAtDepth2(1)).kind, NodeKind::Data);

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/elapsed.h"
 #include "core/error.h"
 #include "tests/loader/testutil_fake_brick_source.h"
 
@@ -475,7 +476,7 @@ TEST(WorkingSet, ConstantNodesAreUploadedAsFilledBricksWithoutReads) {
 TEST(WorkingSet, ShutsDownWithReadsInFlight) {
   FakeBrickSource fake = makeScene();
   DelayedBrickSource slow(fake, 30.0);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   {
     WorkingSet ws(slow, config());
     FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
@@ -485,8 +486,7 @@ TEST(WorkingSet, ShutsDownWithReadsInFlight) {
     }
     EXPECT_GT(ws.io().pendingCount(), 0u);
   }
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = millisecondsSince(start);
   EXPECT_LT(ms, 1000.0);
 }
 
