@@ -75,12 +75,6 @@ TemporaryFile::~TemporaryFile() {
   if (!committed_ && !temporary_.empty()) ::unlink(temporary_.c_str());
 }
 
-TemporaryNameGuard::TemporaryNameGuard(const std::string& path) : signalSlot_(publishTemporary(path)) {}
-
-TemporaryNameGuard::~TemporaryNameGuard() {
-  withdrawTemporary(signalSlot_);
-}
-
 void removeTemporaryFilesOnSignals() {
   for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, removeTemporariesAndDie);
 }

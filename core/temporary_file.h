@@ -1,6 +1,6 @@
 // Temporary files for outputs: a file written under a temporary name next to its output and renamed when
-// complete, names of temporaries written by others, and the signal handlers that remove both when a command
-// is interrupted, so that no command leaves a half-written output behind.
+// complete, and the signal handlers that remove it when a command is interrupted, so that no command leaves a
+// half-written output behind.
 //
 // Threads: as each class says; removeTemporaryFilesOnSignals from the main thread once.
 #pragma once
@@ -34,19 +34,6 @@ class TemporaryFile {
   int fd_ = -1;
   int signalSlot_ = -1;  // where removeTemporaryFilesOnSignals finds the temporary name
   bool committed_ = false;
-};
-
-// A temporary file name written by someone else (an image library that opens files by name): while the guard
-// lives, the handlers of removeTemporaryFilesOnSignals remove that file too. Any thread.
-class TemporaryNameGuard {
- public:
-  explicit TemporaryNameGuard(const std::string& path);
-  ~TemporaryNameGuard();
-  TemporaryNameGuard(const TemporaryNameGuard&) = delete;
-  TemporaryNameGuard& operator=(const TemporaryNameGuard&) = delete;
-
- private:
-  int signalSlot_ = -1;
 };
 
 // For the command-line tools: installs SIGINT/SIGTERM/SIGHUP handlers that remove every TemporaryFile still

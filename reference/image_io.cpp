@@ -25,29 +25,19 @@ void checkImage(const std::string& where, const std::string& path, const FloatIm
     throw Error(where + ": '" + path + "': pixel buffer size does not match width x height x channels");
 }
 
-// Writes `data` (pixels of `spec`) to path + ".tmp" with the plugin chosen by `path`'s extension, then
-// renames.
-void writeAtomically(const std::string& where, const std::string& path, const OIIO::ImageSpec& spec,
-                     OIIO::TypeDesc dataType, const void* data) {
-  const std::string tmp = path + ".tmp";
-  const TemporaryNameGuard removedOnSignals(tmp);
+// Writes `data` (pixels of `spec`) under a temporary name next to `path` with the plugin chosen by `path`'s
+// extension. The name is unique ("OUT.tmp-XXXXXX"): a fixed one could be a file of the user's, an input even.
+StagedImage stage(const std::string& where, const std::string& path, const OIIO::ImageSpec& spec,
+                  OIIO::TypeDesc dataType, const void* data) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out)
     throw Error(where + ": '" + path + "': no image writer for this extension (" + OIIO::geterror() + ")");
-  bool ok = out->open(tmp, spec) && out->write_image(dataType, data);
+  auto file = std::make_unique<TemporaryFile>(path, where);  // removed unless committed, also on a signal
+  bool ok = out->open(file->path().string(), spec) && out->write_image(dataType, data);
   const std::string err = ok ? "" : out->geterror();
   ok = out->close() && ok;
-  if (!ok) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error(where + ": writing '" + path + "' failed: " + (err.empty() ? out->geterror() : err));
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(where + ": renaming the finished '" + tmp + "' to '" + path + "' failed: " + ec.message());
-  }
+  if (!ok) throw Error(where + ": writing '" + path + "' failed: " + (err.empty() ? out->geterror() : err));
+  return file;
 }
 
 bool parentFolderExists(const std::string& path) {
@@ -69,7 +59,7 @@ std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
   return "";
 }
 
-void writePng(const std::string& path, const FloatImage& image, bool withAlpha) {
+StagedImage stagePng(const std::string& path, const FloatImage& image, bool withAlpha) {
   const uint32_t channels = withAlpha ? 4 : 3;
   checkImage("writePng", path, image, channels);
   std::vector<uint8_t> bytes(size_t(image.width) * image.height * channels);
@@ -81,24 +71,24 @@ void writePng(const std::string& path, const FloatImage& image, bool withAlpha) 
     }
   OIIO::ImageSpec spec(int(image.width), int(image.height), int(channels), OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:UnassociatedAlpha", 1);  // color is final (background composited): write it unchanged
-  writeAtomically("writePng", path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+  return stage("writePng", path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
-void writeExr(const std::string& path, const FloatImage& image) {
+StagedImage stageExr(const std::string& path, const FloatImage& image) {
   checkImage("writeExr", path, image, 1);
   OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), OIIO::TypeDesc::FLOAT);
   if (image.channels == 4) spec.channelnames = {"R", "G", "B", "A"};
   if (image.channels == 4) spec.alpha_channel = 3;
-  writeAtomically("writeExr", path, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
+  return stage("writeExr", path, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 
-void writeDepthExr(const std::string& path, const FloatImage& depth) {
+StagedImage stageDepthExr(const std::string& path, const FloatImage& depth) {
   checkImage("writeDepthExr", path, depth, 1);
   if (depth.channels != 1) throw Error("writeDepthExr: '" + path + "': depth images have one channel");
   OIIO::ImageSpec spec(int(depth.width), int(depth.height), 1, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"Z"};
   spec.z_channel = 0;
-  writeAtomically("writeDepthExr", path, spec, OIIO::TypeDesc::FLOAT, depth.pixels.data());
+  return stage("writeDepthExr", path, spec, OIIO::TypeDesc::FLOAT, depth.pixels.data());
 }
 
 FloatImage readImage(const std::string& path) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "core/camera_path.h"
 #include "core/elapsed.h"
@@ -39,10 +40,13 @@ FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h
   return image;
 }
 
+// The images appear together or not at all: each is written under its temporary name, then all are renamed.
 void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatImage& depth) {
-  writePng(o.output, color, false);
-  if (!o.exr.empty()) writeExr(o.exr, color);
-  if (!o.depth.empty()) writeDepthExr(o.depth, depth);
+  std::vector<StagedImage> staged;
+  staged.push_back(stagePng(o.output, color, false));
+  if (!o.exr.empty()) staged.push_back(stageExr(o.exr, color));
+  if (!o.depth.empty()) staged.push_back(stageDepthExr(o.depth, depth));
+  for (StagedImage& image : staged) image->commit();
 }
 
 // "out.png", frame 7 -> "out_0007.png".
@@ -75,12 +79,14 @@ class StatsWriter {
   uint64_t offset_ = 0;
 };
 
-// The image outputs are checked before anything is loaded or rendered.
+// The image outputs are checked before anything is loaded or rendered: a writer for each, and a folder that
+// takes a new file (a temporary made and removed).
 void checkImageOutputs(const RenderOptions& o) {
   const auto check = [](const char* option, const std::string& path, ImageOutputKind kind) {
     if (path.empty()) return;
     if (const std::string problem = imageOutputProblem(path, kind); !problem.empty())
       throw Error(std::string(option) + " " + path + ": " + problem);
+    TemporaryFile probe(path, std::string("render: ") + option);
   };
   check("-o", o.output, ImageOutputKind::Color8);
   check("--exr", o.exr, ImageOutputKind::FloatExr);

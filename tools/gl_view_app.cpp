@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <span>
 #include <sstream>
 #include <utility>
 
@@ -27,6 +28,7 @@
 #include "core/elapsed.h"
 #include "core/error.h"
 #include "core/orbit_controller.h"
+#include "core/temporary_file.h"
 #include "loader/io_queue.h"
 #include "reference/image_io.h"
 #include "render/frame_renderer.h"
@@ -74,21 +76,19 @@ void appendCameraKeyframe(const std::string& path, const OrbitController& contro
            {"up", {c.up.x, c.up.y, c.up.z}},
            {"fov", c.fovYDeg}};
   list.push_back(key);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << root.dump(2) << '\n';
-    if (!out) throw Error("save camera: cannot write '" + tmp + "'");
-  }
-  std::filesystem::rename(tmp, path);
+  const std::string text = root.dump(2) + '\n';
+  TemporaryFile file(path, "save camera");  // a unique name: "PATH.tmp" could be a file of the user's
+  file.writeAt(0, std::as_bytes(std::span(text)));
+  file.commit();
 }
 
 void saveTransferFunction(const std::string& path, const TransferFunction& tf) {
   nlohmann::json points = nlohmann::json::array();
   for (const TfPoint& p : tf.points()) points.push_back({p.value, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
-  std::ofstream out(path);
-  out << nlohmann::json{{"points", points}}.dump() << '\n';
-  if (!out) throw Error("save transfer function: cannot write '" + path + "'");
+  const std::string text = nlohmann::json{{"points", points}}.dump() + '\n';
+  TemporaryFile file(path, "save transfer function");
+  file.writeAt(0, std::as_bytes(std::span(text)));
+  file.commit();
 }
 
 // The window's default framebuffer, panels included, as an image with row 0 at the top.

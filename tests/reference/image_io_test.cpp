@@ -1,7 +1,10 @@
 // Image files: PNG quantization, float EXR and depth EXR round trips, atomic writes, errors naming the file.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +14,13 @@
 
 namespace ropecast {
 namespace {
+
+// The names of the files directly in `dir`.
+std::set<std::string> filesIn(const std::filesystem::path& dir) {
+  std::set<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) names.insert(entry.path().filename());
+  return names;
+}
 
 FloatImage gradientImage(uint32_t w, uint32_t h) {
   FloatImage img{w, h, 4, std::vector<float>(size_t(w) * h * 4)};
@@ -29,7 +39,7 @@ TEST(ImageIo, PngQuantizesAndClamps) {
   const FloatImage img = gradientImage(17, 9);
   writePng((dir / "a.png").string(), img, true);
   writePng((dir / "b.png").string(), img, false);
-  EXPECT_FALSE(std::filesystem::exists(dir / "a.png.tmp"));
+  EXPECT_EQ(filesIn(dir), (std::set<std::string>{"a.png", "b.png"}));  // no temporary left behind
   const FloatImage a = readImage((dir / "a.png").string());
   const FloatImage b = readImage((dir / "b.png").string());
   ASSERT_EQ(a.channels, 4u);
@@ -45,6 +55,26 @@ TEST(ImageIo, PngQuantizesAndClamps) {
           EXPECT_NEAR(b.at(x, y, c), want, 1e-6);
         }
       }
+}
+
+// The temporary name is unique: a file of the user's named like a temporary (here the input of a render,
+// "out.png.tmp") is neither overwritten nor removed.
+TEST(ImageIo, WritingLeavesAFileNamedLikeATemporaryAlone) {
+  const auto dir = test::freshTempDir();
+  for (const char* name : {"out.png", "out.exr"}) {
+    const std::filesystem::path lookalike = dir / (std::string(name) + ".tmp");
+    { std::ofstream(lookalike) << "precious"; }
+    if (std::string(name).ends_with(".png"))
+      writePng((dir / name).string(), gradientImage(4, 4), true);
+    else
+      writeExr((dir / name).string(), gradientImage(4, 4));
+    std::ifstream in(lookalike);
+    std::string text;
+    in >> text;
+    EXPECT_EQ(text, "precious") << lookalike;
+    EXPECT_EQ(readImage((dir / name).string()).width, 4u);
+  }
+  EXPECT_EQ(filesIn(dir), (std::set<std::string>{"out.exr", "out.exr.tmp", "out.png", "out.png.tmp"}));
 }
 
 TEST(ImageIo, ExrKeepsFloatsAndDepthInfinity) {
@@ -71,7 +101,7 @@ TEST(ImageIo, ErrorsNameTheFile) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
   }
-  EXPECT_FALSE(std::filesystem::exists(bad + ".tmp"));
+  EXPECT_TRUE(filesIn(dir).empty());
   try {
     readImage((dir / "missing.exr").string());
     FAIL();
