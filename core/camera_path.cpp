@@ -30,7 +30,7 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error("camera path " + sourceName + ": not valid JSON: " + e.what());
   }
   if (doc.is_object() && doc.contains("keyframes")) doc = doc["keyframes"];

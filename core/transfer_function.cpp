@@ -92,7 +92,7 @@ TransferFunction TransferFunction::fromJson(std::string_view text, const std::st
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error(where + ": not valid JSON (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("points"))

@@ -73,7 +73,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
   json root;
   try {
     root = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error(sourceName + ": not JSON: " + e.what());
   }
   const json* list = &root;

@@ -98,6 +98,16 @@ TEST(CameraPathKeyframes, RejectAnUnusableUpNamingTheKeyframe) {
   EXPECT_THROW(parseCameraPath(R"([{"eye": [1, 2, 3], "target": [1, 2, 3]}])", "q.json"), Error);
 }
 
+TEST(CameraPathKeyframes, RejectANumberOutOfRangeNamingTheFile) {
+  try {
+    parseCameraPath(R"({"orbit": [0, 20, 1e999]})", "p.json");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("camera path p.json: not valid JSON"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CameraPathKeyframes, WithoutUpLookingAlongZIsUsable) {
   const CameraPath path = parseCameraPath(R"([{"eye": [0, 0, 9], "target": [0, 0, 0]}])", "p.json");
   const Camera c = sampleCameraPath(path, 0, 1, glm::dvec3(0.0), glm::dvec3(1.0));

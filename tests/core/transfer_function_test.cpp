@@ -49,6 +49,7 @@ TEST(TransferFunction, ParsingErrorsNameTheFileAndTheProblem) {
     EXPECT_NE(msg.find(what), std::string::npos) << "for " << json << ": " << msg;
   };
   expectError("{\"points\": [[0, 0, 0, 0, 0]", "not valid JSON");
+  expectError(R"({"points": [[1e999, 0, 0, 0, 0.1]]})", "not valid JSON");  // out of double range
   expectError("[1, 2]", "expected an object");
   expectError(R"({"pts": []})", "expected an object");
   expectError(R"({"points": []})", "non-empty array");

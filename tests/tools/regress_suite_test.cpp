@@ -48,6 +48,8 @@ TEST(RegressSuite, CaseTolerancesOverrideTheSuiteWideOnes) {
 
 TEST(RegressSuite, RefusesBadSuitesNamingTheKey) {
   EXPECT_NE(refusal("{\"cases\": [").find("dir/suite.json: not valid JSON"), std::string::npos);
+  EXPECT_NE(refusal(R"({"cases": [{"max_abs": 1e999}]})").find("dir/suite.json: not valid JSON"),
+            std::string::npos);
   EXPECT_EQ(refusal("{\"cases\": []}"), "dir/suite.json: expected \"cases\": a non-empty array of cases");
   EXPECT_EQ(refusal(R"({"cases": [{"name": "a", "golden": "a.png"}]})"),
             "dir/suite.json: case 'a': missing \"input\"");

@@ -73,6 +73,7 @@ void expectRefused(const std::string& text, const std::string& expected) {
 
 TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused("[1,", "s.json: not JSON");
+  expectRefused(R"([{"event": "set_iso", "value": 1e999}])", "s.json: not JSON");
   expectRefused(R"({"cameras": []})", "s.json: expected an array of events");
   expectRefused(R"([{"event": "spin"}])", "s.json: event 0 (spin): unknown event");
   expectRefused(R"([{"event": "quit"}, {"event": "set_iso"}])", "event 1 (set_iso): \"value\" is required");
