@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <glm/common.hpp>
 
@@ -38,7 +39,6 @@ class Verifier {
           }
       }
       cache_.clear();
-      failed_.clear();
       lastKey_ = NodeKey{~0u, {}};
     }
     if (progress) progress(report_.nodesChecked, total);
@@ -61,7 +61,7 @@ class Verifier {
     try {
       store_.readBrick(key, bytes);
     } catch (const Error& e) {
-      failed_[index] = true;
+      failed_.insert(index);
       ++report_.problemCount;
       if (report_.problems.size() < maxProblems_) report_.problems.push_back(e.what());
       return nullptr;
@@ -201,7 +201,7 @@ class Verifier {
   size_t maxProblems_;
   VerifyReport report_;
   std::unordered_map<uint64_t, std::unique_ptr<Brick>> cache_;
-  std::unordered_map<uint64_t, bool> failed_;
+  std::unordered_set<uint64_t> failed_;  // bricks that failed to read: each is reported once per run
   NodeKey lastKey_{~0u, {}};
   const Brick* lastBrick_ = nullptr;
 };

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <zstd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <functional>
 
 #include "store/converter.h"
@@ -125,6 +127,27 @@ TEST_F(StoreVerify, NamesANodeWhoseRangeDoesNotHoldItsChildren) {
       });
   ASSERT_FALSE(report.ok());
   EXPECT_NE(report.problems.front().find("node depth 0 (0, 0, 0)"), std::string::npos)
+      << report.problems.front();
+}
+
+// A brick whose payload no longer matches its checksum is one problem, however many checks (its own, its
+// neighbors' borders, its parent's filtering) would read it.
+TEST_F(StoreVerify, ReportsADamagedBrickOnce) {
+  const NodeKey target = dataNodeWithDataNeighbor(good->info().layout.maxDepth);
+  const StoreNodeEntry& entry = good->entries()[good->info().layout.nodeIndex(target)];
+  std::filesystem::copy_file(dir / "good.store", dir / "damaged.store");
+  {
+    std::fstream file(dir / "damaged.store", std::ios::in | std::ios::out | std::ios::binary);
+    file.seekg(std::streamoff(entry.payloadOffset + entry.payloadBytes / 2));
+    const char byte = char(file.get() ^ 0x5A);
+    file.seekp(std::streamoff(entry.payloadOffset + entry.payloadBytes / 2));
+    file.put(byte);
+  }
+  const VerifyReport report = verifyStore(*Store::open(dir / "damaged.store"));
+  ASSERT_EQ(report.problemCount, 1u);
+  ASSERT_EQ(report.problems.size(), 1u);
+  EXPECT_NE(report.problems.front().find("checksum mismatch"), std::string::npos) << report.problems.front();
+  EXPECT_NE(report.problems.front().find(Store::describeNode(target)), std::string::npos)
       << report.problems.front();
 }
 
