@@ -66,8 +66,7 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   if (const std::string problem = viewProblem(camera.eye, camera.target); !problem.empty())
     throw Error("ray cast: unusable camera: " + problem);
   if (!isValidSpacing(spacing))
-    throw Error("ray cast: volume spacing " + formatSpacing(spacing) +
-                " is not three finite positive numbers");
+    throw Error("ray cast: volume spacing " + formatSpacing(spacing) + " is not " + validSpacingText());
   const CameraFrame cam = cameraFrame(camera);
   RaycastBlock b{};
   b.eye = glm::vec3(camera.eye);

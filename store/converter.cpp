@@ -10,6 +10,8 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <string>
+#include <system_error>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -30,7 +32,13 @@ class CompressPool {
   CompressPool(StoreWriter& writer, std::vector<StoreNodeEntry>& entries, int zstdLevel, unsigned threads,
                size_t maxQueued)
       : writer_(writer), entries_(entries), zstdLevel_(zstdLevel), maxQueued_(maxQueued) {
-    for (unsigned i = 0; i < threads; ++i) workers_.emplace_back([this] { work(); });
+    try {
+      for (unsigned i = 0; i < threads; ++i) workers_.emplace_back([this] { work(); });
+    } catch (const std::system_error& e) {
+      stop();  // the destructor does not run for a constructor that throws: join those started
+      throw Error("convert: cannot start " + std::to_string(threads) + " compression threads (" +
+                  std::to_string(workers_.size()) + " started): " + e.what());
+    }
   }
   ~CompressPool() { stop(); }
 
@@ -395,9 +403,13 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   const VolumeInfo& info = source.info();
   if (info.dims.x == 0 || info.dims.y == 0 || info.dims.z == 0)
     throw Error("convert: source '" + info.description + "' has an empty volume");
+  if (!isValidDims(info.dims))
+    throw Error("convert: source '" + info.description + "' has dims " + std::to_string(info.dims.x) + "," +
+                std::to_string(info.dims.y) + "," + std::to_string(info.dims.z) + "; a store holds at most " +
+                std::to_string(kMaxDimsPerAxis) + " samples per axis");
   if (!isValidSpacing(info.spacing))
     throw Error("convert: source '" + info.description + "' has spacing " + formatSpacing(info.spacing) +
-                "; expected three finite positive numbers");
+                "; expected " + validSpacingText());
   if (options.brickSize < 4 || options.brickSize > 256 || (options.brickSize & (options.brickSize - 1)) != 0)
     throw Error("convert: --brick " + std::to_string(options.brickSize) +
                 ": expected a power of two in [4, 256]");

@@ -18,8 +18,6 @@ namespace ropecast {
 
 namespace {
 
-constexpr uint32_t kMaxDimsPerAxis = 1u << 20;  // keeps every node count far from overflow
-
 // One zstd decompression context per thread, so concurrent readBrick calls share nothing.
 struct ThreadDecoder {
   ZSTD_DCtx* context = ZSTD_createDCtx();
@@ -84,9 +82,7 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     throw Error("Store: '" + name + "': damaged metadata: " + e.what());
   }
   const auto& d = m.volume.dims;
-  if (d.x == 0 || d.y == 0 || d.z == 0 || d.x > kMaxDimsPerAxis || d.y > kMaxDimsPerAxis ||
-      d.z > kMaxDimsPerAxis)
-    throw Error("Store: '" + name + "': metadata dims must be in [1, 2^20] per axis");
+  if (!isValidDims(d)) throw Error("Store: '" + name + "': metadata dims must be in [1, 2^20] per axis");
   if (m.storedType != storedTypeFor(m.volume.type))
     throw Error("Store: '" + name + "': metadata storedType does not match originalType");
   if (m.payloadEncoding == PayloadEncoding::ZstdBytePlanes && m.storedType != SampleType::UInt16)
@@ -97,8 +93,8 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
   if (!(m.mapping.scale > 0.0) || !std::isfinite(m.mapping.scale) || !std::isfinite(m.mapping.offset))
     throw Error("Store: '" + name + "': metadata mapping must have a finite positive scale");
   if (!isValidSpacing(m.volume.spacing))
-    throw Error("Store: '" + name + "': metadata spacing " + formatSpacing(m.volume.spacing) +
-                " must be three finite positive numbers");
+    throw Error("Store: '" + name + "': metadata spacing " + formatSpacing(m.volume.spacing) + " must be " +
+                validSpacingText());
   return m;
 }
 

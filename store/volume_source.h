@@ -34,12 +34,29 @@ struct VolumeInfo {
   glm::dvec3 worldMax() const { return glm::dvec3(dims) * spacing; }
 };
 
-// A spacing that gives the volume a box: finite and positive per axis (the world box is [0, n s]; zero or
-// negative spacings leave no box for rays to enter).
+// The most samples a store holds per axis: keeps every node count far from overflow.
+inline constexpr uint32_t kMaxDimsPerAxis = 1u << 20;
+
+// Dims a store can hold: 1 to kMaxDimsPerAxis per axis.
+inline bool isValidDims(glm::u32vec3 d) {
+  for (int a = 0; a < 3; ++a)
+    if (d[a] == 0 || d[a] > kMaxDimsPerAxis) return false;
+  return true;
+}
+
+// The spacings a volume may have: the world box [0, n s] must exist (zero or negative spacings leave no box
+// for rays to enter), and distances across it, squared, must stay finite in single precision.
+inline constexpr double kMinSpacing = 1e-12, kMaxSpacing = 1e12;
+
 inline bool isValidSpacing(glm::dvec3 s) {
   for (int a = 0; a < 3; ++a)
-    if (!(s[a] > 0.0 && std::isfinite(s[a]))) return false;
+    if (!(s[a] >= kMinSpacing && s[a] <= kMaxSpacing)) return false;  // also refuses NaN
   return true;
+}
+
+// What isValidSpacing accepts, for messages.
+inline std::string validSpacingText() {
+  return "three numbers in [" + formatNumber(kMinSpacing) + ", " + formatNumber(kMaxSpacing) + "]";
 }
 
 // "SX,SY,SZ" as the command line takes it, for messages.

@@ -2,8 +2,10 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
+#include "store/volume_source.h"
 #include "tools/cli_checks.h"
 
 namespace ropecast::tools {
@@ -35,7 +37,7 @@ CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector
 
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help) {
-  return addListOption(app, name, xyz, help, ',', 3, "UINT", integerIn(1, 4294967295.0));
+  return addListOption(app, name, xyz, help, ',', 3, "UINT", integerIn(1, kMaxDimsPerAxis));
 }
 
 CLI::Option* addImageSizeOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& wh,
@@ -63,7 +65,13 @@ CLI::Validator nonZeroSize(const std::string& instead) {
 }
 
 CLI::Validator integerIn(double lo, double hi) {
-  const std::string range = "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  // Integers in full (%g would print 1048576 as 1.04858e+06).
+  const auto integer = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.0f", v);
+    return std::string(text);
+  };
+  const std::string range = "[" + integer(lo) + ", " + integer(hi) + "]";
   return CLI::Validator(
       [lo, hi, range](std::string& input) -> std::string {
         double v = 0.0;

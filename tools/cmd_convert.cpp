@@ -43,8 +43,7 @@ int runConvert(const ConvertArgs& a) {
   if (!a.spacing.empty()) {
     sourceOptions.spacing = toVec3(a.spacing);
     if (!isValidSpacing(*sourceOptions.spacing))
-      throw Error("convert: --spacing " + formatTriple(a.spacing) +
-                  ": expected three positive numbers SX,SY,SZ");
+      throw Error("convert: --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
   }
   sourceOptions.type = a.type;
   OutputGuard guard("convert");
@@ -103,7 +102,9 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
   addTripleOption(app, "--spacing", a->spacing,
                   "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
   app.add_option("--zstd-level", a->zstdLevel, "zstd compression level")->capture_default_str();
-  app.add_option("--threads", a->threads, "compression threads (0: one per core)")->capture_default_str();
+  app.add_option("--threads", a->threads, "compression threads (0: one per core), at most 1024")
+      ->capture_default_str()
+      ->check(integerIn(0, 1024));
   app.add_flag("-q,--quiet", a->quiet, "no progress bar and no summary");
   return [a] { return runConvert(*a); };
 });

@@ -49,6 +49,17 @@ expect_absent "$dir/b12.store"
 expect_failure "zero spacing" "--spacing 0,1,1" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --spacing 0,1,1 -o "$dir/s0.store" --quiet
 expect_absent "$dir/s0.store"
+expect_failure "huge spacing" "[1e-12, 1e+12]" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --spacing 1e300,1,1 -o "$dir/s300.store" --quiet
+expect_absent "$dir/s300.store"
+# More samples per axis than a store holds: refused before writing (the reader would refuse the store).
+truncate -s 1048577 "$dir/long.raw"
+expect_failure "dims beyond 2^20" "--dims" \
+  "$ropecast" convert "$dir/long.raw" --dims 1048577,1,1 --type uint8 -o "$dir/long.store" --quiet
+expect_absent "$dir/long.store"
+expect_failure "too many threads" "--threads" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --threads 100000 -o "$dir/t.store" --quiet
+expect_absent "$dir/t.store"
 
 # Damaged header: one flipped byte in the header.
 cp "$dir/good.store" "$dir/header.store"
