@@ -316,6 +316,9 @@ int runRender(const RenderOptions& o) {
     throw Error(
         "render: --stats has nothing to record with --reference (one CPU render of the full-resolution "
         "data, without the loader or the GPU); leave one of them out");
+  if (o.every > 0 && !(o.converge || o.frames > 1 || !o.path.empty()))
+    throw Error("render: --every " + std::to_string(o.every) +
+                " writes frames of a progressive render: add --frames N, --converge or --path");
   checkImageOutputs(o);
   checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
@@ -331,15 +334,19 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
   app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)");
   app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR");
   app.add_option("--stats", o.stats, "write one JSON object per frame, one per line");
-  app.add_flag("--reference", o.reference,
-               "brute-force CPU ray marching of the full-resolution data instead");
-  app.add_option("--frames", o.frames, "frames to render (progressive loading)")
+  app.add_flag("--reference", o.reference, "brute-force CPU ray marching of the full-resolution data instead")
+      ->excludes(app.get_option("--backend"));
+  app.add_option("--frames", o.frames,
+                 "frames to render (progressive loading; with --converge, at least this many)")
       ->check(CLI::Range(1u, 1000000u));
-  app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
-  app.add_flag("--converge", o.converge, "render until the working set is complete and nothing is pending");
+  CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
+  for (const char* camera : {"--orbit", "--eye", "--target", "--up"}) path->excludes(app.get_option(camera));
+  CLI::Option* converge = app.add_flag("--converge", o.converge,
+                                       "render until the working set is complete and nothing is pending");
   app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")
       ->check(CLI::Range(1u, 1000000u))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(converge);
   app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
   app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }

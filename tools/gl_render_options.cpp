@@ -30,11 +30,16 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o.tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
   addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
-  addTripleOption(app, "--orbit", o.orbit,
-                  "AZ,EL,DIST: degrees, degrees, bounding-sphere radii (default 30,20,3)");
-  addTripleOption(app, "--eye", o.eye, "camera position X,Y,Z (world units)");
-  addTripleOption(app, "--target", o.target, "point looked at X,Y,Z");
-  addTripleOption(app, "--up", o.up, "up vector X,Y,Z (default 0,0,1; 0,1,0 when looking along z)");
+  CLI::Option* orbit =
+      addTripleOption(app, "--orbit", o.orbit,
+                      "AZ,EL,DIST: degrees, degrees, bounding-sphere radii about z (default 30,20,3)");
+  // One way to place the camera: an orbit or eye and target (and up); a camera ignored would be a surprise.
+  for (CLI::Option* camera : {addTripleOption(app, "--eye", o.eye, "camera position X,Y,Z (world units)"),
+                              addTripleOption(app, "--target", o.target, "point looked at X,Y,Z"),
+                              addTripleOption(app, "--up", o.up,
+                                              "up vector X,Y,Z with --eye and --target (default 0,0,1; 0,1,0 "
+                                              "when looking along z)")})
+    orbit->excludes(camera);
   app.add_option("--fov", o.fov, "vertical field of view, degrees")
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();

@@ -52,6 +52,13 @@ expect_failure "backend by number" "--backend: 1 not in" "$vol" --backend 1
 expect_failure "bad gradients" "--gradients" "$vol" --gradients sobel
 expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
 expect_failure "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0
+# Options that would be ignored are refused: one camera, a frame cap and frame files only where they apply.
+expect_failure "orbit and eye" "--orbit excludes --eye" "$vol" --orbit 10,10,3 --eye 0,0,200 --target 1,1,1
+expect_failure "orbit and up" "--orbit excludes --up" "$vol" --orbit 10,10,3 --up 0,1,0
+expect_failure "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.json" --orbit 10,10,3
+expect_failure "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
+expect_failure "frame files of one frame" "--every 2 writes frames of a progressive render" "$vol" --every 2
+expect_failure "CPU reference and a GPU backend" "excludes --reference" "$vol" --reference --backend compute
 expect_failure "stats of the CPU reference" "--stats has nothing to record with --reference" "$vol" --reference \
   --stats "$dir/ref.jsonl"
 [ ! -e "$dir/ref.jsonl" ] || { echo "FAIL stats of the CPU reference: wrote ref.jsonl"; failures=$((failures + 1)); }
