@@ -12,6 +12,7 @@
 // Render thread only, with the GlContext current. The BrickSource must outlive the FrameRenderer.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -106,6 +107,11 @@ class FrameRenderer {
   // it here rather than in the first frames' times. Leaves the working set, the pool, the frame counter, the
   // feedback and the occlusion answers as they were.
   void prepare(const FrameRequest& request);
+
+  // Between frames, never in one: blocks until a brick read arrives, nothing is pending, or `timeout`
+  // passes; returns whether a read arrived. For a loop with no one watching (render --converge) whose last
+  // frame uploaded nothing while reads were pending: the next frame could only draw the same cut again.
+  bool waitForReads(std::chrono::milliseconds timeout) { return workingSet_->waitForReads(timeout); }
 
   // The last frame's targets (row 0 at the top): RGBA and depth.
   FloatImage readColor() const { return lastMultipass_ ? multipass_.readColor() : raycast_.readColor(); }

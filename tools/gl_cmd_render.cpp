@@ -287,6 +287,11 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
         std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
       break;
     }
+    // A still camera, nothing uploaded and reads pending: the next frame would draw the same cut. Waiting
+    // for a read (a slow disk) keeps the frames, and --max-frames, for the frames that show progress.
+    const bool stillCamera = o.path.empty() || frame + 1 >= s.frames;
+    if (o.converge && stillCamera && stats.bricksUploaded == 0 && stats.requestsPending > 0)
+      octree.renderer->waitForReads(std::chrono::milliseconds(1000));
   }
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
