@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "reference/image_compare.h"
 #include "reference/image_io.h"
+#include "tools/cli_checks.h"
 #include "tools/command.h"
 
 namespace ropecast::tools {
@@ -18,7 +20,7 @@ namespace {
 struct CompareOptions {
   std::string a, b;
   uint32_t channels = 3;
-  double minPsnr = -1.0;
+  std::optional<double> minPsnr;
 };
 
 int runCompare(const CompareOptions& o) {
@@ -33,7 +35,7 @@ int runCompare(const CompareOptions& o) {
                    {"channels", o.channels},
                    {"pixels", a.width * a.height}};
   std::printf("%s\n", j.dump().c_str());
-  return o.minPsnr >= 0.0 && d.psnrDb < o.minPsnr ? 1 : 0;
+  return o.minPsnr && d.psnrDb < *o.minPsnr ? 1 : 0;
 }
 
 const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std::function<int()> {
@@ -44,7 +46,8 @@ const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std
   app.add_option("--channels", o->channels, "channels compared: 3 = RGB, 4 = RGBA, 1 = the first")
       ->check(CLI::Range(1u, 4u))
       ->capture_default_str();
-  app.add_option("--min-psnr", o->minPsnr, "exit with status 1 when the PSNR is below this (dB)");
+  app.add_option("--min-psnr", o->minPsnr, "exit with status 1 when the PSNR is below this (dB)")
+      ->check(finiteIn(0.0, HUGE_VAL));
   return [o] { return runCompare(*o); };
 });
 

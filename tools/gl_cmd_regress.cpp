@@ -273,12 +273,16 @@ int runRegress(const RegressArgs& a) {
     return 2;
   }
 
-  removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   if (!a.report.empty()) {
     std::error_code ec;
     fs::create_directories(a.report, ec);
-    if (ec) throw Error("regress: --report " + a.report + ": cannot create the folder: " + ec.message());
+    if (ec) {  // the run cannot be made as asked: exit 2, as for an output the guard refuses
+      std::fprintf(stderr, "ropecast regress: --report %s: cannot create the folder: %s\n", a.report.c_str(),
+                   ec.message().c_str());
+      return 2;
+    }
   }
+  removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const WorkFolder folder(a.report);
   std::vector<CaseOutcome> outcomes(suite.cases.size());
   for (size_t i = 0; i < suite.cases.size(); ++i) outcomes[i].regressCase = &suite.cases[i];
@@ -320,8 +324,9 @@ const CommandRegistration regressCommand("regress", 60, [](CLI::App& app) -> std
   app.description("render a suite of cases (JSON) and compare each with its golden image (docs/REGRESS.md)");
   app.add_option("suite", a->suite, "suite file (JSON): cases of input, render options, golden image")
       ->required();
-  app.add_flag("--update", a->update, "write the goldens of failing or missing cases from their renders");
-  app.add_flag("--update-all", a->updateAll, "write the goldens of all cases from their renders");
+  app.add_flag("--update", a->update, "write the goldens of failing or missing cases from their renders")
+      ->excludes(
+          app.add_flag("--update-all", a->updateAll, "write the goldens of all cases from their renders"));
   app.add_option("--report", a->report, "write an HTML report (index.html and its images) into this folder");
   app.add_option("--jobs", a->jobs, "cases rendered at once, each in its own process (`ropecast render`)")
       ->check(CLI::Range(1u, 64u))

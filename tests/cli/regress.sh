@@ -114,6 +114,8 @@ printf '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "g.p
 expect 2 "two updated cases, one golden" "are the same file" twice.json --update
 [ ! -e g.png ] || fail "g.png was written"
 expect 1 "one golden shared by cases that are only checked" "no golden image" twice.json
+expect 2 "a report folder that cannot be made" "--report /proc/rep: cannot create the folder" suite/suite.json \
+  --report /proc/rep
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
