@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "core/error.h"
 #include "tools/command.h"
@@ -27,6 +28,15 @@ int main(int argc, char** argv) {
     runs.emplace_back(sub, entry.setup(*sub));
   }
 
+  // A mistyped command would be "A subcommand is required": name it and the commands there are.
+  if (argc >= 2 && argv[1][0] != '-' &&
+      std::none_of(registry.begin(), registry.end(), [&](auto& e) { return e.name == argv[1]; })) {
+    std::string names;
+    for (const auto& entry : registry) names += (names.empty() ? "" : ", ") + entry.name;
+    std::fprintf(stderr, "ropecast: unknown command '%s'; the commands are %s (ropecast --help)\n", argv[1],
+                 names.c_str());
+    return static_cast<int>(CLI::ExitCodes::ExtrasError);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

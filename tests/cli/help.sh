@@ -6,6 +6,8 @@ set -uo pipefail
 ropecast="$1"
 readme="$(cd "$(dirname "$0")/../.." && pwd)/README.md"
 failures=0
+dir_err=$(mktemp)
+trap 'rm -f "$dir_err"' EXIT
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 
 help=$("$ropecast" --help) || fail "ropecast --help exited non-zero"
@@ -32,6 +34,15 @@ done
 for cmd in $(grep -oE '^\| `[a-z]+`' "$readme" | tr -d '|` '); do
   grep -qx "$cmd" <<< "$commands" || fail "README.md lists $cmd, ropecast --help does not"
 done
+
+# A mistyped command is named, with the commands there are.
+if "$ropecast" rendr x.rcast -o x.png > /dev/null 2> "$dir_err"; then
+  fail "ropecast rendr: accepted"
+elif grep -qF "unknown command 'rendr'; the commands are convert," "$dir_err"; then
+  echo "ok   a mistyped command is named"
+else
+  fail "ropecast rendr: $(cat "$dir_err")"
+fi
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
