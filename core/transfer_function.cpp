@@ -140,6 +140,8 @@ TransferFunction TransferFunction::fromSpec(const std::string& spec, const TfDat
   if (!std::filesystem::exists(spec))
     throw Error("--tf: '" + spec +
                 "' is neither a preset (ct-bone, ct-soft, mri, linear) nor an existing file");
+  if (std::filesystem::is_directory(spec))
+    throw Error("--tf: '" + spec + "' is a folder; expected a preset or a transfer function file (JSON)");
   return fromFile(spec);
 }
 

@@ -66,6 +66,11 @@ bool IoQueue::waitForLoaded(std::chrono::milliseconds timeout) {
   return !ready_.empty();
 }
 
+bool IoQueue::waitUntilIdle(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  return progress_.wait_for(lock, timeout, [&] { return queue_.empty() && inFlight_.empty(); });
+}
+
 size_t IoQueue::queuedCount() const {
   std::lock_guard lock(mutex_);
   return queue_.size();

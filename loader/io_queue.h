@@ -53,6 +53,9 @@ class IoQueue {
   // Blocks until a read brick is waiting, or nothing is queued or being read, or the timeout passes.
   // Returns whether a read brick is waiting.
   bool waitForLoaded(std::chrono::milliseconds timeout);
+  // Blocks until nothing is queued or being read (every read done, or the ready list full), or the timeout
+  // passes. Returns whether nothing is pending.
+  bool waitUntilIdle(std::chrono::milliseconds timeout);
 
   size_t queuedCount() const;
   size_t inFlightCount() const;

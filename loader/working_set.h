@@ -102,9 +102,9 @@ class WorkingSet {
   WorkingSetFrame updateUntilConverged(const FrameInput& input, const LoadProgressFn& progress = {},
                                        uint32_t maxFrames = 100000);
 
-  // Blocks until a read brick waits to be taken, nothing is pending, or the timeout passes (IoQueue::
-  // waitForLoaded); update() takes what arrived. Between frames only: update() itself never waits.
-  bool waitForReads(std::chrono::milliseconds timeout) { return io_->waitForLoaded(timeout); }
+  // Blocks until no read is pending or the timeout passes (IoQueue::waitUntilIdle); update() takes what
+  // arrived. Between frames only: update() itself never waits.
+  bool waitForReads(std::chrono::milliseconds timeout) { return io_->waitUntilIdle(timeout); }
   const BrickSourceInfo& info() const { return source_.info(); }
   uint64_t brickBytes() const { return brickBytes_; }
   const SlotTable& slots() const { return slots_; }

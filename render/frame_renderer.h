@@ -108,9 +108,9 @@ class FrameRenderer {
   // feedback and the occlusion answers as they were.
   void prepare(const FrameRequest& request);
 
-  // Between frames, never in one: blocks until a brick read arrives, nothing is pending, or `timeout`
-  // passes; returns whether a read arrived. For a loop with no one watching (render --converge) whose last
-  // frame uploaded nothing while reads were pending: the next frame could only draw the same cut again.
+  // Between frames, never in one: blocks until no brick read is pending or `timeout` passes; returns whether
+  // none is. For a loop with no one watching (render --converge) whose last frame uploaded nothing while
+  // reads were pending: the next frame could only draw the same cut again.
   bool waitForReads(std::chrono::milliseconds timeout) { return workingSet_->waitForReads(timeout); }
 
   // The last frame's targets (row 0 at the top): RGBA and depth.

@@ -156,7 +156,7 @@ void Store::load() {
   StoreHeader h{};
   readAt(0, std::as_writable_bytes(std::span(&h, 1)));
   if (std::memcmp(h.magic, kStoreMagic, sizeof h.magic) != 0)
-    throw Error(damaged + "not a ropecast store (bad magic)");
+    throw Error(damaged + "not a ropecast store (bad magic); a volume becomes one with `ropecast convert`");
   if (h.version != kStoreVersion)
     throw Error(damaged + "unsupported store version " + std::to_string(h.version) + " (expected " +
                 std::to_string(kStoreVersion) + ")");

@@ -2,6 +2,7 @@
 // timed test). Each benchmark is one row of kBenchmarks: its name, a line of help, and a setup function that
 // adds its options and returns the function that runs it. Add a benchmark by adding a row. Main thread only.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <numeric>
@@ -14,6 +15,8 @@
 #include "index/random_cut.h"
 #include "index/rope_index.h"
 #include "index/rope_traversal.h"
+#include "tools/cli_checks.h"
+#include "tools/cli_values.h"
 #include "tools/command.h"
 #ifdef ROPECAST_HAVE_GL
 #include "tools/bench_modes.h"
@@ -74,15 +77,19 @@ std::function<int()> setupIndexBench(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--frames", options->frames, "builds to time")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(integerIn(1, 1000000));
   app.add_option("--max-depth", options->maxDepth, "deepest leaf of the random cut")
       ->capture_default_str()
       ->check(CLI::Range(0u, kCutMaxDepth));
-  app.add_option("--empty-fraction", options->emptyFraction, "share of Empty leaves")->capture_default_str();
+  app.add_option("--empty-fraction", options->emptyFraction, "share of Empty leaves")
+      ->capture_default_str()
+      ->check(finiteIn(0.0, 1.0));
   app.add_option("--seed", options->seed, "random cut seed")->capture_default_str();
   app.add_option("--rays", options->rays, "rays walked by the CPU reference traversal (0: skip)")
       ->capture_default_str();
-  app.add_option("--goal-ms", options->goalMs, "build time goal per frame")->capture_default_str();
+  app.add_option("--goal-ms", options->goalMs, "build time goal per frame")
+      ->capture_default_str()
+      ->check(finiteIn(0.0, HUGE_VAL));
   app.add_flag("--json", options->json, "also print the figures as one JSON line");
 
   return [options]() -> int {

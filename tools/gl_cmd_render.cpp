@@ -288,10 +288,11 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
       break;
     }
     // A still camera, nothing uploaded and reads pending: the next frame would draw the same cut. Waiting
-    // for a read (a slow disk) keeps the frames, and --max-frames, for the frames that show progress.
+    // for the reads (a slow disk), at most a tenth of a second, keeps the frames, and --max-frames, for
+    // frames that show progress.
     const bool stillCamera = o.path.empty() || frame + 1 >= s.frames;
     if (o.converge && stillCamera && stats.bricksUploaded == 0 && stats.requestsPending > 0)
-      octree.renderer->waitForReads(std::chrono::milliseconds(1000));
+      octree.renderer->waitForReads(std::chrono::milliseconds(100));
   }
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }

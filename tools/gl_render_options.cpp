@@ -93,7 +93,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
       ->capture_default_str();
   app.add_option("--visibility-threshold", o.visibilityThreshold,
                  "visible pixels below which a queried node counts as occluded")
-      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 32))
+      ->check(integerIn(0, 4294967295.0))
       ->capture_default_str();
   app.add_option("--brick", o.brick, "brick size for procedural inputs")
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));

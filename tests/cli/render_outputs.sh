@@ -86,10 +86,10 @@ run "converge" "$ropecast" render $small -o "$dir/v.png" --converge --io-delay-m
   --stats "$dir/v.jsonl" --every 1
 tail -n 1 "$dir/v.jsonl" | grep -q '"converged":true' || fail "--converge: last frame not converged"
 [ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -ge 1 ] || fail "--every 1 wrote no intermediate frames"
-# From a slow disk, --converge waits for reads between frames that would draw the same cut: a few frames
-# converge where spinning frames would spend --max-frames on the first reads.
+# From a slow disk (35 reads of 150 ms on 2 workers: 2.6 s), --converge waits for reads, up to 0.1 s, between
+# frames that would draw the same cut: 100 frames converge, where frames of 2 ms spent them on the first reads.
 run "converge from a slow disk" "$ropecast" render $small -o "$dir/slow.png" --converge --io-delay-ms 150 \
-  --max-frames 40 --stats "$dir/slow.jsonl"
+  --max-frames 100 --stats "$dir/slow.jsonl"
 tail -n 1 "$dir/slow.jsonl" | grep -q '"converged":true' ||
   fail "--converge --io-delay-ms 150: not converged in $(wc -l < "$dir/slow.jsonl") frames"
 p=$(psnr "$dir/a.png" "$dir/v.png")

@@ -77,6 +77,13 @@ TEST(TransferFunction, FileErrorsNameTheFile) {
     EXPECT_NE(std::string(e.what()).find("no-such-preset-or-file"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("ct-bone"), std::string::npos) << e.what();
   }
+  const std::string folder = std::filesystem::temp_directory_path().string();
+  try {
+    TransferFunction::fromSpec(folder, {});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'" + folder + "' is a folder"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TransferFunction, ExampleFilesLoad) {

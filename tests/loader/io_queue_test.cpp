@@ -139,6 +139,21 @@ TEST(IoQueue, ShutsDownWithRequestsInFlightWithoutWaitingForTheQueue) {
   EXPECT_LE(fake.reads(), 6u);
 }
 
+TEST(IoQueue, WaitsUntilEveryReadIsDoneOrTheTimeout) {
+  FakeBrickSource fake = makeSource64();
+  DelayedBrickSource slow(fake, 20.0);
+  IoQueue q(slow, 2);
+  std::vector<BrickRequest> requests;
+  for (uint32_t i = 0; i < 6; ++i) requests.push_back({nodeAtDepth2(i), double(i)});
+  q.replaceRequests(requests);
+  EXPECT_FALSE(q.waitUntilIdle(1ms));  // 6 reads of 20 ms on 2 workers take 60 ms
+  EXPECT_GT(q.pendingCount(), 0u);
+  EXPECT_TRUE(q.waitUntilIdle(5000ms));
+  EXPECT_EQ(q.pendingCount(), 0u);
+  EXPECT_EQ(q.takeLoaded().size(), 6u);
+  EXPECT_TRUE(q.waitUntilIdle(0ms));  // nothing pending: at once
+}
+
 TEST(IoQueue, DelayedSourceAddsLatencyToEveryRead) {
   FakeBrickSource fake = makeSource64();
   DelayedBrickSource slow(fake, 25.0);
