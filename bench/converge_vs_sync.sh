@@ -78,14 +78,13 @@ def psnr(a, b):
     out = subprocess.run([ropecast, "compare", a, b], capture_output=True, text=True, check=True).stdout
     return float(json.loads(out)["psnr_db"])
 # The first frame from which every frame is within 40 dB of the converged image.
-frames = sorted(glob.glob(f"{work}/frames/every_*.{ext}"))  # all but the last frame, written as every.EXT
+frames = sorted(glob.glob(f"{work}/frames/every_*.{ext}"))  # every frame; the last is every.EXT too
 final_frame = len(frames)
 while final_frame > 0 and psnr(frames[final_frame - 1], f"{work}/frames/every.{ext}") >= 40.0:
     final_frame -= 1
 # The first frame at least as close to full detail as the synchronous image (the defaults go on to a better one).
 sync_quality = psnr(f"{work}/sync1.{ext}", f"{work}/full.{ext}")
-every = frames + [f"{work}/frames/every.{ext}"]
-quality_frame = next((i for i, f in enumerate(every) if psnr(f, f"{work}/full.{ext}") >= sync_quality), None)
+quality_frame = next((i for i, f in enumerate(frames) if psnr(f, f"{work}/full.{ext}") >= sync_quality), None)
 units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30}
 budget = int(float(upload[:-1]) * units[upload[-1]]) if upload[-1] in units else int(upload)
 MiB = 1 << 20

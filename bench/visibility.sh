@@ -127,8 +127,8 @@ def steady_ms(mode, config):
           if x["converged"]]
     return statistics.median(ms) if ms else float("nan")
 def final_frame(mode, config):
-    # The first frame from which every frame is within 40 dB of the converged image (the last frame, written
-    # as f.png only).
+    # The first frame from which every frame is within 40 dB of the converged image (the last frame, also
+    # written as f.png).
     if ext != "png":
         return float("nan")
     frames = sorted(glob.glob(f"{work}/frames-{mode}-{config}/f_*.png"))

@@ -30,11 +30,10 @@
 #include "render/backend_choice.h"
 #include "render/frame_renderer.h"
 #include "render/gl_context.h"
-#include "store/procedural_bricks.h"
-#include "store/store.h"
 #include "tools/bench_modes.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
+#include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
 
@@ -66,7 +65,7 @@ struct Options {
   double voxelsPerPixel = 1.0;
   uint64_t gpuBudget = 0;
   uint64_t cpuCache = uint64_t(1) << 30;
-  uint32_t brick = kDefaultBrickSize;
+  std::optional<uint32_t> brick;  // procedural inputs only
   std::string configs;
   std::string out = "bench_modes";
   bool quiet = false;
@@ -112,12 +111,6 @@ ax.legend()
 fig.tight_layout()
 fig.savefig(sys.argv[2])
 )PY";
-
-std::unique_ptr<BrickSource> openInput(const Options& o) {
-  if (o.input.rfind("procedural:", 0) == 0) return openProceduralBricks(o.input, o.brick);
-  if (!std::filesystem::exists(o.input)) throw Error(o.input + ": no such store file");
-  return Store::open(o.input);
-}
 
 // "a,b,c" -> the named configurations; empty: the single pass with the platform's default entry point, the
 // single pass with the other one, multi-pass.
@@ -203,7 +196,7 @@ int runModesBench(const Options& o) {
   }
   guard.addOutputSeries("--out", (out / "images").string(), "*", [](const std::string&) { return true; });
   guard.check();
-  const std::unique_ptr<BrickSource> source = openInput(o);
+  const std::unique_ptr<BrickSource> source = openBrickSource(o.input, o.brick);
   const BrickSourceInfo& info = source->info();
   const glm::dvec3 boxMax = info.volume.worldMax();
 
@@ -395,9 +388,6 @@ int runModesBench(const Options& o) {
               (out / "frame_times.png").string().c_str(), (out / "images").string().c_str());
   return 0;
 }
-
-const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
-                                                                 {"dvr", RenderMode::Dvr}};
 
 }  // namespace
 

@@ -279,7 +279,8 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
       progress.status(text, last);
     }
     // --every writes the frame's PNG only: the EXR and depth outputs are the last frame's, written once.
-    if (o.every > 0 && (frame % o.every == 0) && !last)
+    // The last frame too, so that a numbered sequence (a movie) ends on the final image.
+    if (o.every > 0 && (frame % o.every == 0 || last))
       writePng(framePath(o.output, frame), octree.renderer->readColor(), false);
     if (last) {
       progress.finish();  // the line ends before any message
@@ -353,7 +354,7 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str()
       ->needs(converge);
-  app.add_option("--every", o.every, "also write every K-th frame as OUT_NNNN.png");
+  app.add_option("--every", o.every, "also write every K-th frame, and the last, as OUT_NNNN.png");
   app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }
 

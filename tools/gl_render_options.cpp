@@ -99,10 +99,18 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
 }
 
+std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
+  if (input.rfind("procedural:", 0) == 0)
+    return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
+  if (brick)
+    throw Error("--brick " + std::to_string(*brick) + " applies to procedural inputs; the store " + input +
+                " has the brick size it was converted with");
+  if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
+  return Store::open(input);
+}
+
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
-  if (o.input.rfind("procedural:", 0) == 0) return openProceduralBricks(o.input, o.brick);
-  if (!std::filesystem::exists(o.input)) throw Error(o.input + ": no such store file");
-  return Store::open(o.input);
+  return openBrickSource(o.input, o.brick);
 }
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {

@@ -39,6 +39,9 @@ void addSceneOptions(CLI::App& app, RenderOptions& o);
 
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o);
+// A store file or procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); a store keeps its
+// own brick size, so `brick` with a store is an error.
+std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick);
 
 // The camera of --eye/--target/--up/--fov, else of --orbit (default kDefaultOrbit) around the volume box.
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);

@@ -46,7 +46,7 @@ struct RenderOptions {
   uint32_t maxFrames = 1000;
   uint32_t every = 0;
   double ioDelayMs = 0.0;
-  uint32_t brick = kDefaultBrickSize;  // procedural inputs only
+  std::optional<uint32_t> brick;  // procedural inputs only (default kDefaultBrickSize)
   bool occlusion = true;
   bool feedback = true;
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;

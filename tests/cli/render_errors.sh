@@ -59,6 +59,8 @@ expect_failure "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.j
 expect_failure "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
 expect_failure "frame files of one frame" "--every 2 writes frames of a progressive render" "$vol" --every 2
 expect_failure "CPU reference and a GPU backend" "excludes --reference" "$vol" --reference --backend compute
+"$ropecast" convert procedural:sphere:16 -o "$dir/s16.rcast" --quiet || { echo "FAIL convert for the setup"; failures=$((failures + 1)); }
+expect_failure "brick size of a store" "--brick 8 applies to procedural inputs" "$dir/s16.rcast" --brick 8
 expect_failure "stats of the CPU reference" "--stats has nothing to record with --reference" "$vol" --reference \
   --stats "$dir/ref.jsonl"
 [ ! -e "$dir/ref.jsonl" ] || { echo "FAIL stats of the CPU reference: wrote ref.jsonl"; failures=$((failures + 1)); }

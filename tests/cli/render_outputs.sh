@@ -85,7 +85,10 @@ run "frames" "$ropecast" render $small -o "$dir/f.png" --frames 3 --stats "$dir/
 run "converge" "$ropecast" render $small -o "$dir/v.png" --converge --io-delay-ms 5 --upload-budget 64K \
   --stats "$dir/v.jsonl" --every 1
 tail -n 1 "$dir/v.jsonl" | grep -q '"converged":true' || fail "--converge: last frame not converged"
-[ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -ge 1 ] || fail "--every 1 wrote no intermediate frames"
+# --every 1 writes each frame, the last included: as many files as stats lines, the last one the -o image.
+[ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -eq "$(wc -l < "$dir/v.jsonl")" ] ||
+  fail "--every 1 wrote $(ls "$dir"/v_*.png 2>/dev/null | wc -l) frames for $(wc -l < "$dir/v.jsonl") stats lines"
+cmp -s "$(ls "$dir"/v_*.png | tail -n 1)" "$dir/v.png" || fail "--every 1: the last numbered frame is not the -o image"
 # From a slow disk (35 reads of 150 ms on 2 workers: 2.6 s), --converge waits for reads, up to 0.1 s, between
 # frames that would draw the same cut: 100 frames converge, where frames of 2 ms spent them on the first reads.
 run "converge from a slow disk" "$ropecast" render $small -o "$dir/slow.png" --converge --io-delay-ms 150 \
