@@ -62,6 +62,9 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     if (!range.is_array() || range.size() != 2) throw std::runtime_error("valueRange: expected [min, max]");
     m.volume.valueMin = range.at(0).get<double>();
     m.volume.valueMax = range.at(1).get<double>();
+    if (!(*m.volume.valueMin <= *m.volume.valueMax) || !std::isfinite(*m.volume.valueMin) ||
+        !std::isfinite(*m.volume.valueMax))
+      throw std::runtime_error("valueRange: expected finite [min, max] with min <= max");
     m.mapping.scale = j.at("mapping").at("scale").get<double>();
     m.mapping.offset = j.at("mapping").at("offset").get<double>();
     m.brickSize = j.at("brickSize").get<uint32_t>();

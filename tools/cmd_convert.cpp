@@ -69,16 +69,20 @@ int runConvert(const ConvertArgs& a) {
   };
   const ConvertStats stats = convertVolume(*source, a.output, options);
   bricks.finish();
+  if (a.discardBelow && stats.emptyNodes == stats.nodes)  // said even with -q: the store shows nothing
+    std::fprintf(stderr,
+                 "ropecast convert: warning: every sample lies below --discard-below %s: %s holds no data\n",
+                 formatNumber(*a.discardBelow).c_str(), a.output.c_str());
   if (!a.quiet) {
     const VolumeInfo& info = source->info();
     const double rawBytes = double(info.sampleCount()) * double(bytesPerSample(info.type));
     std::printf(
-        "wrote %s: %ux%ux%u %s, %llu nodes (%llu with data, %llu constant, %llu empty), %.1f MiB of "
+        "wrote %s: %ux%ux%u %s, %llu nodes (%llu with data, %llu constant, %llu empty), %s of "
         "bricks = %.3f of the raw size\n",
         a.output.c_str(), info.dims.x, info.dims.y, info.dims.z,
         std::string(sampleTypeName(info.type)).c_str(), (unsigned long long)stats.nodes,
         (unsigned long long)stats.dataNodes, (unsigned long long)stats.constantNodes,
-        (unsigned long long)stats.emptyNodes, double(stats.payloadBytes) / (1024.0 * 1024.0),
+        (unsigned long long)stats.emptyNodes, formatBytes(stats.payloadBytes).c_str(),
         double(stats.payloadBytes) / rawBytes);
   }
   return 0;

@@ -3,10 +3,23 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <iterator>
+#include <string>
 
 #include "core/elapsed.h"
 
 namespace ropecast::tools {
+
+std::string formatBytes(uint64_t bytes) {
+  if (bytes < 1024) return std::to_string(bytes) + " B";
+  const char* units[] = {"KiB", "MiB", "GiB", "TiB"};
+  double value = double(bytes) / 1024.0;
+  size_t unit = 0;
+  while (value >= 1024.0 && unit + 1 < std::size(units)) value /= 1024.0, ++unit;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %s", value, units[unit]);
+  return text;
+}
 
 std::string formatDuration(double seconds) {
   const long s = seconds < 0 ? 0 : long(seconds + 0.5);

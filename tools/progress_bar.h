@@ -41,5 +41,7 @@ std::string formatDuration(double seconds);
 inline double mebibytes(uint64_t bytes) {
   return double(bytes) / (1024.0 * 1024.0);
 }
+// Bytes in the largest unit that keeps a whole number in front: "900 B", "12.3 KiB", "4.5 MiB", "1.2 GiB".
+std::string formatBytes(uint64_t bytes);
 
 }  // namespace ropecast::tools

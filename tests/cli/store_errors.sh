@@ -88,6 +88,14 @@ expect_absent "$dir/l9.raw"
 expect_failure "extract unwritable" "$dir/plainfile/x.raw" \
   "$ropecast" extract "$dir/good.store" -o "$dir/plainfile/x.raw" --quiet
 
+# A --discard-below above every sample is not an error, but the empty store it makes is said, even with -q.
+if "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --brick 8 --discard-below 1e9 -o "$dir/empty.store" --quiet \
+  2> "$dir/err.txt" && grep -qF "every sample lies below --discard-below 1e+09" "$dir/err.txt"; then
+  echo "ok   --discard-below above the data: warned"
+else
+  echo "FAIL --discard-below above the data: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+
 # The good store is still fine.
 "$ropecast" verify "$dir/good.store" --quiet > /dev/null || { echo "FAIL: good store does not verify"; failures=$((failures + 1)); }
 [ "$failures" -eq 0 ] && echo "store_errors: ok" || { echo "store_errors: $failures failure(s)"; exit 1; }

@@ -5,10 +5,13 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <string>
 
 #include "core/error.h"
 #include "store/converter.h"
 #include "store/store.h"
+#include "store/store_writer.h"
 #include "tests/store/store_test_util.h"
 
 namespace ropecast {
@@ -33,6 +36,16 @@ std::string openError(const std::filesystem::path& p) {
   return "";
 }
 
+// Sets every digit of the `index`-th number of the array `key` in `metadata` to `digit`.
+void setDigits(std::string& metadata, const std::string& key, int index, char digit) {
+  const size_t bracket = metadata.find('[', metadata.find("\"" + key + "\""));
+  ASSERT_NE(bracket, std::string::npos) << metadata;
+  size_t at = bracket + 1;
+  for (int i = 0; i < index; ++i) at = metadata.find(',', at) + 1;
+  for (size_t i = at; i < metadata.size() && metadata[i] != ',' && metadata[i] != ']'; ++i)
+    if (std::isdigit(static_cast<unsigned char>(metadata[i]))) metadata[i] = digit;
+}
+
 class StoreErrors : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -48,6 +61,24 @@ class StoreErrors : public ::testing::Test {
     StoreHeader h;
     std::memcpy(&h, bytes.data(), sizeof h);
     return h;
+  }
+  // The good store with its metadata edited in place (`edit` keeps its length, so no offset moves) and the
+  // checksums made to match, written as `name`: what a hand-edited or foreign writer could produce. Returns
+  // the error of opening it ("" if it opens).
+  std::string openWithEditedMetadata(const char* name, const std::function<void(std::string&)>& edit) {
+    StoreHeader h = header();
+    auto edited = bytes;
+    std::string metadata(edited.data() + h.metadataOffset, h.metadataBytes);
+    edit(metadata);
+    EXPECT_EQ(metadata.size(), h.metadataBytes);
+    std::memcpy(edited.data() + h.metadataOffset, metadata.data(), h.metadataBytes);
+    h.metadataCrc =
+        storeCrc32(std::as_bytes(std::span(edited.data() + h.metadataOffset, size_t(h.metadataBytes))));
+    std::memcpy(edited.data(), &h, sizeof h);
+    h.headerCrc = storeCrc32(std::as_bytes(std::span(edited.data(), offsetof(StoreHeader, headerCrc))));
+    std::memcpy(edited.data(), &h, sizeof h);
+    writeFile(dir / name, edited);
+    return openError(dir / name);
   }
 
   TempDir dir;
@@ -84,26 +115,35 @@ TEST_F(StoreErrors, DamagedMetadataAndNodeTableAreErrors) {
   EXPECT_NE(openError(dir / "table.store").find("node table"), std::string::npos);
 }
 
-// A store whose metadata is intact (checksums match) but gives the volume no box: a zero spacing, which a
-// hand-edited or foreign writer could produce. Rays could not enter it; opening it is the error.
+// Metadata that is intact (checksums match) but gives the volume no box: a zero spacing. Rays could not
+// enter it; opening it is the error.
 TEST_F(StoreErrors, MetadataSpacingMustBePositive) {
-  StoreHeader h = header();
-  auto edited = bytes;
-  const std::string metadata(edited.data() + h.metadataOffset, h.metadataBytes);
-  const size_t key = metadata.find("\"spacing\"");
-  ASSERT_NE(key, std::string::npos) << metadata;
-  // The first spacing's digits all zero (0.5 -> 0.0: the same length, so no offset moves).
-  const size_t first = metadata.find_first_of("0123456789", metadata.find('[', key));
-  for (size_t i = first; i < metadata.size() && metadata[i] != ','; ++i)
-    if (std::isdigit(static_cast<unsigned char>(metadata[i]))) edited[h.metadataOffset + i] = '0';
-  h.metadataCrc =
-      storeCrc32(std::as_bytes(std::span(edited.data() + h.metadataOffset, size_t(h.metadataBytes))));
-  std::memcpy(edited.data(), &h, sizeof h);
-  h.headerCrc = storeCrc32(std::as_bytes(std::span(edited.data(), offsetof(StoreHeader, headerCrc))));
-  std::memcpy(edited.data(), &h, sizeof h);
-  writeFile(dir / "spacing.store", edited);
-  const std::string message = openError(dir / "spacing.store");
+  const std::string message = openWithEditedMetadata(
+      "spacing.store", [](std::string& m) { setDigits(m, "spacing", 0, '0'); });  // 0.5 -> 0.0
   EXPECT_NE(message.find("spacing.store': metadata spacing 0,0.75,1.25 must be"), std::string::npos)
+      << message;
+}
+
+// A value range whose max lies below its min (the default isovalue and transfer function come from it),
+// written by StoreWriter with the good store's payloads: only the reader's check can catch it.
+TEST_F(StoreErrors, MetadataValueRangeMustBeOrdered) {
+  const std::unique_ptr<Store> good = Store::open(dir / "good.store");
+  StoreMetadata metadata = good->metadata();
+  metadata.volume.valueMin = 3000.0;
+  metadata.volume.valueMax = 0.0;
+  std::vector<StoreNodeEntry> entries(good->entries().begin(), good->entries().end());
+  {
+    StoreWriter writer(dir / "range.store");
+    for (StoreNodeEntry& e : entries)
+      if (e.payloadBytes > 0)
+        e.payloadOffset = writer.appendPayload(
+            std::as_bytes(std::span(bytes.data() + e.payloadOffset, size_t(e.payloadBytes))));
+    writer.finish(metadata, entries);
+  }
+  const std::string message = openError(dir / "range.store");
+  EXPECT_NE(
+      message.find("range.store': damaged metadata: valueRange: expected finite [min, max] with min <= max"),
+      std::string::npos)
       << message;
 }
 
