@@ -53,6 +53,8 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   CLI::App app{"ropecast render options of case " + c.name};
   addRenderOptions(app, o);
   std::vector<std::string> args(c.options.rbegin(), c.options.rend());  // CLI11 parses a reversed vector
+  // Every case converges (below); said here too, so that --max-frames, which needs it, is taken.
+  if (std::find(args.begin(), args.end(), "--converge") == args.end()) args.push_back("--converge");
   try {
     app.parse(args);
   } catch (const CLI::ParseError& e) {

@@ -32,7 +32,7 @@ cat > suite/suite.json <<'JSON'
   "cases": [
     {"name": "a", "input": "procedural:sphere:32", "options": ["--size", "48x48", "--brick", "8"],
      "golden": "golden/a.png", "tolerances": {"max_pixel_error": 0, "max_failing_share": 0}},
-    {"name": "b", "input": "procedural:noise:24", "options": ["--size", "48x48", "--mode", "dvr", "--tf", "linear"],
+    {"name": "b", "input": "procedural:noise:24", "options": ["--size", "48x48", "--mode", "dvr", "--tf", "linear", "--max-frames", "200"],
      "golden": "golden/b.png"},
     {"name": "store", "input": "data/s.rcast", "options": ["--size", "40x32", "--orbit", "60,10,2.5"],
      "golden": "golden/store.png"}
