@@ -14,6 +14,11 @@ std::vector<CommandEntry>& commandRegistry() {
 }
 }  // namespace ropecast::tools
 
+namespace {
+// Exit statuses: 0 done, 1 a runtime error (a bad file, I/O, GL), 2 a usage error (README.md "Exit status").
+constexpr int kUsageError = 2;
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace ropecast::tools;
   CLI::App app{"ropecast: out-of-core GPU ray casting of massive volumes (rope octree, single pass)"};
@@ -35,12 +40,13 @@ int main(int argc, char** argv) {
     for (const auto& entry : registry) names += (names.empty() ? "" : ", ") + entry.name;
     std::fprintf(stderr, "ropecast: unknown command '%s'; the commands are %s (ropecast --help)\n", argv[1],
                  names.c_str());
-    return static_cast<int>(CLI::ExitCodes::ExtrasError);
+    return kUsageError;
   }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version end here with 0; every usage error exits 2 (CLI11 would use its own 100+ codes).
+    return app.exit(e) == 0 ? 0 : kUsageError;
   }
   try {
     for (auto& [sub, run] : runs)
@@ -48,9 +54,10 @@ int main(int argc, char** argv) {
   } catch (const ropecast::Error& e) {
     std::fprintf(stderr, "ropecast: error: %s\n", e.what());
     return 1;
-  } catch (const std::exception& e) {
+  } catch (
+      const std::exception& e) {  // not ropecast::Error (out of memory, say): a runtime error all the same
     std::fprintf(stderr, "ropecast: error: %s\n", e.what());
-    return 2;
+    return 1;
   }
   return 0;
 }

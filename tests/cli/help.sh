@@ -35,14 +35,19 @@ for cmd in $(grep -oE '^\| `[a-z]+`' "$readme" | tr -d '|` '); do
   grep -qx "$cmd" <<< "$commands" || fail "README.md lists $cmd, ropecast --help does not"
 done
 
-# A mistyped command is named, with the commands there are.
-if "$ropecast" rendr x.rcast -o x.png > /dev/null 2> "$dir_err"; then
-  fail "ropecast rendr: accepted"
-elif grep -qF "unknown command 'rendr'; the commands are convert," "$dir_err"; then
-  echo "ok   a mistyped command is named"
+# Usage errors exit 2 (README.md "Exit status"); a mistyped command is named, with the commands there are.
+"$ropecast" rendr x.rcast -o x.png > /dev/null 2> "$dir_err"
+rc=$?
+if [ "$rc" = 2 ] && grep -qF "unknown command 'rendr'; the commands are convert," "$dir_err"; then
+  echo "ok   a mistyped command is named (exit 2)"
 else
-  fail "ropecast rendr: $(cat "$dir_err")"
+  fail "ropecast rendr: exit $rc: $(cat "$dir_err")"
 fi
+"$ropecast" render procedural:sphere:16 --size 0x1 -o x.png > /dev/null 2> "$dir_err"
+rc=$?
+if [ "$rc" = 2 ] && grep -qF -- "--size" "$dir_err"; then echo "ok   a bad option value exits 2"
+else fail "render --size 0x1: exit $rc: $(cat "$dir_err")"; fi
+"$ropecast" --version > /dev/null || fail "ropecast --version exited non-zero"
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
