@@ -1,9 +1,14 @@
 // `ropecast view`: the interactive viewer (docs/VIEWER.md) over the FrameRenderer that `render` uses; the
 // options it shares with `render` come from tools/gl_render_options.h. The viewer is tools/gl_view_app.
+#include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
+#include "core/transfer_function.h"
 #include "reference/image_io.h"
 #include "tools/command.h"
 #include "tools/gl_view_app.h"
@@ -12,28 +17,55 @@
 namespace ropecast::tools {
 namespace {
 
+// An image the viewer will write: a writer for it (its folder exists, its extension is known), and, for an
+// EXR, the depth image beside it (NAME_depth.exr) as an output too.
+void addImageOutput(OutputGuard& guard, const std::string& what, const std::string& path) {
+  const bool exr = std::filesystem::path(path).extension() == ".exr";
+  if (const std::string problem =
+          imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
+      !problem.empty())
+    throw Error(what + " " + path + ": " + problem);
+  guard.addOutput(what, path);
+  if (exr) {
+    const std::filesystem::path p(path);
+    guard.addOutput(what + " (its depth)", (p.parent_path() / (p.stem().string() + "_depth.exr")).string());
+  }
+}
+
 int runView(const ViewOptions& o) {
-  const bool exr = std::filesystem::path(o.screenshot).extension() == ".exr";
-  if (!o.screenshot.empty())
-    if (const std::string problem =
-            imageOutputProblem(o.screenshot, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
-        !problem.empty())
-      throw Error("--screenshot " + o.screenshot + ": " + problem);
-  // No file the viewer writes from its command line may be one it reads, or another of its outputs.
+  // No file the viewer writes, from its command line or its script's events, may be one it reads, or
+  // another of its outputs: checked before the window opens, the command line's before the script is read.
   OutputGuard guard("view");
   guard.addInput("the input", o.input);
   if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
   guard.addInput("--script", o.script);
-  guard.addOutput("--screenshot", o.screenshot);
-  if (exr) {
-    const std::filesystem::path p(o.screenshot);
-    guard.addOutput("--screenshot (its depth)",
-                    (p.parent_path() / (p.stem().string() + "_depth.exr")).string());
-  }
+  if (!o.screenshot.empty()) addImageOutput(guard, "--screenshot", o.screenshot);
   guard.addOutput("--stats", o.stats);
   guard.check();
   std::optional<ViewScript> script;
   if (!o.script.empty()) script = loadViewScript(o.script);
+  if (script) {
+    const std::string of = " event of --script " + o.script;
+    std::set<std::string> screenshots, cameras, tfs;  // an event may name the file of an earlier one again
+    for (const ViewEvent& e : script->events) {
+      if (e.kind == ViewEventKind::Screenshot && screenshots.insert(e.file).second)
+        addImageOutput(guard, "a screenshot" + of + ":", e.file);
+      if (e.kind == ViewEventKind::SaveCamera && cameras.insert(e.file).second) {
+        const std::filesystem::path parent = std::filesystem::path(e.file).parent_path();
+        if (!parent.empty() && !std::filesystem::is_directory(parent))
+          throw Error("a save_camera" + of + ": " + e.file + ": its folder does not exist");
+        guard.addOutput("a save_camera" + of + ":", e.file);  // appended to: read and written
+      }
+      if (e.kind == ViewEventKind::LoadTf && tfs.insert(e.tf).second) {
+        const std::vector<std::string> presets = TransferFunction::presetNames();
+        if (std::find(presets.begin(), presets.end(), e.tf) != presets.end()) continue;
+        if (!std::filesystem::is_regular_file(e.tf))
+          throw Error("a load_tf" + of + ": '" + e.tf + "' is neither a preset nor a transfer function file");
+        guard.addInput("a load_tf" + of + ":", e.tf);
+      }
+    }
+  }
+  guard.check();
   return runViewer(o, std::move(script));
 }
 

@@ -442,6 +442,8 @@ bool Viewer::runScript(bool converged) {
   while (nextEvent_ < script_->events.size()) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
+    // A screenshot with panels is taken after this frame's panels are drawn: quitting waits for it.
+    if (e.kind == ViewEventKind::Quit && !panelShot_.empty()) break;
     const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged;
     if (waits && (!converged || changedHere)) {
       if (changedHere || framesSinceChange_ < o_.maxFrames) break;

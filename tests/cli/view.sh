@@ -161,5 +161,36 @@ rc=$?
   fail "--stats onto --script: exit $rc: $(cat "$dir/err.txt")"
 grep -q spin "$dir/bad.json" || fail "--stats onto --script overwrote the script"
 
+# The files a script's events name are outputs and inputs too: a screenshot onto the input store, --stats onto
+# a transfer function an event loads, and a screenshot into a missing folder are refused before the window.
+"$ropecast" convert procedural:sphere:16 -o "$dir/in.png" --quiet || fail "convert for the setup"
+cp "$dir/in.png" "$dir/in_copy.rcast"
+echo "[{\"event\": \"screenshot\", \"file\": \"$dir/in.png\"}]" > "$dir/onto_input.json"
+"$ropecast" view "$dir/in.png" --script "$dir/onto_input.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "a screenshot event of --script $dir/onto_input.json: $dir/in.png: the same file as the input" "$dir/err.txt"; } ||
+  fail "a script's screenshot onto the input: exit $rc: $(cat "$dir/err.txt")"
+cmp -s "$dir/in.png" "$dir/in_copy.rcast" || fail "a script's screenshot overwrote the input store"
+echo "[{\"event\": \"load_tf\", \"tf\": \"$data/tf/sphere_shells.json\"}]" > "$dir/loads_tf.json"
+cp "$data/tf/sphere_shells.json" "$dir/shells.json"
+echo "[{\"event\": \"load_tf\", \"tf\": \"$dir/shells.json\"}]" > "$dir/loads_tf.json"
+"$ropecast" view $vol --script "$dir/loads_tf.json" --stats "$dir/shells.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "the same file as a load_tf event of --script" "$dir/err.txt"; } ||
+  fail "--stats onto a script's transfer function: exit $rc: $(cat "$dir/err.txt")"
+cmp -s "$dir/shells.json" "$data/tf/sphere_shells.json" || fail "--stats overwrote a script's transfer function"
+echo "[{\"event\": \"screenshot\", \"file\": \"$dir/nodir/x.png\"}]" > "$dir/nodir.json"
+"$ropecast" view $vol --script "$dir/nodir.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "$dir/nodir/x.png: its folder" "$dir/err.txt"; } ||
+  fail "a script's screenshot into a missing folder: exit $rc: $(cat "$dir/err.txt")"
+
+# A screenshot with the panels, then quit: the screenshot is taken (after the frame's panels) before quitting.
+cat > "$dir/panels.json" << JSON
+[{"event": "screenshot", "file": "$dir/vp.png", "panels": true}, {"event": "quit"}]
+JSON
+run "view --script screenshot with panels, quit" xview $vol --script "$dir/panels.json"
+[ -s "$dir/vp.png" ] || fail "a screenshot with panels followed by quit was not written"
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
