@@ -100,6 +100,10 @@ std::function<int()> setupIndexBench(CLI::App& app) {
     params.maxDepth = o.maxDepth;
     params.emptyFraction = o.emptyFraction;
     const Cut cut = makeRandomCut(params);
+    if (cut.leaves.size() < o.leaves)  // the tree of --max-depth holds fewer leaves
+      std::fprintf(stderr,
+                   "ropecast bench index: warning: --max-depth %u gives %zu leaves, fewer than --leaves %u\n",
+                   o.maxDepth, cut.leaves.size(), o.leaves);
 
     RopeIndexBuilder builder;
     RopeIndex index;

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -17,11 +18,23 @@ using nlohmann::json;
 
 struct EventReader {
   const json& j;
-  std::string where;  // "EVENTS.json: event 3 (drag)"
+  std::string where;                                  // "EVENTS.json: event 3 (drag)"
+  mutable std::set<std::string> read{"event", "at"};  // the keys this kind of event takes
+
+  // A key the event's kind does not read is refused: a misspelt one would silently do nothing.
+  void refuseOtherKeys() const {
+    for (const auto& [key, value] : j.items())
+      if (!read.contains(key)) {
+        std::string known;
+        for (const std::string& k : read) known += (known.empty() ? "\"" : ", \"") + k + "\"";
+        fail("unknown key \"" + key + "\"; this event takes " + known);
+      }
+  }
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(where + ": " + what); }
 
   double number(const char* name, double fallback, bool required = false) const {
+    read.insert(name);
     if (!j.contains(name)) {
       if (required) fail(std::string("\"") + name + "\" is required");
       return fallback;
@@ -31,6 +44,7 @@ struct EventReader {
     return j[name].get<double>();
   }
   std::string text(const char* name, bool required = true) const {
+    read.insert(name);
     if (!j.contains(name)) {
       if (required) fail(std::string("\"") + name + "\" is required");
       return "";
@@ -40,11 +54,13 @@ struct EventReader {
     return j[name].get<std::string>();
   }
   bool flag(const char* name) const {
+    read.insert(name);
     if (!j.contains(name)) return false;
     if (!j[name].is_boolean()) fail(std::string("\"") + name + "\" must be true or false");
     return j[name].get<bool>();
   }
   glm::dvec2 point(const char* name) const {
+    read.insert(name);
     if (!j.contains(name)) fail(std::string("\"") + name + "\" is required");
     const json& p = j[name];
     if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() ||
@@ -53,6 +69,7 @@ struct EventReader {
     return {p[0].get<double>(), p[1].get<double>()};
   }
   MouseButton button() const {
+    read.insert("button");
     const std::string b = j.contains("button") ? text("button") : "left";
     if (b == "left") return MouseButton::Left;
     if (b == "middle") return MouseButton::Middle;
@@ -77,7 +94,12 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     throw Error(sourceName + ": not JSON: " + e.what());
   }
   const json* list = &root;
-  if (root.is_object() && root.contains("events")) list = &root["events"];
+  if (root.is_object() && root.contains("events")) {
+    list = &root["events"];
+    for (const auto& [key, value] : root.items())
+      if (key != "events")
+        throw Error(sourceName + ": unknown key \"" + key + "\"; expected {\"events\": [...]}");
+  }
   if (!list->is_array()) throw Error(sourceName + ": expected an array of events or {\"events\": [...]}");
 
   ViewScript script;
@@ -180,6 +202,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
           "set_iso, set_mode, load_tf, screenshot, save_camera, reset_camera, wait_converged or quit");
     }
+    r.refuseOtherKeys();
   }
   return script;
 }
