@@ -1,7 +1,9 @@
 #include "core/temporary_file.h"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -23,16 +25,18 @@ std::string errnoText() {
 struct SignalSlot {
   std::atomic<bool> claimed{false};
   std::atomic<bool> ready{false};
+  bool folder = false;  // a folder of files, removed with them
   char path[4096];
 };
 constexpr int kSignalSlots = 32;
 SignalSlot signalSlots[kSignalSlots];
 
-int publishTemporary(const std::string& path) {
+int publishTemporary(const std::string& path, bool folder = false) {
   if (path.size() >= sizeof(SignalSlot::path)) return -1;
   for (int i = 0; i < kSignalSlots; ++i) {
     bool expected = false;
     if (!signalSlots[i].claimed.compare_exchange_strong(expected, true)) continue;
+    signalSlots[i].folder = folder;
     std::memcpy(signalSlots[i].path, path.c_str(), path.size() + 1);
     signalSlots[i].ready.store(true);
     return i;
@@ -46,14 +50,49 @@ void withdrawTemporary(int slot) {
   signalSlots[slot].claimed.store(false);
 }
 
+// The files directly in `path`, then the folder, with system calls only (async-signal-safe: no allocation).
+void removeFlatFolder(const char* path) {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  alignas(8) char buffer[4096];
+  for (long n; (n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0;) {
+    for (long at = 0; at < n;) {
+      const auto* entry = reinterpret_cast<const struct dirent64*>(buffer + at);
+      if (entry->d_type != DT_DIR) ::unlinkat(fd, entry->d_name, 0);
+      at += entry->d_reclen;
+    }
+  }
+  ::close(fd);
+  ::rmdir(path);
+}
+
 void removeTemporariesAndDie(int signal) {
-  for (auto& slot : signalSlots)
-    if (slot.ready.load()) ::unlink(slot.path);
+  for (auto& slot : signalSlots) {
+    if (!slot.ready.load()) continue;
+    if (slot.folder)
+      removeFlatFolder(slot.path);
+    else
+      ::unlink(slot.path);
+  }
   std::signal(signal, SIG_DFL);
   std::raise(signal);
 }
 
 }  // namespace
+
+TemporaryFolder::TemporaryFolder(const std::string& prefix) {
+  std::string pattern = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
+  if (!::mkdtemp(pattern.data()))
+    throw Error("cannot create a temporary folder " + pattern + ": " + errnoText());
+  path_ = pattern;
+  signalSlot_ = publishTemporary(path_.string(), /*folder=*/true);
+}
+
+TemporaryFolder::~TemporaryFolder() {
+  withdrawTemporary(signalSlot_);
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
 
 TemporaryFile::TemporaryFile(std::filesystem::path output, std::string who)
     : output_(std::move(output)), who_(std::move(who)) {

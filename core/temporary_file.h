@@ -1,6 +1,6 @@
 // Temporary files for outputs: a file written under a temporary name next to its output and renamed when
-// complete, and the signal handlers that remove it when a command is interrupted, so that no command leaves a
-// half-written output behind.
+// complete, a folder of files a command drops at its end, and the signal handlers that remove both when a
+// command is interrupted, so that no command leaves a half-written output or its scratch behind.
 //
 // Threads: as each class says; removeTemporaryFilesOnSignals from the main thread once.
 #pragma once
@@ -34,6 +34,23 @@ class TemporaryFile {
   int fd_ = -1;
   int signalSlot_ = -1;  // where removeTemporaryFilesOnSignals finds the temporary name
   bool committed_ = false;
+};
+
+// A new folder under the system's temporary directory ("PREFIX-XXXXXX") for files a command writes and then
+// drops: removed with everything in it at destruction, and (its own files, not subfolders) on SIGINT/SIGTERM
+// with removeTemporaryFilesOnSignals. Throws ropecast::Error when it cannot be made. Owned by one thread.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& prefix);
+  ~TemporaryFolder();
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  int signalSlot_ = -1;
 };
 
 // For the command-line tools: installs SIGINT/SIGTERM/SIGHUP handlers that remove every TemporaryFile still

@@ -19,6 +19,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <sstream>
 
@@ -77,28 +78,22 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   return o;
 }
 
-// A folder for the renders when there is no --report: removed at the end.
+// The folder for the renders: --report's, else a temporary one, removed at the end (and on Ctrl-C).
 class WorkFolder {
  public:
   explicit WorkFolder(const std::string& report) {
-    if (!report.empty()) {
+    if (report.empty()) {
+      temporary_.emplace("ropecast-regress");
+      path_ = temporary_->path().string();
+    } else {
       path_ = report;
-      return;
     }
-    std::string pattern = (fs::temp_directory_path() / "ropecast-regress-XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw Error("regress: cannot create a temporary folder " + pattern);
-    path_ = pattern;
-    owned_ = true;
-  }
-  ~WorkFolder() {
-    std::error_code ec;
-    if (owned_) fs::remove_all(path_, ec);
   }
   const std::string& path() const { return path_; }
 
  private:
+  std::optional<TemporaryFolder> temporary_;
   std::string path_;
-  bool owned_ = false;
 };
 
 void copyAtomically(const std::string& from, const std::string& to, const char* who) {

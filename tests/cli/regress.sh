@@ -117,5 +117,21 @@ expect 1 "one golden shared by cases that are only checked" "no golden image" tw
 expect 2 "a report folder that cannot be made" "--report /proc/rep: cannot create the folder" suite/suite.json \
   --report /proc/rep
 
+# Ctrl-C: the temporary folder of the renders goes with the run (the process group gets the signal, as from a
+# terminal). Slow cases (every read 200 ms) are still rendering when the signal comes.
+mkdir -p tmp
+printf '{"cases": [{"name": "s1", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--io-delay-ms", "200"], "golden": "s1.png"}, {"name": "s2", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--io-delay-ms", "200"], "golden": "s2.png"}]}' > slow.json
+for jobs in 1 2; do
+  TMPDIR="$dir/tmp" setsid bash -c 'exec "$0" regress slow.json --jobs "$1" > /dev/null 2>&1' "$ropecast" "$jobs" &
+  leader=$!
+  sleep 1.5
+  kill -INT -- "-$leader" 2> /dev/null
+  wait "$leader"
+  rc=$?
+  if [ "$rc" = 130 ] && [ -z "$(ls -A tmp)" ]; then echo "ok   Ctrl-C with --jobs $jobs: exit 130, no folder left"
+  else fail "Ctrl-C with --jobs $jobs: exit $rc, left: $(ls -A tmp)"; fi
+  rm -rf tmp/*
+done
+
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
