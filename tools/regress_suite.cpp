@@ -1,5 +1,6 @@
 #include "tools/regress_suite.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -98,6 +99,11 @@ RegressSuite parseRegressSuite(const std::string& text, const std::string& suite
     const std::string input = requireString(entry, "input", where);
     c.input = input.starts_with("procedural:") ? input : resolve(input);
     c.golden = resolve(requireString(entry, "golden", where));
+    // Goldens are the renders' PNGs (--update copies one there): another name would hold PNG bytes.
+    std::string extension = std::filesystem::path(c.golden).extension().string();
+    for (char& ch : extension) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (extension != ".png")
+      throw SuiteError(where + ".golden: " + c.golden + ": expected a PNG file (a name ending in .png)");
     if (const auto options = entry.find("options"); options != entry.end()) {
       if (!options->is_array()) throw SuiteError(where + ".options: expected an array of strings");
       for (const json& option : *options) {

@@ -51,6 +51,9 @@ TEST(RegressSuite, RefusesBadSuitesNamingTheKey) {
   EXPECT_NE(refusal(R"({"cases": [{"max_abs": 1e999}]})").find("dir/suite.json: not valid JSON"),
             std::string::npos);
   EXPECT_EQ(refusal("{\"cases\": []}"), "dir/suite.json: expected \"cases\": a non-empty array of cases");
+  EXPECT_NE(refusal(R"({"cases": [{"name": "a", "input": "procedural:sphere:8", "golden": "a.jpg"}]})")
+                .find("case 'a'.golden: dir/a.jpg: expected a PNG file"),
+            std::string::npos);
   EXPECT_EQ(refusal(R"({"cases": [{"name": "a", "golden": "a.png"}]})"),
             "dir/suite.json: case 'a': missing \"input\"");
   EXPECT_EQ(refusal(R"({"cases": [{"name": "a/b", "input": "x", "golden": "a.png"}]})"),
@@ -62,10 +65,10 @@ TEST(RegressSuite, RefusesBadSuitesNamingTheKey) {
             "dir/suite.json: unknown key 'case' (expected cases, tolerances, description)");
   EXPECT_EQ(
       refusal(
-          R"({"tolerances": {"min_psnr_db": -1}, "cases": [{"name": "a", "input": "x", "golden": "a"}]})"),
+          R"({"tolerances": {"min_psnr_db": -1}, "cases": [{"name": "a", "input": "x", "golden": "a.png"}]})"),
       "dir/suite.json: tolerances.min_psnr_db: expected a number in [0, inf), got -1");
-  EXPECT_EQ(refusal(R"({"cases": [{"name": "a", "input": "x", "golden": "a"},
-                                   {"name": "a", "input": "x", "golden": "b"}]})"),
+  EXPECT_EQ(refusal(R"({"cases": [{"name": "a", "input": "x", "golden": "a.png"},
+                                   {"name": "a", "input": "x", "golden": "b.png"}]})"),
             "dir/suite.json: cases[1].name: 'a' names two cases");
 }
 
