@@ -174,9 +174,14 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
     log << logFile.rdbuf();
     std::error_code ec;
     fs::remove(logOf(i), ec);
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
       o.renderFile = renderFile(o);
-    else
+      // What the render warned (not converged within --max-frames, an isovalue outside the data), as
+      // --jobs 1 shows it, with the case it concerns.
+      std::istringstream lines(log.str());
+      for (std::string line; std::getline(lines, line);)
+        std::fprintf(stderr, "case '%s': %s\n", o.regressCase->name.c_str(), line.c_str());
+    } else
       o.problems.push_back("render failed (" +
                            (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
                                               : "signal " + std::to_string(WTERMSIG(status))) +
