@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "core/transfer_function.h"
 #include "reference/image_io.h"
 #include "tools/command.h"
@@ -66,6 +67,7 @@ int runView(const ViewOptions& o) {
     }
   }
   guard.check();
+  removeTemporaryFilesOnSignals();  // an interrupted viewer leaves no half-written --stats or screenshot
   return runViewer(o, std::move(script));
 }
 

@@ -168,7 +168,9 @@ class Viewer {
   FloatImage color_;
   uint64_t framesSinceChange_ = 0;
   std::deque<float> frameMsHistory_;
-  std::optional<std::ofstream> stats_;  // --stats
+  // --stats, under a temporary name until the viewer ends normally (as render's): a failed run leaves none.
+  std::optional<TemporaryFile> stats_;
+  uint64_t statsBytes_ = 0;
   uint32_t viewTexture_ = 0, viewFramebuffer_ = 0;
   uint32_t viewWidth_ = 0, viewHeight_ = 0;
 
@@ -248,8 +250,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
 
   // Opened once the window exists: a run without a display leaves no file behind.
   if (!o.stats.empty()) {
-    stats_.emplace(o.stats);
-    if (!*stats_) throw Error("view: --stats " + o.stats + ": cannot open for writing");
+    stats_.emplace(o.stats, "view: --stats");
   }
 
   glfwSetWindowUserPointer(window_->window(), this);
@@ -339,8 +340,9 @@ void Viewer::renderFrame(const FrameRequest& request) {
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
   if (stats_) {
-    *stats_ << toJsonLine(lastStats_) << '\n';
-    if (!*stats_) throw Error("view: --stats " + o_.stats + ": write failed");
+    const std::string line = toJsonLine(lastStats_) + '\n';
+    stats_->writeAt(statsBytes_, std::as_bytes(std::span(line)));
+    statsBytes_ += line.size();
   }
   frameMsHistory_.push_back(float(lastStats_.frameMs));
   if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
@@ -767,6 +769,7 @@ int Viewer::run() {
       }
     }
   }
+  if (stats_) stats_->commit();
   return 0;
 }
 
