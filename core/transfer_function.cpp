@@ -97,6 +97,9 @@ TransferFunction TransferFunction::fromJson(std::string_view text, const std::st
   }
   if (!j.is_object() || !j.contains("points"))
     throw Error(where + ": expected an object {\"points\": [[value, r, g, b, a], ...]}");
+  for (const auto& [key, value] : j.items())  // a key meant to change the function would be ignored
+    if (key != "points")
+      throw Error(where + ": unknown key \"" + key + "\"; a transfer function has \"points\" only");
   const nlohmann::json& pts = j["points"];
   if (!pts.is_array() || pts.empty()) throw Error(where + ": \"points\" must be a non-empty array");
   std::vector<TfPoint> points;

@@ -51,6 +51,7 @@ TEST(TransferFunction, ParsingErrorsNameTheFileAndTheProblem) {
   expectError("{\"points\": [[0, 0, 0, 0, 0]", "not valid JSON");
   expectError(R"({"points": [[1e999, 0, 0, 0, 0.1]]})", "not valid JSON");  // out of double range
   expectError("[1, 2]", "expected an object");
+  expectError(R"({"points": [[0, 0, 0, 0, 0]], "colorspace": "lab"})", "unknown key \"colorspace\"");
   expectError(R"({"pts": []})", "expected an object");
   expectError(R"({"points": []})", "non-empty array");
   expectError(R"({"points": [[0, 0, 0, 0]]})", "point 0 must be [value, r, g, b, a]");
