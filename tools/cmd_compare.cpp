@@ -1,6 +1,7 @@
 // `ropecast compare A B`: PSNR and absolute differences of two images (PNG/EXR, read as floats in [0, 1] for
 // 8-bit files), e.g. an adaptive render against `render --reference` (bench/quality_vs_reference.sh).
-// Prints one JSON line; with --min-psnr, exits 1 when the PSNR is lower. GL-free (reference/).
+// Prints one JSON line; with --min-psnr, exits 3 when the PSNR is lower (as verify when a check fails; 1 is
+// an image that cannot be read). GL-free (reference/).
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -16,6 +17,8 @@
 
 namespace ropecast::tools {
 namespace {
+
+constexpr int kBelowMinPsnr = 3;  // README.md "Exit status"
 
 struct CompareOptions {
   std::string a, b;
@@ -35,7 +38,7 @@ int runCompare(const CompareOptions& o) {
                    {"channels", o.channels},
                    {"pixels", a.width * a.height}};
   std::printf("%s\n", j.dump().c_str());
-  return o.minPsnr && d.psnrDb < *o.minPsnr ? 1 : 0;
+  return o.minPsnr && d.psnrDb < *o.minPsnr ? kBelowMinPsnr : 0;
 }
 
 const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std::function<int()> {
@@ -46,7 +49,7 @@ const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std
   app.add_option("--channels", o->channels, "channels compared: 3 = RGB, 4 = RGBA, 1 = the first")
       ->check(CLI::Range(1u, 4u))
       ->capture_default_str();
-  app.add_option("--min-psnr", o->minPsnr, "exit with status 1 when the PSNR is below this (dB)")
+  app.add_option("--min-psnr", o->minPsnr, "exit with status 3 when the PSNR is below this (dB)")
       ->check(finiteIn(0.0, HUGE_VAL));
   return [o] { return runCompare(*o); };
 });
