@@ -73,7 +73,8 @@ void expectRefused(const std::string& text, const std::string& expected) {
 
 TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused("[1,", "s.json: not JSON");
-  expectRefused(R"([{"event": "quit", "secs": 1}])", "s.json: event 0 (quit): unknown key \"secs\"; this event takes");
+  expectRefused(R"([{"event": "quit", "secs": 1}])",
+                "s.json: event 0 (quit): unknown key \"secs\"; this event takes");
   expectRefused(R"([{"event": "key", "key": "w", "second": 1}])", "event 0 (key): unknown key \"second\"");
   expectRefused(R"({"events": [], "speed": 2})", "s.json: unknown key \"speed\"");
   expectRefused(R"([{"event": "set_iso", "value": 1e999}])", "s.json: not JSON");
