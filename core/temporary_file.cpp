@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -79,6 +80,13 @@ void removeTemporariesAndDie(int signal) {
 }
 
 }  // namespace
+
+void writeFileAtomically(const std::filesystem::path& output, std::span<const std::byte> bytes,
+                         std::string who) {
+  TemporaryFile file(output, std::move(who));
+  file.writeAt(0, bytes);
+  file.commit();
+}
 
 TemporaryFolder::TemporaryFolder(const std::string& prefix) {
   std::string pattern = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();

@@ -36,6 +36,11 @@ class TemporaryFile {
   bool committed_ = false;
 };
 
+// Writes `bytes` as the whole of `output` through a TemporaryFile: it appears complete, or not at all. Throws
+// ropecast::Error naming `who` and `output`.
+void writeFileAtomically(const std::filesystem::path& output, std::span<const std::byte> bytes,
+                         std::string who);
+
 // A new folder under the system's temporary directory ("PREFIX-XXXXXX") for files a command writes and then
 // drops: removed with everything in it at destruction, and (its own files, not subfolders) on SIGINT/SIGTERM
 // with removeTemporaryFilesOnSignals. Throws ropecast::Error when it cannot be made. Owned by one thread.

@@ -104,9 +104,7 @@ void copyAtomically(const std::string& from, const std::string& to, const char* 
   const std::string data = bytes.str();
   std::error_code ec;
   if (const fs::path parent = fs::path(to).parent_path(); !parent.empty()) fs::create_directories(parent, ec);
-  TemporaryFile file(to, who);
-  file.writeAt(0, std::as_bytes(std::span(data)));
-  file.commit();
+  writeFileAtomically(to, std::as_bytes(std::span(data)), who);
 }
 
 // Renders the cases into `folder`/NAME.render.png: here, one after another, or in up to `jobs` child

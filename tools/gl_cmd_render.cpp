@@ -27,6 +27,7 @@
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
 #include "tools/render_command.h"
+#include "tools/stats_writer.h"
 
 namespace ropecast::tools {
 namespace {
@@ -56,28 +57,6 @@ std::string framePath(const std::string& path, uint64_t frame) {
   std::snprintf(suffix, sizeof suffix, "_%04llu", static_cast<unsigned long long>(frame));
   return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
 }
-
-// Writes the stats lines to a temporary file renamed at the end, so a failed or interrupted run leaves no
-// partial file (TemporaryFile: removed on destruction and, with removeTemporaryFilesOnSignals, on a signal).
-class StatsWriter {
- public:
-  explicit StatsWriter(const std::string& path) {
-    if (!path.empty()) file_.emplace(path, "--stats");
-  }
-  void write(const FrameStats& s) {
-    if (!file_) return;
-    const std::string line = toJsonLine(s) + '\n';
-    file_->writeAt(offset_, std::as_bytes(std::span(line)));
-    offset_ += line.size();
-  }
-  void finish() {
-    if (file_) file_->commit();
-  }
-
- private:
-  std::optional<TemporaryFile> file_;
-  uint64_t offset_ = 0;
-};
 
 // The image outputs are checked before anything is loaded or rendered: a writer for each, and a folder that
 // takes a new file (a temporary made and removed).
@@ -148,7 +127,7 @@ class RenderSetup {
         throw Error("camera path " + o.path + ", frame " + std::to_string(frame) + " of " +
                     std::to_string(frames) + ": " + problem);
     }
-    stats.emplace(o.stats);
+    stats.emplace(o.stats, "--stats");
   }
 
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }

@@ -27,10 +27,7 @@ void addImageOutput(OutputGuard& guard, const std::string& what, const std::stri
       !problem.empty())
     throw Error(what + " " + path + ": " + problem);
   guard.addOutput(what, path);
-  if (exr) {
-    const std::filesystem::path p(path);
-    guard.addOutput(what + " (its depth)", (p.parent_path() / (p.stem().string() + "_depth.exr")).string());
-  }
+  if (exr) guard.addOutput(what + " (its depth)", screenshotDepthPath(path));
 }
 
 int runView(const ViewOptions& o) {

@@ -37,6 +37,7 @@
 #include "store/value_histogram.h"
 #include "tools/cli_values.h"
 #include "tools/gl_view_tf_editor.h"
+#include "tools/stats_writer.h"
 
 namespace ropecast::tools {
 
@@ -77,18 +78,14 @@ void appendCameraKeyframe(const std::string& path, const OrbitController& contro
            {"fov", c.fovYDeg}};
   list.push_back(key);
   const std::string text = root.dump(2) + '\n';
-  TemporaryFile file(path, "save camera");  // a unique name: "PATH.tmp" could be a file of the user's
-  file.writeAt(0, std::as_bytes(std::span(text)));
-  file.commit();
+  writeFileAtomically(path, std::as_bytes(std::span(text)), "save camera");
 }
 
 void saveTransferFunction(const std::string& path, const TransferFunction& tf) {
   nlohmann::json points = nlohmann::json::array();
   for (const TfPoint& p : tf.points()) points.push_back({p.value, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
   const std::string text = nlohmann::json{{"points", points}}.dump() + '\n';
-  TemporaryFile file(path, "save transfer function");
-  file.writeAt(0, std::as_bytes(std::span(text)));
-  file.commit();
+  writeFileAtomically(path, std::as_bytes(std::span(text)), "save transfer function");
 }
 
 // The window's default framebuffer, panels included, as an image with row 0 at the top.
@@ -168,9 +165,7 @@ class Viewer {
   FloatImage color_;
   uint64_t framesSinceChange_ = 0;
   std::deque<float> frameMsHistory_;
-  // --stats, under a temporary name until the viewer ends normally (as render's): a failed run leaves none.
-  std::optional<TemporaryFile> stats_;
-  uint64_t statsBytes_ = 0;
+  std::optional<StatsWriter> stats_;  // --stats, finished when the viewer ends normally
   uint32_t viewTexture_ = 0, viewFramebuffer_ = 0;
   uint32_t viewWidth_ = 0, viewHeight_ = 0;
 
@@ -339,11 +334,7 @@ void Viewer::renderFrame(const FrameRequest& request) {
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
-  if (stats_) {
-    const std::string line = toJsonLine(lastStats_) + '\n';
-    stats_->writeAt(statsBytes_, std::as_bytes(std::span(line)));
-    statsBytes_ += line.size();
-  }
+  if (stats_) stats_->write(lastStats_);
   frameMsHistory_.push_back(float(lastStats_.frameMs));
   if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
 
@@ -534,8 +525,7 @@ void Viewer::screenshot(const std::string& path, bool panels) {
   if (exr) {
     // Float RGBA (alpha = coverage) and, beside it as NAME_depth.exr, the depth, as render --exr --depth.
     if (color_.pixels.empty()) throw Error("view: screenshot " + path + ": nothing rendered yet");
-    const std::filesystem::path p(path);
-    const std::string depthPath = (p.parent_path() / (p.stem().string() + "_depth.exr")).string();
+    const std::string depthPath = screenshotDepthPath(path);
     writeExr(path, color_);
     writeDepthExr(depthPath, renderer_->readDepth());
     message_ = "wrote " + path + " and " + depthPath;
@@ -769,11 +759,16 @@ int Viewer::run() {
       }
     }
   }
-  if (stats_) stats_->commit();
+  if (stats_) stats_->finish();
   return 0;
 }
 
 }  // namespace
+
+std::string screenshotDepthPath(const std::string& exrPath) {
+  const std::filesystem::path p(exrPath);
+  return (p.parent_path() / (p.stem().string() + "_depth.exr")).string();
+}
 
 int runViewer(const ViewOptions& options, std::optional<ViewScript> script) {
   // --screenshot alone: an empty script, so the viewer ends once the screenshot is written.

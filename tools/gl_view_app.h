@@ -24,6 +24,9 @@ struct ViewOptions : RenderOptions {
   // anyway; its stats (--stats): one JSON line per rendered frame, as render writes.
 };
 
+// Where an EXR screenshot NAME.exr puts its depth image: NAME_depth.exr beside it.
+std::string screenshotDepthPath(const std::string& exrPath);
+
 // Runs the viewer until its window closes, the script quits or ends, or a --screenshot is written. Returns
 // the exit code. Throws ropecast::Error for bad inputs and for a missing display.
 int runViewer(const ViewOptions& options, std::optional<ViewScript> script);

@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
   } catch (const ropecast::Error& e) {
     std::fprintf(stderr, "ropecast: error: %s\n", e.what());
     return 1;
-  } catch (
-      const std::exception& e) {  // not ropecast::Error (out of memory, say): a runtime error all the same
+  } catch (const std::exception& e) {
+    // Not ropecast::Error (out of memory, say): a runtime error all the same.
     std::fprintf(stderr, "ropecast: error: %s\n", e.what());
     return 1;
   }
