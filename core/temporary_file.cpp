@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -67,7 +68,16 @@ void removeFlatFolder(const char* path) {
   ::rmdir(path);
 }
 
+// Children that get the signal too (0: a free slot).
+constexpr int kChildSlots = 64;
+std::atomic<pid_t> childSlots[kChildSlots];
+
 void removeTemporariesAndDie(int signal) {
+  // The children first: their temporaries may lie in a temporary folder of ours.
+  for (auto& child : childSlots)
+    if (const pid_t pid = child.load(); pid > 0) ::kill(pid, signal);
+  for (auto& child : childSlots)
+    if (const pid_t pid = child.load(); pid > 0) ::waitpid(pid, nullptr, 0);
   for (auto& slot : signalSlots) {
     if (!slot.ready.load()) continue;
     if (slot.folder)
@@ -124,6 +134,21 @@ TemporaryFile::~TemporaryFile() {
 
 void removeTemporaryFilesOnSignals() {
   for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, removeTemporariesAndDie);
+}
+
+void forwardSignalsToChild(pid_t child) {
+  for (auto& slot : childSlots) {
+    pid_t expected = 0;
+    if (slot.compare_exchange_strong(expected, child)) return;
+  }
+  throw Error("more than " + std::to_string(kChildSlots) + " child processes at once");
+}
+
+void stopForwardingSignalsToChild(pid_t child) {
+  for (auto& slot : childSlots) {
+    pid_t expected = child;
+    if (slot.compare_exchange_strong(expected, 0)) return;
+  }
 }
 
 void TemporaryFile::writeAt(uint64_t offset, std::span<const std::byte> bytes) {

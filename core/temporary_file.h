@@ -11,6 +11,8 @@
 #include <span>
 #include <string>
 
+#include <sys/types.h>
+
 namespace ropecast {
 
 // A file being written under a temporary name next to `output` ("OUT.tmp-XXXXXX"); commit() renames it onto
@@ -62,5 +64,13 @@ class TemporaryFolder {
 // open in the process (async-signal-safe: unlink only) and then die of the signal as before, so an
 // interrupted convert, extract or render leaves nothing behind either. Main thread, once.
 void removeTemporaryFilesOnSignals();
+
+// A child process (posix_spawn) that the handlers of removeTemporaryFilesOnSignals pass their signal on to,
+// and wait for, before they remove the temporaries: a command interrupted on its own (`kill PID`, not a
+// terminal's Ctrl-C to the whole process group) leaves no child running, nor a child's file in its temporary
+// folder. At most 64 at once (more throw ropecast::Error). Main thread; stop once the child has been waited
+// for, before its pid can be reused.
+void forwardSignalsToChild(pid_t child);
+void stopForwardingSignalsToChild(pid_t child);
 
 }  // namespace ropecast

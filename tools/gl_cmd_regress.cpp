@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -130,6 +131,17 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
   }
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   std::map<pid_t, std::pair<size_t, SteadyClock::time_point>> running;
+  // An error ends the run: the renders still running end with it (they write into `folder`, which goes).
+  struct EndRunningRenders {
+    std::map<pid_t, std::pair<size_t, SteadyClock::time_point>>& running;
+    ~EndRunningRenders() {
+      for (const auto& entry : running) ::kill(entry.first, SIGTERM);
+      for (const auto& entry : running) {
+        ::waitpid(entry.first, nullptr, 0);
+        stopForwardingSignalsToChild(entry.first);
+      }
+    }
+  } endRunningRenders{running};
   size_t next = 0;
   const auto logOf = [&](size_t i) {
     return (fs::path(folder) / (outcomes[i].regressCase->name + ".log")).string();
@@ -155,6 +167,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       const int rc = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
       posix_spawn_file_actions_destroy(&actions);
       if (rc != 0) throw Error("regress: cannot start " + self + " render: " + std::strerror(rc));
+      forwardSignalsToChild(pid);
       running[pid] = {next, SteadyClock::now()};
       ++next;
     }
@@ -163,6 +176,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
     if (pid < 0) throw Error(std::string("regress: waiting for a render failed: ") + std::strerror(errno));
     const auto it = running.find(pid);
     if (it == running.end()) continue;
+    stopForwardingSignalsToChild(pid);
     const auto [i, start] = it->second;
     running.erase(it);
     CaseOutcome& o = outcomes[i];

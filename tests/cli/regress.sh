@@ -136,6 +136,17 @@ for jobs in 1 2; do
   else fail "Ctrl-C with --jobs $jobs: exit $rc, left: $(ls -A tmp)"; fi
   rm -rf tmp/*
 done
+# The signal sent to regress alone (`kill PID`, `timeout`): it passes it on to the renders it started.
+TMPDIR="$dir/tmp" setsid bash -c 'exec "$0" regress slow.json --jobs 2 > /dev/null 2>&1' "$ropecast" &
+leader=$!
+sleep 1.5
+kill -INT "$leader" 2> /dev/null
+wait "$leader"
+rc=$?
+left=$(pgrep -s "$leader" || true)
+if [ "$rc" = 130 ] && [ -z "$left" ] && [ -z "$(ls -A tmp)" ]; then echo "ok   SIGINT to regress alone: exit 130, no render running, no folder left"
+else fail "SIGINT to regress alone: exit $rc, still running: ${left:-none}, left: $(ls -A tmp)"; fi
+rm -rf tmp/*
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
