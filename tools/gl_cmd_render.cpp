@@ -316,7 +316,7 @@ int runRender(const RenderOptions& o) {
 }  // namespace
 
 void addRenderOptions(CLI::App& app, RenderOptions& o) {
-  addSceneOptions(app, o);
+  addSceneOptions(app, o, SceneCommand::Render);
   app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)");
   app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR");
   app.add_option("--stats", o.stats, "write one JSON object per frame, one per line");

@@ -74,7 +74,7 @@ const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::func
       "view a store or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; panels for "
       "mode, isovalue, transfer function, rendering settings, stats");
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
-  addSceneOptions(app, *o);
+  addSceneOptions(app, *o, SceneCommand::View);
   app.add_option("--script", o->script,
                  "timed input events and UI actions (JSON, docs/VIEWER.md); the viewer exits after the last");
   app.add_option(

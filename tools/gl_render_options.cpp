@@ -24,7 +24,7 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
   return names;
 }
 
-void addSceneOptions(CLI::App& app, RenderOptions& o) {
+void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
   app.add_option("--iso", o.iso, "isovalue in data units (default: middle of the value range)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
@@ -44,12 +44,17 @@ void addSceneOptions(CLI::App& app, RenderOptions& o) {
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
   addTripleOption(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)");
-  addEnumOption(
-      app, "--backend", o.backend, backendNames(),
-      "auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); fragment or "
-      "compute: the octree ray caster's entry point; brute: level 0 in one 3D texture, no index (a "
-      "benchmark baseline); multipass: the same cut drawn one data brick per pass, composited front "
-      "to back (no occlusion queries, no feedback). --stats names the one used");
+  std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
+  if (command == SceneCommand::View)
+    std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });
+  addEnumOption(app, "--backend", o.backend, backends,
+                std::string("auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); "
+                            "fragment or compute: the octree ray caster's entry point; ") +
+                    (command == SceneCommand::Render
+                         ? "brute: level 0 in one 3D texture, no index (a benchmark baseline); "
+                         : "") +
+                    "multipass: the same cut drawn one data brick per pass, composited front to back (no "
+                    "occlusion queries, no feedback). --stats names the one used");
   addEnumOption(
       app, "--gradients", o.gradients, kGradientNames,
       "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "

@@ -33,9 +33,13 @@ extern const std::vector<std::pair<std::string, bool>> kOnOffNames;
 extern const std::vector<std::pair<std::string, GradientSource>> kGradientNames;
 std::vector<std::pair<std::string, RenderBackend>> backendNames();
 
+// Which command the scene options are for: the viewer has no brute-force backend (render's benchmark
+// baseline).
+enum class SceneCommand { Render, View };
+
 // Registers the options that describe the scene and how it is drawn (mode, camera, size, budgets, backend,
 // ...), not the input.
-void addSceneOptions(CLI::App& app, RenderOptions& o);
+void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command);
 
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o);

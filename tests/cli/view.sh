@@ -34,6 +34,14 @@ rc=$?
 if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ]; then echo "ok   no display: exit $rc"; else fail "no display: exit $rc"; fi
 grep -q "ropecast render" "$dir/err.txt" || fail "no display: the message does not name ropecast render: $(cat "$dir/err.txt")"
 grep -qi "display" "$dir/err.txt" || fail "no display: the message does not say so: $(cat "$dir/err.txt")"
+
+# The viewer draws with the octree ray caster: render's brute-force baseline is neither offered nor taken.
+help=$("$ropecast" view --help)
+grep -q -- "--backend ENUM:{auto,fragment,compute,multipass}" <<< "$help" ||
+  fail "view --help offers backends the viewer refuses: $(grep -- --backend <<< "$help")"
+env -u DISPLAY "$ropecast" view $vol --backend brute > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 2 ] && grep -q -- "--backend: brute not in" "$dir/err.txt"; } || fail "--backend brute: exit $rc: $(cat "$dir/err.txt")"
 [ ! -e "$dir/none.png" ] || fail "no display: a screenshot was written"
 
 if ! command -v xvfb-run > /dev/null; then
