@@ -156,7 +156,7 @@ class Viewer {
   bool rendererHasGradients_ = false;
   std::optional<OrbitController> controller_;
   StepPacer stepPacer_;
-  bool coarser_ = false;  // --target-frame-ms: refining at twice --voxels-per-pixel while moving
+  bool coarser_ = false;  // --target-frame-ms: refining at half --voxels-per-pixel while moving
 
   // The last rendered frame.
   std::optional<FrameRequest> lastRequest_;
@@ -314,7 +314,7 @@ FrameRequest Viewer::currentRequest(bool moving) {
   // a coarser refinement target once the step is at its largest. A still camera gets the full quality.
   if (moving && stepPacer_.enabled()) {
     r.params.stepVoxels *= stepPacer_.scale();
-    if (coarser_) r.voxelsPerPixel *= 2.0;
+    if (coarser_) r.voxelsPerPixel *= 0.5;  // a voxel may cover twice the pixels: a level coarser
   }
   return r;
 }

@@ -118,6 +118,25 @@ grep -qE "(^| )2\.0( |$)" <<< "$steps" || fail "--target-frame-ms: no frame samp
 last=$(tail -n 1 "$dir/drag.jsonl")
 grep -q '"step_voxels":0.5' <<< "$last" && grep -q '"converged":true' <<< "$last" ||
   fail "--target-frame-ms: the last frame is not a converged full-step one: $last"
+# From a converged view, a long drag: once the step is at its largest, the cut coarsens (half
+# --voxels-per-pixel), and the still camera refines again (the drag turned it: its own cut).
+cat > "$dir/long_drag.json" << JSON
+[{"event": "wait_converged"},
+ {"event": "drag", "from": [48, 48], "to": [58, 53], "steps": 12, "seconds": 1.5},
+ {"event": "wait_converged"}]
+JSON
+# (A volume whose full-detail cut at 96x96 is level 0: 41 bricks, 17 at half the target.)
+run "view --target-frame-ms, a long drag" xview procedural:marschner-lobb:64 --brick 16 --size 96x96 --script "$dir/long_drag.json" --target-frame-ms 0.001 \
+  --stats "$dir/long_drag.jsonl"
+python3 - "$dir/long_drag.jsonl" << 'PY' || fail "--target-frame-ms: the cut did not coarsen while moving"
+import json, sys
+frames = [json.loads(line) for line in open(sys.argv[1])]
+first = next(i for i, f in enumerate(frames) if f["converged"])
+still = frames[first]["working_set_bricks"]
+moving = [f["working_set_bricks"] for f in frames[first + 1:] if f["step_voxels"] == 2.0]
+print("converged", still, "moving", moving, "last", frames[-1]["working_set_bricks"])
+sys.exit(0 if moving and min(moving) < min(still, frames[-1]["working_set_bricks"]) else 1)
+PY
 
 # set_iso, then a screenshot: render with --iso.
 cat > "$dir/iso.json" << JSON
