@@ -43,7 +43,7 @@ int runConvert(const ConvertArgs& a) {
   if (!a.spacing.empty()) {
     sourceOptions.spacing = toVec3(a.spacing);
     if (!isValidSpacing(*sourceOptions.spacing))
-      throw Error("convert: --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
+      throw UsageError("convert: --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
   }
   sourceOptions.type = a.type;
   OutputGuard guard("convert");

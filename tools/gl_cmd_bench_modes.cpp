@@ -33,6 +33,7 @@
 #include "tools/bench_modes.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
+#include "tools/command.h"
 #include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
@@ -132,13 +133,13 @@ std::vector<std::pair<std::string, RenderBackend>> chooseConfigs(const std::stri
     const auto c =
         std::find_if(kConfigs.begin(), kConfigs.end(), [&](const auto& e) { return e.first == name; });
     if (c == kConfigs.end())
-      throw Error("--configs: unknown configuration '" + name +
-                  "' (expected a comma-separated list of single-fragment, single-compute, multipass)");
+      throw UsageError("--configs: unknown configuration '" + name +
+                       "' (expected a comma-separated list of single-fragment, single-compute, multipass)");
     if (std::find(chosen.begin(), chosen.end(), *c) != chosen.end())
-      throw Error("--configs: '" + name + "' is listed twice");
+      throw UsageError("--configs: '" + name + "' is listed twice");
     chosen.push_back(*c);
   }
-  if (chosen.empty()) throw Error("--configs: no configuration named");
+  if (chosen.empty()) throw UsageError("--configs: no configuration named");
   return chosen;
 }
 
@@ -179,9 +180,9 @@ void writeText(const std::filesystem::path& path, const std::string& text) {
 }
 
 int runModesBench(const Options& o) {
-  if (o.reps == 0) throw Error("--reps must be at least 1");
-  if (o.frames == 0) throw Error("--frames must be at least 1");
-  if (!o.path.empty() && !o.orbit.empty()) throw Error("--path and --orbit exclude each other");
+  if (o.reps == 0) throw UsageError("--reps must be at least 1");
+  if (o.frames == 0) throw UsageError("--frames must be at least 1");
+  if (!o.path.empty() && !o.orbit.empty()) throw UsageError("--path and --orbit exclude each other");
   const std::filesystem::path out(o.out);
   if (!o.configs.empty()) chooseConfigs(o.configs, "");  // names checked before anything is read
   // No output may be an input (the store, --tf, --path); checked before anything is written.
@@ -224,7 +225,8 @@ int runModesBench(const Options& o) {
     path = loadCameraPath(o.path);
   } else {
     const glm::dvec3 orbit = o.orbit.empty() ? glm::dvec3(30.0, 20.0, 1.6) : toVec3(o.orbit);
-    if (!(orbit.z > 0.0)) throw Error("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
+    if (!(orbit.z > 0.0))
+      throw UsageError("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
     CameraKeyframe a, b;
     a.isOrbit = b.isOrbit = true;
     a.orbit = orbit;

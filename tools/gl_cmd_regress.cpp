@@ -29,6 +29,7 @@
 #include "core/temporary_file.h"
 #include "reference/image_io.h"
 #include "tools/command.h"
+#include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
 #include "tools/regress_images.h"
 #include "tools/regress_report.h"
@@ -76,6 +77,11 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
   if (!c.input.starts_with("procedural:") && !fs::is_regular_file(c.input))
     throw SuiteError(where + ": input " + c.input + ": no such store file");
+  try {
+    checkSceneOptions(o);
+  } catch (const UsageError& e) {
+    throw SuiteError(where + ": options: " + e.what());
+  }
   return o;
 }
 

@@ -297,14 +297,15 @@ RenderedFrame renderFrames(const RenderOptions& o) {
 namespace {
 
 int runRender(const RenderOptions& o) {
-  if (o.output.empty()) throw Error("render: -o OUT.png is required");
+  if (o.output.empty()) throw UsageError("render: -o OUT.png is required");
   if (o.reference && !o.stats.empty())
-    throw Error(
+    throw UsageError(
         "render: --stats has nothing to record with --reference (one CPU render of the full-resolution "
         "data, without the loader or the GPU); leave one of them out");
   if (o.every > 0 && !(o.converge || o.frames > 1 || !o.path.empty()))
-    throw Error("render: --every " + std::to_string(o.every) +
-                " writes frames of a progressive render: add --frames N, --converge or --path");
+    throw UsageError("render: --every " + std::to_string(o.every) +
+                     " writes frames of a progressive render: add --frames N, --converge or --path");
+  checkSceneOptions(o);
   checkImageOutputs(o);
   checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind

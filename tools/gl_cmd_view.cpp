@@ -31,6 +31,7 @@ void addImageOutput(OutputGuard& guard, const std::string& what, const std::stri
 }
 
 int runView(const ViewOptions& o) {
+  checkSceneOptions(o);
   // No file the viewer writes, from its command line or its script's events, may be one it reads, or
   // another of its outputs: checked before the window opens, the command line's before the script is read.
   OutputGuard guard("view");

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "core/error.h"
 #include "store/procedural_bricks.h"
 #include "store/store.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
+#include "tools/command.h"
 
 namespace ropecast::tools {
 
@@ -104,12 +106,48 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
 }
 
+namespace {
+
+void checkBrickOption(const std::string& input, std::optional<uint32_t> brick) {
+  if (brick && !input.starts_with("procedural:"))
+    throw UsageError("--brick " + std::to_string(*brick) + " applies to procedural inputs; the store " +
+                     input + " has the brick size it was converted with");
+}
+
+// The camera of --eye and --target (and --up), or none with an orbit.
+std::optional<Camera> eyeTargetCamera(const RenderOptions& o) {
+  if (o.eye.empty() && o.target.empty()) return std::nullopt;
+  if (o.eye.empty() || o.target.empty()) throw UsageError("--eye and --target go together");
+  Camera c;
+  c.eye = toVec3(o.eye);
+  c.target = toVec3(o.target);
+  c.fovYDeg = o.fov;
+  c.up = o.up.empty() ? defaultUp(c.target - c.eye) : toVec3(o.up);
+  if (const std::string problem = cameraProblem(c); !problem.empty())
+    throw UsageError("--eye " + formatTriple(o.eye) + " --target " + formatTriple(o.target) +
+                     (o.up.empty() ? "" : " --up " + formatTriple(o.up)) + ": " + problem);
+  return c;
+}
+
+glm::dvec3 orbitOf(const RenderOptions& o) {
+  const glm::dvec3 orbit =
+      o.orbit.empty() ? glm::dvec3(kDefaultOrbit[0], kDefaultOrbit[1], kDefaultOrbit[2]) : toVec3(o.orbit);
+  if (orbit.z <= 0.0)
+    throw UsageError("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
+  return orbit;
+}
+
+}  // namespace
+
+void checkSceneOptions(const RenderOptions& o) {
+  checkBrickOption(o.input, o.brick);
+  if (!eyeTargetCamera(o)) orbitOf(o);
+}
+
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
   if (input.rfind("procedural:", 0) == 0)
     return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
-  if (brick)
-    throw Error("--brick " + std::to_string(*brick) + " applies to procedural inputs; the store " + input +
-                " has the brick size it was converted with");
+  checkBrickOption(input, brick);
   if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
   return Store::open(input);
 }
@@ -119,23 +157,9 @@ std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
 }
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
-  const glm::dvec3 boxMax = info.volume.worldMax();
-  if (!o.eye.empty() || !o.target.empty()) {
-    if (o.eye.empty() || o.target.empty()) throw Error("--eye and --target go together");
-    Camera c;
-    c.eye = toVec3(o.eye);
-    c.target = toVec3(o.target);
-    c.fovYDeg = o.fov;
-    c.up = o.up.empty() ? defaultUp(c.target - c.eye) : toVec3(o.up);
-    if (const std::string problem = cameraProblem(c); !problem.empty())
-      throw Error("--eye " + formatTriple(o.eye) + " --target " + formatTriple(o.target) +
-                  (o.up.empty() ? "" : " --up " + formatTriple(o.up)) + ": " + problem);
-    return c;
-  }
-  const glm::dvec3 orbit =
-      o.orbit.empty() ? glm::dvec3(kDefaultOrbit[0], kDefaultOrbit[1], kDefaultOrbit[2]) : toVec3(o.orbit);
-  if (orbit.z <= 0.0) throw Error("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
-  return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), boxMax, o.fov);
+  if (const std::optional<Camera> camera = eyeTargetCamera(o)) return *camera;
+  const glm::dvec3 orbit = orbitOf(o);
+  return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), info.volume.worldMax(), o.fov);
 }
 
 std::pair<double, double> valueRangeOf(const BrickSourceInfo& info) {

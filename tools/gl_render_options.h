@@ -41,13 +41,18 @@ enum class SceneCommand { Render, View };
 // ...), not the input.
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command);
 
+// The scene options that cannot go together or cannot be a camera (--brick with a store, --eye without
+// --target, an eye on its target, an orbit of no distance), before any file is read: throws UsageError.
+void checkSceneOptions(const RenderOptions& o);
+
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o);
 // A store file or procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); a store keeps its
-// own brick size, so `brick` with a store is an error.
+// own brick size, so `brick` with a store is a UsageError.
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick);
 
 // The camera of --eye/--target/--up/--fov, else of --orbit (default kDefaultOrbit) around the volume box.
+// Throws UsageError as checkSceneOptions.
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);
 
 // The volume's value range in data units: the source's known range, else what its stored type holds.

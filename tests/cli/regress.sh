@@ -91,6 +91,8 @@ bad "option writing a file" "--stats writes a file" \
 bad "-o in options" "-o" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["-o", "y.png"], "golden": "x.png"}]}'
 bad "two cases one name" "names two cases" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "x.png"}, {"name": "x", "input": "procedural:sphere:16", "golden": "y.png"}]}'
+bad "a camera that cannot be" "case 'x': options: --eye and --target go together" \
+  '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--eye", "0,0,90"], "golden": "x.png"}]}'
 bad "missing store" "no such store file" '{"cases": [{"name": "x", "input": "nowhere.rcast", "golden": "x.png"}]}'
 bad "unknown tolerance" "unknown tolerance 'min_psnr'" '{"tolerances": {"min_psnr": 3}, "cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "x.png"}]}'
 bad "tolerance out of range" "expected a number in [0, 1]" \

@@ -15,7 +15,7 @@ expect_failure() {
   shift 2
   # Bad input must never hang (a ray caster fed rays that are not finite can spin forever).
   timeout 120 "$ropecast" render "$@" -o "$dir/x.png" > "$dir/out.txt" 2> "$dir/err.txt"
-  local rc=$?
+  rc=$?
   if [ "$rc" = 124 ]; then
     echo "FAIL $name: still running after 120 s"; failures=$((failures + 1)); return
   fi
@@ -29,6 +29,12 @@ expect_failure() {
     echo "FAIL $name: left $(find "$dir" -name 'x*.png*')"; failures=$((failures + 1)); return
   fi
   echo "ok   $name (exit $rc): $(head -c 160 "$dir/err.txt" | tr '\n' ' ')"
+}
+# expect_usage NAME PATTERN ARGS...: as expect_failure, and the exit status is 2 (a usage error: README.md).
+expect_usage() {
+  local before=$failures
+  expect_failure "$@"
+  [ "$failures" != "$before" ] || [ "$rc" = 2 ] || { echo "FAIL $1: exit $rc, a usage error exits 2"; failures=$((failures + 1)); }
 }
 
 vol="procedural:sphere:32"
@@ -44,25 +50,27 @@ printf '[{"eye": [0, -50, 16], "target": [0, 50, 16]}, {"eye": [0, 50, 16], "tar
 expect_failure "missing store" "$dir/none.rcast" "$dir/none.rcast"
 expect_failure "not a store" "$dir/bogus.rcast" "$dir/bogus.rcast"
 expect_failure "unknown procedural" "bogus" procedural:bogus:32
-expect_failure "bad size" "--size" "$vol" --size 0x4
-expect_failure "size not WxH" "--size" "$vol" --size 512
-expect_failure "bad mode" "--mode" "$vol" --mode foo
-expect_failure "bad backend" "--backend: vulkan not in {auto,fragment,compute,brute,multipass}" "$vol" --backend vulkan
+expect_usage "bad size" "--size" "$vol" --size 0x4
+expect_usage "size not WxH" "--size" "$vol" --size 512
+expect_usage "bad mode" "--mode" "$vol" --mode foo
+expect_usage "bad backend" "--backend: vulkan not in {auto,fragment,compute,brute,multipass}" "$vol" --backend vulkan
 expect_failure "backend by number" "--backend: 1 not in" "$vol" --backend 1
-expect_failure "bad gradients" "--gradients" "$vol" --gradients sobel
-expect_failure "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
-expect_failure "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0
+expect_usage "bad gradients" "--gradients" "$vol" --gradients sobel
+expect_usage "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
+expect_usage "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0
 # Options that would be ignored are refused: one camera, a frame cap and frame files only where they apply.
-expect_failure "orbit and eye" "--orbit excludes --eye" "$vol" --orbit 10,10,3 --eye 0,0,200 --target 1,1,1
-expect_failure "orbit and up" "--orbit excludes --up" "$vol" --orbit 10,10,3 --up 0,1,0
-expect_failure "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.json" --orbit 10,10,3
-expect_failure "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
-expect_failure "frame files of one frame" "--every 2 writes frames of a progressive render" "$vol" --every 2
-expect_failure "CPU reference and a GPU backend" "excludes --reference" "$vol" --reference --backend compute
+expect_usage "orbit and eye" "--orbit excludes --eye" "$vol" --orbit 10,10,3 --eye 0,0,200 --target 1,1,1
+expect_usage "orbit and up" "--orbit excludes --up" "$vol" --orbit 10,10,3 --up 0,1,0
+expect_usage "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.json" --orbit 10,10,3
+expect_usage "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
+expect_usage "frame files of one frame" "--every 2 writes frames of a progressive render" "$vol" --every 2
+expect_usage "CPU reference and a GPU backend" "excludes --reference" "$vol" --reference --backend compute
 "$ropecast" convert procedural:sphere:16 -o "$dir/s16.rcast" --quiet || { echo "FAIL convert for the setup"; failures=$((failures + 1)); }
-expect_failure "brick size of a store" "--brick 8 applies to procedural inputs" "$dir/s16.rcast" --brick 8
-expect_failure "stats of the CPU reference" "--stats has nothing to record with --reference" "$vol" --reference \
+expect_usage "brick size of a store" "--brick 8 applies to procedural inputs" "$dir/s16.rcast" --brick 8
+expect_usage "stats of the CPU reference" "--stats has nothing to record with --reference" "$vol" --reference \
   --stats "$dir/ref.jsonl"
+expect_usage "eye without target" "--eye and --target go together" "$vol" --eye 0,0,200
+expect_usage "orbit of no distance" "--orbit: the distance must be positive" "$vol" --orbit 10,10,0
 [ ! -e "$dir/ref.jsonl" ] || { echo "FAIL stats of the CPU reference: wrote ref.jsonl"; failures=$((failures + 1)); }
 # CLI11's own range check lets NaN through; a NaN opacity or isovalue must not reach the renderer.
 expect_failure "NaN early termination" "--ert: expected a finite number in [0, 1], got 'nan'" "$vol" --ert nan
