@@ -9,7 +9,7 @@ namespace ropecast {
 
 IoQueue::IoQueue(const BrickSource& source, uint32_t workerCount, size_t maxReadyBricks)
     : source_(source), maxReadyBricks_(std::max<size_t>(maxReadyBricks, 1)) {
-  if (workerCount == 0) throw Error("IoQueue: --io-threads must be at least 1");
+  if (workerCount == 0) throw Error("IoQueue: at least one I/O thread is needed");
   workers_.reserve(workerCount);
   for (uint32_t i = 0; i < workerCount; ++i) workers_.emplace_back([this] { workerLoop(); });
 }

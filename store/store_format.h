@@ -37,8 +37,15 @@ struct StoreHeader {
   uint32_t headerCrc;        // 60: crc32 of bytes [0, 60)
 };
 static_assert(sizeof(StoreHeader) == 64);
+static_assert(offsetof(StoreHeader, version) == 8);
+static_assert(offsetof(StoreHeader, headerBytes) == 12);
 static_assert(offsetof(StoreHeader, metadataOffset) == 16);
+static_assert(offsetof(StoreHeader, metadataBytes) == 24);
+static_assert(offsetof(StoreHeader, nodeTableOffset) == 32);
 static_assert(offsetof(StoreHeader, nodeCount) == 40);
+static_assert(offsetof(StoreHeader, metadataCrc) == 48);
+static_assert(offsetof(StoreHeader, nodeTableCrc) == 52);
+static_assert(offsetof(StoreHeader, nodeEntryBytes) == 56);
 static_assert(offsetof(StoreHeader, headerCrc) == 60);
 
 // One per inside node. A Data node with payloadBytes == 0 has a uniform brick of fillValue (its own samples
@@ -55,8 +62,12 @@ struct StoreNodeEntry {
   uint16_t fillValue;      // 22: the value of a payload-less Data or Constant node
 };
 static_assert(sizeof(StoreNodeEntry) == 24);
+static_assert(offsetof(StoreNodeEntry, payloadBytes) == 8);
+static_assert(offsetof(StoreNodeEntry, payloadCrc) == 12);
 static_assert(offsetof(StoreNodeEntry, minValue) == 16);
+static_assert(offsetof(StoreNodeEntry, maxValue) == 18);
 static_assert(offsetof(StoreNodeEntry, kind) == 20);
+static_assert(offsetof(StoreNodeEntry, reserved) == 21);
 static_assert(offsetof(StoreNodeEntry, fillValue) == 22);
 
 // How a brick payload encodes its samples before zstd. uint16 stores split the samples into two byte planes

@@ -324,7 +324,7 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
   app.add_flag("--reference", o.reference, "brute-force CPU ray marching of the full-resolution data instead")
       ->excludes(app.get_option("--backend"));
   app.add_option("--frames", o.frames,
-                 "frames to render (progressive loading; with --converge, at least this many)")
+                 "frames to render (more than 1: progressive loading; with --converge, at least this many)")
       ->check(CLI::Range(1u, 1000000u));
   CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
   for (const char* camera : {"--orbit", "--eye", "--target", "--up"}) path->excludes(app.get_option(camera));
