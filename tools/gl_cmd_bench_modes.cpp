@@ -429,7 +429,14 @@ std::function<int()> setupModesBench(CLI::App& app) {
   app.add_option(
       "--configs", o->configs,
       "comma-separated configurations: single-fragment, single-compute, multipass (default: the single "
-      "pass with the platform's default entry point, then the other one, then multipass)");
+      "pass with the platform's default entry point, then the other one, then multipass)")
+      ->check(CLI::Validator(
+          [](const std::string& list) {
+            return list.empty() ? "expected at least one of single-fragment, single-compute, multipass "
+                                  "(leave --configs out for the default set)"
+                                : "";
+          },
+          "", "configs"));
   app.add_option("--out", o->out, "output folder: bench.json, frame_times.png, images/")
       ->capture_default_str();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");

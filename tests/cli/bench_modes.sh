@@ -77,6 +77,7 @@ expect_failure() {
 vol="procedural:sphere:32"
 expect_failure "unknown config" "--configs: unknown configuration 'single-vulkan'" $vol --configs single-fragment,single-vulkan --out "$dir/e1"
 expect_failure "config twice" "listed twice" $vol --configs multipass,multipass --out "$dir/e2"
+expect_failure "no config named" "--configs: expected at least one of" $vol --configs "" --out "$dir/e2"
 expect_failure "bad size" "--size" $vol --size 0x10 --out "$dir/e3"
 expect_failure "zero reps" "--reps" $vol --reps 0 --out "$dir/e4"
 expect_failure "bad mode" "--mode" $vol --mode mip --out "$dir/e5"
