@@ -126,23 +126,33 @@ std::vector<std::string> TransferFunction::presetNames() {
   return {"ct-bone", "ct-soft", "mri", "linear"};
 }
 
+bool TransferFunction::isPreset(std::string_view name) {
+  const std::vector<std::string> names = presetNames();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+namespace {
+std::string presetList() {
+  std::string known;
+  for (const std::string& n : TransferFunction::presetNames()) known += (known.empty() ? "" : ", ") + n;
+  return known;
+}
+}  // namespace
+
 TransferFunction TransferFunction::preset(std::string_view name, const TfDataRange& data) {
   if (name == "ct-bone") return fromPresetPoints(kCtBone, placeHounsfield, data);
   if (name == "ct-soft") return fromPresetPoints(kCtSoft, placeHounsfield, data);
   if (name == "mri") return fromPresetPoints(kMri, placeFraction, data);
   if (name == "linear") return fromPresetPoints(kLinear, placeFraction, data);
-  std::string known;
-  for (const std::string& n : presetNames()) known += (known.empty() ? "" : ", ") + n;
-  throw Error("TransferFunction: unknown preset '" + std::string(name) + "' (expected one of " + known + ")");
+  throw Error("TransferFunction: unknown preset '" + std::string(name) + "' (expected one of " +
+              presetList() + ")");
 }
 
 TransferFunction TransferFunction::fromSpec(const std::string& spec, const TfDataRange& data) {
   if (spec.empty()) return preset("linear", data);
-  for (const std::string& n : presetNames())
-    if (spec == n) return preset(spec, data);
+  if (isPreset(spec)) return preset(spec, data);
   if (!std::filesystem::exists(spec))
-    throw Error("--tf: '" + spec +
-                "' is neither a preset (ct-bone, ct-soft, mri, linear) nor an existing file");
+    throw Error("--tf: '" + spec + "' is neither a preset (" + presetList() + ") nor an existing file");
   if (std::filesystem::is_directory(spec))
     throw Error("--tf: '" + spec + "' is a folder; expected a preset or a transfer function file (JSON)");
   return fromFile(spec);

@@ -46,6 +46,7 @@ class TransferFunction {
   // A preset by name (see presetNames()), placed for the given data (docs/TRANSFER_FUNCTIONS.md).
   static TransferFunction preset(std::string_view name, const TfDataRange& data);
   static std::vector<std::string> presetNames();
+  static bool isPreset(std::string_view name);
   // `--tf T`: a preset name, else a file path. An empty spec gives the "linear" preset.
   static TransferFunction fromSpec(const std::string& spec, const TfDataRange& data);
 

@@ -427,9 +427,9 @@ std::function<int()> setupModesBench(CLI::App& app) {
   app.add_option("--brick", o->brick, "brick size for procedural inputs")
       ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
   app.add_option(
-      "--configs", o->configs,
-      "comma-separated configurations: single-fragment, single-compute, multipass (default: the single "
-      "pass with the platform's default entry point, then the other one, then multipass)")
+         "--configs", o->configs,
+         "comma-separated configurations: single-fragment, single-compute, multipass (default: the single "
+         "pass with the platform's default entry point, then the other one, then multipass)")
       ->check(CLI::Validator(
           [](const std::string& list) {
             return list.empty() ? "expected at least one of single-fragment, single-compute, multipass "

@@ -1,6 +1,5 @@
 // `ropecast view`: the interactive viewer (docs/VIEWER.md) over the FrameRenderer that `render` uses; the
 // options it shares with `render` come from tools/gl_render_options.h. The viewer is tools/gl_view_app.
-#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <set>
@@ -56,8 +55,7 @@ int runView(const ViewOptions& o) {
         guard.addOutput("a save_camera" + of + ":", e.file);  // appended to: read and written
       }
       if (e.kind == ViewEventKind::LoadTf && tfs.insert(e.tf).second) {
-        const std::vector<std::string> presets = TransferFunction::presetNames();
-        if (std::find(presets.begin(), presets.end(), e.tf) != presets.end()) continue;
+        if (TransferFunction::isPreset(e.tf)) continue;
         if (!std::filesystem::is_regular_file(e.tf))
           throw Error("a load_tf" + of + ": '" + e.tf + "' is neither a preset nor a transfer function file");
         guard.addInput("a load_tf" + of + ":", e.tf);

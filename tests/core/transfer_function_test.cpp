@@ -114,6 +114,14 @@ TEST(TransferFunction, CtPresetsStayInHounsfieldForInt16AndScaleOtherwise) {
   }
 }
 
+TEST(TransferFunction, PresetsAreKnownByTheirExactNames) {
+  for (const std::string& name : TransferFunction::presetNames())
+    EXPECT_TRUE(TransferFunction::isPreset(name));
+  EXPECT_FALSE(TransferFunction::isPreset("ct-bones"));
+  EXPECT_FALSE(TransferFunction::isPreset(""));
+  EXPECT_FALSE(TransferFunction::isPreset("tf.json"));
+}
+
 TEST(TfTable, BakesEntriesAtNormalizedStoredValuesThroughTheMapping) {
   // int16 data stored as value + 32768 in uint16: entry i sits at data = i/(N-1)*65535 - 32768.
   const auto tf = TransferFunction::fromJson(R"({"points": [[-1000, 0, 0, 0, 0], [1000, 1, 1, 1, 1]]})", "t");
