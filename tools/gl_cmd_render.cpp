@@ -210,7 +210,8 @@ struct OctreeRender {
   FrameRequest request;
 };
 
-// One frame without --frames, --converge or --path: load everything the view needs, then draw.
+// One frame (no --converge, --frames 1; with --path, its first camera): load everything the view needs, then
+// draw.
 RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/true);
@@ -229,8 +230,8 @@ RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
-// --frames, --converge, --path: the asynchronous loader streams bricks while frames render, and no frame
-// waits for the disk.
+// --frames N > 1 (along --path, if given), --converge: the asynchronous loader streams bricks while frames
+// render, and no frame waits for the disk.
 RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   OctreeRender octree(o, s, gl, /*synchronous=*/false);
@@ -286,7 +287,7 @@ RenderedFrame renderFrames(const RenderOptions& o) {
     frame = renderReference(setup);
   else if (o.backend == RenderBackend::Brute)
     frame = renderBrute(setup);
-  else if (o.converge || o.frames > 1 || !o.path.empty())
+  else if (o.converge || o.frames > 1)
     frame = renderProgressive(o, setup);
   else
     frame = renderSingleFrame(o, setup);
@@ -302,9 +303,9 @@ int runRender(const RenderOptions& o) {
     throw UsageError(
         "render: --stats has nothing to record with --reference (one CPU render of the full-resolution "
         "data, without the loader or the GPU); leave one of them out");
-  if (o.every > 0 && !(o.converge || o.frames > 1 || !o.path.empty()))
+  if (o.every > 0 && !(o.converge || o.frames > 1))
     throw UsageError("render: --every " + std::to_string(o.every) +
-                     " writes frames of a progressive render: add --frames N, --converge or --path");
+                     " writes frames of a progressive render: add --frames N or --converge");
   checkSceneOptions(o);
   checkImageOutputs(o);
   checkOutputsAreNew(o);

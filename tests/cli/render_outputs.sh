@@ -105,6 +105,13 @@ if "$ropecast" render $small -o "$dir/p.png" --path "$dir/path.json" --frames 4 
 else
   fail "path: $(cat "$dir/err.txt")"
 fi
+# A path of one frame (--frames 1, the default) is its first camera, rendered as that camera alone: loaded
+# before it is drawn, not a first progressive frame with nothing loaded yet.
+"$ropecast" render $small -o "$dir/p1.png" --path "$dir/path.json" 2> "$dir/err.txt" || fail "path, one frame: $(cat "$dir/err.txt")"
+"$ropecast" render $small -o "$dir/o1.png" --orbit 0,20,3 2> "$dir/err.txt" || fail "orbit 0,20,3: $(cat "$dir/err.txt")"
+p=$(psnr "$dir/p1.png" "$dir/o1.png")
+if [ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50; then echo "ok   path of one frame = its first camera"
+else fail "path of one frame differs from its first camera ($p dB)"; fi
 
 # A progress line on a terminal (script(1), from bsdutils, gives the render one): the load's bricks, or each
 # frame of a progressive render; -q, or stderr not a terminal, silences it.
