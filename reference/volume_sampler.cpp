@@ -64,13 +64,11 @@ double Level0Sampler::value(glm::dvec3 world) const {
   const auto t = [&](size_t dx, size_t dy, size_t dz) {
     return normalizedTexel(brick, type_, base + dx + e * dy + e2 * dz);
   };
-  const double c00 = t(0, 0, 0) * (1 - f.x) + t(1, 0, 0) * f.x;
-  const double c10 = t(0, 1, 0) * (1 - f.x) + t(1, 1, 0) * f.x;
-  const double c01 = t(0, 0, 1) * (1 - f.x) + t(1, 0, 1) * f.x;
-  const double c11 = t(0, 1, 1) * (1 - f.x) + t(1, 1, 1) * f.x;
-  const double c0 = c00 * (1 - f.y) + c10 * f.y;
-  const double c1 = c01 * (1 - f.y) + c11 * f.y;
-  return c0 * (1 - f.z) + c1 * f.z;
+  const double c00 = interpolate(t(0, 0, 0), t(1, 0, 0), f.x);
+  const double c10 = interpolate(t(0, 1, 0), t(1, 1, 0), f.x);
+  const double c01 = interpolate(t(0, 0, 1), t(1, 0, 1), f.x);
+  const double c11 = interpolate(t(0, 1, 1), t(1, 1, 1), f.x);
+  return interpolate(interpolate(c00, c10, f.y), interpolate(c01, c11, f.y), f.z);
 }
 
 }  // namespace ropecast

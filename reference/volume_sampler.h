@@ -31,6 +31,12 @@ inline double normalizedTexel(const std::byte* brick, SampleType storedType, siz
   return double(reinterpret_cast<const uint16_t*>(brick)[index]) / 65535.0;
 }
 
+// a + (b - a) w, not a (1 - w) + b w: equal corners give their value exactly, so a flat region at the
+// isovalue shows no sign change (docs/RENDERING.md), as the GPU's filtering shows none.
+inline double interpolate(double a, double b, double w) {
+  return a + (b - a) * w;
+}
+
 // Trilinear weights of a continuous texel coordinate p (texel i centered at i + 0.5), with clamp-to-edge
 // indices in [0, edge).
 struct TrilinearAxis {
@@ -65,13 +71,11 @@ class BrickSampler {
     const auto t = [&](uint32_t x, uint32_t y, uint32_t z) {
       return normalizedTexel(brick_, type_, x + e * y + e2 * z);
     };
-    const double c00 = t(ax.i0, ay.i0, az.i0) * (1 - ax.f) + t(ax.i1, ay.i0, az.i0) * ax.f;
-    const double c10 = t(ax.i0, ay.i1, az.i0) * (1 - ax.f) + t(ax.i1, ay.i1, az.i0) * ax.f;
-    const double c01 = t(ax.i0, ay.i0, az.i1) * (1 - ax.f) + t(ax.i1, ay.i0, az.i1) * ax.f;
-    const double c11 = t(ax.i0, ay.i1, az.i1) * (1 - ax.f) + t(ax.i1, ay.i1, az.i1) * ax.f;
-    const double c0 = c00 * (1 - ay.f) + c10 * ay.f;
-    const double c1 = c01 * (1 - ay.f) + c11 * ay.f;
-    return c0 * (1 - az.f) + c1 * az.f;
+    const double c00 = interpolate(t(ax.i0, ay.i0, az.i0), t(ax.i1, ay.i0, az.i0), ax.f);
+    const double c10 = interpolate(t(ax.i0, ay.i1, az.i0), t(ax.i1, ay.i1, az.i0), ax.f);
+    const double c01 = interpolate(t(ax.i0, ay.i0, az.i1), t(ax.i1, ay.i0, az.i1), ax.f);
+    const double c11 = interpolate(t(ax.i0, ay.i1, az.i1), t(ax.i1, ay.i1, az.i1), ax.f);
+    return interpolate(interpolate(c00, c10, ay.f), interpolate(c01, c11, ay.f), az.f);
   }
 
  private:

@@ -208,6 +208,21 @@ TEST(CpuRaycaster, MirrorOnAMixedCutStaysCloseToTheReference) {
   }
 }
 
+TEST(CpuRaycaster, AFlatRegionAtTheIsovalueHasNoSurface) {
+  // f = v - iso is 0 everywhere: no sign change, so no hit (docs/RENDERING.md), in the reference and the
+  // mirror.
+  const FunctionBricks src({40, 24, 32}, 8, SampleType::UInt8, glm::dvec3(1.0),
+                           [](glm::dvec3) { return 100.0; });
+  CpuRenderInput in;
+  in.camera = orbitCamera(35.0, 25.0, 2.0, glm::dvec3(0.0), glm::dvec3(40, 24, 32), 35.0);
+  in.width = in.height = 48;
+  in.params.mode = RenderMode::Iso;
+  in.params.isoValue = 100.0;
+  for (const CpuImage& image :
+       {ReferenceRenderer(src).render(in), renderMirrorOfCut(src, level0Cut(src.info().layout), in)})
+    for (float depth : image.depth) ASSERT_TRUE(std::isinf(depth));
+}
+
 TEST(CpuRaycaster, DvrOfAConstantVolumeHasTheAnalyticOpacity) {
   // Constant 100 in a 40 x 24 x 32 volume with anisotropic spacing; TF: a = 0.03 per voxel, color c
   // everywhere.
