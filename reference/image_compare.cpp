@@ -21,7 +21,11 @@ ImageDifference compareImages(std::span<const float> a, uint32_t aChannels, std:
   double sumSq = 0.0, sumAbs = 0.0;
   for (size_t p = 0; p < pixels; ++p)
     for (uint32_t c = 0; c < channels; ++c) {
-      const double diff = std::abs(double(a[p * aChannels + c]) - double(b[p * bChannels + c]));
+      const double x = a[p * aChannels + c], y = b[p * bChannels + c];
+      // Equal values differ by nothing, infinities (a depth image's misses) and NaN included; a value that
+      // is not finite against one that differs, by an infinite amount (a miss against a hit).
+      const bool same = x == y || (std::isnan(x) && std::isnan(y));
+      const double diff = same ? 0.0 : std::isfinite(x - y) ? std::abs(x - y) : HUGE_VAL;
       sumSq += diff * diff;
       sumAbs += diff;
       d.maxAbs = std::max(d.maxAbs, diff);

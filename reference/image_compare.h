@@ -10,8 +10,8 @@
 namespace ropecast::tools {
 
 struct ImageDifference {
-  double psnrDb = 0.0;   // 10 log10(1 / MSE); +inf for identical images
-  double maxAbs = 0.0;   // largest |a - b|
+  double psnrDb = 0.0;   // 10 log10(1 / MSE); +inf for identical images, -inf when maxAbs is
+  double maxAbs = 0.0;   // largest |a - b|; +inf where one value is not finite and the other differs
   double meanAbs = 0.0;  // mean |a - b|
   uint64_t values = 0;   // values compared: pixels * channels
 };

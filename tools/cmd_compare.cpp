@@ -26,15 +26,21 @@ struct CompareOptions {
   std::optional<double> minPsnr;
 };
 
+// JSON has no infinity: "inf" and "-inf" as strings, which float() in Python and jq's tonumber read back.
+nlohmann::json number(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+
 int runCompare(const CompareOptions& o) {
   const FloatImage a = readImage(o.a), b = readImage(o.b);
   if (a.width != b.width || a.height != b.height)
     throw Error("compare: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
                 o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
   const ImageDifference d = compareImages(a.pixels, a.channels, b.pixels, b.channels, o.channels);
-  nlohmann::json j{{"psnr_db", std::isinf(d.psnrDb) ? nlohmann::json("inf") : nlohmann::json(d.psnrDb)},
-                   {"max_abs", d.maxAbs},
-                   {"mean_abs", d.meanAbs},
+  nlohmann::json j{{"psnr_db", number(d.psnrDb)},
+                   {"max_abs", number(d.maxAbs)},
+                   {"mean_abs", number(d.meanAbs)},
                    {"channels", o.channels},
                    {"pixels", a.width * a.height}};
   std::printf("%s\n", j.dump().c_str());

@@ -210,7 +210,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
 std::string describe(const GoldenDifference& d) {
   char text[160];
   std::snprintf(text, sizeof text, "PSNR %s dB, max error %.4f, failing %.3f%% (%llu px)",
-                std::isinf(d.psnrDb) ? "inf" : formatNumber(std::round(d.psnrDb * 100.0) / 100.0).c_str(),
+                formatNumber(std::isinf(d.psnrDb) ? d.psnrDb : std::round(d.psnrDb * 100.0) / 100.0).c_str(),
                 d.maxError, 100.0 * d.failingShare, static_cast<unsigned long long>(d.failingPixels));
   return text;
 }

@@ -29,6 +29,23 @@ TEST(ImageCompare, PsnrOfAKnownError) {
   EXPECT_NEAR(d.meanAbs, 0.1 / 6.0, 1e-7);
 }
 
+TEST(ImageCompare, DepthMissesMatchEachOtherAndDifferFromHits) {
+  // Depth images: +inf where the ray missed. Equal misses (and NaN against NaN) differ by nothing; a miss
+  // against a hit differs by an infinite amount, so the PSNR is -inf, not the +inf of identical images.
+  const float inf = INFINITY;
+  const std::vector<float> misses = {inf, inf, 0.5f, NAN};
+  const ImageDifference same = compareImages(misses, 1, misses, 1, 1);
+  EXPECT_EQ(same.psnrDb, HUGE_VAL);
+  EXPECT_EQ(same.maxAbs, 0.0);
+  const std::vector<float> hit = {0.25f, inf, 0.5f, NAN};
+  const ImageDifference d = compareImages(misses, 1, hit, 1, 1);
+  EXPECT_EQ(d.maxAbs, HUGE_VAL);
+  EXPECT_EQ(d.meanAbs, HUGE_VAL);
+  EXPECT_EQ(d.psnrDb, -HUGE_VAL);
+  const std::vector<float> nanAgainstNumber = {inf, inf, 0.5f, 0.0f};
+  EXPECT_EQ(compareImages(misses, 1, nanAgainstNumber, 1, 1).psnrDb, -HUGE_VAL);
+}
+
 TEST(ImageCompare, ComparesOnlyTheChosenChannelsOfDifferentLayouts) {
   // RGBA against RGB: alpha differs wildly but only RGB is compared.
   const std::vector<float> rgba = {0.5f, 0.25f, 1.f, 0.f, 0.f, 0.f, 0.f, 1.f};
