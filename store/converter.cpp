@@ -398,6 +398,18 @@ void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueM
 
 }  // namespace
 
+std::string convertOptionsProblem(const ConvertOptions& options) {
+  if (options.brickSize < 4 || options.brickSize > 256 || (options.brickSize & (options.brickSize - 1)) != 0)
+    return "convert: --brick " + std::to_string(options.brickSize) + ": expected a power of two in [4, 256]";
+  if (options.discardBelow && !std::isfinite(*options.discardBelow))
+    return "convert: --discard-below " + formatNumber(*options.discardBelow) +
+           ": expected a finite value in data units";
+  if (options.zstdLevel < ZSTD_minCLevel() || options.zstdLevel > ZSTD_maxCLevel())
+    return "convert: --zstd-level " + std::to_string(options.zstdLevel) + ": expected a value in [" +
+           std::to_string(ZSTD_minCLevel()) + ", " + std::to_string(ZSTD_maxCLevel()) + "]";
+  return "";
+}
+
 ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& output,
                            const ConvertOptions& options) {
   const VolumeInfo& info = source.info();
@@ -410,15 +422,7 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   if (!isValidSpacing(info.spacing))
     throw Error("convert: source '" + info.description + "' has spacing " + formatSpacing(info.spacing) +
                 "; expected " + validSpacingText());
-  if (options.brickSize < 4 || options.brickSize > 256 || (options.brickSize & (options.brickSize - 1)) != 0)
-    throw Error("convert: --brick " + std::to_string(options.brickSize) +
-                ": expected a power of two in [4, 256]");
-  if (options.discardBelow && !std::isfinite(*options.discardBelow))
-    throw Error("convert: --discard-below " + formatNumber(*options.discardBelow) +
-                ": expected a finite value in data units");
-  if (options.zstdLevel < ZSTD_minCLevel() || options.zstdLevel > ZSTD_maxCLevel())
-    throw Error("convert: --zstd-level " + std::to_string(options.zstdLevel) + ": expected a value in [" +
-                std::to_string(ZSTD_minCLevel()) + ", " + std::to_string(ZSTD_maxCLevel()) + "]");
+  if (const std::string problem = convertOptionsProblem(options); !problem.empty()) throw Error(problem);
   const OctreeLayout layout = OctreeLayout::forVolume(info.dims, options.brickSize);
 
   StoreMetadata metadata;

@@ -49,6 +49,9 @@ struct ConvertStats {
   uint64_t peakBufferedBytes() const { return peakWindowBytes + readBufferBytes + brickQueueBytes; }
 };
 
+// What is wrong with the options, whatever the source ("convert: --brick 3: expected ..."), or "".
+std::string convertOptionsProblem(const ConvertOptions& options);
+
 // Throws ropecast::Error (source failures, unwritable output, bad options); leaves no file behind on failure.
 ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& output,
                            const ConvertOptions& options = {});

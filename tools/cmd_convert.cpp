@@ -46,6 +46,12 @@ int runConvert(const ConvertArgs& a) {
       throw UsageError("convert: --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
   }
   sourceOptions.type = a.type;
+  ConvertOptions options;
+  options.brickSize = a.brick;
+  options.discardBelow = a.discardBelow;
+  options.zstdLevel = a.zstdLevel;
+  options.workerThreads = a.threads;
+  if (const std::string problem = convertOptionsProblem(options); !problem.empty()) throw UsageError(problem);
   OutputGuard guard("convert");
   for (const std::string& file : volumeSpecFiles(a.input)) guard.addInput("the input", file);
   guard.addOutput("-o", a.output);
@@ -53,11 +59,6 @@ int runConvert(const ConvertArgs& a) {
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto source = openVolumeSource(a.input, sourceOptions);
 
-  ConvertOptions options;
-  options.brickSize = a.brick;
-  options.discardBelow = a.discardBelow;
-  options.zstdLevel = a.zstdLevel;
-  options.workerThreads = a.threads;
   ProgressBar scan("scanning range", "B", a.quiet), bricks("converting", "B", a.quiet);
   options.progress = [&](const ConvertProgress& p) {
     if (p.phase == ConvertProgress::Phase::ValueRange) {

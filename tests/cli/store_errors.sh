@@ -12,7 +12,7 @@ expect_failure() {
   local name="$1" pattern="$2"
   shift 2
   "$@" > "$dir/out.txt" 2> "$dir/err.txt"
-  local rc=$?
+  rc=$?
   if [ "$rc" -lt 1 ] || [ "$rc" -gt 127 ]; then
     echo "FAIL $name: exit code $rc"; failures=$((failures + 1)); return
   fi
@@ -20,6 +20,12 @@ expect_failure() {
     echo "FAIL $name: stderr does not name '$pattern':"; cat "$dir/err.txt"; failures=$((failures + 1)); return
   fi
   echo "ok   $name (exit $rc): $(head -c 200 "$dir/err.txt")"
+}
+# expect_usage NAME PATTERN COMMAND...: as expect_failure, and the exit status is 2 (a usage error: README.md).
+expect_usage() {
+  local before=$failures
+  expect_failure "$@"
+  [ "$failures" != "$before" ] || [ "$rc" = 2 ] || { echo "FAIL $1: exit $rc, a usage error exits 2"; failures=$((failures + 1)); }
 }
 expect_absent() {
   if [ -e "$1" ] || [ -n "$(find "$(dirname "$1")" -name "$(basename "$1").tmp-*")" ]; then
@@ -43,21 +49,24 @@ head -c 10000 "$dir/v_24x20x16_uint16.raw" > "$dir/cut_24x20x16_uint16.raw"
 expect_failure "truncated raw" "cut_24x20x16_uint16.raw" \
   "$ropecast" convert "$dir/cut_24x20x16_uint16.raw" -o "$dir/cut.store" --quiet
 expect_absent "$dir/cut.store"
-expect_failure "bad brick size" "--brick" \
+expect_usage "bad brick size" "--brick" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --brick 12 -o "$dir/b12.store" --quiet
 expect_absent "$dir/b12.store"
-expect_failure "zero spacing" "--spacing 0,1,1" \
+expect_usage "zero spacing" "--spacing 0,1,1" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --spacing 0,1,1 -o "$dir/s0.store" --quiet
 expect_absent "$dir/s0.store"
-expect_failure "huge spacing" "[1e-12, 1e+12]" \
+expect_usage "huge spacing" "[1e-12, 1e+12]" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --spacing 1e300,1,1 -o "$dir/s300.store" --quiet
 expect_absent "$dir/s300.store"
+expect_usage "zstd level beyond zstd's" "--zstd-level 100: expected a value in" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --zstd-level 100 -o "$dir/z100.store" --quiet
+expect_absent "$dir/z100.store"
 # More samples per axis than a store holds: refused before writing (the reader would refuse the store).
 truncate -s 1048577 "$dir/long.raw"
-expect_failure "dims beyond 2^20" "--dims" \
+expect_usage "dims beyond 2^20" "--dims" \
   "$ropecast" convert "$dir/long.raw" --dims 1048577,1,1 --type uint8 -o "$dir/long.store" --quiet
 expect_absent "$dir/long.store"
-expect_failure "too many threads" "--threads" \
+expect_usage "too many threads" "--threads" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --threads 100000 -o "$dir/t.store" --quiet
 expect_absent "$dir/t.store"
 
