@@ -132,9 +132,11 @@ class CompressPool {
 };
 
 // Turns one source slice into stored values (store_format.h: uint8/uint16 kept, int16 offset, float32
-// quantized).
+// quantized and clamped to [0, floatHigh], the stored value of the range's high end: 65535, or 0 when every
+// finite value is the same, so that an infinity stays in the value range).
 template <typename T>
-void toStored(const std::byte* in, size_t count, SampleType type, const ValueMapping& mapping, T* out) {
+void toStored(const std::byte* in, size_t count, SampleType type, const ValueMapping& mapping,
+              double floatHigh, T* out) {
   switch (type) {
     case SampleType::UInt8:
     case SampleType::UInt16:
@@ -153,7 +155,7 @@ void toStored(const std::byte* in, size_t count, SampleType type, const ValueMap
         float v;
         std::memcpy(&v, in + 4 * i, 4);
         const double q = std::nearbyint((double(v) - mapping.offset) * inverseScale);
-        out[i] = std::isnan(q) ? T(0) : T(std::clamp(q, 0.0, 65535.0));  // NaN -> the range's low end
+        out[i] = std::isnan(q) ? T(0) : T(std::clamp(q, 0.0, floatHigh));  // NaN -> the range's low end
       }
       return;
     }
@@ -370,8 +372,8 @@ class Cascade {
 
 template <typename T>
 void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueMapping& mapping,
-                  const ConvertOptions& options, std::vector<StoreNodeEntry>& entries, CompressPool& pool,
-                  uint64_t queuedBytes, ConvertStats& stats) {
+                  double floatHigh, const ConvertOptions& options, std::vector<StoreNodeEntry>& entries,
+                  CompressPool& pool, uint64_t queuedBytes, ConvertStats& stats) {
   const VolumeInfo& info = source.info();
   Cascade<T> cascade(layout, mapping, options.discardBelow, entries, pool);
   const uint32_t slab = slabSlicesFor(info);
@@ -384,7 +386,7 @@ void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueM
     source.readSlab(z, count, std::span(buffer).first(size_t(count) * sliceBytes));
     for (uint32_t i = 0; i < count; ++i) {
       std::vector<T> slice = cascade.newSlice(0);
-      toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, slice.data());
+      toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, floatHigh, slice.data());
       cascade.push(0, std::move(slice));
     }
     progress.slicesDone = z + count;
@@ -443,6 +445,7 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
       std::tie(lo, hi) = scanValueRange(source, options);
   }
   metadata.mapping = valueMappingFor(info.type, lo, hi);
+  const double floatHigh = std::nearbyint(metadata.mapping.toStored(hi));
 
   StoreWriter writer(output);  // before the long work, so an unwritable output fails at once
   std::vector<StoreNodeEntry> entries(layout.insideNodeCount(), StoreNodeEntry{});
@@ -454,11 +457,11 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   {
     CompressPool pool(writer, entries, options.zstdLevel, threads, maxQueued);
     if (metadata.storedType == SampleType::UInt8)
-      streamSlices<uint8_t>(source, layout, metadata.mapping, options, entries, pool, maxQueued * brickBytes,
-                            stats);
+      streamSlices<uint8_t>(source, layout, metadata.mapping, floatHigh, options, entries, pool,
+                            maxQueued * brickBytes, stats);
     else
-      streamSlices<uint16_t>(source, layout, metadata.mapping, options, entries, pool, maxQueued * brickBytes,
-                             stats);
+      streamSlices<uint16_t>(source, layout, metadata.mapping, floatHigh, options, entries, pool,
+                             maxQueued * brickBytes, stats);
     pool.finish();
   }
 

@@ -119,6 +119,27 @@ TEST(StoreRoundTrip, Float32WithAKnownRangeSkipsThePrePassAndClampsOutliers) {
     ASSERT_NEAR(back[i], std::min(samples[i], 4.0f), 0.5 * 4.0 / 65535 + 1e-6) << "sample " << i;
 }
 
+TEST(StoreRoundTrip, Float32WhoseFiniteValuesAreOneKeepsInfinitiesInTheRange) {
+  // Every finite value 5, one +inf and one -inf: the value range is [5, 5], and every sample reads back 5.
+  TempDir dir;
+  const glm::u32vec3 dims{8, 8, 8};
+  std::vector<float> samples(size_t(dims.x) * dims.y * dims.z, 5.0f);
+  samples[100] = std::numeric_limits<float>::infinity();
+  samples[200] = -std::numeric_limits<float>::infinity();
+  ArraySource source =
+      ArraySource::fromSamples<float>(testing::volumeInfo(dims, SampleType::Float32), samples);
+  ConvertOptions options;
+  options.brickSize = 4;
+  convertVolume(source, dir / "c.store", options);
+  const auto store = Store::open(dir / "c.store");
+  EXPECT_EQ(*store->info().volume.valueMin, 5.0);
+  EXPECT_EQ(*store->info().volume.valueMax, 5.0);
+  const std::vector<std::byte> bytes = extractLevelBytes(*store, 0);
+  std::vector<float> back(samples.size());
+  std::memcpy(back.data(), bytes.data(), bytes.size());
+  for (size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i], 5.0f) << "sample " << i;
+}
+
 TEST(StoreRoundTrip, EveryLevelMatchesTheDirectBoxFilter) {
   TempDir dir;
   const glm::u32vec3 dims{45, 37, 29};
