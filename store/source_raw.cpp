@@ -45,7 +45,8 @@ class RawSource final : public VolumeSource {
 }  // namespace
 
 std::optional<RawFileName> parseRawFileName(std::string_view path) {
-  static const std::regex pattern(R"(_([0-9]+)x([0-9]+)x([0-9]+)_([A-Za-z0-9]+)\.raw$)");
+  // ".RAW" too (files from Windows tools); the type name's case is parseSampleType's business.
+  static const std::regex pattern(R"(_([0-9]+)x([0-9]+)x([0-9]+)_([A-Za-z0-9]+)\.[rR][aA][wW]$)");
   const std::string name = std::filesystem::path(path).filename().string();
   std::smatch match;
   if (!std::regex_search(name, match, pattern)) return std::nullopt;

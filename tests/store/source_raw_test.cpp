@@ -81,6 +81,10 @@ TEST(SourceRaw, ParsesOpenSciVisNames) {
   ASSERT_TRUE(unknown);
   EXPECT_EQ(unknown->typeName, "float64");
   EXPECT_FALSE(unknown->type);
+  const auto upper = parseRawFileName("SCAN_4x5x6_UINT16.RAW");
+  ASSERT_TRUE(upper);
+  EXPECT_EQ(upper->dims, glm::u32vec3(4, 5, 6));
+  EXPECT_EQ(upper->type, SampleType::UInt16);
   EXPECT_FALSE(parseRawFileName("bonsai.raw"));
   EXPECT_FALSE(parseRawFileName("bonsai_256x256_uint8.raw"));
   EXPECT_FALSE(parseRawFileName("bonsai_0x256x256_uint8.raw"));
