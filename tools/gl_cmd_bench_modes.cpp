@@ -321,7 +321,16 @@ int runModesBench(const Options& o) {
   }
   writeText(out / "bench.json", bench.dump(1) + "\n");
 
-  // images/: each last frame, and its difference from the first configuration's.
+  // images/: each last frame, and its difference from the first configuration's; an earlier run's images of
+  // other configurations go, so that the folder shows this run alone.
+  for (const auto& entry : std::filesystem::directory_iterator(out / "images")) {
+    const std::string stem = entry.path().stem().string();
+    const bool ours =
+        entry.path().extension() == imageExt &&
+        (stem.starts_with("diff_") ||
+         std::any_of(kConfigs.begin(), kConfigs.end(), [&](const auto& c) { return c.first == stem; }));
+    if (ours && entry.is_regular_file()) std::filesystem::remove(entry.path());
+  }
   const FloatImage& reference = runs.front().lastColor;
   std::vector<double> psnr(configs.size(), std::numeric_limits<double>::infinity());
   for (size_t c = 0; c < configs.size(); ++c) {

@@ -62,6 +62,17 @@ else
   echo "ok   --no-plot: $(ls "$dir/noplot" | tr '\n' ' ')"
 fi
 
+# Into a folder of an earlier run: images/ shows this run's configurations alone; other files stay.
+mkdir -p "$dir/noplot/images" && touch "$dir/noplot/images/multipass.png" "$dir/noplot/images/diff_multipass_vs_single-fragment.png" "$dir/noplot/images/notes.txt"
+if timeout 300 "$ropecast" bench modes procedural:sphere:32 --brick 8 --size 32x32 --frames 1 --reps 1 \
+    --configs single-fragment --out "$dir/noplot" --no-plot > "$dir/out.txt" 2> "$dir/err.txt"; then
+  left=$(ls "$dir/noplot/images" | tr '\n' ' ')
+  [ "$left" = "notes.txt single-fragment.png " ] && echo "ok   a second run: images/ holds $left" ||
+    fail "a second run left images/ with: $left"
+else
+  fail "bench modes, a second run: exit $?"; cat "$dir/err.txt"
+fi
+
 # expect_failure NAME PATTERN ARGS...
 expect_failure() {
   local name="$1" pattern="$2"
