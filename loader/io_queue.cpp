@@ -11,10 +11,19 @@ IoQueue::IoQueue(const BrickSource& source, uint32_t workerCount, size_t maxRead
     : source_(source), maxReadyBricks_(std::max<size_t>(maxReadyBricks, 1)) {
   if (workerCount == 0) throw Error("IoQueue: at least one I/O thread is needed");
   workers_.reserve(workerCount);
-  for (uint32_t i = 0; i < workerCount; ++i) workers_.emplace_back([this] { workerLoop(); });
+  try {
+    for (uint32_t i = 0; i < workerCount; ++i) workers_.emplace_back([this] { workerLoop(); });
+  } catch (...) {  // a thread that cannot start: the started ones end before the members they use go
+    stopWorkers();
+    throw;
+  }
 }
 
 IoQueue::~IoQueue() {
+  stopWorkers();
+}
+
+void IoQueue::stopWorkers() {
   {
     std::lock_guard lock(mutex_);
     stopping_ = true;
@@ -68,7 +77,10 @@ bool IoQueue::waitForLoaded(std::chrono::milliseconds timeout) {
 
 bool IoQueue::waitUntilIdle(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
-  return progress_.wait_for(lock, timeout, [&] { return queue_.empty() && inFlight_.empty(); });
+  // A full ready list stops the workers until the caller takes it: waiting longer would change nothing.
+  return progress_.wait_for(lock, timeout, [&] {
+    return inFlight_.empty() && (queue_.empty() || ready_.size() >= maxReadyBricks_);
+  });
 }
 
 size_t IoQueue::queuedCount() const {
@@ -114,6 +126,8 @@ void IoQueue::workerLoop() {
       loaded.bytesRead = source_.compressedBytes(request.key);
     } catch (const std::exception& e) {
       loaded.error = e.what();
+    } catch (...) {  // nothing may leave a worker thread: the render thread hears of it as a failed read
+      loaded.error = "reading brick failed with an unknown exception";
     }
 
     lock.lock();

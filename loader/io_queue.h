@@ -53,8 +53,8 @@ class IoQueue {
   // Blocks until a read brick is waiting, or nothing is queued or being read, or the timeout passes.
   // Returns whether a read brick is waiting.
   bool waitForLoaded(std::chrono::milliseconds timeout);
-  // Blocks until nothing is queued or being read (every read done, or the ready list full), or the timeout
-  // passes. Returns whether nothing is pending.
+  // Blocks until the workers are idle: nothing is being read, and nothing is queued or the ready list is full
+  // (they wait for takeLoaded), or the timeout passes. Returns whether they are idle.
   bool waitUntilIdle(std::chrono::milliseconds timeout);
 
   size_t queuedCount() const;
@@ -66,6 +66,7 @@ class IoQueue {
 
  private:
   void workerLoop();
+  void stopWorkers();  // stops and joins the workers started so far
 
   const BrickSource& source_;
   mutable std::mutex mutex_;

@@ -102,8 +102,8 @@ class WorkingSet {
   WorkingSetFrame updateUntilConverged(const FrameInput& input, const LoadProgressFn& progress = {},
                                        uint32_t maxFrames = 100000);
 
-  // Blocks until no read is pending or the timeout passes (IoQueue::waitUntilIdle); update() takes what
-  // arrived. Between frames only: update() itself never waits.
+  // Blocks until no read is pending, or the read bricks fill what the workers may hold, or the timeout passes
+  // (IoQueue::waitUntilIdle); update() takes what arrived. Between frames only: update() itself never waits.
   bool waitForReads(std::chrono::milliseconds timeout) { return io_->waitUntilIdle(timeout); }
   const BrickSourceInfo& info() const { return source_.info(); }
   uint64_t brickBytes() const { return brickBytes_; }

@@ -49,6 +49,9 @@ void FeedbackBuffer::begin(uint32_t leafCount) {
     storageWords_ = wanted;
   }
   // Header and both masks are zeroed on the GPU; the lists need no clearing (the counters say what is valid).
+  // The last frame's rays wrote them with incoherent stores: the clear and the header update wait for those
+  // (end() issues this barrier too, but a discarded or skipped frame does not).
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   const GLuint zero = 0;
   glClearNamedBufferSubData(storage_, GL_R32UI, 0, GLsizeiptr(words_.usedList()) * 4, GL_RED_INTEGER,
                             GL_UNSIGNED_INT, &zero);

@@ -165,8 +165,8 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   std::vector<QueryBox> volumeBox;
   // Only with no query pending: dropPending() below forgets them all.
   const bool query = queries_ && async && queries_->pendingCount() == 0;
+  const glm::dvec3 extent = source_.info().volume.worldMax();  // outlives the draw that reads it
   if (query) {
-    const glm::dvec3 extent = source_.info().volume.worldMax();
     volumeBox.push_back({NodeKey{}, {{WorldBox{glm::dvec3(0.0), extent}}, 1}});
     schedule.afterFirstTile = [&] {
       queries_->issue(volumeBox, request.camera, 1, 1, windowDepthRange(request.camera, extent), frame_);

@@ -22,6 +22,9 @@ namespace {
 struct ThreadDecoder {
   ZSTD_DCtx* context = ZSTD_createDCtx();
   std::vector<std::byte> compressed, planes;
+  ThreadDecoder() {
+    if (!context) throw Error("Store: cannot create a zstd decompression context (out of memory)");
+  }
   ~ThreadDecoder() { ZSTD_freeDCtx(context); }
 };
 ThreadDecoder& threadDecoder() {

@@ -154,6 +154,19 @@ TEST(IoQueue, WaitsUntilEveryReadIsDoneOrTheTimeout) {
   EXPECT_TRUE(q.waitUntilIdle(0ms));  // nothing pending: at once
 }
 
+TEST(IoQueue, AFullReadyListEndsTheWaitForIdleWorkers) {
+  // One worker, room for 2 read bricks, 5 requests: after 2 reads the workers wait for takeLoaded, so the
+  // wait ends then, not at the timeout.
+  FakeBrickSource fake = makeSource64();
+  IoQueue q(fake, 1, 2);
+  std::vector<BrickRequest> requests;
+  for (uint32_t i = 0; i < 5; ++i) requests.push_back({nodeAtDepth2(i), double(i)});
+  q.replaceRequests(requests);
+  EXPECT_TRUE(q.waitUntilIdle(5000ms));  // idle, not timed out
+  EXPECT_EQ(q.queuedCount(), 3u);
+  EXPECT_EQ(q.takeLoaded().size(), 2u);
+}
+
 TEST(IoQueue, DelayedSourceAddsLatencyToEveryRead) {
   FakeBrickSource fake = makeSource64();
   DelayedBrickSource slow(fake, 25.0);
