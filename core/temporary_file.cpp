@@ -75,7 +75,10 @@ std::atomic<pid_t> childSlots[kChildSlots];
 void removeTemporariesAndDie(int signal) {
   // The children first: their temporaries may lie in a temporary folder of ours.
   for (auto& child : childSlots)
-    if (const pid_t pid = child.load(); pid > 0) ::kill(pid, signal);
+    if (const pid_t pid = child.load(); pid > 0) {
+      ::kill(pid, signal);
+      ::kill(pid, SIGCONT);  // a stopped child (Ctrl-Z) would never end, nor this wait for it
+    }
   for (auto& child : childSlots)
     if (const pid_t pid = child.load(); pid > 0) ::waitpid(pid, nullptr, 0);
   for (auto& slot : signalSlots) {

@@ -114,6 +114,20 @@ void copyAtomically(const std::string& from, const std::string& to, const char* 
   writeFileAtomically(to, std::as_bytes(std::span(data)), who);
 }
 
+// SIGINT, SIGTERM and SIGHUP held back for the object's life (they are delivered when it ends).
+struct InterruptsHeld {
+  sigset_t previous;
+  InterruptsHeld() {
+    sigset_t interrupts;
+    sigemptyset(&interrupts);
+    for (int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&interrupts, signal);
+    pthread_sigmask(SIG_BLOCK, &interrupts, &previous);
+  }
+  ~InterruptsHeld() { pthread_sigmask(SIG_SETMASK, &previous, nullptr); }
+  InterruptsHeld(const InterruptsHeld&) = delete;
+  InterruptsHeld& operator=(const InterruptsHeld&) = delete;
+};
+
 // Renders the cases into `folder`/NAME.render.png: here, one after another, or in up to `jobs` child
 // processes running `ropecast render ... --converge -o` (the same code). Sets each outcome's seconds and
 // problems; a failed render leaves renderFile empty.
@@ -143,8 +157,10 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
     ~EndRunningRenders() {
       for (const auto& entry : running) ::kill(entry.first, SIGTERM);
       for (const auto& entry : running) {
-        ::waitpid(entry.first, nullptr, 0);
+        siginfo_t ended{};
+        ::waitid(P_PID, id_t(entry.first), &ended, WEXITED | WNOWAIT);  // ended, not yet reaped
         stopForwardingSignalsToChild(entry.first);
+        ::waitpid(entry.first, nullptr, 0);
       }
     }
   } endRunningRenders{running};
@@ -169,20 +185,35 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       const std::string log = logOf(next);
       posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       posix_spawn_file_actions_adddup2(&actions, 1, 2);
+      // An interrupting signal waits until the child is one the handlers pass it on to; the child starts
+      // with the mask regress had before.
+      const InterruptsHeld held;
+      posix_spawnattr_t attributes;
+      posix_spawnattr_init(&attributes);
+      posix_spawnattr_setsigmask(&attributes, &held.previous);
+      posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
       pid_t pid = 0;
-      const int rc = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
+      const int rc = posix_spawn(&pid, self.c_str(), &actions, &attributes, argv.data(), environ);
+      posix_spawnattr_destroy(&attributes);
       posix_spawn_file_actions_destroy(&actions);
       if (rc != 0) throw Error("regress: cannot start " + self + " render: " + std::strerror(rc));
       forwardSignalsToChild(pid);
       running[pid] = {next, SteadyClock::now()};
       ++next;
     }
+    // The child that ended stays a zombie (WNOWAIT) until the handlers no longer signal it: its pid cannot
+    // be reused meanwhile.
+    siginfo_t ended{};
+    if (::waitid(P_ALL, 0, &ended, WEXITED | WNOWAIT) != 0) {
+      if (errno == EINTR) continue;
+      throw Error(std::string("regress: waiting for a render failed: ") + std::strerror(errno));
+    }
+    const pid_t pid = ended.si_pid;
+    stopForwardingSignalsToChild(pid);
     int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
-    if (pid < 0) throw Error(std::string("regress: waiting for a render failed: ") + std::strerror(errno));
+    ::waitpid(pid, &status, 0);
     const auto it = running.find(pid);
     if (it == running.end()) continue;
-    stopForwardingSignalsToChild(pid);
     const auto [i, start] = it->second;
     running.erase(it);
     CaseOutcome& o = outcomes[i];
