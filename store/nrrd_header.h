@@ -1,6 +1,6 @@
 // NRRD header parsing (https://teem.sourceforge.net/nrrd/format.html), the part of the NRRD source that sees
-// untrusted text: a pure function over a string, fuzzed by fuzz/nrrd_header_fuzz.cpp. Used by the NRRD volume source (store/).
-// Pure function; any thread.
+// untrusted text: a pure function over a string, fuzzed by fuzz/nrrd_header_fuzz.cpp. Used by the NRRD volume
+// source (store/). Pure function; any thread.
 //
 // Supported: "NRRD000n" magic, dimension 3, type (the NRRD spellings of uint8, uint16, int16, float), sizes,
 // encoding raw or gzip, endian, spacings or space directions (spacing = length of each direction), byte skip

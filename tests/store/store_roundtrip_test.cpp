@@ -15,6 +15,14 @@ namespace {
 
 using testing::TempDir;
 
+// Level 0 of a float32 store, as extract writes it.
+std::vector<float> level0Floats(const Store& store) {
+  const std::vector<std::byte> bytes = extractLevelBytes(store, 0);
+  std::vector<float> floats(bytes.size() / sizeof(float));
+  std::memcpy(floats.data(), bytes.data(), floats.size() * sizeof(float));
+  return floats;
+}
+
 template <typename T>
 void expectLevel0ByteIdentical(SampleType type, double lo, double hi, glm::u32vec3 dims, uint32_t brick) {
   TempDir dir;
@@ -79,10 +87,8 @@ TEST(StoreRoundTrip, Float32IsQuantizedWithinHalfAStepOverItsRange) {
   EXPECT_FLOAT_EQ(float(*store->info().volume.valueMax), *mx);
   const double step = (double(*mx) - *mn) / 65535.0;
   EXPECT_NEAR(store->info().mapping.scale, step, 1e-12);
-  const std::vector<std::byte> bytes = extractLevelBytes(*store, 0);
-  ASSERT_EQ(bytes.size(), samples.size() * 4);
-  std::vector<float> back(samples.size());
-  std::memcpy(back.data(), bytes.data(), bytes.size());
+  const std::vector<float> back = level0Floats(*store);
+  ASSERT_EQ(back.size(), samples.size());
   for (size_t i = 0; i < samples.size(); ++i)
     ASSERT_NEAR(back[i], samples[i], 0.5 * step + 1e-6) << "sample " << i;
   EXPECT_TRUE(verifyStore(*store).ok());
@@ -109,9 +115,8 @@ TEST(StoreRoundTrip, Float32WithAKnownRangeSkipsThePrePassAndClampsOutliers) {
   const auto store = Store::open(dir / "k.store");
   EXPECT_EQ(*store->info().volume.valueMin, 0.0);
   EXPECT_EQ(*store->info().volume.valueMax, 4.0);
-  const std::vector<std::byte> bytes = extractLevelBytes(*store, 0);
-  std::vector<float> back(samples.size());
-  std::memcpy(back.data(), bytes.data(), bytes.size());
+  const std::vector<float> back = level0Floats(*store);
+  ASSERT_EQ(back.size(), samples.size());
   EXPECT_FLOAT_EQ(back[3], 0.0f);
   EXPECT_FLOAT_EQ(back[4], 4.0f);
   EXPECT_FLOAT_EQ(back[5], 0.0f);
@@ -134,9 +139,8 @@ TEST(StoreRoundTrip, Float32WhoseFiniteValuesAreOneKeepsInfinitiesInTheRange) {
   const auto store = Store::open(dir / "c.store");
   EXPECT_EQ(*store->info().volume.valueMin, 5.0);
   EXPECT_EQ(*store->info().volume.valueMax, 5.0);
-  const std::vector<std::byte> bytes = extractLevelBytes(*store, 0);
-  std::vector<float> back(samples.size());
-  std::memcpy(back.data(), bytes.data(), bytes.size());
+  const std::vector<float> back = level0Floats(*store);
+  ASSERT_EQ(back.size(), samples.size());
   for (size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i], 5.0f) << "sample " << i;
 }
 
