@@ -39,7 +39,11 @@ SharedBrick makeConstantBrick(const BrickSourceInfo& info, uint16_t storedValue)
 // The data path as the refiner sees it during one update(): GPU slots, CPU cache, requests, upload budget.
 class WorkingSet::Residency final : public BrickResidency {
  public:
-  Residency(WorkingSet& ws, uint64_t uploadBudgetBytes) : ws_(ws), uploadBudgetBytes_(uploadBudgetBytes) {}
+  Residency(WorkingSet& ws, uint64_t uploadBudgetBytes)
+      : ws_(ws),
+        uploadBudgetBytes_(uploadBudgetBytes),
+        keepRoom_(ws.cache_.budgetBytes() / ws.brickBytes_ -
+                  std::min<uint64_t>(ws.maxRequests_, ws.cache_.budgetBytes() / ws.brickBytes_)) {}
 
   Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
     SlotTable& slots = ws_.slots_;
@@ -60,10 +64,12 @@ class WorkingSet::Residency final : public BrickResidency {
     }
     if (missing) {
       holdForLater(keys, /*uploadWithinBudget=*/false);
+      keepInCache(keys);
       return Outcome::NotInCore;
     }
     if (uploadCount * ws_.brickBytes_ > uploadBudgetBytes_ - stats.bytesUploaded) {
       holdForLater(keys, /*uploadWithinBudget=*/true);
+      keepInCache(keys);
       return Outcome::UploadBudget;
     }
 
@@ -94,11 +100,31 @@ class WorkingSet::Residency final : public BrickResidency {
     return size_t(std::min<uint64_t>(poolRoom, requestRoom));
   }
 
+  // Marks the kept bricks most recently used, the highest priority last: the reads the next frames take into
+  // the cache evict other bricks first. Once, after the refinement.
+  void touchKeptBricks() {
+    for (auto it = kept_.rbegin(); it != kept_.rend(); ++it) ws_.cache_.get(*it);
+  }
+
   std::vector<BrickRequest> requests;
   std::vector<BrickUpload> uploads;
   LoaderStats stats;
 
  private:
+  // A node waits for its children (not all in core, or beyond the upload budget): those in the CPU cache and
+  // not uploaded are kept there for the frames it waits, as long as the waiting nodes' children, read or
+  // still to read, fit beside the reads the workers may land (at most maxRequests_) in priority order.
+  // Without this, a cache of a few nodes' children churned by reads evicts a node's children before its last
+  // ones arrive or are uploaded, and the refinement never ends.
+  void keepInCache(std::span<const NodeKey> keys) {
+    uint64_t wanted = 0;
+    for (const NodeKey& k : keys) wanted += !ws_.slots_.find(k);  // uploaded ones have their slot now
+    if (keptCount_ + wanted > keepRoom_) return;
+    keptCount_ += wanted;
+    for (const NodeKey& k : keys)
+      if (!ws_.slots_.find(k) && ws_.cache_.contains(k)) kept_.push_back(k);
+  }
+
   // The children cannot all be had this frame (not in core, or beyond the upload budget); the parent refines
   // in a later frame. For the rest of this frame their slots stay pinned and the missing ones reserved, so
   // that lower-priority nodes neither take (and evict) them nor request bricks the pool will have no room
@@ -149,6 +175,9 @@ class WorkingSet::Residency final : public BrickResidency {
   WorkingSet& ws_;
   uint64_t uploadBudgetBytes_;  // this frame's: config and FrameInput, at least one brick
   uint64_t reservedSlots_ = 0;  // children held back by the upload budget that have no slot yet
+  uint64_t keepRoom_;           // CPU cache bricks beside the reads the workers may land
+  uint64_t keptCount_ = 0;      // kept bricks, and those still to read for the same nodes
+  std::vector<NodeKey> kept_;   // in priority order
 };
 
 WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config)
@@ -190,6 +219,10 @@ void WorkingSet::takeLoadedBricks() {
 }
 
 WorkingSetFrame WorkingSet::update(const FrameInput& input) {
+  return update(input, std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes));
+}
+
+WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudgetBytes) {
   const auto start = SteadyClock::now();
   takeLoadedBricks();
 
@@ -204,10 +237,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input) {
     if (const auto slot = slots_.find(k)) slots_.demote(*slot);
   }
   const uint64_t usedEvictionsBefore = slots_.usedEvictions();
-  const uint64_t uploadBudgetBytes =
-      std::max(std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), brickBytes_);
-  Residency residency(*this, uploadBudgetBytes);
+  Residency residency(*this, std::max(uploadBudgetBytes, brickBytes_));
   RefineResult refined = refine(source_, input.view, input.isEmpty, residency, input.hints);
+  residency.touchKeptBricks();
   // The bricks this frame waits for by priority, then those read ahead in their order; the queue reads them
   // in this order (priority by rank).
   std::vector<BrickRequest>& requests = residency.requests;
@@ -252,7 +284,9 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, const 
   };
   WorkingSetFrame frame;
   for (uint32_t i = 0; i < std::max(maxFrames, 1u); ++i) {
-    frame = update(input);
+    // No upload budget: it paces the uploads of progressive frames, and these passes make one frame whose
+    // uploads are merged anyway.
+    frame = update(input, std::numeric_limits<uint64_t>::max());
     refineMs += frame.stats.refineMs;
     usedBricksEvicted += frame.stats.usedBricksEvicted;
     bytesRead += frame.stats.bytesRead;

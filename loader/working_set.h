@@ -95,10 +95,10 @@ class WorkingSet {
   WorkingSetFrame update(const FrameInput& input);
 
   // Repeats update(), waiting for the reads it asked for, until the cut is complete or maxFrames updates were
-  // made. The uploads of all those updates are merged (the last one per slot); the stats are the last
-  // update's, with the counts of work done (uploads, refine time, evictions, bytes read) summed over all of
-  // them. `progress`, if set, hears how far the load has come after each update and each wave of reads
-  // taken (on the calling thread).
+  // made, without an upload budget (one frame). The uploads of all those updates are merged (the last one per
+  // slot); the stats are the last update's, with the counts of work done (uploads, refine time, evictions,
+  // bytes read) summed over all of them. `progress`, if set, hears how far the load has come after each
+  // update and each wave of reads taken (on the calling thread).
   WorkingSetFrame updateUntilConverged(const FrameInput& input, const LoadProgressFn& progress = {},
                                        uint32_t maxFrames = 100000);
 
@@ -115,6 +115,7 @@ class WorkingSet {
  private:
   class Residency;
   void takeLoadedBricks();
+  WorkingSetFrame update(const FrameInput& input, uint64_t uploadBudgetBytes);
 
   const BrickSource& source_;
   WorkingSetConfig config_;

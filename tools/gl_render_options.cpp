@@ -76,7 +76,8 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->check(nonZeroSize("leave --gpu-budget out for the driver's default"));
   addByteSizeOption(app, "--cpu-cache", o.cpuCache, "CPU brick cache bytes")->default_str("1G");
   addByteSizeOption(app, "--upload-budget", o.uploadBudget,
-                    "brick upload bytes per frame (default: unlimited)");
+                    "brick upload bytes per progressive frame (default: unlimited; a synchronous frame "
+                    "uploads its whole view)");
   app.add_option(
          "--upload-time-budget", o.uploadTimeBudgetMs,
          "brick upload milliseconds per progressive frame, from the measured throughput (default: none)")

@@ -265,6 +265,36 @@ TEST(WorkingSet, APerFrameUploadLimitIsNeverExceededAndStillConverges) {
 }
 
 // The nodes holding a brick in a WorkingSet's GPU pool.
+TEST(WorkingSet, TheSmallestCpuCacheWithAOneBrickUploadBudgetConverges) {
+  // 16 bricks of CPU cache, reads landing up to half of it, one upload a frame: a node's children must stay
+  // in the cache for the frames they wait for their siblings and their uploads, or they are read again and
+  // again and the cut never grows.
+  FakeBrickSource fake = makeScene();
+  WorkingSetConfig cfg = config();
+  cfg.cpuCacheBytes = kMinCpuCacheBricks * fake.brickBytes();
+  cfg.uploadBudgetBytes = fake.brickBytes();
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  in.isEmpty = isoEmpty;
+  // Synchronously the budget does not apply (one frame): a pass per level or wave, not one per brick.
+  WorkingSet sync(fake, cfg);
+  const WorkingSetFrame reference = sync.updateUntilConverged(in, {}, /*maxFrames=*/64);
+  ASSERT_TRUE(reference.converged);
+  const uint64_t bricks = reference.uploads.size();
+  ASSERT_GT(bricks, 64u);  // more bricks than passes: the budget would have bound
+  FakeBrickSource fake2 = makeScene();
+  WorkingSet ws(fake2, cfg);
+  bool converged = false;
+  uint64_t frames = 0;
+  for (; frames < 4 * bricks && !converged; ++frames) {
+    const WorkingSetFrame f = ws.update(in);
+    EXPECT_LE(f.stats.bricksUploaded, 1u);
+    converged = f.converged;
+    if (!converged) ws.waitForReads(std::chrono::milliseconds(1000));
+  }
+  EXPECT_TRUE(converged) << "not converged after " << frames << " frames for " << bricks << " bricks";
+  EXPECT_EQ(cutOf(reference), cutOf(ws.update(in)));
+}
+
 std::set<NodeKey, KeyLess> residentKeys(const WorkingSet& ws) {
   std::set<NodeKey, KeyLess> keys;
   for (uint32_t s = 0; s < ws.slots().slotCount(); ++s) {
