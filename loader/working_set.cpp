@@ -180,21 +180,32 @@ class WorkingSet::Residency final : public BrickResidency {
   std::vector<NodeKey> kept_;   // in priority order
 };
 
+namespace {
+
+// The budgets' checks, before the members they size are made: the messages name the options and the least
+// that works for this source.
+const WorkingSetConfig& checkedBudgets(const WorkingSetConfig& config, uint64_t brickBytes) {
+  if (config.cpuCacheBytes < kMinCpuCacheBricks * brickBytes) {
+    throw Error("--cpu-cache " + std::to_string(config.cpuCacheBytes) + " bytes is below " +
+                std::to_string(kMinCpuCacheBricks) + " bricks of " + std::to_string(brickBytes) + " bytes (" +
+                std::to_string(kMinCpuCacheBricks * brickBytes) +
+                " bytes: the children of a few nodes must fit at once)");
+  }
+  if (config.uploadBudgetBytes < brickBytes) {
+    throw Error("--upload-budget " + std::to_string(config.uploadBudgetBytes) +
+                " bytes cannot carry one brick of " + std::to_string(brickBytes) + " bytes");
+  }
+  return config;
+}
+
+}  // namespace
+
 WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config)
     : source_(source),
-      config_(config),
+      config_(checkedBudgets(config, source.brickBytes())),
       brickBytes_(source.brickBytes()),
       cache_(config.cpuCacheBytes, source.brickBytes()),
       slots_(config.gpuSlots) {
-  if (config.cpuCacheBytes < kMinCpuCacheBricks * brickBytes_) {
-    throw Error("WorkingSet: --cpu-cache " + std::to_string(config.cpuCacheBytes) + " bytes is below " +
-                std::to_string(kMinCpuCacheBricks) + " bricks of " + std::to_string(brickBytes_) +
-                " bytes (the children of a few nodes must fit at once)");
-  }
-  if (config.uploadBudgetBytes < brickBytes_) {
-    throw Error("WorkingSet: --upload-budget " + std::to_string(config.uploadBudgetBytes) +
-                " bytes cannot carry one brick of " + std::to_string(brickBytes_) + " bytes");
-  }
   // Ask for no more than half the CPU cache holds: more would evict each other before the refinement (which
   // needs all children of a node at once) could use them. The workers may read all of it without waiting for
   // a frame to take what they read.

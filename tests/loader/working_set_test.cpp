@@ -540,8 +540,16 @@ TEST(WorkingSet, RejectsBudgetsThatCannotWork) {
   c = config(0);
   EXPECT_THROW(WorkingSet(src, c), Error);
   c = config();
-  c.cpuCacheBytes = 10;
-  EXPECT_THROW(WorkingSet(src, c), Error);
+  c.cpuCacheBytes = 10;  // below one brick too: the message gives the least that works
+  try {
+    WorkingSet ws(src, c);
+    ADD_FAILURE() << "a CPU cache of 10 bytes was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "--cpu-cache 10 bytes is below 16 bricks of " +
+                                         std::to_string(src.brickBytes()) + " bytes (" +
+                                         std::to_string(16 * src.brickBytes()) +
+                                         " bytes: the children of a few nodes must fit at once)");
+  }
 }
 
 }  // namespace
