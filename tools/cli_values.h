@@ -1,7 +1,7 @@
 // Options with compound or enumerated values ("X,Y,Z", "WxH", "512M", "iso|dvr"), shared by every subcommand.
 // CLI11 parses and checks them while it reads the command line, before any work starts: --help lists the
-// accepted forms, and a bad value ends the run with CLI11's message naming the option (exit status 2, a usage error).
-// Main thread.
+// accepted forms, and a bad value ends the run with CLI11's message naming the option (exit status 2, a usage
+// error). Main thread.
 #pragma once
 
 #include <cstdint>
