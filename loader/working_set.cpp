@@ -249,8 +249,22 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudge
   }
   const uint64_t usedEvictionsBefore = slots_.usedEvictions();
   Residency residency(*this, std::max(uploadBudgetBytes, brickBytes_));
-  RefineResult refined = refine(source_, input.view, input.isEmpty, residency, input.hints);
+  // A node whose children the rays asked for and whose uploads the budget spreads over frames keeps the rank
+  // of a request until they are all up, though the rays ask for something else meanwhile (a nearer node
+  // that its uploads displaced): else each takes the other's slots in turn and a still view never settles.
+  NodeHints hints = input.hints;
+  if (hints && !uploadingForRays_.empty()) {
+    hints = [&](const NodeKey& k) {
+      const NodeHint h = input.hints(k);
+      return h == NodeHint::None && uploadingForRays_.contains(k) ? NodeHint::Requested : h;
+    };
+  }
+  RefineResult refined = refine(source_, input.view, input.isEmpty, residency, hints);
   residency.touchKeptBricks();
+  uploadingForRays_.clear();
+  for (const PlannedLeaf& l : refined.leaves)
+    if (l.reason == LeafReason::UploadBudget && hints && hints(l.key) == NodeHint::Requested)
+      uploadingForRays_.insert(l.key);
   // The bricks this frame waits for by priority, then those read ahead in their order; the queue reads them
   // in this order (priority by rank).
   std::vector<BrickRequest>& requests = residency.requests;

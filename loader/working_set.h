@@ -127,6 +127,8 @@ class WorkingSet {
   SlotTable slots_;
   // FrameInput::hiddenNodes, during update().
   std::unordered_set<NodeKey, NodeKeyHash> hidden_;
+  // Leaves of the last cut that the rays requested and that waited for upload budget (update()).
+  std::unordered_set<NodeKey, NodeKeyHash> uploadingForRays_;
   uint64_t bytesReadSinceUpdate_ = 0;  // by the reads taken since the last update()'s stats
   uint64_t bricksTaken_ = 0;           // bricks read and taken into the CPU cache, ever
   std::unique_ptr<IoQueue> io_;        // last member: its workers stop before the rest goes away

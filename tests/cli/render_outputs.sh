@@ -97,6 +97,13 @@ tail -n 1 "$dir/slow.jsonl" | grep -q '"converged":true' ||
   fail "--converge --io-delay-ms 150: not converged in $(wc -l < "$dir/slow.jsonl") frames"
 p=$(psnr "$dir/a.png" "$dir/v.png")
 [ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50 || fail "converged image differs from the synchronous one ($p dB)"
+# A pool smaller than the view and one upload a frame: a still view settles (it swapped two trees forever,
+# the rays' requests and the budgeted uploads displacing each other).
+run "converge, full pool, one upload a frame" "$ropecast" render procedural:noise:128 --brick 8 --size 128x128 \
+  --orbit 30,20,1.2 -o "$dir/tight.png" --converge --max-frames 600 --gpu-budget 400K --upload-budget 1728 \
+  --stats "$dir/tight.jsonl"
+tail -n 1 "$dir/tight.jsonl" | grep -q '"converged":true' ||
+  fail "full pool, one upload a frame: not converged in $(wc -l < "$dir/tight.jsonl") frames"
 cat > "$dir/path.json" <<'PATH'
 [{"orbit": [0, 20, 3]}, {"orbit": [90, 20, 2.5]}]
 PATH
