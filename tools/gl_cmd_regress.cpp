@@ -114,6 +114,15 @@ void copyAtomically(const std::string& from, const std::string& to, const char* 
   writeFileAtomically(to, std::as_bytes(std::span(data)), who);
 }
 
+// A child that has ended and not been reaped (waitid with WNOWAIT): no longer signalled by the handlers, then
+// reaped, so that its pid is never signalled after it can be reused. Its wait status.
+int reapEnded(pid_t pid) {
+  stopForwardingSignalsToChild(pid);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
 // SIGINT, SIGTERM and SIGHUP held back for the object's life (they are delivered when it ends).
 struct InterruptsHeld {
   sigset_t previous;
@@ -158,9 +167,8 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       for (const auto& entry : running) ::kill(entry.first, SIGTERM);
       for (const auto& entry : running) {
         siginfo_t ended{};
-        ::waitid(P_PID, id_t(entry.first), &ended, WEXITED | WNOWAIT);  // ended, not yet reaped
-        stopForwardingSignalsToChild(entry.first);
-        ::waitpid(entry.first, nullptr, 0);
+        ::waitid(P_PID, id_t(entry.first), &ended, WEXITED | WNOWAIT);
+        reapEnded(entry.first);
       }
     }
   } endRunningRenders{running};
@@ -201,17 +209,13 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       running[pid] = {next, SteadyClock::now()};
       ++next;
     }
-    // The child that ended stays a zombie (WNOWAIT) until the handlers no longer signal it: its pid cannot
-    // be reused meanwhile.
     siginfo_t ended{};
     if (::waitid(P_ALL, 0, &ended, WEXITED | WNOWAIT) != 0) {
       if (errno == EINTR) continue;
       throw Error(std::string("regress: waiting for a render failed: ") + std::strerror(errno));
     }
     const pid_t pid = ended.si_pid;
-    stopForwardingSignalsToChild(pid);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    const int status = reapEnded(pid);
     const auto it = running.find(pid);
     if (it == running.end()) continue;
     const auto [i, start] = it->second;
