@@ -42,8 +42,7 @@ class WorkingSet::Residency final : public BrickResidency {
   Residency(WorkingSet& ws, uint64_t uploadBudgetBytes)
       : ws_(ws),
         uploadBudgetBytes_(uploadBudgetBytes),
-        keepRoom_(ws.cache_.budgetBytes() / ws.brickBytes_ -
-                  std::min<uint64_t>(ws.maxRequests_, ws.cache_.budgetBytes() / ws.brickBytes_)) {}
+        keepRoom_(ws.cache_.budgetBytes() / ws.brickBytes_ - ws.maxRequests_) {}  // requests: half the cache
 
   Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
     SlotTable& slots = ws_.slots_;
@@ -261,10 +260,11 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudge
   }
   RefineResult refined = refine(source_, input.view, input.isEmpty, residency, hints);
   residency.touchKeptBricks();
-  uploadingForRays_.clear();
+  std::unordered_set<NodeKey, NodeKeyHash> uploading;  // by this frame's hints, kept ranks included
   for (const PlannedLeaf& l : refined.leaves)
     if (l.reason == LeafReason::UploadBudget && hints && hints(l.key) == NodeHint::Requested)
-      uploadingForRays_.insert(l.key);
+      uploading.insert(l.key);
+  uploadingForRays_ = std::move(uploading);
   // The bricks this frame waits for by priority, then those read ahead in their order; the queue reads them
   // in this order (priority by rank).
   std::vector<BrickRequest>& requests = residency.requests;
