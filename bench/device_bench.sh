@@ -62,7 +62,7 @@ for p in $PARTS; do
     modes) part modes env PLOT=0 REPS=2 WORK="$OUT/modes" bench/modes.sh "$build" ;;
     converge) part converge env EXT=ppm REPS=1 WORK="$OUT/converge" bench/converge_vs_sync.sh "$build" ;;
     visibility)
-      part visibility env EXT=ppm MODES=iso SKIP_PATH=1 STEADY=4 WORK="$OUT/visibility" bench/visibility.sh "$build"
+      part visibility env EXT=ppm MODES=iso SKIP_PATH=1 STEADY=4 MAX_FRAMES=4000 WORK="$OUT/visibility" bench/visibility.sh "$build"
       ;;
     brute)
       part brute env EXT=ppm IMAGE="${IMAGE:-512x512}" FRAMES=20 STILL=12 ROUNDS=3 WORK="$OUT/brute" \

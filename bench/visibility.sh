@@ -24,7 +24,8 @@
 #    used in the frame before (used_evictions).
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
 #   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), STEADY (4), GPU (1G), CPU (1G),
-#   PATH_GPU (128M), PATH_CPU (128M), SLOW_IO (2, milliseconds; 0 skips part 2), WORK (a fresh folder),
+#   PATH_GPU (128M), PATH_CPU (128M), SLOW_IO (2, milliseconds; 0 skips part 2), MAX_FRAMES (400,
+#   the frame limit of a run to convergence: fast GPU frames need more from a slow disk), WORK (a fresh folder),
 #   CHEAP_REPS (3; 0 skips part 1b), SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK, EXT (png, or ppm
 #   for a build without OpenImageIO: then the images are not compared, and PSNR and "final at" read nan)
 set -euo pipefail
@@ -38,6 +39,7 @@ frames=${FRAMES:-120}
 modes=${MODES:-iso dvr}
 configs=${CONFIGS:-priority occlusion feedback both}
 steady=${STEADY:-4}
+max_frames=${MAX_FRAMES:-400}
 slow_io=${SLOW_IO:-2}
 EXT=${EXT:-png}
 store="$WORK/menger$SIZE.rcast"
@@ -65,7 +67,7 @@ for mode in $modes; do
     rm -rf "$frames_dir" && mkdir -p "$frames_dir"
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" $(mode_args "$mode") --size "$IMAGE" --orbit 30,20,1.6 --converge \
-      --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
+      --max-frames "$max_frames" --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
       --stats "$WORK/converge-$mode-$config.jsonl" --every 1 -o "$frames_dir/f.$EXT"
     cp "$frames_dir/f.$EXT" "$WORK/converge-$mode-$config.$EXT"
     # The converged frame time: the same start again, STEADY frames past the convergence.
@@ -85,7 +87,7 @@ if [ "${SKIP_CONVERGE:-0}" != 1 ]; then
       echo "visibility.sh: converge with cheap frames, iso, $config, $rep" >&2
       # shellcheck disable=SC2046
       "$ROPECAST" render "$store" --mode iso --size "$cheap_image" --voxels-per-pixel 4 --orbit 30,20,1.6 \
-        --converge --max-frames 400 --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
+        --converge --max-frames "$max_frames" --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") \
         --stats "$WORK/cheap-iso-$config-$rep.jsonl" -o "$WORK/cheap-iso-$config.$EXT"
     done
   done
@@ -94,7 +96,7 @@ if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
   for config in $configs; do
     echo "visibility.sh: converge with a slow disk, iso, $config" >&2
     # shellcheck disable=SC2046
-    "$ROPECAST" render "$store" --mode iso --size "$IMAGE" --orbit 30,20,1.6 --converge --max-frames 400 \
+    "$ROPECAST" render "$store" --mode iso --size "$IMAGE" --orbit 30,20,1.6 --converge --max-frames "$max_frames" \
       --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") --io-delay-ms "$slow_io" \
       --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.$EXT"
   done

@@ -43,7 +43,6 @@ StagedImage stagePng(const std::string& path, const FloatImage& image, bool with
   }
   return file;
 }
-}
 
 StagedImage stageExr(const std::string& path, const FloatImage&) {
   refuse("writeExr", path);
