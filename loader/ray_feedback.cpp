@@ -20,7 +20,7 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
   usedNodes_.clear();
   for (uint32_t i : usedLeaves) {
     if (i >= cut.leaves.size()) continue;
-    hints[i] = NodeHint::None;
+    hints[i] = NodeHint::Used;
     usedNodes_.push_back(cut.leaves[i]);
   }
   for (uint32_t i : requestedLeaves)
@@ -38,7 +38,7 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
       it->second = it->second || used;
     }
   }
-  for (const auto& [key, used] : innerUsed) setAnswer(key, {frame, used ? NodeHint::None : NodeHint::Unused});
+  for (const auto& [key, used] : innerUsed) setAnswer(key, {frame, used ? NodeHint::Used : NodeHint::Unused});
 
   // Bounded memory: answers past their lifetime say nothing.
   std::erase_if(answers_, [&](const auto& entry) { return !live(entry.second, frame); });

@@ -4,14 +4,16 @@
 // frames later as indices into that frame's cut (render/feedback_buffer.h). This class keeps each frame's cut
 // until its answer arrives, maps the indices to nodes, and answers per node:
 //   Requested  requested in the latest answer that covered the node: refined before the rest;
-//   Used       an inner node of the tree on the GPU now (the last frame's; the caller says) that no answer
-//              calls unused: ranked with Requested, so the bricks the rays are using are not given up for
-//              requests when the pool is full. It is the tree now, not the answered one: answers come a frame
-//              or two late, and hints about an older tree would let even and odd frames settle on different
-//              cuts;
+//   Used       a node of the answered cut whose data a ray sampled (a leaf, or an inner node with such a
+//              leaf below), or an inner node of the tree on the GPU now (the last frame's; the caller says)
+//              that no answer calls unused: ranked with Requested, so the bricks the rays are using are not
+//              given up for requests when the pool is full, and a used leaf that no ray requested (each ray
+//              requests one leaf, the first it met too coarse) is not left behind nodes of smaller voxels
+//              either. The tree now, not the answered one: answers come a frame or two late, and hints about
+//              an older tree would let even and odd frames settle on different cuts;
 //   Unused     a data leaf of the answered cut that no ray sampled, or an inner node of it with no used data
 //              leaf below: not refined by priority alone;
-//   None       a used leaf not requested, not in the answered tree, or the answer is too old.
+//   None       not in the answered tree, or the answer is too old.
 // An answer holds until a newer answer covers the node, at most answerLifetimeFrames frames after the frame
 // it describes (the view may have moved since). usedNodes() are the leaves the latest answer saw used: their
 // bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h).

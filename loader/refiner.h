@@ -68,10 +68,11 @@ enum class NodeHint : uint8_t {
   Occluded,   // hidden in the last answered occlusion queries: not refined (Gobbetti et al. 2008, Sect. 6)
   Unused,     // the rays' feedback answered for it and no ray used it: not refined (Crassin et al. 2009)
   Requested,  // a ray wanted finer data there: refined, with the Used nodes, before the rest
-  // Refined in the last frame and used by the rays as far as they answered: ranked with Requested, so that
-  // when the GPU pool is full a request does not displace bricks the rays are using (a brick used in the last
-  // frame is not replaced; Crassin et al. 2009, Sect. 5). The two compete by projected voxel size, which
-  // keeps the cut of a still view from alternating between two trees.
+  // Sampled by the rays as far as they answered, or refined in the last frame and not called unused: ranked
+  // with Requested, so that when the GPU pool is full a request does not displace bricks the rays are using
+  // (a brick used in the last frame is not replaced; Crassin et al. 2009, Sect. 5). The two compete by
+  // projected voxel size, which keeps the cut of a still view from alternating between two trees and makes
+  // a full pool settle on the same cut whatever order its bricks came in.
   Used,
 };
 // Asked once per node the refinement or its read-ahead reaches (the root included), on the refining thread.

@@ -20,7 +20,7 @@ TEST(RayFeedback, AnswersMapIndicesOfTheirFramesCut) {
   const uint32_t used[] = {0, 1}, requested[] = {1};
   ASSERT_TRUE(f.answer(1, used, requested));  // frame 0's cut is forgotten: its answer never came
   EXPECT_EQ(f.answeredFrame(), 1u);
-  EXPECT_EQ(f.hint(kC, 2), NodeHint::None);       // used
+  EXPECT_EQ(f.hint(kC, 2), NodeHint::Used);       // used
   EXPECT_EQ(f.hint(kB, 2), NodeHint::Requested);  // used and requested
   EXPECT_EQ(f.hint(kA, 2), NodeHint::Unused);     // a data leaf no ray sampled
   EXPECT_EQ(f.hint(kEmpty, 2), NodeHint::None);   // empty leaves are not answered for
@@ -38,7 +38,7 @@ TEST(RayFeedback, AnAnswerHoldsUntilANewerOneOrItsLifetime) {
   EXPECT_EQ(f.hint(kA, 14), NodeHint::Unused);
   EXPECT_EQ(f.hint(kA, 15), NodeHint::None) << "too old: the view may have moved";
   ASSERT_TRUE(f.answer(11, none, std::span<const uint32_t>()));
-  EXPECT_EQ(f.hint(kA, 15), NodeHint::None);    // used in frame 11
+  EXPECT_EQ(f.hint(kA, 15), NodeHint::Used);    // used in frame 11
   EXPECT_EQ(f.hint(kB, 15), NodeHint::Unused);  // frame 11 says unused again, and it is newer
 }
 
@@ -98,6 +98,7 @@ TEST(RayFeedback, InnerNodesAreUsedWhenADataLeafBelowWasUsed) {
   const uint32_t used[] = {0};
   ASSERT_TRUE(f.answer(3, used, std::span<const uint32_t>()));
   EXPECT_EQ(f.hint(a, 3, true), NodeHint::Used);
+  EXPECT_EQ(f.hint(a, 3), NodeHint::Used) << "a leaf now, whose data the rays used below it";
   EXPECT_EQ(f.hint(NodeKey{}, 3, true), NodeHint::Used);
   EXPECT_EQ(f.hint(b, 3, true), NodeHint::Unused);
   EXPECT_EQ(f.hint(a1, 3), NodeHint::Unused);
