@@ -136,7 +136,10 @@ TemporaryFile::~TemporaryFile() {
 }
 
 void removeTemporaryFilesOnSignals() {
-  for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, removeTemporariesAndDie);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) std::signal(signal, removeTemporariesAndDie);
+  // Past the file size limit (ulimit -f) a write then fails with EFBIG, which the writers report and clean
+  // up after like a full disk, instead of the process dying with its temporary left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 void forwardSignalsToChild(pid_t child) {

@@ -4,8 +4,10 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <span>
 #include <system_error>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include "core/error.h"
@@ -25,18 +27,27 @@ void checkImage(const std::string& where, const std::string& path, const FloatIm
     throw Error(where + ": '" + path + "': pixel buffer size does not match width x height x channels");
 }
 
-// Writes `data` (pixels of `spec`) under a temporary name next to `path` with the plugin chosen by `path`'s
-// extension. The name is unique ("OUT.tmp-XXXXXX"): a fixed one could be a file of the user's, an input even.
+// Encodes `data` (pixels of `spec`) with the plugin chosen by `path`'s extension in memory, then writes the
+// bytes under a temporary name next to `path` ("OUT.tmp-XXXXXX": a fixed name could be a file of the user's,
+// an input even). Encoding in memory lets TemporaryFile report a failed write (a full disk): OpenImageIO's
+// PNG writer does not.
 StagedImage stage(const std::string& where, const std::string& path, const OIIO::ImageSpec& spec,
                   OIIO::TypeDesc dataType, const void* data) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out)
     throw Error(where + ": '" + path + "': no image writer for this extension (" + OIIO::geterror() + ")");
-  auto file = std::make_unique<TemporaryFile>(path, where);  // removed unless committed, also on a signal
-  bool ok = out->open(file->path().string(), spec) && out->write_image(dataType, data);
+  if (!out->supports("ioproxy"))
+    throw Error(where + ": '" + path + "': the " + out->format_name() +
+                " writer cannot write to memory; use .png or .exr");
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  if (!out->set_ioproxy(&memory)) throw Error(where + ": '" + path + "': " + out->geterror());
+  bool ok = out->open(path, spec) && out->write_image(dataType, data);
   const std::string err = ok ? "" : out->geterror();
   ok = out->close() && ok;
-  if (!ok) throw Error(where + ": writing '" + path + "' failed: " + (err.empty() ? out->geterror() : err));
+  if (!ok) throw Error(where + ": encoding '" + path + "' failed: " + (err.empty() ? out->geterror() : err));
+  auto file = std::make_unique<TemporaryFile>(path, where);  // removed unless committed, also on a signal
+  file->writeAt(0, std::as_bytes(std::span(encoded)));
   return file;
 }
 
@@ -55,7 +66,10 @@ std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (kind == ImageOutputKind::FloatExr)
     return ext == ".exr" ? "" : "expected a file name ending in .exr (float data)";
-  if (!OIIO::ImageOutput::create(path)) return "no image writer for this extension; use .png";
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) return "no image writer for this extension; use .png";
+  if (!out->supports("ioproxy"))
+    return std::string("the ") + out->format_name() + " writer cannot write to memory; use .png or .exr";
   return "";
 }
 

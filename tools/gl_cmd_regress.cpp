@@ -258,6 +258,13 @@ void compareCases(std::vector<CaseOutcome>& outcomes, const std::string& folder,
     if (o.renderFile.empty()) continue;
     const RegressCase& c = *o.regressCase;
     const RegressTolerances& t = c.tolerances;
+    try {
+      checkRenderImage((fs::path(folder) / o.renderFile).string());
+      o.renderRead = true;
+    } catch (const Error& e) {
+      o.problems.push_back(e.what());
+      continue;
+    }
     if (!fs::exists(c.golden)) {
       o.problems.push_back("no golden image " + c.golden + ": run `ropecast regress " + suitePath +
                            " --update` to create it from this render (look at it first)");
@@ -347,10 +354,15 @@ int runRegress(const RegressArgs& a) {
   size_t failed = 0, updated = 0;
   for (CaseOutcome& o : outcomes) {
     const RegressCase& c = *o.regressCase;
-    if (!o.renderFile.empty() && (a.updateAll || (a.update && !o.passed))) {
-      copyAtomically((fs::path(folder.path()) / o.renderFile).string(), c.golden, "regress --update");
-      o.updated = true;
-      ++updated;
+    if (o.renderRead && (a.updateAll || (a.update && !o.passed))) {
+      try {  // a golden that cannot be written fails its case; the others are still updated
+        copyAtomically((fs::path(folder.path()) / o.renderFile).string(), c.golden, "regress --update");
+        o.updated = true;
+        ++updated;
+      } catch (const Error& e) {
+        o.passed = false;
+        o.problems.push_back(e.what());
+      }
     }
     const std::string figures = o.difference ? describe(*o.difference) + ", " : "";
     if (o.passed) {

@@ -1,6 +1,5 @@
 #include "tools/regress_images.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -14,10 +13,16 @@
 namespace ropecast::tools {
 namespace {
 
+// Goldens and renders are color images: a one-channel golden compared on its one channel would pass a render
+// whatever its green and blue.
 OIIO::ImageBuf readBuf(const std::string& path, const char* what) {
   OIIO::ImageBuf image(path);
   if (!image.read(0, 0, /*force=*/true, OIIO::TypeDesc::FLOAT))
     throw Error("regress: cannot read the " + std::string(what) + " " + path + ": " + image.geterror());
+  if (image.spec().nchannels < 3)
+    throw Error("regress: the " + std::string(what) + " " + path + " has " +
+                std::to_string(image.spec().nchannels) +
+                " channel(s), expected an RGB or RGBA image (regress --update writes one from the render)");
   return image;
 }
 
@@ -30,6 +35,10 @@ double amplificationFor(double maxError) {
 
 }  // namespace
 
+void checkRenderImage(const std::string& render) {
+  readBuf(render, "render");
+}
+
 GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
                                    double failingPixelError, const std::string& differenceImage) {
   const OIIO::ImageBuf a = readBuf(golden, "golden image");
@@ -39,7 +48,7 @@ GoldenDifference compareWithGolden(const std::string& golden, const std::string&
     throw Error("regress: the golden image " + golden + " is " + std::to_string(sa.width) + "x" +
                 std::to_string(sa.height) + ", the render " + std::to_string(sb.width) + "x" +
                 std::to_string(sb.height));
-  const int channels = std::min({3, sa.nchannels, sb.nchannels});
+  const int channels = 3;
   OIIO::ROI roi = a.roi();
   roi.chbegin = 0;
   roi.chend = channels;
@@ -68,7 +77,7 @@ GoldenDifference compareWithGolden(const std::string& golden, const std::string&
   image.channels = 3;
   image.pixels.assign(size_t(d.width) * d.height * 3, 0.0f);
   OIIO::ROI all = difference.roi();
-  all.chend = channels;  // a one-channel golden leaves green and blue black
+  all.chend = channels;
   std::vector<float> pixels(size_t(d.width) * d.height * channels);
   difference.get_pixels(all, OIIO::TypeDesc::FLOAT, pixels.data());
   for (size_t p = 0; p < size_t(d.width) * d.height; ++p)

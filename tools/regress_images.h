@@ -17,9 +17,13 @@ struct GoldenDifference {
   double amplification = 1.0;  // of the difference image: a power of two that makes maxError visible
 };
 
-// Compares `render` with `golden` (both read by OpenImageIO). With `differenceImage` non-empty, also writes
-// |golden - render| * amplification there as a PNG. Throws ropecast::Error naming the file that cannot be
-// read and both sizes when they differ.
+// Reads `render` back whole, as a golden made from it would be read: throws ropecast::Error naming it when it
+// cannot be read or is not an RGB(A) image.
+void checkRenderImage(const std::string& render);
+
+// Compares `render` with `golden` (both read by OpenImageIO, both RGB or RGBA). With `differenceImage`
+// non-empty, also writes |golden - render| * amplification there as a PNG. Throws ropecast::Error naming the
+// file that cannot be read or is not RGB(A), and both sizes when they differ.
 GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
                                    double failingPixelError, const std::string& differenceImage);
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `ropecast regress` end to end: a missing golden fails and says how to create it, --update writes the failing
-# and missing goldens only, --update-all all of them, renders repeat exactly, a changed image fails with its
+# and missing goldens only, --update-all all of them, a golden that is not RGB fails, renders repeat exactly, a changed image fails with its
 # figures, --report writes the page with failing cases first, --jobs renders the same images, bad suites exit
 # 2, and no golden or report file may be an input.
 # Usage: bash regress.sh /path/to/ropecast
@@ -69,6 +69,12 @@ cmp -s suite/golden/b.png b_saved.png || fail "--update did not restore b.png fr
 expect 0 "--update-all rewrites all" "3 goldens updated" suite/suite.json --update-all
 [ "$(inode suite/golden/a.png)" != "$a_inode" ] || fail "--update-all left a.png"
 [ -z "$(find suite report -name '*.tmp*')" ] || fail "temporaries left: $(find suite report -name '*.tmp*')"
+
+# A one-channel golden is not compared on its one channel (a render differing in green and blue would pass).
+oiiotool suite/golden/a.png --ch R -o suite/golden/a.png 2> /dev/null || fail "oiiotool for the setup"
+expect 1 "a one-channel golden fails" "expected an RGB or RGBA image" suite/suite.json
+expect 0 "--update replaces it" "1 goldens updated" suite/suite.json --update
+expect 0 "then it passes" "3 cases, 0 failed" suite/suite.json
 
 # A render that fails is a failing case, not a bad suite.
 cat > bad_render.json <<'JSON'
