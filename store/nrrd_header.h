@@ -19,6 +19,10 @@
 
 namespace ropecast {
 
+// The most of a file read as its header: by the NRRD source, and by whoever must know the data file a header
+// names before the source opens (the output guard), so that both see the same header.
+constexpr size_t kMaxNrrdHeaderBytes = size_t(1) << 20;
+
 enum class NrrdEncoding : uint8_t { Raw, Gzip };
 
 struct NrrdHeader {

@@ -13,7 +13,6 @@
 namespace ropecast {
 namespace {
 
-constexpr size_t kMaxHeaderBytes = size_t(1) << 20;
 constexpr size_t kChunkBytes = size_t(1) << 18;  // compressed input read at a time, and skip buffer
 
 // Offset just after `lines` newlines starting at `offset`.
@@ -130,7 +129,7 @@ class NrrdSource final : public VolumeSource {
     std::string text;
     {
       const PosixFile headerFile(path);
-      text.resize(size_t(std::min<uint64_t>(headerFile.sizeBytes(), kMaxHeaderBytes)));
+      text.resize(size_t(std::min<uint64_t>(headerFile.sizeBytes(), kMaxNrrdHeaderBytes)));
       text.resize(headerFile.readSomeAt(0, std::as_writable_bytes(std::span(text))));
     }
     header_ = parseNrrdHeader(text, path);

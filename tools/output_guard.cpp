@@ -150,7 +150,7 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   if (ext != ".nhdr" && ext != ".nrrd") return files;
   // A detached header names its data file; a header that does not parse is refused when the source opens.
   std::ifstream in(spec, std::ios::binary);
-  std::string text(64 * 1024, '\0');
+  std::string text(kMaxNrrdHeaderBytes, '\0');
   in.read(text.data(), std::streamsize(text.size()));
   text.resize(size_t(in.gcount()));
   try {

@@ -60,6 +60,12 @@ refused "convert -o slice of folder" "-o slices/s1.png" "the input slices" \
 refused "convert -o slice of glob" "-o slices/s0.png" "the input slices/s0.png" \
   "$ropecast" convert 'slices/s*.png' -o slices/s0.png
 refused "convert -o NRRD data file" "-o scan_hard.raw" "the input" "$ropecast" convert v.nhdr -o scan_hard.raw
+# A header longer than 64 KiB (comments) still names its data file to the guard as it does to the source.
+{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\n'
+  for _ in $(seq 1 2000); do printf '# a comment line of some length, repeated to pass 64 KiB of header\n'; done
+  printf 'data file: scan_8x8x8_uint8.raw\n'; } > long.nhdr
+refused "convert -o NRRD data file (long header)" "-o scan_8x8x8_uint8.raw" "the input" \
+  "$ropecast" convert long.nhdr -o scan_8x8x8_uint8.raw
 
 # render: each output option onto the store, --tf and --path files, and two outputs on one file.
 refused "render -o symlink" "-o s_link.png" "the input s.rcast" "$ropecast" render s.rcast -o s_link.png
