@@ -1,13 +1,12 @@
 #include "core/camera_path.h"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast {
 
@@ -82,11 +81,7 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
 }
 
 CameraPath loadCameraPath(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("camera path " + path + ": cannot open the file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseCameraPath(text.str(), path);
+  return parseCameraPath(readTextInput(path, "camera path " + path), path);
 }
 
 Camera sampleCameraPath(const CameraPath& path, uint32_t frame, uint32_t frameCount, glm::dvec3 boxMin,

@@ -92,7 +92,39 @@ void removeTemporariesAndDie(int signal) {
   std::raise(signal);
 }
 
+// Where a write to `output` lands: its symbolic links followed to the name they lead to (which need not
+// exist), or why no file should be written there.
+struct LinkTarget {
+  std::filesystem::path path;
+  std::string problem;
+};
+LinkTarget followLinks(std::filesystem::path path) {
+  for (int hops = 0; hops < 40; ++hops) {
+    const std::string name = std::filesystem::absolute(path).lexically_normal().string();
+    if ((name.starts_with("/dev/") && !name.starts_with("/dev/shm/")) || name.starts_with("/proc/"))
+      return {path,
+              "a name under /dev or /proc (a device or a process's descriptor, which the rename of a "
+              "file written whole would replace); give the name of a file"};
+    std::error_code ec;
+    if (!std::filesystem::is_symlink(path, ec)) return {path, ""};
+    const std::filesystem::path link = std::filesystem::read_symlink(path, ec);
+    if (ec) return {path, "cannot read the symbolic link: " + ec.message()};
+    path = link.is_absolute() ? link : path.parent_path() / link;
+  }
+  return {path, "its symbolic links loop"};
+}
+
 }  // namespace
+
+std::string outputFileProblem(const std::filesystem::path& output) {
+  const LinkTarget target = followLinks(output);
+  if (!target.problem.empty()) return target.problem;
+  struct stat existing {};
+  if (::stat(target.path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode))
+    return "not a regular file (a device, pipe or socket); outputs are written whole under a temporary name "
+           "and renamed onto their path: give the name of a file";
+  return "";
+}
 
 void writeFileAtomically(const std::filesystem::path& output, std::span<const std::byte> bytes,
                          std::string who) {
@@ -117,7 +149,10 @@ TemporaryFolder::~TemporaryFolder() {
 
 TemporaryFile::TemporaryFile(std::filesystem::path output, std::string who)
     : output_(std::move(output)), who_(std::move(who)) {
-  std::string pattern = output_.string() + ".tmp-XXXXXX";
+  if (const std::string problem = outputFileProblem(output_); !problem.empty())
+    throw Error(who_ + ": '" + output_.string() + "': " + problem);
+  target_ = followLinks(output_).path;
+  std::string pattern = target_.string() + ".tmp-XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   fd_ = mkstemp(name.data());
@@ -178,7 +213,7 @@ void TemporaryFile::commit() {
   const int fd = fd_;
   fd_ = -1;
   if (::close(fd) != 0) throw Error(who_ + ": closing '" + temporary_.string() + "' failed: " + errnoText());
-  if (::rename(temporary_.c_str(), output_.c_str()) != 0)
+  if (::rename(temporary_.c_str(), target_.c_str()) != 0)
     throw Error(who_ + ": renaming '" + temporary_.string() + "' to '" + output_.string() +
                 "' failed: " + errnoText());
   committed_ = true;

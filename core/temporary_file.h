@@ -16,10 +16,18 @@
 namespace ropecast {
 
 // A file being written under a temporary name next to `output` ("OUT.tmp-XXXXXX"); commit() renames it onto
-// `output`, destruction without commit removes it. writeAt() may be called from several threads at once.
+// `output`, destruction without commit removes it. An output that is a symbolic link is written where the
+// link leads, so that the link stays. writeAt() may be called from several threads at once.
+// Why `output` cannot be written through a TemporaryFile, in words ("" when it can): it exists and is not a
+// regular file (a device, pipe or socket would be replaced by the rename, and cannot take writes at offsets),
+// or it is, or links to, a name under /dev or /proc (/dev/stdout: a descriptor of the process, which a rename
+// would replace by a file), or its symbolic links loop.
+std::string outputFileProblem(const std::filesystem::path& output);
+
 class TemporaryFile {
  public:
-  // `who` names the caller in errors ("StoreWriter", "extract"). Throws ropecast::Error naming `output`.
+  // `who` names the caller in errors ("StoreWriter", "extract"). Throws ropecast::Error naming `output`,
+  // also when outputFileProblem(output) finds one.
   TemporaryFile(std::filesystem::path output, std::string who);
   ~TemporaryFile();
   TemporaryFile(const TemporaryFile&) = delete;
@@ -32,6 +40,7 @@ class TemporaryFile {
 
  private:
   std::filesystem::path output_, temporary_;
+  std::filesystem::path target_;  // output_ with its symbolic links followed: what the rename replaces
   std::string who_;
   int fd_ = -1;
   int signalSlot_ = -1;  // where removeTemporaryFilesOnSignals finds the temporary name

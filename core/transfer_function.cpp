@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast {
 
@@ -62,12 +61,7 @@ double placeHounsfield(double hu, const TfDataRange& d) {
 }
 
 std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("TransferFunction: cannot open transfer function file '" + path + "'");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error("TransferFunction: cannot read transfer function file '" + path + "'");
-  return ss.str();
+  return readTextInput(path, "TransferFunction: transfer function file '" + path + "'");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/temporary_file.h"
 
 namespace ropecast {
@@ -106,6 +107,7 @@ StagedImage stageDepthExr(const std::string& path, const FloatImage& depth) {
 }
 
 FloatImage readImage(const std::string& path) {
+  requireRegularFile(path, "readImage: '" + path + "'");  // a FIFO would block, a device never end
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // PNG: return the stored color, not color * alpha
   auto in = OIIO::ImageInput::open(path, &config);

@@ -14,6 +14,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast {
 namespace {
@@ -96,6 +97,7 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
 }
 
 PosixFile::PosixFile(std::string path) : path_(std::move(path)) {
+  requireRegularFile(path_, "cannot read " + path_);  // before open(), which waits on a FIFO
   fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw Error("cannot open " + path_ + ": " + std::strerror(errno));
   struct stat st {};

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast {
 
@@ -114,6 +115,8 @@ std::string Store::describeNode(const NodeKey& k) {
 std::unique_ptr<Store> Store::open(const std::filesystem::path& path) {
   std::unique_ptr<Store> store(new Store());
   store->name_ = path.string();
+  requireRegularFile(path.string(),
+                     "Store: '" + path.string() + "'");  // before open(), which waits on a FIFO
   store->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (store->fd_ < 0) throw Error("Store: cannot open '" + path.string() + "': " + std::strerror(errno));
   struct stat st {};

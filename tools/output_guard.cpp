@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "store/nrrd_header.h"
 
 namespace ropecast::tools {
@@ -104,6 +105,8 @@ std::string OutputGuard::problem() const {
     if (fs::is_directory(out.path, ec))
       return who_ + ": " + out.name + " " + out.path + ": a folder; expected the name of a file to write, " +
              "nothing was written";
+    if (const std::string why = outputFileProblem(out.path); !why.empty())
+      return who_ + ": " + out.name + " " + out.path + ": " + why + "; nothing was written";
     for (const Named& in : inputs_)
       if (sameFile(out.path, in.path))
         return sameFileMessage(who_, out.name + " " + out.path, out.path, in.name, in.path, true);

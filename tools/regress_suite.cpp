@@ -3,11 +3,12 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast::tools {
 namespace {
@@ -121,11 +122,13 @@ RegressSuite parseRegressSuite(const std::string& text, const std::string& suite
 }
 
 RegressSuite loadRegressSuite(const std::string& suitePath) {
-  std::ifstream in(suitePath);
-  if (!in) throw SuiteError(suitePath + ": cannot read the suite file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseRegressSuite(text.str(), suitePath);
+  std::string text;
+  try {
+    text = readTextInput(suitePath, suitePath + ": the suite file");
+  } catch (const Error& e) {
+    throw SuiteError(e.what());
+  }
+  return parseRegressSuite(text, suitePath);
 }
 
 }  // namespace ropecast::tools

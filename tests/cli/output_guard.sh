@@ -2,7 +2,7 @@
 # No command overwrites what it reads: every output option of convert, render, extract and bench modes (regress's
 # in regress.sh) aimed at an input (by its name, a symlink or a hard link; a file of an input folder or glob) or
 # at another output of the same run fails with 1..127 and a message naming both, writes nothing and leaves the
-# inputs as they were; so does an output that names a folder.
+# inputs as they were; so does an output that names a folder, a FIFO or a device, and an input that is a FIFO.
 # Usage: bash output_guard.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$(realpath "$1")"
@@ -98,6 +98,29 @@ refused "bench modes --out onto --tf" "--out bm/bench.json" "--tf bm/bench.json"
   "$ropecast" bench modes s.rcast --mode dvr --tf bm/bench.json --out bm --frames 1 --reps 1 --no-plot
 refused "bench modes --out images onto the input" "bm/images/s.rcast" "the input bm/images/s.rcast" \
   "$ropecast" bench modes bm/images/s.rcast --out bm --frames 1 --reps 1 --no-plot
+
+# Outputs that are not files (a FIFO, a link to a device) are refused, not replaced by a file; inputs that are
+# not files are refused, not waited on (opening a FIFO blocks until a writer comes).
+mkfifo fifo
+ln -s /dev/null to_null.json
+refused "render --stats onto a FIFO" "--stats fifo" "not a regular file" \
+  timeout 20 "$ropecast" render procedural:sphere:16 --size 16x16 -o a.png --stats fifo
+refused "render --stats onto a link to /dev/null" "--stats to_null.json" "under /dev" \
+  timeout 20 "$ropecast" render procedural:sphere:16 --size 16x16 -o a.png --stats to_null.json
+for args in "render fifo -o a.png" "render procedural:sphere:16 --tf fifo -o a.png" \
+  "render procedural:sphere:16 --path fifo -o a.png" "info fifo" "compare fifo fifo" "regress fifo"; do
+  # shellcheck disable=SC2086  # $args is a command line
+  refused "$args: a FIFO input" "fifo" "not a regular file" timeout 20 "$ropecast" $args
+done
+rm fifo to_null.json
+# An output that is a link to a file is written where the link leads; the link stays.
+ln -s linked_target.json linked.json
+if "$ropecast" render procedural:sphere:16 --size 16x16 -o linked.png --stats linked.json 2> "$dir/err.txt" &&
+  [ -L linked.json ] && [ -s linked_target.json ]; then
+  echo "ok   --stats through a link: the link stays, its target written"
+else
+  fail "--stats through a link: $(ls -l linked.json linked_target.json 2>&1) $(cat "$dir/err.txt")"
+fi
 
 # Other names are fine: the guard lets ordinary runs through.
 "$ropecast" extract s.rcast -o level0.raw --quiet && cmp level0.raw scan_8x8x8_uint8.raw && echo "ok   extract to a new file" ||

@@ -122,8 +122,8 @@ printf '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "g.p
 expect 2 "two updated cases, one golden" "are the same file" twice.json --update
 [ ! -e g.png ] || fail "g.png was written"
 expect 1 "one golden shared by cases that are only checked" "no golden image" twice.json
-expect 2 "a report folder that cannot be made" "--report /proc/rep: cannot create the folder" suite/suite.json \
-  --report /proc/rep
+expect 2 "a report folder that cannot be made" "--report /sys/rep: cannot create the folder" suite/suite.json \
+  --report /sys/rep
 
 # A render's warning reaches the user with its case, rendered in this process or in a child (--jobs).
 printf '{"cases": [{"name": "capped", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--max-frames", "1"], "golden": "capped.png"}]}' > capped.json

@@ -100,7 +100,7 @@ expect_failure "depth output not EXR" "--depth $dir/x_depth.tif: expected a file
   --depth "$dir/x_depth.tif"
 expect_failure "unwritable depth" "--depth $dir/nodir/d.exr: its folder" "$vol" --depth "$dir/nodir/d.exr"
 # A folder that exists but takes no new file: refused before rendering, and -o is not written without --exr.
-expect_failure "EXR in a folder that takes no file" "cannot create output '/proc/x.exr'" "$vol" --exr /proc/x.exr
+expect_failure "EXR in a folder that takes no file" "cannot create output '/sys/x.exr'" "$vol" --exr /sys/x.exr
 
 # An image name without a known extension is refused before rendering.
 "$ropecast" render "$vol" -o "$dir/noextension" > /dev/null 2> "$dir/err.txt"
@@ -121,9 +121,9 @@ else
   echo "FAIL unwritable output: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
 
-"$ropecast" render "$vol" -o /proc/y.png > /dev/null 2> "$dir/err.txt"
+"$ropecast" render "$vol" -o /sys/y.png > /dev/null 2> "$dir/err.txt"
 rc=$?
-if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF "render: -o: cannot create output '/proc/y.png'" "$dir/err.txt"; then
+if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF "render: -o: cannot create output '/sys/y.png'" "$dir/err.txt"; then
   echo "ok   output in a folder that takes no file (exit $rc)"
 else
   echo "FAIL output in a folder that takes no file: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
