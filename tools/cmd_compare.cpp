@@ -2,6 +2,7 @@
 // 8-bit files), e.g. an adaptive render against `render --reference` (bench/quality_vs_reference.sh).
 // Prints one JSON line; with --min-psnr, exits 3 when the PSNR is lower (as verify when a check fails; 1 is
 // an image that cannot be read). GL-free (reference/).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -22,7 +23,7 @@ constexpr int kBelowMinPsnr = 3;  // README.md "Exit status"
 
 struct CompareOptions {
   std::string a, b;
-  uint32_t channels = 3;
+  std::optional<uint32_t> channels;  // default: RGB, or the one channel of two depth images
   std::optional<double> minPsnr;
 };
 
@@ -37,11 +38,15 @@ int runCompare(const CompareOptions& o) {
   if (a.width != b.width || a.height != b.height)
     throw Error("compare: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
                 o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
-  const ImageDifference d = compareImages(a.pixels, a.channels, b.pixels, b.channels, o.channels);
+  uint32_t channels = o.channels.value_or(std::min({3u, a.channels, b.channels}));
+  if (!o.channels && a.channels != b.channels && channels < 3)
+    throw Error("compare: " + o.a + " has " + std::to_string(a.channels) + " channel(s), " + o.b + " has " +
+                std::to_string(b.channels) + "; give --channels N to compare the first N");
+  const ImageDifference d = compareImages(a.pixels, a.channels, b.pixels, b.channels, channels);
   nlohmann::json j{{"psnr_db", number(d.psnrDb)},
                    {"max_abs", number(d.maxAbs)},
                    {"mean_abs", number(d.meanAbs)},
-                   {"channels", o.channels},
+                   {"channels", channels},
                    {"pixels", a.width * a.height}};
   std::printf("%s\n", j.dump().c_str());
   return o.minPsnr && d.psnrDb < *o.minPsnr ? kBelowMinPsnr : 0;
@@ -52,9 +57,10 @@ const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std
   app.description("PSNR (peak 1) and absolute differences of two images of the same size, as one JSON line");
   app.add_option("a", o->a, "first image (PNG, EXR, ...)")->required();
   app.add_option("b", o->b, "second image")->required();
-  app.add_option("--channels", o->channels, "channels compared: 3 = RGB, 4 = RGBA, 1 = the first")
-      ->check(CLI::Range(1u, 4u))
-      ->capture_default_str();
+  app.add_option("--channels", o->channels,
+                 "channels compared: 3 = RGB, 4 = RGBA, 1 = the first (default: 3, or 1 for two one-channel "
+                 "images such as depth EXRs)")
+      ->check(CLI::Range(1u, 4u));
   app.add_option("--min-psnr", o->minPsnr, "exit with status 3 when the PSNR is below this (dB)")
       ->check(finiteIn(0.0, HUGE_VAL));
   return [o] { return runCompare(*o); };

@@ -26,6 +26,11 @@ run "png+exr+depth+stats" "$ropecast" render $small -o "$dir/a.png" --exr "$dir/
 for f in a.png a.exr a_depth.exr a.jsonl; do [ -s "$dir/$f" ] || fail "missing output $f"; done
 oiiotool --info -v "$dir/a.exr" 2>/dev/null | grep -q "4 channel" || fail "a.exr is not float RGBA"
 oiiotool --info -v "$dir/a.exr" 2>/dev/null | grep -q "float" || fail "a.exr is not float"
+# compare takes two depth images (one channel) as they are, and asks for --channels when the counts differ.
+d=$("$ropecast" compare "$dir/a_depth.exr" "$dir/a_depth.exr") || fail "compare of two depth images: $d"
+grep -q '"channels":1' <<< "$d" && grep -q '"max_abs":0' <<< "$d" || fail "compare of two depth images: $d"
+d=$("$ropecast" compare "$dir/a_depth.exr" "$dir/a.exr" 2>&1) && fail "compare of a depth and an RGBA image: exit 0"
+grep -q -- "--channels" <<< "$d" || fail "compare of a depth and an RGBA image should ask for --channels: $d"
 # The sphere covers the middle of the image: coverage (EXR alpha) strictly between 0 and 1 on average.
 alpha=$(channel_avg "$dir/a.exr" 3)
 at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"
