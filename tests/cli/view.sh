@@ -44,6 +44,20 @@ rc=$?
 { [ "$rc" = 2 ] && grep -q -- "--backend: brute not in" "$dir/err.txt"; } || fail "--backend brute: exit $rc: $(cat "$dir/err.txt")"
 [ ! -e "$dir/none.png" ] || fail "no display: a screenshot was written"
 
+# A script's transfer function and camera path files are checked before the window opens (no display here):
+# the message names the script and the event.
+echo "nonsense" > "$dir/not_tf.json"
+echo "[{\"event\": \"set_mode\", \"mode\": \"dvr\"}, {\"event\": \"load_tf\", \"tf\": \"$dir/not_tf.json\"}]" > "$dir/bad_tf.json"
+env -u DISPLAY "$ropecast" view $vol --script "$dir/bad_tf.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "bad_tf.json: event 1 (load_tf)" "$dir/err.txt" && ! grep -qi "display" "$dir/err.txt"; } ||
+  fail "load_tf of a file that is no transfer function: exit $rc: $(cat "$dir/err.txt")"
+echo "[{\"event\": \"save_camera\", \"file\": \"$data/tf/sphere_shells.json\"}]" > "$dir/bad_cam.json"
+env -u DISPLAY "$ropecast" view $vol --script "$dir/bad_cam.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "bad_cam.json: event 0 (save_camera): $data/tf/sphere_shells.json exists and is not a camera path" "$dir/err.txt"; } ||
+  fail "save_camera onto a file that is no camera path: exit $rc: $(cat "$dir/err.txt")"
+
 if ! command -v xvfb-run > /dev/null; then
   echo "skip: xvfb-run is not installed (scripts/bootstrap installs xvfb)"
   exit "$((failures > 0))"
