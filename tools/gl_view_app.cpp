@@ -76,6 +76,9 @@ void appendCameraKeyframe(const std::string& path, const OrbitController& contro
            {"target", {c.target.x, c.target.y, c.target.z}},
            {"up", {c.up.x, c.up.y, c.up.z}},
            {"fov", c.fovYDeg}};
+  // A path gives every keyframe a time or none (parseCameraPath), the times increasing: the new keyframe
+  // comes a second after the last.
+  if (!list.empty() && list.back().contains("time")) key["time"] = list.back()["time"].get<double>() + 1.0;
   list.push_back(key);
   const std::string text = root.dump(2) + '\n';
   writeFileAtomically(path, std::as_bytes(std::span(text)), "save camera");

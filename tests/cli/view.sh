@@ -233,5 +233,13 @@ JSON
 run "view --script screenshot with panels, quit" xview $vol --script "$dir/panels.json"
 [ -s "$dir/vp.png" ] || fail "a screenshot with panels followed by quit was not written"
 
+# save_camera appends to a path with timed keyframes a timed one (a second after the last): render reads it.
+echo '[{"orbit": [30, 20, 3], "time": 0}, {"orbit": [60, 20, 3], "time": 0.5}]' > "$dir/timed.json"
+echo "[{\"event\": \"save_camera\", \"file\": \"$dir/timed.json\"}]" > "$dir/save_timed.json"
+run "view save_camera onto a timed path" xview $vol --script "$dir/save_timed.json"
+run "render --path the timed path" "$ropecast" render $vol --path "$dir/timed.json" --frames 3 -o "$dir/timed.png"
+python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))[-1].get("time") != 1.5)' "$dir/timed.json" ||
+  fail "save_camera onto a timed path: the new keyframe is not at 1.5 s: $(cat "$dir/timed.json")"
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
