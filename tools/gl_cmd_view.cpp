@@ -82,7 +82,7 @@ int runView(const ViewOptions& o) {
   }
   guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted viewer leaves no half-written --stats or screenshot
-  return runViewer(o, std::move(script));
+  return runViewer(o, std::move(script), std::move(guard));
 }
 
 const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::function<int()> {

@@ -37,6 +37,7 @@
 #include "store/value_histogram.h"
 #include "tools/cli_values.h"
 #include "tools/gl_view_tf_editor.h"
+#include "tools/output_guard.h"
 #include "tools/stats_writer.h"
 
 namespace ropecast::tools {
@@ -111,7 +112,7 @@ FloatImage readWindow(uint32_t width, uint32_t height) {
 
 class Viewer {
  public:
-  Viewer(const ViewOptions& o, std::optional<ViewScript> script);
+  Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGuard guard);
   ~Viewer();
   int run();
 
@@ -134,9 +135,15 @@ class Viewer {
   // Returns false when the script asks to quit; `converged` says whether the shown view has converged.
   bool runScript(bool converged);
   void screenshot(const std::string& path, bool panels);
+  // Throws when a file the panels would write is an input or an output the command line or script names.
+  void checkPanelOutput(const std::string& what, const std::string& path) const;
+  void reportPanelError(const std::exception& e);
   void drawPanels();
 
   const ViewOptions& o_;
+  // The inputs and every output of the command line and script, checked before the window opened: what the
+  // panels write is checked against them.
+  OutputGuard guard_;
   std::unique_ptr<BrickSource> source_, delayed_;
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
   std::pair<double, double> valueRange_;
@@ -199,8 +206,8 @@ class Viewer {
   std::string panelShot_;  // a screenshot with panels, taken after this frame's panels are drawn
 };
 
-Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
-    : o_(o), stepPacer_(o.targetFrameMs), script_(std::move(script)) {
+Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGuard guard)
+    : o_(o), guard_(std::move(guard)), stepPacer_(o.targetFrameMs), script_(std::move(script)) {
   if (o.backend == RenderBackend::Brute)
     throw Error(
         "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
@@ -519,6 +526,17 @@ bool Viewer::runScript(bool converged) {
   return true;
 }
 
+void Viewer::checkPanelOutput(const std::string& what, const std::string& path) const {
+  OutputGuard guard = guard_;
+  guard.addOutput(what, path);
+  guard.check();
+}
+
+void Viewer::reportPanelError(const std::exception& e) {
+  message_ = e.what();
+  std::fprintf(stderr, "ropecast %s\n", e.what());
+}
+
 void Viewer::screenshot(const std::string& path, bool panels) {
   const bool exr = std::filesystem::path(path).extension() == ".exr";
   if (const std::string problem =
@@ -599,10 +617,11 @@ void Viewer::drawPanels() {
     ImGui::SameLine();
     if (ImGui::Button("save")) {
       try {
+        checkPanelOutput("the panel's transfer function", tfPath_);
         saveTransferFunction(tfPath_, tf_);
         message_ = "wrote " + tfPath_;
       } catch (const Error& e) {
-        message_ = e.what();
+        reportPanelError(e);
       }
     }
     ImGui::PopItemWidth();
@@ -646,18 +665,22 @@ void Viewer::drawPanels() {
     ImGui::InputText("path##camera", &cameraPath_);
     if (ImGui::Button("save camera")) {
       try {
+        checkPanelOutput("the panel's camera path", cameraPath_);
         appendCameraKeyframe(cameraPath_, *controller_);
         message_ = "appended the view to " + cameraPath_;
       } catch (const std::exception& e) {
-        message_ = e.what();
+        reportPanelError(e);
       }
     }
     ImGui::InputText("png##shot", &screenshotPath_);
     if (ImGui::Button("screenshot")) {
       try {
+        checkPanelOutput("the panel's screenshot", screenshotPath_);
+        if (std::filesystem::path(screenshotPath_).extension() == ".exr")
+          checkPanelOutput("the panel's screenshot (its depth)", screenshotDepthPath(screenshotPath_));
         screenshot(screenshotPath_, false);
       } catch (const Error& e) {
-        message_ = e.what();
+        reportPanelError(e);
       }
     }
     if (!message_.empty()) {
@@ -773,10 +796,10 @@ std::string screenshotDepthPath(const std::string& exrPath) {
   return (p.parent_path() / (p.stem().string() + "_depth.exr")).string();
 }
 
-int runViewer(const ViewOptions& options, std::optional<ViewScript> script) {
+int runViewer(const ViewOptions& options, std::optional<ViewScript> script, OutputGuard guard) {
   // --screenshot alone: an empty script, so the viewer ends once the screenshot is written.
   if (!script && !options.screenshot.empty()) script = ViewScript{};
-  Viewer viewer(options, std::move(script));
+  Viewer viewer(options, std::move(script), std::move(guard));
   return viewer.run();
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tools/gl_render_options.h"
+#include "tools/output_guard.h"
 #include "tools/view_script.h"
 
 namespace ropecast::tools {
@@ -28,7 +29,9 @@ struct ViewOptions : RenderOptions {
 std::string screenshotDepthPath(const std::string& exrPath);
 
 // Runs the viewer until its window closes, the script quits or ends, or a --screenshot is written. Returns
-// the exit code. Throws ropecast::Error for bad inputs and for a missing display.
-int runViewer(const ViewOptions& options, std::optional<ViewScript> script);
+// the exit code. Throws ropecast::Error for bad inputs and for a missing display. `guard` holds the inputs
+// and every output of the command line and script, already checked: a file the panels write is checked
+// against it, and refused in the panel.
+int runViewer(const ViewOptions& options, std::optional<ViewScript> script, OutputGuard guard);
 
 }  // namespace ropecast::tools

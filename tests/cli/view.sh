@@ -6,7 +6,7 @@
 # `ropecast render`.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
-ropecast="$1"
+ropecast=$(realpath "$1")  # the panel check runs in its own folder
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
@@ -240,6 +240,50 @@ run "view save_camera onto a timed path" xview $vol --script "$dir/save_timed.js
 run "render --path the timed path" "$ropecast" render $vol --path "$dir/timed.json" --frames 3 -o "$dir/timed.png"
 python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))[-1].get("time") != 1.5)' "$dir/timed.json" ||
   fail "save_camera onto a timed path: the new keyframe is not at 1.5 s: $(cat "$dir/timed.json")"
+
+# The panels' buttons pass the guard the command line's outputs do. Run where the panels' default file names
+# are inputs (the store view.png, --tf tf.json, --script cameras.json), click "save" (transfer function), "save
+# camera" and "screenshot" (their places at 760x560), and nothing is overwritten.
+cat > "$dir/xclick.py" << 'PY'
+import ctypes, sys, time
+X = ctypes.cdll.LoadLibrary("libX11.so.6"); T = ctypes.cdll.LoadLibrary("libXtst.so.6")
+X.XOpenDisplay.restype = ctypes.c_void_p
+X.XSync.argtypes = [ctypes.c_void_p, ctypes.c_int]
+T.XTestFakeMotionEvent.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_ulong]
+T.XTestFakeButtonEvent.argtypes = [ctypes.c_void_p, ctypes.c_uint, ctypes.c_int, ctypes.c_ulong]
+d = X.XOpenDisplay(None)
+for point in sys.argv[1:]:  # click X,Y with the left button
+    x, y = map(int, point.split(","))
+    T.XTestFakeMotionEvent(d, -1, x, y, 0); X.XSync(d, 0); time.sleep(0.2)
+    T.XTestFakeButtonEvent(d, 1, 1, 0); X.XSync(d, 0); time.sleep(0.15)
+    T.XTestFakeButtonEvent(d, 1, 0, 0); X.XSync(d, 0); time.sleep(0.2)
+PY
+if python3 -c 'import ctypes; ctypes.cdll.LoadLibrary("libXtst.so.6")' 2> /dev/null; then
+  mkdir "$dir/panel" && cd "$dir/panel" || exit 1
+  "$ropecast" convert procedural:sphere:16 -o view.png --quiet || fail "convert for the setup"
+  cp "$data/tf/sphere_shells.json" tf.json
+  # Up once ready.png is written; the wait keeps the window open for the clicks.
+  echo '[{"event": "screenshot", "file": "ready.png"}, {"event": "wait_converged", "at": 6}]' > cameras.json
+  cp view.png view.bak; cp tf.json tf.bak; cp cameras.json cameras.bak
+  xvfb-run -a -s "-screen 0 800x600x24" bash -c '
+    "$1" view view.png --tf tf.json --mode dvr --size 760x560 --script cameras.json 2> err.txt & viewer=$!
+    for i in $(seq 200); do [ -e ready.png ] && break; sleep 0.3; done
+    python3 "$2" 77,381 470,274 468,320
+    wait $viewer' _ "$ropecast" "$dir/xclick.py" > /dev/null 2>&1
+  rc=$?
+  [ "$rc" = 0 ] || fail "the panel's buttons: exit $rc: $(cat err.txt)"
+  cmp -s view.png view.bak || fail "the panel's screenshot overwrote the input store"
+  cmp -s tf.json tf.bak || fail "the panel's transfer function save overwrote --tf"
+  cmp -s cameras.json cameras.bak || fail "the panel's save camera overwrote --script"
+  for what in "the panel's transfer function tf.json: the same file as --tf tf.json" \
+    "the panel's camera path cameras.json: the same file as --script cameras.json" \
+    "the panel's screenshot view.png: the same file as the input view.png"; do
+    grep -qF "$what" err.txt || fail "the panel's buttons: no \"$what\": $(cat err.txt)"
+  done
+  cd - > /dev/null || exit 1
+else
+  echo "skip: the panel's buttons (no libXtst to click them)"
+fi
 
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
