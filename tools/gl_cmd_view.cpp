@@ -100,7 +100,8 @@ const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::func
       "as PNG and exit");
   app.add_option("--stats", o->stats,
                  "write one JSON object per rendered frame, one per line (render's fields)");
-  app.add_option("--max-frames", o->maxFrames, "frames a screenshot waits for the view to converge")
+  app.add_option("--max-frames", o->maxFrames,
+                 "frames a screenshot or wait_converged waits for the view to converge (then it runs anyway)")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();
   return [o] { return runView(*o); };

@@ -3,7 +3,7 @@
 # --converge` draws with the same camera and settings; a scripted drag lands on the orbit docs/VIEWER.md
 # documents, and the camera it saves is one `render --path` reads; a scripted isovalue change and a transfer
 # function load draw what `render` draws with them; without a display the viewer refuses cleanly and names
-# `ropecast render`.
+# `ropecast render`; --max-frames ends every wait; what the script and the panels write never replaces an input.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
 ropecast=$(realpath "$1")  # the panel check runs in its own folder
@@ -232,6 +232,49 @@ cat > "$dir/panels.json" << JSON
 JSON
 run "view --script screenshot with panels, quit" xview $vol --script "$dir/panels.json"
 [ -s "$dir/vp.png" ] || fail "a screenshot with panels followed by quit was not written"
+
+# --max-frames bounds every wait: with W held the camera never stops, so neither the script's waits nor the
+# --screenshot after it can converge; each runs after --max-frames frames, with a warning naming it.
+cat > "$dir/held.json" << JSON
+[{"event": "key_down", "key": "w"}, {"event": "wait_converged"}, {"event": "screenshot", "file": "$dir/held.png"}]
+JSON
+timeout 300 xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view $vol --script "$dir/held.json" --max-frames 20 \
+  --screenshot "$dir/held_end.png" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 0 ] && [ -s "$dir/held.png" ] && [ -s "$dir/held_end.png" ]; } ||
+  fail "a held key with --max-frames 20: exit $rc (124: still running after 300 s): $(cat "$dir/err.txt")"
+for what in "held.json: event 1 (wait_converged): not converged after 20 frames" \
+  "held.json: event 2 (screenshot): not converged after 20 frames" "--screenshot: not converged after 20 frames"; do
+  grep -qF -- "$what" "$dir/err.txt" || fail "a held key: no warning \"$what\": $(cat "$dir/err.txt")"
+done
+
+# --screenshot with a script that quits: quit ends the script, and the screenshot is taken (one wheel click: the
+# distance 3 * 0.9).
+cat > "$dir/quits.json" << JSON
+[{"event": "wheel", "clicks": 1}, {"event": "quit"}, {"event": "set_iso", "value": 60}]
+JSON
+run "view --script ... quit --screenshot" xview $vol --script "$dir/quits.json" --screenshot "$dir/vq.png"
+run "render --orbit 30,20,2.7" "$ropecast" render $vol --converge --orbit 30,20,2.7 -o "$dir/rq.png"
+same "--screenshot after a quit = render at the documented distance" "$dir/vq.png" "$dir/rq.png"
+
+# Two screenshots with panels in a row each write their file, and a wheel right after the second does not reach
+# it: it shows the state at its event, as a lone one does (the stats' fps text differs from run to run: 30 dB
+# at 1024x768; the wheel's zoom would be under 10).
+cat > "$dir/panels2.json" << JSON
+[{"event": "screenshot", "file": "$dir/pa.png", "panels": true},
+ {"event": "screenshot", "file": "$dir/pb.png", "panels": true}, {"event": "wheel", "clicks": 8}]
+JSON
+cat > "$dir/panels1.json" << JSON
+[{"event": "screenshot", "file": "$dir/p1.png", "panels": true}]
+JSON
+big="procedural:marschner-lobb:48 --brick 16 --size 1024x768"
+run "view two screenshots with panels" xvfb-run -a -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels2.json"
+run "view one screenshot with panels" xvfb-run -a -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels1.json"
+[ -s "$dir/pa.png" ] || fail "the first of two screenshots with panels was not written"
+for shot in pa pb; do
+  "$ropecast" compare "$dir/p1.png" "$dir/$shot.png" --min-psnr 30 > "$dir/cmp.txt" 2>&1 ||
+    fail "$shot.png with panels is not the state at its event: $(cat "$dir/cmp.txt")"
+done
 
 # save_camera appends to a path with timed keyframes a timed one (a second after the last): render reads it.
 echo '[{"orbit": [30, 20, 3], "time": 0}, {"orbit": [60, 20, 3], "time": 0.5}]' > "$dir/timed.json"
