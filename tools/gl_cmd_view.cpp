@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/camera_path.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "core/transfer_function.h"
@@ -27,6 +28,17 @@ void addImageOutput(OutputGuard& guard, const std::string& what, const std::stri
     throw Error(what + " " + path + ": " + problem);
   guard.addOutput(what, path);
   if (exr) guard.addOutput(what + " (its depth)", screenshotDepthPath(path));
+}
+
+// A save_camera event appends to its file: one that exists must be a camera path already (a folder is the
+// guard's to refuse).
+void checkAppendableCameraPath(const ViewEvent& e) {
+  if (!std::filesystem::is_regular_file(e.file)) return;
+  try {
+    loadCameraPath(e.file);
+  } catch (const Error& error) {
+    throw Error(e.where + ": " + e.file + " exists and is not a camera path to append to: " + error.what());
+  }
 }
 
 int runView(const ViewOptions& o) {
@@ -52,19 +64,25 @@ int runView(const ViewOptions& o) {
         const std::filesystem::path parent = std::filesystem::path(e.file).parent_path();
         if (!parent.empty() && !std::filesystem::is_directory(parent))
           throw Error("a save_camera" + of + ": " + e.file + ": its folder does not exist");
+        checkAppendableCameraPath(e);
         guard.addOutput("a save_camera" + of + ":", e.file);  // appended to: read and written
       }
       if (e.kind == ViewEventKind::LoadTf && tfs.insert(e.tf).second) {
         if (TransferFunction::isPreset(e.tf)) continue;
         if (!std::filesystem::is_regular_file(e.tf))
           throw Error("a load_tf" + of + ": '" + e.tf + "' is neither a preset nor a transfer function file");
+        try {
+          TransferFunction::fromFile(e.tf);
+        } catch (const Error& error) {
+          throw Error(e.where + ": " + error.what());
+        }
         guard.addInput("a load_tf" + of + ":", e.tf);
       }
     }
   }
   guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted viewer leaves no half-written --stats or screenshot
-  return runViewer(o, std::move(script));
+  return runViewer(o, std::move(script), std::move(guard));
 }
 
 const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::function<int()> {
@@ -82,7 +100,8 @@ const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::func
       "as PNG and exit");
   app.add_option("--stats", o->stats,
                  "write one JSON object per rendered frame, one per line (render's fields)");
-  app.add_option("--max-frames", o->maxFrames, "frames a screenshot waits for the view to converge")
+  app.add_option("--max-frames", o->maxFrames,
+                 "frames a screenshot or wait_converged waits for the view to converge (then it runs anyway)")
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str();
   return [o] { return runView(*o); };

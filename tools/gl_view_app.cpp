@@ -37,6 +37,7 @@
 #include "store/value_histogram.h"
 #include "tools/cli_values.h"
 #include "tools/gl_view_tf_editor.h"
+#include "tools/output_guard.h"
 #include "tools/stats_writer.h"
 
 namespace ropecast::tools {
@@ -76,6 +77,9 @@ void appendCameraKeyframe(const std::string& path, const OrbitController& contro
            {"target", {c.target.x, c.target.y, c.target.z}},
            {"up", {c.up.x, c.up.y, c.up.z}},
            {"fov", c.fovYDeg}};
+  // A path gives every keyframe a time or none (parseCameraPath), the times increasing: the new keyframe
+  // comes a second after the last.
+  if (!list.empty() && list.back().contains("time")) key["time"] = list.back()["time"].get<double>() + 1.0;
   list.push_back(key);
   const std::string text = root.dump(2) + '\n';
   writeFileAtomically(path, std::as_bytes(std::span(text)), "save camera");
@@ -108,7 +112,7 @@ FloatImage readWindow(uint32_t width, uint32_t height) {
 
 class Viewer {
  public:
-  Viewer(const ViewOptions& o, std::optional<ViewScript> script);
+  Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGuard guard);
   ~Viewer();
   int run();
 
@@ -128,12 +132,20 @@ class Viewer {
   void readWindowInput(double dtSeconds);
   void drive(const Pointer& before, const Pointer& now);
   void flyHeld(const std::set<char>& keys, double dtSeconds);
-  // Returns false when the script asks to quit; `converged` says whether the shown view has converged.
-  bool runScript(bool converged);
+  // Runs the events that are due; `converged` says whether the shown view has converged.
+  void runScript(bool converged);
+  void runEvent(const ViewEvent& e);
+  bool scriptDone() const { return script_ && nextEvent_ >= script_->events.size(); }
   void screenshot(const std::string& path, bool panels);
+  // Throws when a file the panels would write is an input or an output the command line or script names.
+  void checkPanelOutput(const std::string& what, const std::string& path) const;
+  void reportPanelError(const std::exception& e);
   void drawPanels();
 
   const ViewOptions& o_;
+  // The inputs and every output of the command line and script, checked before the window opened: what the
+  // panels write is checked against them.
+  OutputGuard guard_;
   std::unique_ptr<BrickSource> source_, delayed_;
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
   std::pair<double, double> valueRange_;
@@ -163,7 +175,9 @@ class Viewer {
   uint64_t lastTfVersion_ = 0;
   FrameStats lastStats_;
   FloatImage color_;
-  uint64_t framesSinceChange_ = 0;
+  // Frames the next event (or the --screenshot after the script) has waited for the view to converge; at
+  // --max-frames it runs anyway, with a warning, so a camera that keeps moving cannot hold the script.
+  uint64_t waitedFrames_ = 0;
   std::deque<float> frameMsHistory_;
   std::optional<StatsWriter> stats_;  // --stats, finished when the viewer ends normally
   uint32_t viewTexture_ = 0, viewFramebuffer_ = 0;
@@ -193,11 +207,13 @@ class Viewer {
   // Panel fields.
   std::string screenshotPath_ = "view.png", cameraPath_ = "cameras.json", tfPath_ = "tf.json";
   std::string message_;
-  std::string panelShot_;  // a screenshot with panels, taken after this frame's panels are drawn
+  // A screenshot event with panels, taken after this frame's panels are drawn: the events after it wait for
+  // the next frame, so the panels show the state the event saw.
+  std::optional<ViewEvent> panelShot_;
 };
 
-Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script)
-    : o_(o), stepPacer_(o.targetFrameMs), script_(std::move(script)) {
+Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGuard guard)
+    : o_(o), guard_(std::move(guard)), stepPacer_(o.targetFrameMs), script_(std::move(script)) {
   if (o.backend == RenderBackend::Brute)
     throw Error(
         "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
@@ -328,9 +344,7 @@ bool Viewer::sameAsLast(const FrameRequest& r) const {
 }
 
 void Viewer::renderFrame(const FrameRequest& request) {
-  if (!sameAsLast(request)) framesSinceChange_ = 0;
   lastStats_ = renderer_->render(request);
-  ++framesSinceChange_;
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
@@ -428,92 +442,114 @@ void Viewer::readWindowInput(double dtSeconds) {
   }
 }
 
-bool Viewer::runScript(bool converged) {
-  if (!script_) return true;
+void Viewer::runScript(bool converged) {
+  if (!script_) return;
   const double now = secondsSince(start_);
   bool changedHere = false;  // the shown frame is not of the state the events left
   while (nextEvent_ < script_->events.size()) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
-    // A screenshot with panels is taken after this frame's panels are drawn: quitting waits for it.
-    if (e.kind == ViewEventKind::Quit && !panelShot_.empty()) break;
     const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged;
     if (waits && (!converged || changedHere)) {
-      if (changedHere || framesSinceChange_ < o_.maxFrames) break;
-      std::fprintf(stderr, "ropecast view: not converged after %u frames (--max-frames)\n", o_.maxFrames);
+      if (changedHere || ++waitedFrames_ <= o_.maxFrames) break;
+      std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
+                   e.where.c_str(), o_.maxFrames);
     }
-    Pointer next = scriptPointer_;
-    next.pos = e.pos;
-    next.shift = e.shift;
-    switch (e.kind) {
-      case ViewEventKind::MouseDown:
-        // The right button moves nothing (docs/VIEWER.md "Camera").
-        if (e.button == MouseButton::Left) next.left = true;
-        if (e.button == MouseButton::Middle) next.middle = true;
-        scriptPointer_ = next;
-        break;
-      case ViewEventKind::MouseMove:
-        drive(scriptPointer_, next);
-        scriptPointer_ = next;
-        break;
-      case ViewEventKind::MouseUp:
-        drive(scriptPointer_, Pointer{next.pos, scriptPointer_.left, scriptPointer_.middle, next.shift});
-        if (e.button == MouseButton::Left) next.left = false;
-        if (e.button == MouseButton::Middle) next.middle = false;
-        scriptPointer_ = next;
-        break;
-      case ViewEventKind::Wheel:
-        controller_->zoom(e.clicks);
-        break;
-      case ViewEventKind::KeyDown:
-        if (e.key == 'r') {
-          controller_->reset();
-        } else {
-          ScriptKey held{e.atSeconds, HUGE_VAL, 0.0};
-          for (size_t i = nextEvent_ + 1; i < script_->events.size(); ++i)
-            if (script_->events[i].kind == ViewEventKind::KeyUp && script_->events[i].key == e.key) {
-              held.upAt = script_->events[i].atSeconds;
-              break;
-            }
-          scriptKeys_[e.key] = held;
-        }
-        break;
-      case ViewEventKind::KeyUp:
-        flyScriptKeys(e.atSeconds);  // the rest of its flight
-        scriptKeys_.erase(e.key);
-        break;
-      case ViewEventKind::SetIso:
-        params_.isoValue = e.value;
-        break;
-      case ViewEventKind::SetMode:
-        params_.mode = e.mode;
-        break;
-      case ViewEventKind::LoadTf:
-        setTransferFunction(e.tf);
-        break;
-      case ViewEventKind::Screenshot:
-        screenshot(e.file, e.panels);
-        break;
-      case ViewEventKind::SaveCamera:
-        appendCameraKeyframe(e.file, *controller_);
-        break;
-      case ViewEventKind::ResetCamera:
-        controller_->reset();
-        break;
-      case ViewEventKind::WaitConverged:
-        break;
-      case ViewEventKind::Quit:
-        return false;
+    try {
+      runEvent(e);
+    } catch (const Error& error) {
+      throw Error(e.where + ": " + error.what());
     }
     ++nextEvent_;
+    waitedFrames_ = 0;
+    if (e.kind == ViewEventKind::Quit) nextEvent_ = script_->events.size();
     // What the shown frame converged to may have changed: a wait after this event waits for a new frame.
     if (e.kind != ViewEventKind::Screenshot && e.kind != ViewEventKind::SaveCamera &&
         e.kind != ViewEventKind::WaitConverged)
       changedHere = true;
-    // One mouse move per frame, so that a scripted drag is seen moving as a hand-made one is.
-    if (e.kind == ViewEventKind::MouseMove) break;
+    // One mouse move per frame, so that a scripted drag is seen moving as a hand-made one is; nothing after a
+    // screenshot with panels until its frame is read back.
+    if (e.kind == ViewEventKind::MouseMove || panelShot_) break;
   }
-  return true;
+}
+
+void Viewer::runEvent(const ViewEvent& e) {
+  Pointer next = scriptPointer_;
+  next.pos = e.pos;
+  next.shift = e.shift;
+  switch (e.kind) {
+    case ViewEventKind::MouseDown:
+      // The right button moves nothing (docs/VIEWER.md "Camera").
+      if (e.button == MouseButton::Left) next.left = true;
+      if (e.button == MouseButton::Middle) next.middle = true;
+      scriptPointer_ = next;
+      break;
+    case ViewEventKind::MouseMove:
+      drive(scriptPointer_, next);
+      scriptPointer_ = next;
+      break;
+    case ViewEventKind::MouseUp:
+      drive(scriptPointer_, Pointer{next.pos, scriptPointer_.left, scriptPointer_.middle, next.shift});
+      if (e.button == MouseButton::Left) next.left = false;
+      if (e.button == MouseButton::Middle) next.middle = false;
+      scriptPointer_ = next;
+      break;
+    case ViewEventKind::Wheel:
+      controller_->zoom(e.clicks);
+      break;
+    case ViewEventKind::KeyDown:
+      if (e.key == 'r') {
+        controller_->reset();
+      } else {
+        ScriptKey held{e.atSeconds, HUGE_VAL, 0.0};
+        for (size_t i = nextEvent_ + 1; i < script_->events.size(); ++i)
+          if (script_->events[i].kind == ViewEventKind::KeyUp && script_->events[i].key == e.key) {
+            held.upAt = script_->events[i].atSeconds;
+            break;
+          }
+        scriptKeys_[e.key] = held;
+      }
+      break;
+    case ViewEventKind::KeyUp:
+      flyScriptKeys(e.atSeconds);  // the rest of its flight
+      scriptKeys_.erase(e.key);
+      break;
+    case ViewEventKind::SetIso:
+      params_.isoValue = e.value;
+      break;
+    case ViewEventKind::SetMode:
+      params_.mode = e.mode;
+      break;
+    case ViewEventKind::LoadTf:
+      setTransferFunction(e.tf);
+      break;
+    case ViewEventKind::Screenshot:
+      if (e.panels)
+        panelShot_ = e;  // read back once this frame's panels are drawn
+      else
+        screenshot(e.file, false);
+      break;
+    case ViewEventKind::SaveCamera:
+      appendCameraKeyframe(e.file, *controller_);
+      break;
+    case ViewEventKind::ResetCamera:
+      controller_->reset();
+      break;
+    case ViewEventKind::WaitConverged:
+    case ViewEventKind::Quit:  // the script ends: runScript skips the rest
+      break;
+  }
+}
+
+void Viewer::checkPanelOutput(const std::string& what, const std::string& path) const {
+  OutputGuard guard = guard_;
+  guard.addOutput(what, path);
+  guard.check();
+}
+
+void Viewer::reportPanelError(const std::exception& e) {
+  message_ = e.what();
+  std::fprintf(stderr, "ropecast %s\n", e.what());
 }
 
 void Viewer::screenshot(const std::string& path, bool panels) {
@@ -532,8 +568,7 @@ void Viewer::screenshot(const std::string& path, bool panels) {
     return;
   }
   if (panels) {
-    panelShot_ = path;  // read back once the panels are drawn
-    return;
+    writePng(path, readWindow(viewWidth_, viewHeight_), false);
   } else {
     if (color_.pixels.empty()) throw Error("view: screenshot " + path + ": nothing rendered yet");
     writePng(path, color_, false);
@@ -596,10 +631,11 @@ void Viewer::drawPanels() {
     ImGui::SameLine();
     if (ImGui::Button("save")) {
       try {
+        checkPanelOutput("the panel's transfer function", tfPath_);
         saveTransferFunction(tfPath_, tf_);
         message_ = "wrote " + tfPath_;
       } catch (const Error& e) {
-        message_ = e.what();
+        reportPanelError(e);
       }
     }
     ImGui::PopItemWidth();
@@ -643,18 +679,22 @@ void Viewer::drawPanels() {
     ImGui::InputText("path##camera", &cameraPath_);
     if (ImGui::Button("save camera")) {
       try {
+        checkPanelOutput("the panel's camera path", cameraPath_);
         appendCameraKeyframe(cameraPath_, *controller_);
         message_ = "appended the view to " + cameraPath_;
       } catch (const std::exception& e) {
-        message_ = e.what();
+        reportPanelError(e);
       }
     }
     ImGui::InputText("png##shot", &screenshotPath_);
     if (ImGui::Button("screenshot")) {
       try {
+        checkPanelOutput("the panel's screenshot", screenshotPath_);
+        if (std::filesystem::path(screenshotPath_).extension() == ".exr")
+          checkPanelOutput("the panel's screenshot (its depth)", screenshotDepthPath(screenshotPath_));
         screenshot(screenshotPath_, false);
       } catch (const Error& e) {
-        message_ = e.what();
+        reportPanelError(e);
       }
     }
     if (!message_.empty()) {
@@ -700,7 +740,7 @@ int Viewer::run() {
   auto lastLoop = SteadyClock::now();
   bool converged = false;
   while (!window_->shouldClose()) {
-    const bool scriptActive = script_ && nextEvent_ < script_->events.size();
+    const bool scriptActive = script_ && !scriptDone();
     const bool idle = converged && !scriptActive && !windowDragOwned_ && scriptKeys_.empty() &&
                       secondsSince(start_) - lastMoveSeconds_ > kStillAfterSeconds;
     if (idle)
@@ -719,8 +759,9 @@ int Viewer::run() {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     readWindowInput(dt);
-    if (!runScript(converged)) break;
-    flyScriptKeys(secondsSince(start_));
+    runScript(converged);
+    // A screenshot with panels shows the camera its event saw: held keys fly on in the next frame.
+    if (!panelShot_) flyScriptKeys(secondsSince(start_));
     drawPanels();
     ImGui::Render();
 
@@ -742,18 +783,24 @@ int Viewer::run() {
 
     present(viewWidth_, viewHeight_);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    if (!panelShot_.empty()) {
-      writePng(panelShot_, readWindow(viewWidth_, viewHeight_), false);
-      message_ = "wrote " + panelShot_;
-      panelShot_.clear();
+    if (panelShot_) {
+      const ViewEvent shot = *std::exchange(panelShot_, std::nullopt);
+      try {
+        screenshot(shot.file, true);
+      } catch (const Error& e) {
+        throw Error(shot.where + ": " + e.what());
+      }
     }
     window_->swapBuffers();
 
-    if (script_ && nextEvent_ >= script_->events.size()) {
+    if (scriptDone()) {
       if (o_.screenshot.empty()) break;
-      if (converged || framesSinceChange_ >= o_.maxFrames) {
+      if (converged || ++waitedFrames_ > o_.maxFrames) {
         if (!converged)
-          std::fprintf(stderr, "ropecast view: not converged after %u frames (--max-frames)\n", o_.maxFrames);
+          std::fprintf(stderr,
+                       "ropecast view: --screenshot: not converged after %u frames (--max-frames); writing "
+                       "it anyway\n",
+                       o_.maxFrames);
         screenshot(o_.screenshot, false);
         break;
       }
@@ -770,10 +817,10 @@ std::string screenshotDepthPath(const std::string& exrPath) {
   return (p.parent_path() / (p.stem().string() + "_depth.exr")).string();
 }
 
-int runViewer(const ViewOptions& options, std::optional<ViewScript> script) {
+int runViewer(const ViewOptions& options, std::optional<ViewScript> script, OutputGuard guard) {
   // --screenshot alone: an empty script, so the viewer ends once the screenshot is written.
   if (!script && !options.screenshot.empty()) script = ViewScript{};
-  Viewer viewer(options, std::move(script));
+  Viewer viewer(options, std::move(script), std::move(guard));
   return viewer.run();
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tools/gl_render_options.h"
+#include "tools/output_guard.h"
 #include "tools/view_script.h"
 
 namespace ropecast::tools {
@@ -20,15 +21,17 @@ namespace ropecast::tools {
 struct ViewOptions : RenderOptions {
   std::string script;      // --script EVENTS.json
   std::string screenshot;  // --screenshot OUT.png: after the script (if any), once converged; then exit
-  // RenderOptions' maxFrames (--max-frames): frames a screenshot waits for convergence before it is taken
-  // anyway; its stats (--stats): one JSON line per rendered frame, as render writes.
+  // RenderOptions' maxFrames (--max-frames): frames a screenshot or wait_converged waits for convergence
+  // before it runs anyway; its stats (--stats): one JSON line per rendered frame, as render writes.
 };
 
 // Where an EXR screenshot NAME.exr puts its depth image: NAME_depth.exr beside it.
 std::string screenshotDepthPath(const std::string& exrPath);
 
 // Runs the viewer until its window closes, the script quits or ends, or a --screenshot is written. Returns
-// the exit code. Throws ropecast::Error for bad inputs and for a missing display.
-int runViewer(const ViewOptions& options, std::optional<ViewScript> script);
+// the exit code. Throws ropecast::Error for bad inputs, for a missing display, and for a script event that
+// fails (naming it). `guard` holds the inputs and every output of the command line and script, already
+// checked: a file the panels write is checked against it, and refused in the panel.
+int runViewer(const ViewOptions& options, std::optional<ViewScript> script, OutputGuard guard);
 
 }  // namespace ropecast::tools

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -63,10 +64,19 @@ struct EventReader {
     read.insert(name);
     if (!j.contains(name)) fail(std::string("\"") + name + "\" is required");
     const json& p = j[name];
-    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() ||
-        !std::isfinite(p[0].get<double>()) || !std::isfinite(p[1].get<double>()))
-      fail(std::string("\"") + name + "\" must be [x, y] in window pixels");
+    auto inRange = [](const json& v) {
+      return v.is_number() && std::abs(v.get<double>()) <= kMaxScriptPixels;  // NaN compares false
+    };
+    if (!p.is_array() || p.size() != 2 || !inRange(p[0]) || !inRange(p[1]))
+      fail(std::string("\"") + name + "\" must be [x, y] in window pixels, each within +-1e6");
     return {p[0].get<double>(), p[1].get<double>()};
+  }
+  // Seconds: "at" or "seconds", in [0, kMaxScriptSeconds].
+  double seconds(const char* name, double fallback) const {
+    const double s = number(name, fallback);
+    if (s < 0.0) fail(std::string("\"") + name + "\" must not be negative");
+    if (s > kMaxScriptSeconds) fail(std::string("\"") + name + "\" must be at most 1e6 seconds");
+    return s;
   }
   MouseButton button() const {
     read.insert("button");
@@ -111,25 +121,28 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     const std::string kind = j["event"].get<std::string>();
     EventReader r{j, sourceName + ": event " + std::to_string(i) + " (" + kind + ")"};
     ViewEvent e;
-    e.atSeconds = r.number("at", lastAt);
-    if (e.atSeconds < 0.0) r.fail("\"at\" must not be negative");
+    e.where = r.where;
+    e.atSeconds = r.seconds("at", lastAt);
     lastAt = e.atSeconds;
     auto add = [&](ViewEvent event) { script.events.push_back(std::move(event)); };
-    if (kind == "mouse_down" || kind == "mouse_up" || kind == "mouse_move") {
-      e.kind = kind == "mouse_down" ? ViewEventKind::MouseDown
-               : kind == "mouse_up" ? ViewEventKind::MouseUp
-                                    : ViewEventKind::MouseMove;
+    if (kind == "mouse_down" || kind == "mouse_up") {
+      e.kind = kind == "mouse_down" ? ViewEventKind::MouseDown : ViewEventKind::MouseUp;
       e.pos = r.point("pos");
       e.button = r.button();
+      e.shift = r.flag("shift");
+      add(e);
+    } else if (kind == "mouse_move") {
+      // No "button": a move drags with the buttons mouse_down left held.
+      e.kind = ViewEventKind::MouseMove;
+      e.pos = r.point("pos");
       e.shift = r.flag("shift");
       add(e);
     } else if (kind == "drag") {
       const glm::dvec2 from = r.point("from"), to = r.point("to");
       const double steps = r.number("steps", 8.0);
-      const double seconds = r.number("seconds", 0.0);
+      const double seconds = r.seconds("seconds", 0.0);
       if (steps < 1.0 || steps > 10000.0 || steps != std::floor(steps))
         r.fail("\"steps\" must be in [1, 10000]");
-      if (seconds < 0.0) r.fail("\"seconds\" must not be negative");
       e.button = r.button();
       e.shift = r.flag("shift");
       e.kind = ViewEventKind::MouseDown;
@@ -157,8 +170,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.kind = kind == "key_up" ? ViewEventKind::KeyUp : ViewEventKind::KeyDown;
       add(e);
       if (kind == "key") {
-        const double seconds = r.number("seconds", 0.0);
-        if (seconds < 0.0) r.fail("\"seconds\" must not be negative");
+        const double seconds = r.seconds("seconds", 0.0);
         ViewEvent up = e;
         up.kind = ViewEventKind::KeyUp;
         up.atSeconds = e.atSeconds + seconds;
@@ -183,6 +195,9 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.kind = ViewEventKind::Screenshot;
       e.file = r.text("file");
       e.panels = r.flag("panels");
+      // The window is 8-bit: a float EXR of it would hold no more than a PNG, and no depth.
+      if (e.panels && std::filesystem::path(e.file).extension() == ".exr")
+        r.fail("\"panels\": true writes a PNG of the window; an EXR screenshot is the 3D view alone");
       add(e);
     } else if (kind == "save_camera") {
       e.kind = ViewEventKind::SaveCamera;

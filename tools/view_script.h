@@ -52,11 +52,17 @@ struct ViewEvent {
   std::string tf;
   std::string file;
   bool panels = false;
+  std::string where;  // "--script EVENTS.json: event 3 (drag)": names the event in errors while it runs
 };
 
 struct ViewScript {
   std::vector<ViewEvent> events;  // "drag" and "key" with "seconds" are expanded into their parts
 };
+
+// Limits that keep every event's arithmetic finite (a drag's moves, a camera turned or panned by them, a time
+// plus its seconds): larger values are refused at load.
+constexpr double kMaxScriptPixels = 1e6;   // |x|, |y| of a position, in window pixels
+constexpr double kMaxScriptSeconds = 1e6;  // "at" and "seconds"
 
 // Parses the JSON text; `sourceName` (a file name) is named in errors (ropecast::Error), with the event's
 // index. "drag" {"from": [x, y], "to": [x, y], "button", "shift", "steps" (moves, default 8), "seconds" (the

@@ -3,10 +3,10 @@
 # --converge` draws with the same camera and settings; a scripted drag lands on the orbit docs/VIEWER.md
 # documents, and the camera it saves is one `render --path` reads; a scripted isovalue change and a transfer
 # function load draw what `render` draws with them; without a display the viewer refuses cleanly and names
-# `ropecast render`.
+# `ropecast render`; --max-frames ends every wait; what the script and the panels write never replaces an input.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
-ropecast="$1"
+ropecast=$(realpath "$1")  # the panel check runs in its own folder
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless}
@@ -43,6 +43,20 @@ env -u DISPLAY "$ropecast" view $vol --backend brute > /dev/null 2> "$dir/err.tx
 rc=$?
 { [ "$rc" = 2 ] && grep -q -- "--backend: brute not in" "$dir/err.txt"; } || fail "--backend brute: exit $rc: $(cat "$dir/err.txt")"
 [ ! -e "$dir/none.png" ] || fail "no display: a screenshot was written"
+
+# A script's transfer function and camera path files are checked before the window opens (no display here):
+# the message names the script and the event.
+echo "nonsense" > "$dir/not_tf.json"
+echo "[{\"event\": \"set_mode\", \"mode\": \"dvr\"}, {\"event\": \"load_tf\", \"tf\": \"$dir/not_tf.json\"}]" > "$dir/bad_tf.json"
+env -u DISPLAY "$ropecast" view $vol --script "$dir/bad_tf.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "bad_tf.json: event 1 (load_tf)" "$dir/err.txt" && ! grep -qi "display" "$dir/err.txt"; } ||
+  fail "load_tf of a file that is no transfer function: exit $rc: $(cat "$dir/err.txt")"
+echo "[{\"event\": \"save_camera\", \"file\": \"$data/tf/sphere_shells.json\"}]" > "$dir/bad_cam.json"
+env -u DISPLAY "$ropecast" view $vol --script "$dir/bad_cam.json" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -qF "bad_cam.json: event 0 (save_camera): $data/tf/sphere_shells.json exists and is not a camera path" "$dir/err.txt"; } ||
+  fail "save_camera onto a file that is no camera path: exit $rc: $(cat "$dir/err.txt")"
 
 if ! command -v xvfb-run > /dev/null; then
   echo "skip: xvfb-run is not installed (scripts/bootstrap installs xvfb)"
@@ -218,6 +232,101 @@ cat > "$dir/panels.json" << JSON
 JSON
 run "view --script screenshot with panels, quit" xview $vol --script "$dir/panels.json"
 [ -s "$dir/vp.png" ] || fail "a screenshot with panels followed by quit was not written"
+
+# --max-frames bounds every wait: with W held the camera never stops, so neither the script's waits nor the
+# --screenshot after it can converge; each runs after --max-frames frames, with a warning naming it.
+cat > "$dir/held.json" << JSON
+[{"event": "key_down", "key": "w"}, {"event": "wait_converged"}, {"event": "screenshot", "file": "$dir/held.png"}]
+JSON
+timeout 300 xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view $vol --script "$dir/held.json" --max-frames 20 \
+  --screenshot "$dir/held_end.png" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 0 ] && [ -s "$dir/held.png" ] && [ -s "$dir/held_end.png" ]; } ||
+  fail "a held key with --max-frames 20: exit $rc (124: still running after 300 s): $(cat "$dir/err.txt")"
+for what in "held.json: event 1 (wait_converged): not converged after 20 frames" \
+  "held.json: event 2 (screenshot): not converged after 20 frames" "--screenshot: not converged after 20 frames"; do
+  grep -qF -- "$what" "$dir/err.txt" || fail "a held key: no warning \"$what\": $(cat "$dir/err.txt")"
+done
+
+# --screenshot with a script that quits: quit ends the script, and the screenshot is taken (one wheel click: the
+# distance 3 * 0.9).
+cat > "$dir/quits.json" << JSON
+[{"event": "wheel", "clicks": 1}, {"event": "quit"}, {"event": "set_iso", "value": 60}]
+JSON
+run "view --script ... quit --screenshot" xview $vol --script "$dir/quits.json" --screenshot "$dir/vq.png"
+run "render --orbit 30,20,2.7" "$ropecast" render $vol --converge --orbit 30,20,2.7 -o "$dir/rq.png"
+same "--screenshot after a quit = render at the documented distance" "$dir/vq.png" "$dir/rq.png"
+
+# Two screenshots with panels in a row each write their file, and a wheel right after the second does not reach
+# it: it shows the state at its event, as a lone one does (the stats' fps text differs from run to run: 30 dB
+# at 1024x768; the wheel's zoom would be under 10).
+cat > "$dir/panels2.json" << JSON
+[{"event": "screenshot", "file": "$dir/pa.png", "panels": true},
+ {"event": "screenshot", "file": "$dir/pb.png", "panels": true}, {"event": "wheel", "clicks": 8}]
+JSON
+cat > "$dir/panels1.json" << JSON
+[{"event": "screenshot", "file": "$dir/p1.png", "panels": true}]
+JSON
+big="procedural:marschner-lobb:48 --brick 16 --size 1024x768"
+run "view two screenshots with panels" xvfb-run -a -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels2.json"
+run "view one screenshot with panels" xvfb-run -a -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels1.json"
+[ -s "$dir/pa.png" ] || fail "the first of two screenshots with panels was not written"
+for shot in pa pb; do
+  "$ropecast" compare "$dir/p1.png" "$dir/$shot.png" --min-psnr 30 > "$dir/cmp.txt" 2>&1 ||
+    fail "$shot.png with panels is not the state at its event: $(cat "$dir/cmp.txt")"
+done
+
+# save_camera appends to a path with timed keyframes a timed one (a second after the last): render reads it.
+echo '[{"orbit": [30, 20, 3], "time": 0}, {"orbit": [60, 20, 3], "time": 0.5}]' > "$dir/timed.json"
+echo "[{\"event\": \"save_camera\", \"file\": \"$dir/timed.json\"}]" > "$dir/save_timed.json"
+run "view save_camera onto a timed path" xview $vol --script "$dir/save_timed.json"
+run "render --path the timed path" "$ropecast" render $vol --path "$dir/timed.json" --frames 3 -o "$dir/timed.png"
+python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))[-1].get("time") != 1.5)' "$dir/timed.json" ||
+  fail "save_camera onto a timed path: the new keyframe is not at 1.5 s: $(cat "$dir/timed.json")"
+
+# The panels' buttons pass the guard the command line's outputs do. Run where the panels' default file names
+# are inputs (the store view.png, --tf tf.json, --script cameras.json), click "save" (transfer function), "save
+# camera" and "screenshot" (their places at 760x560), and nothing is overwritten.
+cat > "$dir/xclick.py" << 'PY'
+import ctypes, sys, time
+X = ctypes.cdll.LoadLibrary("libX11.so.6"); T = ctypes.cdll.LoadLibrary("libXtst.so.6")
+X.XOpenDisplay.restype = ctypes.c_void_p
+X.XSync.argtypes = [ctypes.c_void_p, ctypes.c_int]
+T.XTestFakeMotionEvent.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_ulong]
+T.XTestFakeButtonEvent.argtypes = [ctypes.c_void_p, ctypes.c_uint, ctypes.c_int, ctypes.c_ulong]
+d = X.XOpenDisplay(None)
+for point in sys.argv[1:]:  # click X,Y with the left button
+    x, y = map(int, point.split(","))
+    T.XTestFakeMotionEvent(d, -1, x, y, 0); X.XSync(d, 0); time.sleep(0.2)
+    T.XTestFakeButtonEvent(d, 1, 1, 0); X.XSync(d, 0); time.sleep(0.15)
+    T.XTestFakeButtonEvent(d, 1, 0, 0); X.XSync(d, 0); time.sleep(0.2)
+PY
+if python3 -c 'import ctypes; ctypes.cdll.LoadLibrary("libXtst.so.6")' 2> /dev/null; then
+  mkdir "$dir/panel" && cd "$dir/panel" || exit 1
+  "$ropecast" convert procedural:sphere:16 -o view.png --quiet || fail "convert for the setup"
+  cp "$data/tf/sphere_shells.json" tf.json
+  # Up once ready.png is written; the wait keeps the window open for the clicks.
+  echo '[{"event": "screenshot", "file": "ready.png"}, {"event": "wait_converged", "at": 6}]' > cameras.json
+  cp view.png view.bak; cp tf.json tf.bak; cp cameras.json cameras.bak
+  xvfb-run -a -s "-screen 0 800x600x24" bash -c '
+    "$1" view view.png --tf tf.json --mode dvr --size 760x560 --script cameras.json 2> err.txt & viewer=$!
+    for i in $(seq 200); do [ -e ready.png ] && break; sleep 0.3; done
+    python3 "$2" 77,381 470,274 468,320
+    wait $viewer' _ "$ropecast" "$dir/xclick.py" > /dev/null 2>&1
+  rc=$?
+  [ "$rc" = 0 ] || fail "the panel's buttons: exit $rc: $(cat err.txt)"
+  cmp -s view.png view.bak || fail "the panel's screenshot overwrote the input store"
+  cmp -s tf.json tf.bak || fail "the panel's transfer function save overwrote --tf"
+  cmp -s cameras.json cameras.bak || fail "the panel's save camera overwrote --script"
+  for what in "the panel's transfer function tf.json: the same file as --tf tf.json" \
+    "the panel's camera path cameras.json: the same file as --script cameras.json" \
+    "the panel's screenshot view.png: the same file as the input view.png"; do
+    grep -qF "$what" err.txt || fail "the panel's buttons: no \"$what\": $(cat err.txt)"
+  done
+  cd - > /dev/null || exit 1
+else
+  echo "skip: the panel's buttons (no libXtst to click them)"
+fi
 
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]

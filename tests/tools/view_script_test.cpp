@@ -87,5 +87,37 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "quit", "at": -1}])", "\"at\" must not be negative");
 }
 
+TEST(ViewScript, HugeCoordinatesAndTimesAreRefusedAtLoad) {
+  // Finite, but a drag between them moves by inf pixels.
+  expectRefused(R"([{"event": "drag", "from": [-1e308, 0], "to": [1e308, 0], "steps": 1}])",
+                "s.json: event 0 (drag): \"from\" must be [x, y] in window pixels, each within +-1e6");
+  expectRefused(R"([{"event": "mouse_down", "pos": [0, 2e6]}])", "event 0 (mouse_down): \"pos\" must be");
+  expectRefused(R"([{"event": "quit", "at": 1e308}])", "event 0 (quit): \"at\" must be at most 1e6 seconds");
+  expectRefused(R"([{"event": "key", "key": "w", "seconds": 1e308}])",
+                "event 0 (key): \"seconds\" must be at most 1e6 seconds");
+  const ViewScript s = parseViewScript(R"([{"event": "mouse_move", "pos": [-1e6, 1e6], "at": 1e6}])", "t");
+  EXPECT_EQ(s.events[0].pos, glm::dvec2(-1e6, 1e6));
+}
+
+TEST(ViewScript, AMouseMoveTakesNoButton) {
+  // A move drags with the buttons held since mouse_down: a button of its own would be ignored.
+  expectRefused(R"([{"event": "mouse_move", "pos": [1, 2], "button": "left"}])",
+                "event 0 (mouse_move): unknown key \"button\"");
+}
+
+TEST(ViewScript, AScreenshotWithPanelsIsAPng) {
+  expectRefused(R"([{"event": "screenshot", "file": "a.exr", "panels": true}])",
+                "s.json: event 0 (screenshot): \"panels\": true writes a PNG of the window");
+  EXPECT_NO_THROW(parseViewScript(R"([{"event": "screenshot", "file": "a.exr"}])", "t"));
+}
+
+TEST(ViewScript, EveryEventKnowsWhereItCameFrom) {
+  const ViewScript s = parseViewScript(
+      R"([{"event": "quit"}, {"event": "drag", "from": [0, 0], "to": [1, 1], "steps": 1}])", "s.json");
+  ASSERT_EQ(s.events.size(), 4u);
+  EXPECT_EQ(s.events[0].where, "s.json: event 0 (quit)");
+  for (size_t i = 1; i < 4; ++i) EXPECT_EQ(s.events[i].where, "s.json: event 1 (drag)");
+}
+
 }  // namespace
 }  // namespace ropecast::tools
