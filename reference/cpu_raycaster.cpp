@@ -4,11 +4,14 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "core/error.h"
 #include "index/rope_traversal.h"
@@ -86,6 +89,9 @@ class RayIntegrator {
       visit->dt = dt;
       visit->kBegin = k;
     }
+    // Where the leaf's samples begin: the first leaf's at t0, which its float tEnter may round past.
+    const double tBegin = fromEntry ? std::min(tEnter, t0_) : tEnter;
+    bool sampled = false;
     for (double t = t0_ + k * dt; t < tStop; k += 1.0, t = t0_ + k * dt) {
       const glm::dvec3 x = ray_.origin + t * ray_.dir;
       const double v = sampler.value(x);
@@ -105,7 +111,7 @@ class RayIntegrator {
       if (fc_.params.mode == RenderMode::Iso) {
         const double f = v - fc_.isoNormalized;
         if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
-          hitIso(sampler, tPrev_, fPrev_, t, cell);
+          hitIso(sampler, tBegin, t, cell);
           ended_ = true;
           if (visit) endSample_ = visit->samples.size() - 1;
           if (!visit) return false;
@@ -114,11 +120,17 @@ class RayIntegrator {
         hasPrev_ = true;
         tPrev_ = t;
         fPrev_ = f;
+        sampled = true;
       } else if (compositeDvr(sampler, x, v, dt, cell)) {
         ended_ = true;
         if (visit) endSample_ = visit->samples.size() - 1;
         if (!visit) return false;
       }
+    }
+    // The leaf of the previous sample, for a crossing found in a later leaf (only the mirror has more than
+    // one).
+    if (sampled && !ended_) {
+      if constexpr (std::is_same_v<Sampler, BrickSampler>) before_ = Before{sampler, tStop, cell};
     }
     return !ended_;
   }
@@ -144,8 +156,32 @@ class RayIntegrator {
     return {glm::dot(n, l), glm::dot(r, l)};
   }
 
+  // The crossing between the previous sample and the sample at tb of the leaf `sampler` entered at tBegin,
+  // refined and shaded in one brick, as shaders/compositing.glsl shadeIsoHit: split at the entry when the
+  // previous sample lies in an earlier leaf, farther out of this brick than a central difference may reach.
   template <class Sampler>
-  void hitIso(const Sampler& sampler, double ta, double fa, double tb, glm::dvec3 cell) {
+  void hitIso(const Sampler& sampler, double tBegin, double tb, glm::dvec3 cell) {
+    double ta = tPrev_, fa = fPrev_;
+    if constexpr (std::is_same_v<Sampler, BrickSampler>) {
+      const glm::dvec3 texelPrev = sampler.texel(ray_.origin + ta * ray_.dir);
+      const double reach = double(sampler.edge()) - 1.5;
+      const bool outside = glm::any(glm::lessThan(texelPrev, glm::dvec3(1.5))) ||
+                           glm::any(glm::greaterThan(texelPrev, glm::dvec3(reach)));
+      if (ta < tBegin && outside) {
+        const double fEnter = sampler.value(ray_.origin + tBegin * ray_.dir) - fc_.isoNormalized;
+        if ((fEnter >= 0.0) == (fa >= 0.0)) {
+          ta = tBegin;
+          fa = fEnter;
+        } else if (before_) {
+          return shadeIsoHit(before_->sampler, ta, fa, std::min(before_->exit, tBegin), before_->cell);
+        }
+      }
+    }
+    shadeIsoHit(sampler, ta, fa, tb, cell);
+  }
+
+  template <class Sampler>
+  void shadeIsoHit(const Sampler& sampler, double ta, double fa, double tb, glm::dvec3 cell) {
     for (int i = 0; i < kIsoBisectionSteps; ++i) {
       const double tm = 0.5 * (ta + tb);
       const double fm = sampler.value(ray_.origin + tm * ray_.dir) - fc_.isoNormalized;
@@ -217,6 +253,13 @@ class RayIntegrator {
   double traceAlpha_ = 0.0;  // traced rays: the opacity accumulated on past the end
   bool hasPrev_ = false;
   double tPrev_ = 0.0, fPrev_ = 0.0;
+  // The mirror's leaf of the previous sample: its brick, where the ray left it, its cell.
+  struct Before {
+    BrickSampler sampler;
+    double exit;
+    glm::dvec3 cell;
+  };
+  std::optional<Before> before_;
   glm::dvec3 color_{0.0};
   double alpha_ = 0.0;
   double depth_ = kInf;

@@ -63,8 +63,12 @@ class BrickSampler {
     offset_ = double(kBrickBorder) - glm::dvec3(node.coord) * double(layout.brickSize);
   }
 
+  // The continuous texel coordinate of a world point (texel i centered at i + 0.5), and the brick's edge.
+  glm::dvec3 texel(glm::dvec3 world) const { return world * invCell_ + offset_; }
+  uint32_t edge() const { return edge_; }
+
   double value(glm::dvec3 world) const {
-    const glm::dvec3 p = world * invCell_ + offset_;
+    const glm::dvec3 p = texel(world);
     const TrilinearAxis ax = TrilinearAxis::at(p.x, edge_), ay = TrilinearAxis::at(p.y, edge_),
                         az = TrilinearAxis::at(p.z, edge_);
     const size_t e = edge_, e2 = size_t(edge_) * edge_;

@@ -25,6 +25,9 @@ namespace {
 constexpr GLuint kAccumImageUnit = 0;
 constexpr GLuint kDepthImageUnit = 1;
 constexpr GLuint kMarchImageUnit = 2;
+constexpr GLuint kBeforeImageUnit = 3;
+// shaders/multipass_block.frag packs a leaf's depth and brick slot into one word: depth | slot << 8.
+static_assert(kMaxPoolSlots <= (uint64_t(1) << 24));
 constexpr GLint kBoxMinLocation = 0;  // shaders/multipass.vert
 constexpr GLint kBoxMaxLocation = 1;
 constexpr GLint kNdcZLocation = 2;
@@ -80,6 +83,7 @@ MultipassPass::~MultipassPass() {
   glDeleteFramebuffers(1, &framebuffer_);
   glDeleteRenderbuffers(1, &depthBuffer_);
   glDeleteTextures(1, &marchTexture_);
+  glDeleteTextures(1, &beforeTexture_);
   glDeleteTextures(1, &tfTexture_);
   glDeleteVertexArrays(1, &emptyVertexArray_);
 }
@@ -106,6 +110,9 @@ void MultipassPass::resize(uint32_t width, uint32_t height) {
   glDeleteTextures(1, &marchTexture_);
   glCreateTextures(GL_TEXTURE_2D, 1, &marchTexture_);
   glTextureStorage2D(marchTexture_, 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
+  glDeleteTextures(1, &beforeTexture_);
+  glCreateTextures(GL_TEXTURE_2D, 1, &beforeTexture_);
+  glTextureStorage2D(beforeTexture_, 1, GL_RGBA32UI, GLsizei(width), GLsizei(height));
   glCreateRenderbuffers(1, &depthBuffer_);
   glNamedRenderbufferStorage(depthBuffer_, GL_DEPTH_COMPONENT32F, GLsizei(width), GLsizei(height));
   glCreateFramebuffers(1, &framebuffer_);
@@ -149,6 +156,8 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
   glClearTexImage(target_.colorTexture(), 0, GL_RGBA, GL_FLOAT, zero);
   glClearTexImage(target_.depthTexture(), 0, GL_RED, GL_FLOAT, &infinity);
   glClearTexImage(marchTexture_, 0, GL_RGBA, GL_FLOAT, zero);
+  const GLuint zeroBits[4] = {0, 0, 0, 0};
+  glClearTexImage(beforeTexture_, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zeroBits);
   const float clearDepth = 1.0f;
   glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &clearDepth);
 
@@ -167,6 +176,7 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
   glBindImageTexture(kAccumImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(kDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
   glBindImageTexture(kMarchImageUnit, marchTexture_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(kBeforeImageUnit, beforeTexture_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
   glProgramUniform1f(block.id(), kNdcZLocation, kBlockNdcZ);
   glProgramUniform1f(mark.id(), kNdcZLocation, kMarkNdcZ);
 

@@ -8,7 +8,8 @@
 //            samples the ray's global grid t0 + k dt there (the first k from the ray's entry into the volume,
 //            as shaders/sampling.glsl firstSampleIndex does), continuing the pixel's front-to-back state in
 //            float images: premultiplied color and opacity ("under"), the depth, and the isosurface march's
-//            last sample, so a crossing between two blocks is found as the single pass finds it;
+//            last sample and the leaf it lies in, so a crossing between two blocks is found and refined as
+//            the single pass finds and refines it;
 //   mark:    the same box again, writing depth where the pixel's ray has ended (opacity >= --ert, or an
 //            isosurface hit): early ray termination across blocks, the later blocks' fragments fail the
 //            depth test before they are shaded.
@@ -88,8 +89,10 @@ class MultipassPass {
   std::map<std::tuple<RenderMode, bool, Stage>, std::unique_ptr<ShaderProgram>> programs_;
   RenderTarget target_{"MultipassPass", false};  // color = the accumulation, depth = the world depth
   uint32_t marchTexture_ = 0;  // RGBA32F: the isosurface march's state (has previous, t, f, ended)
-  uint32_t depthBuffer_ = 0;   // DEPTH_COMPONENT32F: 0.25 where a ray ended (the mark), else 1
-  uint32_t framebuffer_ = 0;   // the depth buffer alone: the blocks write only through images
+  uint32_t beforeTexture_ =
+      0;                      // RGBA32UI: the leaf of the march's previous sample (box min bits, depth, slot)
+  uint32_t depthBuffer_ = 0;  // DEPTH_COMPONENT32F: 0.25 where a ray ended (the mark), else 1
+  uint32_t framebuffer_ = 0;  // the depth buffer alone: the blocks write only through images
   uint32_t width_ = 0, height_ = 0;
   RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;

@@ -34,7 +34,8 @@ RayResult castBrute(uvec2 pixel) {
 #ifdef RAYCAST_MODE_ISO
   IsoMarch march = isoMarchBegin();
   marchIso(march, s, ray.t0, 0.0, ray.t1);
-  return march.hit ? shadeIsoHit(march, s, ray) : missedRay();
+  // One segment: the previous sample is always in it.
+  return march.hit ? shadeIsoHit(march, s, ray.t0, s, ray.t1, ray) : missedRay();
 #else
   DvrAccum acc = dvrAccumBegin();
   compositeDvr(acc, s, ray, 0.0, firstSampleIndex(ray.t0, ray.t1, s.dt, false));

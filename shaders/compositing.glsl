@@ -49,10 +49,29 @@ bool marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
   return sampled;
 }
 
-// The hit of a march, refined by bisection between the samples around the crossing in the segment of the
-// second one, and shaded there.
-RayResult shadeIsoHit(IsoMarch m, Segment s, Ray ray) {
+// The hit of a march, refined by bisection between the samples around the crossing and shaded there, both
+// within one brick: a brick holds its neighbours' samples only BRICK_BORDER texels deep and valueExact clamps
+// to its slot, so a bracket or a central difference reaching further reads clamped texels (wrong hits and
+// normals at brick borders once the step exceeds about a voxel). `s` is the segment of the hit's sample, which
+// the ray entered at tEnter; `before` is that of the previous sample, which it left at beforeExit. When the
+// previous sample lies before tEnter and farther out than a central difference around it may reach (1.5
+// texels inside the slot), the bracket is split at the entry: the crossing is refined in `s` from its entry
+// when f there still has the previous sample's sign, else in `before` up to its exit. Either part lies inside
+// its leaf's box, so the bisection and the gradient (one texel either side) stay in the brick; a bracket that
+// needs no split is the brute-force pass's.
+RayResult shadeIsoHit(IsoMarch m, Segment s, float tEnter, Segment before, float beforeExit, Ray ray) {
   float ta = m.tPrev, fa = m.fPrev, tb = m.tHit;
+  vec3 texelPrev = segmentTexel(s, ta);
+  if (ta < tEnter && (any(lessThan(texelPrev, vec3(1.5))) || any(greaterThan(texelPrev, s.texelCount - 1.5)))) {
+    float fEnter = valueExact(s, segmentTexel(s, tEnter)) - raycast.isoValue;
+    if ((fEnter >= 0.0) == (fa >= 0.0)) {
+      ta = tEnter;
+      fa = fEnter;
+    } else {
+      s = before;
+      tb = min(beforeExit, tEnter);
+    }
+  }
   for (int i = 0; i < ISO_BISECTION_STEPS; ++i) {
     float tm = 0.5 * (ta + tb);
     float fm = valueExact(s, segmentTexel(s, tm)) - raycast.isoValue;

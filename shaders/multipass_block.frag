@@ -16,9 +16,23 @@ layout(rgba32f, binding = 0) uniform image2D uAccum;  // premultiplied color, op
 layout(r32f, binding = 1) uniform image2D uDepth;     // world depth (+inf: none yet)
 #ifdef RAYCAST_MODE_ISO
 layout(rgba32f, binding = 2) uniform image2D uMarch;  // has previous sample, its t, its f, hit
+// The leaf of the previous sample, where shadeIsoHit refines a crossing that lies before this block:
+// floatBitsToUint(box min), depth | brick slot << 8.
+layout(rgba32ui, binding = 3) uniform uimage2D uBefore;
 #endif
 layout(location = 3) uniform vec3 uLeafBoxMin;  // root-cube coordinates
 layout(location = 4) uniform uvec2 uLeaf;       // depth, brick slot
+
+// Where the ray leaves a box (root-cube coordinates), as the rope traversal clips a leaf: the first exit plane
+// of the moving axes.
+float boxExitT(vec3 boxMin, float boxSize, vec3 originCube, vec3 invDir) {
+  bvec3 moving = notEqual(invDir, vec3(0.0));
+  vec3 boxExit = ropePlaneT(boxMin + vec3(greaterThan(invDir, vec3(0.0))) * boxSize, originCube, invDir);
+  float tExit = kInfinity;
+  for (int a = 0; a < 3; ++a)
+    if (moving[a]) tExit = min(tExit, boxExit[a]);
+  return tExit;
+}
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -39,9 +53,8 @@ void main() {
   vec3 cubeExit = ropePlaneT(vec3(positive), originCube, invDir);
   float boxSize = ropeBoxSize(uLeaf.x);
   vec3 boxEntry = ropePlaneT(uLeafBoxMin + vec3(not(positive)) * boxSize, originCube, invDir);
-  vec3 boxExit = ropePlaneT(uLeafBoxMin + vec3(positive) * boxSize, originCube, invDir);
   float tStart = ray.t0, tEnd = ray.t1;
-  float tEnter = -kInfinity, tExit = kInfinity;
+  float tEnter = -kInfinity;
   for (int a = 0; a < 3; ++a) {
     if (!moving[a]) {
       if (originCube[a] < uLeafBoxMin[a] || originCube[a] > uLeafBoxMin[a] + boxSize) return;
@@ -50,8 +63,8 @@ void main() {
     tStart = max(tStart, cubeEntry[a]);
     tEnd = min(tEnd, cubeExit[a]);
     tEnter = max(tEnter, boxEntry[a]);
-    tExit = min(tExit, boxExit[a]);
   }
+  float tExit = boxExitT(uLeafBoxMin, boxSize, originCube, invDir);
   // The box holding the walk's start is the ray's first leaf: its grid starts at k = 0.
   bool entry = tEnter <= tStart;
   tEnter = max(tEnter, tStart);
@@ -69,15 +82,25 @@ void main() {
   vec4 state = imageLoad(uMarch, pixel);
   if (state.w != 0.0) return;
   IsoMarch march = IsoMarch(state.x != 0.0, state.y, state.z, false, 0.0);
-  marchIso(march, s, ray.t0, kBegin, min(tExit, ray.t1));
+  bool sampled = marchIso(march, s, ray.t0, kBegin, min(tExit, ray.t1));
   if (march.hit) {
-    RayResult r = shadeIsoHit(march, s, ray);
+    uvec4 beforeBits = imageLoad(uBefore, pixel);
+    RopeLeaf before;
+    before.boxMin = uintBitsToFloat(beforeBits.xyz);
+    before.depth = beforeBits.w & 0xFFu;
+    before.brickSlot = beforeBits.w >> 8u;
+    float beforeExit = min(boxExitT(before.boxMin, ropeBoxSize(before.depth), originCube, invDir), tEnd);
+    // The first block's samples start at t0, which its float tEnter may round past.
+    RayResult r = shadeIsoHit(march, s, entry ? min(tEnter, ray.t0) : tEnter,
+                              leafSegment(before, originCube, dirCube), min(beforeExit, ray.t1), ray);
     // The nearest hit wins by depth; in front-to-back order the first hit is the nearest.
     if (r.depth < imageLoad(uDepth, pixel).r) {
       imageStore(uAccum, pixel, r.color);
       imageStore(uDepth, pixel, vec4(r.depth));
     }
   }
+  if (!march.hit && sampled)
+    imageStore(uBefore, pixel, uvec4(floatBitsToUint(uLeafBoxMin), uLeaf.x | (uLeaf.y << 8u)));
   imageStore(uMarch, pixel, vec4(march.hasPrev ? 1.0 : 0.0, march.tPrev, march.fPrev, march.hit ? 1.0 : 0.0));
 #else
   vec4 accum = imageLoad(uAccum, pixel);

@@ -172,6 +172,9 @@ RayResult castRay(uvec2 pixel) {
 #ifdef RAYCAST_MODE_ISO
   IsoMarch march = isoMarchBegin();
   Segment hitSegment;
+  float hitEnter = ray.t0;
+  // The data leaf of the march's previous sample (shadeIsoHit refines a crossing before the hit's leaf there).
+  RopeLeaf before = RopeLeaf(kRopeTagDataLeaf, 0u, 0u, 0u, vec3(0.0), 1.0, ray.t0, ray.t1);
   while (!march.hit && ropeNextLeaf(cursor, leaf)) {
     bool entry = firstLeaf;
     firstLeaf = false;
@@ -183,9 +186,17 @@ RayResult castRay(uvec2 pixel) {
     // The leaf of the hit took the hit's sample; the ray goes no further.
     if (sampled) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
 #endif
-    if (march.hit) hitSegment = s;
+    if (march.hit) {
+      hitSegment = s;
+      // The first leaf's samples start at t0, which its float tEnter may round past.
+      hitEnter = entry ? min(leaf.tEnter, ray.t0) : leaf.tEnter;
+    } else if (sampled) {
+      before = leaf;
+    }
   }
-  return march.hit ? shadeIsoHit(march, hitSegment, ray) : missedRay();
+  if (!march.hit) return missedRay();
+  return shadeIsoHit(march, hitSegment, hitEnter, leafSegment(before, originCube, dirCube),
+                     min(before.tExit, ray.t1), ray);
 #elif defined(LLVMPIPE_DVR_LEAF_BATCH)
   return dvrResult(walkDvrBatched(cursor, ray, originCube, dirCube));
 #else
