@@ -3,9 +3,9 @@
 # what only a GPU can measure, most wanted first, each part bounded by PART_S seconds so that a slow part
 # leaves time for the others:
 #   1. the GL index tests: the GLSL rope traversal (compute shader) against the CPU reference, on the GPU;
-#      then the GL tests of the occlusion queries and the ray feedback: each node's count of visible samples
-#      (one draw, a counter per node) against a count from the depth image, the rays' requests and usage
-#      against their CPU twin, convergence with both on (part "visgl");
+#      then all the GL render tests (part "visgl"): the ray caster against its CPU mirror, the backends against
+#      each other, the occlusion queries (each node's count of visible samples against a count from the depth
+#      image), the rays' requests and usage against their CPU twin, convergence with both on;
 #   2. bench/modes.sh: the single pass against the multi-pass renderer, iso and DVR, 512x512 and 1024x1024
 #      (the goal: >= 2x on a GPU);
 #   3. bench/converge_vs_sync.sh: progressive loading against a synchronous render of the CT-like store, with
@@ -56,7 +56,7 @@ for p in $PARTS; do
       # Not the readback test that reads the sources by the path they had where the tests were built.
       if [ -x build/vg/tests/render_gltests ]; then
         part visgl env LD_LIBRARY_PATH="$DEVICE_LIBS" build/vg/tests/render_gltests \
-          --gtest_filter='*OcclusionQueries*:*VisibilityConverge*:Feedback.*-Feedback.ReadbackNeverWaits*'
+          --gtest_filter='-Feedback.ReadbackNeverWaits*'
       fi
       ;;
     modes) part modes env PLOT=0 REPS=2 WORK="$OUT/modes" bench/modes.sh "$build" ;;

@@ -9,11 +9,17 @@
 
 #include <gtest/gtest.h>
 
+#include "render/backend_choice.h"
+
 namespace ropecast::test {
 
 GlContext& sharedGlContext() {
   static std::unique_ptr<GlContext> context = std::make_unique<GlContext>();
   return *context;
+}
+
+bool onHardwareGpu() {
+  return !isSoftwareRenderer(sharedGlContext().info().renderer);
 }
 
 double psnrDb(const FloatImage& a, const FloatImage& b, uint32_t channels) {

@@ -28,6 +28,12 @@ namespace ropecast::test {
 // The process-wide context, created on first use and current on the calling (test) thread.
 GlContext& sharedGlContext();
 
+// Whether the shared context runs on a hardware GPU (not a software rasterizer such as llvmpipe, where the
+// tests are tuned and CI runs them). Hardware differs in documented ways the tests allow for where they say:
+// texture filtering weights in fixed point (8 fractional bits on NVIDIA), each shader stage compiled on its
+// own (multiply-adds fused differently), SNORM rounding.
+bool onHardwareGpu();
+
 // Peak signal-to-noise ratio in dB over the first `channels` channels (peak 1.0); +inf for identical images.
 double psnrDb(const FloatImage& a, const FloatImage& b, uint32_t channels = 3);
 // Largest absolute difference over the first `channels` channels (inf == inf counts as 0).
