@@ -72,6 +72,10 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   refuse(!o.depth.empty(), "--depth");
   refuse(!o.stats.empty(), "--stats");
   refuse(o.every > 0, "--every");
+  if (o.targetFrameMs > 0.0)  // the step it sets follows the frame times, so the image differs run to run
+    throw SuiteError(where +
+                     ": options: --target-frame-ms adapts the step to this machine's frame times, so the "
+                     "image would differ from run to run; give --step instead");
   o.quiet = true;  // cases render side by side (--jobs): their progress lines would mix
   o.input = c.input;
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)

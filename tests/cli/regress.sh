@@ -95,6 +95,8 @@ bad "bad option" "--mode" '{"cases": [{"name": "x", "input": "procedural:sphere:
 bad "option writing a file" "--stats writes a file" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--stats", "s.jsonl"], "golden": "x.png"}]}'
 bad "-o in options" "-o" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["-o", "y.png"], "golden": "x.png"}]}'
+bad "a step that follows frame times" "--target-frame-ms adapts the step" \
+  '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--target-frame-ms", "50"], "golden": "x.png"}]}'
 bad "two cases one name" "names two cases" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "x.png"}, {"name": "x", "input": "procedural:sphere:16", "golden": "y.png"}]}'
 bad "a camera that cannot be" "case 'x': options: --eye and --target go together" \
