@@ -30,7 +30,7 @@ PARTS=${PARTS:-"index visgl modes converge visibility brute"}
 source bench/lib/device.sh
 device_gl_setup
 build=$(device_ropecast_build) || exit 1
-export ROPECAST_SHADER_DIR=$PWD # the GL index tests read their test shader from the tree
+export ROPECAST_SHADER_DIR=${ROPECAST_SHADER_DIR:-$PWD} # the GL index tests read their test shader from the tree
 [ -x build/vg/ct_gen ] && export CT_GEN=$PWD/build/vg/ct_gen
 
 # part NAME COMMAND...: runs COMMAND for at most PART_S seconds into $OUT/NAME.txt.

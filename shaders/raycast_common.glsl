@@ -171,7 +171,6 @@ RayResult castRay(uvec2 pixel) {
 #endif
 #ifdef RAYCAST_MODE_ISO
   IsoMarch march = isoMarchBegin();
-  Segment hitSegment;
   float hitEnter = ray.t0;
   // The data leaf of the march's previous sample (shadeIsoHit refines a crossing before the hit's leaf there).
   RopeLeaf before = RopeLeaf(kRopeTagDataLeaf, 0u, 0u, 0u, vec3(0.0), 1.0, ray.t0, ray.t1);
@@ -187,7 +186,6 @@ RayResult castRay(uvec2 pixel) {
     if (sampled) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
 #endif
     if (march.hit) {
-      hitSegment = s;
       // The first leaf's samples start at t0, which its float tEnter may round past.
       hitEnter = entry ? min(leaf.tEnter, ray.t0) : leaf.tEnter;
     } else if (sampled) {
@@ -195,8 +193,9 @@ RayResult castRay(uvec2 pixel) {
     }
   }
   if (!march.hit) return missedRay();
-  return shadeIsoHit(march, hitSegment, hitEnter, leafSegment(before, originCube, dirCube),
-                     min(before.tExit, ray.t1), ray);
+  // The loop ends on the hit's leaf; its segment is made again rather than kept through the walk (registers).
+  return shadeIsoHit(march, leafSegment(leaf, originCube, dirCube), hitEnter,
+                     leafSegment(before, originCube, dirCube), min(before.tExit, ray.t1), ray);
 #elif defined(LLVMPIPE_DVR_LEAF_BATCH)
   return dvrResult(walkDvrBatched(cursor, ray, originCube, dirCube));
 #else
