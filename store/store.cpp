@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -42,9 +43,15 @@ void fillBrick(std::span<std::byte> out, SampleType storedType, uint16_t value) 
   }
 }
 
-glm::u32vec3 readVec3u(const nlohmann::json& j) {
-  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected an array of 3 numbers");
-  return {j.at(0).get<uint32_t>(), j.at(1).get<uint32_t>(), j.at(2).get<uint32_t>()};
+// get<uint32_t>() would wrap 2^32 + 8 to 8 and cut 8.5 to 8: a damaged field must not pass for another value.
+uint32_t readUint32(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_number_unsigned() || j.get<uint64_t>() > UINT32_MAX)
+    throw std::runtime_error(what + ": expected an integer in [0, 2^32), got " + j.dump());
+  return uint32_t(j.get<uint64_t>());
+}
+glm::u32vec3 readVec3u(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error(what + ": expected an array of 3 integers");
+  return {readUint32(j.at(0), what), readUint32(j.at(1), what), readUint32(j.at(2), what)};
 }
 glm::dvec3 readVec3d(const nlohmann::json& j) {
   if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected an array of 3 numbers");
@@ -55,7 +62,7 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
   StoreMetadata m;
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
-    m.volume.dims = readVec3u(j.at("dims"));
+    m.volume.dims = readVec3u(j.at("dims"), "dims");
     m.volume.spacing = readVec3d(j.at("spacing"));
     const auto type = parseSampleType(j.at("originalType").get<std::string>());
     const auto stored = parseSampleType(j.at("storedType").get<std::string>());
@@ -71,9 +78,9 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
       throw std::runtime_error("valueRange: expected finite [min, max] with min <= max");
     m.mapping.scale = j.at("mapping").at("scale").get<double>();
     m.mapping.offset = j.at("mapping").at("offset").get<double>();
-    m.brickSize = j.at("brickSize").get<uint32_t>();
-    m.border = j.at("border").get<uint32_t>();
-    m.levels = j.at("levels").get<uint32_t>();
+    m.brickSize = readUint32(j.at("brickSize"), "brickSize");
+    m.border = readUint32(j.at("border"), "border");
+    m.levels = readUint32(j.at("levels"), "levels");
     if (!j.at("discardBelow").is_null()) m.discardBelow = j.at("discardBelow").get<double>();
     m.zstdLevel = j.at("zstdLevel").get<int>();
     const std::string encoding = j.at("payloadEncoding").get<std::string>();

@@ -41,6 +41,7 @@ class Verifier {
       cache_.clear();
       lastKey_ = NodeKey{~0u, {}};
     }
+    checkValueRange();
     if (progress) progress(report_.nodesChecked, total);
     return report_;
   }
@@ -50,6 +51,27 @@ class Verifier {
     ++report_.problemCount;
     if (report_.problems.size() < maxProblems_)
       report_.problems.push_back("node " + Store::describeNode(key) + ": " + what);
+  }
+
+  // The metadata's valueRange (data units; the default isovalue and transfer function come from it) is the
+  // root's range mapped to data units, or for float32 the quantization range, which holds the root's range.
+  void checkValueRange() {
+    const StoreMetadata& m = store_.metadata();
+    const NodeInfo root = store_.node({0, {0, 0, 0}});
+    if (root.kind == NodeKind::Empty || !m.volume.valueMin || !m.volume.valueMax) return;
+    const double lo = m.mapping.toData(root.minValue), hi = m.mapping.toData(root.maxValue);
+    const double tolerance = m.volume.type == SampleType::Float32 ? 0.5 * m.mapping.scale : 0.0;
+    const bool matches = m.volume.type == SampleType::Float32
+                             ? lo >= *m.volume.valueMin - tolerance && hi <= *m.volume.valueMax + tolerance
+                             : lo == *m.volume.valueMin && hi == *m.volume.valueMax;
+    if (!matches) {
+      ++report_.problemCount;
+      if (report_.problems.size() < maxProblems_)
+        report_.problems.push_back("metadata valueRange [" + std::to_string(*m.volume.valueMin) + ", " +
+                                   std::to_string(*m.volume.valueMax) +
+                                   "] does not match the root's range [" + std::to_string(lo) + ", " +
+                                   std::to_string(hi) + "] in data units");
+    }
   }
 
   // The node's decoded brick, or nullptr for Empty nodes and bricks that failed to decode (reported once).

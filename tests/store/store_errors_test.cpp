@@ -12,6 +12,7 @@
 #include "store/converter.h"
 #include "store/store.h"
 #include "store/store_writer.h"
+#include "store/verify.h"
 #include "tests/store/store_test_util.h"
 
 namespace ropecast {
@@ -257,6 +258,26 @@ TEST_F(StoreErrors, SourceWithoutAPositiveSpacingIsAnError) {
     }
   }
   EXPECT_EQ(out.fileCount(), 0u);
+}
+
+// A value range that is ordered and finite but not the data's: the reader cannot tell, verify does.
+TEST_F(StoreErrors, VerifyFindsAValueRangeThatIsNotTheData) {
+  const std::unique_ptr<Store> good = Store::open(dir / "good.store");
+  EXPECT_TRUE(verifyStore(*good).ok());
+  StoreMetadata metadata = good->metadata();
+  metadata.volume.valueMax = *metadata.volume.valueMax + 1.0;
+  std::vector<StoreNodeEntry> entries(good->entries().begin(), good->entries().end());
+  {
+    StoreWriter writer(dir / "wide.store");
+    for (StoreNodeEntry& e : entries)
+      if (e.payloadBytes > 0)
+        e.payloadOffset = writer.appendPayload(
+            std::as_bytes(std::span(bytes.data() + e.payloadOffset, size_t(e.payloadBytes))));
+    writer.finish(metadata, entries);
+  }
+  const VerifyReport report = verifyStore(*Store::open(dir / "wide.store"));
+  ASSERT_EQ(report.problemCount, 1u);
+  EXPECT_NE(report.problems[0].find("metadata valueRange"), std::string::npos) << report.problems[0];
 }
 
 }  // namespace
