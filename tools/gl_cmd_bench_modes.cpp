@@ -13,9 +13,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -24,6 +24,7 @@
 
 #include "core/camera_path.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "core/transfer_function.h"
 #include "reference/image_compare.h"
 #include "reference/image_io.h"
@@ -173,9 +174,7 @@ int runPython(const std::vector<std::string>& args) {
 }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file << text;
-  if (!file.flush()) throw Error(path.string() + ": cannot write");
+  writeFileAtomically(path, std::as_bytes(std::span(text)), "bench modes");
 }
 
 int runModesBench(const Options& o) {
@@ -378,7 +377,10 @@ int runModesBench(const Options& o) {
                 std::isinf(psnr[c]) ? "inf" : std::to_string(psnr[c]).substr(0, 6).c_str());
   }
 
-  // The plot.
+  // The plot. An earlier run's goes first, so that a failed or skipped plot leaves none that looks like this
+  // run's.
+  std::error_code removeError;
+  std::filesystem::remove(out / "frame_times.png", removeError);
   if (o.noPlot) {
     std::printf("  wrote %s, %s\n", (out / "bench.json").string().c_str(), (out / "images").string().c_str());
     return 0;
@@ -387,6 +389,7 @@ int runModesBench(const Options& o) {
   const int status = runPython({(out / "plot_frame_times.py").string(), (out / "bench.json").string(),
                                 (out / "frame_times.png").string()});
   if (status != 0) {
+    std::filesystem::remove(out / "frame_times.png", removeError);  // whatever the failed plot left
     std::fprintf(stderr,
                  "ropecast: error: bench modes: plotting %s failed (exit status %d): it needs %s with "
                  "matplotlib (Debian: python3-matplotlib, which scripts/bootstrap installs); bench.json and "
@@ -446,7 +449,9 @@ std::function<int()> setupModesBench(CLI::App& app) {
           },
           "", "configs"));
   app.add_option("--out", o->out, "output folder: bench.json, frame_times.png, images/")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](const std::string& dir) { return dir.empty() ? "expected a folder name" : ""; }, "", "out"));
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.add_flag("--no-plot", o->noPlot, "write no frame_times.png (a machine without matplotlib)");
   return [o] { return runModesBench(*o); };

@@ -62,13 +62,15 @@ else
   echo "ok   --no-plot: $(ls "$dir/noplot" | tr '\n' ' ')"
 fi
 
-# Into a folder of an earlier run: images/ shows this run's configurations alone; other files stay.
-mkdir -p "$dir/noplot/images" && touch "$dir/noplot/images/multipass.png" "$dir/noplot/images/diff_multipass_vs_single-fragment.png" "$dir/noplot/images/notes.txt"
+# Into a folder of an earlier run: images/ shows this run's configurations alone, an earlier plot goes (it
+# would pass for this run's); other files stay.
+mkdir -p "$dir/noplot/images" && echo stale > "$dir/noplot/frame_times.png" && touch "$dir/noplot/images/multipass.png" "$dir/noplot/images/diff_multipass_vs_single-fragment.png" "$dir/noplot/images/notes.txt"
 if timeout 300 "$ropecast" bench modes procedural:sphere:32 --brick 8 --size 32x32 --frames 1 --reps 1 \
     --configs single-fragment --out "$dir/noplot" --no-plot > "$dir/out.txt" 2> "$dir/err.txt"; then
   left=$(ls "$dir/noplot/images" | tr '\n' ' ')
   [ "$left" = "notes.txt single-fragment.png " ] && echo "ok   a second run: images/ holds $left" ||
     fail "a second run left images/ with: $left"
+  [ ! -e "$dir/noplot/frame_times.png" ] || fail "a second run with --no-plot left the earlier frame_times.png"
 else
   fail "bench modes, a second run: exit $?"; cat "$dir/err.txt"
 fi
@@ -86,6 +88,7 @@ expect_failure() {
   echo "ok   $name (exit $rc): $(head -c 160 "$dir/err.txt" | tr '\n' ' ')"
 }
 vol="procedural:sphere:32"
+expect_failure "an empty --out" "--out: expected a folder name" $vol --out ""
 expect_failure "unknown config" "--configs: unknown configuration 'single-vulkan'" $vol --configs single-fragment,single-vulkan --out "$dir/e1"
 expect_failure "config twice" "listed twice" $vol --configs multipass,multipass --out "$dir/e2"
 expect_failure "no config named" "--configs: expected at least one of" $vol --configs "" --out "$dir/e2"
