@@ -60,6 +60,12 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   if (std::find(args.begin(), args.end(), "--converge") == args.end()) args.push_back("--converge");
   try {
     app.parse(args);
+  } catch (const CLI::CallForHelp&) {
+    throw SuiteError(where +
+                     ": options: --help asks for help, which a case cannot show; give render options");
+  } catch (const CLI::CallForAllHelp&) {
+    throw SuiteError(where +
+                     ": options: --help-all asks for help, which a case cannot show; give render options");
   } catch (const CLI::ParseError& e) {
     throw SuiteError(where + ": options: " + e.what());
   }

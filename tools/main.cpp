@@ -42,6 +42,19 @@ int main(int argc, char** argv) {
                  names.c_str());
     return kUsageError;
   }
+  // Likewise a mistyped subcommand of a command that has them ("bench foo").
+  for (const auto& [sub, run] : runs) {
+    if (argc < 3 || argv[2][0] == '-' || sub->get_name() != argv[1]) continue;
+    const std::vector<CLI::App*> subs = sub->get_subcommands([](CLI::App*) { return true; });
+    if (subs.empty() ||
+        std::any_of(subs.begin(), subs.end(), [&](CLI::App* s) { return s->get_name() == argv[2]; }))
+      continue;
+    std::string names;
+    for (const CLI::App* s : subs) names += (names.empty() ? "" : ", ") + s->get_name();
+    std::fprintf(stderr, "ropecast %s: unknown subcommand '%s'; they are %s (ropecast %s --help)\n", argv[1],
+                 argv[2], names.c_str(), argv[1]);
+    return kUsageError;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -43,6 +43,13 @@ if [ "$rc" = 2 ] && grep -qF "unknown command 'rendr'; the commands are convert,
 else
   fail "ropecast rendr: exit $rc: $(cat "$dir_err")"
 fi
+"$ropecast" bench indx > /dev/null 2> "$dir_err"
+rc=$?
+if [ "$rc" = 2 ] && grep -qF "unknown subcommand 'indx'; they are index, modes" "$dir_err"; then
+  echo "ok   a mistyped benchmark is named (exit 2)"
+else
+  fail "ropecast bench indx: exit $rc: $(cat "$dir_err")"
+fi
 "$ropecast" render procedural:sphere:16 --size 0x1 -o x.png > /dev/null 2> "$dir_err"
 rc=$?
 if [ "$rc" = 2 ] && grep -qF -- "--size" "$dir_err"; then echo "ok   a bad option value exits 2"

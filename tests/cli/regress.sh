@@ -94,6 +94,7 @@ bad "missing golden" 'missing "golden"' '{"cases": [{"name": "x", "input": "proc
 bad "bad option" "--mode" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--mode", "foo"], "golden": "x.png"}]}'
 bad "option writing a file" "--stats writes a file" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--stats", "s.jsonl"], "golden": "x.png"}]}'
+bad "--help in options" "--help asks for help" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--help"], "golden": "x.png"}]}'
 bad "-o in options" "-o" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["-o", "y.png"], "golden": "x.png"}]}'
 bad "a step that follows frame times" "--target-frame-ms adapts the step" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--target-frame-ms", "50"], "golden": "x.png"}]}'
