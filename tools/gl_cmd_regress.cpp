@@ -281,15 +281,15 @@ void compareCases(std::vector<CaseOutcome>& outcomes, const std::string& folder,
       continue;
     }
     try {
+      if (report) {  // first, so that the report shows a golden that cannot be compared (another size)
+        o.goldenFile = c.name + ".golden.png";
+        copyAtomically(c.golden, (fs::path(folder) / o.goldenFile).string(), "regress --report");
+      }
       const std::string differenceFile = c.name + ".difference.png";
       o.difference =
           compareWithGolden(c.golden, (fs::path(folder) / o.renderFile).string(), t.failingPixelError,
                             report ? (fs::path(folder) / differenceFile).string() : "");
-      if (report) {
-        o.differenceFile = differenceFile;
-        o.goldenFile = c.name + ".golden.png";
-        copyAtomically(c.golden, (fs::path(folder) / o.goldenFile).string(), "regress --report");
-      }
+      if (report) o.differenceFile = differenceFile;
     } catch (const Error& e) {
       o.problems.push_back(e.what());
       continue;

@@ -125,6 +125,11 @@ printf '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golden": "g.p
 expect 2 "two updated cases, one golden" "are the same file" twice.json --update
 [ ! -e g.png ] || fail "g.png was written"
 expect 1 "one golden shared by cases that are only checked" "no golden image" twice.json
+# A golden of another size fails its case, and the report still shows it beside the render.
+cp suite/golden/a.png suite/golden/sized.png
+one_case sized golden/sized.png > suite/sized.json
+expect 1 "a golden of another size" "is 48x48, the render 16x16" suite/sized.json --report rep3
+[ -s rep3/sized.golden.png ] || fail "the report lacks the golden of another size: $(ls rep3)"
 expect 2 "a report folder that cannot be made" "--report /sys/rep: cannot create the folder" suite/suite.json \
   --report /sys/rep
 
