@@ -516,6 +516,12 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::SetIso:
       params_.isoValue = e.value;
+      if (!(e.value >= valueRange_.first && e.value <= valueRange_.second))
+        std::fprintf(
+            stderr,
+            "ropecast view: warning: %s: isovalue %g lies outside the volume's value range [%g, %g]: "
+            "the isosurface is empty\n",
+            e.where.c_str(), e.value, valueRange_.first, valueRange_.second);
       break;
     case ViewEventKind::SetMode:
       params_.mode = e.mode;

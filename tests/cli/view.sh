@@ -160,6 +160,11 @@ run "view --script set_iso" xview $vol --script "$dir/iso.json"
 run "render --iso 60" "$ropecast" render $vol --converge --iso 60 -o "$dir/r2.png"
 same "isovalue change = render --iso" "$dir/v2.png" "$dir/r2.png"
 differs "the isovalue changed the view" "$dir/v2.png" "$dir/v0.png"
+# An isovalue outside the data is taken, with a warning that names the event (render --iso warns alike).
+printf '[{"event": "set_iso", "value": 100000}, {"event": "quit"}]' > "$dir/iso_out.json"
+run "view set_iso outside the data" xview $vol --script "$dir/iso_out.json"
+grep -q "event 0 (set_iso): isovalue 100000 lies outside" "$dir/err.txt" ||
+  fail "set_iso outside the data: no warning naming the event: $(cat "$dir/err.txt")"
 
 # Back to an isovalue seen before: what it needs is still resident, so nothing is read or uploaded again (the
 # round trip reads and uploads what the one-way change does).
