@@ -15,8 +15,10 @@
 # stores' brick edge, default the converter's 32), IMAGE (512x512), FRAMES (6 measured), ROUNDS (3: the three
 # renderers run in turn this many times; each figure is the median over rounds of a run's median frame, the
 # ratios are of those), RENDER_ARGS (more `ropecast render` arguments for all three, e.g. "--gradients
-# computed"), EXT (png, or ppm for a build without OpenImageIO: then the images are not compared), WORK
-# (scratch dir). Volumes are converted once into WORK and reused.
+# computed"), ROPE_ARGS (more for the two ropecast runs only, e.g. "--backend fragment": the brute-force
+# pass is a fragment shader, and on a GPU the compute entry point is much the faster), EXT (png, or ppm for a
+# build without OpenImageIO: then the images are not compared), WORK (scratch dir). Volumes are converted once
+# into WORK and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/lib/common.sh
@@ -54,7 +56,7 @@ EOF2
 }
 
 echo "volumes ${SIZE}^3 in ${BRICK}^3 bricks, image $IMAGE, median of $FRAMES frames per run, $ROUNDS rounds," \
-  "extra render args: ${RENDER_ARGS:-none}"
+  "extra render args: ${RENDER_ARGS:-none}, ropecast only: ${ROPE_ARGS:-none}"
 printf '%-15s %-6s %-4s %10s %10s %10s %8s %8s  %s\n' volume kind mode brute_ms full_ms adapt_ms "b/full" "b/adapt" \
   "per-round b/full, b/adapt"
 for name in $DENSE $SPARSE; do
@@ -64,7 +66,7 @@ for name in $DENSE $SPARSE; do
   tf=$WORK/tf.json
   [ "$kind" = sparse ] && tf=$WORK/tf_sparse.json
   for mode in iso dvr; do
-    # shellcheck disable=SC2206  # RENDER_ARGS is a word list
+    # shellcheck disable=SC2206,SC2086  # RENDER_ARGS and ROPE_ARGS are word lists
     args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$tf" --path "$WORK/path.json"
           --frames $((last + 1)) ${RENDER_ARGS:-})
     # ROUNDS alternations of the three renderers, so that a change of the machine's load (other jobs on this
@@ -73,9 +75,9 @@ for name in $DENSE $SPARSE; do
     for _ in $(seq "$ROUNDS"); do
       "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
         -o "$WORK/$name-$mode-brute.$EXT"
-      "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
+      "$ROPECAST" render "$store" "${args[@]}" ${ROPE_ARGS:-} --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
         -o "$WORK/$name-$mode-full.$EXT"
-      "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel 1 --stats "$WORK/$name-$mode-adaptive.jsonl" \
+      "$ROPECAST" render "$store" "${args[@]}" ${ROPE_ARGS:-} --voxels-per-pixel 1 --stats "$WORK/$name-$mode-adaptive.jsonl" \
         -o "$WORK/$name-$mode-adaptive.$EXT"
       b+=("$(median "$WORK/$name-$mode-brute.jsonl")")
       f+=("$(median "$WORK/$name-$mode-full.jsonl")")
