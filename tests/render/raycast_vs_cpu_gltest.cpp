@@ -117,8 +117,8 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       std::printf("%s: PSNR %.1f dB vs the CPU mirror\n", what.c_str(), psnr);
       EXPECT_GE(psnr, 45.0) << what;
       // Hardware filtering weights are fixed point (8 fractional bits on NVIDIA), so a grazing ray's sample
-      // near the isovalue may land on the other side and a silhouette pixel flip (40.5 dB measured on an
-      // H200); the coverage check below bounds how many.
+      // near the isovalue may land on the other side and a silhouette pixel flip; the coverage check below
+      // bounds how many.
       EXPECT_GE(test::psnrDb(glColor, colorOf(cpu), 4), test::onHardwareGpu() ? 38.0 : 45.0)
           << what << " (with alpha)";
       const DepthAgreement d = compareDepth(glDepth, depthOf(cpu), 0.05);
