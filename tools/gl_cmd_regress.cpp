@@ -183,8 +183,11 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
     }
   } endRunningRenders{running};
   size_t next = 0;
+  // The renders' output, read back when each ends: in a folder of its own, so that an interrupted run leaves
+  // none in the report folder (TemporaryFolder's files go on SIGINT/SIGTERM too).
+  const TemporaryFolder logs("ropecast-regress-logs");
   const auto logOf = [&](size_t i) {
-    return (fs::path(folder) / (outcomes[i].regressCase->name + ".log")).string();
+    return (logs.path() / (outcomes[i].regressCase->name + ".log")).string();
   };
   while (next < outcomes.size() || !running.empty()) {
     while (next < outcomes.size() && running.size() < jobs) {
@@ -337,7 +340,7 @@ int runRegress(const RegressArgs& a) {
   if (!a.report.empty()) {
     guard.addOutput("--report", (fs::path(a.report) / "index.html").string());
     for (const RegressCase& c : suite.cases)
-      for (const char* suffix : {".render.png", ".golden.png", ".difference.png", ".log"})
+      for (const char* suffix : {".render.png", ".golden.png", ".difference.png"})
         guard.addOutput("--report", (fs::path(a.report) / (c.name + suffix)).string());
   }
   if (const std::string problem = guard.problem(); !problem.empty()) {

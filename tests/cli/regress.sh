@@ -163,6 +163,18 @@ left=$(pgrep -s "$leader" || true)
 if [ "$rc" = 130 ] && [ -z "$left" ] && [ -z "$(ls -A tmp)" ]; then echo "ok   SIGINT to regress alone: exit 130, no render running, no folder left"
 else fail "SIGINT to regress alone: exit $rc, still running: ${left:-none}, left: $(ls -A tmp)"; fi
 rm -rf tmp/*
+# With --report the renders' logs are not left in the report folder either.
+TMPDIR="$dir/tmp" setsid bash -c 'exec "$0" regress slow.json --jobs 2 --report "$1" > /dev/null 2>&1' "$ropecast" \
+  "$dir/rep_int" &
+leader=$!
+sleep 1.5
+kill -INT -- "-$leader" 2> /dev/null
+wait "$leader"
+rc=$?
+logs=$(find "$dir/rep_int" -name '*.log' 2> /dev/null)
+if [ "$rc" = 130 ] && [ -z "$logs" ] && [ -z "$(ls -A tmp)" ]; then echo "ok   Ctrl-C with --report: exit 130, no log left"
+else fail "Ctrl-C with --report: exit $rc, logs: ${logs:-none}, left: $(ls -A tmp)"; fi
+rm -rf tmp/*
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
