@@ -82,6 +82,18 @@ class StoreErrors : public ::testing::Test {
     return openError(dir / name);
   }
 
+  // The good store's payloads and nodes with `metadata`, written by StoreWriter as `name`: metadata that is
+  // intact (checksums match) but says something else.
+  void writeWithMetadata(const char* name, const Store& good, const StoreMetadata& metadata) {
+    std::vector<StoreNodeEntry> entries(good.entries().begin(), good.entries().end());
+    StoreWriter writer(dir / name);
+    for (StoreNodeEntry& e : entries)
+      if (e.payloadBytes > 0)
+        e.payloadOffset = writer.appendPayload(
+            std::as_bytes(std::span(bytes.data() + e.payloadOffset, size_t(e.payloadBytes))));
+    writer.finish(metadata, entries);
+  }
+
   TempDir dir;
   std::vector<uint16_t> samples;
   std::unique_ptr<ArraySource> source;
@@ -132,15 +144,7 @@ TEST_F(StoreErrors, MetadataValueRangeMustBeOrdered) {
   StoreMetadata metadata = good->metadata();
   metadata.volume.valueMin = 3000.0;
   metadata.volume.valueMax = 0.0;
-  std::vector<StoreNodeEntry> entries(good->entries().begin(), good->entries().end());
-  {
-    StoreWriter writer(dir / "range.store");
-    for (StoreNodeEntry& e : entries)
-      if (e.payloadBytes > 0)
-        e.payloadOffset = writer.appendPayload(
-            std::as_bytes(std::span(bytes.data() + e.payloadOffset, size_t(e.payloadBytes))));
-    writer.finish(metadata, entries);
-  }
+  writeWithMetadata("range.store", *good, metadata);
   const std::string message = openError(dir / "range.store");
   EXPECT_NE(
       message.find("range.store': damaged metadata: valueRange: expected finite [min, max] with min <= max"),
@@ -266,15 +270,7 @@ TEST_F(StoreErrors, VerifyFindsAValueRangeThatIsNotTheData) {
   EXPECT_TRUE(verifyStore(*good).ok());
   StoreMetadata metadata = good->metadata();
   metadata.volume.valueMax = *metadata.volume.valueMax + 1.0;
-  std::vector<StoreNodeEntry> entries(good->entries().begin(), good->entries().end());
-  {
-    StoreWriter writer(dir / "wide.store");
-    for (StoreNodeEntry& e : entries)
-      if (e.payloadBytes > 0)
-        e.payloadOffset = writer.appendPayload(
-            std::as_bytes(std::span(bytes.data() + e.payloadOffset, size_t(e.payloadBytes))));
-    writer.finish(metadata, entries);
-  }
+  writeWithMetadata("wide.store", *good, metadata);
   const VerifyReport report = verifyStore(*Store::open(dir / "wide.store"));
   ASSERT_EQ(report.problemCount, 1u);
   EXPECT_NE(report.problems[0].find("metadata valueRange"), std::string::npos) << report.problems[0];
