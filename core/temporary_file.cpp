@@ -114,16 +114,20 @@ LinkTarget followLinks(std::filesystem::path path) {
   return {path, "its symbolic links loop"};
 }
 
-}  // namespace
-
-std::string outputFileProblem(const std::filesystem::path& output) {
-  const LinkTarget target = followLinks(output);
+// Why no file should be written at `target`, in words ("" when one may).
+std::string targetProblem(const LinkTarget& target) {
   if (!target.problem.empty()) return target.problem;
   struct stat existing {};
   if (::stat(target.path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode))
     return "not a regular file (a device, pipe or socket); outputs are written whole under a temporary name "
            "and renamed onto their path: give the name of a file";
   return "";
+}
+
+}  // namespace
+
+std::string outputFileProblem(const std::filesystem::path& output) {
+  return targetProblem(followLinks(output));
 }
 
 void writeFileAtomically(const std::filesystem::path& output, std::span<const std::byte> bytes,
@@ -149,9 +153,10 @@ TemporaryFolder::~TemporaryFolder() {
 
 TemporaryFile::TemporaryFile(std::filesystem::path output, std::string who)
     : output_(std::move(output)), who_(std::move(who)) {
-  if (const std::string problem = outputFileProblem(output_); !problem.empty())
+  const LinkTarget target = followLinks(output_);
+  if (const std::string problem = targetProblem(target); !problem.empty())
     throw Error(who_ + ": '" + output_.string() + "': " + problem);
-  target_ = followLinks(output_).path;
+  target_ = target.path;
   std::string pattern = target_.string() + ".tmp-XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');

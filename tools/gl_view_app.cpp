@@ -6,13 +6,11 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <map>
 #include <memory>
 #include <set>
 #include <span>
-#include <sstream>
 #include <utility>
 
 #include <epoxy/gl.h>
@@ -27,6 +25,7 @@
 #include "core/camera_path.h"
 #include "core/elapsed.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/orbit_controller.h"
 #include "core/temporary_file.h"
 #include "loader/io_queue.h"
@@ -61,11 +60,9 @@ struct Pointer {
 void appendCameraKeyframe(const std::string& path, const OrbitController& controller) {
   nlohmann::json root = nlohmann::json::array();
   if (std::filesystem::exists(path)) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    parseCameraPath(text.str(), path);  // refuses to append to something that is not a camera path
-    root = nlohmann::json::parse(text.str());
+    const std::string text = readTextInput(path, "save camera: " + path);
+    parseCameraPath(text, path);  // refuses to append to something that is not a camera path
+    root = nlohmann::json::parse(text);
   }
   nlohmann::json& list = root.is_object() ? root["keyframes"] : root;
   const Camera c = controller.camera();

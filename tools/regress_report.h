@@ -15,7 +15,6 @@ namespace ropecast::tools {
 struct CaseOutcome {
   const RegressCase* regressCase = nullptr;
   bool passed = false;
-  bool renderRead = false;                     // the render was read back whole: it may become the golden
   bool updated = false;                        // its golden was (re)written from this render
   std::vector<std::string> problems;           // why it failed, one phrase each
   std::optional<GoldenDifference> difference;  // absent when there was no render or no golden to compare

@@ -3,13 +3,12 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast::tools {
 
@@ -223,11 +222,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
 }
 
 ViewScript loadViewScript(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("--script " + path + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseViewScript(text.str(), "--script " + path);
+  return parseViewScript(readTextInput(path, "--script " + path), "--script " + path);
 }
 
 }  // namespace ropecast::tools
