@@ -6,7 +6,7 @@ namespace ropecast {
 
 SlotTable::SlotTable(uint32_t slotCount) : slots_(slotCount) {
   if (slotCount == 0)
-    throw Error("SlotTable: the GPU pool must have at least one slot (--gpu-budget too small)");
+    throw UsageError("SlotTable: the GPU pool must have at least one slot (--gpu-budget too small)");
   for (uint32_t s = 0; s < slotCount; ++s) linkAtMostRecent(s);
 }
 

@@ -185,14 +185,14 @@ namespace {
 // that works for this source.
 const WorkingSetConfig& checkedBudgets(const WorkingSetConfig& config, uint64_t brickBytes) {
   if (config.cpuCacheBytes < kMinCpuCacheBricks * brickBytes) {
-    throw Error("--cpu-cache " + std::to_string(config.cpuCacheBytes) + " bytes is below " +
-                std::to_string(kMinCpuCacheBricks) + " bricks of " + std::to_string(brickBytes) + " bytes (" +
-                std::to_string(kMinCpuCacheBricks * brickBytes) +
-                " bytes: the children of a few nodes must fit at once)");
+    throw UsageError("--cpu-cache " + std::to_string(config.cpuCacheBytes) + " bytes is below " +
+                     std::to_string(kMinCpuCacheBricks) + " bricks of " + std::to_string(brickBytes) +
+                     " bytes (" + std::to_string(kMinCpuCacheBricks * brickBytes) +
+                     " bytes: the children of a few nodes must fit at once)");
   }
   if (config.uploadBudgetBytes < brickBytes) {
-    throw Error("--upload-budget " + std::to_string(config.uploadBudgetBytes) +
-                " bytes cannot carry one brick of " + std::to_string(brickBytes) + " bytes");
+    throw UsageError("--upload-budget " + std::to_string(config.uploadBudgetBytes) +
+                     " bytes cannot carry one brick of " + std::to_string(brickBytes) + " bytes");
   }
   return config;
 }

@@ -41,10 +41,12 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
   const uint64_t maxPerAxis = uint64_t(std::max(max3DTextureSize, 0)) / g.slotEdge;
   const uint64_t fitting =
       std::min({budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis, kMaxPoolSlots});
+  if (budgetBytes < slotBytes)
+    throw UsageError("--gpu-budget " + std::to_string(budgetBytes) + " bytes holds no brick slot of " +
+                     std::to_string(slotBytes) + " bytes");
   if (fitting < 1)
-    throw Error("--gpu-budget " + std::to_string(budgetBytes) + " bytes holds no brick slot of " +
-                std::to_string(slotBytes) + " bytes (or GL_MAX_3D_TEXTURE_SIZE " +
-                std::to_string(max3DTextureSize) + " is below the slot edge)");
+    throw Error("planBrickPool: GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3DTextureSize) +
+                " is below the slot edge of " + std::to_string(g.slotEdge) + " texels");
   // The slots stacked along y and z, across x as few as make a texture row a whole number of 64-byte lines:
   // a linear layout pads every row to one (llvmpipe pads to a cache line), and one slot across (36 texels of
   // a 32^3 brick, 1 or 2 bytes each) would take 64 or 128 bytes a row, 78 % more memory than the budget says.

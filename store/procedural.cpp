@@ -273,19 +273,19 @@ ProceduralField parseProceduralField(std::string_view nameAndSize) {
                             " and SIZE an integer in [1, " + std::to_string(kMaxProceduralSize) + "]";
   const size_t colon = nameAndSize.rfind(':');
   if (colon == std::string_view::npos)
-    throw Error("procedural volume 'procedural:" + std::string(nameAndSize) + "': " + usage);
+    throw UsageError("procedural volume 'procedural:" + std::string(nameAndSize) + "': " + usage);
   const std::string_view name = nameAndSize.substr(0, colon);
   const std::string_view sizeText = nameAndSize.substr(colon + 1);
   const auto kind = parseProceduralKind(name);
   if (!kind)
-    throw Error("procedural volume 'procedural:" + std::string(nameAndSize) + "': unknown name '" +
-                std::string(name) + "'; " + usage);
+    throw UsageError("procedural volume 'procedural:" + std::string(nameAndSize) + "': unknown name '" +
+                     std::string(name) + "'; " + usage);
   uint64_t size = 0;
   const auto [end, ec] = std::from_chars(sizeText.data(), sizeText.data() + sizeText.size(), size);
   if (sizeText.empty() || ec != std::errc() || end != sizeText.data() + sizeText.size() || size < 1 ||
       size > kMaxProceduralSize)
-    throw Error("procedural volume 'procedural:" + std::string(nameAndSize) + "': bad SIZE '" +
-                std::string(sizeText) + "'; " + usage);
+    throw UsageError("procedural volume 'procedural:" + std::string(nameAndSize) + "': bad SIZE '" +
+                     std::string(sizeText) + "'; " + usage);
   return {*kind, uint32_t(size)};
 }
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -122,6 +123,13 @@ std::string Store::describeNode(const NodeKey& k) {
 std::unique_ptr<Store> Store::open(const std::filesystem::path& path) {
   std::unique_ptr<Store> store(new Store());
   store->name_ = path.string();
+  std::error_code ec;
+  if (path.string().starts_with("procedural:") && !std::filesystem::exists(path, ec))
+    throw UsageError(
+        "'" + path.string() +
+        "' is a procedural volume, not a store file: render, view and bench take it as it is, and "
+        "`ropecast convert " +
+        path.string() + " -o FILE` makes a store of it");
   requireRegularFile(path.string(),
                      "Store: '" + path.string() + "'");  // before open(), which waits on a FIFO
   store->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

@@ -12,13 +12,6 @@
 
 namespace ropecast::tools {
 
-// A command line that cannot run as written, whatever the files say (options that exclude each other, a
-// value out of its range), found after CLI11's parse: main exits 2 for it, as for CLI11's own usage errors.
-class UsageError : public Error {
- public:
-  using Error::Error;
-};
-
 // Adds the subcommand to `app` and returns the function to run when it was chosen (returns the exit code).
 using CommandSetup = std::function<std::function<int()>(CLI::App& app)>;
 

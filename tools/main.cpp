@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   try {
     for (auto& [sub, run] : runs)
       if (sub->parsed()) return run();
-  } catch (const UsageError& e) {
+  } catch (const ropecast::UsageError& e) {
     std::fprintf(stderr, "ropecast: error: %s\n", e.what());
     return kUsageError;
   } catch (const ropecast::Error& e) {

@@ -49,7 +49,8 @@ printf '[{"eye": [0, -50, 16], "target": [0, 50, 16]}, {"eye": [0, 50, 16], "tar
 
 expect_failure "missing store" "$dir/none.rcast" "$dir/none.rcast"
 expect_failure "not a store" "$dir/bogus.rcast" "$dir/bogus.rcast"
-expect_failure "unknown procedural" "bogus" procedural:bogus:32
+expect_usage "unknown procedural" "bogus" procedural:bogus:32
+expect_usage "procedural size out of range" "bad SIZE '0'" procedural:sphere:0
 expect_usage "bad size" "--size" "$vol" --size 0x4
 expect_usage "size not WxH" "--size" "$vol" --size 512
 expect_usage "bad mode" "--mode" "$vol" --mode foo
@@ -85,7 +86,9 @@ expect_failure "eye equals target" "--eye" "$vol" --eye 1,1,1 --target 1,1,1
 expect_failure "up parallel to the view" "--up 1,1,1: up is parallel" "$vol" --eye 0,0,0 --target 1,1,1 --up 1,1,1
 expect_failure "zero up" "--up 0,0,0: up is the zero vector" "$vol" --eye 1,2,3 --target 0,0,0 --up 0,0,0
 expect_failure "view direction overflows" "not finite" "$vol" --eye 1e308,0,0 --target -1e308,0,0
-expect_failure "gpu budget too small" "--gpu-budget" "$vol" --gpu-budget 1K
+expect_usage "gpu budget too small" "--gpu-budget 1024 bytes holds no brick slot" "$vol" --gpu-budget 1K
+expect_usage "cpu cache too small" "--cpu-cache 1024 bytes is below 16 bricks" "$vol" --cpu-cache 1K
+expect_usage "upload budget too small" "--upload-budget 1024 bytes cannot carry one brick" "$vol" --upload-budget 1K
 expect_failure "bad byte size" "--cpu-cache" "$vol" --cpu-cache lots
 expect_failure "missing camera path" "nofile.json" "$vol" --path "$dir/nofile.json"
 expect_failure "malformed camera path" "bad_path.json" "$vol" --path "$dir/bad_path.json"

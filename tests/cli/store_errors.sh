@@ -78,6 +78,9 @@ expect_failure "damaged header (verify)" "$dir/header.store" "$ropecast" verify 
 
 # Not a store at all.
 expect_failure "not a store" "bad magic" "$ropecast" info "$dir/v_24x20x16_uint16.raw"
+# A procedural spec where a store file is wanted: what to do instead.
+expect_usage "procedural spec to info" "convert procedural:sphere:16 -o FILE" "$ropecast" info procedural:sphere:16
+expect_usage "procedural spec to verify" "is a procedural volume" "$ropecast" verify procedural:menger:27
 
 # Truncated store.
 head -c $((size - 100)) "$dir/good.store" > "$dir/short.store"

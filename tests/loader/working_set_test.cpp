@@ -536,15 +536,15 @@ TEST(WorkingSet, RejectsBudgetsThatCannotWork) {
   FakeBrickSource src = makeScene();
   WorkingSetConfig c = config();
   c.uploadBudgetBytes = src.brickBytes() - 1;
-  EXPECT_THROW(WorkingSet(src, c), Error);
+  EXPECT_THROW(WorkingSet(src, c), UsageError);  // exit 2 in the CLI
   c = config(0);
-  EXPECT_THROW(WorkingSet(src, c), Error);
+  EXPECT_THROW(WorkingSet(src, c), UsageError);
   c = config();
   c.cpuCacheBytes = 10;  // below one brick too: the message gives the least that works
   try {
     WorkingSet ws(src, c);
     ADD_FAILURE() << "a CPU cache of 10 bytes was taken";
-  } catch (const Error& e) {
+  } catch (const UsageError& e) {
     EXPECT_EQ(std::string(e.what()), "--cpu-cache 10 bytes is below 16 bricks of " +
                                          std::to_string(src.brickBytes()) + " bytes (" +
                                          std::to_string(16 * src.brickBytes()) +

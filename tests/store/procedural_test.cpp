@@ -48,6 +48,7 @@ TEST(Procedural, BadSpecsNameTheProblemAndListValidNames) {
     const std::string message = errorOf(spec);
     EXPECT_NE(message.find(spec), std::string::npos) << message;
     EXPECT_NE(message.find("sphere, menger, noise, marschner-lobb"), std::string::npos) << message;
+    EXPECT_THROW(openVolumeSource(spec), UsageError) << spec;  // exit 2 in the CLI, as a bad option
   }
   EXPECT_NE(errorOf("procedural:cube:64").find("unknown name 'cube'"), std::string::npos);
   EXPECT_NE(errorOf("procedural:sphere:0").find("bad SIZE '0'"), std::string::npos);
