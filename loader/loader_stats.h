@@ -24,6 +24,9 @@ struct LoaderStats {
   // GPU pool slots reused this frame whose brick the rays used in the latest answered frame
   // (FrameInput::usedNodes): 0 while the used bricks and the cut fit the pool together.
   uint64_t usedBricksEvicted = 0;
+  // Leaves of the cut left coarser than the view asks because the GPU pool had no room for their children
+  // (LeafReason::PoolFull): while above 0, more --gpu-budget would show more detail.
+  uint64_t leavesPoolFull = 0;
   bool converged = false;  // nothing pending, nothing held back by the upload budget
 };
 

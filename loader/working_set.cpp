@@ -285,6 +285,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudge
   s = residency.stats;
   ++frame_;
   s.leaves = out.leaves.size();
+  s.leavesPoolFull = uint64_t(std::count_if(out.leaves.begin(), out.leaves.end(), [](const PlannedLeaf& l) {
+    return l.reason == LeafReason::PoolFull;
+  }));
   s.bricksResident = slots_.occupiedCount();
   s.gpuPoolUsedBytes = uint64_t(slots_.occupiedCount()) * brickBytes_;
   s.usedBricksEvicted = slots_.usedEvictions() - usedEvictionsBefore;

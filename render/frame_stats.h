@@ -82,6 +82,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"bytes_read", s.bytesRead},
                         {"gpu_pool_used", s.gpuPoolUsedBytes},
                         {"used_evictions", s.usedBricksEvicted},
+                        {"leaves_pool_full", s.leavesPoolFull},
                         {"occlusion_queries", s.occlusionQueries},
                         {"occlusion_answered", s.occlusionAnswered},
                         {"nodes_visible", s.nodesVisible},

@@ -210,6 +210,19 @@ struct OctreeRender {
   FrameRequest request;
 };
 
+// The last frame left leaves coarser than the view asks for want of pool slots: the image is valid but not
+// what --voxels-per-pixel promises, so say so rather than let a regression image look finished.
+void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last) {
+  if (last.leavesPoolFull == 0) return;
+  std::fprintf(
+      stderr,
+      "ropecast render: warning: %llu leaves stay coarser than --voxels-per-pixel %g asks: the GPU pool "
+      "has no room for their children beside the %llu bricks it holds (%.1f MiB); raise --gpu-budget "
+      "for the full detail of this view\n",
+      static_cast<unsigned long long>(last.leavesPoolFull), o.voxelsPerPixel,
+      static_cast<unsigned long long>(last.bricksResident), mebibytes(last.gpuPoolUsedBytes));
+}
+
 // One frame (no --converge, --frames 1; with --path, its first camera): load everything the view needs, then
 // draw.
 RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
@@ -226,7 +239,9 @@ RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
       progress.status(text, p.readsPending == 0);
     };
   }
-  s.stats->write(octree.renderer->render(octree.request, showLoad));
+  const FrameStats stats = octree.renderer->render(octree.request, showLoad);
+  s.stats->write(stats);
+  warnIfPoolLimited(o, stats);
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
@@ -266,6 +281,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
       progress.finish();  // the line ends before any message
       if (o.converge && !stats.converged)
         std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
+      warnIfPoolLimited(o, stats);
       break;
     }
     // A still camera, nothing uploaded and reads pending: the next frame would draw the same cut. Waiting

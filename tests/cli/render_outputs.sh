@@ -24,6 +24,7 @@ small="procedural:sphere:48 --size 64x64 --brick 16"
 run "png+exr+depth+stats" "$ropecast" render $small -o "$dir/a.png" --exr "$dir/a.exr" --depth "$dir/a_depth.exr" \
   --stats "$dir/a.jsonl"
 for f in a.png a.exr a_depth.exr a.jsonl; do [ -s "$dir/$f" ] || fail "missing output $f"; done
+! grep -q "warning" "$dir/err.txt" || fail "a view the default pool holds warned: $(cat "$dir/err.txt")"
 oiiotool --info -v "$dir/a.exr" 2>/dev/null | grep -q "4 channel" || fail "a.exr is not float RGBA"
 oiiotool --info -v "$dir/a.exr" 2>/dev/null | grep -q "float" || fail "a.exr is not float"
 # compare takes two depth images (one channel) as they are, and asks for --channels when the counts differ.
@@ -36,7 +37,7 @@ alpha=$(channel_avg "$dir/a.exr" 3)
 at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"
 [ "$(wc -l < "$dir/a.jsonl")" -eq 1 ] || fail "one frame should give one stats line"
 for field in frame frame_ms raycast_ms index_ms leaves bricks_resident bricks_uploaded bytes_uploaded refine_ms \
-    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used converged step_voxels backend; do
+    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used leaves_pool_full converged step_voxels backend; do
   grep -q "\"$field\":" "$dir/a.jsonl" || fail "stats line lacks $field: $(cat "$dir/a.jsonl")"
 done
 grep -q '"converged":true' "$dir/a.jsonl" || fail "a synchronous frame should be converged"
@@ -112,6 +113,9 @@ tail -n 1 "$dir/tight.jsonl" | grep -q '"converged":true' ||
 # Pacing the uploads changes the order the cut grows in, not the cut it converges to.
 "$ropecast" render procedural:noise:128 --brick 8 --size 128x128 --orbit 30,20,1.2 -o "$dir/tight_free.png" \
   --converge --gpu-budget 400K 2> "$dir/err.txt" || fail "full pool, no upload budget: $(cat "$dir/err.txt")"
+# A view the pool cannot hold renders, and says it is coarser than asked and what to raise.
+grep -q "leaves stay coarser than --voxels-per-pixel 1 asks.*raise --gpu-budget" "$dir/err.txt" &&
+  echo "ok   full pool: warned" || fail "full pool: no warning naming --gpu-budget: $(cat "$dir/err.txt")"
 d=$("$ropecast" compare "$dir/tight.png" "$dir/tight_free.png")
 if grep -q '"max_abs":0.0,' <<< "$d"; then echo "ok   full pool: the same cut with and without an upload budget"
 else fail "full pool: the cut converged with one upload a frame differs from the one without a budget: $d"; fi

@@ -219,6 +219,7 @@ TEST(WorkingSet, SmallPoolAndSmallCpuCacheStayWithinBudget) {
       size_t poolFull = 0;
       for (const PlannedLeaf& l : f.leaves) poolFull += l.reason == LeafReason::PoolFull;
       EXPECT_GT(poolFull, 0u);
+      EXPECT_EQ(f.stats.leavesPoolFull, poolFull);  // what `render` warns about
     }
     if (!converged)
       ws.io().pendingCount() ? (void)std::this_thread::sleep_for(std::chrono::milliseconds(1)) : void();
