@@ -731,6 +731,9 @@ void Viewer::drawPanels() {
     ImGui::Text("feedback: used %llu  requests %llu", (unsigned long long)st.bricksUsed,
                 (unsigned long long)st.feedbackRequests);
     ImGui::Text("%s", st.converged ? "converged" : "streaming...");
+    if (st.leavesPoolFull > 0)
+      ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "pool full: %llu leaves coarser (--gpu-budget)",
+                         (unsigned long long)st.leavesPoolFull);
     std::vector<float> history(frameMsHistory_.begin(), frameMsHistory_.end());
     ImGui::PlotLines("##frame ms", history.data(), int(history.size()), 0, "frame ms", 0.0f, FLT_MAX,
                      ImVec2(220, 40));
