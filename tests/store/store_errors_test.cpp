@@ -137,6 +137,42 @@ TEST_F(StoreErrors, MetadataSpacingMustBePositive) {
       << message;
 }
 
+// The value of `key` in the pretty-printed `metadata` replaced with `value`, the length kept by taking
+// indentation away after it (or adding it).
+void replaceValue(std::string& metadata, const std::string& key, const std::string& value) {
+  const size_t at = metadata.find("\"" + key + "\": ");
+  ASSERT_NE(at, std::string::npos) << metadata;
+  const size_t begin = at + key.size() + 4;
+  const size_t end = metadata.find_first_of(",\n", begin);
+  const size_t length = metadata.size();
+  metadata.replace(begin, end - begin, value);
+  for (size_t i = begin; metadata.size() > length;) {
+    i = metadata.find("\n ", i);
+    ASSERT_NE(i, std::string::npos) << "not enough indentation to keep the length";
+    metadata.erase(i + 1, 1);
+  }
+  if (metadata.size() < length)
+    metadata.insert(metadata.find('\n', begin) + 1, length - metadata.size(), ' ');
+}
+
+// Integer fields read as uint32 take exact integers in [0, 2^32) only: a reader that converted would take a
+// fraction or a wrapped 2^32 + 8 for another value (8), and the damage would pass.
+TEST_F(StoreErrors, MetadataIntegersMustBeExactUint32) {
+  EXPECT_TRUE(openWithEditedMetadata("same.store", [](std::string& m) {
+                replaceValue(m, "brickSize", "8");
+              }).empty());
+  for (const char* value : {"8.5", "8.0", "4294967304", "-8"}) {
+    const std::string message =
+        openWithEditedMetadata("int.store", [&](std::string& m) { replaceValue(m, "brickSize", value); });
+    EXPECT_NE(message.find("int.store': damaged metadata: brickSize: expected an integer in [0, 2^32), got"),
+              std::string::npos)
+        << value << ": " << message;
+  }
+  const std::string message =
+      openWithEditedMetadata("dims.store", [](std::string& m) { replaceValue(m, "levels", "4294967297"); });
+  EXPECT_NE(message.find("levels: expected an integer in [0, 2^32)"), std::string::npos) << message;
+}
+
 // A value range whose max lies below its min (the default isovalue and transfer function come from it),
 // written by StoreWriter with the good store's payloads: only the reader's check can catch it.
 TEST_F(StoreErrors, MetadataValueRangeMustBeOrdered) {
