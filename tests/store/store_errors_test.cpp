@@ -137,8 +137,8 @@ TEST_F(StoreErrors, MetadataSpacingMustBePositive) {
       << message;
 }
 
-// The value of `key` in the pretty-printed `metadata` replaced with `value`, the length kept by taking
-// indentation away after it (or adding it).
+// The value of `key` in the pretty-printed `metadata` replaced with `value` (no shorter), the length kept by
+// taking indentation away after it.
 void replaceValue(std::string& metadata, const std::string& key, const std::string& value) {
   const size_t at = metadata.find("\"" + key + "\": ");
   ASSERT_NE(at, std::string::npos) << metadata;
@@ -151,8 +151,6 @@ void replaceValue(std::string& metadata, const std::string& key, const std::stri
     ASSERT_NE(i, std::string::npos) << "not enough indentation to keep the length";
     metadata.erase(i + 1, 1);
   }
-  if (metadata.size() < length)
-    metadata.insert(metadata.find('\n', begin) + 1, length - metadata.size(), ' ');
 }
 
 // Integer fields read as uint32 take exact integers in [0, 2^32) only: a reader that converted would take a
