@@ -276,16 +276,27 @@ bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feed
   return loaderConverged;
 }
 
+bool FrameRenderer::drawsLastView(const FrameRequest& request) const {
+  if (request.synchronous || !lastDrawn_) return false;
+  const FrameRequest& last = *lastDrawn_;
+  return sameView(last, request) && last.params == request.params &&
+         last.voxelsPerPixel == request.voxelsPerPixel && !last.synchronous &&
+         lastDrawnEmptinessKey_ == emptinessKey_;
+}
+
 bool FrameRenderer::redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan,
                                           uint64_t cutHash, bool occlusion, bool feedback) const {
-  if (request.synchronous || !lastDrawn_ || !plan.uploads.empty()) return false;
-  const FrameRequest& last = *lastDrawn_;
-  const bool sameImage = sameView(last, request) && last.params == request.params &&
-                         last.voxelsPerPixel == request.voxelsPerPixel && !last.synchronous &&
-                         lastDrawnEmptinessKey_ == emptinessKey_;
   // The last frame's leaves, and nothing uploaded: every brick in the slot it had. With the last frame's cut,
   // cutChangedFrame_ still says since when it is drawn.
-  return sameImage && cutHash == currentCutHash_ && cutConverged(plan.stats.converged, occlusion, feedback);
+  return plan.uploads.empty() && drawsLastView(request) && cutHash == currentCutHash_ &&
+         cutConverged(plan.stats.converged, occlusion, feedback);
+}
+
+bool FrameRenderer::keepsLastImage(const FrameRequest& request, const WorkingSetFrame& plan,
+                                   bool redraw) const {
+  if (redraw) return request.keepConvergedImage && !keptLastImage_;
+  return request.keepImageWhileReading && plan.uploads.empty() && plan.stats.requestsPending > 0 &&
+         drawsLastView(request);
 }
 
 void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFrame& plan, FrameStats& stats) {
@@ -357,12 +368,12 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // The frame would draw the last one's converged image again: the targets keep it, or, drawn, it queries
   // nothing and casts no feedback (the answers could only repeat what is held).
   const bool redraw = redrawsConvergedImage(request, plan, cutHash, occlusion, feedback);
-  const bool keep = request.keepConvergedImage && !keptLastImage_ && redraw;
+  const bool keep = keepsLastImage(request, plan, redraw);
   keptLastImage_ = keep;
   if (keep) {
     if (occlusion) countVisibility(stats);  // of the cut it keeps, as the last frame counted them
     finishStats(request, plan, stats);
-    stats.converged = true;
+    stats.converged = redraw;
     stats.drawn = false;
     stats.tiles = 0;
     stats.frameMs = millisecondsSince(frameStart);

@@ -86,6 +86,12 @@ struct FrameRequest {
   // caller that goes on rendering the still view gets every other frame drawn (without queries or feedback,
   // the held answers renewed instead).
   bool keepConvergedImage = false;
+  // For a caller that reads the targets only once the view is converged and waits for pending reads between
+  // frames (render --converge): an asynchronous frame that uploads nothing while reads are pending, on the
+  // last drawn frame's view, keeps that image instead of drawing it (FrameStats::drawn false). Its cut can
+  // differ from the last one's only by nodes the answers collapsed, which the rays did not see; the frame
+  // that uploads what is read draws, and a converged cut is always one that was drawn.
+  bool keepImageWhileReading = false;
 };
 
 class FrameRenderer {
@@ -163,6 +169,12 @@ class FrameRenderer {
   // drawn, queries nothing and casts no feedback.
   bool redrawsConvergedImage(const FrameRequest& request, const WorkingSetFrame& plan, uint64_t cutHash,
                              bool occlusion, bool feedback) const;
+  // Whether `request` would draw the last drawn frame's view: the same camera, image, parameters and
+  // emptiness (only the cut and its bricks may differ).
+  bool drawsLastView(const FrameRequest& request) const;
+  // Whether the frame keeps the last image: a converged one it would draw again, or, while reading, one
+  // that shows nothing new (FrameRequest::keepConvergedImage, keepImageWhileReading).
+  bool keepsLastImage(const FrameRequest& request, const WorkingSetFrame& plan, bool redraw) const;
 
   const BrickSource& source_;
   std::string glRenderer_;  // GL_RENDERER, for RenderBackend::Auto

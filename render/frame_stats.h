@@ -16,8 +16,8 @@ namespace ropecast {
 struct FrameStats : LoaderStats {
   uint64_t frame = 0;
   double frameMs = 0.0;  // wall time of the whole frame
-  // False when the frame kept the last one's converged image instead of drawing it
-  // (FrameRequest::keepConvergedImage): no upload, index, tiles or rays, and raycast_ms 0.
+  // False when the frame kept the last drawn image instead of drawing it (FrameRequest::keepConvergedImage,
+  // keepImageWhileReading): no upload, index, tiles or rays, and raycast_ms 0.
   bool drawn = true;
   // GL timestamp queries around the ray-cast pass (see GpuTimer), without the occlusion queries' draws.
   double raycastMs = 0.0;

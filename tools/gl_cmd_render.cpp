@@ -203,6 +203,9 @@ struct OctreeRender {
     // --converge stops at the first converged frame: one that would only draw the converged image again
     // keeps it.
     request.keepConvergedImage = o.converge;
+    // --converge waits for the reads after a frame that uploaded nothing on a still camera; the frame itself
+    // would show nothing new.
+    request.keepImageWhileReading = o.converge;
     request.camera = s.cameraOf(0);
     renderer->prepare(request);  // shader compilation before frame 0, not in its frame_ms
   }

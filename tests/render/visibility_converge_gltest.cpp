@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/transfer_function.h"
+#include "loader/io_queue.h"
 #include "render/frame_renderer.h"
 #include "store/procedural_bricks.h"
 #include "testutil_gl.h"
@@ -268,6 +269,50 @@ TEST(VisibilityConverge, AFrameThatWouldRedrawTheConvergedImageKeepsIt) {
       if (stats.converged) break;
     }
   }
+}
+
+// With FrameRequest::keepImageWhileReading (render --converge), a frame on the last drawn view that uploads
+// nothing while reads are pending keeps the image: it could only show collapsed nodes the rays did not see.
+// Such a frame is never the converged one, the frame that uploads what arrives draws, and the converged cut
+// and image are those of frames that draw every time.
+TEST(VisibilityConverge, AFrameThatOnlyWaitsForReadsKeepsTheImage) {
+  const ProceduralBricks procedural({ProceduralKind::Noise, 64}, 8);
+  const DelayedBrickSource source(procedural, 8.0);  // reads outlast some frames
+  // A pool with room for half the view: the slots the answers free go to nodes whose bricks are read then.
+  const Converged roomy = renderUntilConverged(procedural, RenderMode::Iso, RenderBackend::Fragment, {});
+  ASSERT_TRUE(roomy.last.converged);
+  const uint64_t halfPool = roomy.last.workingSetBricks / 2 * procedural.brickBytes();
+  const auto converge = [&](bool keepWhileReading, uint32_t& keptWhileReading) {
+    FrameRenderer renderer(test::sharedGlContext().info(), source, visibilityConfig({true, true}, halfPool));
+    FrameRequest request = viewRequest(source.info(), RenderMode::Iso, RenderBackend::Fragment);
+    request.keepImageWhileReading = keepWhileReading;
+    keptWhileReading = 0;
+    FloatImage lastDrawn;
+    FrameStats stats;
+    for (uint32_t frame = 0; frame < 4000 && !stats.converged; ++frame) {
+      stats = renderer.render(request);
+      if (stats.drawn) {
+        lastDrawn = renderer.readColor();
+      } else {
+        EXPECT_FALSE(stats.converged) << "frame " << frame << ": a kept frame was declared converged";
+        EXPECT_EQ(stats.bricksUploaded, 0u) << "frame " << frame;
+        EXPECT_GT(stats.requestsPending, 0u) << "frame " << frame;
+        EXPECT_EQ(renderer.readColor().pixels, lastDrawn.pixels) << "frame " << frame;
+        ++keptWhileReading;
+      }
+      if (stats.bricksUploaded == 0) renderer.waitForReads(std::chrono::milliseconds(5));
+    }
+    EXPECT_TRUE(stats.converged);
+    return std::make_pair(renderer.lastCut(), renderer.readColor());
+  };
+  uint32_t kept = 0, keptWithout = 0;
+  const auto [keptCut, keptImage] = converge(true, kept);
+  const auto [drawnCut, drawnImage] = converge(false, keptWithout);
+  EXPECT_GT(kept, 0u) << "no frame waited for reads with nothing to upload";
+  EXPECT_EQ(keptWithout, 0u);
+  EXPECT_GE(test::psnrDb(keptImage, drawnImage), 40.0);
+  EXPECT_NEAR(double(dataLeafCount(keptCut)), double(dataLeafCount(drawnCut)),
+              0.02 * dataLeafCount(drawnCut));
 }
 
 // A driver that never answers: frames go on, nothing is marked.
