@@ -48,7 +48,8 @@ run() {
   local t0 t1
   t0=$(date +%s.%N)
   "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "${RUN_SIZE:-$IMAGE}" --gpu-budget "$GPU" --cpu-cache "$CPU" \
-    ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.$EXT" "$@" >/dev/null
+    ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.$EXT" "$@" >/dev/null 2>"$WORK/$name.err" ||
+    { cat "$WORK/$name.err" >&2; return 1; }  # the pool's warning (it holds this view and little more) stays here
   t1=$(date +%s.%N)
   awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
   echo "$cache" >"$WORK/$name.cache"
