@@ -4,8 +4,8 @@
 // through either entry point over the one shared include shaders/raycast_common.glsl:
 //   fragment: screen tiles (kTileSize pixels square) drawn one by one, each one triangle cut to the tile
 //             by the scissor, with the depth where each ray stopped written to a depth attachment;
-//   compute:  8x8 workgroups with imageStore (shaders/compute_tile.glsl), the stop depth copied into the
-//             depth attachment by a pass.
+//   compute:  8x8 workgroups with imageStore (shaders/compute_tile.glsl, which brute force's compute entry
+//             point shares), the stop depth copied into the depth attachment by a pass.
 // A frame's TileSchedule casts the first tile, runs a callback (the occlusion queries, Gobbetti et al. 2008,
 // Sect. 6) against that depth, then casts the other tiles.
 // Composition, not inheritance: the pass owns its programs and targets and is handed everything else.

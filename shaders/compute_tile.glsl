@@ -1,4 +1,4 @@
-// The part the compute entry points of the ray casters share (shaders/raycast.comp):
+// The part the compute entry points of the ray casters share (shaders/raycast.comp, shaders/brute_force.comp):
 // kRaycastWorkgroupSize-square workgroups over a screen tile [uTileOrigin, uTileEnd), one ray per invocation,
 // its color and world depth stored into the pass's RenderTarget with imageStore. The C++ side:
 // bindComputeTargets, dispatchComputeTile and finishComputeWrites (render/raycast_uniforms.h).

@@ -2,8 +2,8 @@
 // uploads it with one buffer update per frame) and GLSL (shaders/sampling.glsl includes this file through the
 // shader loader's textual #include), after the nvpro-samples host_device.h pattern; and the binding points of
 // the block and of the textures the ray casters sample. Layout only; any thread. Both passes share it:
-// RaycastPass (the rope walk, shaders/raycast_common.glsl) and BruteForcePass (shaders/brute_force.frag), which
-// leaves the pool and index fields zero.
+// RaycastPass (the rope walk, shaders/raycast_common.glsl) and BruteForcePass
+// (shaders/brute_force_common.glsl), which leaves the pool and index fields zero.
 //
 // std140: a vec3 starts at a multiple of 16 bytes and takes 12, so each is followed by one scalar; the C++
 // side aliases glm types and checks every offset below (and tests/render/raycast_block_gltest.cpp checks them

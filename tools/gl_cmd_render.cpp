@@ -165,6 +165,7 @@ RenderedFrame renderBrute(RenderSetup& s) {
   BruteForcePass brute(s.bricks());
   BruteForceFrame bf;
   bf.params = s.params;
+  bf.params.backend = RenderBackend::Fragment;  // the pass's entry point
   bf.tf = s.tf();
   bf.width = s.width;
   bf.height = s.height;
