@@ -2,7 +2,8 @@
 # ropecast's ray caster against a brute-force single-3D-texture ray caster (`ropecast render --backend brute`:
 # level 0 in one texture, every ray marched entry to exit at half a voxel, no index) on the same in-core
 # volume, image size and camera orbit, measured in one run; prints median ray-cast times and the ratios
-# brute / ropecast (> 1: ropecast is faster).
+# brute / ropecast (> 1: ropecast is faster). Both run in the same shader stage unless told otherwise, so that
+# the ratio compares the two methods rather than a fragment and a compute shader.
 #
 #   bench/render_vs_brute.sh [BUILD_DIR]            (default build/perf)
 #
@@ -15,10 +16,13 @@
 # stores' brick edge, default the converter's 32), IMAGE (512x512), FRAMES (6 measured), ROUNDS (3: the three
 # renderers run in turn this many times; each figure is the median over rounds of a run's median frame, the
 # ratios are of those), RENDER_ARGS (more `ropecast render` arguments for all three, e.g. "--gradients
-# computed"), ROPE_ARGS (more for the two ropecast runs only, e.g. "--backend fragment": the brute-force
-# pass is a fragment shader, and on a GPU the compute entry point is much the faster), EXT (png, or ppm for a
-# build without OpenImageIO: then the images are not compared), WORK (scratch dir). Volumes are converted once
-# into WORK and reused.
+# computed"), ROPE_ARGS (more for the two ropecast runs only, e.g. "--backend fragment": ropecast's stage
+# where --backend auto would pick compute), BRUTE_ARGS (more for the brute-force runs only; default
+# "--brute-stage S", S the shader stage the ropecast runs cast their rays in, found by a one-frame render
+# with RENDER_ARGS and ROPE_ARGS; e.g. "--brute-stage fragment" for brute force in a fragment shader whatever
+# ropecast runs in), EXT (png, or ppm for a build without OpenImageIO: then the images are not compared), WORK
+# (scratch dir). Volumes are converted once into WORK and reused. The stages compared are printed below the
+# first line, from those renders' --stats.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/lib/common.sh
@@ -41,6 +45,18 @@ cat > "$WORK/path.json" <<EOF2
  {"orbit": [$((30 + FRAMES - 1)), 20, 3], "time": $last}]
 EOF2
 
+# stage_of ARGS...: the shader stage (--stats "stage") in which a small one-frame render with ARGS casts its rays.
+stage_of() {
+  "$ROPECAST" render procedural:sphere:32 --brick 16 --size 16x16 "$@" --stats "$WORK/stage.jsonl" \
+    -o "$WORK/stage.$EXT" -q
+  python3 -c 'import json, sys; print(json.loads(open(sys.argv[1]).readline())["stage"])' "$WORK/stage.jsonl"
+}
+# shellcheck disable=SC2086  # RENDER_ARGS, ROPE_ARGS and BRUTE_ARGS are word lists
+rope_stage=$(stage_of ${RENDER_ARGS:-} ${ROPE_ARGS:-})
+BRUTE_ARGS=${BRUTE_ARGS-"--brute-stage $rope_stage"}
+# shellcheck disable=SC2086
+brute_stage=$(stage_of ${RENDER_ARGS:-} --backend brute $BRUTE_ARGS)
+
 # median STATS: median raycast_ms over the measured frames: the last FRAMES, less those that uploaded or had
 # requests pending (the camera turns while they are drawn, and a fast frame rate can meet a late brick); at
 # least half of them must be left.
@@ -57,6 +73,7 @@ EOF2
 
 echo "volumes ${SIZE}^3 in ${BRICK}^3 bricks, image $IMAGE, median of $FRAMES frames per run, $ROUNDS rounds," \
   "extra render args: ${RENDER_ARGS:-none}, ropecast only: ${ROPE_ARGS:-none}"
+echo "shader stages: ropecast $rope_stage, brute force $brute_stage (brute force only: ${BRUTE_ARGS:-none})"
 printf '%-15s %-6s %-4s %10s %10s %10s %8s %8s  %s\n' volume kind mode brute_ms full_ms adapt_ms "b/full" "b/adapt" \
   "per-round b/full, b/adapt"
 for name in $DENSE $SPARSE; do
@@ -66,14 +83,14 @@ for name in $DENSE $SPARSE; do
   tf=$WORK/tf.json
   [ "$kind" = sparse ] && tf=$WORK/tf_sparse.json
   for mode in iso dvr; do
-    # shellcheck disable=SC2206,SC2086  # RENDER_ARGS and ROPE_ARGS are word lists
+    # shellcheck disable=SC2206,SC2086  # RENDER_ARGS, ROPE_ARGS and BRUTE_ARGS are word lists
     args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$tf" --path "$WORK/path.json"
           --frames $((last + 1)) ${RENDER_ARGS:-})
     # ROUNDS alternations of the three renderers, so that a change of the machine's load (other jobs on this
     # shared VM) falls on all three rather than on one.
     b=() f=() a=()
     for _ in $(seq "$ROUNDS"); do
-      "$ROPECAST" render "$store" "${args[@]}" --backend brute --stats "$WORK/$name-$mode-brute.jsonl" \
+      "$ROPECAST" render "$store" "${args[@]}" --backend brute $BRUTE_ARGS --stats "$WORK/$name-$mode-brute.jsonl" \
         -o "$WORK/$name-$mode-brute.$EXT"
       "$ROPECAST" render "$store" "${args[@]}" ${ROPE_ARGS:-} --voxels-per-pixel 64 --stats "$WORK/$name-$mode-full.jsonl" \
         -o "$WORK/$name-$mode-full.$EXT"

@@ -74,20 +74,27 @@ BruteForcePass::~BruteForcePass() {
 }
 
 const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
-  std::unique_ptr<ShaderProgram>& p = programs_[params.mode == RenderMode::Iso ? 0
-                                                : usesStoredGradients(params)  ? 2
-                                                                               : 1];
+  std::unique_ptr<ShaderProgram>& p = programs_[{params.backend, params.mode, usesStoredGradients(params)}];
   if (!p) {
-    p = std::make_unique<ShaderProgram>(
-        std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
-                                {ShaderStage::Fragment, "shaders/brute_force.frag"}},
-        raycastDefines(params));
+    if (params.backend == RenderBackend::Compute)
+      p = std::make_unique<ShaderProgram>(
+          std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/brute_force.comp"}},
+          raycastDefines(params));
+    else
+      p = std::make_unique<ShaderProgram>(
+          std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
+                                  {ShaderStage::Fragment, "shaders/brute_force.frag"}},
+          raycastDefines(params));
   }
   return *p;
 }
 
 void BruteForcePass::render(const BruteForceFrame& f) {
   if (f.width == 0 || f.height == 0) throw Error("BruteForcePass::render: image size must be positive");
+  const RenderBackend stage = f.params.backend;
+  if (stage != RenderBackend::Fragment && stage != RenderBackend::Compute)
+    throw Error("BruteForcePass::render: params.backend must name an entry point, fragment or compute; got " +
+                std::string(renderBackendName(stage)));
   checkRaycastInputs(f.params, f.tf, "BruteForcePass::render");
   const ShaderProgram& p = program(f.params);
   if (usesStoredGradients(f.params) && !gradients_) {
@@ -98,7 +105,7 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
 
-  // The block of the rope ray caster's shaders, which brute_force.frag shares; the volume is the value
+  // The block of the rope ray caster's shaders, which brute_force_common.glsl shares; the volume is the value
   // texture.
   RaycastBlock block = raycastBlock(f.camera, f.width, f.height, info_.layout.dims, info_.volume.spacing,
                                     info_.mapping, storedMaxOf(info_.storedType), f.params);
@@ -110,12 +117,18 @@ void BruteForcePass::render(const BruteForceFrame& f) {
   if (gradients_) glBindTextureUnit(kRaycastSampleUnit, gradients_->texture());
   p.use();
   timer_.begin();
-  target_.bindForDrawing();
-  glDisable(GL_DEPTH_TEST);
-  glBindVertexArray(emptyVertexArray_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (stage == RenderBackend::Compute) {
+    bindComputeTargets(target_);
+    dispatchComputeTile(p, PixelRect{0, 0, f.width, f.height});
+    finishComputeWrites();
+  } else {
+    target_.bindForDrawing();
+    glDisable(GL_DEPTH_TEST);
+    glBindVertexArray(emptyVertexArray_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
   timer_.end();
   checkGlError("BruteForcePass::render");
 }

@@ -3,14 +3,20 @@
 // index, no levels and no empty-space skipping; everything else is the rendering contract of
 // docs/RENDERING.md at level 0 (same rays, same sample grid t0 + k dt, same interpolation, bisection,
 // gradients, transfer function, shading and early ray termination), so on a cut of level-0 leaves its image
-// equals RaycastPass's up to rounding (tests/render/brute_force_gltest.cpp). Fragment shader
-// shaders/brute_force.frag, one full-screen draw.
+// equals RaycastPass's up to rounding (tests/render/brute_force_gltest.cpp). Two entry points over the one
+// shared include shaders/brute_force_common.glsl, as the ray caster has, so that a benchmark can compare the
+// two methods in the same shader stage:
+//   fragment: shaders/brute_force.frag, one triangle over the viewport;
+//   compute:  shaders/brute_force.comp, one dispatch over the image in the ray caster's compute workgroups
+//             (shaders/compute_tile.glsl).
 //
 // Owns GL objects: render thread only, with the GlContext current.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <tuple>
 
 #include "core/camera.h"
 #include "core/float_image.h"
@@ -28,7 +34,7 @@ class TfTable;
 
 struct BruteForceFrame {
   Camera camera;
-  RenderParams params;          // params.backend is ignored (one fragment entry point)
+  RenderParams params;          // params.backend picks the entry point: Fragment or Compute
   const TfTable* tf = nullptr;  // required in DVR mode
   uint32_t width = 0, height = 0;
 };
@@ -44,6 +50,9 @@ class BruteForcePass {
   BruteForcePass(const BruteForcePass&) = delete;
   BruteForcePass& operator=(const BruteForcePass&) = delete;
 
+  // Renders the frame into the targets (resized to width x height as needed). Programs compile on first use
+  // of an (entry point, mode) variant. Throws ropecast::Error on bad inputs (naming the field), shader errors
+  // or GL errors.
   void render(const BruteForceFrame& frame);
   double lastRaycastMs() { return timer_.elapsedMs(); }
   bool raycastTimerUsedWallClock() const { return timer_.usedWallClock(); }
@@ -56,8 +65,9 @@ class BruteForcePass {
   const ShaderProgram& program(const RenderParams& params);
 
   BrickSourceInfo info_;
-  std::unique_ptr<ShaderProgram> programs_[3];  // iso, DVR, DVR with stored gradients
-  std::unique_ptr<GradientPool> gradients_;     // derived from the volume at the first use
+  // (entry point, mode, stored gradients) -> program
+  std::map<std::tuple<RenderBackend, RenderMode, bool>, std::unique_ptr<ShaderProgram>> programs_;
+  std::unique_ptr<GradientPool> gradients_;  // derived from the volume at the first use
   uint32_t volumeTexture_ = 0, tfTexture_ = 0;
   uint64_t volumeBytes_ = 0;
   RenderTarget target_{"BruteForcePass", false};

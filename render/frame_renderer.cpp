@@ -305,6 +305,8 @@ void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFra
   stats.frame = frame_++;
   stats.stepVoxels = request.params.stepVoxels;
   stats.backend = backendFor(request.params);
+  // The multi-pass backend draws its blocks with fragment shaders.
+  stats.stage = stats.backend == RenderBackend::Compute ? RenderBackend::Compute : RenderBackend::Fragment;
 }
 
 FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgressFn& onLoadProgress) {

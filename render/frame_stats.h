@@ -27,6 +27,9 @@ struct FrameStats : LoaderStats {
   double indexMs = 0.0;     // building and uploading the rope index
   double stepVoxels = 0.0;  // the sample step of this frame (--step, scaled by --target-frame-ms)
   RenderBackend backend = RenderBackend::Fragment;  // the backend that drew it (never Auto: resolved)
+  // The shader stage that cast its rays, Fragment or Compute: the fragment and compute backends their own,
+  // multi-pass Fragment, brute force the entry point of --brute-stage (resolved as --backend auto is).
+  RenderBackend stage = RenderBackend::Fragment;
   uint64_t workingSetBricks = 0;  // bricks of this frame's refined tree (the cut and the nodes above it)
   // Passes that cast rays over (part of) the image: the single pass casts each screen tile in one pass (1
   // without occlusion queries); the multi-pass backend one per data leaf drawn; brute force 1.
@@ -69,6 +72,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"index_ms", s.indexMs},
                         {"step_voxels", s.stepVoxels},
                         {"backend", renderBackendName(s.backend)},
+                        {"stage", renderBackendName(s.stage)},
                         {"refine_ms", s.refineMs},
                         {"leaves", s.leaves},
                         {"bricks_resident", s.bricksResident},

@@ -25,12 +25,10 @@ namespace ropecast {
 
 namespace {
 
-// A texture unit and uniform locations of the entry points (the other units: shaders/raycast_block.h).
+// A texture unit and a uniform location of the fragment entry point and the stop-depth copy (the other units
+// and the compute entry point's locations: shaders/raycast_block.h).
 constexpr GLuint kStopDepthTextureUnit = 0;  // shaders/stop_depth.frag uStopDepth
-constexpr GLint kTileOriginLocation = 0;     // shaders/raycast.comp uTileOrigin
-constexpr GLint kTileEndLocation = 1;        // shaders/raycast.comp uTileEnd
 constexpr GLint kTileRectLocation = 0;       // shaders/raycast.vert uTileRect
-constexpr uint32_t kWorkgroupSize = 8;
 
 }  // namespace
 
@@ -172,8 +170,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   }
   for (const PixelRect& tile : tiles.subspan(1)) castTile(f, p, tile);
   if (f.params.backend == RenderBackend::Compute) {
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
-                    GL_FRAMEBUFFER_BARRIER_BIT);
+    finishComputeWrites();
   } else {
     glDisable(GL_SCISSOR_TEST);
     glBindVertexArray(0);
@@ -201,10 +198,7 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
   blockBuffer_.bind();
   p.use();
   if (f.params.backend == RenderBackend::Compute) {
-    glBindImageTexture(kRaycastColorImageUnit, target_.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_RGBA32F);
-    glBindImageTexture(kRaycastDepthImageUnit, target_.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_R32F);
+    bindComputeTargets(target_);
     glBindImageTexture(kRaycastStopDepthImageUnit, stopDepthTexture_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     return;
   }
@@ -220,10 +214,7 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
 void RaycastPass::castTile(const RaycastFrame& f, const ShaderProgram& p, const PixelRect& tile) {
   if (tile.width == 0 || tile.height == 0) return;
   if (f.params.backend == RenderBackend::Compute) {
-    glProgramUniform2ui(p.id(), kTileOriginLocation, tile.x, tile.y);
-    glProgramUniform2ui(p.id(), kTileEndLocation, tile.x + tile.width, tile.y + tile.height);
-    glDispatchCompute((tile.width + kWorkgroupSize - 1) / kWorkgroupSize,
-                      (tile.height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
+    dispatchComputeTile(p, tile);
     ++lastDrawCalls_;
     return;
   }

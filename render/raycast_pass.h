@@ -4,7 +4,8 @@
 // through either entry point over the one shared include shaders/raycast_common.glsl:
 //   fragment: screen tiles (kTileSize pixels square) drawn one by one, each one triangle cut to the tile
 //             by the scissor, with the depth where each ray stopped written to a depth attachment;
-//   compute:  8x8 workgroups with imageStore, the stop depth copied into the depth attachment by a pass.
+//   compute:  8x8 workgroups with imageStore (shaders/compute_tile.glsl, which brute force's compute entry
+//             point shares), the stop depth copied into the depth attachment by a pass.
 // A frame's TileSchedule casts the first tile, runs a callback (the occlusion queries, Gobbetti et al. 2008,
 // Sect. 6) against that depth, then casts the other tiles.
 // Composition, not inheritance: the pass owns its programs and targets and is handed everything else.
@@ -73,11 +74,6 @@ struct RaycastFrame {
 // distances (shaders/raycast_block.h). Shared by the passes that walk the cut's bricks (RaycastPass,
 // MultipassPass). Any thread.
 RaycastBlock raycastFrameBlock(const RaycastFrame& frame);
-
-// A pixel rectangle of the image (row 0 at the top).
-struct PixelRect {
-  uint32_t x = 0, y = 0, width = 0, height = 0;
-};
 
 // The order a frame is cast in. With tiles, tiles[0] is cast first, then afterFirstTile runs with the pass's
 // framebuffer bound and its depth attachment holding, over tiles[0], the window depth where each ray stopped

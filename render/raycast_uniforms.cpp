@@ -12,6 +12,8 @@
 #include "core/error.h"
 #include "core/transfer_function.h"
 #include "render/gl_context.h"
+#include "render/render_target.h"
+#include "render/shader_program.h"
 #include "store/octree_layout.h"
 #include "store/volume_source.h"
 
@@ -97,6 +99,24 @@ DepthRange windowDepthRange(const Camera& camera, glm::dvec3 volumeMax) {
   const double extent = glm::length(volumeMax);
   const double farDepth = glm::length(camera.eye - 0.5 * volumeMax) + extent;
   return {std::max(1e-4 * extent, 1e-9), std::max(farDepth, 2e-4 * extent)};
+}
+
+void bindComputeTargets(const RenderTarget& target) {
+  glBindImageTexture(kRaycastColorImageUnit, target.colorTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     GL_RGBA32F);
+  glBindImageTexture(kRaycastDepthImageUnit, target.depthTexture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+}
+
+void dispatchComputeTile(const ShaderProgram& program, const PixelRect& tile) {
+  if (tile.width == 0 || tile.height == 0) return;
+  const uint32_t side = kRaycastWorkgroupSize;
+  glProgramUniform2ui(program.id(), kRaycastTileOriginLocation, tile.x, tile.y);
+  glProgramUniform2ui(program.id(), kRaycastTileEndLocation, tile.x + tile.width, tile.y + tile.height);
+  glDispatchCompute((tile.width + side - 1) / side, (tile.height + side - 1) / side, 1);
+}
+
+void finishComputeWrites() {
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
 RaycastBlockBuffer::RaycastBlockBuffer() {

@@ -1,8 +1,9 @@
 // What the ray casters over docs/RENDERING.md share on the GL side: the uniform block of
 // shaders/raycast_block.h (camera, volume geometry, RenderParams and lighting; the pass adds its own fields)
 // and the buffer it is uploaded to once per frame; the shader defines of a variant; the checks of a request;
-// and the transfer-function texture. Used by RaycastPass and BruteForcePass. Render thread only, with the
-// GlContext current (raycastBlock and the defines: any thread).
+// the transfer-function texture; and the C++ side of the compute entry points (shaders/compute_tile.glsl).
+// Used by RaycastPass and BruteForcePass. Render thread only, with the GlContext current (raycastBlock and
+// the defines: any thread).
 #pragma once
 
 #include <cstdint>
@@ -18,6 +19,8 @@
 
 namespace ropecast {
 
+class RenderTarget;
+class ShaderProgram;
 class TfTable;
 
 // "NAME value" with enough digits that the float round-trips.
@@ -51,6 +54,21 @@ struct DepthRange {
   double nearDepth = 0.0, farDepth = 1.0;
 };
 DepthRange windowDepthRange(const Camera& camera, glm::dvec3 volumeMax);
+
+// A pixel rectangle of the image (row 0 at the top).
+struct PixelRect {
+  uint32_t x = 0, y = 0, width = 0, height = 0;
+};
+
+// The compute entry points (shaders/compute_tile.glsl). Binds the target's color and world-depth textures to
+// the image units the rays store into (kRaycastColorImageUnit, kRaycastDepthImageUnit), write only.
+void bindComputeTargets(const RenderTarget& target);
+// Casts the rays of `tile` with `program`, which must be in use: its tile uniforms, then one dispatch of
+// kRaycastWorkgroupSize-square workgroups covering the tile. Nothing for an empty tile.
+void dispatchComputeTile(const ShaderProgram& program, const PixelRect& tile);
+// After a frame's last dispatch: makes the image stores visible to what reads the targets next (texture
+// fetches, readbacks, framebuffer use).
+void finishComputeWrites();
 
 // The GL buffer of a RaycastBlock, bound to kRaycastBlockBinding.
 class RaycastBlockBuffer {

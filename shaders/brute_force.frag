@@ -1,47 +1,11 @@
 #version 450 core
-// Brute-force ray caster (render/brute_force_pass.h): the whole level-0 volume in one 3D texture, every ray
-// sampled from the volume entry t0 to its exit t1 on the grid t0 + k dt, dt = step min(s), with no index and no
-// empty-space skipping. The volume is one segment of the shared sampling and compositing (shaders/compositing.glsl),
-// so rays, interpolation, bisection, gradients, transfer function, shading and early ray termination are those of
-// the rope ray caster at level 0.
+// Fragment entry point of the brute-force ray caster (shaders/brute_force_common.glsl): one ray per fragment of
+// one triangle over the viewport (shaders/brute_force.vert).
 
-#include "shaders/compositing.glsl"
+#include "shaders/brute_force_common.glsl"
 
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out float outDepth;
-
-// The whole volume as a segment: texture coordinate x / (n s), level 0.
-Segment volumeSegment(Ray ray) {
-  vec3 dims = vec3(textureSize(uValues, 0));
-  vec3 worldToCoord = 1.0 / (raycast.spacing * dims);
-  Segment s;
-  s.coordAtZero = ray.origin * worldToCoord;
-  s.coordPerT = ray.dir * worldToCoord;
-  s.texelMin = vec3(0.0);
-  s.texelCount = dims;
-  s.texelAtZero = ray.origin / raycast.spacing;  // level-0 sample coordinate x / s
-  s.texelPerT = ray.dir / raycast.spacing;
-  s.gradientScale = 1.0 / (2.0 * raycast.spacing);
-  s.dt = raycast.stepVoxels * raycast.minSpacing;
-  s.opacityExponent = raycast.stepVoxels;
-  return s;
-}
-
-RayResult castBrute(uvec2 pixel) {
-  Ray ray;
-  if (!cameraRay(pixel, ray)) return missedRay();
-  Segment s = volumeSegment(ray);
-#ifdef RAYCAST_MODE_ISO
-  IsoMarch march = isoMarchBegin();
-  marchIso(march, s, ray.t0, 0.0, ray.t1);
-  // One segment: the previous sample is always in it.
-  return march.hit ? shadeIsoHit(march, s, ray.t0, s, ray.t1, ray) : missedRay();
-#else
-  DvrAccum acc = dvrAccumBegin();
-  compositeDvr(acc, s, ray, 0.0, firstSampleIndex(ray.t0, ray.t1, s.dt, false));
-  return dvrResult(acc);
-#endif
-}
 
 void main() {
   RayResult r = castBrute(uvec2(gl_FragCoord.xy));

@@ -2,8 +2,8 @@
 // uploads it with one buffer update per frame) and GLSL (shaders/sampling.glsl includes this file through the
 // shader loader's textual #include), after the nvpro-samples host_device.h pattern; and the binding points of
 // the block and of the textures the ray casters sample. Layout only; any thread. Both passes share it:
-// RaycastPass (the rope walk, shaders/raycast_common.glsl) and BruteForcePass (shaders/brute_force.frag), which
-// leaves the pool and index fields zero.
+// RaycastPass (the rope walk, shaders/raycast_common.glsl) and BruteForcePass
+// (shaders/brute_force_common.glsl), which leaves the pool and index fields zero.
 //
 // std140: a vec3 starts at a multiple of 16 bytes and takes 12, so each is followed by one scalar; the C++
 // side aliases glm types and checks every offset below (and tests/render/raycast_block_gltest.cpp checks them
@@ -38,10 +38,14 @@ RAYCAST_CONST kRaycastValueUnit = 0;      // values: the brick pool, or brute fo
 RAYCAST_CONST kRaycastTfUnit = 1;         // the transfer function table (RGBA32F, 1D)
 RAYCAST_CONST kRaycastRopeIndexUnit = 2;  // the rope index (shaders/rope_traversal.glsl's uRopeIndex)
 RAYCAST_CONST kRaycastSampleUnit = 3;     // the DVR sample texture beside the values (render/gradient_pool.h)
-// The compute entry point's image units (shaders/raycast.comp).
+// The compute entry points' image units (shaders/compute_tile.glsl, shaders/raycast.comp).
 RAYCAST_CONST kRaycastColorImageUnit = 0;      // RGBA32F: the pixel's color
 RAYCAST_CONST kRaycastDepthImageUnit = 1;      // R32F: the depth output
 RAYCAST_CONST kRaycastStopDepthImageUnit = 2;  // R32F: where the ray stopped, for the occlusion queries
+// The compute entry points' workgroups (pixels per side) and the uniform locations of their tile.
+RAYCAST_CONST kRaycastWorkgroupSize = 8;
+RAYCAST_CONST kRaycastTileOriginLocation = 0;  // uvec2 uTileOrigin: the tile's first pixel
+RAYCAST_CONST kRaycastTileEndLocation = 1;     // uvec2 uTileEnd: one past the tile's last pixel
 
 #ifndef __cplusplus
 #define RAYCAST_BLOCK_BEGIN layout(std140, binding = kRaycastBlockBinding) uniform RaycastBlock {

@@ -1,8 +1,8 @@
 // Rays and their samples as docs/RENDERING.md fixes them ("Rays", "Spaces"), shared by the rope ray caster
-// (shaders/raycast_common.glsl) and the brute-force pass (shaders/brute_force.frag): the camera ray and its clip
-// to the volume box, the sample grid t0 + k dt, and the value texture's samples along a segment of the ray. The
-// value texture is the brick pool for the ray caster and the whole level-0 volume for brute force. The CPU mirror
-// (reference/cpu_raycaster.cpp) computes the same in double. No #version line: the entry point has it.
+// (shaders/raycast_common.glsl) and the brute-force pass (shaders/brute_force_common.glsl): the camera ray and
+// its clip to the volume box, the sample grid t0 + k dt, and the value texture's samples along a segment of the
+// ray. The value texture is the brick pool for the ray caster and the whole level-0 volume for brute force. The
+// CPU mirror (reference/cpu_raycaster.cpp) computes the same in double. No #version line: the entry point has it.
 
 #include "shaders/raycast_block.h"
 

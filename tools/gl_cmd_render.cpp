@@ -16,6 +16,7 @@
 #include "loader/io_queue.h"
 #include "reference/cpu_raycaster.h"
 #include "reference/image_io.h"
+#include "render/backend_choice.h"
 #include "render/brute_force_pass.h"
 #include "render/frame_renderer.h"
 #include "render/gl_context.h"
@@ -159,12 +160,14 @@ RenderedFrame renderReference(const RenderSetup& s) {
 }
 
 // --backend brute: the baseline of bench/render_vs_brute.sh, level 0 in one 3D texture and no index
-// (render/brute_force_pass).
-RenderedFrame renderBrute(RenderSetup& s) {
+// (render/brute_force_pass), in the shader stage of --brute-stage; auto resolves as --backend auto does, so
+// that by default it runs in the stage the octree ray caster would.
+RenderedFrame renderBrute(const RenderOptions& o, RenderSetup& s) {
   GlContext gl;
   BruteForcePass brute(s.bricks());
   BruteForceFrame bf;
   bf.params = s.params;
+  bf.params.backend = resolveBackend(o.bruteStage.value_or(RenderBackend::Auto), gl.info().renderer);
   bf.tf = s.tf();
   bf.width = s.width;
   bf.height = s.height;
@@ -178,6 +181,7 @@ RenderedFrame renderBrute(RenderSetup& s) {
     stats.stepVoxels = bf.params.stepVoxels;
     stats.raycastWallClock = brute.raycastTimerUsedWallClock();
     stats.backend = RenderBackend::Brute;
+    stats.stage = bf.params.backend;
     stats.drawCalls = 1;
     stats.glDrawCalls = 1;
     stats.fragments = uint64_t(bf.width) * bf.height;
@@ -305,7 +309,7 @@ RenderedFrame renderFrames(const RenderOptions& o) {
   if (o.reference)
     frame = renderReference(setup);
   else if (o.backend == RenderBackend::Brute)
-    frame = renderBrute(setup);
+    frame = renderBrute(o, setup);
   else if (o.converge || o.frames > 1)
     frame = renderProgressive(o, setup);
   else

@@ -20,6 +20,11 @@ const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off"
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
 
+const std::vector<std::pair<std::string, RenderBackend>> kBruteStageNames{
+    {"auto", RenderBackend::Auto},
+    {"fragment", RenderBackend::Fragment},
+    {"compute", RenderBackend::Compute}};
+
 std::vector<std::pair<std::string, RenderBackend>> backendNames() {
   std::vector<std::pair<std::string, RenderBackend>> names;
   for (const auto& [name, backend] : kRenderBackendNames) names.emplace_back(name, backend);
@@ -49,14 +54,24 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
   if (command == SceneCommand::View)
     std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });
-  addEnumOption(app, "--backend", o.backend, backends,
-                std::string("auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); "
-                            "fragment or compute: the octree ray caster's entry point; ") +
-                    (command == SceneCommand::Render
-                         ? "brute: level 0 in one 3D texture, no index (a benchmark baseline); "
-                         : "") +
-                    "multipass: the same cut drawn one data brick per pass, composited front to back (no "
-                    "occlusion queries, no feedback). --stats names the one used");
+  addEnumOption(
+      app, "--backend", o.backend, backends,
+      std::string("auto: compute on hardware GPUs, fragment on software rasterizers (llvmpipe); "
+                  "fragment or compute: the octree ray caster's entry point; ") +
+          (command == SceneCommand::Render
+               ? "brute: level 0 in one 3D texture, no index (a benchmark baseline; its shader stage: "
+                 "--brute-stage); "
+               : "") +
+          "multipass: the same cut drawn one data brick per pass, composited front to back (no "
+          "occlusion queries, no feedback). --stats names the one used");
+  if (command == SceneCommand::Render)
+    addEnumOption(
+        app, "--brute-stage", o.bruteStage, kBruteStageNames,
+        "with --backend brute: the shader stage its rays are cast in; auto: the one --backend auto "
+        "picks for the octree ray caster on this GL renderer (compute on hardware GPUs, fragment on "
+        "software rasterizers), so that the two are compared in the same stage. --stats names it "
+        "(stage)")
+        ->default_str("auto");
   addEnumOption(
       app, "--gradients", o.gradients, kGradientNames,
       "DVR gradients: stored (derived at upload, one lookup per sample, 8 more bytes per pool texel) "
@@ -142,6 +157,10 @@ glm::dvec3 orbitOf(const RenderOptions& o) {
 
 void checkSceneOptions(const RenderOptions& o) {
   checkBrickOption(o.input, o.brick);
+  if (o.bruteStage && o.backend != RenderBackend::Brute)
+    throw UsageError("--brute-stage " + std::string(renderBackendName(*o.bruteStage)) +
+                     " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
+                     "compute");
   if (!eyeTargetCamera(o)) orbitOf(o);
 }
 

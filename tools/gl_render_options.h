@@ -32,6 +32,8 @@ extern const std::vector<std::pair<std::string, RenderMode>> kModeNames;
 extern const std::vector<std::pair<std::string, bool>> kOnOffNames;
 extern const std::vector<std::pair<std::string, GradientSource>> kGradientNames;
 std::vector<std::pair<std::string, RenderBackend>> backendNames();
+// The names of `ropecast render --brute-stage`: auto, fragment, compute.
+extern const std::vector<std::pair<std::string, RenderBackend>> kBruteStageNames;
 
 // Which command the scene options are for: the viewer has no brute-force backend (render's benchmark
 // baseline).
@@ -41,8 +43,9 @@ enum class SceneCommand { Render, View };
 // ...), not the input.
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command);
 
-// The scene options that cannot go together or cannot be a camera (--brick with a store, --eye without
-// --target, an eye on its target, an orbit of no distance), before any file is read: throws UsageError.
+// The scene options that cannot go together or cannot be a camera (--brick with a store, --brute-stage
+// without --backend brute, --eye without --target, an eye on its target, an orbit of no distance), before any
+// file is read: throws UsageError.
 void checkSceneOptions(const RenderOptions& o);
 
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).

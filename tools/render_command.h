@@ -28,6 +28,8 @@ struct RenderOptions {
   double fov = 40.0;
   std::vector<double> background{0.0, 0.0, 0.0};
   RenderBackend backend = RenderBackend::Auto;
+  // --brute-stage: the entry point of --backend brute, Auto, Fragment or Compute; unset: not given (Auto).
+  std::optional<RenderBackend> bruteStage;
   GradientSource gradients = GradientSource::Stored;
   std::string output, exr, depth, stats;
   bool reference = false;

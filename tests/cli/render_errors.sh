@@ -56,6 +56,12 @@ expect_usage "size not WxH" "--size" "$vol" --size 512
 expect_usage "bad mode" "--mode" "$vol" --mode foo
 expect_usage "bad backend" "--backend: vulkan not in {auto,fragment,compute,brute,multipass}" "$vol" --backend vulkan
 expect_failure "backend by number" "--backend: 1 not in" "$vol" --backend 1
+expect_usage "bad brute stage" "--brute-stage: vertex not in {auto,fragment,compute}" "$vol" --backend brute \
+  --brute-stage vertex
+expect_usage "brute stage without brute force" "--brute-stage compute applies to --backend brute" "$vol" \
+  --brute-stage compute
+expect_usage "brute stage with the octree ray caster" "--brute-stage fragment applies to --backend brute" "$vol" \
+  --backend compute --brute-stage fragment
 expect_usage "bad gradients" "--gradients" "$vol" --gradients sobel
 expect_usage "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
 expect_usage "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0

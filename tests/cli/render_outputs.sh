@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `ropecast render` end to end: every output it promises (PNG, EXR, depth EXR, --stats lines with their fields),
-# stores and procedural inputs, both backends, --reference, the progressive modes (--frames, --converge,
-# --path, --every), and the progress line on a terminal.
+# stores and procedural inputs, the backends (brute force in both shader stages), --reference, the progressive
+# modes (--frames, --converge, --path, --every), and the progress line on a terminal.
 # Usage: bash render_outputs.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -65,6 +65,20 @@ run "brute backend" "$ropecast" render $small -o "$dir/b.png" --backend brute --
 grep -q '"backend":"brute"' "$dir/b.jsonl" || fail "--backend brute: stats say $(cat "$dir/b.jsonl")"
 p=$(psnr "$dir/fr.png" "$dir/c.png")
 [ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50 || fail "fragment vs compute PSNR $p dB < 50"
+# Brute force in either shader stage (--brute-stage), named by --stats as "stage"; by default in the stage the
+# octree ray caster resolves --backend auto to, and the two stages give one image.
+stage_of() { python3 -c 'import json, sys; print(json.loads(open(sys.argv[1]).readline())["stage"])' "$1"; }
+[ "$(stage_of "$dir/b.jsonl")" = "$(stage_of "$dir/a.jsonl")" ] ||
+  fail "--backend brute runs in stage $(stage_of "$dir/b.jsonl"), the auto ray caster in $(stage_of "$dir/a.jsonl")"
+run "brute backend, compute stage" "$ropecast" render $small -o "$dir/bc.png" --backend brute --brute-stage compute \
+  --stats "$dir/bc.jsonl"
+grep -q '"backend":"brute"' "$dir/bc.jsonl" && grep -q '"stage":"compute"' "$dir/bc.jsonl" ||
+  fail "--backend brute --brute-stage compute: stats say $(cat "$dir/bc.jsonl")"
+run "brute backend, fragment stage" "$ropecast" render $small -o "$dir/bf.png" --backend brute --brute-stage fragment \
+  --stats "$dir/bf.jsonl"
+grep -q '"stage":"fragment"' "$dir/bf.jsonl" || fail "--brute-stage fragment: stats say $(cat "$dir/bf.jsonl")"
+p=$(psnr "$dir/bf.png" "$dir/bc.png")
+[ -z "$p" ] || [ "$p" = "inf" ] || at_least "$p" 50 || fail "brute force fragment vs compute PSNR $p dB < 50"
 
 # A converted store renders, and --reference (CPU brute force) agrees with the octree image.
 run "convert" "$ropecast" convert procedural:sphere:48 --brick 16 -o "$dir/s.rcast" --quiet

@@ -1,11 +1,15 @@
-// The brute-force baseline of bench/render_vs_brute.sh (render/brute_force_pass) against the rope ray caster
-// on a cut of full-resolution leaves: the same image up to rounding (>= 35 dB, under 0.5% of the pixels off
-// by more than 0.05), iso and DVR, so that the benchmark compares two renderers of the same picture.
+// The brute-force baseline of bench/render_vs_brute.sh (render/brute_force_pass) in each of its entry points:
+// against the rope ray caster in the same shader stage on a cut of full-resolution leaves, the same image up
+// to rounding (>= 35 dB, under 0.5% of the pixels off by more than 0.05), iso and DVR, so that the benchmark
+// compares two renderers of the same picture; and its compute entry point against its fragment one, the same
+// image as the ray caster's two entry points give.
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "core/transfer_function.h"
 #include "render/brute_force_pass.h"
 #include "render/frame_renderer.h"
@@ -15,45 +19,55 @@
 namespace ropecast {
 namespace {
 
-TEST(BruteForce, MatchesTheRopeRayCasterAtFullResolution) {
+// A transfer function with opaque and translucent parts over the Marschner-Lobb values (stored 0..255).
+TfTable bruteForceTestTf(const BrickSourceInfo& info) {
+  return TfTable::bake(
+      TransferFunction({TfPoint{40, {0.8, 0.3, 0.1, 0.0}}, TfPoint{140, {0.9, 0.8, 0.3, 0.1}},
+                        TfPoint{255, {0.3, 0.6, 1.0, 0.6}}}),
+      info.mapping, 255);
+}
+
+struct BruteForceVariant {
+  RenderMode mode;
+  GradientSource gradients;
+  const char* name;
+};
+constexpr BruteForceVariant kBruteForceVariants[] = {
+    {RenderMode::Iso, GradientSource::Computed, "iso"},
+    {RenderMode::Dvr, GradientSource::Computed, "dvr computed gradients"},
+    {RenderMode::Dvr, GradientSource::Stored, "dvr stored gradients"}};
+
+class BruteForceStageTest : public ::testing::TestWithParam<RenderBackend> {};
+
+TEST_P(BruteForceStageTest, MatchesTheRopeRayCasterAtFullResolution) {
+  const RenderBackend stage = GetParam();
   GlContext& gl = test::sharedGlContext();
   // 48^3 in 16^3 bricks: 27 level-0 leaves.
   const auto source = openProceduralBricks("procedural:marschner-lobb:48", 16);
   const BrickSourceInfo& info = source->info();
-  const TfTable tf =
-      TfTable::bake(TransferFunction({TfPoint{40, {0.8, 0.3, 0.1, 0.0}}, TfPoint{140, {0.9, 0.8, 0.3, 0.1}},
-                                      TfPoint{255, {0.3, 0.6, 1.0, 0.6}}}),
-                    info.mapping, 255);
+  const TfTable tf = bruteForceTestTf(info);
   FrameRendererConfig config;
   config.storedGradients = true;  // DVR below runs with both gradient sources
   FrameRenderer ropes(gl.info(), *source, config);
   BruteForcePass brute(*source);
   EXPECT_EQ(brute.volumeBytes(), 48u * 48u * 48u);
 
-  struct Variant {
-    RenderMode mode;
-    GradientSource gradients;
-    const char* name;
-  };
-  for (Variant v : {Variant{RenderMode::Iso, GradientSource::Computed, "iso"},
-                    Variant{RenderMode::Dvr, GradientSource::Computed, "dvr computed gradients"},
-                    Variant{RenderMode::Dvr, GradientSource::Stored, "dvr stored gradients"}}) {
-    const RenderMode mode = v.mode;
+  for (const BruteForceVariant& v : kBruteForceVariants) {
     for (double azimuth : {30.0, 200.0}) {
       FrameRequest request;
       request.camera = orbitCamera(azimuth, 25.0, 2.2, glm::dvec3(0.0), glm::dvec3(48.0));
       request.width = request.height = 96;
-      request.params.mode = mode;
+      request.params.mode = v.mode;
       request.params.gradients = v.gradients;
       request.params.isoValue = 127.5;
       request.params.background = {0.1, 0.1, 0.2};
+      request.params.backend = stage;  // both renderers in the same shader stage
       request.tf = &tf;
-      request.voxelsPerPixel = 64.0;  // a voxel may cover 1/64 pixel at most: full resolution everywhere
       request.synchronous = true;
       request.voxelsPerPixel = 0.02;  // first a coarse cut, for contrast
       ropes.render(request);
       const FloatImage coarse = ropes.readColor();
-      request.voxelsPerPixel = 64.0;
+      request.voxelsPerPixel = 64.0;  // a voxel may cover 1/64 pixel at most: full resolution everywhere
       ropes.render(request);
 
       BruteForceFrame frame;
@@ -73,8 +87,8 @@ TEST(BruteForce, MatchesTheRopeRayCasterAtFullResolution) {
             ++apart;
             break;
           }
-      std::printf("brute force vs ropes, %s az %.0f: %.1f dB, %zu pixels off by > 0.05\n", v.name, azimuth,
-                  psnr, apart);
+      std::printf("brute force vs ropes (%s), %s az %.0f: %.1f dB, %zu pixels off by > 0.05\n",
+                  std::string(renderBackendName(stage)).c_str(), v.name, azimuth, psnr, apart);
       // Rounding (sample positions in cube vs world coordinates) flips a few grazing isosurface crossings and
       // DVR samples at box boundaries: a handful of pixels, never a pattern.
       EXPECT_GE(psnr, 35.0) << v.name << " az " << azimuth;
@@ -91,6 +105,76 @@ TEST(BruteForce, MatchesTheRopeRayCasterAtFullResolution) {
       double covered = 0.0;
       for (size_t i = 3; i < a.pixels.size(); i += 4) covered += a.pixels[i] > 0.05 ? 1.0 : 0.0;
       EXPECT_GT(covered, 0.1 * a.width * a.height);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Stages, BruteForceStageTest,
+                         ::testing::Values(RenderBackend::Fragment, RenderBackend::Compute),
+                         [](const auto& info) { return std::string(renderBackendName(info.param)); });
+
+// The two entry points run one castBrute (shaders/brute_force_common.glsl): the same color and depth, on an
+// image that is not a multiple of the workgroup size, from outside the volume and from inside it.
+TEST(BruteForce, ComputeEntryPointGivesTheFragmentImage) {
+  test::sharedGlContext();
+  const auto source = openProceduralBricks("procedural:marschner-lobb:48", 16);
+  const TfTable tf = bruteForceTestTf(source->info());
+  BruteForcePass brute(*source);
+  Camera inside;
+  inside.eye = {30.0, 20.0, 26.0};
+  inside.target = {5.0, 40.0, 10.0};
+  for (const BruteForceVariant& v : kBruteForceVariants)
+    for (const Camera& camera : {orbitCamera(70.0, 15.0, 1.8, glm::dvec3(0.0), glm::dvec3(48.0)), inside}) {
+      BruteForceFrame frame;
+      frame.camera = camera;
+      frame.width = 75;
+      frame.height = 66;
+      frame.params.mode = v.mode;
+      frame.params.gradients = v.gradients;
+      frame.params.isoValue = 127.5;
+      frame.params.background = {0.3, 0.3, 0.3};
+      frame.tf = &tf;
+      frame.params.backend = RenderBackend::Fragment;
+      brute.render(frame);
+      const FloatImage fragColor = brute.readColor(), fragDepth = brute.readDepth();
+      frame.params.backend = RenderBackend::Compute;
+      brute.render(frame);
+      const FloatImage compColor = brute.readColor(), compDepth = brute.readDepth();
+      EXPECT_GE(brute.lastRaycastMs(), 0.0);
+      const char* where = camera.eye == inside.eye ? "inside" : "outside";
+      const double colorApart = test::maxAbsDifference(fragColor, compColor, 4);
+      const double depthApart = test::maxAbsDifference(fragDepth, compDepth, 1);
+      std::printf("brute force compute vs fragment, %s, %s: color %.3g, depth %.3g apart\n", v.name, where,
+                  colorApart, depthApart);
+      // One program on llvmpipe; a GPU's compiler treats the two stages apart (multiply-adds fused
+      // differently), which must stay below one step of an 8-bit image.
+      EXPECT_LE(colorApart, test::onHardwareGpu() ? 1.0 / 255.0 : 1e-5) << v.name << ", " << where;
+      EXPECT_LE(depthApart, 1e-3) << v.name << ", " << where;
+      // Not a blank image: something was hit (and, from outside, something missed).
+      int covered = 0, empty = 0;
+      for (uint32_t y = 0; y < frame.height; ++y)
+        for (uint32_t x = 0; x < frame.width; ++x) (compColor.at(x, y, 3) > 0.0f ? covered : empty)++;
+      EXPECT_GT(covered, 500) << v.name << ", " << where;
+      if (camera.eye != inside.eye) {
+        EXPECT_GT(empty, 200) << v.name;
+      }
+    }
+}
+
+TEST(BruteForce, RefusesAnEntryPointItDoesNotHave) {
+  test::sharedGlContext();
+  const auto source = openProceduralBricks("procedural:sphere:16", 16);
+  BruteForcePass brute(*source);
+  BruteForceFrame frame;
+  frame.camera = orbitCamera(30.0, 20.0, 3.0, glm::dvec3(0.0), glm::dvec3(16.0));
+  frame.width = frame.height = 8;
+  for (RenderBackend backend : {RenderBackend::Auto, RenderBackend::Brute, RenderBackend::Multipass}) {
+    frame.params.backend = backend;
+    try {
+      brute.render(frame);
+      ADD_FAILURE() << renderBackendName(backend) << " was taken";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("params.backend"), std::string::npos) << e.what();
     }
   }
 }

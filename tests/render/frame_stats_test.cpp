@@ -16,7 +16,8 @@ TEST(FrameStats, WritesOneJsonObjectPerLine) {
   s.cacheHits = 4;
   s.gpuPoolUsedBytes = 1 << 20;
   s.converged = true;
-  s.backend = RenderBackend::Compute;
+  s.backend = RenderBackend::Brute;
+  s.stage = RenderBackend::Compute;
   const std::string line = toJsonLine(s);
   EXPECT_EQ(line.find('\n'), std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(line);
@@ -25,7 +26,8 @@ TEST(FrameStats, WritesOneJsonObjectPerLine) {
   EXPECT_EQ(j.at("cache_hits"), 4);
   EXPECT_EQ(j.at("gpu_pool_used"), 1 << 20);
   EXPECT_EQ(j.at("converged"), true);
-  EXPECT_EQ(j.at("backend"), "compute");
+  EXPECT_EQ(j.at("backend"), "brute");
+  EXPECT_EQ(j.at("stage"), "compute");
   for (const char* field :
        {"frame_ms", "raycast_ms", "index_ms", "leaves", "bricks_resident", "bricks_uploaded",
         "bytes_uploaded", "requests_pending", "cache_misses", "cpu_cache_bytes"}) {

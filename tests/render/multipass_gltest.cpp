@@ -87,6 +87,7 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
   }
   EXPECT_EQ(single.backend, RenderBackend::Fragment);
   EXPECT_EQ(multi.backend, RenderBackend::Multipass);
+  EXPECT_EQ(multi.stage, RenderBackend::Fragment);  // its blocks are drawn
   EXPECT_EQ(single.drawCalls, 1u);
   EXPECT_EQ(multi.drawCalls, dataLeaves);
   EXPECT_EQ(multi.glDrawCalls, 2 * dataLeaves + 1);
