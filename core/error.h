@@ -15,9 +15,9 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// A request that cannot run as written, whatever the files hold: options that exclude each other, a value out
-// of its range, a budget too small for one brick, a malformed procedural spec. The CLI exits 2 for it, as for
-// its parser's own usage errors, and 1 for a plain Error.
+// A request that cannot run as written, however sound its files: options that exclude each other, a value out
+// of its range, a budget too small for one of the input's bricks, a malformed procedural spec. The CLI exits
+// 2 for it, as for its parser's own usage errors, and 1 for a plain Error.
 class UsageError : public Error {
  public:
   using Error::Error;

@@ -5,8 +5,7 @@
 namespace ropecast {
 
 SlotTable::SlotTable(uint32_t slotCount) : slots_(slotCount) {
-  if (slotCount == 0)
-    throw UsageError("SlotTable: the GPU pool must have at least one slot (--gpu-budget too small)");
+  if (slotCount == 0) throw Error("SlotTable: the GPU pool must have at least one slot");
   for (uint32_t s = 0; s < slotCount; ++s) linkAtMostRecent(s);
 }
 

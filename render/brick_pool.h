@@ -46,7 +46,8 @@ inline constexpr uint64_t kMaxPoolSlots = uint64_t(1) << 21;
 // those of textures of the same dimensions kept beside the pool (a GradientPool), which the budget pays for
 // too. With `maxSlots` (the bricks the volume has) the grid holds at least that many slots where the budget
 // allows, and not many more: a small volume gets a small pool, not the whole budget. Never more than
-// kMaxPoolSlots. Throws ropecast::Error ("--gpu-budget ...") when not even one slot fits.
+// kMaxPoolSlots. Throws UsageError ("--gpu-budget ...") when the budget holds no slot, ropecast::Error when
+// max3DTextureSize is below the slot edge.
 BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint64_t budgetBytes,
                                 int max3DTextureSize, uint32_t extraBytesPerTexel = 0,
                                 uint64_t maxSlots = UINT64_MAX);

@@ -1,5 +1,6 @@
 #include "render/frame_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string_view>
@@ -294,9 +295,17 @@ bool FrameRenderer::redrawsConvergedImage(const FrameRequest& request, const Wor
 
 bool FrameRenderer::keepsLastImage(const FrameRequest& request, const WorkingSetFrame& plan,
                                    bool redraw) const {
-  if (redraw) return request.keepConvergedImage && !keptLastImage_;
-  return request.keepImageWhileReading && plan.uploads.empty() && plan.stats.requestsPending > 0 &&
-         drawsLastView(request);
+  if (redraw) return request.keepConvergedImage && !keptConvergedImage_;
+  // Answers age by frames, kept ones too (RayFeedbackConfig::answerLifetimeFrames): a drawn frame now and
+  // then answers again before the held answers lapse.
+  constexpr uint64_t kMaxKeptInARow = RayFeedbackConfig{}.answerLifetimeFrames / 2;
+  if (!request.keepImageWhileReading || !plan.uploads.empty() || plan.stats.requestsPending == 0 ||
+      framesKeptWhileReading_ >= kMaxKeptInARow || !drawsLastView(request))
+    return false;
+  // The drawn tree or a coarsening of it (nodes the answers collapsed), whose image the rays have drawn but
+  // for what they did not see: a node refined from bricks still in the pool needs no upload, and is drawn.
+  return std::all_of(lastInnerNodes_.begin(), lastInnerNodes_.end(),
+                     [this](const NodeKey& k) { return drawnInnerNodes_.contains(k); });
 }
 
 void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFrame& plan, FrameStats& stats) {
@@ -371,7 +380,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // nothing and casts no feedback (the answers could only repeat what is held).
   const bool redraw = redrawsConvergedImage(request, plan, cutHash, occlusion, feedback);
   const bool keep = keepsLastImage(request, plan, redraw);
-  keptLastImage_ = keep;
+  keptConvergedImage_ = keep && redraw;
+  framesKeptWhileReading_ = keep && !redraw ? framesKeptWhileReading_ + 1 : 0;
   if (keep) {
     if (occlusion) countVisibility(stats);  // of the cut it keeps, as the last frame counted them
     finishStats(request, plan, stats);
@@ -459,6 +469,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   stats.converged = cutConverged(stats.converged, occlusion, feedback);
   lastDrawn_ = request;
   lastDrawnEmptinessKey_ = emptinessKey_;
+  if (request.keepImageWhileReading) drawnInnerNodes_ = lastInnerNodes_;
   stats.indexMs = indexMs;
   stats.uploadMs = uploadMs;
   // Waits for the GPU: the frame time includes the ray cast.

@@ -88,9 +88,11 @@ struct FrameRequest {
   bool keepConvergedImage = false;
   // For a caller that reads the targets only once the view is converged and waits for pending reads between
   // frames (render --converge): an asynchronous frame that uploads nothing while reads are pending, on the
-  // last drawn frame's view, keeps that image instead of drawing it (FrameStats::drawn false). Its cut can
-  // differ from the last one's only by nodes the answers collapsed, which the rays did not see; the frame
-  // that uploads what is read draws, and a converged cut is always one that was drawn.
+  // last drawn frame's view, whose tree is the drawn one or a coarsening of it (nodes the answers collapsed,
+  // which the rays did not see), keeps that image instead of drawing it (FrameStats::drawn false); at most a
+  // few such frames in a row, so that the rays' answers are renewed before they lapse. The frame that
+  // uploads what is read draws, and a converged cut is always one that was drawn. Independent of
+  // keepConvergedImage's rule against two kept frames in a row, which is about kept converged frames.
   bool keepImageWhileReading = false;
 };
 
@@ -211,7 +213,10 @@ class FrameRenderer {
   uint64_t cutChangedFrame_ = 0;
   std::optional<FrameRequest> lastDrawn_;  // the request of the last frame drawn
   uint64_t lastDrawnEmptinessKey_ = 0;     // its transfer function's content too (emptinessKeyOf)
-  bool keptLastImage_ = false;             // the last frame kept the image before it
+  bool keptConvergedImage_ = false;        // the last frame kept the converged image before it
+  uint64_t framesKeptWhileReading_ = 0;    // frames in a row that kept the image while reading
+  // The inner nodes of the last drawn frame's tree (with FrameRequest::keepImageWhileReading only).
+  std::unordered_set<NodeKey, NodeKeyHash> drawnInnerNodes_;
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the

@@ -28,6 +28,7 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "reference/image_io.h"
+#include "store/procedural.h"
 #include "tools/command.h"
 #include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
@@ -87,6 +88,13 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
   if (!c.input.starts_with("procedural:") && !fs::is_regular_file(c.input))
     throw SuiteError(where + ": input " + c.input + ": no such store file");
+  if (c.input.starts_with("procedural:")) {
+    try {
+      parseProceduralField(std::string_view(c.input).substr(std::string_view("procedural:").size()));
+    } catch (const UsageError& e) {
+      throw SuiteError(where + ": input: " + e.what());
+    }
+  }
   try {
     checkSceneOptions(o);
   } catch (const UsageError& e) {

@@ -76,9 +76,10 @@ expect 1 "a one-channel golden fails" "expected an RGB or RGBA image" suite/suit
 expect 0 "--update replaces it" "1 goldens updated" suite/suite.json --update
 expect 0 "then it passes" "3 cases, 0 failed" suite/suite.json
 
-# A render that fails is a failing case, not a bad suite.
+# A render that fails is a failing case, not a bad suite: here a pool too small for one of the input's bricks,
+# which only the render finds.
 cat > bad_render.json <<'JSON'
-{"cases": [{"name": "r", "input": "procedural:nothing:32", "options": [], "golden": "r.png"}]}
+{"cases": [{"name": "r", "input": "procedural:sphere:32", "options": ["--gpu-budget", "1K"], "golden": "r.png"}]}
 JSON
 expect 1 "a failing render fails its case" "render failed" bad_render.json
 
@@ -90,6 +91,7 @@ bad() {  # bad NAME PATTERN JSON
 bad "not JSON" "not valid JSON" '{"cases": ['
 bad "no cases" 'expected "cases"' '{"tolerances": {}}'
 bad "unknown key" "unknown key 'golde'" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "golde": "x.png"}]}'
+bad "malformed procedural input" "unknown name 'nothing'" '{"cases": [{"name": "x", "input": "procedural:nothing:32", "golden": "x.png"}]}'
 bad "missing golden" 'missing "golden"' '{"cases": [{"name": "x", "input": "procedural:sphere:16"}]}'
 bad "bad option" "--mode" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--mode", "foo"], "golden": "x.png"}]}'
 bad "option writing a file" "--stats writes a file" \

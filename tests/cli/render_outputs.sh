@@ -105,6 +105,7 @@ run "frames" "$ropecast" render $small -o "$dir/f.png" --frames 3 --stats "$dir/
 run "converge" "$ropecast" render $small -o "$dir/v.png" --converge --io-delay-ms 5 --upload-budget 64K \
   --stats "$dir/v.jsonl" --every 1
 tail -n 1 "$dir/v.jsonl" | grep -q '"converged":true' || fail "--converge: last frame not converged"
+! grep -q "warning" "$dir/err.txt" || fail "--converge on a view the pool holds warned: $(cat "$dir/err.txt")"
 # --every 1 writes each frame, the last included: as many files as stats lines, the last one the -o image.
 [ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -eq "$(wc -l < "$dir/v.jsonl")" ] ||
   fail "--every 1 wrote $(ls "$dir"/v_*.png 2>/dev/null | wc -l) frames for $(wc -l < "$dir/v.jsonl") stats lines"

@@ -538,8 +538,8 @@ TEST(WorkingSet, RejectsBudgetsThatCannotWork) {
   WorkingSetConfig c = config();
   c.uploadBudgetBytes = src.brickBytes() - 1;
   EXPECT_THROW(WorkingSet(src, c), UsageError);  // exit 2 in the CLI
-  c = config(0);
-  EXPECT_THROW(WorkingSet(src, c), UsageError);
+  c = config(0);  // a pool of no slots: a caller's mistake, not an option's (BrickPool refuses such budgets)
+  EXPECT_THROW(WorkingSet(src, c), Error);
   c = config();
   c.cpuCacheBytes = 10;  // below one brick too: the message gives the least that works
   try {

@@ -119,7 +119,9 @@ TEST(BruteForce, ComputeEntryPointGivesTheFragmentImage) {
   test::sharedGlContext();
   const auto source = openProceduralBricks("procedural:marschner-lobb:48", 16);
   const TfTable tf = bruteForceTestTf(source->info());
-  BruteForcePass brute(*source);
+  // A pass per stage: in one, the compute image would lie over the fragment one, and pixels it missed would
+  // pass for its own.
+  BruteForcePass fragment(*source), compute(*source);
   Camera inside;
   inside.eye = {30.0, 20.0, 26.0};
   inside.target = {5.0, 40.0, 10.0};
@@ -135,12 +137,12 @@ TEST(BruteForce, ComputeEntryPointGivesTheFragmentImage) {
       frame.params.background = {0.3, 0.3, 0.3};
       frame.tf = &tf;
       frame.params.backend = RenderBackend::Fragment;
-      brute.render(frame);
-      const FloatImage fragColor = brute.readColor(), fragDepth = brute.readDepth();
+      fragment.render(frame);
+      const FloatImage fragColor = fragment.readColor(), fragDepth = fragment.readDepth();
       frame.params.backend = RenderBackend::Compute;
-      brute.render(frame);
-      const FloatImage compColor = brute.readColor(), compDepth = brute.readDepth();
-      EXPECT_GE(brute.lastRaycastMs(), 0.0);
+      compute.render(frame);
+      const FloatImage compColor = compute.readColor(), compDepth = compute.readDepth();
+      EXPECT_GE(compute.lastRaycastMs(), 0.0);
       const char* where = camera.eye == inside.eye ? "inside" : "outside";
       const double colorApart = test::maxAbsDifference(fragColor, compColor, 4);
       const double depthApart = test::maxAbsDifference(fragDepth, compDepth, 1);
