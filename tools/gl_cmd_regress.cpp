@@ -84,6 +84,7 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
                      ": options: --target-frame-ms adapts the step to this machine's frame times, so the "
                      "image would differ from run to run; give --step instead");
   o.quiet = true;  // cases render side by side (--jobs): their progress lines would mix
+  o.messagePrefix = "case '" + c.name + "': ";  // as the lines of a child process are shown (renderCases)
   o.input = c.input;
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
   if (!c.input.starts_with("procedural:") && !fs::is_regular_file(c.input))

@@ -223,10 +223,10 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last) {
   if (last.leavesPoolFull == 0) return;
   std::fprintf(
       stderr,
-      "ropecast render: warning: %llu leaves stay coarser than --voxels-per-pixel %g asks: the GPU pool "
+      "%sropecast render: warning: %llu leaves stay coarser than --voxels-per-pixel %g asks: the GPU pool "
       "has no room for their children beside the %llu bricks it holds (%.1f MiB); raise --gpu-budget "
       "for the full detail of this view\n",
-      static_cast<unsigned long long>(last.leavesPoolFull), o.voxelsPerPixel,
+      o.messagePrefix.c_str(), static_cast<unsigned long long>(last.leavesPoolFull), o.voxelsPerPixel,
       static_cast<unsigned long long>(last.bricksResident), mebibytes(last.gpuPoolUsedBytes));
 }
 
@@ -287,7 +287,8 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     if (last) {
       progress.finish();  // the line ends before any message
       if (o.converge && !stats.converged)
-        std::fprintf(stderr, "ropecast render: not converged after %u frames (--max-frames)\n", frame + 1);
+        std::fprintf(stderr, "%sropecast render: not converged after %u frames (--max-frames)\n",
+                     o.messagePrefix.c_str(), frame + 1);
       warnIfPoolLimited(o, stats);
       break;
     }

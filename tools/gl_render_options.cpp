@@ -200,9 +200,9 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.gradients = o.gradients;
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
     std::fprintf(stderr,
-                 "ropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
+                 "%sropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "
                  "isosurface is empty\n",
-                 command, params.isoValue, lo, hi);
+                 o.messagePrefix.c_str(), command, params.isoValue, lo, hi);
   return params;
 }
 

@@ -54,6 +54,9 @@ struct RenderOptions {
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
   uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
   bool quiet = false;  // no progress line (there is one only when stderr is a terminal)
+  // Not an option: what starts each warning line (regress renders its cases in one process and names the
+  // case there, as it does for the lines of a child process).
+  std::string messagePrefix;
 };
 
 // Adds every option of `ropecast render` but the input and -o to `app`, bound to `o`.

@@ -138,6 +138,7 @@ expect 2 "a report folder that cannot be made" "--report /sys/rep: cannot create
 # A render's warning reaches the user with its case, rendered in this process or in a child (--jobs).
 printf '{"cases": [{"name": "capped", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--max-frames", "1"], "golden": "capped.png"}]}' > capped.json
 expect 0 "a case's warning (--jobs 2)" "case 'capped': ropecast render: not converged after 1 frames" capped.json --jobs 2 --update
+expect 0 "a case's warning (--jobs 1)" "case 'capped': ropecast render: not converged after 1 frames" capped.json --jobs 1 --update-all
 
 # Ctrl-C: the temporary folder of the renders goes with the run (the process group gets the signal, as from a
 # terminal). Slow cases (every read 200 ms) are still rendering when the signal comes.
