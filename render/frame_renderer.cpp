@@ -371,6 +371,10 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (!request.synchronous) input.uploadBudgetBytes = uploadPacer_.allowanceBytes();
   WorkingSetFrame plan = request.synchronous ? workingSet_->updateUntilConverged(input, onLoadProgress)
                                              : workingSet_->update(input);
+  // The last frame's tree, when that frame drew, is the tree a frame kept while reading must coarsen: moved
+  // rather than copied at every drawn frame.
+  const bool lastFrameDrew = lastDrawn_ && !keptConvergedImage_ && framesKeptWhileReading_ == 0;
+  if (request.keepImageWhileReading && lastFrameDrew) std::swap(drawnInnerNodes_, lastInnerNodes_);
   lastInnerNodes_.clear();
   for (const PlannedLeaf& leaf : plan.leaves)
     for (NodeKey k = leaf.key; k.depth > 0 && lastInnerNodes_.insert(k.parent()).second;) k = k.parent();
@@ -469,7 +473,6 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   stats.converged = cutConverged(stats.converged, occlusion, feedback);
   lastDrawn_ = request;
   lastDrawnEmptinessKey_ = emptinessKey_;
-  if (request.keepImageWhileReading) drawnInnerNodes_ = lastInnerNodes_;
   stats.indexMs = indexMs;
   stats.uploadMs = uploadMs;
   // Waits for the GPU: the frame time includes the ray cast.

@@ -215,7 +215,8 @@ class FrameRenderer {
   uint64_t lastDrawnEmptinessKey_ = 0;     // its transfer function's content too (emptinessKeyOf)
   bool keptConvergedImage_ = false;        // the last frame kept the converged image before it
   uint64_t framesKeptWhileReading_ = 0;    // frames in a row that kept the image while reading
-  // The inner nodes of the last drawn frame's tree (with FrameRequest::keepImageWhileReading only).
+  // The inner nodes of the last drawn frame's tree, once a later frame has begun (with
+  // FrameRequest::keepImageWhileReading only).
   std::unordered_set<NodeKey, NodeKeyHash> drawnInnerNodes_;
 };
 

@@ -47,10 +47,12 @@ class Verifier {
   }
 
  private:
-  void problem(const NodeKey& key, const std::string& what) {
+  void problem(const std::string& what) {
     ++report_.problemCount;
-    if (report_.problems.size() < maxProblems_)
-      report_.problems.push_back("node " + Store::describeNode(key) + ": " + what);
+    if (report_.problems.size() < maxProblems_) report_.problems.push_back(what);
+  }
+  void problem(const NodeKey& key, const std::string& what) {
+    problem("node " + Store::describeNode(key) + ": " + what);
   }
 
   // The metadata's valueRange (data units; the default isovalue and transfer function come from it) is the
@@ -64,14 +66,10 @@ class Verifier {
     const bool matches = m.volume.type == SampleType::Float32
                              ? lo >= *m.volume.valueMin - tolerance && hi <= *m.volume.valueMax + tolerance
                              : lo == *m.volume.valueMin && hi == *m.volume.valueMax;
-    if (!matches) {
-      ++report_.problemCount;
-      if (report_.problems.size() < maxProblems_)
-        report_.problems.push_back("metadata valueRange [" + std::to_string(*m.volume.valueMin) + ", " +
-                                   std::to_string(*m.volume.valueMax) +
-                                   "] does not match the root's range [" + std::to_string(lo) + ", " +
-                                   std::to_string(hi) + "] in data units");
-    }
+    if (!matches)
+      problem("metadata valueRange [" + std::to_string(*m.volume.valueMin) + ", " +
+              std::to_string(*m.volume.valueMax) + "] does not match the root's range [" +
+              std::to_string(lo) + ", " + std::to_string(hi) + "] in data units");
   }
 
   // The node's decoded brick, or nullptr for Empty nodes and bricks that failed to decode (reported once).
