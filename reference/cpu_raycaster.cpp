@@ -22,6 +22,8 @@ namespace ropecast {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The float rounding of the shader's distance, in texels, from a leaf's last sample to its end.
+constexpr double kLeafEndTexelTolerance = 1e-3;
 
 // Per-frame constants of the ray loop (docs/RENDERING.md).
 struct FrameConstants {
@@ -93,6 +95,8 @@ class RayIntegrator {
     const double tBegin = fromEntry ? std::min(tEnter, t0_) : tEnter;
     bool sampled = false;
     for (double t = t0_ + k * dt; t < tStop; k += 1.0, t = t0_ + k * dt) {
+      tLastSample_ = t;
+      anySample_ = true;
       const glm::dvec3 x = ray_.origin + t * ray_.dir;
       const double v = sampler.value(x);
       if (visit) {
@@ -109,22 +113,36 @@ class RayIntegrator {
         visit->samples.push_back(m);
       }
       if (fc_.params.mode == RenderMode::Iso) {
-        const double f = v - fc_.isoNormalized;
-        if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
-          hitIso(sampler, tBegin, t, cell);
-          ended_ = true;
-          if (visit) endSample_ = visit->samples.size() - 1;
+        if (isoSample(sampler, tBegin, t, v - fc_.isoNormalized, cell, visit)) {
           if (!visit) return false;
           continue;
         }
-        hasPrev_ = true;
-        tPrev_ = t;
-        fPrev_ = f;
         sampled = true;
       } else if (compositeDvr(sampler, x, v, dt, cell)) {
         ended_ = true;
         if (visit) endSample_ = visit->samples.size() - 1;
         if (!visit) return false;
+      }
+    }
+    // As shaders/compositing.glsl marchIso: one more sample at the leaf's end when the ray's last sample lies
+    // more than a texel of this leaf's level before it (traced rays: the last sample, as if the ray had gone
+    // on). The shader measures that distance in float: within rounding of a texel, the trace keeps the sample
+    // and marks it.
+    if (fc_.params.mode == RenderMode::Iso && anySample_) {
+      const glm::dvec3 gap = glm::abs(ray_.dir * (tStop - tLastSample_) / cell);
+      const double texels = std::max({gap.x, gap.y, gap.z});
+      const bool taken = texels > 1.0;
+      const bool marginal = std::abs(texels - 1.0) <= kLeafEndTexelTolerance;
+      if (taken || (visit && marginal)) {
+        const double f = sampler.value(ray_.origin + tStop * ray_.dir) - fc_.isoNormalized;
+        if (visit) visit->samples.push_back({tStop, f, 0.0, false, true, taken, marginal});
+        if (taken) {
+          tLastSample_ = tStop;
+          if (!ended_) {
+            if (isoSample(sampler, tBegin, tStop, f, cell, visit)) return false;
+            sampled = true;
+          }
+        }
       }
     }
     // The leaf of the previous sample, for a crossing found in a later leaf (only the mirror has more than
@@ -154,6 +172,23 @@ class RayIntegrator {
     const glm::dvec3 l = -ray_.dir;
     const glm::dvec3 r = glm::reflect(-l, n);
     return {glm::dot(n, l), glm::dot(r, l)};
+  }
+
+  // Takes the iso sample (t, f): at a crossing, refines and shades the hit and ends the ray (true); else it
+  // becomes the previous sample.
+  template <class Sampler>
+  bool isoSample(const Sampler& sampler, double tBegin, double t, double f, glm::dvec3 cell,
+                 const MirrorLeafVisit* visit) {
+    if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
+      hitIso(sampler, tBegin, t, cell);
+      ended_ = true;
+      if (visit) endSample_ = visit->samples.size() - 1;
+      return true;
+    }
+    hasPrev_ = true;
+    tPrev_ = t;
+    fPrev_ = f;
+    return false;
   }
 
   // The crossing between the previous sample and the sample at tb of the leaf `sampler` entered at tBegin,
@@ -253,6 +288,9 @@ class RayIntegrator {
   double traceAlpha_ = 0.0;  // traced rays: the opacity accumulated on past the end
   bool hasPrev_ = false;
   double tPrev_ = 0.0, fPrev_ = 0.0;
+  // The ray's last sample (iso), which traced rays follow on past the end: tPrev_ until the ray ends.
+  bool anySample_ = false;
+  double tLastSample_ = 0.0;
   // The mirror's leaf of the previous sample: its brick, where the ray left it, its cell.
   struct Before {
     BrickSampler sampler;

@@ -62,16 +62,24 @@ struct MirrorSample {
   double f = 0.0;      // iso: v - vIso
   double alpha = 0.0;  // DVR: the opacity after the sample (accumulation continued past the end)
   bool addsOpacity = false;
+  // iso: the sample at the leaf's end, after its grid samples (docs/RENDERING.md "Isosurface"), taken when
+  // the last of those lies more than a texel before the end. Traced also when that distance is within
+  // rounding of a texel (leafEndMarginal), where the shader may decide otherwise; leafEndTaken says what the
+  // mirror did.
+  bool atLeafEnd = false;
+  bool leafEndTaken = false;
+  bool leafEndMarginal = false;
 };
 struct MirrorLeafVisit {
   uint32_t leafIndex = 0;  // in the Cut's leaves
   uint32_t depth = 0;
   double tEnter = 0.0;  // the traversal's [tEnter, tExit), float like the shader's
   double tExit = 0.0;
-  bool firstLeaf = false;  // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
-  double dt = 0.0;         // the leaf's step
-  double kBegin = 0.0;     // its first sample index on the grid t0 + k dt
-  std::vector<MirrorSample> samples;
+  bool firstLeaf = false;             // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
+  double dt = 0.0;                    // the leaf's step
+  double kBegin = 0.0;                // its first sample index on the grid t0 + k dt
+  std::vector<MirrorSample> samples;  // the grid samples, then the one at the leaf's end, if taken
+  size_t gridSampleCount() const { return samples.size() - (!samples.empty() && samples.back().atLeafEnd); }
 };
 struct MirrorRayTrace {
   bool entered = false;  // the ray met the volume box

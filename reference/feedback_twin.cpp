@@ -73,27 +73,38 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
         const auto near = [&](double a, double b) {
           return std::abs(a - b) <= tol.relative * (std::abs(b) + cubeExtent);
         };
-        const double kEnd = l.kBegin + double(l.samples.size());
+        const size_t gridCount = l.gridSampleCount();
+        const double kEnd = l.kBegin + double(gridCount);
         const double tStop = std::min(l.tExit, trace.t1);
-        const size_t first = rl.position[v], past = rl.position[v] + rl.count[v];
+        const size_t first = rl.position[v], pastGrid = first + gridCount, past = first + rl.count[v];
         if (!l.firstLeaf && (near(at(l.kBegin), l.tEnter) || near(at(l.kBegin - 1.0), l.tEnter))) {
           tie[v] = true;
           if (first > 0) tieSamples.insert(first - 1);
           tieSamples.insert(first);
         }
+        // A grid sample at the leaf's end also decides whether the sample at its end is taken.
         if (near(at(kEnd), tStop) || near(at(kEnd - 1.0), tStop)) {
           tie[v] = true;
-          if (past > 0) tieSamples.insert(past - 1);
+          if (pastGrid > 0) tieSamples.insert(pastGrid - 1);
+          tieSamples.insert(pastGrid);
           tieSamples.insert(past);
         }
       }
       // A leaf keeps at least one sample unless it has at most two (one lost at either border).
       for (size_t v = 0; v < leafCount; ++v) {
-        const size_t first = rl.position[v], past = rl.position[v] + rl.count[v];
-        const bool touched = tieSamples.count(first) > 0 || (past > 0 && tieSamples.count(past - 1) > 0);
-        tie[v] = (tie[v] || touched) && rl.count[v] <= 2;
+        const size_t gridCount = trace.leaves[v].gridSampleCount();
+        const size_t first = rl.position[v], pastGrid = first + gridCount;
+        const bool touched =
+            tieSamples.count(first) > 0 || (pastGrid > 0 && tieSamples.count(pastGrid - 1) > 0);
+        tie[v] = (tie[v] || touched) && gridCount <= 2;
       }
     }
+    // A sample at a leaf's end whose distance from the last grid sample is within rounding of a texel: the
+    // shader may take it or not. Exact (no tolerance): as the mirror did.
+    const bool exact = !(tol.relative > 0.0);
+    for (size_t v = 0; v < leafCount; ++v)
+      if (rl.count[v] > 0 && trace.leaves[v].samples.back().leafEndMarginal && !exact)
+        tieSamples.insert(rl.position[v] + rl.count[v] - 1);
 
     // Where the ray may end (earliest) and where it surely has ended (latest), as global sample indices.
     size_t earliest = kNever, latest = kNever;
@@ -103,6 +114,10 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
       double fPrev = 0.0;
       for (const MirrorLeafVisit& v : trace.leaves)
         for (const MirrorSample& s : v.samples) {
+          if (exact && s.atLeafEnd && !s.leafEndTaken) {
+            ++g;
+            continue;
+          }
           bool possible = false, sure = false;
           const bool uncertain = tieSamples.count(g) > 0;
           if (iso) {
@@ -133,9 +148,14 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
     bool sureRequestOpen = true, possibleRequestOpen = true;
     for (size_t v = 0; v < leafCount; ++v) {
       const MirrorLeafVisit& l = trace.leaves[v];
-      const bool isSure = rl.count[v] > 0 && rl.position[v] <= earliest && !tie[v];
+      // Its samples the shader surely takes (exact: those the mirror took), and whether it may take one more.
+      const bool endMarginal = rl.count[v] > 0 && l.samples.back().leafEndMarginal;
+      const bool endTaken = rl.count[v] > 0 && l.samples.back().leafEndTaken;
+      const size_t sureCount = l.gridSampleCount() + (endTaken && (exact || !endMarginal));
+      const bool mayTakeMore = !exact && endMarginal && !endTaken;
+      const bool isSure = sureCount > 0 && rl.position[v] <= earliest && !tie[v];
       if (rl.position[v] > latest) break;
-      if (rl.count[v] == 0 && !tie[v]) continue;  // a leaf the ray crossed between two samples
+      if (sureCount == 0 && !mayTakeMore && !tie[v]) continue;  // a leaf the ray crossed between two samples
       if (isSure) sureUsed.insert(l.leafIndex);
       possibleUsed.insert(l.leafIndex);
 

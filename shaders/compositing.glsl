@@ -28,23 +28,36 @@ struct IsoMarch {
 
 IsoMarch isoMarchBegin() { return IsoMarch(false, 0.0, 0.0, false, 0.0); }
 
-// The samples t0 + k dt of a segment, from k = kBegin while t < tEnd, up to the first crossing. True when it
-// took a sample.
+// Takes the sample at t: a crossing when its sign of f differs from the previous sample's, else the new
+// previous sample.
+void isoMarchSample(inout IsoMarch m, Segment s, float t) {
+  float f = sampleValue(segmentCoord(s, t)) - raycast.isoValue;
+  if (m.hasPrev && (f >= 0.0) != (m.fPrev >= 0.0)) {
+    m.hit = true;
+    m.tHit = t;
+  } else {
+    m.hasPrev = true;
+    m.tPrev = t;
+    m.fPrev = f;
+  }
+}
+
+// The samples t0 + k dt of a segment, from k = kBegin while t < tEnd, up to the first crossing. When the
+// march's last sample then lies more than a texel of this brick before tEnd (a step above a voxel, or a
+// corner of a leaf crossed between two samples), one more is taken at tEnd: no later sample of this brick sees
+// a crossing between them, and the next leaf's may not either, for an empty leaf takes none (its value range,
+// borders included, excludes the isovalue only within a texel of its face). True when it took a sample.
 bool marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
   bool sampled = false;
   for (float k = kBegin; !m.hit; k += 1.0) {
     float t = t0 + k * s.dt;
     if (!(t < tEnd)) break;
     sampled = true;
-    float f = sampleValue(segmentCoord(s, t)) - raycast.isoValue;
-    if (m.hasPrev && (f >= 0.0) != (m.fPrev >= 0.0)) {
-      m.hit = true;
-      m.tHit = t;
-    } else {
-      m.hasPrev = true;
-      m.tPrev = t;
-      m.fPrev = f;
-    }
+    isoMarchSample(m, s, t);
+  }
+  if (m.hasPrev && !m.hit && any(greaterThan(abs(s.texelPerT * (tEnd - m.tPrev)), vec3(1.0)))) {
+    sampled = true;
+    isoMarchSample(m, s, tEnd);
   }
   return sampled;
 }

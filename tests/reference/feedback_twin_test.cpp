@@ -52,37 +52,54 @@ TEST(FeedbackTwin, VoxelPixelsIsTheProjectedSizeOfOneVoxel) {
             feedbackVoxelPixels(1, 0.25, {1.0, 2.0, 0.5}, 60.0, 100));
 }
 
+// At a step of 2.5 voxels, leaves whose last sample lies more than a texel before their end take one more
+// sample there (docs/RENDERING.md "Isosurface"), which may be the one that ends the ray.
 TEST(FeedbackTwin, TracesLeaveTheImageUnchangedAndEndWhereTheMirrorEnded) {
   const ProceduralBricks src({ProceduralKind::Sphere, 64}, 16);
   const Cut cut = cutAtDepth(src.info().layout, 1);
   const RopeIndex index = buildRopeIndex(cut);
   const BricksBySlot bricks = readCutBricks(cut, src);
-  const CpuRenderInput in = sphereInput(2.0, 48);
-  const CpuImage plain = renderMirror(index, bricks, src.info(), in);
-  std::vector<MirrorRayTrace> traces;
-  const CpuImage traced = renderMirror(index, bricks, src.info(), in, &traces);
-  ASSERT_EQ(plain.rgba.size(), traced.rgba.size());
-  EXPECT_EQ(std::memcmp(plain.rgba.data(), traced.rgba.data(), plain.rgba.size() * sizeof(float)), 0);
-  ASSERT_EQ(traces.size(), size_t(48) * 48);
-  size_t hits = 0;
-  for (size_t i = 0; i < traces.size(); ++i) {
-    const MirrorRayTrace& t = traces[i];
-    const bool hit = plain.rgba[4 * i + 3] > 0.5f;
-    EXPECT_EQ(t.endLeaf < t.leaves.size(), hit) << "pixel " << i;
-    if (!hit) continue;
-    ++hits;
-    // The end sample is the first whose side of the isosurface differs from the previous sample's.
-    std::vector<MirrorSample> samples;
-    for (size_t v = 0; v <= t.endLeaf; ++v)
-      samples.insert(
-          samples.end(), t.leaves[v].samples.begin(),
-          t.leaves[v].samples.begin() + (v == t.endLeaf ? t.endSample + 1 : t.leaves[v].samples.size()));
-    ASSERT_GE(samples.size(), 2u);
-    for (size_t j = 1; j + 1 < samples.size(); ++j)
-      EXPECT_EQ(samples[j].f >= 0.0, samples[0].f >= 0.0) << "pixel " << i;
-    EXPECT_NE(samples.back().f >= 0.0, samples[0].f >= 0.0) << "pixel " << i;
+  for (const double step : {0.5, 2.5}) {
+    CpuRenderInput in = sphereInput(2.0, 48);
+    in.params.stepVoxels = step;
+    const CpuImage plain = renderMirror(index, bricks, src.info(), in);
+    std::vector<MirrorRayTrace> traces;
+    const CpuImage traced = renderMirror(index, bricks, src.info(), in, &traces);
+    ASSERT_EQ(plain.rgba.size(), traced.rgba.size());
+    EXPECT_EQ(std::memcmp(plain.rgba.data(), traced.rgba.data(), plain.rgba.size() * sizeof(float)), 0);
+    ASSERT_EQ(traces.size(), size_t(48) * 48);
+    size_t hits = 0, leafEndSamples = 0;
+    for (size_t i = 0; i < traces.size(); ++i) {
+      const MirrorRayTrace& t = traces[i];
+      const bool hit = plain.rgba[4 * i + 3] > 0.5f;
+      EXPECT_EQ(t.endLeaf < t.leaves.size(), hit) << "pixel " << i;
+      if (!hit) continue;
+      ++hits;
+      // The end sample is the first whose side of the isosurface differs from the previous sample's, among
+      // those the mirror took.
+      std::vector<MirrorSample> samples;
+      for (size_t v = 0; v <= t.endLeaf; ++v) {
+        const auto& leafSamples = t.leaves[v].samples;
+        const size_t count = v == t.endLeaf ? t.endSample + 1 : leafSamples.size();
+        for (size_t j = 0; j < count; ++j) {
+          if (leafSamples[j].atLeafEnd) {
+            EXPECT_EQ(j + 1, leafSamples.size()) << "pixel " << i << ": the leaf's end sample comes last";
+            ++leafEndSamples;
+          }
+          if (!leafSamples[j].atLeafEnd || leafSamples[j].leafEndTaken) samples.push_back(leafSamples[j]);
+        }
+      }
+      ASSERT_GE(samples.size(), 2u);
+      for (size_t j = 1; j + 1 < samples.size(); ++j)
+        EXPECT_EQ(samples[j].f >= 0.0, samples[0].f >= 0.0) << "pixel " << i;
+      EXPECT_NE(samples.back().f >= 0.0, samples[0].f >= 0.0) << "pixel " << i;
+    }
+    EXPECT_GT(hits, 500u);
+    if (step > 1.0)
+      EXPECT_GT(leafEndSamples, 0u);
+    else
+      EXPECT_EQ(leafEndSamples, 0u);
   }
-  EXPECT_GT(hits, 500u);
 }
 
 TEST(FeedbackTwin, TheSphereHidesTheLeavesBehindItAndNearLeavesAreRequested) {

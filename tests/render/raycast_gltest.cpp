@@ -141,6 +141,48 @@ TEST(Raycast, CameraInsideTheVolume) {
   EXPECT_GT(r.hits, 1500);
 }
 
+// The isosurface between a data leaf's last sample and an empty leaf after it, at a step of 4 voxels: the
+// ramp v = 0.1 + 0.02 x crosses vIso at x = 13.75, inside the leaves of x in [8, 16); every leaf beyond is
+// empty (its values, borders included, from x = 14 on, are above vIso). From an eye at x = 1.5 the samples of
+// each ray fall at most near x = 13.5 in [8, 16) and next beyond 16: the crossing is only seen by the sample
+// the leaf takes at its end (docs/RENDERING.md "Isosurface"); without it every ray would miss.
+TEST(Raycast, ALongStepFindsTheCrossingBeforeAnEmptyLeaf) {
+  SceneSpec spec;
+  spec.dims = glm::u32vec3(32);
+  spec.brickSize = 8;
+  const double vIso = 0.1 + 0.02 * 13.75;
+  spec.value = [](glm::dvec3 x) { return 0.1 + 0.02 * x.x; };
+  spec.emptyLeaf = [](const NodeKey& k) { return k.depth == 2 && k.coord.x >= 2; };
+  const test::GlScene scene = test::buildScene(spec);
+  ASSERT_EQ(scene.minLeafDepth, 2u);
+  for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+    RaycastPass pass;
+    RaycastFrame frame;
+    frame.camera.eye = {1.5, 16.2, 15.9};
+    frame.camera.target = {30.0, 16.2, 15.9};
+    frame.camera.up = {0, 0, 1};
+    frame.camera.fovYDeg = 30.0;
+    frame.width = frame.height = 32;
+    frame.params.mode = RenderMode::Iso;
+    frame.params.isoValue = vIso * 65535.0;
+    frame.params.stepVoxels = 4.0;
+    frame.params.backend = backend;
+    test::renderScene(pass, scene, frame);
+    const FloatImage color = pass.readColor();
+    const FloatImage depth = pass.readDepth();
+    const glm::dvec3 forward = cameraFrame(frame.camera).forward;
+    for (uint32_t py = 0; py < frame.height; ++py)
+      for (uint32_t px = 0; px < frame.width; ++px) {
+        const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
+        const double tPlane = (13.75 - ray.origin.x) / ray.dir.x;
+        const std::string where = "pixel " + std::to_string(px) + "," + std::to_string(py) +
+                                  (backend == RenderBackend::Fragment ? " fragment" : " compute");
+        EXPECT_EQ(color.at(px, py, 3), 1.0f) << where;
+        EXPECT_NEAR(depth.at(px, py, 0), tPlane * glm::dot(ray.dir, forward), 0.02) << where;
+      }
+  }
+}
+
 TEST(Raycast, NonCubicVolumeWithAnisotropicSpacing) {
   SceneSpec spec;
   spec.dims = {48, 32, 20};
