@@ -35,10 +35,9 @@ void rejectDimsAndType(const std::string& spec, const SourceOptions& options) {
 }  // namespace
 
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
-  constexpr std::string_view kProcedural = "procedural:";
-  if (spec.starts_with(kProcedural)) {
+  if (isProceduralSpec(spec)) {
     rejectDimsAndType(spec, options);
-    return openProceduralSource(std::string_view(spec).substr(kProcedural.size()), options);
+    return openProceduralSource(std::string_view(spec).substr(kProceduralPrefix.size()), options);
   }
   if (spec.find_first_of("*?") != std::string::npos) {
     rejectDimsAndType(spec, options);

@@ -43,6 +43,12 @@ struct ValueRange {
 
 inline constexpr uint32_t kMaxProceduralSize = 65536;
 
+// What names a procedural volume instead of a file: "procedural:NAME:SIZE".
+inline constexpr std::string_view kProceduralPrefix = "procedural:";
+inline bool isProceduralSpec(std::string_view input) {
+  return input.starts_with(kProceduralPrefix);
+}
+
 // "sphere", "menger", "noise", "marschner-lobb".
 std::string_view proceduralKindName(ProceduralKind kind);
 std::optional<ProceduralKind> parseProceduralKind(std::string_view name);

@@ -12,8 +12,6 @@
 namespace ropecast {
 
 namespace {
-constexpr std::string_view kPrefix = "procedural:";
-
 uint8_t quantize(double v) {
   return uint8_t(std::clamp(std::lround(v), 0l, 255l));
 }
@@ -32,8 +30,8 @@ ProceduralBricks::ProceduralBricks(const ProceduralField& field, uint32_t brickS
   info_.volume.type = SampleType::UInt8;
   info_.volume.valueMin = 0.0;
   info_.volume.valueMax = 255.0;
-  info_.volume.description =
-      std::string(kPrefix) + std::string(proceduralKindName(field.kind)) + ":" + std::to_string(field.size);
+  info_.volume.description = std::string(kProceduralPrefix) + std::string(proceduralKindName(field.kind)) +
+                             ":" + std::to_string(field.size);
   info_.storedType = SampleType::UInt8;
   info_.mapping = {1.0, 0.0};
 }
@@ -90,8 +88,9 @@ void ProceduralBricks::readBrick(const NodeKey& key, std::span<std::byte> out) c
 }
 
 std::unique_ptr<ProceduralBricks> openProceduralBricks(const std::string& spec, uint32_t brickSize) {
-  const std::string_view rest =
-      spec.starts_with(kPrefix) ? std::string_view(spec).substr(kPrefix.size()) : std::string_view(spec);
+  const std::string_view rest = isProceduralSpec(spec)
+                                    ? std::string_view(spec).substr(kProceduralPrefix.size())
+                                    : std::string_view(spec);
   return std::make_unique<ProceduralBricks>(parseProceduralField(rest), brickSize);
 }
 

@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "store/procedural.h"
 
 namespace ropecast {
 
@@ -124,7 +125,7 @@ std::unique_ptr<Store> Store::open(const std::filesystem::path& path) {
   std::unique_ptr<Store> store(new Store());
   store->name_ = path.string();
   std::error_code ec;
-  if (path.string().starts_with("procedural:") && !std::filesystem::exists(path, ec))
+  if (isProceduralSpec(path.string()) && !std::filesystem::exists(path, ec))
     throw UsageError(
         "'" + path.string() +
         "' is a procedural volume, not a store file: render, view and bench take it as it is, and "

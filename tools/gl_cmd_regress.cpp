@@ -87,11 +87,11 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   o.messagePrefix = "case '" + c.name + "': ";  // as the lines of a child process are shown (renderCases)
   o.input = c.input;
   o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
-  if (!c.input.starts_with("procedural:") && !fs::is_regular_file(c.input))
+  if (!isProceduralSpec(c.input) && !fs::is_regular_file(c.input))
     throw SuiteError(where + ": input " + c.input + ": no such store file");
-  if (c.input.starts_with("procedural:")) {
+  if (isProceduralSpec(c.input)) {
     try {
-      parseProceduralField(std::string_view(c.input).substr(std::string_view("procedural:").size()));
+      parseProceduralField(std::string_view(c.input).substr(kProceduralPrefix.size()));
     } catch (const UsageError& e) {
       throw SuiteError(where + ": input: " + e.what());
     }

@@ -125,7 +125,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
 namespace {
 
 void checkBrickOption(const std::string& input, std::optional<uint32_t> brick) {
-  if (brick && !input.starts_with("procedural:"))
+  if (brick && !isProceduralSpec(input))
     throw UsageError("--brick " + std::to_string(*brick) + " applies to procedural inputs; the store " +
                      input + " has the brick size it was converted with");
 }
@@ -165,8 +165,7 @@ void checkSceneOptions(const RenderOptions& o) {
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
-  if (input.rfind("procedural:", 0) == 0)
-    return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
+  if (isProceduralSpec(input)) return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
   checkBrickOption(input, brick);
   if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
   return Store::open(input);

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "store/nrrd_header.h"
+#include "store/procedural.h"
 
 namespace ropecast::tools {
 namespace {
@@ -84,7 +85,7 @@ std::string sameFileMessage(const std::string& who, const std::string& subject, 
 }  // namespace
 
 void OutputGuard::addInput(std::string what, const std::string& path) {
-  if (path.empty() || path.starts_with("procedural:")) return;
+  if (path.empty() || isProceduralSpec(path)) return;
   for (std::string& file : expandInput(path)) inputs_.push_back({what, std::move(file)});
 }
 
@@ -146,7 +147,7 @@ void OutputGuard::check() const {
 }
 
 std::vector<std::string> volumeSpecFiles(const std::string& spec) {
-  if (spec.starts_with("procedural:")) return {};
+  if (isProceduralSpec(spec)) return {};
   std::vector<std::string> files{spec};
   std::string ext = fs::path(spec).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

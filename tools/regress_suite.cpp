@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "store/procedural.h"
 
 namespace ropecast::tools {
 namespace {
@@ -98,7 +99,7 @@ RegressSuite parseRegressSuite(const std::string& text, const std::string& suite
         throw SuiteError(where + ": unknown key '" + key +
                          "' (expected name, input, options, golden, tolerances)");
     const std::string input = requireString(entry, "input", where);
-    c.input = input.starts_with("procedural:") ? input : resolve(input);
+    c.input = isProceduralSpec(input) ? input : resolve(input);
     c.golden = resolve(requireString(entry, "golden", where));
     // Goldens are the renders' PNGs (--update copies one there): another name would hold PNG bytes.
     std::string extension = std::filesystem::path(c.golden).extension().string();
