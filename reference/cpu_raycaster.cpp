@@ -22,8 +22,8 @@ namespace ropecast {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// The float rounding of the shader's distance, in texels, from a leaf's last sample to its end.
-constexpr double kLeafEndTexelTolerance = 1e-3;
+// Traced rays record the sample at a leaf's end from this distance (texels) on, taken or not.
+constexpr double kLeafEndTracedFromTexels = 0.5;
 
 // Per-frame constants of the ray loop (docs/RENDERING.md).
 struct FrameConstants {
@@ -113,7 +113,7 @@ class RayIntegrator {
         visit->samples.push_back(m);
       }
       if (fc_.params.mode == RenderMode::Iso) {
-        if (isoSample(sampler, tBegin, t, v - fc_.isoNormalized, cell, visit)) {
+        if (takeIsoSample(sampler, tBegin, t, v - fc_.isoNormalized, cell, visit)) {
           if (!visit) return false;
           continue;
         }
@@ -126,20 +126,21 @@ class RayIntegrator {
     }
     // As shaders/compositing.glsl marchIso: one more sample at the leaf's end when the ray's last sample lies
     // more than a texel of this leaf's level before it (traced rays: the last sample, as if the ray had gone
-    // on). The shader measures that distance in float: within rounding of a texel, the trace keeps the sample
-    // and marks it.
+    // on). The shader measures that distance in float; the trace keeps the sample from half a texel on, so
+    // that the feedback twin can judge the decisions within rounding of a texel.
     if (fc_.params.mode == RenderMode::Iso && anySample_) {
       const glm::dvec3 gap = glm::abs(ray_.dir * (tStop - tLastSample_) / cell);
       const double texels = std::max({gap.x, gap.y, gap.z});
       const bool taken = texels > 1.0;
-      const bool marginal = std::abs(texels - 1.0) <= kLeafEndTexelTolerance;
-      if (taken || (visit && marginal)) {
+      if (taken || (visit && texels > kLeafEndTracedFromTexels)) {
         const double f = sampler.value(ray_.origin + tStop * ray_.dir) - fc_.isoNormalized;
-        if (visit) visit->samples.push_back({tStop, f, 0.0, false, true, taken, marginal});
+        if (visit)
+          visit->samples.push_back(
+              {.t = tStop, .f = f, .atLeafEnd = true, .leafEndTaken = taken, .leafEndGapTexels = texels});
         if (taken) {
           tLastSample_ = tStop;
           if (!ended_) {
-            if (isoSample(sampler, tBegin, tStop, f, cell, visit)) return false;
+            if (takeIsoSample(sampler, tBegin, tStop, f, cell, visit)) return false;
             sampled = true;
           }
         }
@@ -177,8 +178,8 @@ class RayIntegrator {
   // Takes the iso sample (t, f): at a crossing, refines and shades the hit and ends the ray (true); else it
   // becomes the previous sample.
   template <class Sampler>
-  bool isoSample(const Sampler& sampler, double tBegin, double t, double f, glm::dvec3 cell,
-                 const MirrorLeafVisit* visit) {
+  bool takeIsoSample(const Sampler& sampler, double tBegin, double t, double f, glm::dvec3 cell,
+                     const MirrorLeafVisit* visit) {
     if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
       hitIso(sampler, tBegin, t, cell);
       ended_ = true;

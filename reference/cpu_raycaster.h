@@ -63,12 +63,11 @@ struct MirrorSample {
   double alpha = 0.0;  // DVR: the opacity after the sample (accumulation continued past the end)
   bool addsOpacity = false;
   // iso: the sample at the leaf's end, after its grid samples (docs/RENDERING.md "Isosurface"), taken when
-  // the last of those lies more than a texel before the end. Traced also when that distance is within
-  // rounding of a texel (leafEndMarginal), where the shader may decide otherwise; leafEndTaken says what the
-  // mirror did.
+  // the ray's previous sample lies more than a texel before the end. Traced from half a texel on, so that
+  // the feedback twin can judge decisions within rounding of a texel; leafEndTaken says what the mirror did.
   bool atLeafEnd = false;
   bool leafEndTaken = false;
-  bool leafEndMarginal = false;
+  double leafEndGapTexels = 0.0;  // the distance from the previous sample, in texels of the leaf's level
 };
 struct MirrorLeafVisit {
   uint32_t leafIndex = 0;  // in the Cut's leaves
@@ -78,7 +77,7 @@ struct MirrorLeafVisit {
   bool firstLeaf = false;             // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
   double dt = 0.0;                    // the leaf's step
   double kBegin = 0.0;                // its first sample index on the grid t0 + k dt
-  std::vector<MirrorSample> samples;  // the grid samples, then the one at the leaf's end, if taken
+  std::vector<MirrorSample> samples;  // the grid samples, then the one at the leaf's end, if traced
   size_t gridSampleCount() const { return samples.size() - (!samples.empty() && samples.back().atLeafEnd); }
 };
 struct MirrorRayTrace {

@@ -99,12 +99,40 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
         tie[v] = (tie[v] || touched) && gridCount <= 2;
       }
     }
-    // A sample at a leaf's end whose distance from the last grid sample is within rounding of a texel: the
-    // shader may take it or not. Exact (no tolerance): as the mirror did.
-    const bool exact = !(tol.relative > 0.0);
-    for (size_t v = 0; v < leafCount; ++v)
-      if (rl.count[v] > 0 && trace.leaves[v].samples.back().leafEndMarginal && !exact)
-        tieSamples.insert(rl.position[v] + rl.count[v] - 1);
+    // The iso samples at leaves' ends (docs/RENDERING.md "Isosurface"), taken when the ray's previous sample
+    // lies more than a texel before the end. Within the position errors' texels of one, the shader may decide
+    // either way: the sample is uncertain, and so is every leaf-end decision after it up to the next grid
+    // sample, which measure from another previous sample; a leaf without grid samples there may be sampled at
+    // its end although the mirror did not. Exact positions: the mirror's decisions.
+    const bool positionsExact = !(tol.relative > 0.0);
+    std::vector<bool> counted(rl.position.empty() ? 0 : rl.position.back() + rl.count.back(), true);
+    std::vector<bool> mayBeSampledAtEnd(leafCount, false);
+    {
+      size_t g = 0;
+      bool unsettled = false;
+      double tPrev = trace.t0;
+      for (size_t v = 0; v < leafCount; ++v) {
+        const MirrorLeafVisit& l = trace.leaves[v];
+        if (l.gridSampleCount() == 0) mayBeSampledAtEnd[v] = unsettled;
+        for (const MirrorSample& s : l.samples) {
+          if (!s.atLeafEnd) {
+            unsettled = false;
+            tPrev = s.t;
+            ++g;
+            continue;
+          }
+          const double texelsPerT = s.leafEndGapTexels / std::max(s.t - tPrev, 1e-300);
+          const double error =
+              tol.relative * (std::abs(s.t) + std::abs(tPrev) + 2.0 * cubeExtent) * texelsPerT;
+          const bool marginal = !positionsExact && std::abs(s.leafEndGapTexels - 1.0) <= error;
+          counted[g] = s.leafEndTaken || marginal;
+          if (counted[g] && (marginal || unsettled)) tieSamples.insert(g);
+          unsettled = unsettled || marginal;
+          if (s.leafEndTaken) tPrev = s.t;
+          ++g;
+        }
+      }
+    }
 
     // Where the ray may end (earliest) and where it surely has ended (latest), as global sample indices.
     size_t earliest = kNever, latest = kNever;
@@ -114,7 +142,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
       double fPrev = 0.0;
       for (const MirrorLeafVisit& v : trace.leaves)
         for (const MirrorSample& s : v.samples) {
-          if (exact && s.atLeafEnd && !s.leafEndTaken) {
+          if (!counted[g]) {
             ++g;
             continue;
           }
@@ -148,11 +176,13 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
     bool sureRequestOpen = true, possibleRequestOpen = true;
     for (size_t v = 0; v < leafCount; ++v) {
       const MirrorLeafVisit& l = trace.leaves[v];
-      // Its samples the shader surely takes (exact: those the mirror took), and whether it may take one more.
-      const bool endMarginal = rl.count[v] > 0 && l.samples.back().leafEndMarginal;
-      const bool endTaken = rl.count[v] > 0 && l.samples.back().leafEndTaken;
-      const size_t sureCount = l.gridSampleCount() + (endTaken && (exact || !endMarginal));
-      const bool mayTakeMore = !exact && endMarginal && !endTaken;
+      // The samples the shader surely takes in the leaf, and whether it may take one more at the leaf's end.
+      const size_t gridCount = l.gridSampleCount();
+      const size_t endIndex = rl.position[v] + gridCount;
+      const bool endCounted = rl.count[v] > gridCount && counted[endIndex];
+      const bool endSure = endCounted && tieSamples.count(endIndex) == 0;
+      const size_t sureCount = gridCount + (endSure ? 1 : 0);
+      const bool mayTakeMore = (endCounted && !endSure) || mayBeSampledAtEnd[v];
       const bool isSure = sureCount > 0 && rl.position[v] <= earliest && !tie[v];
       if (rl.position[v] > latest) break;
       if (sureCount == 0 && !mayTakeMore && !tie[v]) continue;  // a leaf the ray crossed between two samples

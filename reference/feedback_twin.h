@@ -24,7 +24,9 @@ struct FeedbackTolerance {
   double value = 0.0;     // iso: |v - vIso| below which a sample's side is uncertain
   double alpha = 0.0;     // DVR: |A - ert| below which termination at a sample is uncertain
   double relative = 0.0;  // a sample within relative (t + cube extent) of a leaf border; a leaf whose
-                          // pixels(L) voxelsPerPixel is within relative of 1
+                          // pixels(L) voxelsPerPixel is within relative of 1; an iso sample at a leaf's
+                          // end whose distance from the previous sample is within the texels those
+                          // positions' errors make of one texel
 };
 
 // sure: what the rules give for every arithmetic within the tolerance; possible: what they may give for some.

@@ -45,8 +45,9 @@ void isoMarchSample(inout IsoMarch m, Segment s, float t) {
 // The samples t0 + k dt of a segment, from k = kBegin while t < tEnd, up to the first crossing. When the
 // march's last sample then lies more than a texel of this brick before tEnd (a step above a voxel, or a
 // corner of a leaf crossed between two samples), one more is taken at tEnd: no later sample of this brick sees
-// a crossing between them, and the next leaf's may not either, for an empty leaf takes none (its value range,
-// borders included, excludes the isovalue only within a texel of its face). True when it took a sample.
+// a crossing between them, and the next leaf's may not either, for an empty leaf takes none. Within a texel
+// of the face no crossing can hide: an empty neighbour's value range covers its border, two texels deep
+// (docs/RENDERING.md "Isosurface"). True when it took a sample.
 bool marchIso(inout IsoMarch m, Segment s, float t0, float kBegin, float tEnd) {
   bool sampled = false;
   for (float k = kBegin; !m.hit; k += 1.0) {

@@ -64,7 +64,7 @@ TEST_P(IsoBrickBorderTest, SmallBricksMatchOneBrick) {
   const BorderCase& c = GetParam();
   const FloatImage oneBrick = renderSphere(64, RenderBackend::Fragment, c.stepVoxels);
   const FloatImage bricks = renderSphere(8, c.backend, c.stepVoxels);
-  const FloatImage fineStep = renderSphere(64, RenderBackend::Fragment, 0.125);
+  static const FloatImage fineStep = renderSphere(64, RenderBackend::Fragment, 0.125);
   const double db = psnrDb(oneBrick, bricks);
   const double oneBrickToFine = psnrDb(fineStep, oneBrick), bricksToFine = psnrDb(fineStep, bricks);
   std::printf("  %s, step %.1f: %.1f dB; against step 0.125: one brick %.1f dB, bricks %.1f dB\n",

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/transfer_function.h"
+#include "render/multipass_pass.h"
 #include "render/raycast_pass.h"
 #include "tests/render/testutil_gl.h"
 
@@ -155,8 +156,7 @@ TEST(Raycast, ALongStepFindsTheCrossingBeforeAnEmptyLeaf) {
   spec.emptyLeaf = [](const NodeKey& k) { return k.depth == 2 && k.coord.x >= 2; };
   const test::GlScene scene = test::buildScene(spec);
   ASSERT_EQ(scene.minLeafDepth, 2u);
-  for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
-    RaycastPass pass;
+  for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute, RenderBackend::Multipass}) {
     RaycastFrame frame;
     frame.camera.eye = {1.5, 16.2, 15.9};
     frame.camera.target = {30.0, 16.2, 15.9};
@@ -167,16 +167,33 @@ TEST(Raycast, ALongStepFindsTheCrossingBeforeAnEmptyLeaf) {
     frame.params.isoValue = vIso * 65535.0;
     frame.params.stepVoxels = 4.0;
     frame.params.backend = backend;
-    test::renderScene(pass, scene, frame);
-    const FloatImage color = pass.readColor();
-    const FloatImage depth = pass.readDepth();
+    FloatImage color, depth;
+    if (backend == RenderBackend::Multipass) {
+      frame.pool = scene.pool.get();
+      frame.index = scene.indexTexture.get();
+      frame.volume = scene.geometry;
+      std::vector<MultipassLeaf> leaves;
+      for (const CutLeaf& leaf : scene.cut.leaves)
+        if (leaf.kind == LeafKind::Data) leaves.push_back({{leaf.depth, leaf.coord}, leaf.brickSlot});
+      MultipassPass pass;
+      pass.render(frame, std::move(leaves));
+      color = pass.readColor();
+      depth = pass.readDepth();
+    } else {
+      RaycastPass pass;
+      test::renderScene(pass, scene, frame);
+      color = pass.readColor();
+      depth = pass.readDepth();
+    }
     const glm::dvec3 forward = cameraFrame(frame.camera).forward;
+    const std::string name = backend == RenderBackend::Fragment  ? " fragment"
+                             : backend == RenderBackend::Compute ? " compute"
+                                                                 : " multipass";
     for (uint32_t py = 0; py < frame.height; ++py)
       for (uint32_t px = 0; px < frame.width; ++px) {
         const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
         const double tPlane = (13.75 - ray.origin.x) / ray.dir.x;
-        const std::string where = "pixel " + std::to_string(px) + "," + std::to_string(py) +
-                                  (backend == RenderBackend::Fragment ? " fragment" : " compute");
+        const std::string where = "pixel " + std::to_string(px) + "," + std::to_string(py) + name;
         EXPECT_EQ(color.at(px, py, 3), 1.0f) << where;
         EXPECT_NEAR(depth.at(px, py, 0), tPlane * glm::dot(ray.dir, forward), 0.02) << where;
       }
