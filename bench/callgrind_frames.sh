@@ -7,4 +7,4 @@
 export EGL_PLATFORM=${EGL_PLATFORM:-surfaceless} LP_NUM_THREADS=0 MESA_SHADER_CACHE_DISABLE=true
 # shellcheck disable=SC2034  # used by the scripts that source this file
 CALLGRIND_PER_FRAME=(valgrind --tool=callgrind --fair-sched=yes
-                     --dump-after='*FrameRenderer::render(*' --dump-after='*BruteForcePass::render(*')
+                     --dump-after='ropecast::FrameRenderer::render(*' --dump-after='ropecast::BruteForcePass::render(*')
