@@ -76,15 +76,12 @@ BruteForcePass::~BruteForcePass() {
 const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
   std::unique_ptr<ShaderProgram>& p = programs_[{params.backend, params.mode, usesStoredGradients(params)}];
   if (!p) {
-    if (params.backend == RenderBackend::Compute)
-      p = std::make_unique<ShaderProgram>(
-          std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/brute_force.comp"}},
-          raycastDefines(params));
-    else
-      p = std::make_unique<ShaderProgram>(
-          std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
-                                  {ShaderStage::Fragment, "shaders/brute_force.frag"}},
-          raycastDefines(params));
+    const std::vector<ShaderFile> files =
+        params.backend == RenderBackend::Compute
+            ? std::vector<ShaderFile>{{ShaderStage::Compute, "shaders/brute_force.comp"}}
+            : std::vector<ShaderFile>{{ShaderStage::Vertex, "shaders/brute_force.vert"},
+                                      {ShaderStage::Fragment, "shaders/brute_force.frag"}};
+    p = std::make_unique<ShaderProgram>(files, raycastDefines(params));
   }
   return *p;
 }

@@ -37,7 +37,7 @@ void rejectDimsAndType(const std::string& spec, const SourceOptions& options) {
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
   if (isProceduralSpec(spec)) {
     rejectDimsAndType(spec, options);
-    return openProceduralSource(std::string_view(spec).substr(kProceduralPrefix.size()), options);
+    return openProceduralSource(proceduralNameAndSize(spec), options);
   }
   if (spec.find_first_of("*?") != std::string::npos) {
     rejectDimsAndType(spec, options);

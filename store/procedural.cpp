@@ -259,6 +259,11 @@ std::optional<ProceduralKind> parseProceduralKind(std::string_view name) {
   return std::nullopt;
 }
 
+std::string proceduralSpecOf(const ProceduralField& field) {
+  return std::string(kProceduralPrefix) + std::string(proceduralKindName(field.kind)) + ":" +
+         std::to_string(field.size);
+}
+
 std::string proceduralKindNames() {
   std::string names;
   for (const auto& [kind, name] : kNames) {

@@ -48,6 +48,12 @@ inline constexpr std::string_view kProceduralPrefix = "procedural:";
 inline bool isProceduralSpec(std::string_view input) {
   return input.starts_with(kProceduralPrefix);
 }
+// "NAME:SIZE" of a spec, with or without the prefix.
+inline std::string_view proceduralNameAndSize(std::string_view spec) {
+  return isProceduralSpec(spec) ? spec.substr(kProceduralPrefix.size()) : spec;
+}
+// The spec that names `field`: "procedural:NAME:SIZE".
+std::string proceduralSpecOf(const ProceduralField& field);
 
 // "sphere", "menger", "noise", "marschner-lobb".
 std::string_view proceduralKindName(ProceduralKind kind);

@@ -30,8 +30,7 @@ ProceduralBricks::ProceduralBricks(const ProceduralField& field, uint32_t brickS
   info_.volume.type = SampleType::UInt8;
   info_.volume.valueMin = 0.0;
   info_.volume.valueMax = 255.0;
-  info_.volume.description = std::string(kProceduralPrefix) + std::string(proceduralKindName(field.kind)) +
-                             ":" + std::to_string(field.size);
+  info_.volume.description = proceduralSpecOf(field);
   info_.storedType = SampleType::UInt8;
   info_.mapping = {1.0, 0.0};
 }
@@ -88,10 +87,7 @@ void ProceduralBricks::readBrick(const NodeKey& key, std::span<std::byte> out) c
 }
 
 std::unique_ptr<ProceduralBricks> openProceduralBricks(const std::string& spec, uint32_t brickSize) {
-  const std::string_view rest = isProceduralSpec(spec)
-                                    ? std::string_view(spec).substr(kProceduralPrefix.size())
-                                    : std::string_view(spec);
-  return std::make_unique<ProceduralBricks>(parseProceduralField(rest), brickSize);
+  return std::make_unique<ProceduralBricks>(parseProceduralField(proceduralNameAndSize(spec)), brickSize);
 }
 
 }  // namespace ropecast

@@ -21,8 +21,7 @@ class ProceduralSource final : public VolumeSource {
     info_.type = SampleType::UInt8;
     info_.valueMin = 0.0;
     info_.valueMax = 255.0;
-    info_.description = std::string(kProceduralPrefix) + std::string(proceduralKindName(field.kind)) + ":" +
-                        std::to_string(field.size);
+    info_.description = proceduralSpecOf(field);
   }
 
   const VolumeInfo& info() const override { return info_; }

@@ -91,7 +91,7 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
     throw SuiteError(where + ": input " + c.input + ": no such store file");
   if (isProceduralSpec(c.input)) {
     try {
-      parseProceduralField(std::string_view(c.input).substr(kProceduralPrefix.size()));
+      parseProceduralField(proceduralNameAndSize(c.input));
     } catch (const UsageError& e) {
       throw SuiteError(where + ": input: " + e.what());
     }

@@ -20,13 +20,14 @@
 namespace ropecast {
 namespace {
 
-// A cut of Data leaves at depth `depth` over the inside nodes, completed with Empty leaves.
-Cut cutAtDepth(const OctreeLayout& layout, uint32_t depth) {
+// A cut of Data leaves over the inside nodes where `isLeaf` says (always at the finest depth), completed with
+// Empty leaves.
+Cut cutWhere(const OctreeLayout& layout, const std::function<bool(const NodeKey&)>& isLeaf) {
   std::vector<CutLeaf> leaves;
   uint32_t slot = 0;
   std::function<void(const NodeKey&)> visit = [&](const NodeKey& k) {
     if (!layout.isInside(k)) return;
-    if (k.depth == depth) {
+    if (k.depth == layout.maxDepth || isLeaf(k)) {
       leaves.push_back({k.depth, k.coord, LeafKind::Data, slot++});
       return;
     }
@@ -34,6 +35,11 @@ Cut cutAtDepth(const OctreeLayout& layout, uint32_t depth) {
   };
   visit({0, {0, 0, 0}});
   return completeCut(leaves);
+}
+
+// Data leaves at depth `depth`.
+Cut cutAtDepth(const OctreeLayout& layout, uint32_t depth) {
+  return cutWhere(layout, [depth](const NodeKey& k) { return k.depth == depth; });
 }
 
 CpuRenderInput sphereInput(double distance, uint32_t size) {
@@ -108,23 +114,13 @@ TEST(FeedbackTwin, TracesLeaveTheImageUnchangedAndEndWhereTheMirrorEnded) {
   }
 }
 
-// A cut of Data leaves over the inside nodes, refined to random depths (the same for a seed), completed with
-// Empty leaves.
+// Data leaves at random depths (the same for a seed).
 Cut randomCut(const OctreeLayout& layout, uint32_t seed) {
-  std::vector<CutLeaf> leaves;
-  uint32_t slot = 0;
-  std::function<void(const NodeKey&)> visit = [&](const NodeKey& k) {
-    if (!layout.isInside(k)) return;
+  return cutWhere(layout, [seed](const NodeKey& k) {
     const uint32_t h = (k.coord.x * 73856093u) ^ (k.coord.y * 19349663u) ^ (k.coord.z * 83492791u) ^
                        (k.depth * 2654435761u) ^ (seed * 40503u);
-    if (k.depth == layout.maxDepth || (k.depth > 0 && h % 3 == 0)) {
-      leaves.push_back({k.depth, k.coord, LeafKind::Data, slot++});
-      return;
-    }
-    for (uint32_t o = 0; o < 8; ++o) visit(k.child(o));
-  };
-  visit({0, {0, 0, 0}});
-  return completeCut(leaves);
+    return k.depth > 0 && h % 3 == 0;
+  });
 }
 
 bool isSubset(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {

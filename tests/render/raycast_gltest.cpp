@@ -186,14 +186,12 @@ TEST(Raycast, ALongStepFindsTheCrossingBeforeAnEmptyLeaf) {
       depth = pass.readDepth();
     }
     const glm::dvec3 forward = cameraFrame(frame.camera).forward;
-    const std::string name = backend == RenderBackend::Fragment  ? " fragment"
-                             : backend == RenderBackend::Compute ? " compute"
-                                                                 : " multipass";
     for (uint32_t py = 0; py < frame.height; ++py)
       for (uint32_t px = 0; px < frame.width; ++px) {
         const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
         const double tPlane = (13.75 - ray.origin.x) / ray.dir.x;
-        const std::string where = "pixel " + std::to_string(px) + "," + std::to_string(py) + name;
+        const std::string where = "pixel " + std::to_string(px) + "," + std::to_string(py) + " " +
+                                  std::string(renderBackendName(backend));
         EXPECT_EQ(color.at(px, py, 3), 1.0f) << where;
         EXPECT_NEAR(depth.at(px, py, 0), tPlane * glm::dot(ray.dir, forward), 0.02) << where;
       }
