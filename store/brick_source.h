@@ -47,8 +47,9 @@ class BrickSource {
   virtual NodeInfo node(const NodeKey& key) const = 0;
 
   // The node's brick: storedBrickEdge()^3 samples of storedType, x fastest, border included. For Constant
-  // nodes fills the constant; for Empty/Outside nodes fills zeros. Throws ropecast::Error on I/O failure or a
-  // damaged brick (naming the file and the node).
+  // nodes fills the constant; for Empty nodes (samples not kept) a value below the discard threshold (a
+  // store: the brick's minimum); for Outside nodes zeros. Throws ropecast::Error on I/O failure or a damaged
+  // brick (naming the file and the node).
   virtual void readBrick(const NodeKey& key, std::span<std::byte> out) const = 0;
 
   // Bytes readBrick takes from storage for the node (what the loader counts as read): a store's compressed

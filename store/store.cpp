@@ -261,9 +261,9 @@ void Store::readBrick(const NodeKey& key, std::span<std::byte> out) const {
   const StoreNodeEntry& e = entries_[info_.layout.nodeIndex(key)];
   switch (NodeKind(e.kind)) {
     case NodeKind::Outside:
-    case NodeKind::Empty:
       std::memset(out.data(), 0, out.size());
       return;
+    case NodeKind::Empty:  // its samples were not kept: its brick's minimum stands for them
     case NodeKind::Constant:
       fillBrick(out, info_.storedType, e.fillValue);
       return;

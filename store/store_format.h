@@ -59,7 +59,7 @@ struct StoreNodeEntry {
   uint16_t maxValue;       // 18
   uint8_t kind;            // 20: NodeKind (Empty 1, Constant 2, Data 3)
   uint8_t reserved;        // 21: 0
-  uint16_t fillValue;      // 22: the value of a payload-less Data or Constant node
+  uint16_t fillValue;      // 22: the value of a payload-less Data, Constant or Empty node
 };
 static_assert(sizeof(StoreNodeEntry) == 24);
 static_assert(offsetof(StoreNodeEntry, payloadBytes) == 8);

@@ -2,6 +2,7 @@
 // inner-node filtering, min/max over descendants, kinds, and the embedding of non-cubic volumes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 
 #include "store/converter.h"
@@ -53,6 +54,12 @@ std::array<uint64_t, 4> expectNodesMatchDirectComputation(const Store& store,
     EXPECT_EQ(store.compressedBytes(key), store.entries()[layout.nodeIndex(key)].payloadBytes) << name;
     if (discardBelow && store.info().mapping.toData(e.max) < *discardBelow) {
       EXPECT_EQ(node.kind, NodeKind::Empty) << name;
+      // Its samples are not kept: it reads as its brick's minimum, a value of the data (not stored 0, which
+      // a signed type's offset would turn into the type's lowest value).
+      store.readBrick(key, bytes);
+      const std::vector<uint16_t> got = testing::widen(bytes, store.info().storedType);
+      const uint16_t brickMin = *std::min_element(e.brick.begin(), e.brick.end());
+      EXPECT_EQ(got, std::vector<uint16_t>(got.size(), brickMin)) << name;
       continue;
     }
     EXPECT_EQ(node.kind, e.min == e.max ? NodeKind::Constant : NodeKind::Data) << name;
