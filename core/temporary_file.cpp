@@ -9,8 +9,10 @@
 
 #include <atomic>
 #include <cerrno>
+#include <climits>
 #include <csignal>
 #include <cstring>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -137,8 +139,13 @@ void writeFileAtomically(const std::filesystem::path& output, std::span<const st
   file.commit();
 }
 
-TemporaryFolder::TemporaryFolder(const std::string& prefix) {
-  std::string pattern = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
+TemporaryFolder::TemporaryFolder(const std::string& prefix)
+    : TemporaryFolder(std::filesystem::temp_directory_path(), prefix) {}
+
+TemporaryFolder::TemporaryFolder(const std::filesystem::path& parent, std::string prefix) {
+  constexpr std::string_view kSuffix = "-XXXXXX";
+  if (prefix.size() + kSuffix.size() > NAME_MAX) prefix.resize(NAME_MAX - kSuffix.size());
+  std::string pattern = (parent / (prefix + std::string(kSuffix))).string();
   if (!::mkdtemp(pattern.data()))
     throw Error("cannot create a temporary folder " + pattern + ": " + errnoText());
   path_ = pattern;
@@ -157,14 +164,18 @@ TemporaryFile::TemporaryFile(std::filesystem::path output, std::string who)
   if (const std::string problem = targetProblem(target); !problem.empty())
     throw Error(who_ + ": '" + output_.string() + "': " + problem);
   target_ = target.path;
-  std::string pattern = target_.string() + ".tmp-XXXXXX";
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  fd_ = mkstemp(name.data());
+  // Next to the target, under its name shortened to leave room for the suffix in a file name.
+  constexpr std::string_view kSuffix = ".tmp-XXXXXX";
+  std::string name = target_.filename().string();
+  if (name.size() + kSuffix.size() > NAME_MAX) name.resize(NAME_MAX - kSuffix.size());
+  std::string pattern = (target_.parent_path() / (name + std::string(kSuffix))).string();
+  std::vector<char> temporary(pattern.begin(), pattern.end());
+  temporary.push_back('\0');
+  fd_ = mkstemp(temporary.data());
   if (fd_ < 0)
     throw Error(who_ + ": cannot create output '" + output_.string() + "' (temporary '" + pattern +
                 "'): " + errnoText());
-  temporary_ = name.data();
+  temporary_ = temporary.data();
   signalSlot_ = publishTemporary(temporary_.string());
   fchmod(fd_, 0644);  // mkstemp creates 0600; outputs are ordinary data files
 }

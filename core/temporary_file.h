@@ -15,15 +15,16 @@
 
 namespace ropecast {
 
-// A file being written under a temporary name next to `output` ("OUT.tmp-XXXXXX"); commit() renames it onto
-// `output`, destruction without commit removes it. An output that is a symbolic link is written where the
-// link leads, so that the link stays. writeAt() may be called from several threads at once.
 // Why `output` cannot be written through a TemporaryFile, in words ("" when it can): it exists and is not a
 // regular file (a device, pipe or socket would be replaced by the rename, and cannot take writes at offsets),
 // or it is, or links to, a name under /dev or /proc (/dev/stdout: a descriptor of the process, which a rename
 // would replace by a file), or its symbolic links loop.
 std::string outputFileProblem(const std::filesystem::path& output);
 
+// A file being written under a temporary name next to `output` ("OUT.tmp-XXXXXX", OUT shortened where the
+// name would be too long for a file name); commit() renames it onto `output`, destruction without commit
+// removes it. An output that is a symbolic link is written where the link leads, so that the link stays.
+// writeAt() may be called from several threads at once.
 class TemporaryFile {
  public:
   // `who` names the caller in errors ("StoreWriter", "extract"). Throws ropecast::Error naming `output`,
@@ -58,6 +59,9 @@ void writeFileAtomically(const std::filesystem::path& output, std::span<const st
 class TemporaryFolder {
  public:
   explicit TemporaryFolder(const std::string& prefix);
+  // The same in `parent` ("PARENT/PREFIX-XXXXXX", the prefix shortened to fit a file name): files staged
+  // there can be renamed into `parent`.
+  TemporaryFolder(const std::filesystem::path& parent, std::string prefix);
   ~TemporaryFolder();
   TemporaryFolder(const TemporaryFolder&) = delete;
   TemporaryFolder& operator=(const TemporaryFolder&) = delete;

@@ -24,6 +24,7 @@
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/frame_series.h"
 #include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
@@ -49,14 +50,6 @@ void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatIm
   if (!o.exr.empty()) staged.push_back(stageExr(o.exr, color));
   if (!o.depth.empty()) staged.push_back(stageDepthExr(o.depth, depth));
   for (StagedImage& image : staged) image->commit();
-}
-
-// "out.png", frame 7 -> "out_0007.png".
-std::string framePath(const std::string& path, uint64_t frame) {
-  std::filesystem::path p(path);
-  char suffix[32];
-  std::snprintf(suffix, sizeof suffix, "_%04llu", static_cast<unsigned long long>(frame));
-  return (p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string();
 }
 
 // The image outputs are checked before anything is loaded or rendered: a writer for each, and a folder that
@@ -129,6 +122,7 @@ class RenderSetup {
                     std::to_string(frames) + ": " + problem);
     }
     stats.emplace(o.stats, "--stats");
+    series.emplace(o.output, o.every > 0);
   }
 
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
@@ -142,7 +136,8 @@ class RenderSetup {
   uint32_t width = 0, height = 0;
   RenderParams params;
   uint32_t frames = 1;
-  std::optional<StatsWriter> stats;  // set once everything above is checked
+  std::optional<StatsWriter> stats;   // set once everything above is checked
+  std::optional<FrameSeries> series;  // --every's frames, likewise
 };
 
 // --reference: the CPU ray marcher over the full-resolution data, the last frame's camera.
@@ -282,8 +277,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     }
     // --every writes the frame's PNG only: the EXR and depth outputs are the last frame's, written once.
     // The last frame too, so that a numbered sequence (a movie) ends on the final image.
-    if (o.every > 0 && (frame % o.every == 0 || last))
-      writePng(framePath(o.output, frame), octree.renderer->readColor(), false);
+    if (o.every > 0 && (frame % o.every == 0 || last)) s.series->write(frame, octree.renderer->readColor());
     if (last) {
       progress.finish();  // the line ends before any message
       if (o.converge && !stats.converged)
@@ -316,6 +310,7 @@ RenderedFrame renderFrames(const RenderOptions& o) {
   else
     frame = renderSingleFrame(o, setup);
   setup.stats->finish();
+  setup.series->commit();
   return frame;
 }
 

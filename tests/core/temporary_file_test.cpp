@@ -50,6 +50,17 @@ TEST(TemporaryFile, AnUnwritableFolderIsAnErrorNamingTheOutput) {
   }
 }
 
+TEST(TemporaryFile, AnOutputNameAsLongAsAFileNameMayBeIsWritten) {
+  const TemporaryFolder folder("ropecast-test");
+  const std::filesystem::path out = folder.path() / (std::string(250, 'n') + ".png");  // 254 bytes
+  const std::string text = "complete";
+  TemporaryFile file(out, "test");
+  EXPECT_EQ(file.path().parent_path(), out.parent_path());
+  file.writeAt(0, std::as_bytes(std::span(text)));
+  file.commit();
+  EXPECT_EQ(contents(out), text);
+}
+
 TEST(TemporaryFolder, GoesAwayWithItsFiles) {
   std::filesystem::path kept;
   {
@@ -60,6 +71,19 @@ TEST(TemporaryFolder, GoesAwayWithItsFiles) {
     EXPECT_EQ(kept.filename().string().rfind("ropecast-test-", 0), 0u) << kept;
     std::ofstream(kept / "a.log") << "log";
     std::ofstream(kept / "b.png") << "image";
+  }
+  EXPECT_FALSE(std::filesystem::exists(kept));
+}
+
+TEST(TemporaryFolder, InAGivenFolderWithAPrefixTooLongForAName) {
+  const TemporaryFolder parent("ropecast-test");
+  std::filesystem::path kept;
+  {
+    const TemporaryFolder folder(parent.path(), std::string(300, 'p'));
+    kept = folder.path();
+    EXPECT_TRUE(std::filesystem::is_directory(kept));
+    EXPECT_EQ(kept.parent_path(), parent.path());
+    EXPECT_LE(kept.filename().string().size(), 255u);
   }
   EXPECT_FALSE(std::filesystem::exists(kept));
 }

@@ -11,10 +11,10 @@ expect_interrupted_leaves_nothing() {
   "$@" > /dev/null 2>&1 &
   local pid=$!
   for _ in $(seq 1 400); do
-    [ -n "$(ls "$dir")" ] && break
+    [ -n "$(ls -A "$dir")" ] && break
     sleep 0.05
   done
-  if [ -z "$(ls "$dir")" ]; then
+  if [ -z "$(ls -A "$dir")" ]; then
     echo "FAIL: SIG$signal: nothing appeared in $dir"; kill -KILL "$pid"; wait "$pid"; return 1
   fi
   sleep "${SETTLE:-0}"
@@ -29,6 +29,6 @@ expect_interrupted_leaves_nothing() {
   wait "$pid"
   local rc=$?
   if [ "$rc" -lt 129 ]; then echo "FAIL: SIG$signal: exited with $rc, expected death by the signal"; return 1; fi
-  if [ -n "$(ls "$dir")" ]; then echo "FAIL: SIG$signal left: $(ls "$dir")"; return 1; fi
+  if [ -n "$(ls -A "$dir")" ]; then echo "FAIL: SIG$signal left: $(ls -A "$dir")"; return 1; fi
   echo "ok   SIG$signal: exit $rc, nothing left"
 }
