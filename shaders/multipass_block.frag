@@ -57,7 +57,10 @@ void main() {
   float tEnter = -kInfinity;
   for (int a = 0; a < 3; ++a) {
     if (!moving[a]) {
-      if (originCube[a] < uLeafBoxMin[a] || originCube[a] > uLeafBoxMin[a] + boxSize) return;
+      // The box holds the ray as the rope traversal's descent does: a ray in the face two boxes share
+      // belongs to the upper one (half-open boxes), but for the cube's own upper face.
+      float boxMax = uLeafBoxMin[a] + boxSize;
+      if (originCube[a] < uLeafBoxMin[a] || (originCube[a] >= boxMax && boxMax < 1.0)) return;
       continue;
     }
     tStart = max(tStart, cubeEntry[a]);
