@@ -43,7 +43,8 @@ std::string storeMetadataToJson(const StoreMetadata& m) {
   j["payloadEncoding"] = m.payloadEncoding == PayloadEncoding::ZstdBytePlanes ? "zstd-byteplanes" : "zstd";
   j["source"] = m.volume.description;
   j["creationTool"] = m.creationTool;
-  return j.dump(2);
+  // The source names a file, and file names need not be UTF-8: bytes that are not become U+FFFD.
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 StoreWriter::StoreWriter(std::filesystem::path output) : file_(std::move(output), "StoreWriter") {}

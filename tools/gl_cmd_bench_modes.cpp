@@ -317,7 +317,8 @@ int runModesBench(const Options& o) {
                         {"bytes_uploaded", s.bytesUploaded}});
     bench["configs"].push_back({{"name", configs[c].first}, {"frames", frames}});
   }
-  writeText(out / "bench.json", bench.dump(1) + "\n");
+  // File names (the input, --path) need not be UTF-8: bytes that are not become U+FFFD.
+  writeText(out / "bench.json", bench.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 
   // images/: each last frame, and its difference from the first configuration's; an earlier run's images of
   // other configurations go, so that the folder shows this run alone.

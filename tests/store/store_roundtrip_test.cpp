@@ -193,5 +193,18 @@ TEST(StoreRoundTrip, MetadataKeepsSpacingSourceAndOptions) {
   EXPECT_EQ(m.creationTool, "store test");
 }
 
+TEST(StoreRoundTrip, ASourceNameThatIsNotUtf8IsKeptWithReplacementCharacters) {
+  TempDir dir;
+  const glm::u32vec3 dims{9, 8, 7};
+  const auto samples = testing::toType<uint8_t>(testing::ballField(dims, 5), 0, 200);
+  VolumeInfo info = testing::volumeInfo(dims, SampleType::UInt8);
+  info.description = "scan\xff\xfe.raw";  // a file name Linux allows
+  ArraySource source = ArraySource::fromSamples<uint8_t>(info, samples);
+  ConvertOptions options;
+  options.brickSize = 8;
+  convertVolume(source, dir / "n.store", options);
+  EXPECT_EQ(Store::open(dir / "n.store")->metadata().volume.description, "scan\uFFFD\uFFFD.raw");
+}
+
 }  // namespace
 }  // namespace ropecast
