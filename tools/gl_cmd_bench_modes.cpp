@@ -177,6 +177,32 @@ void writeText(const std::filesystem::path& path, const std::string& text) {
   writeFileAtomically(path, std::as_bytes(std::span(text)), "bench modes");
 }
 
+// The folders a run makes (--out, its images/), removed again with what is in them unless the run keeps
+// them: a bench that fails leaves no empty or half-filled folder behind.
+class MadeFolders {
+ public:
+  MadeFolders() = default;
+  MadeFolders(const MadeFolders&) = delete;
+  MadeFolders& operator=(const MadeFolders&) = delete;
+  ~MadeFolders() {
+    std::error_code ignored;
+    for (const std::filesystem::path& folder : made_) std::filesystem::remove_all(folder, ignored);
+  }
+  // Makes `folder` and its missing parents; the outermost one made is removed unless kept.
+  void make(const std::filesystem::path& folder, std::error_code& error) {
+    std::filesystem::path outermost;
+    for (std::filesystem::path p = std::filesystem::absolute(folder);
+         !p.empty() && !std::filesystem::exists(p); p = p.parent_path())
+      outermost = p;
+    std::filesystem::create_directories(folder, error);
+    if (!error && !outermost.empty()) made_.push_back(outermost);
+  }
+  void keep() { made_.clear(); }
+
+ private:
+  std::vector<std::filesystem::path> made_;
+};
+
 int runModesBench(const Options& o) {
   if (o.reps == 0) throw UsageError("--reps must be at least 1");
   if (o.frames == 0) throw UsageError("--frames must be at least 1");
@@ -242,7 +268,8 @@ int runModesBench(const Options& o) {
   // The outputs' folder is made and checked before the first frame. Images are PNG, or PPM from a build
   // without OpenImageIO (made to be carried to a GPU machine), which writes nothing else.
   std::error_code error;
-  std::filesystem::create_directories(out / "images", error);
+  MadeFolders madeFolders;
+  madeFolders.make(out / "images", error);
   if (error) throw Error("--out " + o.out + ": cannot create the folder: " + error.message());
   const std::string imageExt =
       imageOutputProblem((out / "images" / "x.png").string(), ImageOutputKind::Color8).empty() ? ".png"
@@ -377,6 +404,8 @@ int runModesBench(const Options& o) {
                 percentile(fragmentsPerPixel, 0.5), (unsigned long long)leaves,
                 std::isinf(psnr[c]) ? "inf" : std::to_string(psnr[c]).substr(0, 6).c_str());
   }
+
+  madeFolders.keep();  // bench.json and the images are written
 
   // The plot. An earlier run's goes first, so that a failed or skipped plot leaves none that looks like this
   // run's.

@@ -101,7 +101,9 @@ expect_failure "missing path" "nope.json" $vol --path "$dir/nope.json" --out "$d
 expect_failure "bad tf" "--tf" $vol --mode dvr --tf no-such-preset --out "$dir/e9"
 printf 'x' > "$dir/file"
 expect_failure "out is a file" "--out" $vol --out "$dir/file"
-for e in e1 e2 e6 e7; do [ -e "$dir/$e" ] && fail "a failed run ($e) made its --out folder"; done
+# Failures found after the folder is made (a pool with no slot; a damaged store is alike) take it away again.
+expect_failure "pool without a slot" "--gpu-budget 1 bytes holds no brick slot" $vol --gpu-budget 1 --out "$dir/e10/deeper"
+for e in e1 e2 e6 e7 e10; do [ -e "$dir/$e" ] && fail "a failed run ($e) left its --out folder"; done
 
 if [ "$failures" -ne 0 ]; then echo "$failures failure(s)"; exit 1; fi
 echo "all passed"
