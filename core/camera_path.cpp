@@ -42,6 +42,14 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
     const nlohmann::json& j = doc[i];
     const std::string where = "camera path " + sourceName + ", keyframe " + std::to_string(i);
     if (!j.is_object()) throw Error(where + ": expected an object");
+    // As strict as the command-line options: a misspelt key is an error, not a keyframe that ignores it.
+    for (const auto& [key, value] : j.items())
+      if (key != "orbit" && key != "eye" && key != "target" && key != "up" && key != "fov" && key != "time")
+        throw Error(where + ": unknown key \"" + key +
+                    "\" (expected orbit, or eye, target and up; fov, time)");
+    if (j.contains("orbit") && (j.contains("eye") || j.contains("target") || j.contains("up")))
+      throw Error(where +
+                  ": \"orbit\" places the camera itself; give it without \"eye\", \"target\" and \"up\"");
     CameraKeyframe k;
     if (j.contains("fov")) {
       if (!j["fov"].is_number() || j["fov"].get<double>() <= 0.0 || j["fov"].get<double>() >= 180.0)
@@ -51,6 +59,9 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
     if (j.contains("orbit")) {
       k.isOrbit = true;
       k.orbit = readVec3(j["orbit"], "orbit", where);
+      if (!(k.orbit.z > 0.0))
+        throw Error(where + ": \"orbit\" distance must be positive (bounding-sphere radii), got " +
+                    std::to_string(k.orbit.z));
     } else if (j.contains("eye") && j.contains("target")) {
       k.camera.eye = readVec3(j["eye"], "eye", where);
       k.camera.target = readVec3(j["target"], "target", where);

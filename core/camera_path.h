@@ -3,7 +3,8 @@
 //
 // File format: a JSON array (or {"keyframes": [...]}) of objects, each either
 //   {"eye": [x,y,z], "target": [x,y,z], "up": [x,y,z], "fov": deg}      (up and fov optional: defaultUp, 40)
-//   {"orbit": [azimuthDeg, elevationDeg, distance], "fov": deg}           (around the volume box, z up)
+//   {"orbit": [azimuthDeg, elevationDeg, distance], "fov": deg}           (around the volume box, z up;
+//                                                                          distance > 0)
 // with an optional "time" (seconds, increasing); without times the keyframes are evenly spaced. Frame i of N
 // is at time t0 + i/(N-1)·(t1 - t0), interpolated linearly between the keyframes around it (orbit keyframes
 // in azimuth/elevation/distance, so a path of orbits turns around the volume instead of cutting through it).

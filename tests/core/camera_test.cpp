@@ -108,6 +108,29 @@ TEST(CameraPathKeyframes, RejectANumberOutOfRangeNamingTheFile) {
   }
 }
 
+TEST(CameraPathKeyframes, RejectUnknownKeysMixedFormsAndANonPositiveOrbitDistance) {
+  const auto message = [](const std::string& text) {
+    try {
+      parseCameraPath(text, "p.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(R"([{"orbit": [0, 20, 3]}, {"orbit": [0, 20, 3], "zoom": 2}])")
+                .find("p.json, keyframe 1: unknown key \"zoom\""),
+            std::string::npos);
+  EXPECT_NE(message(R"([{"orbit": [0, 20, 3], "eye": [1, 2, 3], "target": [0, 0, 0]}])")
+                .find("keyframe 0: \"orbit\" places the camera itself"),
+            std::string::npos);
+  EXPECT_NE(message(R"([{"orbit": [0, 20, -3]}])").find("keyframe 0: \"orbit\" distance must be positive"),
+            std::string::npos);
+  EXPECT_NE(message(R"([{"orbit": [0, 20, 0]}])").find("distance must be positive"), std::string::npos);
+  EXPECT_EQ(message(R"([{"orbit": [0, 20, 3], "fov": 30, "time": 0}, {"eye": [1, 2, 3], "target": [0, 0, 0],
+                       "up": [0, 0, 1], "time": 1}])"),
+            "no error");
+}
+
 TEST(CameraPathKeyframes, WithoutUpLookingAlongZIsUsable) {
   const CameraPath path = parseCameraPath(R"([{"eye": [0, 0, 9], "target": [0, 0, 0]}])", "p.json");
   const Camera c = sampleCameraPath(path, 0, 1, glm::dvec3(0.0), glm::dvec3(1.0));
