@@ -27,19 +27,24 @@ std::string lowerExtension(const std::string& path) {
 // Only raw files lack dims and type; every other source says its own.
 void rejectDimsAndType(const std::string& spec, const SourceOptions& options) {
   if (options.dims || options.type)
-    throw Error(
+    throw UsageError(
         "openVolumeSource: " + spec +
         ": --dims and --type apply to raw files only; this source states its own dimensions and type");
 }
 
 }  // namespace
 
+bool isSlicePattern(const std::string& spec) {
+  std::error_code ec;
+  return spec.find_first_of("*?[") != std::string::npos && !fs::exists(spec, ec);
+}
+
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
   if (isProceduralSpec(spec)) {
     rejectDimsAndType(spec, options);
     return openProceduralSource(proceduralNameAndSize(spec), options);
   }
-  if (spec.find_first_of("*?") != std::string::npos) {
+  if (isSlicePattern(spec)) {
     rejectDimsAndType(spec, options);
     return openImageStackSource(spec, options);
   }

@@ -95,4 +95,8 @@ struct SourceOptions {
 // Throws ropecast::Error naming the spec and what was expected.
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options = {});
 
+// Whether openVolumeSource reads `spec` as a glob pattern of slices: it names no existing file and holds one
+// of glob(3)'s metacharacters (*, ? or [); a file whose name holds them is that file.
+bool isSlicePattern(const std::string& spec);
+
 }  // namespace ropecast

@@ -13,6 +13,7 @@
 #include "core/temporary_file.h"
 #include "store/nrrd_header.h"
 #include "store/procedural.h"
+#include "store/volume_source.h"
 
 namespace ropecast::tools {
 namespace {
@@ -47,10 +48,6 @@ bool sameFile(const std::string& a, const std::string& b) {
   return futureName(a) == futureName(b);
 }
 
-bool isGlobPattern(const std::string& path) {
-  return path.find_first_of("*?[") != std::string::npos;
-}
-
 // The files an input stands for: a directory and its entries, a pattern's matches, or the path itself.
 std::vector<std::string> expandInput(const std::string& path) {
   std::vector<std::string> files;
@@ -60,7 +57,7 @@ std::vector<std::string> expandInput(const std::string& path) {
     for (const auto& entry : fs::directory_iterator(path, ec)) files.push_back(entry.path().string());
     return files;
   }
-  if (!fs::exists(path, ec) && isGlobPattern(path)) {
+  if (isSlicePattern(path)) {
     glob_t matches{};
     if (::glob(path.c_str(), 0, nullptr, &matches) == 0)
       for (size_t i = 0; i < matches.gl_pathc; ++i) files.push_back(matches.gl_pathv[i]);

@@ -111,6 +111,8 @@ TEST(SourceImages, Uint16PngAndTiffStacksByGlob) {
   auto tif = openVolumeSource(dir.file("b_?.tif"));
   EXPECT_EQ(tif->info().type, SampleType::Int16);
   expectSlices<int16_t>(*tif, 8, 11, 5);
+  // A bracket expression alone makes a pattern too.
+  expectSlices<int16_t>(*openVolumeSource(dir.file("b_[0-4].tif")), 8, 11, 5);
   auto flt = openVolumeSource(dir.file("c_*"));
   EXPECT_EQ(flt->info().type, SampleType::Float32);
   expectSlices<float>(*flt, 8, 11, 5);
