@@ -31,8 +31,8 @@ CLI::Option* addListOption(CLI::App& app, const std::string& name, std::vector<T
 }  // namespace
 
 CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector<double>& xyz,
-                             const std::string& help) {
-  return addListOption(app, name, xyz, help, ',', 3, "FLOAT", finiteIn(-HUGE_VAL, HUGE_VAL));
+                             const std::string& help, double lo, double hi) {
+  return addListOption(app, name, xyz, help, ',', 3, "FLOAT", finiteIn(lo, hi));
 }
 
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,

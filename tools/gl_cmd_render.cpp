@@ -183,6 +183,8 @@ RenderedFrame renderBrute(const RenderOptions& o, RenderSetup& s) {
     stats.frameMs = millisecondsSince(start);
     stats.converged = true;
     s.stats->write(stats);
+    if (o.every > 0 && (frame % o.every == 0 || frame + 1 == s.frames))
+      s.series->write(frame, brute.readColor());
   }
   return {brute.readColor(), brute.readDepth()};
 }
@@ -322,6 +324,11 @@ int runRender(const RenderOptions& o) {
     throw UsageError(
         "render: --stats has nothing to record with --reference (one CPU render of the full-resolution "
         "data, without the loader or the GPU); leave one of them out");
+  if (o.reference && (o.converge || o.every > 0))
+    throw UsageError(
+        std::string("render: ") + (o.converge ? "--converge" : "--every") +
+        " has nothing to do with --reference (one CPU render of the full-resolution data, of the "
+        "last camera of --path); leave one of them out");
   if (o.every > 0 && !(o.converge || o.frames > 1))
     throw UsageError("render: --every " + std::to_string(o.every) +
                      " writes frames of a progressive render: add --frames N or --converge");
@@ -354,7 +361,8 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
       ->check(CLI::Range(1u, 1000000u))
       ->capture_default_str()
       ->needs(converge);
-  app.add_option("--every", o.every, "also write every K-th frame, and the last, as OUT_NNNN.png");
+  app.add_option("--every", o.every, "also write every K-th frame, and the last, as OUT_NNNN.png")
+      ->check(CLI::Range(1u, 1000000u));
   app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }
 

@@ -110,6 +110,10 @@ tail -n 1 "$dir/v.jsonl" | grep -q '"converged":true' || fail "--converge: last 
 [ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -eq "$(wc -l < "$dir/v.jsonl")" ] ||
   fail "--every 1 wrote $(ls "$dir"/v_*.png 2>/dev/null | wc -l) frames for $(wc -l < "$dir/v.jsonl") stats lines"
 cmp -s "$(ls "$dir"/v_*.png | tail -n 1)" "$dir/v.png" || fail "--every 1: the last numbered frame is not the -o image"
+# Brute force's frames along a path are written alike (every second one, and the last).
+run "brute every" "$ropecast" render $small -o "$dir/b.png" --backend brute --frames 3 --every 2
+[ "$(ls "$dir"/b_*.png 2>/dev/null | tr '\n' ' ')" = "$dir/b_0000.png $dir/b_0002.png " ] ||
+  fail "--backend brute --every 2 wrote: $(ls "$dir"/b_*.png 2>/dev/null)"
 # From a slow disk (35 reads of 150 ms on 2 workers: 2.6 s), --converge waits for reads, up to 0.1 s, between
 # frames that would draw the same cut: 100 frames converge, where frames of 2 ms spent them on the first reads.
 run "converge from a slow disk" "$ropecast" render $small -o "$dir/slow.png" --converge --io-delay-ms 150 \
