@@ -1,5 +1,5 @@
-// CLI11 checks for floating-point options. CLI::Range lets "nan" through (every comparison with NaN is
-// false), so a NaN opacity, field of view or voxel size reached the renderer; these refuse it. Main thread.
+// CLI11 checks for option values. CLI::Range lets "nan" through (every comparison with NaN is false), so a
+// NaN opacity, field of view or voxel size reached the renderer; finiteIn refuses it. Main thread.
 #pragma once
 
 #include <cmath>
@@ -24,6 +24,13 @@ inline CLI::Validator finiteIn(double lo, double hi) {
         return "";
       },
       range.empty() ? "" : "FLOAT" + range, "finiteIn");
+}
+
+// A path that is not empty (`-o ""` is a slip, not a name); `what` says what it names ("a file", "a folder").
+inline CLI::Validator nonEmptyPath(const std::string& what) {
+  return CLI::Validator(
+      [what](const std::string& path) { return path.empty() ? "expected " + what + " name, got ''" : ""; },
+      "", "nonEmptyPath");
 }
 
 }  // namespace ropecast::tools

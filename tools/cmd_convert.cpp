@@ -96,7 +96,9 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
                  "volume: file.raw (name_XxYxZ_type.raw or --dims/--type), .nrrd/.nhdr, "
                  "directory or glob of slices, multi-page TIFF, procedural:NAME:SIZE")
       ->required();
-  app.add_option("-o,--output", a->output, "the store file to write")->required();
+  app.add_option("-o,--output", a->output, "the store file to write")
+      ->required()
+      ->check(nonEmptyPath("a file"));
   app.add_option("--brick", a->brick, "brick edge in samples (power of two in [4, 256])")
       ->capture_default_str();
   app.add_option("--discard-below", a->discardBelow, "mark nodes whose max is below V (data units) empty")

@@ -6,6 +6,7 @@
 #include "store/extract.h"
 #include "store/store.h"
 #include "store/store_writer.h"
+#include "tools/cli_checks.h"
 #include "tools/command.h"
 #include "tools/output_guard.h"
 
@@ -40,7 +41,7 @@ const CommandRegistration extractCommand("extract", 40, [](CLI::App& app) -> std
   app.add_option("store", a->store, "store file")->required();
   app.add_option("--level", a->level, "resolution level (0 = full, L has ceil(n / 2^L) samples per axis)")
       ->capture_default_str();
-  app.add_option("-o,--output", a->output, "raw file to write")->required();
+  app.add_option("-o,--output", a->output, "raw file to write")->required()->check(nonEmptyPath("a file"));
   app.add_flag("-q,--quiet", a->quiet, "no summary");
   return [a] { return runExtract(*a); };
 });

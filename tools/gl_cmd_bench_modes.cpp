@@ -480,8 +480,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
           "", "configs"));
   app.add_option("--out", o->out, "output folder: bench.json, frame_times.png, images/")
       ->capture_default_str()
-      ->check(CLI::Validator(
-          [](const std::string& dir) { return dir.empty() ? "expected a folder name" : ""; }, "", "out"));
+      ->check(nonEmptyPath("a folder"));
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.add_flag("--no-plot", o->noPlot, "write no frame_times.png (a machine without matplotlib)");
   return [o] { return runModesBench(*o); };

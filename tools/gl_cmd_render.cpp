@@ -372,7 +372,7 @@ const CommandRegistration renderCommand("render", 50, [](CLI::App& app) -> std::
   auto o = std::make_shared<RenderOptions>();
   app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
-  app.add_option("-o,--output", o->output, "output PNG")->required();
+  app.add_option("-o,--output", o->output, "output PNG")->required()->check(nonEmptyPath("a file"));
   addRenderOptions(app, *o);
   return [o] { return runRender(*o); };
 });

@@ -167,6 +167,8 @@ void checkSceneOptions(const RenderOptions& o) {
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
   if (isProceduralSpec(input)) return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
   checkBrickOption(input, brick);
+  if (input.empty())
+    throw UsageError("the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''");
   if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
   return Store::open(input);
 }

@@ -70,6 +70,7 @@ expect_usage "orbit and eye" "--orbit excludes --eye" "$vol" --orbit 10,10,3 --e
 expect_usage "orbit and up" "--orbit excludes --up" "$vol" --orbit 10,10,3 --up 0,1,0
 expect_usage "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.json" --orbit 10,10,3
 expect_usage "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
+expect_usage "empty input" "the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''" ""
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
 expect_usage "every zero" "--every" "$vol" --every 0 --frames 3
 expect_usage "every with the reference" "--every has nothing to do with --reference" "$vol" --reference --every 1 --frames 3
