@@ -173,5 +173,22 @@ else
   echo "FAIL compare --min-psnr: $below below, $same for identical images"; failures=$((failures + 1))
 fi
 
+# compare: a PNG whose header claims 60000x60000 pixels is refused before anything is allocated for it.
+python3 - "$dir/in.png" "$dir/huge.png" <<'PY'
+import struct, sys, zlib
+data = bytearray(open(sys.argv[1], 'rb').read())
+assert data[12:16] == b'IHDR'
+struct.pack_into('>II', data, 16, 60000, 60000)
+struct.pack_into('>I', data, 29, zlib.crc32(bytes(data[12:29])))
+open(sys.argv[2], 'wb').write(data)
+PY
+(ulimit -v 4000000 && "$ropecast" compare "$dir/huge.png" "$dir/in.png") > /dev/null 2> "$dir/err.txt"
+rc=$?
+if [ "$rc" = 1 ] && grep -qF "huge.png' claims 60000x60000 pixels" "$dir/err.txt"; then
+  echo "ok   compare refuses an image that claims 60000x60000 pixels"
+else
+  echo "FAIL compare of an image claiming 60000x60000: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
