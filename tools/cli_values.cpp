@@ -31,7 +31,12 @@ CLI::Option* addListOption(CLI::App& app, const std::string& name, std::vector<T
 }  // namespace
 
 CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector<double>& xyz,
-                             const std::string& help, double lo, double hi) {
+                             const std::string& help) {
+  return addTripleOptionIn(app, name, xyz, help, -HUGE_VAL, HUGE_VAL);
+}
+
+CLI::Option* addTripleOptionIn(CLI::App& app, const std::string& name, std::vector<double>& xyz,
+                               const std::string& help, double lo, double hi) {
   return addListOption(app, name, xyz, help, ',', 3, "FLOAT", finiteIn(lo, hi));
 }
 

@@ -4,7 +4,6 @@
 // error). Main thread.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <string>
 #include <type_traits>
@@ -16,10 +15,13 @@
 
 namespace ropecast::tools {
 
-// "1.5,2,3" -> three finite numbers, each in [lo, hi] (CLI11 also takes them as three arguments, "1.5 2 3").
-// --help shows "FLOAT x 3"; the help text names the fields ("X,Y,Z") and any default.
+// "1.5,2,3" -> three finite numbers (CLI11 also takes them as three arguments, "1.5 2 3"). --help shows
+// "FLOAT x 3"; the help text names the fields ("X,Y,Z") and any default.
 CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector<double>& xyz,
-                             const std::string& help, double lo = -HUGE_VAL, double hi = HUGE_VAL);
+                             const std::string& help);
+// The same, each number in [lo, hi].
+CLI::Option* addTripleOptionIn(CLI::App& app, const std::string& name, std::vector<double>& xyz,
+                               const std::string& help, double lo, double hi);
 // "301,370,316" -> three integers in [1, 2^32 - 1].
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help);

@@ -50,7 +50,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   app.add_option("--fov", o.fov, "vertical field of view, degrees")
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
-  addTripleOption(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)", 0.0, 1.0);
+  addTripleOptionIn(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)", 0.0, 1.0);
   std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
   if (command == SceneCommand::View)
     std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });

@@ -46,6 +46,20 @@ TEST(CliValues, ParsesTriples) {
   EXPECT_EQ(formatTriple({1, 0.5, -2}), "1,0.5,-2");
 }
 
+TEST(CliValues, ParsesTriplesInARange) {
+  const auto unit = [](CLI::App& app, const std::string& name, std::vector<double>& xyz,
+                       const std::string& help) { return addTripleOptionIn(app, name, xyz, help, 0.0, 1.0); };
+  std::vector<double> v;
+  EXPECT_EQ(parseOne(unit, "--background", "0,0.5,1", v), "");
+  EXPECT_EQ(toVec3(v), glm::dvec3(0, 0.5, 1));
+  for (const char* bad : {"-1,5,0.5", "0,0,1.01", "0,nan,0"}) {
+    v.clear();
+    const std::string message = parseOne(unit, "--background", bad, v);
+    EXPECT_NE(message.find("--background: expected a finite number in [0, 1]"), std::string::npos)
+        << "'" << bad << "' gave: " << message;
+  }
+}
+
 TEST(CliValues, ParsesDims) {
   std::vector<uint32_t> v;
   EXPECT_EQ(parseOne(addDimsOption, "--dims", "301,370,316", v), "");
