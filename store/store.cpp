@@ -55,43 +55,63 @@ glm::u32vec3 readVec3u(const nlohmann::json& j, const std::string& what) {
   if (!j.is_array() || j.size() != 3) throw std::runtime_error(what + ": expected an array of 3 integers");
   return {readUint32(j.at(0), what), readUint32(j.at(1), what), readUint32(j.at(2), what)};
 }
-glm::dvec3 readVec3d(const nlohmann::json& j) {
-  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected an array of 3 numbers");
+glm::dvec3 readVec3d(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_array() || j.size() != 3 || !j.at(0).is_number() || !j.at(1).is_number() || !j.at(2).is_number())
+    throw std::runtime_error(what + ": expected an array of 3 numbers");
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+
+// The metadata's key, or an error naming it.
+const nlohmann::json& field(const nlohmann::json& j, const std::string& key) {
+  if (!j.is_object() || !j.contains(key)) throw std::runtime_error("missing \"" + key + "\"");
+  return j[key];
+}
+double numberField(const nlohmann::json& j, const std::string& key) {
+  const nlohmann::json& v = field(j, key);
+  if (!v.is_number()) throw std::runtime_error("\"" + key + "\": expected a number, got " + v.dump());
+  return v.get<double>();
+}
+std::string textField(const nlohmann::json& j, const std::string& key) {
+  const nlohmann::json& v = field(j, key);
+  if (!v.is_string()) throw std::runtime_error("\"" + key + "\": expected a string, got " + v.dump());
+  return v.get<std::string>();
 }
 
 StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
   StoreMetadata m;
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
-    m.volume.dims = readVec3u(j.at("dims"), "dims");
-    m.volume.spacing = readVec3d(j.at("spacing"));
-    const auto type = parseSampleType(j.at("originalType").get<std::string>());
-    const auto stored = parseSampleType(j.at("storedType").get<std::string>());
+    m.volume.dims = readVec3u(field(j, "dims"), "dims");
+    m.volume.spacing = readVec3d(field(j, "spacing"), "spacing");
+    const auto type = parseSampleType(textField(j, "originalType"));
+    const auto stored = parseSampleType(textField(j, "storedType"));
     if (!type || !stored) throw std::runtime_error("unknown sample type");
     m.volume.type = *type;
     m.storedType = *stored;
-    const auto& range = j.at("valueRange");
-    if (!range.is_array() || range.size() != 2) throw std::runtime_error("valueRange: expected [min, max]");
+    const auto& range = field(j, "valueRange");
+    if (!range.is_array() || range.size() != 2 || !range.at(0).is_number() || !range.at(1).is_number())
+      throw std::runtime_error("valueRange: expected [min, max]");
     m.volume.valueMin = range.at(0).get<double>();
     m.volume.valueMax = range.at(1).get<double>();
     if (!(*m.volume.valueMin <= *m.volume.valueMax) || !std::isfinite(*m.volume.valueMin) ||
         !std::isfinite(*m.volume.valueMax))
       throw std::runtime_error("valueRange: expected finite [min, max] with min <= max");
-    m.mapping.scale = j.at("mapping").at("scale").get<double>();
-    m.mapping.offset = j.at("mapping").at("offset").get<double>();
-    m.brickSize = readUint32(j.at("brickSize"), "brickSize");
-    m.border = readUint32(j.at("border"), "border");
-    m.levels = readUint32(j.at("levels"), "levels");
-    if (!j.at("discardBelow").is_null()) m.discardBelow = j.at("discardBelow").get<double>();
-    m.zstdLevel = j.at("zstdLevel").get<int>();
-    const std::string encoding = j.at("payloadEncoding").get<std::string>();
+    m.mapping.scale = numberField(field(j, "mapping"), "scale");
+    m.mapping.offset = numberField(field(j, "mapping"), "offset");
+    m.brickSize = readUint32(field(j, "brickSize"), "brickSize");
+    m.border = readUint32(field(j, "border"), "border");
+    m.levels = readUint32(field(j, "levels"), "levels");
+    if (!field(j, "discardBelow").is_null()) m.discardBelow = numberField(j, "discardBelow");
+    const double zstdLevel = numberField(j, "zstdLevel");  // informative; any zstd level is in [-2^17, 22]
+    if (!(std::abs(zstdLevel) <= 1e6)) throw std::runtime_error("\"zstdLevel\": expected a zstd level");
+    m.zstdLevel = int(zstdLevel);
+    const std::string encoding = textField(j, "payloadEncoding");
     if (encoding == "zstd-byteplanes")
       m.payloadEncoding = PayloadEncoding::ZstdBytePlanes;
     else if (encoding != "zstd")
       throw std::runtime_error("unknown payloadEncoding '" + encoding + "'");
-    m.volume.description = j.at("source").get<std::string>();
-    m.creationTool = j.at("creationTool").get<std::string>();
+    m.volume.description = textField(j, "source");
+    m.creationTool = textField(j, "creationTool");
   } catch (const nlohmann::json::exception& e) {
     throw Error("Store: '" + name + "': damaged metadata: " + e.what());
   } catch (const std::runtime_error& e) {

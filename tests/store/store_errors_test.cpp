@@ -171,6 +171,22 @@ TEST_F(StoreErrors, MetadataIntegersMustBeExactUint32) {
   EXPECT_NE(message.find("levels: expected an integer in [0, 2^32)"), std::string::npos) << message;
 }
 
+// A field of the wrong kind or a missing one is named: a key in quotes, not a JSON library's message.
+TEST_F(StoreErrors, MetadataFieldsOfTheWrongKindAreNamed) {
+  std::string message =
+      openWithEditedMetadata("kind.store", [](std::string& m) { replaceValue(m, "discardBelow", "\"xy\""); });
+  EXPECT_NE(message.find("kind.store': damaged metadata: \"discardBelow\": expected a number, got \"xy\""),
+            std::string::npos)
+      << message;
+  message = openWithEditedMetadata("missing.store", [](std::string& m) {
+    const size_t at = m.find("\"creationTool\"");
+    ASSERT_NE(at, std::string::npos);
+    m[at + 1] = 'k';  // "kreationTool": an unknown key, and creationTool missing
+  });
+  EXPECT_NE(message.find("missing.store': damaged metadata: missing \"creationTool\""), std::string::npos)
+      << message;
+}
+
 // A value range whose max lies below its min (the default isovalue and transfer function come from it),
 // written by StoreWriter with the good store's payloads: only the reader's check can catch it.
 TEST_F(StoreErrors, MetadataValueRangeMustBeOrdered) {
