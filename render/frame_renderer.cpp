@@ -224,10 +224,15 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
   dataParts_.clear();
+  // A leaf no ray sampled is known hidden without a query, but only from rays of this view: one unused from
+  // another (the camera moved, the window was resized) is queried, or its hidden mark could keep it, and the
+  // whole cut with it, from refining with no answer about this view to say otherwise.
+  const bool feedbackOfThisView =
+      feedback && rayFeedback_.answered() && rayFeedback_.answeredFrame() >= viewChangedFrame_;
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
     dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
-    if (feedback && rayFeedback_.hint(leaf.key, frame_) == NodeHint::Unused) {
+    if (feedbackOfThisView && rayFeedback_.hint(leaf.key, frame_) == NodeHint::Unused) {
       visibility_->markUnseen(leaf.key, frame_);  // again for the last cut's leaves (collectVisibility)
       continue;
     }
@@ -269,11 +274,14 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
 }
 
 bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feedback) const {
+  // Answers about another view (the camera moved, the window was resized) may have kept this cut: a node
+  // hidden from there can be in sight here. They steer the refinement, but only answers about this view and
+  // cut may say it is converged.
+  const uint64_t since = std::max(cutChangedFrame_, viewChangedFrame_);
   // With occlusion, the refinement kept the cut with a whole round of answers about it.
-  if (occlusion && !visibility_->answeredSince(cutChangedFrame_)) return false;
+  if (occlusion && !visibility_->answeredSince(since)) return false;
   // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
-  if (feedback && !(rayFeedback_.answered() && rayFeedback_.answeredFrame() >= cutChangedFrame_))
-    return false;
+  if (feedback && !(rayFeedback_.answered() && rayFeedback_.answeredFrame() >= since)) return false;
   return loaderConverged;
 }
 
@@ -352,7 +360,10 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // Occluded or unused leaves do not refine, and a refined node whose leaves are all occluded or unused
   // collapses: while the view changes, every frame; on a still view (and emptiness, above) as CollapseGuard
   // allows, so that the tree converges.
-  if (!lastView_ || !sameView(*lastView_, request)) collapseGuard_.reset();
+  if (!lastView_ || !sameView(*lastView_, request)) {
+    collapseGuard_.reset();
+    viewChangedFrame_ = frame_;
+  }
   if (occlusion || feedback) {
     input.hints = [this, occlusion, feedback](const NodeKey& key) {
       const bool refinedNow = lastInnerNodes_.contains(key);

@@ -163,8 +163,9 @@ class FrameRenderer {
   void finishStats(const FrameRequest& request, const WorkingSetFrame& plan, FrameStats& stats);
   // The visible and occluded leaves of the last planned cut and the query latency, into `stats`.
   void countVisibility(FrameStats& stats) const;
-  // Whether the cut drawn since cutChangedFrame_ is converged, given whether the loader is done with it:
-  // with occlusion, a whole round of answers about it kept it; with feedback, an answer about it did.
+  // Whether the cut drawn since cutChangedFrame_ (and the view since viewChangedFrame_) is converged, given
+  // whether the loader is done with it: with occlusion, a whole round of answers about it kept it; with
+  // feedback, an answer about it did.
   bool cutConverged(bool loaderConverged, bool occlusion, bool feedback) const;
   // Whether this frame, planned as `plan` (its leaves' cutSetHash: `cutHash`), would draw the last frame's
   // image again and that image is converged: then it keeps that image (FrameRequest::keepConvergedImage) or,
@@ -211,6 +212,9 @@ class FrameRenderer {
   // The last frame whose cut differed from the one before: every frame since has this cut, so an answer
   // about one of them is about it.
   uint64_t cutChangedFrame_ = 0;
+  // The last asynchronous frame whose camera or image size differed from the frame before: answers about
+  // an earlier view describe another image, so convergence waits for answers about this one.
+  uint64_t viewChangedFrame_ = 0;
   std::optional<FrameRequest> lastDrawn_;  // the request of the last frame drawn
   uint64_t lastDrawnEmptinessKey_ = 0;     // its transfer function's content too (emptinessKeyOf)
   bool keptConvergedImage_ = false;        // the last frame kept the converged image before it

@@ -2,8 +2,9 @@
 // cache to convergence, what they keep from refining is not seen (the converged image matches the one without
 // them at >= 40 dB PSNR, opaque isosurface and semi-transparent DVR, both backends) and the working set is
 // smaller; frames go on when no answer comes back; after a change of isovalue the tree converges as a fresh
-// start at the new one would; the frame that only learns the image converged keeps it instead of drawing it
-// again; the warm-up draw (FrameRenderer::prepare) leaves no query or feedback behind.
+// start at the new one would, and after a camera move as a fresh start at the new view; the frame that only
+// learns the image converged keeps it instead of drawing it again; the warm-up draw (FrameRenderer::prepare)
+// leaves no query or feedback behind.
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -357,6 +358,37 @@ TEST(VisibilityConverge, FramesGoOnWithoutAnswers) {
 // Answers are about one isovalue: after a change on the same view, those still in flight are dropped, and the
 // nodes collapsed under the old isovalue may collapse again under the new one (once per view and isovalue),
 // so the tree converges to what a fresh start at the new isovalue gives.
+// Far away the volume shows fewer pixels than the visibility threshold: its root, the whole cut, is answered
+// hidden. Back at the view, answers about the far one must not make the root a converged cut: the tree
+// converges as a fresh start at the view does, for occlusion alone and with feedback.
+TEST(VisibilityConverge, AViewConvergesOnAnswersAboutItNotAnEarlierOne) {
+  const ProceduralBricks source({ProceduralKind::Menger, 81}, 8);
+  const glm::dvec3 boxMax(source.info().volume.dims);
+  for (const Visibility v : {Visibility{true, false}, Visibility{true, true}}) {
+    const FrameRendererConfig config = visibilityConfig(v, 64ull << 20);
+    FrameRequest request = viewRequest(source.info(), RenderMode::Iso, RenderBackend::Fragment);
+    const Camera near = request.camera;
+    auto converge = [&](FrameRenderer& renderer) {
+      FrameStats last;
+      for (uint32_t frame = 0; frame < 200 && !last.converged; ++frame) last = renderer.render(request);
+      return last;
+    };
+    FrameRenderer moved(test::sharedGlContext().info(), source, config);
+    request.camera = orbitCamera(35.0, 25.0, 400.0, glm::dvec3(0.0), boxMax, 40.0);
+    const FrameStats far = converge(moved);
+    ASSERT_TRUE(far.converged) << nameOf(v);
+    ASSERT_EQ(moved.lastCut().leaves.size(), 1u) << nameOf(v) << ": far away, the root alone";
+    request.camera = near;
+    const FrameStats back = converge(moved);
+    ASSERT_TRUE(back.converged) << nameOf(v);
+
+    FrameRenderer fresh(test::sharedGlContext().info(), source, config);
+    ASSERT_TRUE(converge(fresh).converged) << nameOf(v);
+    EXPECT_GE(dataLeafCount(moved.lastCut()), dataLeafCount(fresh.lastCut()) * 19 / 20) << nameOf(v);
+    EXPECT_GE(test::psnrDb(moved.readColor(), fresh.readColor()), 40.0) << nameOf(v);
+  }
+}
+
 TEST(VisibilityConverge, AChangeOfIsovalueConvergesAsAFreshStartAtTheNewOne) {
   const ProceduralBricks source({ProceduralKind::Menger, 81}, 8);
   const FrameRendererConfig config = visibilityConfig({true, true}, 64ull << 20);
