@@ -63,10 +63,8 @@ bool parentFolderExists(const std::string& path) {
 std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
   if (!parentFolderExists(path))
     return "its folder '" + std::filesystem::path(path).parent_path().string() + "' does not exist";
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (kind == ImageOutputKind::FloatExr)
-    return ext == ".exr" ? "" : "expected a file name ending in .exr (float data)";
+    return hasExrExtension(path) ? "" : "expected a file name ending in .exr (float data)";
   auto out = OIIO::ImageOutput::create(path);
   if (!out) return "no image writer for this extension; use .png";
   if (!out->supports("ioproxy"))

@@ -21,7 +21,7 @@ namespace {
 // An image the viewer will write: a writer for it (its folder exists, its extension is known), and, for an
 // EXR, the depth image beside it (NAME_depth.exr) as an output too.
 void addImageOutput(OutputGuard& guard, const std::string& what, const std::string& path) {
-  const bool exr = std::filesystem::path(path).extension() == ".exr";
+  const bool exr = hasExrExtension(path);
   if (const std::string problem =
           imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
       !problem.empty())

@@ -556,7 +556,7 @@ void Viewer::reportPanelError(const std::exception& e) {
 }
 
 void Viewer::screenshot(const std::string& path, bool panels) {
-  const bool exr = std::filesystem::path(path).extension() == ".exr";
+  const bool exr = hasExrExtension(path);
   if (const std::string problem =
           imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
       !problem.empty())
@@ -693,7 +693,7 @@ void Viewer::drawPanels() {
     if (ImGui::Button("screenshot")) {
       try {
         checkPanelOutput("the panel's screenshot", screenshotPath_);
-        if (std::filesystem::path(screenshotPath_).extension() == ".exr")
+        if (hasExrExtension(screenshotPath_))
           checkPanelOutput("the panel's screenshot (its depth)", screenshotDepthPath(screenshotPath_));
         screenshot(screenshotPath_, false);
       } catch (const Error& e) {

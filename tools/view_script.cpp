@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "reference/image_io.h"
 
 namespace ropecast::tools {
 
@@ -195,7 +196,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.file = r.text("file");
       e.panels = r.flag("panels");
       // The window is 8-bit: a float EXR of it would hold no more than a PNG, and no depth.
-      if (e.panels && std::filesystem::path(e.file).extension() == ".exr")
+      if (e.panels && hasExrExtension(e.file))
         r.fail("\"panels\": true writes a PNG of the window; an EXR screenshot is the 3D view alone");
       add(e);
     } else if (kind == "save_camera") {

@@ -108,6 +108,8 @@ TEST(ViewScript, AMouseMoveTakesNoButton) {
 TEST(ViewScript, AScreenshotWithPanelsIsAPng) {
   expectRefused(R"([{"event": "screenshot", "file": "a.exr", "panels": true}])",
                 "s.json: event 0 (screenshot): \"panels\": true writes a PNG of the window");
+  expectRefused(R"([{"event": "screenshot", "file": "a.EXR", "panels": true}])",
+                "s.json: event 0 (screenshot): \"panels\": true writes a PNG of the window");
   EXPECT_NO_THROW(parseViewScript(R"([{"event": "screenshot", "file": "a.exr"}])", "t"));
 }
 
