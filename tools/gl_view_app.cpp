@@ -117,7 +117,7 @@ class Viewer {
   // Scene state the panels and the script change.
   void setTransferFunction(const std::string& spec);
   void setTransferFunction(TransferFunction function, const std::string& name);
-  void ensureRenderer(const FrameRequest& request);
+  void ensureRenderer(bool moving);
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
   bool needsFrame(const FrameRequest& request) const {
@@ -171,6 +171,7 @@ class Viewer {
   std::optional<FrameRequest> lastRequest_;
   uint64_t lastTfVersion_ = 0;
   FrameStats lastStats_;
+  uint64_t framesRendered_ = 0;
   FloatImage color_;
   // Frames the next event (or the --screenshot after the script) has waited for the view to converge; at
   // --max-frames it runs anyway, with a warning, so a camera that keeps moving cannot hold the script.
@@ -302,15 +303,26 @@ void Viewer::setTransferFunction(TransferFunction function, const std::string& n
 
 // A renderer for the current parameters. A switch to DVR with stored gradients needs a GradientPool, which a
 // FrameRenderer gets at construction: then the renderer is made again (its bricks load again). A new one
-// compiles its shaders for `request` before its first frame, not in that frame's ms (as render does).
-void Viewer::ensureRenderer(const FrameRequest& request) {
+// compiles its shaders for the frame's request before that frame, not in its ms (as render does).
+void Viewer::ensureRenderer(bool moving) {
   if (renderer_ && (rendererHasGradients_ || !usesStoredGradients(params_))) return;
   renderer_.reset();
-  const FrameRendererConfig config = frameRendererConfigOf(o_, params_);
-  renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
+  FrameRendererConfig config = frameRendererConfigOf(o_, params_);
+  try {
+    renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
+  } catch (const UsageError& e) {
+    if (!config.storedGradients) throw;
+    // Stored gradients take 8 more bytes per pool texel: a --gpu-budget too small for a brick with them can
+    // still hold one without, its gradients computed per sample. The session goes on.
+    params_.gradients = GradientSource::Computed;
+    config = frameRendererConfigOf(o_, params_);
+    renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
+    message_ = std::string(e.what()) + " with stored gradients: computing them per sample instead";
+    std::fprintf(stderr, "ropecast view: %s\n", message_.c_str());
+  }
   rendererHasGradients_ = config.storedGradients;
   lastRequest_.reset();
-  renderer_->prepare(request);
+  renderer_->prepare(currentRequest(moving));
 }
 
 FrameRequest Viewer::currentRequest(bool moving) {
@@ -342,6 +354,7 @@ bool Viewer::sameAsLast(const FrameRequest& r) const {
 
 void Viewer::renderFrame(const FrameRequest& request) {
   lastStats_ = renderer_->render(request);
+  lastStats_.frame = framesRendered_++;  // one count for the session: a switch to DVR makes a new renderer
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
@@ -744,7 +757,7 @@ void Viewer::drawPanels() {
 int Viewer::run() {
   start_ = SteadyClock::now();
   auto lastLoop = SteadyClock::now();
-  bool converged = false;
+  bool converged = false, screenshotWritten = false;
   while (!window_->shouldClose()) {
     const bool scriptActive = script_ && !scriptDone();
     const bool idle = converged && !scriptActive && !windowDragOwned_ && scriptKeys_.empty() &&
@@ -776,8 +789,8 @@ int Viewer::run() {
     lastCamera_ = camera;
     const bool moving = secondsSince(start_) - lastMoveSeconds_ < kStillAfterSeconds;
     if (!moving) coarser_ = false;
+    ensureRenderer(moving);  // may fall back to computed gradients (params_)
     const FrameRequest request = currentRequest(moving);
-    ensureRenderer(request);
     if (needsFrame(request)) {
       renderFrame(request);
       if (moving && stepPacer_.enabled() && lastStats_.drawn) {
@@ -808,11 +821,15 @@ int Viewer::run() {
                        "it anyway\n",
                        o_.maxFrames);
         screenshot(o_.screenshot, false);
+        screenshotWritten = true;
         break;
       }
     }
   }
   if (stats_) stats_->finish();
+  // The window closed first: an output asked for is missing, which a script waiting on it must hear.
+  if (!o_.screenshot.empty() && !screenshotWritten)
+    throw Error("view: the window was closed before --screenshot " + o_.screenshot + " was written");
   return 0;
 }
 

@@ -192,6 +192,19 @@ run "view --script set_mode load_tf" xview $vol --script "$dir/tf.json" --screen
 run "render --mode dvr --tf" "$ropecast" render $vol --converge --mode dvr --tf "$data/tf/sphere_shells.json" \
   -o "$dir/r3.png"
 same "DVR with a loaded TF = render --tf" "$dir/v3.png" "$dir/r3.png"
+# A switch to DVR whose stored gradients no longer fit one brick in --gpu-budget goes on with computed ones (and
+# says so), and --stats numbers the frames of the session on, across the renderer the switch makes anew.
+cat > "$dir/tight.json" << JSON
+[{"event": "wait_converged"}, {"event": "set_mode", "mode": "dvr"}, {"event": "load_tf", "tf": "$data/tf/sphere_shells.json"}]
+JSON
+run "view: DVR in a pool too small for stored gradients" xview procedural:marschner-lobb:48 --brick 8 --size 96x96 \
+  --gpu-budget 8K --script "$dir/tight.json" --screenshot "$dir/v3t.png" --stats "$dir/tight.jsonl"
+grep -q "computing them per sample instead" "$dir/err.txt" || fail "the gradients' fallback was not said: $(cat "$dir/err.txt")"
+run "render --gradients computed in that pool" "$ropecast" render procedural:marschner-lobb:48 --brick 8 --size 96x96 \
+  --gpu-budget 8K --converge --mode dvr --tf "$data/tf/sphere_shells.json" --gradients computed -o "$dir/r3t.png"
+same "DVR with computed gradients = render --gradients computed" "$dir/v3t.png" "$dir/r3t.png"
+python3 -c 'import json, sys; f = [json.loads(l)["frame"] for l in open(sys.argv[1])]; sys.exit(f != list(range(len(f))))' \
+  "$dir/tight.jsonl" || fail "--stats frames are not 0, 1, 2, ...: $(cut -c1-20 "$dir/tight.jsonl" | tr '\n' ' ')"
 
 # A bad script is refused with its name and the event, before any window opens.
 echo '[{"event": "spin"}]' > "$dir/bad.json"
