@@ -98,12 +98,17 @@ void VisibilityTracker::renew(uint64_t frame) {
 
 void VisibilityTracker::markUnseen(const NodeKey& key, uint64_t frame) {
   setMark(key, frame, 0);
+  if (Mark& m = marks_[key]; m.issuedFrame == frame && m.samples == 0) m.unseen = true;
+}
+
+void VisibilityTracker::markSeen(const NodeKey& key) {
+  if (const auto it = marks_.find(key); it != marks_.end() && it->second.unseen) marks_.erase(it);
 }
 
 void VisibilityTracker::setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed) {
   const auto [it, inserted] = marks_.try_emplace(key);
   if (!inserted && issuedFrame < it->second.issuedFrame) return;  // an older answer than the one held
-  it->second = {issuedFrame, samplesPassed < config_.thresholdPixels, samplesPassed};
+  it->second = {issuedFrame, samplesPassed < config_.thresholdPixels, samplesPassed, false};
 }
 
 void VisibilityTracker::countAnswer(uint64_t issuedFrame) {

@@ -82,6 +82,9 @@ class VisibilityTracker {
   // A leaf known hidden without a query (no ray reached it: the rays' feedback), left out of plan(): marked
   // as an answer of 0 samples to a query issued in `frame` would mark it, but counted in no round.
   void markUnseen(const NodeKey& key, uint64_t frame);
+  // A leaf the rays sampled after all (a newer answer than the one that found it unused): a mark markUnseen
+  // made is withdrawn; a query's answer stands.
+  void markSeen(const NodeKey& key);
 
   // Propagation to parents (Gobbetti et al. 2008, Sect. 6: an inner node is visible when any child is): given
   // the last cut's non-empty leaves, every inner node above them gets a mark from the visible samples of its
@@ -126,6 +129,7 @@ class VisibilityTracker {
     uint64_t issuedFrame = 0;  // the frame of the query, or of the oldest answer below an inner node
     bool occluded = false;
     uint64_t samples = 0;  // visible samples: the query's, or the sum below an inner node
+    bool unseen = false;   // made by markUnseen, not by a query
   };
   // Not expired at `frame` (written without the sum, which a lifetime of UINT64_MAX would overflow).
   bool live(const Mark& m, uint64_t frame) const {

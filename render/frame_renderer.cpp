@@ -189,9 +189,17 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
   // the marks propagate, so that this frame's refinement hears them with the answers that arrived with them
   // (marked only when the tiles are planned, they would reach the refinement a frame after the cut they
   // change was declared converged).
+  // A leaf the latest answer found used loses a mark an earlier answer's "unused" made: from far away no ray
+  // may reach the root, which from near fills the screen, and that mark would keep it from refining (and the
+  // cut with it converged) until it expired.
   if (feedback)
-    for (const NodeKey& leaf : dataLeaves_)
-      if (rayFeedback_.hint(leaf, frame_) == NodeHint::Unused) visibility_->markUnseen(leaf, frame_);
+    for (const NodeKey& leaf : dataLeaves_) {
+      const NodeHint hint = rayFeedback_.hint(leaf, frame_);
+      if (hint == NodeHint::Unused)
+        visibility_->markUnseen(leaf, frame_);
+      else if (hint == NodeHint::Used || hint == NodeHint::Requested)
+        visibility_->markSeen(leaf);
+    }
   visibility_->propagate(dataLeaves_);
   stats.occlusionMs += millisecondsSince(start);
 }
@@ -224,15 +232,10 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
   dataParts_.clear();
-  // A leaf no ray sampled is known hidden without a query, but only from rays of this view: one unused from
-  // another (the camera moved, the window was resized) is queried, or its hidden mark could keep it, and the
-  // whole cut with it, from refining with no answer about this view to say otherwise.
-  const bool feedbackOfThisView =
-      feedback && rayFeedback_.answered() && rayFeedback_.answeredFrame() >= viewChangedFrame_;
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
     dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
-    if (feedbackOfThisView && rayFeedback_.hint(leaf.key, frame_) == NodeHint::Unused) {
+    if (feedback && rayFeedback_.hint(leaf.key, frame_) == NodeHint::Unused) {
       visibility_->markUnseen(leaf.key, frame_);  // again for the last cut's leaves (collectVisibility)
       continue;
     }

@@ -409,6 +409,20 @@ TEST(VisibilityTracker, ALeafMarkedUnseenIsOccludedWithoutAQueryOrARound) {
   EXPECT_FALSE(tracker.isOccluded(t.p, 13));
 }
 
+TEST(VisibilityTracker, ALeafTheRaysSampleAgainLosesItsUnseenMarkButNotAQuerysAnswer) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const SmallTree t;
+  tracker.markUnseen(t.c0, 5);
+  tracker.plan(5, 8, 8, t.toQuery());
+  tracker.answer(t.c1, 5, 0);  // hidden by its query
+  EXPECT_TRUE(tracker.isOccluded(t.c0, 6));
+  EXPECT_TRUE(tracker.isOccluded(t.c1, 6));
+  tracker.markSeen(t.c0);
+  tracker.markSeen(t.c1);
+  EXPECT_FALSE(tracker.isOccluded(t.c0, 6)) << "the rays' newer answer withdraws what their older one said";
+  EXPECT_TRUE(tracker.isOccluded(t.c1, 6)) << "a query's answer holds until the next query or its lifetime";
+}
+
 TEST(VisibilityTracker, RoundsSpanFramesAndTheMarksFollowTheAnswers) {
   const uint32_t width = 320, height = 240, n = 400;
   std::mt19937 rng(3);
