@@ -188,10 +188,9 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
   // The leaves the rays' latest answer found unused are hidden (planTiles does not query them): marked before
   // the marks propagate, so that this frame's refinement hears them with the answers that arrived with them
   // (marked only when the tiles are planned, they would reach the refinement a frame after the cut they
-  // change was declared converged).
-  // A leaf the latest answer found used loses a mark an earlier answer's "unused" made: from far away no ray
-  // may reach the root, which from near fills the screen, and that mark would keep it from refining (and the
-  // cut with it converged) until it expired.
+  // change was declared converged). A leaf the latest answer found used loses the mark an earlier answer's
+  // "unused" made: from far away no ray may reach the root, which from near fills the screen, and that mark
+  // would keep it from refining, and the cut with it converged, until it expired.
   if (feedback)
     for (const NodeKey& leaf : dataLeaves_) {
       const NodeHint hint = rayFeedback_.hint(leaf, frame_);
