@@ -172,6 +172,7 @@ class Viewer {
   uint64_t lastTfVersion_ = 0;
   FrameStats lastStats_;
   uint64_t framesRendered_ = 0;
+  double lastDrawnMs_ = 0.0;  // the last drawn frame's ms, what the stats panel shows as the frame rate
   FloatImage color_;
   // Frames the next event (or the --screenshot after the script) has waited for the view to converge; at
   // --max-frames it runs anyway, with a warning, so a camera that keeps moving cannot hold the script.
@@ -355,6 +356,7 @@ bool Viewer::sameAsLast(const FrameRequest& r) const {
 void Viewer::renderFrame(const FrameRequest& request) {
   lastStats_ = renderer_->render(request);
   lastStats_.frame = framesRendered_++;  // one count for the session: a switch to DVR makes a new renderer
+  if (lastStats_.drawn) lastDrawnMs_ = lastStats_.frameMs;  // a kept frame takes no drawing time
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
@@ -732,7 +734,7 @@ void Viewer::drawPanels() {
                                    ImGuiWindowFlags_NoNav;
   if (ImGui::Begin("Stats", nullptr, overlay)) {
     const FrameStats& st = lastStats_;
-    ImGui::Text("%.1f fps  %.1f ms/frame  %s", st.frameMs > 0 ? 1000.0 / st.frameMs : 0.0, st.frameMs,
+    ImGui::Text("%.1f fps  %.1f ms/frame  %s", lastDrawnMs_ > 0 ? 1000.0 / lastDrawnMs_ : 0.0, lastDrawnMs_,
                 std::string(renderBackendName(st.backend)).c_str());
     ImGui::Text("leaves %llu  resident %llu  uploads %llu", (unsigned long long)st.leaves,
                 (unsigned long long)st.bricksResident, (unsigned long long)st.bricksUploaded);
