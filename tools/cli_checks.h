@@ -26,10 +26,16 @@ inline CLI::Validator finiteIn(double lo, double hi) {
       range.empty() ? "" : "FLOAT" + range, "finiteIn");
 }
 
-// A path that is not empty (`-o ""` is a slip, not a name); `what` says what it names ("a file", "a folder").
+// A path that is not empty (`-o ""` is a slip, not a name), nor "-", which other tools read as standard
+// output, where ropecast writes nothing (its outputs are written whole and renamed into place); `what` says
+// what it names ("a file", "a folder").
 inline CLI::Validator nonEmptyPath(const std::string& what) {
   return CLI::Validator(
-      [what](const std::string& path) { return path.empty() ? "expected " + what + " name, got ''" : ""; },
+      [what](const std::string& path) -> std::string {
+        if (path.empty()) return "expected " + what + " name, got ''";
+        if (path == "-") return "expected " + what + " name, got '-' (standard output is not written to)";
+        return "";
+      },
       "", "nonEmptyPath");
 }
 

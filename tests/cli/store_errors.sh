@@ -60,6 +60,8 @@ expect_usage "huge spacing" "[1e-12, 1e+12]" \
 expect_absent "$dir/s300.store"
 expect_usage "convert to an empty name" "--output: expected a file name, got ''" \
   "$ropecast" convert procedural:sphere:16 -o "" --quiet
+expect_usage "convert to standard output" "--output: expected a file name, got '-'" \
+  "$ropecast" convert procedural:sphere:16 -o - --quiet
 expect_usage "dims for a source that states its own" "--dims and --type apply to raw files only" \
   "$ropecast" convert procedural:sphere:16 --dims 16,16,16 -o "$dir/d.store" --quiet
 expect_absent "$dir/d.store"
