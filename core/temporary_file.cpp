@@ -94,6 +94,12 @@ void removeTemporariesAndDie(int signal) {
   std::raise(signal);
 }
 
+// `name` with `suffix` after it, `name` shortened so that the two fit in a file name.
+std::string fitFileName(std::string name, std::string_view suffix) {
+  if (name.size() + suffix.size() > NAME_MAX) name.resize(NAME_MAX - suffix.size());
+  return name + std::string(suffix);
+}
+
 // Where a write to `output` lands: its symbolic links followed to the name they lead to (which need not
 // exist), or why no file should be written there.
 struct LinkTarget {
@@ -143,9 +149,7 @@ TemporaryFolder::TemporaryFolder(const std::string& prefix)
     : TemporaryFolder(std::filesystem::temp_directory_path(), prefix) {}
 
 TemporaryFolder::TemporaryFolder(const std::filesystem::path& parent, std::string prefix) {
-  constexpr std::string_view kSuffix = "-XXXXXX";
-  if (prefix.size() + kSuffix.size() > NAME_MAX) prefix.resize(NAME_MAX - kSuffix.size());
-  std::string pattern = (parent / (prefix + std::string(kSuffix))).string();
+  std::string pattern = (parent / fitFileName(std::move(prefix), "-XXXXXX")).string();
   if (!::mkdtemp(pattern.data()))
     throw Error("cannot create a temporary folder " + pattern + ": " + errnoText());
   path_ = pattern;
@@ -164,11 +168,8 @@ TemporaryFile::TemporaryFile(std::filesystem::path output, std::string who)
   if (const std::string problem = targetProblem(target); !problem.empty())
     throw Error(who_ + ": '" + output_.string() + "': " + problem);
   target_ = target.path;
-  // Next to the target, under its name shortened to leave room for the suffix in a file name.
-  constexpr std::string_view kSuffix = ".tmp-XXXXXX";
-  std::string name = target_.filename().string();
-  if (name.size() + kSuffix.size() > NAME_MAX) name.resize(NAME_MAX - kSuffix.size());
-  std::string pattern = (target_.parent_path() / (name + std::string(kSuffix))).string();
+  const std::string pattern =
+      (target_.parent_path() / fitFileName(target_.filename().string(), ".tmp-XXXXXX")).string();
   std::vector<char> temporary(pattern.begin(), pattern.end());
   temporary.push_back('\0');
   fd_ = mkstemp(temporary.data());

@@ -177,8 +177,8 @@ void writeText(const std::filesystem::path& path, const std::string& text) {
   writeFileAtomically(path, std::as_bytes(std::span(text)), "bench modes");
 }
 
-// The folders a run makes (--out, its images/), removed again with what is in them unless the run keeps
-// them: a bench that fails leaves no empty or half-filled folder behind.
+// The outermost folder a run made for --out and its images/, removed again with what is in it unless the run
+// keeps it: a bench that fails leaves no empty or half-filled folder behind.
 class MadeFolders {
  public:
   MadeFolders() = default;
@@ -186,21 +186,21 @@ class MadeFolders {
   MadeFolders& operator=(const MadeFolders&) = delete;
   ~MadeFolders() {
     std::error_code ignored;
-    for (const std::filesystem::path& folder : made_) std::filesystem::remove_all(folder, ignored);
+    if (made_) std::filesystem::remove_all(*made_, ignored);
   }
-  // Makes `folder` and its missing parents; the outermost one made is removed unless kept.
+  // Makes `folder` and its missing parents.
   void make(const std::filesystem::path& folder, std::error_code& error) {
     std::filesystem::path outermost;
     for (std::filesystem::path p = std::filesystem::absolute(folder);
          !p.empty() && !std::filesystem::exists(p); p = p.parent_path())
       outermost = p;
     std::filesystem::create_directories(folder, error);
-    if (!error && !outermost.empty()) made_.push_back(outermost);
+    if (!error && !outermost.empty()) made_ = outermost;
   }
-  void keep() { made_.clear(); }
+  void keep() { made_.reset(); }
 
  private:
-  std::vector<std::filesystem::path> made_;
+  std::optional<std::filesystem::path> made_;
 };
 
 int runModesBench(const Options& o) {
