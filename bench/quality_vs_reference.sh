@@ -19,7 +19,8 @@ for name in $VOLUMES; do
   store=$WORK/$name.rcast
   [ -f "$store" ] || "$ROPECAST" convert "procedural:$name:$SIZE" -o "$store" -q
   for mode in iso dvr; do
-    args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$WORK/tf.json")
+    args=(--size "$IMAGE" --mode "$mode" --iso 127.5)
+    [ "$mode" = dvr ] && args=(--size "$IMAGE" --mode dvr --tf "$WORK/tf.json")
     "$ROPECAST" render "$store" "${args[@]}" --voxels-per-pixel "$VPP" --stats "$WORK/$name-$mode.jsonl" \
       -o "$WORK/$name-$mode-adaptive.png"
     "$ROPECAST" render "$store" "${args[@]}" --reference -o "$WORK/$name-$mode-reference.png"

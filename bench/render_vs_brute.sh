@@ -84,7 +84,9 @@ for name in $DENSE $SPARSE; do
   [ "$kind" = sparse ] && tf=$WORK/tf_sparse.json
   for mode in iso dvr; do
     # shellcheck disable=SC2206,SC2086  # RENDER_ARGS, ROPE_ARGS and BRUTE_ARGS are word lists
-    args=(--size "$IMAGE" --mode "$mode" --iso 127.5 --tf "$tf" --path "$WORK/path.json"
+    mode_args=(--iso 127.5)
+    [ "$mode" = dvr ] && mode_args=(--tf "$tf")
+    args=(--size "$IMAGE" --mode "$mode" "${mode_args[@]}" --path "$WORK/path.json"
           --frames $((last + 1)) ${RENDER_ARGS:-})
     # ROUNDS alternations of the three renderers, so that a change of the machine's load (other jobs on this
     # shared VM) falls on all three rather than on one.

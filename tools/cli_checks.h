@@ -11,19 +11,27 @@
 
 namespace ropecast::tools {
 
-// A finite number in [lo, hi]; the bounds may be infinite ("any finite number": finiteIn(-HUGE_VAL,
-// HUGE_VAL)).
-inline CLI::Validator finiteIn(double lo, double hi) {
+// A finite number in [lo, hi], or in (lo, hi] with lowOpen; the bounds may be infinite ("any finite number":
+// finiteIn(-HUGE_VAL, HUGE_VAL)).
+inline CLI::Validator finiteIn(double lo, double hi, bool lowOpen = false) {
   const std::string range =
-      std::isinf(lo) && std::isinf(hi) ? "" : " in [" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+      std::isinf(lo) && std::isinf(hi)
+          ? ""
+          : std::string(lowOpen ? " in (" : " in [") + formatNumber(lo) + ", " + formatNumber(hi) + "]";
   return CLI::Validator(
-      [lo, hi, range](std::string& input) -> std::string {
+      [lo, hi, lowOpen, range](std::string& input) -> std::string {
         double v = 0.0;
-        if (!CLI::detail::lexical_cast(input, v) || !std::isfinite(v) || v < lo || v > hi)
+        if (!CLI::detail::lexical_cast(input, v) || !std::isfinite(v) || v < lo || (lowOpen && v == lo) ||
+            v > hi)
           return "expected a finite number" + range + ", got '" + input + "'";
         return "";
       },
       range.empty() ? "" : "FLOAT" + range, "finiteIn");
+}
+
+// A finite number in (lo, hi].
+inline CLI::Validator finiteAbove(double lo, double hi) {
+  return finiteIn(lo, hi, true);
 }
 
 // A path that is not empty (`-o ""` is a slip, not a name), nor "-", which other tools read as standard

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/camera_path.h"
@@ -227,6 +229,27 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last) {
       static_cast<unsigned long long>(last.bricksResident), mebibytes(last.gpuPoolUsedBytes));
 }
 
+// Options given that the chosen mode or renderer does not read. A warning, not a usage error: scripts pass
+// one set of options to both modes and to every renderer they compare.
+void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
+  const auto warn = [&app, &o](std::initializer_list<const char*> names, const std::string& context) {
+    std::string given;
+    for (const char* name : names)
+      if (app.count(name) > 0) given += (given.empty() ? "" : ", ") + std::string(name);
+    if (!given.empty())
+      std::fprintf(stderr, "%sropecast render: warning: %s: no effect %s\n", o.messagePrefix.c_str(),
+                   given.c_str(), context.c_str());
+  };
+  if (o.mode == RenderMode::Dvr) warn({"--iso"}, "with --mode dvr (the transfer function decides)");
+  if (o.mode == RenderMode::Iso) warn({"--tf", "--ert", "--gradients"}, "with --mode iso");
+  if (o.reference || o.backend == RenderBackend::Brute)
+    warn({"--voxels-per-pixel", "--gpu-budget", "--cpu-cache", "--upload-budget", "--upload-time-budget",
+          "--upload-pbo", "--io-delay-ms", "--occlusion", "--feedback", "--query-budget",
+          "--visibility-threshold"},
+         o.reference ? "with --reference (full-resolution data on the CPU, no octree)"
+                     : "with --backend brute (level 0 in one 3D texture, no octree)");
+}
+
 // One frame (no --converge, --frames 1; with --path, its first camera): load everything the view needs, then
 // draw.
 RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
@@ -318,7 +341,7 @@ RenderedFrame renderFrames(const RenderOptions& o) {
 
 namespace {
 
-int runRender(const RenderOptions& o) {
+int runRender(const CLI::App& app, const RenderOptions& o) {
   if (o.output.empty()) throw UsageError("render: -o OUT.png is required");
   if (o.reference && !o.stats.empty())
     throw UsageError(
@@ -333,6 +356,7 @@ int runRender(const RenderOptions& o) {
     throw UsageError("render: --every " + std::to_string(o.every) +
                      " writes frames of a progressive render: add --frames N or --converge");
   checkSceneOptions(o);
+  warnUnusedOptions(app, o);
   checkImageOutputs(o);
   checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
@@ -374,7 +398,7 @@ const CommandRegistration renderCommand("render", 50, [](CLI::App& app) -> std::
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
   app.add_option("-o,--output", o->output, "output PNG")->required()->check(nonEmptyPath("a file"));
   addRenderOptions(app, *o);
-  return [o] { return runRender(*o); };
+  return [o, &app] { return runRender(app, *o); };
 });
 
 }  // namespace

@@ -79,8 +79,9 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   app.add_option("--step", o.step, "sample distance in voxels of the level crossed")
       ->check(finiteIn(0.01, 8.0))
       ->capture_default_str();
-  app.add_option("--ert", o.ert, "early ray termination opacity (DVR)")
-      ->check(finiteIn(0.0, 1.0))
+  // At 0 every ray would end before its first sample.
+  app.add_option("--ert", o.ert, "early ray termination: a ray ends when its opacity reaches this (DVR)")
+      ->check(finiteAbove(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--voxels-per-pixel", o.voxelsPerPixel, "refinement target: voxels per pixel")
       ->check(finiteIn(0.01, 64.0))

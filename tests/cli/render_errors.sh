@@ -84,7 +84,8 @@ expect_usage "eye without target" "--eye and --target go together" "$vol" --eye 
 expect_usage "orbit of no distance" "--orbit: the distance must be positive" "$vol" --orbit 10,10,0
 [ ! -e "$dir/ref.jsonl" ] || { echo "FAIL stats of the CPU reference: wrote ref.jsonl"; failures=$((failures + 1)); }
 # CLI11's own range check lets NaN through; a NaN opacity or isovalue must not reach the renderer.
-expect_failure "NaN early termination" "--ert: expected a finite number in [0, 1], got 'nan'" "$vol" --ert nan
+expect_failure "NaN early termination" "--ert: expected a finite number in (0, 1], got 'nan'" "$vol" --ert nan
+expect_failure "early termination at opacity 0" "--ert: expected a finite number in (0, 1], got '0'" "$vol" --ert 0
 expect_failure "NaN isovalue" "--iso: expected a finite number, got 'nan'" "$vol" --iso nan
 expect_failure "NaN field of view" "--fov: expected a finite number in [1, 179]" "$vol" --fov nan
 expect_failure "unknown tf preset" "--tf" "$vol" --mode dvr --tf nopreset
@@ -154,6 +155,22 @@ if "$ropecast" render "$vol" --iso 100 -o "$dir/in.png" > /dev/null 2> "$dir/err
 else
   echo "FAIL isovalue inside the data range: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
+
+# Options the mode or renderer does not read are not errors (scripts share option sets), but they are said.
+warned() {  # NAME EXPECTED_STDERR ARGS...: the render succeeds and warns with EXPECTED_STDERR
+  local name=$1 expected=$2
+  shift 2
+  if "$ropecast" render "$@" -o "$dir/unused.png" > /dev/null 2> "$dir/err.txt" &&
+    grep -qF -- "$expected" "$dir/err.txt" && [ -f "$dir/unused.png" ]; then
+    echo "ok   $name: warned, image written"
+  else
+    echo "FAIL $name: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+  fi
+}
+warned "--iso with --mode dvr" "warning: --iso: no effect with --mode dvr" "$vol" --mode dvr --iso 100
+warned "DVR options with --mode iso" "warning: --tf, --ert: no effect with --mode iso" "$vol" --tf ct-bone --ert 0.5
+warned "octree options with brute force" "warning: --gpu-budget, --occlusion: no effect with --backend brute" \
+  "$vol" --backend brute --gpu-budget 64M --occlusion off
 
 # compare: a threshold that is not a number is refused; a PSNR below a threshold exits 3, above it 0.
 if "$ropecast" compare "$dir/far.png" "$dir/in.png" --min-psnr nan > /dev/null 2> "$dir/err.txt"; then
