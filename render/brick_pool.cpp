@@ -36,14 +36,20 @@ BrickPoolGeometry planBrickPool(uint32_t brickSize, SampleType storedType, uint6
                 std::string(sampleTypeName(storedType)));
   BrickPoolGeometry g;
   g.slotEdge = brickSize + 2 * kBrickBorder;
-  const uint64_t slotBytes =
-      uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge * (bytesPerSample(storedType) + extraBytesPerTexel);
+  const uint64_t slotTexels = uint64_t(g.slotEdge) * g.slotEdge * g.slotEdge;
+  const uint64_t slotBytes = slotTexels * (bytesPerSample(storedType) + extraBytesPerTexel);
   const uint64_t maxPerAxis = uint64_t(std::max(max3DTextureSize, 0)) / g.slotEdge;
   const uint64_t fitting =
       std::min({budgetBytes / slotBytes, maxPerAxis * maxPerAxis * maxPerAxis, kMaxPoolSlots});
-  if (budgetBytes < slotBytes)
-    throw UsageError("--gpu-budget " + std::to_string(budgetBytes) + " bytes holds no brick slot of " +
-                     std::to_string(slotBytes) + " bytes");
+  if (budgetBytes < slotBytes) {
+    std::string problem = "--gpu-budget " + std::to_string(budgetBytes) + " bytes holds no brick slot of " +
+                          std::to_string(slotBytes) + " bytes";
+    if (extraBytesPerTexel > 0)
+      problem += " (" + std::to_string(slotTexels * extraBytesPerTexel) +
+                 " of them for stored DVR gradients; with --gradients computed a slot takes " +
+                 std::to_string(slotTexels * bytesPerSample(storedType)) + ")";
+    throw UsageError(problem);
+  }
   if (fitting < 1)
     throw Error("planBrickPool: GL_MAX_3D_TEXTURE_SIZE " + std::to_string(max3DTextureSize) +
                 " is below the slot edge of " + std::to_string(g.slotEdge) + " texels");

@@ -40,8 +40,8 @@ void extractLevel(const BrickSource& source, uint32_t level,
   const BrickSourceInfo& info = source.info();
   const OctreeLayout& layout = info.layout;
   if (level > layout.maxDepth)
-    throw Error("extract: --level " + std::to_string(level) + ": the store has levels 0.." +
-                std::to_string(layout.maxDepth));
+    throw UsageError("extract: --level " + std::to_string(level) + ": the store has levels 0.." +
+                     std::to_string(layout.maxDepth));
   const uint32_t depth = layout.maxDepth - level, b = layout.brickSize, edge = layout.storedBrickEdge();
   const glm::u32vec3 dims = layout.levelDims(level), nodes = layout.insideNodes(depth);
   const SampleType type = info.volume.type;

@@ -50,7 +50,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   }
   std::error_code ec;
   const fs::file_status status = fs::status(spec, ec);
-  if (!fs::exists(status)) throw Error("openVolumeSource: no such file or directory: " + spec);
+  if (!fs::exists(status)) throw Error(spec + ": no such file or directory");
   if (fs::is_directory(status)) {
     rejectDimsAndType(spec, options);
     return openImageStackSource(spec, options);

@@ -145,7 +145,12 @@ class NrrdSource final : public VolumeSource {
       dataPath = detached.string();
       dataStart = 0;
     }
-    data_ = std::make_unique<PosixFile>(dataPath);
+    try {
+      data_ = std::make_unique<PosixFile>(dataPath);
+    } catch (const Error& e) {
+      if (dataPath == path) throw;
+      throw Error("NRRD header " + path + " names data file " + header_.dataFile + ": " + e.what());
+    }
     dataStart = skipLines(*data_, dataStart, header_.lineSkip);
 
     const uint64_t dataBytes = header_.dataBytes();

@@ -72,8 +72,9 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
   } else if (fromName) {
     info.dims = fromName->dims;
   } else {
-    throw Error("raw file " + path +
-                ": dimensions unknown; give --dims X,Y,Z and --type T, or name the file name_XxYxZ_type.raw");
+    throw UsageError(
+        "raw file " + path +
+        ": dimensions unknown; give --dims X,Y,Z and --type T, or name the file name_XxYxZ_type.raw");
   }
   if (glm::any(glm::equal(info.dims, glm::u32vec3(0))))
     throw Error("raw file " + path + ": dimensions must be positive");
@@ -85,7 +86,8 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
     throw Error("raw file " + path + ": unsupported sample type '" + fromName->typeName +
                 "' in the file name; expected uint8, uint16, int16 or float32 (or give --type)");
   } else {
-    throw Error("raw file " + path + ": sample type unknown; give --type (uint8, uint16, int16, float32)");
+    throw UsageError("raw file " + path +
+                     ": sample type unknown; give --type (uint8, uint16, int16, float32)");
   }
   info.spacing = options.spacing.value_or(glm::dvec3(1.0));
   if (info.type == SampleType::UInt8) {

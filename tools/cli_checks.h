@@ -14,10 +14,13 @@ namespace ropecast::tools {
 // A finite number in [lo, hi], or in (lo, hi] with lowOpen; the bounds may be infinite ("any finite number":
 // finiteIn(-HUGE_VAL, HUGE_VAL)).
 inline CLI::Validator finiteIn(double lo, double hi, bool lowOpen = false) {
-  const std::string range =
-      std::isinf(lo) && std::isinf(hi)
-          ? ""
-          : std::string(lowOpen ? " in (" : " in [") + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  std::string range;  // of the finite bounds: "in [0, inf]" would promise infinity
+  if (!std::isinf(lo) && !std::isinf(hi))
+    range = std::string(lowOpen ? " in (" : " in [") + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  else if (!std::isinf(lo))
+    range = (lowOpen ? " > " : " >= ") + formatNumber(lo);
+  else if (!std::isinf(hi))
+    range = " <= " + formatNumber(hi);
   return CLI::Validator(
       [lo, hi, lowOpen, range](std::string& input) -> std::string {
         double v = 0.0;

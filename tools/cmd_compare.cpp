@@ -42,6 +42,10 @@ int runCompare(const CompareOptions& o) {
   if (!o.channels && a.channels != b.channels && channels < 3)
     throw Error("compare: " + o.a + " has " + std::to_string(a.channels) + " channel(s), " + o.b + " has " +
                 std::to_string(b.channels) + "; give --channels N to compare the first N");
+  for (const auto& [path, image] : {std::pair{&o.a, &a}, std::pair{&o.b, &b}})
+    if (channels > image->channels)
+      throw UsageError("compare: --channels " + std::to_string(channels) + ": " + *path + " has " +
+                       std::to_string(image->channels) + " channel(s)");
   const ImageDifference d = compareImages(a.pixels, a.channels, b.pixels, b.channels, channels);
   nlohmann::json j{{"psnr_db", number(d.psnrDb)},
                    {"max_abs", number(d.maxAbs)},

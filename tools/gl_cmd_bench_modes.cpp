@@ -443,7 +443,8 @@ std::function<int()> setupModesBench(CLI::App& app) {
                   "30,20,1.6)");
   app.add_option("--turn", o->turnDeg, "degrees of azimuth the --orbit path turns")
       ->check(finiteIn(-3600.0, 3600.0))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->excludes(app.get_option("--path"));
   app.add_option("--frames", o->frames, "frames along the path")
       ->check(CLI::Range(1u, 100000u))
       ->capture_default_str();
@@ -451,7 +452,9 @@ std::function<int()> setupModesBench(CLI::App& app) {
       ->check(CLI::Range(1u, 1000u))
       ->capture_default_str();
   addEnumOption(app, "--mode", o->mode, kModeNames, "isosurface or direct volume rendering");
-  app.add_option("--iso", o->iso, "isovalue in data units (default: middle of the value range)")
+  app.add_option("--iso", o->iso,
+                 "isovalue in data units (default: middle of the value range: a store's recorded one, the "
+                 "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file")
       ->capture_default_str();

@@ -33,7 +33,9 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
 
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
-  app.add_option("--iso", o.iso, "isovalue in data units (default: middle of the value range)")
+  app.add_option("--iso", o.iso,
+                 "isovalue in data units (default: middle of the value range: a store's recorded one, the "
+                 "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o.tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file");
   addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");

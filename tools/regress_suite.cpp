@@ -91,7 +91,9 @@ RegressSuite parseRegressSuite(const std::string& text, const std::string& suite
     RegressCase c;
     c.name = requireString(entry, "name", where);
     if (!isPlainName(c.name))
-      throw SuiteError(where + ".name: '" + c.name + "': expected letters, digits, '_', '-' and '.' only");
+      throw SuiteError(where + ".name: '" + c.name +
+                       "': expected letters, digits, '_', '-' and '.', not starting with '.' (names become "
+                       "file names)");
     if (!names.insert(c.name).second) throw SuiteError(where + ".name: '" + c.name + "' names two cases");
     where = suitePath + ": case '" + c.name + "'";
     for (const auto& [key, value] : entry.items())

@@ -59,6 +59,10 @@ done
 first=$(grep -o '<h2>[^<]*' report/index.html | head -1)
 [ "$first" = "<h2>FAIL b" ] || fail "the report should list the failing case first, got '$first'"
 grep -q 'class=scale' report/index.html || fail "the difference image has no scale"
+# Each case's command is the one that renders what was compared: the converged frame.
+commands=$(grep -F '<code>ropecast render' report/index.html)
+[ "$(grep -c . <<<"$commands")" = 3 ] && [ "$(grep -c -- '--converge' <<<"$commands")" = 3 ] ||
+  fail "the report's commands should be 3, each with --converge: $commands"
 if grep -qE '(src|href)="(/|https?:)' report/index.html; then fail "the report refers outside its folder"; fi
 
 # --update rewrites the failing golden only; --update-all all of them.
@@ -97,7 +101,7 @@ bad "bad option" "--mode" '{"cases": [{"name": "x", "input": "procedural:sphere:
 bad "option writing a file" "--stats writes a file" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--stats", "s.jsonl"], "golden": "x.png"}]}'
 bad "--help in options" "--help asks for help" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--help"], "golden": "x.png"}]}'
-bad "-o in options" "-o" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["-o", "y.png"], "golden": "x.png"}]}'
+bad "-o in options" "-o writes a file" '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["-o", "y.png"], "golden": "x.png"}]}'
 bad "a step that follows frame times" "--target-frame-ms adapts the step" \
   '{"cases": [{"name": "x", "input": "procedural:sphere:16", "options": ["--target-frame-ms", "50"], "golden": "x.png"}]}'
 bad "two cases one name" "names two cases" \

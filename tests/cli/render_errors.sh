@@ -98,6 +98,10 @@ expect_failure "up parallel to the view" "--up 1,1,1: up is parallel" "$vol" --e
 expect_failure "zero up" "--up 0,0,0: up is the zero vector" "$vol" --eye 1,2,3 --target 0,0,0 --up 0,0,0
 expect_failure "view direction overflows" "not finite" "$vol" --eye 1e308,0,0 --target -1e308,0,0
 expect_usage "gpu budget too small" "--gpu-budget 1024 bytes holds no brick slot" "$vol" --gpu-budget 1K
+# With stored DVR gradients a slot takes 9 bytes a texel; the message says what computed ones would take.
+expect_usage "gpu budget too small for stored gradients" \
+  "holds no brick slot of 419904 bytes (373248 of them for stored DVR gradients; with --gradients computed a slot takes 46656)" \
+  "$vol" --mode dvr --gpu-budget 100K
 expect_usage "cpu cache too small" "--cpu-cache 1024 bytes is below 16 bricks" "$vol" --cpu-cache 1K
 expect_usage "upload budget too small" "--upload-budget 1024 bytes cannot carry one brick" "$vol" --upload-budget 1K
 expect_failure "bad byte size" "--cpu-cache" "$vol" --cpu-cache lots
@@ -188,6 +192,21 @@ if [ "$below" = 3 ] && [ "$same" = 0 ]; then
   echo "ok   compare --min-psnr: 3 below, 0 for identical images"
 else
   echo "FAIL compare --min-psnr: $below below, $same for identical images"; failures=$((failures + 1))
+fi
+
+# compare: more channels than an image has names the image and the option.
+"$ropecast" compare "$dir/far.png" "$dir/in.png" --channels 4 > /dev/null 2> "$dir/err.txt"
+rc=$?
+if [ "$rc" = 2 ] && grep -qF -- "--channels 4: $dir/far.png has 3 channel(s)" "$dir/err.txt"; then
+  echo "ok   compare --channels 4 of RGB images refused (exit 2)"
+else
+  echo "FAIL compare --channels 4 of RGB images: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+# A bound that is infinite is not shown as one the option takes.
+if "$ropecast" compare --help | grep -qF -- "FLOAT >= 0"; then
+  echo "ok   compare --help: --min-psnr FLOAT >= 0, not [0, inf]"
+else
+  echo "FAIL compare --help: $("$ropecast" compare --help | grep -F -- --min-psnr)"; failures=$((failures + 1))
 fi
 
 # compare: a PNG whose header claims 60000x60000 pixels is refused before anything is allocated for it.

@@ -68,6 +68,20 @@ expect_absent "$dir/d.store"
 expect_usage "zstd level beyond zstd's" "--zstd-level 100: expected a value in" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --zstd-level 100 -o "$dir/z100.store" --quiet
 expect_absent "$dir/z100.store"
+# A raw file whose name states neither dimensions nor type needs the options.
+cp "$dir/v_24x20x16_uint16.raw" "$dir/plain.raw"
+expect_usage "raw without --type" "plain.raw: sample type unknown; give --type" \
+  "$ropecast" convert "$dir/plain.raw" --dims 24,20,16 -o "$dir/p.store" --quiet
+expect_usage "raw without --dims" "plain.raw: dimensions unknown; give --dims" \
+  "$ropecast" convert "$dir/plain.raw" -o "$dir/p.store" --quiet
+expect_absent "$dir/p.store"
+# A detached NRRD header whose data file is missing: the message names both.
+printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: gone.raw\n\n' > "$dir/h.nhdr"
+expect_failure "NRRD data file missing" "NRRD header $dir/h.nhdr names data file gone.raw" \
+  "$ropecast" convert "$dir/h.nhdr" -o "$dir/h.store" --quiet
+expect_absent "$dir/h.store"
+expect_failure "no such input" "$dir/none.raw: no such file or directory" \
+  "$ropecast" convert "$dir/none.raw" -o "$dir/n.store" --quiet
 # More samples per axis than a store holds: refused before writing (the reader would refuse the store).
 truncate -s 1048577 "$dir/long.raw"
 expect_usage "dims beyond 2^20" "--dims" \
@@ -102,7 +116,8 @@ expect_failure "damaged brick (extract)" "node depth" "$ropecast" extract "$dir/
 expect_absent "$dir/brick.raw"
 
 # Extract: level out of range, unwritable output.
-expect_failure "extract level" "--level 9" "$ropecast" extract "$dir/good.store" --level 9 -o "$dir/l9.raw" --quiet
+expect_usage "extract level" "--level 9: the store has levels 0..2" \
+  "$ropecast" extract "$dir/good.store" --level 9 -o "$dir/l9.raw" --quiet
 expect_absent "$dir/l9.raw"
 expect_failure "extract unwritable" "$dir/plainfile/x.raw" \
   "$ropecast" extract "$dir/good.store" -o "$dir/plainfile/x.raw" --quiet

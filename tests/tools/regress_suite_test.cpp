@@ -57,7 +57,11 @@ TEST(RegressSuite, RefusesBadSuitesNamingTheKey) {
   EXPECT_EQ(refusal(R"({"cases": [{"name": "a", "golden": "a.png"}]})"),
             "dir/suite.json: case 'a': missing \"input\"");
   EXPECT_EQ(refusal(R"({"cases": [{"name": "a/b", "input": "x", "golden": "a.png"}]})"),
-            "dir/suite.json: cases[0].name: 'a/b': expected letters, digits, '_', '-' and '.' only");
+            "dir/suite.json: cases[0].name: 'a/b': expected letters, digits, '_', '-' and '.', not starting "
+            "with '.' (names become file names)");
+  EXPECT_NE(refusal(R"({"cases": [{"name": ".hidden", "input": "x", "golden": "a.png"}]})")
+                .find("not starting with '.'"),
+            std::string::npos);
   EXPECT_EQ(
       refusal(R"({"cases": [{"name": "a", "input": "x", "golden": "a.png", "options": "--size 8x8"}]})"),
       "dir/suite.json: case 'a'.options: expected an array of strings");
