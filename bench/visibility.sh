@@ -21,10 +21,11 @@
 #    tree is still being read, as in Gobbetti et al. 2008's out-of-core setting.
 # 3. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
 #    the path's working set: frame time median and max, bytes read and uploaded, evictions of bricks the rays
-#    used in the frame before (used_evictions).
+#    used in the frame before (used_evictions); PATH_REPS times, the configurations taking turns (frame times
+#    move between runs more than between configurations), medians over the repetitions.
 # Usage: bench/visibility.sh [BUILD_DIR]   env SIZE (729), IMAGE (1024x1024), PATH_IMAGE (512x512), FRAMES (120),
 #   MODES ("iso dvr"), CONFIGS ("priority occlusion feedback both"), STEADY (4), GPU (1G), CPU (1G),
-#   PATH_GPU (128M), PATH_CPU (128M), SLOW_IO (2, milliseconds; 0 skips part 2), MAX_FRAMES (400,
+#   PATH_GPU (128M), PATH_CPU (128M), PATH_REPS (1), SLOW_IO (2, milliseconds; 0 skips part 2), MAX_FRAMES (400,
 #   the frame limit of a run to convergence: fast GPU frames need more from a slow disk), WORK (a fresh folder),
 #   CHEAP_REPS (3; 0 skips part 1b), SKIP_PATH=1 skips part 3, SKIP_CONVERGE=1 reuses the results of parts 1 and 2 in WORK, EXT (png, or ppm
 #   for a build without OpenImageIO: then the images are not compared, and PSNR and "final at" read nan)
@@ -101,13 +102,17 @@ if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
       --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.$EXT"
   done
 fi
+path_reps=${PATH_REPS:-1}
 if [ "${SKIP_PATH:-0}" != 1 ]; then
-  for config in $configs; do
-    echo "visibility.sh: path, $config" >&2
-    # shellcheck disable=SC2046
-    "$ROPECAST" render "$store" --mode iso --size "$path_image" --path "$here/flyby_path.json" --frames "$frames" \
-      --gpu-budget "${PATH_GPU:-128M}" --cpu-cache "${PATH_CPU:-128M}" $(flags "$config") \
-      --stats "$WORK/path-$config.jsonl" -o "$WORK/path-$config.$EXT"
+  rm -f "$WORK"/path-*.jsonl
+  for rep in $(seq "$path_reps"); do
+    for config in $configs; do
+      echo "visibility.sh: path, $config, repetition $rep" >&2
+      # shellcheck disable=SC2046
+      "$ROPECAST" render "$store" --mode iso --size "$path_image" --path "$here/flyby_path.json" --frames "$frames" \
+        --gpu-budget "${PATH_GPU:-128M}" --cpu-cache "${PATH_CPU:-128M}" $(flags "$config") \
+        --stats "$WORK/path-$config-$rep.jsonl" -o "$WORK/path-$config.$EXT"
+    done
   done
 fi
 
@@ -138,8 +143,11 @@ def final_frame(mode, config):
     while k > 0 and psnr(frames[k - 1], f"{work}/frames-{mode}-{config}/f.png") >= 40.0:
         k -= 1
     return k
-print(f"procedural:menger:{size} store, cold cache to convergence at {image}")
-for mode in modes:
+# Parts 1 and 2 are summarized when their results are in WORK (SKIP_CONVERGE=1 with a fresh WORK has none).
+converged = [m for m in modes if os.path.exists(f"{work}/converge-{m}-{configs[0]}.jsonl")]
+if converged:
+    print(f"procedural:menger:{size} store, cold cache to convergence at {image}")
+for mode in converged:
     head = ["working set", "resident", "read MiB", "upload MiB", "frames", "seconds", "final at", "s to final",
             "frame ms", "q.lat", "fb.lat", "PSNR"]
     print(f"\n{mode:<10}" + "".join(f"{h:>12}" for h in head))
@@ -184,14 +192,20 @@ if slow_io != "0" and os.path.exists(f"{work}/slow-iso-{configs[0]}.jsonl"):
              "PSNR": psnr(f"{work}/slow-iso-{config}.{ext}", f"{work}/slow-iso-{configs[0]}.{ext}")}
         print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head) + ("" if r[-1]["converged"] else "  NOT CONVERGED"))
 if skip_path != "1":
-    print(f"\nflyby_path.json at {path_image}, iso")
-    head = ["frame med", "frame max", "read MiB", "upload MiB", "used evict"]
+    reps = sorted(glob.glob(f"{work}/path-{configs[0]}-*.jsonl"))
+    print(f"\nflyby_path.json at {path_image}, iso" + (f", medians of {len(reps)} repetitions" if len(reps) > 1 else ""))
+    head = ["frame med", "frame max", "raycast med", "read MiB", "upload MiB", "used evict"]
     print(f"{'':<10}" + "".join(f"{h:>12}" for h in head))
     for config in configs:
-        r = rows(f"path-{config}")
-        ms = [x["frame_ms"] for x in r[1:]]
-        s = {"frame med": statistics.median(ms), "frame max": max(ms),
-             "read MiB": sum(x["bytes_read"] for x in r) / MiB, "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
-             "used evict": sum(x["used_evictions"] for x in r)}
+        runs = []
+        for path in sorted(glob.glob(f"{work}/path-{config}-*.jsonl")):
+            r = [json.loads(line) for line in open(path)]
+            ms = [x["frame_ms"] for x in r[1:]]
+            runs.append({"frame med": statistics.median(ms), "frame max": max(ms),
+                         "raycast med": statistics.median(x["raycast_ms"] for x in r[1:]),
+                         "read MiB": sum(x["bytes_read"] for x in r) / MiB,
+                         "upload MiB": sum(x["bytes_uploaded"] for x in r) / MiB,
+                         "used evict": sum(x["used_evictions"] for x in r)})
+        s = {h: statistics.median(run[h] for run in runs) for h in head}
         print(f"{config:<10}" + "".join(f"{s[h]:12.1f}" for h in head))
 PY
