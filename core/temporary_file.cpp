@@ -125,6 +125,10 @@ LinkTarget followLinks(std::filesystem::path path) {
 // Why no file should be written at `target`, in words ("" when one may).
 std::string targetProblem(const LinkTarget& target) {
   if (!target.problem.empty()) return target.problem;
+  // Found now, not by the rename at the end of the work (the temporary's name is shortened to fit).
+  if (const size_t length = target.path.filename().string().size(); length > NAME_MAX)
+    return "its file name is " + std::to_string(length) + " bytes long; a file name takes at most " +
+           std::to_string(NAME_MAX);
   struct stat existing {};
   if (::stat(target.path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode))
     return "not a regular file (a device, pipe or socket); outputs are written whole under a temporary name "

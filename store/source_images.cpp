@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace ropecast {
 namespace {
@@ -25,6 +26,9 @@ struct SliceFormat {
   uint32_t width = 0;
   uint32_t height = 0;
   SampleType type = SampleType::UInt8;
+  // The file's bits per sample when fewer than the type holds (1-bit PNG, 12-bit TIFF): OpenImageIO scales
+  // them up to the type's range, and they are scaled back to the file's values; else 0.
+  uint32_t narrowBits = 0;
 };
 
 std::string describe(const SliceRef& slice, bool multiPage) {
@@ -38,6 +42,7 @@ std::string oiioError(const OIIO::ImageInput* in) {
 }
 
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
+  requireRegularFile(path, "cannot read image " + path);  // before OpenImageIO's open, which waits on a FIFO
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw Error("cannot read image " + path + ": " + oiioError(nullptr));
   return in;
@@ -61,7 +66,25 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, const std::string& what) {
   else
     throw Error("image slice " + what + " has pixel type " + std::string(spec.format.c_str()) +
                 "; expected uint8, uint16, int16 or float");
+  const int bits = spec.get_int_attribute("oiio:BitsPerSample", 0);
+  if (bits > 0 && format.type != SampleType::Float32 && uint32_t(bits) < 8 * bytesPerSample(format.type)) {
+    if (format.type == SampleType::Int16)
+      throw Error("image slice " + what + " has signed " + std::to_string(bits) +
+                  "-bit samples; expected 8, 16 or 32 bits, or unsigned samples");
+    format.narrowBits = uint32_t(bits);
+  }
   return format;
+}
+
+// Scales samples OpenImageIO widened from `bits` bits back to the file's values: it fills the type's range by
+// shifting left and repeating the high bits below, so a right shift undoes either.
+void narrowSamples(std::span<std::byte> samples, SampleType type, uint32_t bits) {
+  if (type == SampleType::UInt8) {
+    for (std::byte& b : samples) b >>= (8 - bits);
+  } else {
+    const std::span<uint16_t> values(reinterpret_cast<uint16_t*>(samples.data()), samples.size() / 2);
+    for (uint16_t& v : values) v = uint16_t(v >> (16 - bits));
+  }
 }
 
 void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const std::string& firstWhat,
@@ -74,6 +97,13 @@ void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const s
     throw Error("image slice " + what + " has type " + std::string(sampleTypeName(slice.type)) + ", but " +
                 firstWhat + " has " + std::string(sampleTypeName(first.type)) +
                 "; all slices must have one type");
+  if (slice.narrowBits != first.narrowBits) {
+    const auto bitsOf = [](const SliceFormat& f) {
+      return std::to_string(f.narrowBits ? f.narrowBits : 8 * bytesPerSample(f.type));
+    };
+    throw Error("image slice " + what + " has " + bitsOf(slice) + "-bit samples, but " + firstWhat + " has " +
+                bitsOf(first) + "-bit ones; all slices must have one bit depth");
+  }
 }
 
 class ImageSliceSource final : public VolumeSource {
@@ -95,7 +125,7 @@ class ImageSliceSource final : public VolumeSource {
     info_.spacing = options.spacing.value_or(glm::dvec3(1.0));
     if (info_.type == SampleType::UInt8) {
       info_.valueMin = 0.0;
-      info_.valueMax = 255.0;
+      info_.valueMax = format_.narrowBits ? double((1u << format_.narrowBits) - 1) : 255.0;
     }
     info_.description = std::move(description);
   }
@@ -116,7 +146,13 @@ class ImageSliceSource final : public VolumeSource {
                     oiioError(multiPageInput_.get()));
       return spec;
     }
-    return openImage(slice.path)->spec();
+    const auto in = openImage(slice.path);
+    OIIO::ImageSpec spec = in->spec();
+    // A multi-page TIFF among the slices would give its first page only.
+    if (in->seek_subimage(1, 0))
+      throw Error("image slice " + slice.path + " has " + std::to_string(countImagePages(slice.path)) +
+                  " pages; convert a multi-page TIFF on its own, or give single-page slices");
+    return spec;
   }
 
   void readSlice(const SliceRef& slice, std::span<std::byte> out) {
@@ -134,6 +170,7 @@ class ImageSliceSource final : public VolumeSource {
     checkSameFormat(format_, sliceFormat(spec, what), describe(slices_[0], multiPage_), what);
     if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()))
       throw Error("cannot read image slice " + what + ": " + oiioError(in));
+    if (format_.narrowBits) narrowSamples(out, format_.type, format_.narrowBits);
   }
 
   std::vector<SliceRef> slices_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <vector>
 
 #include "core/error.h"
@@ -71,6 +72,7 @@ class GzipStream {
       const size_t got = chunk - zs_.avail_out;
       left -= got;
       produced_ += got;
+      memberEnded_ = status == Z_STREAM_END;
       if (status == Z_STREAM_END) {
         if (left == 0) break;
         // Concatenated gzip members continue the data; anything else means it ended early.
@@ -85,10 +87,29 @@ class GzipStream {
     }
   }
 
+  // Reads the rest of the current gzip member, its trailer included (zlib checks the CRC and length there):
+  // throws when the file ends first or the check fails. Data past the volume is read and dropped.
+  void finishMember() {
+    std::vector<std::byte> scratch(kChunkBytes);
+    while (!memberEnded_) {
+      if (zs_.avail_in == 0 && !refill(false))
+        throw Error("NRRD data file " + file_.path() +
+                    ": gzip data ends before its trailer (truncated file)");
+      zs_.next_out = reinterpret_cast<Bytef*>(scratch.data());
+      zs_.avail_out = uInt(scratch.size());
+      const int status = inflate(&zs_, Z_NO_FLUSH);
+      memberEnded_ = status == Z_STREAM_END;
+      if (status != Z_OK && status != Z_STREAM_END && !(status == Z_BUF_ERROR && zs_.avail_in == 0))
+        corrupt(zs_.msg ? zs_.msg : "inflate error " + std::to_string(status));
+    }
+    produced_ = std::numeric_limits<uint64_t>::max();  // spent: the next read restarts the stream
+  }
+
  private:
   void inputStart() {
     next_ = start_;
     produced_ = 0;
+    memberEnded_ = false;
     zs_.avail_in = 0;
     zs_.next_in = nullptr;
   }
@@ -117,8 +138,9 @@ class GzipStream {
 
   const PosixFile& file_;
   uint64_t start_;
-  uint64_t next_ = 0;      // file offset of the next compressed input
-  uint64_t produced_ = 0;  // decompressed bytes delivered since the start
+  uint64_t next_ = 0;         // file offset of the next compressed input
+  uint64_t produced_ = 0;     // decompressed bytes delivered since the start
+  bool memberEnded_ = false;  // the last inflate() ended a gzip member (its trailer checked)
   z_stream zs_{};
   std::vector<std::byte> input_;
 };
@@ -126,25 +148,9 @@ class GzipStream {
 class NrrdSource final : public VolumeSource {
  public:
   NrrdSource(const std::string& path, const SourceOptions& options) {
-    std::string text;
-    {
-      const PosixFile headerFile(path);
-      text.resize(size_t(std::min<uint64_t>(headerFile.sizeBytes(), kMaxNrrdHeaderBytes)));
-      text.resize(headerFile.readSomeAt(0, std::as_writable_bytes(std::span(text))));
-    }
-    header_ = parseNrrdHeader(text, path);
-    std::string dataPath = path;
-    uint64_t dataStart = header_.headerBytes;
-    if (header_.dataFile.empty()) {
-      if (!header_.endsWithBlankLine)
-        throw Error("NRRD header of " + path +
-                    ": no blank line ends the header (and no 'data file' field names detached data)");
-    } else {
-      std::filesystem::path detached(header_.dataFile);
-      if (detached.is_relative()) detached = std::filesystem::path(path).parent_path() / detached;
-      dataPath = detached.string();
-      dataStart = 0;
-    }
+    header_ = readNrrdHeaderFile(path);
+    const std::string dataPath = nrrdDataPath(header_, path);
+    uint64_t dataStart = header_.dataFile.empty() ? header_.headerBytes : 0;
     try {
       data_ = std::make_unique<PosixFile>(dataPath);
     } catch (const Error& e) {
@@ -187,6 +193,8 @@ class NrrdSource final : public VolumeSource {
       if (target < gzip_->position()) gzip_->restart();
       gzip_->skip(target - gzip_->position());
       gzip_->read(out);
+      // The last slice: the member's trailer (CRC and length) must follow, else the file was cut.
+      if (z0 + out.size() / info_.sliceBytes() == info_.dims.z) gzip_->finishMember();
     } else {
       data_->readAt(rawOffset_ + offset, out);
     }
@@ -209,6 +217,28 @@ class NrrdSource final : public VolumeSource {
 };
 
 }  // namespace
+
+NrrdHeader readNrrdHeaderFile(const std::string& path) {
+  std::string text;
+  const PosixFile file(path);
+  text.resize(size_t(std::min<uint64_t>(file.sizeBytes(), kMaxNrrdHeaderBytes)));
+  text.resize(file.readSomeAt(0, std::as_writable_bytes(std::span(text))));
+  NrrdHeader header = parseNrrdHeader(text, path);
+  if (!header.endsWithBlankLine && file.sizeBytes() > kMaxNrrdHeaderBytes)
+    throw Error("NRRD header " + path + ": longer than the " + std::to_string(kMaxNrrdHeaderBytes) +
+                " bytes read as a header");
+  if (header.dataFile.empty() && !header.endsWithBlankLine)
+    throw Error("NRRD header of " + path +
+                ": no blank line ends the header (and no 'data file' field names detached data)");
+  return header;
+}
+
+std::string nrrdDataPath(const NrrdHeader& header, const std::string& headerPath) {
+  if (header.dataFile.empty()) return headerPath;
+  std::filesystem::path detached(header.dataFile);
+  if (detached.is_relative()) detached = std::filesystem::path(headerPath).parent_path() / detached;
+  return detached.string();
+}
 
 std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const SourceOptions& options) {
   return std::make_unique<NrrdSource>(path, options);

@@ -56,7 +56,7 @@ std::optional<RawFileName> parseRawFileName(std::string_view path) {
     const std::string digits = match[axis + 1].str();
     if (digits.size() > 10) return std::nullopt;
     const uint64_t n = std::stoull(digits);
-    if (n == 0 || n > UINT32_MAX) return std::nullopt;
+    if (n > UINT32_MAX) return std::nullopt;
     parsed.dims[axis] = uint32_t(n);
   }
   parsed.typeName = match[4].str();
@@ -76,8 +76,11 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
         "raw file " + path +
         ": dimensions unknown; give --dims X,Y,Z and --type T, or name the file name_XxYxZ_type.raw");
   }
-  if (glm::any(glm::equal(info.dims, glm::u32vec3(0))))
-    throw Error("raw file " + path + ": dimensions must be positive");
+  // Before the size check, whose product of dims would overflow.
+  if (!isValidDims(info.dims))
+    throw Error("raw file " + path + ": dimensions " + std::to_string(info.dims.x) + "x" +
+                std::to_string(info.dims.y) + "x" + std::to_string(info.dims.z) + ": each must be 1 to " +
+                std::to_string(kMaxDimsPerAxis));
   if (options.type) {
     info.type = *options.type;
   } else if (fromName && fromName->type) {

@@ -44,7 +44,8 @@ int runInfo(const std::string& path, bool json) {
                   {"raw", s.rawBytes}};
     j["compressionRatio"] = ratio(s.uncompressedBytes, s.payloadBytes);
     j["fileToRawRatio"] = ratio(s.fileBytes, s.rawBytes);
-    std::printf("%s\n", j.dump(2).c_str());
+    // File names need not be UTF-8: bytes that are not become U+FFFD, as in the store's metadata.
+    std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
     return 0;
   }
   std::printf("store      %s\n", path.c_str());

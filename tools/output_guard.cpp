@@ -5,14 +5,12 @@
 
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/temporary_file.h"
-#include "store/nrrd_header.h"
 #include "store/procedural.h"
+#include "store/source_nrrd.h"
 #include "store/volume_source.h"
 
 namespace ropecast::tools {
@@ -149,14 +147,10 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   std::string ext = fs::path(spec).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".nhdr" && ext != ".nrrd") return files;
-  // A detached header names its data file; a header that does not parse is refused when the source opens.
-  std::ifstream in(spec, std::ios::binary);
-  std::string text(kMaxNrrdHeaderBytes, '\0');
-  in.read(text.data(), std::streamsize(text.size()));
-  text.resize(size_t(in.gcount()));
+  // A detached header names its data file; a header that cannot be read is refused when the source opens.
   try {
-    const NrrdHeader header = parseNrrdHeader(text, spec);
-    if (!header.dataFile.empty()) files.push_back((fs::path(spec).parent_path() / header.dataFile).string());
+    const NrrdHeader header = readNrrdHeaderFile(spec);
+    if (!header.dataFile.empty()) files.push_back(nrrdDataPath(header, spec));
   } catch (const Error&) {
   }
   return files;

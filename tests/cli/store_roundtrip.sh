@@ -27,6 +27,10 @@ cmp "$dir/ct.bin" "$dir/b0.raw"
 "$ropecast" info "$dir/b.store" --json > "$dir/info.json"
 grep -q '"originalType": "int16"' "$dir/info.json"
 grep -q '"compressionRatio"' "$dir/info.json"
+# A store name that is not UTF-8 (Latin-1 'caf\xe9'): JSON gets U+FFFD for the byte.
+cp "$dir/b.store" "$dir/caf"$'\xe9'".store"
+"$ropecast" info "$dir/caf"$'\xe9'".store" --json | grep -q "caf"$'\xef\xbf\xbd'".store"
+rm "$dir/caf"$'\xe9'".store"
 
 # A procedural source with --discard-below: some nodes become empty.
 "$ropecast" convert procedural:sphere:48 --brick 8 --discard-below 150 -o "$dir/c.store" --quiet

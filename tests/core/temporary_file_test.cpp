@@ -61,6 +61,17 @@ TEST(TemporaryFile, AnOutputNameAsLongAsAFileNameMayBeIsWritten) {
   EXPECT_EQ(contents(out), text);
 }
 
+// Refused before any work is done: the temporary's shortened name would have been created, and the rename at
+// the end would fail.
+TEST(TemporaryFile, AnOutputNameLongerThanAFileNameMayBeIsRefusedAtOnce) {
+  const TemporaryFolder folder("ropecast-test");
+  const std::filesystem::path out = folder.path() / (std::string(252, 'n') + ".png");  // 256 bytes
+  EXPECT_NE(outputFileProblem(out).find("its file name is 256 bytes long"), std::string::npos)
+      << outputFileProblem(out);
+  EXPECT_THROW(TemporaryFile(out, "test"), Error);
+  EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
+}
+
 TEST(TemporaryFolder, GoesAwayWithItsFiles) {
   std::filesystem::path kept;
   {

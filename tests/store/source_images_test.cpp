@@ -54,6 +54,29 @@ void writeImage(const std::string& path, uint32_t w, uint32_t h, const std::vect
   ASSERT_TRUE(out->close());
 }
 
+// A single-channel image whose file holds `bits` bits per sample; `pixels` are the file's values.
+void writeNarrowImage(const std::string& path, uint32_t w, uint32_t h, const std::vector<uint16_t>& pixels,
+                      int bits) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out) << OIIO::geterror();
+  OIIO::ImageSpec spec(int(w), int(h), 1, bits <= 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16);
+  spec.attribute("oiio:BitsPerSample", bits);
+  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+  // OpenImageIO writes the high bits of the samples it is given, of the spec's type (a conversion between
+  // types would round).
+  const int typeBits = bits <= 8 ? 8 : 16;
+  std::vector<uint16_t> widened16(pixels.size());
+  std::vector<uint8_t> widened8(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    widened16[i] = uint16_t(pixels[i] << (typeBits - bits));
+    widened8[i] = uint8_t(widened16[i]);
+  }
+  ASSERT_TRUE(typeBits == 8 ? out->write_image(OIIO::TypeDesc::UINT8, widened8.data())
+                            : out->write_image(OIIO::TypeDesc::UINT16, widened16.data()))
+      << out->geterror();
+  ASSERT_TRUE(out->close());
+}
+
 template <typename T>
 void writeMultiPage(const std::string& path, uint32_t w, uint32_t h, uint32_t pages) {
   auto out = OIIO::ImageOutput::create(path);
@@ -129,6 +152,45 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<float>(*source, 10, 7, 6);
   auto i16 = openVolumeSource(dir.file("pages16.tiff"));
   expectSlices<int16_t>(*i16, 5, 12, 3);
+}
+
+// OpenImageIO widens 12-bit and 4-bit TIFF samples to the type's range; the volume keeps the file's
+// values, and slices of different bit depths are refused.
+TEST(SourceImages, NarrowBitDepthsKeepTheFilesValues) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.file("tiff12"));
+  std::vector<uint16_t> values12(6 * 4);
+  for (size_t i = 0; i < values12.size(); ++i) values12[i] = uint16_t(i * 170 + 3);  // up to 3913
+  for (int z = 0; z < 2; ++z)
+    writeNarrowImage(dir.file("tiff12/s" + std::to_string(z) + ".tif"), 6, 4, values12, 12);
+  auto tiff12 = openVolumeSource(dir.file("tiff12"));
+  EXPECT_EQ(tiff12->info().type, SampleType::UInt16);
+  EXPECT_EQ(readSlab<uint16_t>(*tiff12, 1, 1), values12);
+
+  std::filesystem::create_directories(dir.file("tiff4"));
+  std::vector<uint16_t> values4(8 * 2);
+  for (size_t i = 0; i < values4.size(); ++i) values4[i] = uint16_t(i % 16);
+  writeNarrowImage(dir.file("tiff4/a.tif"), 8, 2, values4, 4);
+  auto tiff4 = openVolumeSource(dir.file("tiff4"));
+  EXPECT_EQ(tiff4->info().type, SampleType::UInt8);
+  EXPECT_EQ(tiff4->info().valueMax, 15.0);
+  const auto read4 = readSlab<uint8_t>(*tiff4, 0, 1);
+  EXPECT_EQ(std::vector<uint16_t>(read4.begin(), read4.end()), values4);
+
+  writeImage(dir.file("tiff12/s2.tif"), 6, 4, slicePattern<uint16_t>(6, 4, 2));  // 16 bits
+  const std::string message = errorOf(dir.file("tiff12"));
+  EXPECT_NE(message.find("16-bit samples, but " + dir.file("tiff12/s0.tif") + " has 12-bit ones"),
+            std::string::npos)
+      << message;
+}
+
+// A multi-page TIFF among the slices of a folder would give its first page only.
+TEST(SourceImages, AMultiPageTiffAmongSlicesIsRefused) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.file("stack"));
+  writeMultiPage<uint8_t>(dir.file("stack/pages.tif"), 5, 4, 3);
+  const std::string message = errorOf(dir.file("stack"));
+  EXPECT_NE(message.find(dir.file("stack/pages.tif") + " has 3 pages"), std::string::npos) << message;
 }
 
 TEST(SourceImages, SliceNameOrder) {

@@ -301,6 +301,28 @@ TEST(SourceNrrd, BadFilesNameTheFile) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(corrupt), std::string::npos) << e.what();
   }
+  // Every sample there, but the member's trailer (CRC32 and length, its last 8 bytes) cut off, or its CRC
+  // wrong: the file is damaged, though the samples decompress.
+  const std::string noTrailer = dir.file("notrailer.nrrd");
+  writeFile(noTrailer, headerFor("uint16", "gzip") + "\n" + gz.substr(0, gz.size() - 8));
+  std::string badCrcBytes = gz;
+  badCrcBytes[gz.size() - 8] = char(~badCrcBytes[gz.size() - 8]);
+  const std::string badCrc = dir.file("badcrc.nrrd");
+  writeFile(badCrc, headerFor("uint16", "gzip") + "\n" + badCrcBytes);
+  for (const std::string& damaged : {noTrailer, badCrc}) {
+    try {
+      openVolumeSource(damaged)->readSlab(0, 5, std::as_writable_bytes(std::span(all)));
+      ADD_FAILURE() << damaged << " read without error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(damaged), std::string::npos) << e.what();
+    }
+  }
+  // A header longer than what is read as one (its data file's name could be cut to another file's).
+  const std::string longHeader = dir.file("long.nhdr");
+  writeFile(longHeader, headerFor("uint16", "raw", "") + std::string(kMaxNrrdHeaderBytes, '#') +
+                            "\ndata file: vol.raw\n");
+  message = errorOf(longHeader);
+  EXPECT_NE(message.find("longer than the 1048576 bytes read as a header"), std::string::npos) << message;
   // Dims and type come from the header, not from options.
   SourceOptions options;
   options.dims = glm::u32vec3(1, 2, 3);

@@ -87,8 +87,22 @@ TEST(SourceRaw, ParsesOpenSciVisNames) {
   EXPECT_EQ(upper->type, SampleType::UInt16);
   EXPECT_FALSE(parseRawFileName("bonsai.raw"));
   EXPECT_FALSE(parseRawFileName("bonsai_256x256_uint8.raw"));
-  EXPECT_FALSE(parseRawFileName("bonsai_0x256x256_uint8.raw"));
   EXPECT_FALSE(parseRawFileName("bonsai_99999999999x2x2_uint8.raw"));
+  // A zero is the name's dimension, refused when the file opens (not "dimensions unknown").
+  EXPECT_EQ(parseRawFileName("bonsai_0x256x256_uint8.raw")->dims, glm::u32vec3(0, 256, 256));
+}
+
+// Dims in the name beyond what a store holds are refused before their product is taken (it overflowed).
+TEST(SourceRaw, DimsOfTheNameAreCheckedBeforeTheSize) {
+  TempDir dir;
+  for (const char* name : {"a_4294967295x4294967295x4294967295_uint8.raw",
+                           "b_4194304x4194304x1048576_uint8.raw", "c_0x10x10_uint8.raw"}) {
+    const std::string path = dir.file(name);
+    writeFile(path, "", 0);
+    const std::string message = errorOf(path);
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("each must be 1 to 1048576"), std::string::npos) << message;
+  }
 }
 
 TEST(SourceRaw, OptionsOverrideTheFileName) {
