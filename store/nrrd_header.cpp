@@ -280,12 +280,14 @@ class HeaderParser {
       const std::string_view inner = value.substr(i + 1, close - i - 1);
       double squared = 0.0;
       size_t count = 0;
+      bool alongAxis = true;  // (x,0,0) for axis 0 with x > 0, and so on
       for (size_t start = 0;;) {
         const size_t comma = inner.find(',', start);
         const auto c = parseNumber(
             inner.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
         if (!c || std::isnan(*c)) failField(name, "expected numbers in " + quoted(value));
         squared += *c * *c;
+        alongAxis = alongAxis && (count == size_t(axis) ? *c > 0.0 : *c == 0.0);
         ++count;
         if (comma == std::string_view::npos) break;
         start = comma + 1;
@@ -296,6 +298,7 @@ class HeaderParser {
       const double length = std::sqrt(squared);
       if (!(length > 0.0) || std::isinf(length))
         failField(name, "direction of axis " + std::to_string(axis) + " has zero or infinite length");
+      if (!alongAxis || count != 3) header_.directionsTurnAxes = true;
       lengths[axis++] = length;
       i = close + 1;
     }

@@ -19,8 +19,8 @@
 
 namespace ropecast {
 
-// The most of a file read as its header: by the NRRD source, and by whoever must know the data file a header
-// names before the source opens (the output guard), so that both see the same header.
+// The most of a file read as its header (readNrrdHeaderFile in store/source_nrrd.h, for the NRRD source and
+// for whoever must know the data file a header names before the source opens, the output guard).
 constexpr size_t kMaxNrrdHeaderBytes = size_t(1) << 20;
 
 enum class NrrdEncoding : uint8_t { Raw, Gzip };
@@ -29,6 +29,8 @@ struct NrrdHeader {
   SampleType type = SampleType::UInt8;
   glm::u32vec3 sizes{0};    // samples per axis, axis 0 fastest
   glm::dvec3 spacing{1.0};  // from spacings or the lengths of space directions (1 where unknown)
+  bool directionsTurnAxes =
+      false;  // space directions that flip, rotate or shear the axes (only lengths used)
   NrrdEncoding encoding = NrrdEncoding::Raw;
   bool bigEndian = false;  // the data's byte order (irrelevant for 1-byte types)
   int64_t byteSkip = 0;  // bytes to skip before the data (after decompression for gzip); -1: data at the end

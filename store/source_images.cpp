@@ -131,6 +131,7 @@ class ImageSliceSource final : public VolumeSource {
   }
 
   const VolumeInfo& info() const override { return info_; }
+  void addNote(std::string note) { info_.notes.push_back(std::move(note)); }
 
  private:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
@@ -249,12 +250,46 @@ int countImagePages(const std::string& path) {
   return pages;
 }
 
+std::string sliceNumberingNote(const std::vector<std::string>& files) {
+  // The last run of digits in each file name; a name without one means the stack is not numbered.
+  std::vector<std::pair<uint64_t, std::string>> numbered;
+  for (const std::string& file : files) {
+    const std::string name = fs::path(file).stem().string();
+    const size_t end = name.find_last_of("0123456789");
+    if (end == std::string::npos) return "";
+    size_t begin = end;
+    while (begin > 0 && std::isdigit(static_cast<unsigned char>(name[begin - 1]))) --begin;
+    if (end + 1 - begin > 18) return "";
+    numbered.emplace_back(std::stoull(name.substr(begin, end + 1 - begin)), file);
+  }
+  std::stable_sort(numbered.begin(), numbered.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (size_t i = 1; i < numbered.size(); ++i)
+    if (numbered[i].first == numbered[i - 1].first)
+      return "slices " + numbered[i - 1].second + " and " + numbered[i].second + " have the same number, " +
+             std::to_string(numbered[i].first) + "; both are in the volume";
+  const uint64_t first = numbered.front().first, last = numbered.back().first;
+  const uint64_t missing = last - first + 1 - numbered.size();
+  if (missing == 0) return "";
+  std::string lacking;
+  for (size_t i = 1, listed = 0; i < numbered.size() && listed < 3; ++i)
+    for (uint64_t n = numbered[i - 1].first + 1; n < numbered[i].first && listed < 3; ++n, ++listed)
+      lacking += (lacking.empty() ? "" : ", ") + std::to_string(n);
+  return "slices numbered " + std::to_string(first) + " to " + std::to_string(last) + " lack " +
+         std::to_string(missing) + " number(s) (" + lacking + (missing > 3 ? ", ..." : "") +
+         "); the volume has " + std::to_string(numbered.size()) + " slices, one after another";
+}
+
 std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
                                                    const SourceOptions& options) {
+  std::vector<std::string> files = listSliceFiles(directoryOrPattern);
+  const std::string numbering = sliceNumberingNote(files);
   std::vector<SliceRef> slices;
-  for (auto& file : listSliceFiles(directoryOrPattern)) slices.push_back({std::move(file), 0});
-  return std::make_unique<ImageSliceSource>(std::move(slices), false, "images:" + directoryOrPattern,
-                                            options);
+  for (auto& file : files) slices.push_back({std::move(file), 0});
+  auto source =
+      std::make_unique<ImageSliceSource>(std::move(slices), false, "images:" + directoryOrPattern, options);
+  if (!numbering.empty()) source->addNote(numbering);
+  return source;
 }
 
 std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options) {

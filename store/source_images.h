@@ -1,7 +1,7 @@
 // The image-stack VolumeSource, read with OpenImageIO: a directory of 2D slices (every .tif/.tiff/.png file),
 // a glob pattern of slices (e.g. "dir/slice_*.png"), or one multi-page TIFF (each page a slice). Slices are
-// single-channel uint8, uint16, int16 or float images, all of one size and type; slice 0 is z = 0. Owned by
-// loader/.
+// single-channel uint8, uint16, int16 or float images, all of one size, type and bit depth (samples of fewer
+// bits than their type, a 12-bit TIFF say, keep the file's values); slice 0 is z = 0. Owned by loader/.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time).
 #pragma once
@@ -25,6 +25,10 @@ std::vector<std::string> listSliceFiles(const std::string& directoryOrPattern);
 
 // How many subimages (pages) an image file has. Throws ropecast::Error naming the file if it cannot be read.
 int countImagePages(const std::string& path);
+
+// For files numbered in their names (the last run of digits): a note when numbers repeat or some are missing
+// between the first and the last (slices are stacked one after another whatever their numbers); else "".
+std::string sliceNumberingNote(const std::vector<std::string>& files);
 
 // A stack of slice files (a directory or glob pattern). Every slice is checked when opening: a slice of
 // different size or type, an unreadable file, or a multi-channel image throws ropecast::Error naming the

@@ -181,6 +181,10 @@ class NrrdSource final : public VolumeSource {
       info_.valueMax = 255.0;
     }
     info_.description = "nrrd:" + path;
+    if (header_.directionsTurnAxes)
+      info_.notes.push_back(path +
+                            ": its space directions flip or rotate the axes; only their lengths are used, as "
+                            "spacings, so the volume is shown unflipped and axis-aligned");
   }
 
   const VolumeInfo& info() const override { return info_; }

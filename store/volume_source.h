@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -27,6 +28,9 @@ struct VolumeInfo {
   std::optional<double> valueMin;  // known value range in data units, if the source knows it cheaply
   std::optional<double> valueMax;  // (float32 sources without it get a range pre-pass in the converter)
   std::string description;         // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
+  // What the source noticed about its input that a person should hear, though the samples are read as
+  // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.
+  std::vector<std::string> notes;
 
   uint64_t sampleCount() const { return uint64_t(dims.x) * dims.y * dims.z; }
   size_t sliceBytes() const { return size_t(dims.x) * dims.y * bytesPerSample(type); }

@@ -58,6 +58,8 @@ int runConvert(const ConvertArgs& a) {
   guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto source = openVolumeSource(a.input, sourceOptions);
+  for (const std::string& note : source->info().notes)  // said even with -q: the store keeps what was read
+    std::fprintf(stderr, "ropecast convert: warning: %s\n", note.c_str());
 
   ProgressBar scan("scanning range", "B", a.quiet), bricks("converting", "B", a.quiet);
   options.progress = [&](const ConvertProgress& p) {

@@ -130,6 +130,17 @@ else
   echo "FAIL --discard-below above the data: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
 
+# A NRRD whose space directions flip an axis converts, and the warning says only lengths were used.
+printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\nspace directions: (-1,0,0) (0,1,0) (0,0,1)\n\n' \
+  > "$dir/flip.nrrd"
+head -c 64 /dev/zero >> "$dir/flip.nrrd"
+if "$ropecast" convert "$dir/flip.nrrd" -o "$dir/flip.store" --quiet 2> "$dir/err.txt" &&
+  grep -qF "warning: $dir/flip.nrrd: its space directions flip or rotate the axes" "$dir/err.txt"; then
+  echo "ok   NRRD space directions that flip an axis: warned"
+else
+  echo "FAIL NRRD space directions that flip an axis: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+
 # The good store is still fine.
 "$ropecast" verify "$dir/good.store" --quiet > /dev/null || { echo "FAIL: good store does not verify"; failures=$((failures + 1)); }
 [ "$failures" -eq 0 ] && echo "store_errors: ok" || { echo "store_errors: $failures failure(s)"; exit 1; }

@@ -193,6 +193,25 @@ TEST(SourceImages, AMultiPageTiffAmongSlicesIsRefused) {
   EXPECT_NE(message.find(dir.file("stack/pages.tif") + " has 3 pages"), std::string::npos) << message;
 }
 
+TEST(SourceImages, GapsAndRepeatsInTheNumberingAreNoted) {
+  EXPECT_EQ(sliceNumberingNote({"d/s0.png", "d/s1.png", "d/s2.png"}), "");
+  EXPECT_EQ(sliceNumberingNote({"d/a.png", "d/s1.png"}), "");  // not numbered
+  EXPECT_EQ(
+      sliceNumberingNote({"d/s0.png", "d/s1.png", "d/s3.png", "d/s4.png", "d/s9.png"}),
+      "slices numbered 0 to 9 lack 5 number(s) (2, 5, 6, ...); the volume has 5 slices, one after another");
+  EXPECT_EQ(sliceNumberingNote({"d/s1.png", "d/s01.png", "d/s2.png"}),
+            "slices d/s1.png and d/s01.png have the same number, 1; both are in the volume");
+  // The note reaches the source's info.
+  TempDir dir;
+  std::filesystem::create_directories(dir.file("gap"));
+  for (int z : {0, 1, 3})
+    writeImage(dir.file("gap/s" + std::to_string(z) + ".png"), 4, 3, slicePattern<uint8_t>(4, 3, z));
+  const auto source = openVolumeSource(dir.file("gap"));
+  ASSERT_EQ(source->info().notes.size(), 1u);
+  EXPECT_NE(source->info().notes[0].find("lack 1 number(s) (2)"), std::string::npos)
+      << source->info().notes[0];
+}
+
 TEST(SourceImages, SliceNameOrder) {
   EXPECT_TRUE(sliceNameLess("s2.png", "s10.png"));
   EXPECT_FALSE(sliceNameLess("s10.png", "s2.png"));

@@ -169,6 +169,14 @@ TEST(SourceNrrd, SpacingFromSpaceDirections) {
                 "space: RAS\nspace directions: (0,0.5,0) (3,4,0) (0, 0, -2.5)\nspacings: 7 7 7\n"),
       "t.nhdr");
   EXPECT_EQ(h.spacing, glm::dvec3(0.5, 5.0, 2.5));
+  EXPECT_TRUE(h.directionsTurnAxes);
+  const auto directions = [](const std::string& value) {
+    return parseNrrdHeader(headerFor("uchar", "raw", "space directions: " + value + "\n"), "t.nhdr");
+  };
+  EXPECT_FALSE(directions("(0.5,0,0) (0,1,-0) (0,0,2)").directionsTurnAxes);
+  EXPECT_TRUE(directions("(-0.5,0,0) (0,1,0) (0,0,2)").directionsTurnAxes);        // flipped
+  EXPECT_TRUE(directions("(0.3,0.4,0) (-0.4,0.3,0) (0,0,2)").directionsTurnAxes);  // rotated
+  EXPECT_EQ(directions("(0.3,0.4,0) (-0.4,0.3,0) (0,0,2)").spacing, glm::dvec3(0.5, 0.5, 2.0));
   const NrrdHeader n = parseNrrdHeader(headerFor("uchar", "raw", "spacings: nan 2 -3\n"), "t.nhdr");
   EXPECT_EQ(n.spacing, glm::dvec3(1.0, 2.0, 3.0));
   const NrrdHeader none =
