@@ -29,8 +29,8 @@ struct NrrdHeader {
   SampleType type = SampleType::UInt8;
   glm::u32vec3 sizes{0};    // samples per axis, axis 0 fastest
   glm::dvec3 spacing{1.0};  // from spacings or the lengths of space directions (1 where unknown)
-  bool directionsTurnAxes =
-      false;  // space directions that flip, rotate or shear the axes (only lengths used)
+  // Space directions that flip, rotate or shear the axes: only their lengths are used (as spacing).
+  bool directionsTurnAxes = false;
   NrrdEncoding encoding = NrrdEncoding::Raw;
   bool bigEndian = false;  // the data's byte order (irrelevant for 1-byte types)
   int64_t byteSkip = 0;  // bytes to skip before the data (after decompression for gzip); -1: data at the end

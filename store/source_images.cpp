@@ -26,7 +26,7 @@ struct SliceFormat {
   uint32_t width = 0;
   uint32_t height = 0;
   SampleType type = SampleType::UInt8;
-  // The file's bits per sample when fewer than the type holds (1-bit PNG, 12-bit TIFF): OpenImageIO scales
+  // The file's bits per sample when fewer than the type holds (4-bit or 12-bit TIFF): OpenImageIO scales
   // them up to the type's range, and they are scaled back to the file's values; else 0.
   uint32_t narrowBits = 0;
 };
