@@ -248,6 +248,7 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
           "--visibility-threshold"},
          o.reference ? "with --reference (full-resolution data on the CPU, no octree)"
                      : "with --backend brute (level 0 in one 3D texture, no octree)");
+  if (o.reference) warn({"--frames"}, "with --reference (one image, of --path's last camera)");
 }
 
 // One frame (no --converge, --frames 1; with --path, its first camera): load everything the view needs, then

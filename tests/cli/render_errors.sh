@@ -173,6 +173,7 @@ warned() {  # NAME EXPECTED_STDERR ARGS...: the render succeeds and warns with E
 }
 warned "--iso with --mode dvr" "warning: --iso: no effect with --mode dvr" "$vol" --mode dvr --iso 100
 warned "DVR options with --mode iso" "warning: --tf, --ert: no effect with --mode iso" "$vol" --tf ct-bone --ert 0.5
+warned "--frames with --reference" "warning: --frames: no effect with --reference" "$vol" --reference --frames 3 --size 8x8
 warned "octree options with brute force" "warning: --gpu-budget, --occlusion: no effect with --backend brute" \
   "$vol" --backend brute --gpu-budget 64M --occlusion off
 
