@@ -239,6 +239,7 @@ void Store::load() {
   const auto table = std::as_writable_bytes(std::span(entries_));
   readAt(h.nodeTableOffset, table);
   if (storeCrc32(table) != h.nodeTableCrc) throw Error(damaged + "damaged node table (checksum mismatch)");
+  nodeTableEnd_ = h.nodeTableOffset + table.size();
 
   info_.layout = layout;
   info_.volume = metadata_.volume;

@@ -35,6 +35,8 @@ class Store final : public BrickSource {
   std::span<const StoreNodeEntry> entries() const { return entries_; }
   const std::string& name() const { return name_; }
   uint64_t fileBytes() const { return fileBytes_; }
+  // Bytes after the node table, which ends the layout a store is written in (`verify` reports them).
+  uint64_t bytesAfterNodeTable() const { return fileBytes_ - nodeTableEnd_; }
   // "depth 3 (2, 0, 5)": how errors and `verify` name a node.
   static std::string describeNode(const NodeKey& key);
 
@@ -47,6 +49,7 @@ class Store final : public BrickSource {
   int fd_ = -1;
   std::vector<std::byte> memory_;  // used instead of fd_ by openMemory
   uint64_t fileBytes_ = 0;
+  uint64_t nodeTableEnd_ = 0;
   StoreMetadata metadata_;
   BrickSourceInfo info_;
   std::vector<StoreNodeEntry> entries_;

@@ -42,6 +42,9 @@ class Verifier {
       lastKey_ = NodeKey{~0u, {}};
     }
     checkValueRange();
+    if (const uint64_t extra = store_.bytesAfterNodeTable(); extra > 0)
+      problem(std::to_string(extra) +
+              " bytes after the node table, which ends a store: the file was appended to or damaged");
     if (progress) progress(report_.nodesChecked, total);
     return report_;
   }

@@ -151,6 +151,16 @@ TEST_F(StoreVerify, ReportsADamagedBrickOnce) {
       << report.problems.front();
 }
 
+// The reader takes such a file (every part checks out); the layout ends with the node table.
+TEST_F(StoreVerify, ReportsBytesAfterTheNodeTable) {
+  std::filesystem::copy_file(dir / "good.store", dir / "appended.store");
+  std::ofstream(dir / "appended.store", std::ios::binary | std::ios::app) << "appended";
+  const VerifyReport report = verifyStore(*Store::open(dir / "appended.store"));
+  ASSERT_EQ(report.problemCount, 1u);
+  EXPECT_EQ(report.problems.front(),
+            "8 bytes after the node table, which ends a store: the file was appended to or damaged");
+}
+
 TEST_F(StoreVerify, NamesAConstantNodeWithARange) {
   const VerifyReport report =
       verifyRewritten([&](const NodeKey& k, std::vector<uint16_t>&, StoreNodeEntry& e) {
