@@ -287,7 +287,9 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     request.camera = s.cameraOf(std::min(frame, s.frames - 1));
     request.params.stepVoxels = s.params.stepVoxels * stepPacer.scale();
     const FrameStats stats = octree.renderer->render(request);
-    if (stats.drawn) stepPacer.record(stats.frameMs, stats.raycastMs);
+    // A converged view holds its step: its frames cost less (no queries, no feedback), and a step they made
+    // smaller would be a new view whose queries answer differently, undoing the convergence.
+    if (stats.drawn && !stats.converged) stepPacer.record(stats.frameMs, stats.raycastMs);
     s.stats->write(stats);
     const bool last = o.converge ? (frame + 1 >= s.frames && stats.converged) || frame + 1 >= frameCap
                                  : frame + 1 >= s.frames;

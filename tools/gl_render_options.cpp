@@ -165,6 +165,12 @@ void checkSceneOptions(const RenderOptions& o) {
                      " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
                      "compute");
   if (!eyeTargetCamera(o)) orbitOf(o);
+  if (const uint64_t pixels = uint64_t(o.size.at(0)) * o.size.at(1);
+      o.occlusion && o.visibilityThreshold > pixels)
+    throw UsageError("--visibility-threshold " + std::to_string(o.visibilityThreshold) +
+                     " is more than the " + std::to_string(pixels) + " pixels of the image (--size " +
+                     std::to_string(o.size.at(0)) + "x" + std::to_string(o.size.at(1)) +
+                     "): every node would count as occluded");
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {

@@ -44,8 +44,8 @@ enum class SceneCommand { Render, View };
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command);
 
 // The scene options that cannot go together or cannot be a camera (--brick with a store, --brute-stage
-// without --backend brute, --eye without --target, an eye on its target, an orbit of no distance), before any
-// file is read: throws UsageError.
+// without --backend brute, --eye without --target, an eye on its target, an orbit of no distance, a
+// visibility threshold above the image's pixels), before any file is read: throws UsageError.
 void checkSceneOptions(const RenderOptions& o);
 
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).

@@ -97,6 +97,9 @@ expect_failure "eye equals target" "--eye" "$vol" --eye 1,1,1 --target 1,1,1
 expect_failure "up parallel to the view" "--up 1,1,1: up is parallel" "$vol" --eye 0,0,0 --target 1,1,1 --up 1,1,1
 expect_failure "zero up" "--up 0,0,0: up is the zero vector" "$vol" --eye 1,2,3 --target 0,0,0 --up 0,0,0
 expect_failure "view direction overflows" "not finite" "$vol" --eye 1e308,0,0 --target -1e308,0,0
+expect_usage "visibility threshold beyond the image" \
+  "--visibility-threshold 1025 is more than the 1024 pixels of the image (--size 32x32)" \
+  "$vol" --size 32x32 --visibility-threshold 1025 --converge
 expect_usage "gpu budget too small" "--gpu-budget 1024 bytes holds no brick slot" "$vol" --gpu-budget 1K
 # With stored DVR gradients a slot takes 9 bytes a texel; the message says what computed ones would take.
 expect_usage "gpu budget too small for stored gradients" \

@@ -50,6 +50,21 @@ run "target frame time" "$ropecast" render $small --mode dvr --tf ct-soft --fram
 steps=$(python3 -c 'import json, sys; print(" ".join(str(json.loads(l)["step_voxels"]) for l in open(sys.argv[1])))' \
   "$dir/t.jsonl")
 [ "$steps" = "0.5 2.0 2.0" ] || fail "--target-frame-ms 0.001: steps $steps, expected 0.5 2.0 2.0"
+# Once a still view has converged, the step stays and so does the cut: its frames cost less (no queries), and
+# a step they shortened made a new view whose queries refined and collapsed nodes again.
+run "target frame time, still view" "$ropecast" render procedural:menger:81 --brick 8 --size 96x96 --frames 40 \
+  --target-frame-ms 6 -o "$dir/ts.png" --stats "$dir/ts.jsonl"
+python3 - "$dir/ts.jsonl" <<'PY' || fail "--target-frame-ms on a still view: the cut or the step changed after converging"
+import json, sys
+rows = [json.loads(line) for line in open(sys.argv[1])]
+first = next((i for i, r in enumerate(rows) if r["converged"]), None)
+assert first is not None, "never converged"
+after = rows[first:]
+changed = [(r["frame"], r["leaves"], r["step_voxels"], r["bricks_uploaded"]) for r in after
+           if not r["converged"] or r["leaves"] != after[0]["leaves"] or r["step_voxels"] != after[0]["step_voxels"]
+           or r["bricks_uploaded"] > 0]
+assert not changed, f"converged at frame {first}, then {changed[:5]}"
+PY
 # DVR with computed gradients renders the stored-gradient image (same gradients up to storage precision).
 run "dvr computed gradients" "$ropecast" render $small --mode dvr --tf ct-soft -o "$dir/g1.png" --gradients computed
 run "dvr stored gradients" "$ropecast" render $small --mode dvr --tf ct-soft -o "$dir/g2.png"
