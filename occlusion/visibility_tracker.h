@@ -140,8 +140,8 @@ class VisibilityTracker {
   bool occludedBy(const NodeKey& key, const Mark& mark, uint64_t frame) const;
   void finishRound();
   // The node's mark from an answer of `samplesPassed` to a query issued in `issuedFrame`, unless it holds a
-  // newer one.
-  void setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
+  // newer one: the mark written, or nullptr when the node's was kept.
+  Mark* setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
 
   // A round of queries and how many of its answers came back; answeredRoundFrame_: the first frame of the
   // latest round whose answers all came back.

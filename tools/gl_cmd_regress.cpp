@@ -56,11 +56,7 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   RenderOptions o;
   CLI::App app{"ropecast render options of case " + c.name};
   addRenderOptions(app, o);
-  for (const std::string& option : c.options)  // render's own -o is not among the options parsed below
-    if (option == "-o" || option == "--output" || option.starts_with("--output=") ||
-        (option.starts_with("-o") && !option.starts_with("--")))
-      throw SuiteError(where + ": options: " + option +
-                       " writes a file; regress renders to its report or a temporary folder");
+  app.add_option("-o,--output", o.output);  // render's own, parsed here to be refused below
   std::vector<std::string> args(c.options.rbegin(), c.options.rend());  // CLI11 parses a reversed vector
   // Every case converges (below); said here too, so that --max-frames, which needs it, is taken.
   if (std::find(args.begin(), args.end(), "--converge") == args.end()) args.push_back("--converge");
@@ -80,6 +76,7 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
       throw SuiteError(where + ": options: " + option +
                        " writes a file; regress renders to its report or a temporary folder");
   };
+  refuse(app.count("--output") > 0, "-o");
   refuse(!o.exr.empty(), "--exr");
   refuse(!o.depth.empty(), "--depth");
   refuse(!o.stats.empty(), "--stats");
