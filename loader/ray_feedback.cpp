@@ -9,7 +9,7 @@ void RayFeedback::rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::
 }
 
 bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
-                         std::span<const uint32_t> requestedLeaves) {
+                         std::span<const uint32_t> requestedLeaves, std::span<const uint32_t> hitLeaves) {
   while (!cuts_.empty() && cuts_.front().frame < frame) cuts_.pop_front();
   if (cuts_.empty() || cuts_.front().frame != frame) return false;
   const RememberedCut cut = std::move(cuts_.front());
@@ -25,11 +25,14 @@ bool RayFeedback::answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
   }
   for (uint32_t i : requestedLeaves)
     if (i < cut.leaves.size()) hints[i] = NodeHint::Requested;
+  std::vector<bool> hit(cut.leaves.size(), false);
+  for (uint32_t i : hitLeaves)
+    if (i < cut.leaves.size()) hit[i] = true;
   // Inner nodes above the data leaves: unused when no data leaf below them was used.
   std::unordered_map<NodeKey, bool, NodeKeyHash> innerUsed;
   for (size_t i = 0; i < cut.leaves.size(); ++i) {
     if (!cut.dataLeaf[i]) continue;
-    setAnswer(cut.leaves[i], {frame, hints[i]});
+    setAnswer(cut.leaves[i], {frame, hints[i], hit[i]});
     const bool used = hints[i] != NodeHint::Unused;
     for (NodeKey k = cut.leaves[i]; k.depth > 0;) {
       k = k.parent();
@@ -53,6 +56,11 @@ NodeHint RayFeedback::hint(const NodeKey& key, uint64_t frame, bool innerNodeNow
       it == answers_.end() || !live(it->second, frame) ? NodeHint::None : it->second.hint;
   if (answered != NodeHint::Unused && innerNodeNow) return NodeHint::Used;
   return answered;
+}
+
+bool RayFeedback::hitByRays(const NodeKey& key, uint64_t frame) const {
+  const auto it = answers_.find(key);
+  return it != answers_.end() && live(it->second, frame) && it->second.hit;
 }
 
 void RayFeedback::setAnswer(const NodeKey& key, NodeAnswer answer) {

@@ -16,7 +16,8 @@
 //   None       not in the answered tree, or the answer is too old.
 // An answer holds until a newer answer covers the node, at most answerLifetimeFrames frames after the frame
 // it describes (the view may have moved since). usedNodes() are the leaves the latest answer saw used: their
-// bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h).
+// bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h). hitByRays() says which leaves
+// enough rays stopped in (an isosurface's hits): visible without an occlusion query.
 //
 // Plain CPU state, owned by the frame renderer: render thread only.
 #pragma once
@@ -44,11 +45,14 @@ class RayFeedback {
   void rememberCut(uint64_t frame, std::vector<NodeKey> leaves, std::vector<uint8_t> dataLeaf);
   // The answer of frame `frame` (indices into its remembered cut). Answers come in frame order; cuts older
   // than it are forgotten. An answer for a frame whose cut is not remembered is ignored (returns false).
-  bool answer(uint64_t frame, std::span<const uint32_t> usedLeaves,
-              std::span<const uint32_t> requestedLeaves);
+  // hitLeaves: the leaves in which the frame's hit threshold of rays stopped (FeedbackReadback::hitLeaves).
+  bool answer(uint64_t frame, std::span<const uint32_t> usedLeaves, std::span<const uint32_t> requestedLeaves,
+              std::span<const uint32_t> hitLeaves = {});
 
   // innerNodeNow: the node is an inner node of the tree on the GPU now (the caller keeps that tree).
   NodeHint hint(const NodeKey& key, uint64_t frame, bool innerNodeNow = false) const;
+  // Whether the latest live answer about the leaf listed it among the hits.
+  bool hitByRays(const NodeKey& key, uint64_t frame) const;
   const std::vector<NodeKey>& usedNodes() const { return usedNodes_; }
   // The frame of the latest answer, if any.
   bool answered() const { return answered_; }
@@ -64,6 +68,7 @@ class RayFeedback {
   struct NodeAnswer {
     uint64_t frame = 0;
     NodeHint hint = NodeHint::None;
+    bool hit = false;
   };
   struct RememberedCut {
     uint64_t frame = 0;

@@ -43,7 +43,7 @@ FrameQueryPlan VisibilityTracker::plan(uint64_t frame, uint32_t width, uint32_t 
     if (leaf.projection.nearEye || leaf.projection.rect.empty()) {
       unqueryable_.insert(leaf.key);
       marks_.erase(leaf.key);
-    } else {
+    } else if (!leaf.hitByRays) {
       queryable.push_back(i);
     }
   }
@@ -98,6 +98,10 @@ void VisibilityTracker::renew(uint64_t frame) {
 
 void VisibilityTracker::markUnseen(const NodeKey& key, uint64_t frame) {
   if (Mark* mark = setMark(key, frame, 0)) mark->unseen = true;
+}
+
+void VisibilityTracker::markHit(const NodeKey& key, uint64_t frame) {
+  setMark(key, frame, config_.thresholdPixels);
 }
 
 void VisibilityTracker::markSeen(const NodeKey& key) {

@@ -46,6 +46,7 @@ struct VisibilityConfig {
 struct LeafToQuery {
   NodeKey key;
   BoxProjection projection;
+  bool hitByRays = false;  // marked visible by markHit: counted, not queried
 };
 
 struct FrameQueryPlan {
@@ -65,11 +66,12 @@ class VisibilityTracker {
 
   // Plans frame `frame`: tiles and which leaves to query. Candidates are the leaves not yet queried in the
   // current round (nearEye leaves, and leaves projecting outside the viewport, are never queried and count
-  // visible); when every leaf of the cut has been queried in this round, a new round starts. A leaf whose
-  // rect straddles the splits stays in the round for later frames, where fewer candidates remain, so that
-  // each round ends in a bounded number of frames (at worst the remaining ones fit the budget and are planned
-  // at the top level with tiles[0] = the whole viewport). With no candidates: one tile, the whole viewport,
-  // no queries. Also forgets expired marks. `frame` must not decrease between calls.
+  // visible; leaves hitByRays keep the mark markHit gave them and are not queried); when every leaf of the
+  // cut has been queried in this round, a new round starts. A leaf whose rect straddles the splits stays in
+  // the round for later frames, where fewer candidates remain, so that each round ends in a bounded number of
+  // frames (at worst the remaining ones fit the budget and are planned at the top level with tiles[0] = the
+  // whole viewport). With no candidates: one tile, the whole viewport, no queries. Also forgets expired
+  // marks. `frame` must not decrease between calls.
   FrameQueryPlan plan(uint64_t frame, uint32_t width, uint32_t height, std::span<const LeafToQuery> leaves);
 
   // A query's answer, collected in a later frame: the node, the frame its query was issued in, samples
@@ -85,6 +87,12 @@ class VisibilityTracker {
   // A leaf the rays sampled after all (a newer answer than the one that found it unused): a mark markUnseen
   // made is withdrawn; a query's answer stands.
   void markSeen(const NodeKey& key);
+  // A leaf known visible without a query: at least thresholdPixels rays of frame `frame` stopped at the
+  // isosurface in it, which puts as many samples of its box in front of the depth its query would be drawn
+  // against (the rays' feedback). Marked as an answer of thresholdPixels samples to a query issued in `frame`
+  // would mark it, and replaces a query's answer about the same frame; counted in no round. plan() leaves it
+  // unqueried when its LeafToQuery says hitByRays.
+  void markHit(const NodeKey& key, uint64_t frame);
 
   // Propagation to parents (Gobbetti et al. 2008, Sect. 6: an inner node is visible when any child is): given
   // the last cut's non-empty leaves, every inner node above them gets a mark from the visible samples of its
@@ -121,6 +129,7 @@ class VisibilityTracker {
   // `frame` hides: if the refinement with them kept that cut, the cut is a fixed point of the queries.
   bool answeredSince(uint64_t frame) const;
 
+  uint64_t thresholdPixels() const { return config_.thresholdPixels; }
   // Marks held (leaves' answers and inner nodes' propagated marks), for tests and statistics.
   size_t markCount() const { return marks_.size(); }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
 #include <set>
 
 #include <glm/trigonometric.hpp>
@@ -48,12 +50,14 @@ double feedbackVoxelPixels(uint32_t level, double distance, glm::dvec3 spacing, 
 
 FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const BrickSourceInfo& volume,
                                 const CpuRenderInput& input, double voxelsPerPixel,
-                                const FeedbackTolerance& tol) {
+                                const FeedbackTolerance& tol, uint32_t hitThreshold) {
   const bool iso = input.params.mode == RenderMode::Iso;
   const double ert = input.params.ert;
   const glm::dvec3 spacing = volume.volume.spacing;
   const double cubeExtent = double(volume.layout.cubeSamples()) * std::max({spacing.x, spacing.y, spacing.z});
   std::set<uint32_t> sureUsed, possibleUsed, sureRequested, possibleRequested;
+  // Per leaf, the rays that surely stop in it and those that may.
+  std::map<uint32_t, uint32_t> sureHits, possibleHits;
   FeedbackBounds out;
 
   for (const MirrorRayTrace& trace : traces) {
@@ -172,6 +176,25 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
     }
     if (earliest != latest || std::find(tie.begin(), tie.end(), true) != tie.end()) ++out.uncertainRays;
 
+    // The hit: the leaf of the sample the ray stops at. It may stop at any sample from the earliest to the
+    // latest end, and a sample next to a leaf border may fall in the leaf on the other side.
+    if (iso && hitThreshold > 0 && earliest != kNever) {
+      const size_t last = latest == kNever ? rl.position.back() + rl.count.back() : latest + 1;
+      std::set<uint32_t> mayStopIn;
+      std::optional<uint32_t> surelyStopsIn;
+      for (size_t v = 0; v < leafCount; ++v)
+        for (size_t g = rl.position[v]; g < rl.position[v] + rl.count[v]; ++g) {
+          if (g < earliest || g >= last) continue;
+          const bool uncertain = tie[v] || tieSamples.count(g) > 0;
+          mayStopIn.insert(trace.leaves[v].leafIndex);
+          if (uncertain && v > 0) mayStopIn.insert(trace.leaves[v - 1].leafIndex);
+          if (uncertain && v + 1 < leafCount) mayStopIn.insert(trace.leaves[v + 1].leafIndex);
+          if (g == earliest && earliest == latest && !uncertain) surelyStopsIn = trace.leaves[v].leafIndex;
+        }
+      for (uint32_t leaf : mayStopIn) ++possibleHits[leaf];
+      if (surelyStopsIn) ++sureHits[*surelyStopsIn];
+    }
+
     // The rules. Sure: a leaf sampled no later than the earliest end; possible: no later than the latest.
     bool sureRequestOpen = true, possibleRequestOpen = true;
     for (size_t v = 0; v < leafCount; ++v) {
@@ -208,17 +231,24 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
       }
     }
   }
-  out.sure = {sorted(sureUsed), sorted(sureRequested)};
-  out.possible = {sorted(possibleUsed), sorted(possibleRequested)};
+  const auto reaching = [hitThreshold](const std::map<uint32_t, uint32_t>& hits) {
+    std::vector<uint32_t> leaves;
+    for (const auto& [leaf, rays] : hits)
+      if (rays >= hitThreshold) leaves.push_back(leaf);
+    return leaves;
+  };
+  out.sure = {sorted(sureUsed), sorted(sureRequested), reaching(sureHits)};
+  out.possible = {sorted(possibleUsed), sorted(possibleRequested), reaching(possibleHits)};
   return out;
 }
 
 FeedbackBounds mirrorFeedback(const RopeIndex& index, const BricksBySlot& bricks,
                               const BrickSourceInfo& volume, const CpuRenderInput& input,
-                              double voxelsPerPixel, const FeedbackTolerance& tolerance) {
+                              double voxelsPerPixel, const FeedbackTolerance& tolerance,
+                              uint32_t hitThreshold) {
   std::vector<MirrorRayTrace> traces;
   renderMirror(index, bricks, volume, input, &traces);
-  return feedbackOfTraces(traces, volume, input, voxelsPerPixel, tolerance);
+  return feedbackOfTraces(traces, volume, input, voxelsPerPixel, tolerance, hitThreshold);
 }
 
 }  // namespace ropecast

@@ -15,6 +15,7 @@ namespace ropecast {
 struct FeedbackSets {
   std::vector<uint32_t> usedLeaves;
   std::vector<uint32_t> requestedLeaves;
+  std::vector<uint32_t> hitLeaves;  // iso: leaves in which at least the hit threshold of rays stopped
 };
 
 // How far the GPU's float arithmetic and filtering may stray from the mirror's double before it can decide
@@ -43,14 +44,16 @@ double feedbackVoxelPixels(uint32_t level, double distance, glm::dvec3 spacing, 
                            uint32_t height);
 
 // Renders the mirror of `input` with traces and applies the rules with the refinement target
-// voxelsPerPixel. Throws as renderMirror.
+// voxelsPerPixel and, for hits, hitThreshold (0: no hits, as the shader with a threshold of 0). Throws as
+// renderMirror.
 FeedbackBounds mirrorFeedback(const RopeIndex& index, const BricksBySlot& bricks,
                               const BrickSourceInfo& volume, const CpuRenderInput& input,
-                              double voxelsPerPixel, const FeedbackTolerance& tolerance = {});
+                              double voxelsPerPixel, const FeedbackTolerance& tolerance = {},
+                              uint32_t hitThreshold = 0);
 
 // The rules over traces renderMirror has made of `input`'s rays.
 FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const BrickSourceInfo& volume,
                                 const CpuRenderInput& input, double voxelsPerPixel,
-                                const FeedbackTolerance& tolerance = {});
+                                const FeedbackTolerance& tolerance = {}, uint32_t hitThreshold = 0);
 
 }  // namespace ropecast

@@ -1,8 +1,8 @@
 // FeedbackBuffer: what the rays of a frame said they needed (docs/RENDERING.md "Feedback"; Crassin et al.
 // 2009, Sect. 5), from the GPU to the CPU without a stall. Owns the shader storage buffer the ray cast writes
-// (shaders/feedback_layout.h: bitmasks over the cut's leaves, counters, and two short lists, used and
-// requested leaves) and a ring of persistently mapped readback buffers. A frame:
-//   begin(leafCount)  clears the masks and counters (on the GPU) for a cut of leafCount leaves;
+// (shaders/feedback_layout.h: bitmasks and hit counts over the cut's leaves, counters, and three short lists,
+// used, requested and hit leaves) and a ring of persistently mapped readback buffers. A frame:
+//   begin(leafCount, hitThreshold)  clears the masks and counts (on the GPU) for a cut of leafCount leaves;
 //   the ray cast      RaycastFrame::feedback = this (RaycastPass binds it);
 //   end(frame)        copies counters and lists into a free ring slot and fences the copy; with every slot
 //                     still in flight it skips the frame's readback (counted) rather than wait;
@@ -30,14 +30,19 @@ struct FeedbackReadback {
   uint64_t frame = 0;
   std::vector<uint32_t> usedLeaves;       // leaf indices in that frame's cut, each once, in no order
   std::vector<uint32_t> requestedLeaves;  // each once, in no order
+  // Leaves in which at least the frame's hit threshold of rays stopped at the isosurface; each once, in no
+  // order. Empty with a threshold of 0, and in DVR.
+  std::vector<uint32_t> hitLeaves;
   uint64_t usedDropped = 0;
   uint64_t requestedDropped = 0;
+  uint64_t hitDropped = 0;
 };
 
 struct FeedbackBufferConfig {
   uint32_t usedCapacity = 16384;      // entries of the used list
   uint32_t requestedCapacity = 4096;  // entries of the requested list
   uint32_t ringSize = 3;              // readback buffers: frames in flight at most
+  uint32_t hitCapacity = 16384;       // entries of the hit list
 };
 
 class FeedbackBuffer {
@@ -49,10 +54,11 @@ class FeedbackBuffer {
   FeedbackBuffer(const FeedbackBuffer&) = delete;
   FeedbackBuffer& operator=(const FeedbackBuffer&) = delete;
 
-  // Starts a frame over a cut of leafCount leaves: zero masks and counters (glClearNamedBufferSubData) and a
-  // 32-byte header; the rays do not record leaves of index leafCount or more. Throws ropecast::Error if a
-  // frame is already open.
-  void begin(uint32_t leafCount);
+  // Starts a frame over a cut of leafCount leaves: zero masks, counts and counters
+  // (glClearNamedBufferSubData) and a 32-byte header; the rays do not record leaves of index leafCount or
+  // more. A leaf in which hitThreshold rays stop is listed as a hit (0: hits are not counted). Throws
+  // ropecast::Error if a frame is already open.
+  void begin(uint32_t leafCount, uint32_t hitThreshold = 0);
   // Binds the storage buffer to kFeedbackBinding (RaycastPass calls it).
   void bind() const;
   // Ends the frame: queues the readback of its counters and lists, fenced. Skips it when all ring slots are
@@ -75,7 +81,7 @@ class FeedbackBuffer {
  private:
   struct Slot {
     uint32_t buffer = 0;
-    const uint32_t* mapped = nullptr;  // kFeedbackHeaderWords + usedCapacity + requestedCapacity words
+    const uint32_t* mapped = nullptr;  // the header and the three lists
     GlSync fence = nullptr;
     uint64_t frame = 0;
   };

@@ -191,6 +191,8 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
   // change was declared converged). A leaf the latest answer found used loses the mark an earlier answer's
   // "unused" made: from far away no ray may reach the root, which from near fills the screen, and that mark
   // would keep it from refining, and the cut with it converged, until it expired.
+  // The leaves enough rays stopped in are visible as their queries would have said (planTiles does not query
+  // them).
   if (feedback)
     for (const NodeKey& leaf : dataLeaves_) {
       const NodeHint hint = rayFeedback_.hint(leaf, frame_);
@@ -198,6 +200,7 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
         visibility_->markUnseen(leaf, frame_);
       else if (hint == NodeHint::Used || hint == NodeHint::Requested)
         visibility_->markSeen(leaf);
+      if (rayFeedback_.hitByRays(leaf, frame_)) visibility_->markHit(leaf, rayFeedback_.answeredFrame());
     }
   visibility_->propagate(dataLeaves_);
   stats.occlusionMs += millisecondsSince(start);
@@ -207,9 +210,12 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
   const auto start = SteadyClock::now();
   // Every readback that arrived; the latest one's nodes are what the hints say.
   while (std::optional<FeedbackReadback> readback = feedback_->poll()) {
-    if (!rayFeedback_.answer(readback->frame, readback->usedLeaves, readback->requestedLeaves)) continue;
+    if (!rayFeedback_.answer(readback->frame, readback->usedLeaves, readback->requestedLeaves,
+                             readback->hitLeaves))
+      continue;
     stats.feedbackRequests = readback->requestedLeaves.size();
-    stats.feedbackDropped = readback->usedDropped + readback->requestedDropped;
+    stats.feedbackHits = readback->hitLeaves.size();
+    stats.feedbackDropped = readback->usedDropped + readback->requestedDropped + readback->hitDropped;
     stats.bricksUsed = readback->usedLeaves.size();
   }
   if (rayFeedback_.answered()) stats.feedbackLatencyFrames = frame_ - rayFeedback_.answeredFrame();
@@ -239,6 +245,12 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       continue;
     }
     if (!query) continue;
+    if (feedback && rayFeedback_.hitByRays(leaf.key, frame_)) {
+      visibility_->markHit(leaf.key, rayFeedback_.answeredFrame());  // as for the unused leaves
+      dataParts_.emplace_back();
+      toQuery.push_back({leaf.key, {}, true});
+      continue;
+    }
     NodeDataParts& parts = dataParts_.emplace_back(nodeDataParts(source_, isEmpty, leaf.key));
     const WorldBox box = boundingBox(parts);
     // A node collapsed because its leaves were hidden is queried as they were, part by part; the others by
@@ -441,7 +453,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // answers say, which are renewed instead.
   const bool castFeedback = feedback && !redraw;
   if (castFeedback) {
-    feedback_->begin(uint32_t(cut_.leaves.size()));
+    // With occlusion queries, an isosurface's rays count the hits that spare them (planTiles).
+    const bool countHits = occlusion && request.params.mode == RenderMode::Iso;
+    feedback_->begin(uint32_t(cut_.leaves.size()), countHits ? uint32_t(visibility_->thresholdPixels()) : 0);
     frame.feedback = feedback_.get();
     frame.voxelsPerPixel = request.voxelsPerPixel;
   } else if (feedback) {

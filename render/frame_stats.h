@@ -55,7 +55,10 @@ struct FrameStats : LoaderStats {
   uint64_t occlusionLatencyFrames = 0;  // frames the last round of queries took to cover every leaf
   // The rays' feedback (Crassin et al. 2009); zero with --feedback off and in synchronous frames. The counts
   // are of the answer that arrived this frame.
-  uint64_t feedbackRequests = 0;       // leaves the rays wanted finer
+  uint64_t feedbackRequests = 0;  // leaves the rays wanted finer
+  // Leaves in which --visibility-threshold rays stopped at the isosurface (with occlusion queries): visible
+  // without a query.
+  uint64_t feedbackHits = 0;
   uint64_t feedbackDropped = 0;        // entries past the lists' capacity (they come back in a later frame)
   uint64_t bricksUsed = 0;             // leaves the rays sampled
   double feedbackMs = 0.0;             // CPU side: reading the answers back and mapping them to nodes
@@ -99,6 +102,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"fragments", s.fragments},
                         {"occlusion_latency_frames", s.occlusionLatencyFrames},
                         {"feedback_requests", s.feedbackRequests},
+                        {"feedback_hits", s.feedbackHits},
                         {"feedback_dropped", s.feedbackDropped},
                         {"bricks_used", s.bricksUsed},
                         {"feedback_ms", s.feedbackMs},

@@ -1,6 +1,7 @@
 // What the rays say they needed (docs/RENDERING.md "Feedback"; Crassin et al. 2009, Sect. 5): each ray marks
 // the data leaves of the cut it sampled as used, and requests at most one leaf, the first it sampled whose
-// level is coarser than the ray wants there. Marks are bits over the cut's leaves (RopeLeaf.leafIndex); the
+// level is coarser than the ray wants there. An isosurface ray also counts a hit for the leaf it stopped in;
+// a leaf enough rays stopped in is visible without an occlusion query. Marks are bits over the cut's leaves (RopeLeaf.leafIndex); the
 // invocation that sets a bit first appends the leaf to a short list, which is what the CPU reads back
 // (render/feedback_buffer.h). Included by shaders/raycast_common.glsl under RAYCAST_FEEDBACK only, so the
 // variant without feedback has none of this. No #version line.
@@ -51,4 +52,20 @@ void feedbackSampled(inout RayFeedback fb, uint leafIndex, bool wantsFiner) {
   fb.requested = true;
   feedbackMark(kFeedbackHeaderWords + maskWords, kFeedbackRequestedCount, kFeedbackRequestedCapacity,
                usedList + feedbackWords[kFeedbackUsedCapacity], leafIndex);
+}
+
+// The ray stopped at the isosurface in the leaf: its hit is counted, and the ray that brings the count to the
+// threshold lists the leaf. Counting stops at the threshold (racing rays may pass it), so most rays of a
+// large leaf only read its count.
+void feedbackHit(uint leafIndex) {
+  uint threshold = feedbackWords[kFeedbackHitThreshold];
+  uint maskWords = feedbackWords[kFeedbackMaskWords];
+  if (threshold == 0u || leafIndex / 32u >= maskWords) return;
+  uint hitList = kFeedbackHeaderWords + 2u * maskWords + feedbackWords[kFeedbackUsedCapacity] +
+                 feedbackWords[kFeedbackRequestedCapacity];
+  uint hits = hitList + feedbackWords[kFeedbackHitCapacity] + leafIndex;
+  if (feedbackWords[hits] >= threshold) return;
+  if (atomicAdd(feedbackWords[hits], 1u) + 1u != threshold) return;
+  uint entry = atomicAdd(feedbackWords[kFeedbackHitCount], 1u);
+  if (entry < feedbackWords[kFeedbackHitCapacity]) feedbackWords[hitList + entry] = leafIndex;
 }

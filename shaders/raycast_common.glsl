@@ -193,6 +193,11 @@ RayResult castRay(uvec2 pixel) {
     }
   }
   if (!march.hit) return missedRay();
+#ifdef RAYCAST_FEEDBACK
+  // The ray's stop (RayResult.stopDepth, the sample past the crossing) lies in this leaf, behind its box's
+  // front: the pixel an occlusion query of the leaf would count.
+  feedbackHit(leaf.leafIndex);
+#endif
   // The loop ends on the hit's leaf; its segment is made again rather than kept through the walk (registers).
   return shadeIsoHit(march, leafSegment(leaf, originCube, dirCube), hitEnter,
                      leafSegment(before, originCube, dirCube), min(before.tExit, ray.t1), ray);

@@ -29,6 +29,23 @@ TEST(RayFeedback, AnswersMapIndicesOfTheirFramesCut) {
   EXPECT_FALSE(f.answer(0, used, requested)) << "frame 0's cut was forgotten";
 }
 
+TEST(RayFeedback, HitsHoldAsTheirAnswerDoes) {
+  RayFeedback f({/*answerLifetimeFrames=*/4});
+  rememberAbc(f, 10);
+  rememberAbc(f, 11);
+  const uint32_t used[] = {0, 1}, hits[] = {1, 3, 7};  // 3: an empty leaf; 7: past the cut
+  ASSERT_TRUE(f.answer(10, used, std::span<const uint32_t>(), hits));
+  EXPECT_FALSE(f.hitByRays(kA, 11));
+  EXPECT_TRUE(f.hitByRays(kB, 11));
+  EXPECT_FALSE(f.hitByRays(kEmpty, 11)) << "empty leaves are not answered for";
+  EXPECT_TRUE(f.hitByRays(kB, 14));
+  EXPECT_FALSE(f.hitByRays(kB, 15)) << "too old";
+  ASSERT_TRUE(f.answer(11, used, std::span<const uint32_t>()));
+  EXPECT_FALSE(f.hitByRays(kB, 12)) << "the newer answer found it used, not hit";
+  f.reset();
+  EXPECT_FALSE(f.hitByRays(kB, 12));
+}
+
 TEST(RayFeedback, AnAnswerHoldsUntilANewerOneOrItsLifetime) {
   RayFeedback f({/*answerLifetimeFrames=*/4});
   rememberAbc(f, 10);

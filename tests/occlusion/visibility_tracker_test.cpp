@@ -1,6 +1,6 @@
 // VisibilityTracker: rounds that query every leaf of the cut in a bounded number of frames, answers against
-// the threshold and their lifetime, renewed marks, leaves marked unseen without a query, reset, propagation
-// to inner nodes, the list of occluded nodes, and convergence (answers since a frame).
+// the threshold and their lifetime, renewed marks, leaves marked unseen or hit without a query, reset,
+// propagation to inner nodes, the list of occluded nodes, and convergence (answers since a frame).
 #include "occlusion/visibility_tracker.h"
 
 #include <algorithm>
@@ -421,6 +421,48 @@ TEST(VisibilityTracker, ALeafTheRaysSampleAgainLosesItsUnseenMarkButNotAQuerysAn
   tracker.markSeen(t.c1);
   EXPECT_FALSE(tracker.isOccluded(t.c0, 6)) << "the rays' newer answer withdraws what their older one said";
   EXPECT_TRUE(tracker.isOccluded(t.c1, 6)) << "a query's answer holds until the next query or its lifetime";
+}
+
+TEST(VisibilityTracker, ALeafTheRaysHitIsVisibleCountedAndNotQueried) {
+  VisibilityTracker tracker({{}, 4, 64});
+  const SmallTree t;
+  // Frame 10 queried every leaf and found c0 and c1 hidden; the rays of frame 10 stopped in c0 often enough.
+  tracker.plan(10, 8, 8, t.toQuery());
+  tracker.answer(t.c0, 10, 1);
+  tracker.answer(t.c1, 10, 1);
+  tracker.answer(t.c2, 10, 9);
+  tracker.answer(t.g, 10, 9);
+  tracker.markHit(t.c0, 10);
+  tracker.propagate(t.cut);
+  EXPECT_FALSE(tracker.isOccluded(t.c0, 11)) << "the rays' hits replace a query's answer about their frame";
+  EXPECT_TRUE(tracker.isOccluded(t.c1, 11));
+  // A newer query's answer is not replaced by older hits.
+  tracker.answer(t.c1, 12, 0);
+  tracker.markHit(t.c1, 11);
+  EXPECT_TRUE(tracker.isOccluded(t.c1, 13));
+
+  // Frame 13: c0 and c2 are known visible from hits; only c1 and g are queried, and all four are counted.
+  std::vector<LeafToQuery> leaves = t.toQuery();
+  leaves[0].hitByRays = leaves[2].hitByRays = true;
+  tracker.markHit(t.c2, 12);
+  const FrameQueryPlan plan = tracker.plan(13, 8, 8, leaves);
+  ASSERT_EQ(plan.queries.size(), 2u);
+  const std::vector<NodeKey> queried{t.c1, t.g};
+  EXPECT_TRUE(std::is_permutation(plan.queries.begin(), plan.queries.end(), queried.begin()));
+  const VisibilityCounts counts = tracker.counts(13);
+  EXPECT_EQ(counts.visible + counts.occluded, 4u);
+  EXPECT_EQ(counts.occluded, 1u);  // c1
+  EXPECT_FALSE(tracker.answeredSince(13));
+  tracker.answer(t.c1, 13, 0);
+  tracker.answer(t.g, 13, 9);
+  EXPECT_TRUE(tracker.answeredSince(13)) << "the round is the queried leaves'";
+
+  // Every leaf hit: nothing to query, and nothing outstanding.
+  for (LeafToQuery& l : leaves) l.hitByRays = true;
+  for (const NodeKey& k : t.cut) tracker.markHit(k, 14);
+  EXPECT_TRUE(tracker.plan(15, 8, 8, leaves).queries.empty());
+  EXPECT_TRUE(tracker.answeredSince(15));
+  EXPECT_EQ(tracker.counts(15).visible, 4u);
 }
 
 TEST(VisibilityTracker, RoundsSpanFramesAndTheMarksFollowTheAnswers) {

@@ -1,7 +1,7 @@
 // The rays' usage and miss feedback (docs/RENDERING.md "Feedback"): the GLSL sets against the CPU twin
 // (reference/feedback_twin.h) on random cuts and cameras, iso and DVR, both entry points and the DVR leaf
-// batch; the request rule on a leaf near and far; a leaf behind an opaque isosurface; list overflow; a
-// readback that never waits; and an image that feedback does not change.
+// batch, hits included; the request rule on a leaf near and far; a leaf behind an opaque isosurface; list
+// overflow; a readback that never waits; and an image that feedback does not change.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -34,9 +34,9 @@ using test::SceneSpec;
 
 // Renders one frame with feedback and waits (here, in the test) for its readback.
 FeedbackReadback renderWithFeedback(RaycastPass& pass, const test::GlScene& scene, RaycastFrame frame,
-                                    const FeedbackBufferConfig& config = {}) {
+                                    const FeedbackBufferConfig& config = {}, uint32_t hitThreshold = 0) {
   FeedbackBuffer feedback(config);
-  feedback.begin(uint32_t(scene.cut.leaves.size()));
+  feedback.begin(uint32_t(scene.cut.leaves.size()), hitThreshold);
   frame.feedback = &feedback;
   test::renderScene(pass, scene, frame);
   feedback.end(7);
@@ -102,8 +102,10 @@ SceneSpec randomScene(uint64_t seed) {
 void expectWithinBounds(const FeedbackReadback& gpu, const FeedbackBounds& cpu, const std::string& what) {
   EXPECT_EQ(gpu.usedDropped, 0u) << what;
   EXPECT_EQ(gpu.requestedDropped, 0u) << what;
+  EXPECT_EQ(gpu.hitDropped, 0u) << what;
   const std::vector<uint32_t> used = sortedUnique(gpu.usedLeaves, "used");
   const std::vector<uint32_t> requested = sortedUnique(gpu.requestedLeaves, "requested");
+  const std::vector<uint32_t> hits = sortedUnique(gpu.hitLeaves, "hit");
   EXPECT_TRUE(includes(used, cpu.sure.usedLeaves))
       << what << ": used on the CPU surely, not on the GPU: " << difference(cpu.sure.usedLeaves, used);
   EXPECT_TRUE(includes(cpu.possible.usedLeaves, used))
@@ -114,9 +116,16 @@ void expectWithinBounds(const FeedbackReadback& gpu, const FeedbackBounds& cpu, 
   EXPECT_TRUE(includes(cpu.possible.requestedLeaves, requested))
       << what << ": requested on the GPU, impossible on the CPU: "
       << difference(requested, cpu.possible.requestedLeaves);
-  std::printf("%s: used %zu (cpu %zu..%zu), requested %zu (cpu %zu..%zu), %zu uncertain rays\n", what.c_str(),
-              used.size(), cpu.sure.usedLeaves.size(), cpu.possible.usedLeaves.size(), requested.size(),
-              cpu.sure.requestedLeaves.size(), cpu.possible.requestedLeaves.size(), cpu.uncertainRays);
+  EXPECT_TRUE(includes(hits, cpu.sure.hitLeaves))
+      << what << ": hit on the CPU surely, not on the GPU: " << difference(cpu.sure.hitLeaves, hits);
+  EXPECT_TRUE(includes(cpu.possible.hitLeaves, hits))
+      << what << ": hit on the GPU, impossible on the CPU: " << difference(hits, cpu.possible.hitLeaves);
+  std::printf(
+      "%s: used %zu (cpu %zu..%zu), requested %zu (cpu %zu..%zu), hit %zu (cpu %zu..%zu), %zu uncertain "
+      "rays\n",
+      what.c_str(), used.size(), cpu.sure.usedLeaves.size(), cpu.possible.usedLeaves.size(), requested.size(),
+      cpu.sure.requestedLeaves.size(), cpu.possible.requestedLeaves.size(), hits.size(),
+      cpu.sure.hitLeaves.size(), cpu.possible.hitLeaves.size(), cpu.uncertainRays);
 }
 
 // How far a GPU may stray from the mirror before it can decide otherwise (reference/feedback_twin.h). Exact
@@ -132,6 +141,9 @@ const FeedbackTolerance kGpuTolerance{5e-3, 0.01, 1e-5};
 void expectEqualSets(const FeedbackReadback& gpu, const FeedbackSets& cpu, const std::string& what) {
   const std::vector<uint32_t> used = sortedUnique(gpu.usedLeaves, "used");
   const std::vector<uint32_t> requested = sortedUnique(gpu.requestedLeaves, "requested");
+  const std::vector<uint32_t> hits = sortedUnique(gpu.hitLeaves, "hit");
+  EXPECT_EQ(hits, cpu.hitLeaves) << what << ": hit only on the GPU: " << difference(hits, cpu.hitLeaves)
+                                 << "; only on the CPU: " << difference(cpu.hitLeaves, hits);
   EXPECT_EQ(used, cpu.usedLeaves) << what << ": used only on the GPU: " << difference(used, cpu.usedLeaves)
                                   << "; only on the CPU: " << difference(cpu.usedLeaves, used);
   EXPECT_EQ(requested, cpu.requestedLeaves)
@@ -165,6 +177,9 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
       TransferFunction({TfPoint{20000, {0.8, 0.2, 0.1, 0.0}}, TfPoint{34000, {0.9, 0.7, 0.2, 0.1}},
                         TfPoint{48000, {0.3, 0.5, 1.0, 0.6}}}),
       ValueMapping{}, 65535);
+  // Rays that make a leaf a hit: a few, so that small leaves reach it and large ones pass it.
+  constexpr uint32_t kHitThreshold = 3;
+  size_t isoHits = 0;
   for (uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
     const SceneSpec spec = randomScene(seed);
     const test::GlScene scene = test::buildScene(spec);
@@ -194,12 +209,15 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
         input.height = frame.height;
         input.params = frame.params;
         input.tf = &tf;
-        const FeedbackBounds cpu =
-            mirrorFeedback(scene.index, scene.bricks, scene.info, input, frame.voxelsPerPixel, kGpuTolerance);
-        const FeedbackBounds exact =
-            mirrorFeedback(scene.index, scene.bricks, scene.info, input, frame.voxelsPerPixel);
+        const FeedbackBounds cpu = mirrorFeedback(scene.index, scene.bricks, scene.info, input,
+                                                  frame.voxelsPerPixel, kGpuTolerance, kHitThreshold);
+        const FeedbackBounds exact = mirrorFeedback(scene.index, scene.bricks, scene.info, input,
+                                                    frame.voxelsPerPixel, {}, kHitThreshold);
         ASSERT_EQ(exact.sure.usedLeaves, exact.possible.usedLeaves);
         ASSERT_EQ(exact.sure.requestedLeaves, exact.possible.requestedLeaves);
+        ASSERT_EQ(exact.sure.hitLeaves, exact.possible.hitLeaves);
+        if (mode == RenderMode::Dvr) EXPECT_TRUE(exact.sure.hitLeaves.empty());
+        isoHits += exact.sure.hitLeaves.size();
         for (auto [backend, leafBatch] :
              {std::pair{RenderBackend::Fragment, false}, std::pair{RenderBackend::Compute, false},
               std::pair{RenderBackend::Fragment, true}, std::pair{RenderBackend::Compute, true}}) {
@@ -207,7 +225,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
           frame.params.backend = backend;
           RaycastPass pass;
           pass.setDvrLeafBatch(leafBatch);
-          const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame);
+          const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame, {}, kHitThreshold);
           const std::string what = "seed " + std::to_string(seed) + " " + cam.name +
                                    (mode == RenderMode::Iso ? " iso" : " dvr") + " step " +
                                    std::to_string(step) +
@@ -216,19 +234,25 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
           expectWithinBounds(gpu, cpu, what);
           const std::vector<uint32_t> used = sortedUnique(gpu.usedLeaves, "used");
           const std::vector<uint32_t> requested = sortedUnique(gpu.requestedLeaves, "requested");
-          if (used != exact.sure.usedLeaves || requested != exact.sure.requestedLeaves)
+          const std::vector<uint32_t> hits = sortedUnique(gpu.hitLeaves, "hit");
+          if (used != exact.sure.usedLeaves || requested != exact.sure.requestedLeaves ||
+              hits != exact.sure.hitLeaves)
             std::printf(
                 "%s: not exactly the mirror's (within the bounds): used only on the GPU: %s, only on the "
-                "CPU: %s; requested only on the GPU: %s, only on the CPU: %s\n",
+                "CPU: %s; requested only on the GPU: %s, only on the CPU: %s; hit only on the GPU: %s, only "
+                "on the CPU: %s\n",
                 what.c_str(), difference(used, exact.sure.usedLeaves).c_str(),
                 difference(exact.sure.usedLeaves, used).c_str(),
                 difference(requested, exact.sure.requestedLeaves).c_str(),
-                difference(exact.sure.requestedLeaves, requested).c_str());
+                difference(exact.sure.requestedLeaves, requested).c_str(),
+                difference(hits, exact.sure.hitLeaves).c_str(),
+                difference(exact.sure.hitLeaves, hits).c_str());
           EXPECT_FALSE(exact.sure.usedLeaves.empty()) << what;
         }
       }
     }
   }
+  EXPECT_GT(isoHits, 0u) << "no leaf reached the hit threshold in any iso frame: the hits went untested";
 }
 
 // Eight leaves of level 1 (a 32^3 volume of brick size 8 cut at depth 1) of a constant value no isosurface
@@ -331,26 +355,30 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
       frame.params.backend = backend;
       frame.tf = &tf;
       RaycastPass pass;
-      const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame);
+      // Every leaf one ray stops in is a hit.
+      const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame, {}, 1);
       const std::string what = std::string(mode == RenderMode::Iso ? "iso" : "dvr") +
                                (backend == RenderBackend::Fragment ? " fragment" : " compute");
       ASSERT_FALSE(gpu.usedLeaves.empty()) << what;
       EXPECT_FALSE(gpu.requestedLeaves.empty()) << what;
+      // Only isosurface rays count hits.
+      EXPECT_EQ(gpu.hitLeaves.empty(), mode == RenderMode::Dvr) << what;
       for (uint32_t leaf : gpu.usedLeaves)
         EXPECT_EQ(scene.cut.leaves[leaf].coord.x, 1u)
             << what << ": leaf " << leaf << " lies behind the surface";
       for (uint32_t leaf : gpu.requestedLeaves) EXPECT_EQ(scene.cut.leaves[leaf].coord.x, 1u) << what;
+      for (uint32_t leaf : gpu.hitLeaves) EXPECT_EQ(scene.cut.leaves[leaf].coord.x, 1u) << what;
       // Every ray stopped at the surface.
       const FloatImage color = pass.readColor();
       for (uint32_t i = 0; i < frame.width * frame.height; ++i)
         ASSERT_GE(color.pixels[4 * i + 3], 0.99f) << what;
-      expectEqualSets(gpu, mirrorFeedback(scene.index, scene.bricks, scene.info, cpuInput(frame), 1.0).sure,
-                      what);
+      expectEqualSets(
+          gpu, mirrorFeedback(scene.index, scene.bricks, scene.info, cpuInput(frame), 1.0, {}, 1).sure, what);
     }
 }
 
 TEST(Feedback, ListsHoldTheirCapacityAndCountTheRestAsDropped) {
-  const SceneSpec spec = randomScene(1);
+  const SceneSpec spec = randomScene(2);  // 16-bit: the isovalue below is in its range (hits)
   const test::GlScene scene = test::buildScene(spec);
   RaycastFrame frame;
   frame.camera = orbitCamera(30, 20, 1.5, glm::dvec3(0), glm::dvec3(spec.dims) * spec.spacing);
@@ -361,18 +389,23 @@ TEST(Feedback, ListsHoldTheirCapacityAndCountTheRestAsDropped) {
   for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
     frame.params.backend = backend;
     RaycastPass pass;
-    const FeedbackReadback all = renderWithFeedback(pass, scene, frame);
+    const FeedbackReadback all = renderWithFeedback(pass, scene, frame, {}, 2);
     const std::vector<uint32_t> used = sortedUnique(all.usedLeaves, "used");
     const std::vector<uint32_t> requested = sortedUnique(all.requestedLeaves, "requested");
+    const std::vector<uint32_t> hits = sortedUnique(all.hitLeaves, "hit");
     ASSERT_GT(used.size(), 5u);
     ASSERT_GT(requested.size(), 2u);
-    const FeedbackReadback few = renderWithFeedback(pass, scene, frame, {5, 2, 3});
+    ASSERT_GT(hits.size(), 4u);
+    const FeedbackReadback few = renderWithFeedback(pass, scene, frame, {5, 2, 3, 4}, 2);
     EXPECT_EQ(few.usedLeaves.size(), 5u);
     EXPECT_EQ(few.requestedLeaves.size(), 2u);
+    EXPECT_EQ(few.hitLeaves.size(), 4u);
     EXPECT_EQ(few.usedDropped, used.size() - 5);
     EXPECT_EQ(few.requestedDropped, requested.size() - 2);
+    EXPECT_EQ(few.hitDropped, hits.size() - 4);
     EXPECT_TRUE(includes(used, sortedUnique(few.usedLeaves, "used")));
     EXPECT_TRUE(includes(requested, sortedUnique(few.requestedLeaves, "requested")));
+    EXPECT_TRUE(includes(hits, sortedUnique(few.hitLeaves, "hit")));
   }
 }
 

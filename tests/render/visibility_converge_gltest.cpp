@@ -29,6 +29,7 @@ struct Converged {
   uint64_t dataLeaves = 0;
   uint64_t occludedMarksSeen = 0;  // largest nodes_occluded of any frame
   uint64_t answersSeen = 0;        // frames in which a feedback answer arrived
+  uint64_t hitsSeen = 0;           // largest feedback_hits of any frame
   uint64_t bricksUploaded = 0;     // over all frames
   // Frames whose occlusion_draw_ms disagrees with whether they drew queries (timed when drawn, 0 otherwise).
   uint64_t queryTimingMismatches = 0;
@@ -88,6 +89,7 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
     out.last = renderer.render(request);
     out.occludedMarksSeen = std::max(out.occludedMarksSeen, out.last.nodesOccluded);
     out.answersSeen += out.last.bricksUsed > 0;
+    out.hitsSeen = std::max(out.hitsSeen, out.last.feedbackHits);
     out.bricksUploaded += out.last.bricksUploaded;
     out.queryTimingMismatches += (out.last.occlusionQueries > 0) != (out.last.occlusionDrawMs > 0.0);
     if (out.last.occlusionQueries > 0) out.lastQueries = out.last.occlusionQueries;
@@ -138,9 +140,10 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
   EXPECT_LT(on.dataLeaves, off.dataLeaves) << "hidden nodes stay coarse";
 }
 
-// With feedback on, the leaves no ray reached are marked occluded without a query: fewer queries, the same
-// image and no more data leaves than with the queries alone.
-TEST(VisibilityConverge, WithFeedbackTheLeavesNoRayReachedAreNotQueried) {
+// With feedback on, the leaves no ray reached are marked occluded without a query, and those in which enough
+// rays stopped at the isosurface visible: fewer queries, the same image and no more data leaves than with the
+// queries alone.
+TEST(VisibilityConverge, WithFeedbackTheLeavesNoRayReachedOrEnoughRaysHitAreNotQueried) {
   const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
   const Converged occlusion =
       renderUntilConverged(source, RenderMode::Iso, RenderBackend::Fragment, {true, false});
@@ -148,6 +151,8 @@ TEST(VisibilityConverge, WithFeedbackTheLeavesNoRayReachedAreNotQueried) {
   ASSERT_TRUE(occlusion.last.converged);
   ASSERT_TRUE(both.last.converged);
   EXPECT_GT(both.lastQueries, 0u);
+  EXPECT_GT(both.hitsSeen, 0u);
+  EXPECT_EQ(occlusion.hitsSeen, 0u);
   EXPECT_LT(both.lastQueries, occlusion.lastQueries);
   EXPECT_LT(both.lastQueries, both.dataLeaves) << "every data leaf was queried";
   EXPECT_LE(both.dataLeaves, occlusion.dataLeaves);
