@@ -17,7 +17,8 @@
 // An answer holds until a newer answer covers the node, at most answerLifetimeFrames frames after the frame
 // it describes (the view may have moved since). usedNodes() are the leaves the latest answer saw used: their
 // bricks are kept in the GPU pool first (LRU by use, loader/slot_table.h). hitByRays() says which leaves
-// enough rays stopped in (an isosurface's hits): visible without an occlusion query.
+// enough rays stopped in (at the isosurface, or by early ray termination): visible without an occlusion
+// query.
 //
 // Plain CPU state, owned by the frame renderer: render thread only.
 #pragma once

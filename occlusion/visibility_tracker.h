@@ -87,11 +87,11 @@ class VisibilityTracker {
   // A leaf the rays sampled after all (a newer answer than the one that found it unused): a mark markUnseen
   // made is withdrawn; a query's answer stands.
   void markSeen(const NodeKey& key);
-  // A leaf known visible without a query: at least thresholdPixels rays of frame `frame` stopped at the
-  // isosurface in it, which puts as many samples of its box in front of the depth its query would be drawn
-  // against (the rays' feedback). Marked as an answer of thresholdPixels samples to a query issued in `frame`
-  // would mark it, and replaces a query's answer about the same frame; counted in no round. plan() leaves it
-  // unqueried when its LeafToQuery says hitByRays.
+  // A leaf known visible without a query: at least thresholdPixels rays of frame `frame` stopped in it (at
+  // the isosurface, or by early ray termination), which puts as many samples of its box in front of the depth
+  // its query would be drawn against (the rays' feedback). Marked as an answer of thresholdPixels samples to
+  // a query issued in `frame` would mark it, and replaces a query's answer about the same frame; counted in
+  // no round. plan() leaves it unqueried when its LeafToQuery says hitByRays.
   void markHit(const NodeKey& key, uint64_t frame);
 
   // Propagation to parents (Gobbetti et al. 2008, Sect. 6: an inner node is visible when any child is): given

@@ -178,7 +178,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
 
     // The hit: the leaf of the sample the ray stops at. It may stop at any sample from the earliest to the
     // latest end, and a sample next to a leaf border may fall in the leaf on the other side.
-    if (iso && hitThreshold > 0 && earliest != kNever) {
+    if (hitThreshold > 0 && earliest != kNever) {
       const size_t last = latest == kNever ? rl.position.back() + rl.count.back() : latest + 1;
       std::set<uint32_t> mayStopIn;
       std::optional<uint32_t> surelyStopsIn;

@@ -15,7 +15,7 @@ namespace ropecast {
 struct FeedbackSets {
   std::vector<uint32_t> usedLeaves;
   std::vector<uint32_t> requestedLeaves;
-  std::vector<uint32_t> hitLeaves;  // iso: leaves in which at least the hit threshold of rays stopped
+  std::vector<uint32_t> hitLeaves;  // leaves in which at least the hit threshold of rays stopped
 };
 
 // How far the GPU's float arithmetic and filtering may stray from the mirror's double before it can decide

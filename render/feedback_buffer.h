@@ -30,8 +30,8 @@ struct FeedbackReadback {
   uint64_t frame = 0;
   std::vector<uint32_t> usedLeaves;       // leaf indices in that frame's cut, each once, in no order
   std::vector<uint32_t> requestedLeaves;  // each once, in no order
-  // Leaves in which at least the frame's hit threshold of rays stopped at the isosurface; each once, in no
-  // order. Empty with a threshold of 0, and in DVR.
+  // Leaves in which at least the frame's hit threshold of rays stopped (at the isosurface, or by early ray
+  // termination); each once, in no order. Empty with a threshold of 0.
   std::vector<uint32_t> hitLeaves;
   uint64_t usedDropped = 0;
   uint64_t requestedDropped = 0;

@@ -453,9 +453,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // answers say, which are renewed instead.
   const bool castFeedback = feedback && !redraw;
   if (castFeedback) {
-    // With occlusion queries, an isosurface's rays count the hits that spare them (planTiles).
-    const bool countHits = occlusion && request.params.mode == RenderMode::Iso;
-    feedback_->begin(uint32_t(cut_.leaves.size()), countHits ? uint32_t(visibility_->thresholdPixels()) : 0);
+    // With occlusion queries, the rays count the hits that spare them (planTiles).
+    feedback_->begin(uint32_t(cut_.leaves.size()), occlusion ? uint32_t(visibility_->thresholdPixels()) : 0);
     frame.feedback = feedback_.get();
     frame.voxelsPerPixel = request.voxelsPerPixel;
   } else if (feedback) {

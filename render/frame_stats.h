@@ -56,8 +56,7 @@ struct FrameStats : LoaderStats {
   // The rays' feedback (Crassin et al. 2009); zero with --feedback off and in synchronous frames. The counts
   // are of the answer that arrived this frame.
   uint64_t feedbackRequests = 0;  // leaves the rays wanted finer
-  // Leaves in which --visibility-threshold rays stopped at the isosurface (with occlusion queries): visible
-  // without a query.
+  // Leaves in which --visibility-threshold rays stopped (with occlusion queries): visible without a query.
   uint64_t feedbackHits = 0;
   uint64_t feedbackDropped = 0;        // entries past the lists' capacity (they come back in a later frame)
   uint64_t bricksUsed = 0;             // leaves the rays sampled

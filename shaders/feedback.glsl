@@ -1,7 +1,8 @@
 // What the rays say they needed (docs/RENDERING.md "Feedback"; Crassin et al. 2009, Sect. 5): each ray marks
 // the data leaves of the cut it sampled as used, and requests at most one leaf, the first it sampled whose
-// level is coarser than the ray wants there. An isosurface ray also counts a hit for the leaf it stopped in;
-// a leaf enough rays stopped in is visible without an occlusion query. Marks are bits over the cut's leaves (RopeLeaf.leafIndex); the
+// level is coarser than the ray wants there. A ray that stops (at the isosurface, or by early ray termination)
+// also counts a hit for the leaf it stopped in; a leaf enough rays stopped in is visible without an occlusion
+// query. Marks are bits over the cut's leaves (RopeLeaf.leafIndex); the
 // invocation that sets a bit first appends the leaf to a short list, which is what the CPU reads back
 // (render/feedback_buffer.h). Included by shaders/raycast_common.glsl under RAYCAST_FEEDBACK only, so the
 // variant without feedback has none of this. No #version line.
@@ -54,7 +55,7 @@ void feedbackSampled(inout RayFeedback fb, uint leafIndex, bool wantsFiner) {
                usedList + feedbackWords[kFeedbackUsedCapacity], leafIndex);
 }
 
-// The ray stopped at the isosurface in the leaf: its hit is counted, and the ray that brings the count to the
+// The ray stopped in the leaf (RayResult.stopDepth is a sample of it): its hit is counted, and the ray that brings the count to the
 // threshold lists the leaf. Counting stops at the threshold (racing rays may pass it), so most rays of a
 // large leaf only read its count.
 void feedbackHit(uint leafIndex) {

@@ -10,8 +10,8 @@
 //   req. mask  maskWords words: the same for requests
 //   used list  usedCapacity words: leaf indices in the order their bits were first set
 //   req. list  requestedCapacity words
-//   hit list   hitCapacity words: leaves in which hitThreshold rays stopped at the isosurface, in the order
-//              they reached it
+//   hit list   hitCapacity words: leaves in which hitThreshold rays stopped (at the isosurface, or by early
+//              ray termination), in the order they reached it
 //   hits       32 maskWords words: word i counts the rays that stopped in cut leaf i (up to the threshold;
 //              racing rays may pass it), not read back
 // A counter counts every leaf whose bit was set (or whose hits reached the threshold), also past its list's

@@ -131,6 +131,7 @@ DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 
 #ifdef RAYCAST_FEEDBACK
     // A leaf is used when sampling moves on to it with samples to take: the ray has not ended before it.
     if (k < kEnd) feedbackSampled(fb, g0.leafIndex, g0.wantsFiner);
+    uint sampledLeaf = g0.leafIndex;
 #endif
     uint next = 1u;
     for (;;) {
@@ -138,7 +139,12 @@ DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 
       if (k < kEnd) terminated = compositeDvrSample(acc, s, ray, k++);
       if (!terminated && k < kEnd) terminated = compositeDvrSample(acc, s, ray, k++);
       if (!terminated && k < kEnd) terminated = compositeDvrSample(acc, s, ray, k++);
-      if (terminated) return acc;
+      if (terminated) {
+#ifdef RAYCAST_FEEDBACK
+        feedbackHit(sampledLeaf);
+#endif
+        return acc;
+      }
       if (!(k < kEnd)) {
         if (next == count) break;
         GatheredLeaf g = pickLeaf(next, g1, g2, g3, g4, g5, g6, g7);
@@ -147,6 +153,7 @@ DvrAccum walkDvrBatched(inout RopeCursor cursor, Ray ray, vec3 originCube, vec3 
         kEnd = g.kEnd;
 #ifdef RAYCAST_FEEDBACK
         if (k < kEnd) feedbackSampled(fb, g.leafIndex, g.wantsFiner);
+        sampledLeaf = g.leafIndex;
 #endif
         ++next;
       }
@@ -215,7 +222,12 @@ RayResult castRay(uvec2 pixel) {
 #ifdef RAYCAST_FEEDBACK
     if (kBegin < kEnd) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
 #endif
-    if (compositeDvr(acc, s, ray, kBegin, kEnd)) break;
+    if (compositeDvr(acc, s, ray, kBegin, kEnd)) {
+#ifdef RAYCAST_FEEDBACK
+      feedbackHit(leaf.leafIndex);  // early ray termination stopped the ray in this leaf
+#endif
+      break;
+    }
   }
   return dvrResult(acc);
 #endif

@@ -141,7 +141,7 @@ TEST_P(VisibilityConvergeTest, OpaqueIsosurfaceLooksTheSameWithASmallerWorkingSe
 }
 
 // With feedback on, the leaves no ray reached are marked occluded without a query, and those in which enough
-// rays stopped at the isosurface visible: fewer queries, the same image and no more data leaves than with the
+// rays stopped visible: fewer queries, the same image and no more data leaves than with the
 // queries alone.
 TEST(VisibilityConverge, WithFeedbackTheLeavesNoRayReachedOrEnoughRaysHitAreNotQueried) {
   const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
