@@ -192,7 +192,8 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
   // "unused" made: from far away no ray may reach the root, which from near fills the screen, and that mark
   // would keep it from refining, and the cut with it converged, until it expired.
   // The leaves enough rays stopped in are visible as their queries would have said (planTiles does not query
-  // them).
+  // them), but for a node collapsed on this view: its coarse data shows surfaces its hidden children do not,
+  // and its query, part by part, answers for them.
   if (feedback)
     for (const NodeKey& leaf : dataLeaves_) {
       const NodeHint hint = rayFeedback_.hint(leaf, frame_);
@@ -200,7 +201,8 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
         visibility_->markUnseen(leaf, frame_);
       else if (hint == NodeHint::Used || hint == NodeHint::Requested)
         visibility_->markSeen(leaf);
-      if (rayFeedback_.hitByRays(leaf, frame_)) visibility_->markHit(leaf, rayFeedback_.answeredFrame());
+      if (rayFeedback_.hitByRays(leaf, frame_) && !collapseGuard_.collapsed(leaf))
+        visibility_->markHit(leaf, rayFeedback_.answeredFrame());
     }
   visibility_->propagate(dataLeaves_);
   stats.occlusionMs += millisecondsSince(start);
@@ -237,6 +239,10 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
   dataParts_.clear();
+  // Hits spare a query only when they describe this view: while the camera moves, a query drawn now answers
+  // about a newer view than the rays' last answer, and a leaf the move hides is caught a frame sooner.
+  const bool hitsAboutThisView =
+      feedback && rayFeedback_.answered() && rayFeedback_.answeredFrame() >= viewChangedFrame_;
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
     dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
@@ -245,7 +251,8 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       continue;
     }
     if (!query) continue;
-    if (feedback && rayFeedback_.hitByRays(leaf.key, frame_)) {
+    if (hitsAboutThisView && rayFeedback_.hitByRays(leaf.key, frame_) &&
+        !collapseGuard_.collapsed(leaf.key)) {
       visibility_->markHit(leaf.key, rayFeedback_.answeredFrame());  // as for the unused leaves
       dataParts_.emplace_back();
       toQuery.push_back({leaf.key, {}, true});

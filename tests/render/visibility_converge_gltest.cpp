@@ -159,6 +159,33 @@ TEST(VisibilityConverge, WithFeedbackTheLeavesNoRayReachedOrEnoughRaysHitAreNotQ
   EXPECT_GE(test::psnrDb(both.color, occlusion.color), 40.0);
 }
 
+// Hits spare queries only on the view they describe: while the camera moves, every leaf handed to the
+// tracker is queried, the leaves the rays hit in the last frame too (a query drawn now answers about the
+// newer view). On a still view the hit leaves are counted but not queried.
+TEST(VisibilityConverge, WhileTheCameraMovesTheLeavesTheRaysHitAreQueriedAgain) {
+  const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
+  for (const bool moving : {true, false}) {
+    FrameRenderer renderer(test::sharedGlContext().info(), source,
+                           visibilityConfig({true, true}, 64ull << 20));
+    FrameRequest request = viewRequest(source.info(), RenderMode::Iso, RenderBackend::Fragment);
+    uint64_t queries = 0, counted = 0, hits = 0;
+    for (uint32_t frame = 0; frame < 8; ++frame) {
+      if (moving)
+        request.camera = orbitCamera(35.0 + frame, 25.0, 1.6, glm::dvec3(0.0),
+                                     glm::dvec3(source.info().volume.dims), 40.0);
+      const FrameStats stats = renderer.render(request);
+      queries += stats.occlusionQueries;
+      counted += stats.nodesVisible + stats.nodesOccluded;  // the leaves handed to the tracker
+      hits += stats.feedbackHits;
+    }
+    ASSERT_GT(hits, 0u);
+    if (moving)
+      EXPECT_EQ(queries, counted) << "leaves went unqueried while the camera moved";
+    else
+      EXPECT_LT(queries, counted) << "on a still view the hit leaves need no query";
+  }
+}
+
 TEST_P(VisibilityConvergeTest, SemiTransparentDvrLooksTheSame) {
   const auto [backend, visibility] = GetParam();
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
