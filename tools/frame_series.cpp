@@ -33,6 +33,16 @@ void FrameSeries::write(uint64_t frame, const FloatImage& color) {
   staged_.push_back(name);
 }
 
+void FrameSeries::checkTargets() const {
+  const std::filesystem::path parent = std::filesystem::path(output_).parent_path();
+  for (const std::string& name : staged_) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(parent / name, ec))
+      throw Error("render: --every: the frame '" + (parent / name).string() +
+                  "' cannot be written: a folder has its name; nothing was written");
+  }
+}
+
 void FrameSeries::commit() {
   if (!staging_) return;
   const std::filesystem::path parent = std::filesystem::path(output_).parent_path();

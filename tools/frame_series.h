@@ -24,6 +24,8 @@ class FrameSeries {
   FrameSeries(const std::string& output, bool enabled);
   // Stages frame `frame`'s PNG (8-bit color, no alpha).
   void write(uint64_t frame, const FloatImage& color);
+  // Throws ropecast::Error naming a staged frame whose name is taken by a folder (commit() would fail there).
+  void checkTargets() const;
   // Moves every staged frame onto its name. Throws ropecast::Error naming the frame that could not be moved.
   void commit();
 

@@ -45,13 +45,13 @@ FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h
   return image;
 }
 
-// The images appear together or not at all: each is written under its temporary name, then all are renamed.
-void writeOutputs(const RenderOptions& o, const FloatImage& color, const FloatImage& depth) {
+// -o, --exr and --depth under their temporary names (renderFrames renames them with the other outputs).
+std::vector<StagedImage> stageOutputs(const RenderOptions& o, const RenderedFrame& frame) {
   std::vector<StagedImage> staged;
-  staged.push_back(stagePng(o.output, color, false));
-  if (!o.exr.empty()) staged.push_back(stageExr(o.exr, color));
-  if (!o.depth.empty()) staged.push_back(stageDepthExr(o.depth, depth));
-  for (StagedImage& image : staged) image->commit();
+  staged.push_back(stagePng(o.output, frame.color, false));
+  if (!o.exr.empty()) staged.push_back(stageExr(o.exr, frame.color));
+  if (!o.depth.empty()) staged.push_back(stageDepthExr(o.depth, frame.depth));
+  return staged;
 }
 
 // The image outputs are checked before anything is loaded or rendered: a writer for each, and a folder that
@@ -326,7 +326,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
 
 }  // namespace
 
-RenderedFrame renderFrames(const RenderOptions& o) {
+RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImages) {
   RenderSetup setup(o);
   RenderedFrame frame;
   if (o.reference)
@@ -337,6 +337,12 @@ RenderedFrame renderFrames(const RenderOptions& o) {
     frame = renderProgressive(o, setup);
   else
     frame = renderSingleFrame(o, setup);
+  // Every output is written before any is renamed; the renames that can fail for a reason found on disk (a
+  // folder where a frame goes) are checked first.
+  std::vector<StagedImage> staged;
+  if (stageImages) staged = stageImages(frame);
+  setup.series->checkTargets();
+  for (StagedImage& image : staged) image->commit();
   setup.stats->finish();
   setup.series->commit();
   return frame;
@@ -363,8 +369,7 @@ int runRender(const CLI::App& app, const RenderOptions& o) {
   checkImageOutputs(o);
   checkOutputsAreNew(o);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
-  const RenderedFrame frame = renderFrames(o);
-  writeOutputs(o, frame.color, frame.depth);
+  renderFrames(o, [&o](const RenderedFrame& frame) { return stageOutputs(o, frame); });
   return 0;
 }
 

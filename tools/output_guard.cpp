@@ -118,6 +118,9 @@ std::string OutputGuard::problem() const {
     for (const auto& entry : fs::directory_iterator(series.directory, ec)) {
       if (!series.nameMatches(entry.path().filename().string())) continue;
       const std::string path = entry.path().string();
+      if (entry.is_directory(ec))
+        return who_ + ": " + option + " would write " + path +
+               ": a folder has that name; nothing was written";
       for (const Named& in : inputs_)
         if (sameFile(path, in.path))
           return sameFileMessage(who_, option + " would write " + path, path, in.name, in.path, true);

@@ -31,8 +31,8 @@ class OutputGuard {
   void addOutputSeries(std::string option, const std::string& directory, std::string pattern,
                        std::function<bool(const std::string& fileName)> nameMatches);
 
-  // Throws ropecast::Error when an output is an existing folder, or the same file as an input or as another
-  // output.
+  // Throws ropecast::Error when an output (or an existing name of a series) is a folder, or the same file as
+  // an input or as another output.
   void check() const;
   // What check() would throw, in words ("" when every output is its own new file).
   std::string problem() const;

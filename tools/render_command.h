@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "core/float_image.h"
 #include "core/render_params.h"
 #include "occlusion/visibility_tracker.h"
+#include "reference/image_io.h"
 #include "store/octree_layout.h"
 
 namespace ropecast::tools {
@@ -68,8 +70,11 @@ struct RenderedFrame {
 };
 
 // Renders as `ropecast render` does with these options (one synchronous frame, progressive frames until
-// --converge, --reference, --backend brute) and returns the last frame. Writes --stats and --every's frames
-// as it goes, not o.output, o.exr or o.depth. Throws ropecast::Error naming the option or file at fault.
-RenderedFrame renderFrames(const RenderOptions& o);
+// --converge, --reference, --backend brute) and returns the last frame. --stats and --every's frames are
+// written under temporary names as it goes; `stageImages`, called with the last frame, writes the caller's
+// images under theirs (null: none); only when all are written are they moved onto their names, so that a
+// render that fails leaves none of them. Throws ropecast::Error naming the option or file at fault.
+using StageImages = std::function<std::vector<StagedImage>(const RenderedFrame&)>;
+RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImages = {});
 
 }  // namespace ropecast::tools

@@ -129,6 +129,18 @@ cmp -s "$(ls "$dir"/v_*.png | tail -n 1)" "$dir/v.png" || fail "--every 1: the l
 run "brute every" "$ropecast" render $small -o "$dir/b.png" --backend brute --frames 3 --every 2
 [ "$(ls "$dir"/b_*.png 2>/dev/null | tr '\n' ' ')" = "$dir/b_0000.png $dir/b_0002.png " ] ||
   fail "--backend brute --every 2 wrote: $(ls "$dir"/b_*.png 2>/dev/null)"
+# A render that fails leaves none of its outputs: not its --every frames, not its --stats. A file-size limit
+# stands for a full disk (the EXR, or a frame, cannot be written); a folder with a frame's name is refused
+# before anything renders.
+mkdir "$dir/fail" && (ulimit -f 12; "$ropecast" render procedural:noise:64 -o "$dir/fail/o.png" --size 128x128 \
+  --mode dvr --frames 3 --every 1 --stats "$dir/fail/s.jsonl" --exr "$dir/fail/o.exr") >/dev/null 2>&1 &&
+  fail "a render past the file-size limit exited 0"
+[ -z "$(ls -A "$dir/fail")" ] || fail "a render that failed left: $(ls -A "$dir/fail" | tr '\n' ' ')"
+mkdir "$dir/fail/g_0002.png"
+"$ropecast" render $small -o "$dir/fail/g.png" --frames 3 --every 1 --stats "$dir/fail/g.jsonl" \
+  >/dev/null 2>"$dir/err.txt" && fail "--every with a folder named like a frame exited 0"
+grep -q "g_0002.png: a folder" "$dir/err.txt" || fail "--every, a folder named like a frame: $(cat "$dir/err.txt")"
+[ "$(ls -A "$dir/fail")" = "g_0002.png" ] || fail "a refused render left: $(ls -A "$dir/fail" | tr '\n' ' ')"
 # From a slow disk (35 reads of 150 ms on 2 workers: 2.6 s), --converge waits for reads, up to 0.1 s, between
 # frames that would draw the same cut: 100 frames converge, where frames of 2 ms spent them on the first reads.
 run "converge from a slow disk" "$ropecast" render $small -o "$dir/slow.png" --converge --io-delay-ms 150 \
