@@ -26,6 +26,7 @@
 
 #include "core/elapsed.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/temporary_file.h"
 #include "reference/image_io.h"
 #include "store/procedural.h"
@@ -88,7 +89,13 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
   o.quiet = true;  // cases render side by side (--jobs): their progress lines would mix
   o.messagePrefix = "case '" + c.name + "': ";  // as the lines of a child process are shown (renderCases)
   o.input = c.input;
-  o.converge = true;  // the converged frame: progressive frames until nothing is pending (docs/REGRESS.md)
+  // The converged frame: progressive frames until nothing is pending (docs/REGRESS.md); --reference renders
+  // its one image, and refuses --converge as render does.
+  if (o.reference && std::find(c.options.begin(), c.options.end(), "--converge") != c.options.end())
+    throw SuiteError(where +
+                     ": options: --converge has nothing to do with --reference (one CPU render of "
+                     "the full-resolution data); leave one of them out");
+  o.converge = !o.reference;
   if (!isProceduralSpec(c.input) && !fs::is_regular_file(c.input))
     throw SuiteError(where + ": input " + c.input + ": no such store file");
   if (isProceduralSpec(c.input)) {
@@ -125,6 +132,7 @@ class WorkFolder {
 };
 
 void copyAtomically(const std::string& from, const std::string& to, const char* who) {
+  requireRegularFile(from, std::string(who) + ": " + from);  // a FIFO would block
   std::ifstream in(from, std::ios::binary);
   std::ostringstream bytes;
   bytes << in.rdbuf();
@@ -205,7 +213,8 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       const RegressCase& c = *outcomes[next].regressCase;
       std::vector<std::string> args{self, "render", c.input};
       args.insert(args.end(), c.options.begin(), c.options.end());
-      if (std::find(c.options.begin(), c.options.end(), "--converge") == c.options.end())
+      if (outcomes[next].converges &&
+          std::find(c.options.begin(), c.options.end(), "--converge") == c.options.end())
         args.push_back("--converge");
       args.push_back("-o");
       args.push_back((fs::path(folder) / renderFile(outcomes[next])).string());
@@ -364,7 +373,10 @@ int runRegress(const RegressArgs& a) {
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const WorkFolder folder(a.report);
   std::vector<CaseOutcome> outcomes(suite.cases.size());
-  for (size_t i = 0; i < suite.cases.size(); ++i) outcomes[i].regressCase = &suite.cases[i];
+  for (size_t i = 0; i < suite.cases.size(); ++i) {
+    outcomes[i].regressCase = &suite.cases[i];
+    outcomes[i].converges = options[i].converge;
+  }
   renderCases(options, outcomes, folder.path(), a.jobs);
   compareCases(outcomes, folder.path(), suite.path, !a.report.empty());
 

@@ -8,15 +8,19 @@
 
 #include "core/error.h"
 #include "core/float_image.h"
+#include "core/input_file.h"
 #include "reference/image_io.h"
 
 namespace ropecast::tools {
 namespace {
 
 // Goldens and renders are color images: a one-channel golden compared on its one channel would pass a render
-// whatever its green and blue.
+// whatever its green and blue. The stored color, as `ropecast compare` reads it (not color * alpha).
 OIIO::ImageBuf readBuf(const std::string& path, const char* what) {
-  OIIO::ImageBuf image(path);
+  requireRegularFile(path, "regress: the " + std::string(what) + " " + path);  // a FIFO would block
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  OIIO::ImageBuf image(path, 0, 0, nullptr, &config);
   if (!image.read(0, 0, /*force=*/true, OIIO::TypeDesc::FLOAT))
     throw Error("regress: cannot read the " + std::string(what) + " " + path + ": " + image.geterror());
   if (image.spec().nchannels < 3)

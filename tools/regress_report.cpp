@@ -90,7 +90,7 @@ void writeRegressReport(const std::string& directory, const std::string& suitePa
     std::string options;
     for (const std::string& option : c.options) options += " " + option;
     // What the case renders: the converged frame, which a plain `render` would not.
-    if (std::find(c.options.begin(), c.options.end(), "--converge") == c.options.end())
+    if (o->converges && std::find(c.options.begin(), c.options.end(), "--converge") == c.options.end())
       options += " --converge";
     html << "<p><code>ropecast render " << escape(c.input) << escape(options) << "</code></p>\n";
     for (const std::string& problem : o->problems) html << "<p><b>" << escape(problem) << "</b></p>\n";

@@ -14,6 +14,7 @@ namespace ropecast::tools {
 
 struct CaseOutcome {
   const RegressCase* regressCase = nullptr;
+  bool converges = true;  // rendered with --converge (all but --reference cases)
   bool passed = false;
   bool updated = false;                        // its golden was (re)written from this render
   std::vector<std::string> problems;           // why it failed, one phrase each

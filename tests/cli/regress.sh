@@ -139,6 +139,29 @@ expect 1 "a golden of another size" "is 48x48, the render 16x16" suite/sized.jso
 expect 2 "a report folder that cannot be made" "--report /sys/rep: cannot create the folder" suite/suite.json \
   --report /sys/rep
 
+# --reference cases render their one image in a child (--jobs) as in this process; with --converge too they
+# are refused as render refuses them.
+printf '{"cases": [{"name": "r", "input": "procedural:sphere:16", "options": ["--size", "24x24", "--reference"], "golden": "r.png"}, {"name": "q", "input": "procedural:sphere:16", "options": ["--size", "24x24"], "golden": "q.png"}]}' > ref.json
+expect 0 "--reference cases (--jobs 1)" "2 goldens updated" ref.json --jobs 1 --update
+expect 0 "--reference cases (--jobs 2)" "2 cases, 0 failed" ref.json --jobs 2 --report rep4
+grep -q "reference --converge" rep4/index.html && fail "the report's command for a --reference case carries --converge"
+printf '{"cases": [{"name": "r", "input": "procedural:sphere:16", "options": ["--reference", "--converge"], "golden": "r.png"}]}' > refconv.json
+expect 2 "--reference with --converge" "--converge has nothing to do with --reference" refconv.json
+# A golden that is a FIFO fails its case at once (opening it would wait for a writer), with or without a report.
+mkfifo fifo.png
+printf '{"cases": [{"name": "f", "input": "procedural:sphere:16", "options": ["--size", "24x24"], "golden": "fifo.png"}]}' > fifo.json
+for report in "" "--report rep5"; do
+  # shellcheck disable=SC2086  # the report option is two words or none
+  timeout 60 "$ropecast" regress fifo.json $report > "$dir/out.txt" 2>&1
+  rc=$?
+  if [ "$rc" = 1 ] && grep -q "not a regular file" "$dir/out.txt"; then echo "ok   a golden that is a FIFO ($report)"
+  else fail "a golden that is a FIFO ($report): exit $rc: $(cat "$dir/out.txt")"; fi
+done
+# A golden with a straight alpha is compared on its stored color, as compare reads it.
+oiiotool --no-autopremult q.png --ch R,G,B,A=0.5 --attrib oiio:UnassociatedAlpha 1 -o qa.png 2>/dev/null || fail "oiiotool for the setup"
+printf '{"cases": [{"name": "q", "input": "procedural:sphere:16", "options": ["--size", "24x24"], "golden": "qa.png", "tolerances": {"max_pixel_error": 0}}]}' > alpha.json
+expect 0 "an RGBA golden with the render's color" "1 cases, 0 failed" alpha.json
+
 # A render's warning reaches the user with its case, rendered in this process or in a child (--jobs).
 printf '{"cases": [{"name": "capped", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--max-frames", "1"], "golden": "capped.png"}]}' > capped.json
 expect 0 "a case's warning (--jobs 2)" "case 'capped': ropecast render: not converged after 1 frames" capped.json --jobs 2 --update
