@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/json_keys.h"
 
 namespace ropecast {
 
@@ -32,7 +33,16 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error("camera path " + sourceName + ": not valid JSON: " + e.what());
   }
-  if (doc.is_object() && doc.contains("keyframes")) doc = doc["keyframes"];
+  if (const std::string key = duplicateJsonKey(text); !key.empty())
+    throw Error("camera path " + sourceName + ": the key \"" + key +
+                "\" is given twice in one object (only the last would count)");
+  if (doc.is_object() && doc.contains("keyframes")) {
+    for (const auto& [key, value] : doc.items())
+      if (key != "keyframes")
+        throw Error("camera path " + sourceName + ": unknown key \"" + key +
+                    "\" beside \"keyframes\" (expected {\"keyframes\": [...]} or a bare list)");
+    doc = nlohmann::json(doc["keyframes"]);
+  }
   if (!doc.is_array() || doc.empty())
     throw Error("camera path " + sourceName + ": expected a non-empty JSON array of keyframes");
 

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/json_keys.h"
 
 namespace ropecast {
 
@@ -89,6 +90,8 @@ TransferFunction TransferFunction::fromJson(std::string_view text, const std::st
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error(where + ": not valid JSON (" + e.what() + ")");
   }
+  if (const std::string key = duplicateJsonKey(text); !key.empty())
+    throw Error(where + ": the key \"" + key + "\" is given twice in one object (only the last would count)");
   if (!j.is_object() || !j.contains("points"))
     throw Error(where + ": expected an object {\"points\": [[value, r, g, b, a], ...]}");
   for (const auto& [key, value] : j.items())  // a key meant to change the function would be ignored

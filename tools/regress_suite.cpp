@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/json_keys.h"
 #include "store/procedural.h"
 
 namespace ropecast::tools {
@@ -65,6 +66,9 @@ RegressSuite parseRegressSuite(const std::string& text, const std::string& suite
   } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw SuiteError(suitePath + ": not valid JSON: " + e.what());
   }
+  if (const std::string key = duplicateJsonKey(text); !key.empty())
+    throw SuiteError(suitePath + ": the key \"" + key +
+                     "\" is given twice in one object (only the last would count)");
   if (!root.is_object()) throw SuiteError(suitePath + ": expected an object {\"cases\": [...]}");
   RegressTolerances defaults;
   for (const auto& [key, value] : root.items()) {

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/json_keys.h"
 #include "reference/image_io.h"
 
 namespace ropecast::tools {
@@ -103,6 +104,9 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
   } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error(sourceName + ": not JSON: " + e.what());
   }
+  if (const std::string key = duplicateJsonKey(text); !key.empty())
+    throw Error(sourceName + ": the key \"" + key +
+                "\" is given twice in one object (only the last would count)");
   const json* list = &root;
   if (root.is_object() && root.contains("events")) {
     list = &root["events"];

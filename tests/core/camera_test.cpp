@@ -98,6 +98,23 @@ TEST(CameraPathKeyframes, RejectAnUnusableUpNamingTheKeyframe) {
   EXPECT_THROW(parseCameraPath(R"([{"eye": [1, 2, 3], "target": [1, 2, 3]}])", "q.json"), Error);
 }
 
+TEST(CameraPathKeyframes, RejectARepeatedOrUnknownKeyNamingIt) {
+  const auto errorOf = [](const std::string& text) {
+    try {
+      parseCameraPath(text, "p.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(errorOf(R"([{"orbit": [0, 20, 3], "orbit": [90, 20, 3]}])"),
+            "camera path p.json: the key \"orbit\" is given twice in one object (only the last would count)");
+  EXPECT_EQ(errorOf(R"({"keyframes": [{"orbit": [0, 20, 3]}], "fov": 10})"),
+            "camera path p.json: unknown key \"fov\" beside \"keyframes\" (expected {\"keyframes\": [...]} "
+            "or a bare list)");
+  EXPECT_EQ(errorOf(R"({"keyframes": [{"orbit": [0, 20, 3]}]})"), "");
+}
+
 TEST(CameraPathKeyframes, RejectANumberOutOfRangeNamingTheFile) {
   try {
     parseCameraPath(R"({"orbit": [0, 20, 1e999]})", "p.json");

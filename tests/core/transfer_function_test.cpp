@@ -53,6 +53,8 @@ TEST(TransferFunction, ParsingErrorsNameTheFileAndTheProblem) {
   expectError("[1, 2]", "expected an object");
   expectError(R"({"points": [[0, 0, 0, 0, 0]], "colorspace": "lab"})", "unknown key \"colorspace\"");
   expectError(R"({"pts": []})", "expected an object");
+  expectError(R"({"points": [[0, 1, 0, 0, 1]], "points": [[0, 0, 1, 0, 1]]})",
+              "the key \"points\" is given twice");
   expectError(R"({"points": []})", "non-empty array");
   expectError(R"({"points": [[0, 0, 0, 0]]})", "point 0 must be [value, r, g, b, a]");
   expectError(R"({"points": [[0, 0, 0, 0, 0], [1, 0, 0, "red", 0]]})", "point 1 must be");

@@ -51,6 +51,9 @@ TEST(RegressSuite, RefusesBadSuitesNamingTheKey) {
   EXPECT_NE(refusal(R"({"cases": [{"max_abs": 1e999}]})").find("dir/suite.json: not valid JSON"),
             std::string::npos);
   EXPECT_EQ(refusal("{\"cases\": []}"), "dir/suite.json: expected \"cases\": a non-empty array of cases");
+  EXPECT_EQ(refusal(R"({"cases": [{"name": "a", "input": "x", "golden": "a.png"}], "cases": [{"name": "b",
+                        "input": "x", "golden": "b.png"}]})"),
+            "dir/suite.json: the key \"cases\" is given twice in one object (only the last would count)");
   EXPECT_NE(refusal(R"({"cases": [{"name": "a", "input": "procedural:sphere:8", "golden": "a.jpg"}]})")
                 .find("case 'a'.golden: dir/a.jpg: expected a PNG file"),
             std::string::npos);
