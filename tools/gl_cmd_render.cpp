@@ -248,7 +248,8 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
           "--visibility-threshold"},
          o.reference ? "with --reference (full-resolution data on the CPU, no octree)"
                      : "with --backend brute (level 0 in one 3D texture, no octree)");
-  if (o.reference) warn({"--frames"}, "with --reference (one image, of --path's last camera)");
+  // With --path, --frames says which camera is the last frame's, the one --reference renders.
+  if (o.reference && o.path.empty()) warn({"--frames"}, "with --reference without --path (one image)");
 }
 
 // One frame (no --converge, --frames 1; with --path, its first camera): load everything the view needs, then
@@ -360,7 +361,7 @@ int runRender(const CLI::App& app, const RenderOptions& o) {
     throw UsageError(
         std::string("render: ") + (o.converge ? "--converge" : "--every") +
         " has nothing to do with --reference (one CPU render of the full-resolution data, of the "
-        "last camera of --path); leave one of them out");
+        "camera of --path's last frame); leave one of them out");
   if (o.every > 0 && !(o.converge || o.frames > 1))
     throw UsageError("render: --every " + std::to_string(o.every) +
                      " writes frames of a progressive render: add --frames N or --converge");
@@ -386,7 +387,8 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
                  "frames to render (more than 1: progressive loading; with --converge, at least this many)")
       ->check(CLI::Range(1u, 1000000u));
   CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
-  for (const char* camera : {"--orbit", "--eye", "--target", "--up"}) path->excludes(app.get_option(camera));
+  for (const char* camera : {"--orbit", "--eye", "--target", "--up", "--fov"})
+    path->excludes(app.get_option(camera));
   CLI::Option* converge = app.add_flag("--converge", o.converge,
                                        "render until the working set is complete and nothing is pending");
   app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")

@@ -69,6 +69,7 @@ expect_usage "no frame for --converge" "--max-frames" "$vol" --converge --max-fr
 expect_usage "orbit and eye" "--orbit excludes --eye" "$vol" --orbit 10,10,3 --eye 0,0,200 --target 1,1,1
 expect_usage "orbit and up" "--orbit excludes --up" "$vol" --orbit 10,10,3 --up 0,1,0
 expect_usage "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.json" --orbit 10,10,3
+expect_usage "path and fov" "excludes --path" "$vol" --path "$dir/bad_path.json" --fov 10
 expect_usage "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
 expect_usage "empty input" "the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''" ""
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
@@ -177,6 +178,18 @@ warned() {  # NAME EXPECTED_STDERR ARGS...: the render succeeds and warns with E
 warned "--iso with --mode dvr" "warning: --iso: no effect with --mode dvr" "$vol" --mode dvr --iso 100
 warned "DVR options with --mode iso" "warning: --tf, --ert: no effect with --mode iso" "$vol" --tf ct-bone --ert 0.5
 warned "--frames with --reference" "warning: --frames: no effect with --reference" "$vol" --reference --frames 3 --size 8x8
+# With --path, --frames says which camera is the last frame's, the one --reference renders: no warning.
+printf '[{"orbit": [0, 20, 2.5]}, {"orbit": [90, 20, 2.5]}]' > "$dir/turn.json"
+printf '[{"orbit": [90, 20, 2.5]}]' > "$dir/last.json"
+if "$ropecast" render "$vol" --reference --path "$dir/turn.json" --frames 3 --size 16x16 -o "$dir/ref3.png" \
+    2> "$dir/err.txt" && ! grep -q warning "$dir/err.txt" &&
+  "$ropecast" render "$vol" --reference --path "$dir/last.json" --size 16x16 -o "$dir/reflast.png" &&
+  "$ropecast" compare "$dir/ref3.png" "$dir/reflast.png" | grep -q '"max_abs":0'; then
+  echo "ok   --reference --path --frames 3: the last frame's camera"
+else
+  echo "FAIL --reference --path --frames 3: not the last frame's camera, or warned: $(cat "$dir/err.txt")"
+  failures=$((failures + 1))
+fi
 warned "octree options with brute force" "warning: --gpu-budget, --occlusion: no effect with --backend brute" \
   "$vol" --backend brute --gpu-budget 64M --occlusion off
 
