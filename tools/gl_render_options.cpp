@@ -165,12 +165,17 @@ void checkSceneOptions(const RenderOptions& o) {
                      " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
                      "compute");
   if (!eyeTargetCamera(o)) orbitOf(o);
+  // Only frames that query: progressive ones of the octree's single pass (not one synchronous frame,
+  // --reference, brute force or multi-pass).
+  const bool queries = o.occlusion && (o.converge || o.frames > 1) && !o.reference &&
+                       o.backend != RenderBackend::Brute && o.backend != RenderBackend::Multipass;
   if (const uint64_t pixels = uint64_t(o.size.at(0)) * o.size.at(1);
-      o.occlusion && o.visibilityThreshold > pixels)
+      queries && o.visibilityThreshold > pixels)
     throw UsageError("--visibility-threshold " + std::to_string(o.visibilityThreshold) +
                      " is more than the " + std::to_string(pixels) + " pixels of the image (--size " +
                      std::to_string(o.size.at(0)) + "x" + std::to_string(o.size.at(1)) +
-                     "): every node would count as occluded");
+                     "): every node would count as occluded; give a smaller --visibility-threshold, or "
+                     "--occlusion off");
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {

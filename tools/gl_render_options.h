@@ -45,7 +45,8 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command);
 
 // The scene options that cannot go together or cannot be a camera (--brick with a store, --brute-stage
 // without --backend brute, --eye without --target, an eye on its target, an orbit of no distance, a
-// visibility threshold above the image's pixels), before any file is read: throws UsageError.
+// visibility threshold above the image's pixels where progressive frames query), before any file is read:
+// throws UsageError.
 void checkSceneOptions(const RenderOptions& o);
 
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).

@@ -175,6 +175,13 @@ warned() {  # NAME EXPECTED_STDERR ARGS...: the render succeeds and warns with E
     echo "FAIL $name: $(cat "$dir/err.txt")"; failures=$((failures + 1))
   fi
 }
+# Images smaller than the default visibility threshold render where nothing queries: one synchronous frame,
+# --reference, brute force.
+for tiny in "--size 1x1" "--size 2x1 --reference" "--size 3x1 --backend brute"; do
+  # shellcheck disable=SC2086  # the options are words
+  if "$ropecast" render "$vol" $tiny -o "$dir/tiny.png" > /dev/null 2> "$dir/err.txt"; then echo "ok   $tiny"
+  else echo "FAIL $tiny: $(cat "$dir/err.txt")"; failures=$((failures + 1)); fi
+done
 warned "--iso with --mode dvr" "warning: --iso: no effect with --mode dvr" "$vol" --mode dvr --iso 100
 warned "DVR options with --mode iso" "warning: --tf, --ert: no effect with --mode iso" "$vol" --tf ct-bone --ert 0.5
 warned "--frames with --reference" "warning: --frames: no effect with --reference" "$vol" --reference --frames 3 --size 8x8
