@@ -37,6 +37,16 @@ inline CLI::Validator finiteAbove(double lo, double hi) {
   return finiteIn(lo, hi, true);
 }
 
+// An input that is not empty (`--tf "$UNSET"` is a slip: taken as not given, it would silently do nothing);
+// `what` says what it names ("a preset or a JSON file").
+inline CLI::Validator notEmpty(const std::string& what) {
+  return CLI::Validator(
+      [what](const std::string& value) -> std::string {
+        return value.empty() ? "expected " + what + ", got ''" : "";
+      },
+      "", "notEmpty");
+}
+
 // A path that is not empty (`-o ""` is a slip, not a name), nor "-", which other tools read as standard
 // output, where ropecast writes nothing (its outputs are written whole and renamed into place); `what` says
 // what it names ("a file", "a folder").

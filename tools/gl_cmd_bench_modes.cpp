@@ -437,7 +437,8 @@ int runModesBench(const Options& o) {
 std::function<int()> setupModesBench(CLI::App& app) {
   auto o = std::make_shared<Options>();
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
-  app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes (see `render --path`)");
+  app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes (see `render --path`)")
+      ->check(notEmpty("a camera path file"));
   addTripleOption(app, "--orbit", o->orbit,
                   "AZ,EL,DIST: the path's first camera, turning --turn degrees around the volume (default "
                   "30,20,1.6)");
@@ -457,7 +458,8 @@ std::function<int()> setupModesBench(CLI::App& app) {
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(notEmpty("a preset or a JSON file"));
   addImageSizeOption(app, "--size", o->size, "image size WxH (default 512x512)");
   app.add_option("--step", o->step, "sample distance in voxels of the level crossed")
       ->check(finiteIn(0.01, 8.0))

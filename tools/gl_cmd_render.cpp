@@ -378,15 +378,19 @@ int runRender(const CLI::App& app, const RenderOptions& o) {
 
 void addRenderOptions(CLI::App& app, RenderOptions& o) {
   addSceneOptions(app, o, SceneCommand::Render);
-  app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)");
-  app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR");
-  app.add_option("--stats", o.stats, "write one JSON object per frame, one per line");
+  app.add_option("--exr", o.exr, "also write float RGBA EXR (alpha = coverage)")
+      ->check(nonEmptyPath("a file"));
+  app.add_option("--depth", o.depth, "also write the depth (world units along the view axis) as EXR")
+      ->check(nonEmptyPath("a file"));
+  app.add_option("--stats", o.stats, "write one JSON object per frame, one per line")
+      ->check(nonEmptyPath("a file"));
   app.add_flag("--reference", o.reference, "brute-force CPU ray marching of the full-resolution data instead")
       ->excludes(app.get_option("--backend"));
   app.add_option("--frames", o.frames,
                  "frames to render (more than 1: progressive loading; with --converge, at least this many)")
       ->check(CLI::Range(1u, 1000000u));
-  CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes");
+  CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes")
+                          ->check(notEmpty("a camera path file"));
   for (const char* camera : {"--orbit", "--eye", "--target", "--up", "--fov"})
     path->excludes(app.get_option(camera));
   CLI::Option* converge = app.add_flag("--converge", o.converge,

@@ -11,6 +11,7 @@
 #include "core/temporary_file.h"
 #include "core/transfer_function.h"
 #include "reference/image_io.h"
+#include "tools/cli_checks.h"
 #include "tools/command.h"
 #include "tools/gl_view_app.h"
 #include "tools/output_guard.h"
@@ -93,13 +94,16 @@ const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::func
   app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
   addSceneOptions(app, *o, SceneCommand::View);
   app.add_option("--script", o->script,
-                 "timed input events and UI actions (JSON, docs/VIEWER.md); the viewer exits after the last");
+                 "timed input events and UI actions (JSON, docs/VIEWER.md); the viewer exits after the last")
+      ->check(notEmpty("a script file"));
   app.add_option(
-      "--screenshot", o->screenshot,
-      "once the view has converged (after --script, if given), write the 3D view without the panels "
-      "as PNG and exit");
+         "--screenshot", o->screenshot,
+         "once the view has converged (after --script, if given), write the 3D view without the panels "
+         "as PNG and exit")
+      ->check(nonEmptyPath("a file"));
   app.add_option("--stats", o->stats,
-                 "write one JSON object per rendered frame, one per line (render's fields)");
+                 "write one JSON object per rendered frame, one per line (render's fields)")
+      ->check(nonEmptyPath("a file"));
   app.add_option("--max-frames", o->maxFrames,
                  "frames a screenshot or wait_converged waits for the view to converge (then it runs anyway)")
       ->check(CLI::Range(1u, 1000000u))

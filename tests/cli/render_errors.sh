@@ -69,6 +69,9 @@ expect_usage "no frame for --converge" "--max-frames" "$vol" --converge --max-fr
 expect_usage "orbit and eye" "--orbit excludes --eye" "$vol" --orbit 10,10,3 --eye 0,0,200 --target 1,1,1
 expect_usage "orbit and up" "--orbit excludes --up" "$vol" --orbit 10,10,3 --up 0,1,0
 expect_usage "path and orbit" "excludes --path" "$vol" --path "$dir/bad_path.json" --orbit 10,10,3
+for option in --exr --depth --stats --tf --path; do
+  expect_usage "empty $option" "$option: expected a" "$vol" "$option" ""
+done
 expect_usage "path and fov" "excludes --path" "$vol" --path "$dir/bad_path.json" --fov 10
 expect_usage "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
 expect_usage "empty input" "the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''" ""
