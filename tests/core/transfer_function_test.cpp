@@ -34,6 +34,12 @@ TEST(TransferFunction, ParsesPointsAndInterpolatesLinearly) {
   EXPECT_NEAR(mid.a, 0.2, 1e-12);
 }
 
+TEST(TransferFunction, InterpolatesBetweenPointsMoreThanTheLargestDoubleApart) {
+  const TransferFunction tf({TfPoint{-1e308, {0.0, 0.0, 0.0, 0.0}}, TfPoint{1e308, {1.0, 1.0, 1.0, 1.0}}});
+  EXPECT_NEAR(tf.evaluate(0.0).a, 0.5, 1e-12);
+  EXPECT_NEAR(tf.evaluate(5e307).r, 0.75, 1e-12);
+}
+
 TEST(TransferFunction, EqualValuesMakeAStep) {
   const auto tf =
       TransferFunction::fromJson(R"({"points": [[0,0,0,0,0],[5,0,0,0,0],[5,1,1,1,1],[9,1,1,1,1]]})", "t");
