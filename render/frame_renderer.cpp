@@ -239,10 +239,13 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
   dataParts_.clear();
-  // Hits spare a query only when they describe this view: while the camera moves, a query drawn now answers
-  // about a newer view than the rays' last answer, and a leaf the move hides is caught a frame sooner.
+  // Hits spare a query only when they describe this image: while the camera moves, a query drawn now answers
+  // about a newer view than the rays' last answer, and a leaf the move hides is caught a frame sooner; while
+  // the step changes (--target-frame-ms), the rays stop elsewhere, and hits about another step kept a cut
+  // that this one's answers changed after it was called converged.
   const bool hitsAboutThisView =
-      feedback && rayFeedback_.answered() && rayFeedback_.answeredFrame() >= viewChangedFrame_;
+      feedback && rayFeedback_.answered() &&
+      rayFeedback_.answeredFrame() >= std::max(viewChangedFrame_, samplingChangedFrame_);
   for (const PlannedLeaf& leaf : leaves) {
     if (leaf.content != LeafContent::Brick) continue;
     dataLeaves_.push_back(leaf.key);  // marks propagate over all of them, queried or not
@@ -295,10 +298,10 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
 }
 
 bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feedback) const {
-  // Answers about another view (the camera moved, the window was resized) may have kept this cut: a node
-  // hidden from there can be in sight here. They steer the refinement, but only answers about this view and
-  // cut may say it is converged.
-  const uint64_t since = std::max(cutChangedFrame_, viewChangedFrame_);
+  // Answers about another view (the camera moved, the window was resized) or another sampling (the step
+  // --target-frame-ms sets) may have kept this cut: a node hidden there can be in sight here. They steer the
+  // refinement, but only answers about this image and cut may say it is converged.
+  const uint64_t since = std::max({cutChangedFrame_, viewChangedFrame_, samplingChangedFrame_});
   // With occlusion, the refinement kept the cut with a whole round of answers about it.
   if (occlusion && !visibility_->answeredSince(since)) return false;
   // With feedback, also an answer about this very cut: its hints are what kept the cut as it is.
@@ -385,6 +388,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
     collapseGuard_.reset();
     viewChangedFrame_ = frame_;
   }
+  if (!lastView_ || !(lastView_->params == request.params) ||
+      lastView_->voxelsPerPixel != request.voxelsPerPixel)
+    samplingChangedFrame_ = frame_;
   if (occlusion || feedback) {
     input.hints = [this, occlusion, feedback](const NodeKey& key) {
       const bool refinedNow = lastInnerNodes_.contains(key);

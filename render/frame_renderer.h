@@ -215,6 +215,9 @@ class FrameRenderer {
   // The last asynchronous frame whose camera or image size differed from the frame before: answers about
   // an earlier view describe another image, so convergence waits for answers about this one.
   uint64_t viewChangedFrame_ = 0;
+  // The last asynchronous frame whose rays sample otherwise than the frame before's (another step, mode or
+  // voxels per pixel): where their rays stop moves, so answers about earlier frames describe another image.
+  uint64_t samplingChangedFrame_ = 0;
   std::optional<FrameRequest> lastDrawn_;  // the request of the last frame drawn
   uint64_t lastDrawnEmptinessKey_ = 0;     // its transfer function's content too (emptinessKeyOf)
   bool keptConvergedImage_ = false;        // the last frame kept the converged image before it
