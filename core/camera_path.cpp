@@ -1,6 +1,7 @@
 #include "core/camera_path.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
@@ -98,6 +99,8 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
     if (path.keyframes[i].time <= path.keyframes[i - 1].time)
       throw Error("camera path " + sourceName + ": keyframe times must increase (keyframe " +
                   std::to_string(i) + ")");
+  if (!std::isfinite(path.keyframes.back().time - path.keyframes.front().time))
+    throw Error("camera path " + sourceName + ": the keyframe times span more than the largest number");
   return path;
 }
 

@@ -65,6 +65,10 @@ std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
     return "its folder '" + std::filesystem::path(path).parent_path().string() + "' does not exist";
   if (kind == ImageOutputKind::FloatExr)
     return hasExrExtension(path) ? "" : "expected a file name ending in .exr (float data)";
+  // ".png" alone is a hidden file's name without an extension to the file system, and to OpenImageIO.
+  if (std::filesystem::path(path).extension().empty())
+    return "expected a name and an extension such as .png, got '" +
+           std::filesystem::path(path).filename().string() + "'";
   auto out = OIIO::ImageOutput::create(path);
   if (!out) return "no image writer for this extension; use .png";
   if (!out->supports("ioproxy"))

@@ -38,7 +38,8 @@ int runCompare(const CompareOptions& o) {
   if (a.width != b.width || a.height != b.height)
     throw Error("compare: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + ", " +
                 o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
-  uint32_t channels = o.channels.value_or(std::min({3u, a.channels, b.channels}));
+  // RGB; one channel when an image has fewer than three (a depth image: gray and alpha are not RGB either).
+  uint32_t channels = o.channels.value_or(std::min(a.channels, b.channels) >= 3 ? 3u : 1u);
   if (!o.channels && a.channels != b.channels && channels < 3)
     throw Error("compare: " + o.a + " has " + std::to_string(a.channels) + " channel(s), " + o.b + " has " +
                 std::to_string(b.channels) + "; give --channels N to compare the first N");
@@ -61,9 +62,10 @@ const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std
   app.description("PSNR (peak 1) and absolute differences of two images of the same size, as one JSON line");
   app.add_option("a", o->a, "first image (PNG, EXR, ...)")->required();
   app.add_option("b", o->b, "second image")->required();
-  app.add_option("--channels", o->channels,
-                 "channels compared: 3 = RGB, 4 = RGBA, 1 = the first (default: 3, or 1 for two one-channel "
-                 "images such as depth EXRs)")
+  app.add_option(
+         "--channels", o->channels,
+         "channels compared: 3 = RGB, 4 = RGBA, 1 = the first (default: 3; 1 when an image has fewer, "
+         "such as a depth EXR)")
       ->check(CLI::Range(1u, 4u));
   app.add_option("--min-psnr", o->minPsnr, "exit with status 3 when the PSNR is below this (dB)")
       ->check(finiteIn(0.0, HUGE_VAL));

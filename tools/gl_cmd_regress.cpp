@@ -97,7 +97,8 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
                      "the full-resolution data); leave one of them out");
   o.converge = !o.reference;
   if (!isProceduralSpec(c.input) && !fs::is_regular_file(c.input))
-    throw SuiteError(where + ": input " + c.input + ": no such store file");
+    throw SuiteError(where + ": input " + c.input + ": " +
+                     (fs::exists(c.input) ? "not a regular file" : "no such store file"));
   if (isProceduralSpec(c.input)) {
     try {
       parseProceduralField(proceduralNameAndSize(c.input));

@@ -127,15 +127,21 @@ expect_failure "unwritable depth" "--depth $dir/nodir/d.exr: its folder" "$vol" 
 # A folder that exists but takes no new file: refused before rendering, and -o is not written without --exr.
 expect_failure "EXR in a folder that takes no file" "cannot create output '/sys/x.exr'" "$vol" --exr /sys/x.exr
 
-# An image name without a known extension is refused before rendering.
-"$ropecast" render "$vol" -o "$dir/noextension" > /dev/null 2> "$dir/err.txt"
-rc=$?
-if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF -- "-o $dir/noextension: no image writer" "$dir/err.txt" &&
-  [ -z "$(find "$dir" -name 'noextension*')" ]; then
-  echo "ok   output without an image extension (exit $rc)"
-else
-  echo "FAIL output without an image extension: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
-fi
+# An image name without a known extension is refused before rendering ('.png' alone is a name without one).
+for name in noextension .png x.unknownext; do
+  "$ropecast" render "$vol" -o "$dir/$name" > /dev/null 2> "$dir/err.txt"
+  rc=$?
+  case $name in
+    x.*) want="-o $dir/$name: no image writer" ;;
+    *) want="-o $dir/$name: expected a name and an extension such as .png, got '$name'" ;;
+  esac
+  if [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] && grep -qF -- "$want" "$dir/err.txt" &&
+    [ -z "$(find "$dir" -name "$name*")" ]; then
+    echo "ok   output $name (exit $rc)"
+  else
+    echo "FAIL output $name: exit $rc: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+  fi
+done
 
 # An unwritable image path fails the same way (it is not x.png, so check it by hand).
 "$ropecast" render "$vol" -o "$dir/nodir/y.png" > /dev/null 2> "$dir/err.txt"

@@ -32,6 +32,12 @@ d=$("$ropecast" compare "$dir/a_depth.exr" "$dir/a_depth.exr") || fail "compare 
 grep -q '"channels":1' <<< "$d" && grep -q '"max_abs":0' <<< "$d" || fail "compare of two depth images: $d"
 d=$("$ropecast" compare "$dir/a_depth.exr" "$dir/a.exr" 2>&1) && fail "compare of a depth and an RGBA image: exit 0"
 grep -q -- "--channels" <<< "$d" || fail "compare of a depth and an RGBA image should ask for --channels: $d"
+# Two gray-and-alpha images: the default compares the gray, as it compares RGB, not the alpha.
+oiiotool --no-autopremult --pattern constant:color=0.5,1 8x8 2 --attrib oiio:UnassociatedAlpha 1 -d uint8 \
+  -o "$dir/ga1.png" && oiiotool --no-autopremult --pattern constant:color=0.5,0.3 8x8 2 \
+  --attrib oiio:UnassociatedAlpha 1 -d uint8 -o "$dir/ga2.png" || fail "oiiotool for the gray-and-alpha images"
+d=$("$ropecast" compare "$dir/ga1.png" "$dir/ga2.png") || fail "compare of two gray-and-alpha images: $d"
+grep -q '"channels":1' <<< "$d" && grep -q '"max_abs":0' <<< "$d" || fail "compare of gray-and-alpha images: $d"
 # The sphere covers the middle of the image: coverage (EXR alpha) strictly between 0 and 1 on average.
 alpha=$(channel_avg "$dir/a.exr" 3)
 at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"

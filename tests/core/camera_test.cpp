@@ -113,6 +113,8 @@ TEST(CameraPathKeyframes, RejectARepeatedOrUnknownKeyNamingIt) {
             "camera path p.json: unknown key \"fov\" beside \"keyframes\" (expected {\"keyframes\": [...]} "
             "or a bare list)");
   EXPECT_EQ(errorOf(R"({"keyframes": [{"orbit": [0, 20, 3]}]})"), "");
+  EXPECT_EQ(errorOf(R"([{"orbit": [0, 20, 3], "time": -1e308}, {"orbit": [9, 20, 3], "time": 1e308}])"),
+            "camera path p.json: the keyframe times span more than the largest number");
 }
 
 TEST(CameraPathKeyframes, RejectANumberOutOfRangeNamingTheFile) {

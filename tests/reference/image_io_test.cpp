@@ -123,6 +123,10 @@ TEST(ImageIo, OutputProblemsAreFoundBeforeWriting) {
   EXPECT_EQ(imageOutputProblem(at("a.tif"), ImageOutputKind::FloatExr),
             "expected a file name ending in .exr (float data)");
   EXPECT_EQ(imageOutputProblem(at("noextension"), ImageOutputKind::Color8),
+            "expected a name and an extension such as .png, got 'noextension'");
+  EXPECT_EQ(imageOutputProblem(at(".png"), ImageOutputKind::Color8),
+            "expected a name and an extension such as .png, got '.png'");
+  EXPECT_EQ(imageOutputProblem(at("a.unknownext"), ImageOutputKind::Color8),
             "no image writer for this extension; use .png");
   EXPECT_EQ(imageOutputProblem(at("none/a.png"), ImageOutputKind::Color8),
             "its folder '" + at("none") + "' does not exist");
