@@ -192,8 +192,8 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
   // "unused" made: from far away no ray may reach the root, which from near fills the screen, and that mark
   // would keep it from refining, and the cut with it converged, until it expired.
   // The leaves enough rays stopped in are visible as their queries would have said (planTiles does not query
-  // them), but for a node collapsed on this view: its coarse data shows surfaces its hidden children do not,
-  // and its query, part by part, answers for them.
+  // them on the view and step the rays were cast with), but for a node collapsed on this view: its coarse
+  // data shows surfaces its hidden children do not, and its query, part by part, answers for them.
   if (feedback)
     for (const NodeKey& leaf : dataLeaves_) {
       const NodeHint hint = rayFeedback_.hint(leaf, frame_);
@@ -243,7 +243,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
   // about a newer view than the rays' last answer, and a leaf the move hides is caught a frame sooner; while
   // the step changes (--target-frame-ms), the rays stop elsewhere, and hits about another step kept a cut
   // that this one's answers changed after it was called converged.
-  const bool hitsAboutThisView =
+  const bool hitsAboutThisImage =
       feedback && rayFeedback_.answered() &&
       rayFeedback_.answeredFrame() >= std::max(viewChangedFrame_, samplingChangedFrame_);
   for (const PlannedLeaf& leaf : leaves) {
@@ -254,7 +254,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       continue;
     }
     if (!query) continue;
-    if (hitsAboutThisView && rayFeedback_.hitByRays(leaf.key, frame_) &&
+    if (hitsAboutThisImage && rayFeedback_.hitByRays(leaf.key, frame_) &&
         !collapseGuard_.collapsed(leaf.key)) {
       visibility_->markHit(leaf.key, rayFeedback_.answeredFrame());  // as for the unused leaves
       dataParts_.emplace_back();
