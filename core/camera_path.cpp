@@ -38,10 +38,14 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
     throw Error("camera path " + sourceName + ": the key \"" + key +
                 "\" is given twice in one object (only the last would count)");
   if (doc.is_object() && doc.contains("keyframes")) {
-    for (const auto& [key, value] : doc.items())
+    for (const auto& [key, value] : doc.items()) {
+      if (key == "description" && value.is_string()) continue;  // for people; ignored
+      if (key == "description")
+        throw Error("camera path " + sourceName + ": \"description\" must be a string");
       if (key != "keyframes")
         throw Error("camera path " + sourceName + ": unknown key \"" + key +
-                    "\" beside \"keyframes\" (expected {\"keyframes\": [...]} or a bare list)");
+                    "\" beside \"keyframes\" (expected \"keyframes\" and an optional \"description\")");
+    }
     doc = nlohmann::json(doc["keyframes"]);
   }
   if (!doc.is_array() || doc.empty())

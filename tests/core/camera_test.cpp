@@ -110,9 +110,13 @@ TEST(CameraPathKeyframes, RejectARepeatedOrUnknownKeyNamingIt) {
   EXPECT_EQ(errorOf(R"([{"orbit": [0, 20, 3], "orbit": [90, 20, 3]}])"),
             "camera path p.json: the key \"orbit\" is given twice in one object (only the last would count)");
   EXPECT_EQ(errorOf(R"({"keyframes": [{"orbit": [0, 20, 3]}], "fov": 10})"),
-            "camera path p.json: unknown key \"fov\" beside \"keyframes\" (expected {\"keyframes\": [...]} "
-            "or a bare list)");
-  EXPECT_EQ(errorOf(R"({"keyframes": [{"orbit": [0, 20, 3]}]})"), "");
+            "camera path p.json: unknown key \"fov\" beside \"keyframes\" (expected \"keyframes\" and an "
+            "optional \"description\")");
+  EXPECT_EQ(errorOf(R"({"keyframes": [{"orbit": [0, 20, 3]}], "description": 1})"),
+            "camera path p.json: \"description\" must be a string");
+  EXPECT_EQ(errorOf(R"({"description": "a turn", "keyframes": [{"orbit": [0, 20, 3]}]})"), "");
+  // The benchmarks' path.
+  EXPECT_NO_THROW(loadCameraPath(ROPECAST_SOURCE_DIR "/bench/flyby_path.json"));
   EXPECT_EQ(errorOf(R"([{"orbit": [0, 20, 3], "time": -1e308}, {"orbit": [9, 20, 3], "time": 1e308}])"),
             "camera path p.json: the keyframe times span more than the largest number");
 }
