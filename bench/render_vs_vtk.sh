@@ -58,7 +58,7 @@ for name in $VOLUMES; do
     "$ROPECAST" extract "$store" --level 0 -o "$raw" -q
   fi
   for mode in iso dvr; do
-    common=(--size "$IMAGE" --step 0.5 --fov "$FOV")
+    common=(--size "$IMAGE" --step 0.5)  # the path gives the fov
     if [ "$mode" = iso ]; then rcmode=(--mode iso --iso 127.5); vtkmode=(--mode iso --iso 127.5)
     else rcmode=(--mode dvr --tf "$WORK/tf.json"); vtkmode=(--mode dvr --tf "$WORK/tf.json"); fi
     "$ROPECAST" render "$store" "${rcmode[@]}" "${common[@]}" --path "$WORK/path.json" --frames $((last + 1)) \
