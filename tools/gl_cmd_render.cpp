@@ -216,19 +216,6 @@ struct OctreeRender {
   FrameRequest request;
 };
 
-// The last frame left leaves coarser than the view asks for want of pool slots: the image is valid but not
-// what --voxels-per-pixel promises, so say so rather than let a regression image look finished.
-void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last) {
-  if (last.leavesPoolFull == 0) return;
-  std::fprintf(
-      stderr,
-      "%sropecast render: warning: %llu leaves stay coarser than --voxels-per-pixel %g asks: the GPU pool "
-      "has no room for their children beside the %llu bricks it holds (%.1f MiB); raise --gpu-budget "
-      "for the full detail of this view\n",
-      o.messagePrefix.c_str(), static_cast<unsigned long long>(last.leavesPoolFull), o.voxelsPerPixel,
-      static_cast<unsigned long long>(last.bricksResident), mebibytes(last.gpuPoolUsedBytes));
-}
-
 // Options given that the chosen mode or renderer does not read. A warning, not a usage error: scripts pass
 // one set of options to both modes and to every renderer they compare.
 void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
@@ -270,7 +257,7 @@ RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   }
   const FrameStats stats = octree.renderer->render(octree.request, showLoad);
   s.stats->write(stats);
-  warnIfPoolLimited(o, stats);
+  warnIfPoolLimited(o, stats, "render");
   return {octree.renderer->readColor(), octree.renderer->readDepth()};
 }
 
@@ -312,7 +299,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
       if (o.converge && !stats.converged)
         std::fprintf(stderr, "%sropecast render: not converged after %u frames (--max-frames)\n",
                      o.messagePrefix.c_str(), frame + 1);
-      warnIfPoolLimited(o, stats);
+      warnIfPoolLimited(o, stats, "render");
       break;
     }
     // A still camera, nothing uploaded and reads pending: the next frame would draw the same cut. Waiting

@@ -179,6 +179,18 @@ void checkSceneOptions(const RenderOptions& o) {
                      "--occlusion off");
 }
 
+void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const char* who) {
+  if (last.leavesPoolFull == 0) return;
+  std::fprintf(
+      stderr,
+      "%sropecast %s: warning: %llu leaves stay coarser than --voxels-per-pixel %g asks: the GPU pool has no "
+      "room for their children beside the %llu bricks it holds (%.1f MiB); raise --gpu-budget for the full "
+      "detail of this view\n",
+      o.messagePrefix.c_str(), who, static_cast<unsigned long long>(last.leavesPoolFull), o.voxelsPerPixel,
+      static_cast<unsigned long long>(last.bricksResident),
+      double(last.gpuPoolUsedBytes) / (1024.0 * 1024.0));
+}
+
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
   if (isProceduralSpec(input)) return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
   checkBrickOption(input, brick);

@@ -49,6 +49,11 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command);
 // throws UsageError.
 void checkSceneOptions(const RenderOptions& o);
 
+// Says on stderr (as `who`: "render", "view") when the last frame left leaves coarser than --voxels-per-pixel
+// asks for want of GPU pool slots: the image is valid but not what the option promises, so a regression
+// image or a screenshot should not look finished.
+void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const char* who);
+
 // The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o);
 // A store file or procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); a store keeps its

@@ -133,6 +133,11 @@ class Viewer {
   void runScript(bool converged);
   void runEvent(const ViewEvent& e);
   bool scriptDone() const { return script_ && nextEvent_ >= script_->events.size(); }
+  // An output waits for the view to converge: --screenshot once the script is done, or a due screenshot or
+  // wait_converged event.
+  bool waitingForConvergence() const;
+  // Seconds until the script's next event is due (0 when one is due or none is left).
+  double secondsToNextEvent() const;
   void screenshot(const std::string& path, bool panels);
   // Throws when a file the panels would write is an input or an output the command line or script names.
   void checkPanelOutput(const std::string& what, const std::string& path) const;
@@ -571,6 +576,7 @@ void Viewer::reportPanelError(const std::exception& e) {
 }
 
 void Viewer::screenshot(const std::string& path, bool panels) {
+  warnIfPoolLimited(o_, lastStats_, "view");
   const bool exr = hasExrExtension(path);
   if (const std::string problem =
           imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
@@ -762,10 +768,12 @@ int Viewer::run() {
   bool converged = false, screenshotWritten = false;
   while (!window_->shouldClose()) {
     const bool scriptActive = script_ && !scriptDone();
-    const bool idle = converged && !scriptActive && !windowDragOwned_ && scriptKeys_.empty() &&
-                      secondsSince(start_) - lastMoveSeconds_ > kStillAfterSeconds;
-    if (idle)
-      glfwWaitEventsTimeout(0.1);  // nothing to refine: wait for the user
+    // Nothing to refine: wait for the user, or for the script's next event.
+    const bool still = converged && !windowDragOwned_ && scriptKeys_.empty() && !panelShot_ &&
+                       secondsSince(start_) - lastMoveSeconds_ > kStillAfterSeconds;
+    const double untilEvent = scriptActive ? secondsToNextEvent() : HUGE_VAL;
+    if (still && untilEvent > 0.0)
+      glfwWaitEventsTimeout(std::min(0.1, untilEvent));
     else
       glfwPollEvents();
     const double dt = std::min(0.1, secondsSince(lastLoop));
@@ -799,6 +807,12 @@ int Viewer::run() {
         stepPacer_.record(lastStats_.frameMs, lastStats_.raycastMs);
         coarser_ = stepPacer_.scale() >= StepPacer::kMaxScale && lastStats_.frameMs > targetFrameMs_;
       }
+      // An output waiting for convergence on a still view that uploaded nothing: wait (briefly) for the
+      // reads, as render --converge does, rather than spend the --max-frames it may wait on frames that
+      // could only show the same cut.
+      if (!moving && waitingForConvergence() && lastStats_.bricksUploaded == 0 &&
+          lastStats_.requestsPending > 0)
+        renderer_->waitForReads(std::chrono::milliseconds(100));
     }
     converged = !moving && !needsFrame(currentRequest(false));
 
@@ -828,11 +842,30 @@ int Viewer::run() {
       }
     }
   }
-  if (stats_) stats_->finish();
-  // The window closed first: an output asked for is missing, which a script waiting on it must hear.
+  // The window closed first: an output asked for is missing, which a script waiting on it must hear (and the
+  // stats of a run that ends in an error are not kept).
   if (!o_.screenshot.empty() && !screenshotWritten)
     throw Error("view: the window was closed before --screenshot " + o_.screenshot + " was written");
+  for (size_t i = script_ ? nextEvent_ : 0; script_ && i < script_->events.size(); ++i) {
+    const ViewEvent& e = script_->events[i];
+    if (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::SaveCamera)
+      throw Error(e.where + ": the window was closed before it wrote " + e.file);
+  }
+  if (stats_) stats_->finish();
   return 0;
+}
+
+bool Viewer::waitingForConvergence() const {
+  if (!script_) return false;
+  if (scriptDone()) return !o_.screenshot.empty();
+  const ViewEvent& e = script_->events[nextEvent_];
+  return (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged) &&
+         e.atSeconds <= secondsSince(start_);
+}
+
+double Viewer::secondsToNextEvent() const {
+  if (!script_ || scriptDone()) return 0.0;
+  return std::max(0.0, script_->events[nextEvent_].atSeconds - secondsSince(start_));
 }
 
 }  // namespace

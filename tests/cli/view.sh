@@ -69,6 +69,20 @@ run "view --screenshot" xview $vol --screenshot "$dir/v0.png"
 run "render --converge" "$ropecast" render $vol --converge -o "$dir/r0.png"
 same "converged view = render" "$dir/v0.png" "$dir/r0.png"
 
+# A slow disk: the screenshot waits for the reads as render --converge does (the frames that could only show the
+# same cut used to spend --max-frames in a second), and is render's image.
+slow="procedural:sphere:32 --brick 8 --size 48x40 --io-delay-ms 300"
+xview $slow --screenshot "$dir/vslow.png" > /dev/null 2> "$dir/err.txt" || fail "view from a slow disk: $(cat "$dir/err.txt")"
+! grep -q "not converged" "$dir/err.txt" || fail "view from a slow disk gave up: $(cat "$dir/err.txt")"
+run "render from a slow disk" "$ropecast" render $slow --converge -o "$dir/rslow.png"
+grep -q '"max_abs":0' <<< "$("$ropecast" compare "$dir/vslow.png" "$dir/rslow.png")" ||
+  fail "view from a slow disk is not render's image: $("$ropecast" compare "$dir/vslow.png" "$dir/rslow.png")"
+# A pool too small for the view: the screenshot says so, as render does.
+xview procedural:menger:81 --size 160x120 --gpu-budget 300K --screenshot "$dir/vpool.png" > /dev/null \
+  2> "$dir/err.txt" || fail "view with a small pool: $(cat "$dir/err.txt")"
+grep -q "ropecast view: warning: .* leaves stay coarser" "$dir/err.txt" ||
+  fail "a pool-limited screenshot did not warn: $(cat "$dir/err.txt")"
+
 # --backend multipass: the viewer draws with it (the panel's backend list has it), the image render's.
 run "view --backend multipass" xview $vol --backend multipass --screenshot "$dir/vm.png" --stats "$dir/vm.jsonl"
 grep -q '"backend":"multipass"' <<< "$(tail -n 1 "$dir/vm.jsonl")" ||
