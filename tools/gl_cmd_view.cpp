@@ -57,11 +57,12 @@ int runView(const ViewOptions& o) {
   if (!o.script.empty()) script = loadViewScript(o.script);
   if (script) {
     const std::string of = " event of --script " + o.script;
-    std::set<std::string> screenshots, cameras, tfs;  // an event may name the file of an earlier one again
+    // An event may name the file of an earlier one again, under any spelling.
+    std::set<std::string> screenshots, cameras, tfs;
     for (const ViewEvent& e : script->events) {
-      if (e.kind == ViewEventKind::Screenshot && screenshots.insert(e.file).second)
+      if (e.kind == ViewEventKind::Screenshot && screenshots.insert(fileIdentity(e.file)).second)
         addImageOutput(guard, "a screenshot" + of + ":", e.file);
-      if (e.kind == ViewEventKind::SaveCamera && cameras.insert(e.file).second) {
+      if (e.kind == ViewEventKind::SaveCamera && cameras.insert(fileIdentity(e.file)).second) {
         const std::filesystem::path parent = std::filesystem::path(e.file).parent_path();
         if (!parent.empty() && !std::filesystem::is_directory(parent))
           throw Error("a save_camera" + of + ": " + e.file + ": its folder does not exist");

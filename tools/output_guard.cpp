@@ -79,6 +79,12 @@ std::string sameFileMessage(const std::string& who, const std::string& subject, 
 
 }  // namespace
 
+std::string fileIdentity(const std::string& path) {
+  if (const std::optional<FileId> id = fileIdOf(path))
+    return "id:" + std::to_string(id->device) + ":" + std::to_string(id->inode);
+  return "name:" + futureName(path);
+}
+
 void OutputGuard::addInput(std::string what, const std::string& path) {
   if (path.empty() || isProceduralSpec(path)) return;
   for (std::string& file : expandInput(path)) inputs_.push_back({what, std::move(file)});

@@ -51,6 +51,10 @@ class OutputGuard {
   std::vector<Series> series_;
 };
 
+// A key equal for two paths exactly when OutputGuard takes them for one file (the same device and inode, or,
+// not yet written, the same absolute name with the existing folders' links resolved).
+std::string fileIdentity(const std::string& path);
+
 // The input files named by a volume spec as `ropecast convert` reads it (store/volume_source.h): nothing for
 // procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD header and its detached data file, a directory
 // or glob pattern as given (OutputGuard expands them).

@@ -31,6 +31,17 @@ class OutputGuardTest : public ::testing::Test {
   std::string input;
 };
 
+TEST_F(OutputGuardTest, FileIdentityIsEqualExactlyForOneFile) {
+  // Not written yet: the same absolute name.
+  const std::string a = (dir / "cams.json").string();
+  EXPECT_EQ(fileIdentity(a), fileIdentity((dir / "." / "x" / ".." / "cams.json").string()));
+  EXPECT_NE(fileIdentity(a), fileIdentity((dir / "other.json").string()));
+  // Existing: the same file through a link.
+  fs::create_symlink(input, dir / "link.raw");
+  EXPECT_EQ(fileIdentity(input), fileIdentity((dir / "link.raw").string()));
+  EXPECT_NE(fileIdentity(input), fileIdentity(a));
+}
+
 TEST_F(OutputGuardTest, ANewFilePasses) {
   EXPECT_EQ(problemWith((dir / "scan.rcast").string()), "");
   OutputGuard guard("render");
