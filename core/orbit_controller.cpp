@@ -54,12 +54,22 @@ Camera OrbitController::camera() const {
   return c;
 }
 
+namespace {
+
+// `value` within [lo, hi], or within the wider range that still holds `previous`: a camera started outside
+// the limits (render's options take any orbit) moves from where it is, not from the limit.
+double clampFrom(double value, double lo, double hi, double previous) {
+  return std::clamp(value, std::min(lo, previous), std::max(hi, previous));
+}
+
+}  // namespace
+
 void OrbitController::rotate(double dxPixels, double dyPixels) {
   if (dxPixels == 0.0 && dyPixels == 0.0) return;
   exact_.reset();
   state_.azimuthDeg = std::remainder(state_.azimuthDeg - dxPixels * kDegreesPerPixel, 360.0);
-  state_.elevationDeg =
-      std::clamp(state_.elevationDeg + dyPixels * kDegreesPerPixel, -kMaxElevationDeg, kMaxElevationDeg);
+  state_.elevationDeg = clampFrom(state_.elevationDeg + dyPixels * kDegreesPerPixel, -kMaxElevationDeg,
+                                  kMaxElevationDeg, state_.elevationDeg);
 }
 
 void OrbitController::pan(double dxPixels, double dyPixels, uint32_t viewportHeight) {
@@ -74,7 +84,8 @@ void OrbitController::pan(double dxPixels, double dyPixels, uint32_t viewportHei
 void OrbitController::zoom(double clicks) {
   if (clicks == 0.0) return;
   exact_.reset();
-  state_.distance = std::clamp(state_.distance * std::pow(kZoomPerClick, clicks), kMinDistance, kMaxDistance);
+  state_.distance = clampFrom(state_.distance * std::pow(kZoomPerClick, clicks), kMinDistance, kMaxDistance,
+                              state_.distance);
 }
 
 void OrbitController::fly(int forward, int right, int up, double seconds) {

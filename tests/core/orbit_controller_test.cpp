@@ -48,6 +48,27 @@ TEST(OrbitController, ElevationStopsShortOfThePoles) {
   EXPECT_EQ(c.state().elevationDeg, -OrbitController::kMaxElevationDeg);
 }
 
+// render takes any orbit; the viewer starts there, and a move goes from there in its direction, never to the
+// limit on the other side (a tiny zoom in from 0.001 jumped 10x farther, a 1-pixel drag from 120 to 89).
+TEST(OrbitController, ACameraStartedBeyondTheLimitsMovesFromWhereItIs) {
+  OrbitController c(glm::dvec3(0.0), kBoxMax,
+                    OrbitController::orbitAroundBox(glm::dvec3(0.0), kBoxMax, 30.0, 120.0, 0.001, 40.0));
+  c.zoom(0.01);  // closer
+  EXPECT_LE(c.state().distance, 0.001);
+  c.zoom(-0.01);  // a hair farther: still far below the limit
+  EXPECT_NEAR(c.state().distance, 0.001, 1e-5);
+  c.rotate(1.0, 0.0);
+  EXPECT_EQ(c.state().elevationDeg, 120.0);
+  c.rotate(0.0, -4.0);  // towards the limits: lower
+  EXPECT_DOUBLE_EQ(c.state().elevationDeg, 119.0);
+  c.rotate(0.0, 40.0);  // away from them: held where it was
+  EXPECT_DOUBLE_EQ(c.state().elevationDeg, 119.0);
+  OrbitController far(glm::dvec3(0.0), kBoxMax,
+                      OrbitController::orbitAroundBox(glm::dvec3(0.0), kBoxMax, 30.0, 20.0, 5000.0, 40.0));
+  far.zoom(0.01);
+  EXPECT_GT(far.state().distance, 4990.0);
+}
+
 TEST(OrbitController, WheelClicksScaleTheDistance) {
   OrbitController c = defaultController();
   c.zoom(2.0);
