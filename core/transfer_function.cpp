@@ -163,8 +163,8 @@ glm::dvec4 TransferFunction::evaluate(double x) const {
                                    [](double v, const TfPoint& p) { return v < p.value; });
   const TfPoint& b = *it;
   const TfPoint& a = *(it - 1);
-  // b.value > x >= a.value, so no division by zero; halved (exactly), the differences cannot overflow when the
-  // points lie more than the largest double apart.
+  // b.value > x >= a.value, so no division by zero; halved (exactly), the differences cannot overflow when
+  // the points lie more than the largest double apart.
   const double f = (0.5 * x - 0.5 * a.value) / (0.5 * b.value - 0.5 * a.value);
   return a.rgba + f * (b.rgba - a.rgba);
 }
