@@ -28,7 +28,11 @@ void addImageOutput(OutputGuard& guard, const std::string& what, const std::stri
       !problem.empty())
     throw Error(what + " " + path + ": " + problem);
   guard.addOutput(what, path);
-  if (exr) guard.addOutput(what + " (its depth)", screenshotDepthPath(path));
+  if (!exr) return;
+  // "--screenshot (its depth)", "a screenshot event of --script S.json (its depth):"
+  const bool colon = what.ends_with(':');
+  guard.addOutput(what.substr(0, what.size() - colon) + " (its depth)" + (colon ? ":" : ""),
+                  screenshotDepthPath(path));
 }
 
 // A save_camera event appends to its file: one that exists must be a camera path already (a folder is the
