@@ -11,6 +11,7 @@
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/progress_bar.h"
 
 namespace ropecast::tools {
 
@@ -187,8 +188,7 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const cha
       "room for their children beside the %llu bricks it holds (%.1f MiB); raise --gpu-budget for the full "
       "detail of this view\n",
       o.messagePrefix.c_str(), who, static_cast<unsigned long long>(last.leavesPoolFull), o.voxelsPerPixel,
-      static_cast<unsigned long long>(last.bricksResident),
-      double(last.gpuPoolUsedBytes) / (1024.0 * 1024.0));
+      static_cast<unsigned long long>(last.bricksResident), mebibytes(last.gpuPoolUsedBytes));
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
