@@ -6,7 +6,8 @@ NodeHint CollapseGuard::filter(const NodeKey& key, NodeHint hint, bool refinedNo
   if (hint == NodeHint::Requested) requested_.insert(key);
   const bool collapses = (hint == NodeHint::Occluded || hint == NodeHint::Unused) && refinedNow;
   if (!collapses) return hint;
-  if (requested_.contains(key) || !collapsed_.insert(key).second) return NodeHint::Used;
+  const bool keptForTheRays = hint == NodeHint::Unused && requested_.contains(key);
+  if (keptForTheRays || !collapsed_.insert(key).second) return NodeHint::Used;
   return hint;
 }
 

@@ -4,9 +4,12 @@
 // refined because it showed hides another's leaves, that one collapses, its coarse data no longer hides the
 // first, ...; and a node the rays asked to refine, whose finer data turns out unseen there (filtered data
 // shows where the finer data is empty or hidden), would collapse, be asked for again and refine again. So, on
-// one view: a node collapses at most once, and never after the rays requested it; such a node is ranked
-// NodeHint::Used, as the tree the rays use is, so that a full GPU pool does not give it up to requests
-// either. reset() when the view or the emptiness (mode, isovalue, transfer function) changes.
+// one view: a node collapses at most once, and the rays' "unused" never collapses a node they requested;
+// such a node is ranked NodeHint::Used, as the tree the rays use is, so that a full GPU pool does not give it
+// up to requests either. A node the occlusion marks hide collapses once though the rays requested it: its
+// own query, drawn part by part, answers for its finer data, and a request for its coarse data does not
+// refine it while that answer says hidden (render/visibility_from_rays.h). reset() when the view or the
+// emptiness (mode, isovalue, transfer function) changes.
 //
 // Plain CPU state, owned by the frame renderer: render thread only.
 #pragma once

@@ -12,6 +12,7 @@
 #include "render/gl_context.h"
 #include "render/gradient_pool.h"
 #include "render/index_texture.h"
+#include "render/visibility_from_rays.h"
 
 namespace ropecast {
 
@@ -185,25 +186,11 @@ void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
     visibility_->answer(a.key, a.issuedFrame, a.samplesPassed);
     ++stats.occlusionAnswered;
   }
-  // The leaves the rays' latest answer found unused are hidden (planTiles does not query them): marked before
-  // the marks propagate, so that this frame's refinement hears them with the answers that arrived with them
-  // (marked only when the tiles are planned, they would reach the refinement a frame after the cut they
-  // change was declared converged). A leaf the latest answer found used loses the mark an earlier answer's
-  // "unused" made: from far away no ray may reach the root, which from near fills the screen, and that mark
-  // would keep it from refining, and the cut with it converged, until it expired.
-  // The leaves enough rays stopped in are visible as their queries would have said (planTiles does not query
-  // them on the view and step the rays were cast with), but for a node collapsed on this view: its coarse
-  // data shows surfaces its hidden children do not, and its query, part by part, answers for them.
-  if (feedback)
-    for (const NodeKey& leaf : dataLeaves_) {
-      const NodeHint hint = rayFeedback_.hint(leaf, frame_);
-      if (hint == NodeHint::Unused)
-        visibility_->markUnseen(leaf, frame_);
-      else if (hint == NodeHint::Used || hint == NodeHint::Requested)
-        visibility_->markSeen(leaf);
-      if (rayFeedback_.hitByRays(leaf, frame_) && !collapseGuard_.collapsed(leaf))
-        visibility_->markHit(leaf, rayFeedback_.answeredFrame());
-    }
+  // What the rays' latest answer says about the last cut's leaves (render/visibility_from_rays.h), marked
+  // before the marks propagate, so that this frame's refinement hears it with the answers that arrived with
+  // it (marked only when the tiles are planned, it would reach the refinement a frame after the cut it
+  // changes was declared converged).
+  if (feedback) markVisibilityFromRays(dataLeaves_, rayFeedback_, collapseGuard_, frame_, *visibility_);
   visibility_->propagate(dataLeaves_);
   stats.occlusionMs += millisecondsSince(start);
 }

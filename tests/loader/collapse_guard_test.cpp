@@ -1,5 +1,6 @@
-// CollapseGuard: on a still view a refined node collapses at most once, and never after the rays requested
-// it; other hints pass through; reset() (a new view) forgets both.
+// CollapseGuard: on a still view a refined node collapses at most once, the rays' "unused" never collapses
+// one they requested, the occlusion marks do once; other hints pass through; reset() (a new view) forgets
+// both.
 #include <gtest/gtest.h>
 
 #include "loader/collapse_guard.h"
@@ -21,14 +22,25 @@ TEST(CollapseGuard, ARefinedNodeCollapsesOnceOnAStillView) {
   EXPECT_EQ(guard.filter(kOther, NodeHint::Unused, true), NodeHint::Unused);
 }
 
-TEST(CollapseGuard, ANodeTheRaysRequestedDoesNotCollapse) {
+TEST(CollapseGuard, ANodeTheRaysRequestedDoesNotCollapseForTheRays) {
   CollapseGuard guard;
   // A leaf the rays asked to refine; refined, its leaves go unused: its coarse data showed what the finer
   // data does not, and collapsed it would be asked for again.
   EXPECT_EQ(guard.filter(kNode, NodeHint::Requested, /*refinedNow=*/false), NodeHint::Requested);
   EXPECT_EQ(guard.filter(kNode, NodeHint::Unused, true), NodeHint::Used);
-  EXPECT_EQ(guard.filter(kNode, NodeHint::Occluded, true), NodeHint::Used);
   EXPECT_FALSE(guard.collapsed(kNode));
+}
+
+TEST(CollapseGuard, ANodeTheRaysRequestedCollapsesOnceWhereTheQueriesHideIt) {
+  CollapseGuard guard;
+  // The queries found its finer data hidden: its own query, part by part, keeps it collapsed while the rays
+  // request its coarse data.
+  EXPECT_EQ(guard.filter(kNode, NodeHint::Requested, /*refinedNow=*/false), NodeHint::Requested);
+  EXPECT_EQ(guard.filter(kNode, NodeHint::Occluded, true), NodeHint::Occluded);
+  EXPECT_TRUE(guard.collapsed(kNode));
+  // Refined again (its query answered visible): once only.
+  EXPECT_EQ(guard.filter(kNode, NodeHint::Requested, false), NodeHint::Requested);
+  EXPECT_EQ(guard.filter(kNode, NodeHint::Occluded, true), NodeHint::Used);
 }
 
 TEST(CollapseGuard, HintsThatCollapseNothingPassThrough) {
