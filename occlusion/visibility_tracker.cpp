@@ -97,23 +97,17 @@ void VisibilityTracker::renew(uint64_t frame) {
 }
 
 void VisibilityTracker::markUnseen(const NodeKey& key, uint64_t frame) {
-  if (Mark* mark = setMark(key, frame, 0)) mark->unseen = true;
+  setMark(key, frame, 0);
 }
 
 void VisibilityTracker::markHit(const NodeKey& key, uint64_t frame) {
   setMark(key, frame, config_.thresholdPixels);
 }
 
-void VisibilityTracker::markSeen(const NodeKey& key) {
-  if (const auto it = marks_.find(key); it != marks_.end() && it->second.unseen) marks_.erase(it);
-}
-
-VisibilityTracker::Mark* VisibilityTracker::setMark(const NodeKey& key, uint64_t issuedFrame,
-                                                    uint64_t samplesPassed) {
+void VisibilityTracker::setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed) {
   const auto [it, inserted] = marks_.try_emplace(key);
-  if (!inserted && issuedFrame < it->second.issuedFrame) return nullptr;  // an older answer than the one held
-  it->second = {issuedFrame, samplesPassed < config_.thresholdPixels, samplesPassed, false};
-  return &it->second;
+  if (!inserted && issuedFrame < it->second.issuedFrame) return;  // an older answer than the one held
+  it->second = {issuedFrame, samplesPassed < config_.thresholdPixels, samplesPassed};
 }
 
 void VisibilityTracker::countAnswer(uint64_t issuedFrame) {

@@ -82,11 +82,9 @@ class VisibilityTracker {
   // and every live mark is renewed as if answered so at `frame`. The round stands as it was.
   void renew(uint64_t frame);
   // A leaf known hidden without a query (no ray reached it: the rays' feedback), left out of plan(): marked
-  // as an answer of 0 samples to a query issued in `frame` would mark it, but counted in no round.
+  // as an answer of 0 samples to a query issued in `frame` would mark it, but counted in no round. Like a
+  // query's answer, the mark holds until the leaf's next answer (handed to plan() again, it is queried).
   void markUnseen(const NodeKey& key, uint64_t frame);
-  // A leaf the rays sampled after all (a newer answer than the one that found it unused): a mark markUnseen
-  // made is withdrawn; a query's answer stands.
-  void markSeen(const NodeKey& key);
   // A leaf known visible without a query: at least thresholdPixels rays of frame `frame` stopped in it (at
   // the isosurface, or by early ray termination), which puts as many samples of its box in front of the depth
   // its query would be drawn against (the rays' feedback). Marked as an answer of thresholdPixels samples to
@@ -138,7 +136,6 @@ class VisibilityTracker {
     uint64_t issuedFrame = 0;  // the frame of the query, or of the oldest answer below an inner node
     bool occluded = false;
     uint64_t samples = 0;  // visible samples: the query's, or the sum below an inner node
-    bool unseen = false;   // made by markUnseen, not by a query
   };
   // Not expired at `frame` (written without the sum, which a lifetime of UINT64_MAX would overflow).
   bool live(const Mark& m, uint64_t frame) const {
@@ -149,8 +146,8 @@ class VisibilityTracker {
   bool occludedBy(const NodeKey& key, const Mark& mark, uint64_t frame) const;
   void finishRound();
   // The node's mark from an answer of `samplesPassed` to a query issued in `issuedFrame`, unless it holds a
-  // newer one: the mark written, or nullptr when the node's was kept.
-  Mark* setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
+  // newer one.
+  void setMark(const NodeKey& key, uint64_t issuedFrame, uint64_t samplesPassed);
 
   // A round of queries and how many of its answers came back; answeredRoundFrame_: the first frame of the
   // latest round whose answers all came back.

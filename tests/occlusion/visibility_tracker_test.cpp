@@ -409,18 +409,15 @@ TEST(VisibilityTracker, ALeafMarkedUnseenIsOccludedWithoutAQueryOrARound) {
   EXPECT_FALSE(tracker.isOccluded(t.p, 13));
 }
 
-TEST(VisibilityTracker, ALeafTheRaysSampleAgainLosesItsUnseenMarkButNotAQuerysAnswer) {
+TEST(VisibilityTracker, AnUnseenMarkHoldsUntilTheLeafsQueryAnswers) {
   VisibilityTracker tracker({{}, 4, 64});
   const SmallTree t;
   tracker.markUnseen(t.c0, 5);
-  tracker.plan(5, 8, 8, t.toQuery());
-  tracker.answer(t.c1, 5, 0);  // hidden by its query
   EXPECT_TRUE(tracker.isOccluded(t.c0, 6));
-  EXPECT_TRUE(tracker.isOccluded(t.c1, 6));
-  tracker.markSeen(t.c0);
-  tracker.markSeen(t.c1);
-  EXPECT_FALSE(tracker.isOccluded(t.c0, 6)) << "the rays' newer answer withdraws what their older one said";
-  EXPECT_TRUE(tracker.isOccluded(t.c1, 6)) << "a query's answer holds until the next query or its lifetime";
+  tracker.answer(t.c0, 4, 9);  // a query issued before the rays' answer
+  EXPECT_TRUE(tracker.isOccluded(t.c0, 6));
+  tracker.answer(t.c0, 6, 9);
+  EXPECT_FALSE(tracker.isOccluded(t.c0, 7));
 }
 
 TEST(VisibilityTracker, ALeafTheRaysHitIsVisibleCountedAndNotQueried) {

@@ -1,6 +1,6 @@
-// markVisibilityFromRays: the rays' answer marks the occlusion queries' leaves (a leaf no ray sampled
-// hidden, one sampled again no longer, one enough rays stopped in visible), but not those of a node collapsed
-// on this view, whose coarse data the rays see where its finer data is hidden.
+// markVisibilityFromRays: the rays' answer marks the occlusion queries' leaves (a leaf no ray sampled hidden,
+// one enough rays stopped in visible, one sampled otherwise left to its query), but for a node collapsed on
+// this view, whose coarse data the rays see where its finer data is hidden.
 #include "render/visibility_from_rays.h"
 
 #include <vector>
@@ -30,12 +30,28 @@ TEST(VisibilityFromRays, UnsampledLeavesAreHiddenAndHitOnesVisible) {
   EXPECT_TRUE(visibility.isOccluded(kA, 2)) << "no ray sampled it";
   EXPECT_FALSE(visibility.isOccluded(kB, 2));
   EXPECT_FALSE(visibility.isOccluded(kC, 2)) << "rays stopped in it";
+}
 
-  // A newer answer in which a ray sampled kA withdraws the mark "unused" gave it.
-  answerRays(rays, 2, {0}, {}, {});
+TEST(VisibilityFromRays, ALeafSampledAgainKeepsItsMarkUntilItsQueryAnswers) {
+  VisibilityTracker visibility({{}, 4, 64});
+  RayFeedback rays;
+  const CollapseGuard collapses;
+  answerRays(rays, 1, {1, 2}, {}, {});
+  markVisibilityFromRays(kLeaves, rays, collapses, 2, visibility);
+  ASSERT_TRUE(visibility.isOccluded(kA, 2));
+  // Rays pass through kA and kB without stopping: maybe fewer than the threshold, so their queries decide.
+  answerRays(rays, 2, {0, 1}, {0}, {});
   markVisibilityFromRays(kLeaves, rays, collapses, 3, visibility);
-  EXPECT_FALSE(visibility.isOccluded(kA, 3));
-  EXPECT_TRUE(visibility.isOccluded(kB, 3));
+  EXPECT_TRUE(visibility.isOccluded(kA, 3)) << "a ray's passing withdrew the mark";
+  visibility.answer(kA, 3, 2);
+  EXPECT_TRUE(visibility.isOccluded(kA, 4)) << "2 samples, below the threshold";
+  visibility.answer(kA, 4, 10);
+  EXPECT_FALSE(visibility.isOccluded(kA, 5));
+  // Enough rays stop in kB: visible at once.
+  answerRays(rays, 3, {0, 1}, {}, {1});
+  visibility.answer(kB, 2, 0);
+  markVisibilityFromRays(kLeaves, rays, collapses, 4, visibility);
+  EXPECT_FALSE(visibility.isOccluded(kB, 4));
 }
 
 TEST(VisibilityFromRays, ACollapsedNodeIsLeftToItsQuery) {
@@ -53,7 +69,7 @@ TEST(VisibilityFromRays, ACollapsedNodeIsLeftToItsQuery) {
   // Drawn coarse, their filtered data shows surfaces: the rays sample them, request them, stop in them.
   answerRays(rays, 2, {0, 1, 2}, {0, 1}, {0, 1});
   markVisibilityFromRays(kLeaves, rays, collapses, 3, visibility);
-  EXPECT_TRUE(visibility.isOccluded(kA, 3)) << "the rays' use of coarse data withdrew the mark";
+  EXPECT_TRUE(visibility.isOccluded(kA, 3)) << "hits in coarse data overrode the rays' earlier answer";
   EXPECT_TRUE(visibility.isOccluded(kB, 3)) << "hits in coarse data overrode the query";
   // Their own queries answer for them.
   visibility.answer(kA, 3, 10);
