@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "store/tiff_directories.h"
 
 namespace ropecast {
 namespace {
@@ -39,6 +40,11 @@ std::string oiioError(const OIIO::ImageInput* in) {
   std::string message = in ? in->geterror() : OIIO::geterror();
   if (message.empty()) message = "unknown OpenImageIO error";
   return message;
+}
+
+// OpenImageIO's messages may run to a line per strip.
+std::string firstLine(const std::string& message) {
+  return message.substr(0, message.find('\n'));
 }
 
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
@@ -148,6 +154,7 @@ class ImageSliceSource final : public VolumeSource {
       return spec;
     }
     const auto in = openImage(slice.path);
+    tiffPageCount(slice.path);  // refuses a TIFF cut short, whose missing data would read as zeros
     OIIO::ImageSpec spec = in->spec();
     // A multi-page TIFF among the slices would give its first page only.
     if (in->seek_subimage(1, 0))
@@ -169,8 +176,10 @@ class ImageSliceSource final : public VolumeSource {
       throw Error("cannot read image slice " + what + ": " + oiioError(in));
     // The file may have changed since the stack was opened.
     checkSameFormat(format_, sliceFormat(spec, what), describe(slices_[0], multiPage_), what);
-    if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()))
-      throw Error("cannot read image slice " + what + ": " + oiioError(in));
+    in->geterror();  // clears an earlier message, so that one after the read is the read's
+    // A TIFF strip that cannot be read leaves zeros and an error message, but read_image succeeds.
+    if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()) || in->has_error())
+      throw Error("cannot read image slice " + what + ": " + firstLine(oiioError(in)));
     if (format_.narrowBits) narrowSamples(out, format_.type, format_.narrowBits);
   }
 
@@ -247,6 +256,10 @@ int countImagePages(const std::string& path) {
   auto in = openImage(path);
   int pages = 1;
   while (in->seek_subimage(pages, 0)) ++pages;
+  // OpenImageIO stops at the first page it cannot read, as if the file ended there.
+  if (const std::optional<int> tiffPages = tiffPageCount(path); tiffPages && *tiffPages > pages)
+    throw Error("cannot read image " + path + " (page " + std::to_string(pages) + "): OpenImageIO reads " +
+                std::to_string(pages) + " of its " + std::to_string(*tiffPages) + " pages");
   return pages;
 }
 

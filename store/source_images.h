@@ -23,7 +23,8 @@ bool sliceNameLess(std::string_view a, std::string_view b);
 // sliceNameLess order. Throws ropecast::Error naming the directory or pattern if nothing matches.
 std::vector<std::string> listSliceFiles(const std::string& directoryOrPattern);
 
-// How many subimages (pages) an image file has. Throws ropecast::Error naming the file if it cannot be read.
+// How many subimages (pages) an image file has. Throws ropecast::Error naming the file if it cannot be read,
+// and the page where a TIFF is cut short.
 int countImagePages(const std::string& path);
 
 // For files numbered in their names (the last run of digits): a note when numbers repeat or some are missing
@@ -36,7 +37,8 @@ std::string sliceNumberingNote(const std::vector<std::string>& files);
 std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
                                                    const SourceOptions& options);
 
-// A multi-page TIFF, one slice per page, checked as above (errors name the file and page).
+// A multi-page TIFF, one slice per page, checked as above (errors name the file and page; a file cut short is
+// refused, not read as fewer pages or zeros).
 std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options);
 
 }  // namespace ropecast

@@ -49,6 +49,29 @@ head -c 10000 "$dir/v_24x20x16_uint16.raw" > "$dir/cut_24x20x16_uint16.raw"
 expect_failure "truncated raw" "cut_24x20x16_uint16.raw" \
   "$ropecast" convert "$dir/cut_24x20x16_uint16.raw" -o "$dir/cut.store" --quiet
 expect_absent "$dir/cut.store"
+# A multi-page TIFF (four 16x16 uint8 pages, each page's data then its directory) cut in page 2's data.
+python3 - "$dir/pages.tif" <<'PY'
+import struct, sys
+out = bytearray(b"II*\x00\x00\x00\x00\x00")
+link = 4
+for page in range(4):
+    data = out.__len__()
+    out += bytes((i + 40 * page) % 256 for i in range(256))
+    struct.pack_into("<I", out, link, len(out))
+    tags = [(256, 16), (257, 16), (258, 8), (259, 1), (262, 1), (273, data), (277, 1), (278, 16), (279, 256)]
+    out += struct.pack("<H", len(tags))
+    for tag, value in tags:
+        out += struct.pack("<HHII", tag, 4, 1, value)
+    link = len(out)
+    out += b"\x00\x00\x00\x00"
+open(sys.argv[1], "wb").write(out)
+PY
+"$ropecast" convert "$dir/pages.tif" -o "$dir/pages.store" --quiet ||
+  { echo "FAIL: the whole multi-page TIFF does not convert"; failures=$((failures + 1)); }
+head -c $((8 + 2 * (256 + 114) + 100)) "$dir/pages.tif" > "$dir/cut.tif"
+expect_failure "truncated multi-page TIFF" "$dir/cut.tif (page 2)" \
+  "$ropecast" convert "$dir/cut.tif" -o "$dir/cut_tif.store" --quiet
+expect_absent "$dir/cut_tif.store"
 expect_usage "bad brick size" "--brick" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --brick 12 -o "$dir/b12.store" --quiet
 expect_absent "$dir/b12.store"

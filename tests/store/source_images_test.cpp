@@ -1,10 +1,12 @@
 // Tests of the image-stack VolumeSource (OpenImageIO): PNG and TIFF stacks from a directory or a glob,
 // multi-page TIFFs, every supported pixel type, slab reads at any z, name ordering, and each bad slice
-// (different size or type, unreadable, multi-channel) or bad spec giving an error that names the file.
+// (different size or type, unreadable, multi-channel, a TIFF cut short) or bad spec giving an error that
+// names the file.
 #include "store/source_images.h"
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <vector>
@@ -92,6 +94,61 @@ void writeMultiPage(const std::string& path, uint32_t w, uint32_t h, uint32_t pa
   ASSERT_TRUE(out->close());
 }
 
+// A single-channel page of a TIFF written byte by byte (writeTiff), its rows packed as the file stores them.
+struct TiffPage {
+  uint32_t width = 0, height = 0;
+  uint16_t bits = 8;
+  uint16_t photometric = 1;  // 0: MinIsWhite, 1: MinIsBlack
+  std::vector<uint8_t> data;
+};
+
+template <typename T>
+TiffPage tiffPage(uint32_t w, uint32_t h, const std::vector<T>& samples, uint16_t photometric = 1) {
+  TiffPage page{w, h, uint16_t(8 * sizeof(T)), photometric, std::vector<uint8_t>(samples.size() * sizeof(T))};
+  std::memcpy(page.data.data(), samples.data(), page.data.size());  // little-endian, as the file says
+  return page;
+}
+
+// A little-endian, uncompressed TIFF, for what OpenImageIO does not write: MinIsWhite pages, and every page's
+// directory ahead of all the image data (OpenImageIO writes each page's data, then its directory).
+void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool directoriesFirst = false) {
+  constexpr uint32_t kEntries = 9, kDirectoryBytes = 2 + kEntries * 12 + 4;
+  std::vector<uint8_t> file{'I', 'I', 42, 0, 0, 0, 0, 0};
+  const auto put = [&](uint32_t at, uint32_t value, int bytes) {
+    for (int i = 0; i < bytes; ++i) file[at + i] = uint8_t(value >> (8 * i));
+  };
+  uint32_t dataAt = 8 + (directoriesFirst ? uint32_t(pages.size()) * kDirectoryBytes : 0);
+  uint32_t linkAt = 4;  // where the offset of the next directory goes
+  for (const TiffPage& page : pages) {
+    if (!directoriesFirst) {
+      dataAt = uint32_t(file.size());
+      file.insert(file.end(), page.data.begin(), page.data.end());
+      if (file.size() % 2) file.push_back(0);  // directories start on a word boundary
+    }
+    const uint32_t directoryAt = uint32_t(file.size());
+    put(linkAt, directoryAt, 4);
+    file.resize(file.size() + kDirectoryBytes);
+    put(directoryAt, kEntries, 2);
+    const uint32_t entries[kEntries][3] = {
+        // tag, type (3: 16 bits, 4: 32 bits), value
+        {256, 4, page.width}, {257, 4, page.height},      {258, 3, page.bits},
+        {259, 3, 1},          {262, 3, page.photometric}, {273, 4, dataAt},
+        {277, 3, 1},          {278, 4, page.height},      {279, 4, uint32_t(page.data.size())}};
+    for (uint32_t e = 0; e < kEntries; ++e) {
+      const uint32_t at = directoryAt + 2 + 12 * e;
+      put(at, entries[e][0], 2);
+      put(at + 2, entries[e][1], 2);
+      put(at + 4, 1, 4);
+      put(at + 8, entries[e][2], entries[e][1] == 3 ? 2 : 4);
+    }
+    linkAt = directoryAt + 2 + kEntries * 12;
+    if (directoriesFirst) dataAt += uint32_t(page.data.size());
+  }
+  if (directoriesFirst)
+    for (const TiffPage& page : pages) file.insert(file.end(), page.data.begin(), page.data.end());
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), file.size());
+}
+
 template <typename T>
 void expectSlices(VolumeSource& source, uint32_t w, uint32_t h, uint32_t depth) {
   ASSERT_EQ(source.info().dims, glm::u32vec3(w, h, depth));
@@ -152,6 +209,64 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<float>(*source, 10, 7, 6);
   auto i16 = openVolumeSource(dir.file("pages16.tiff"));
   expectSlices<int16_t>(*i16, 5, 12, 3);
+}
+
+// Four 8 x 6 pages of slicePattern<uint8_t>.
+std::vector<TiffPage> fourPages() {
+  std::vector<TiffPage> pages;
+  for (uint32_t z = 0; z < 4; ++z) pages.push_back(tiffPage(8, 6, slicePattern<uint8_t>(8, 6, z)));
+  return pages;
+}
+
+// OpenImageIO takes a TIFF cut short for one of fewer pages, and reads image data past the end as zeros
+// (read_image succeeds): a cut file is refused, naming the page where it is cut.
+TEST(SourceImages, ACutMultiPageTiffNamesTheFileAndPage) {
+  TempDir dir;
+  for (bool directoriesFirst : {false, true}) {
+    const std::string path = dir.file(directoriesFirst ? "ahead.tif" : "behind.tif");
+    writeTiff(path, fourPages(), directoriesFirst);
+    expectSlices<uint8_t>(*openVolumeSource(path), 8, 6, 4);
+    // Cut in the middle of page 2's image data: its directory is lost too when it follows the data.
+    const uint32_t pageBytes = 8 * 6, cut = directoriesFirst ? 8 + 4 * 114 + 2 * pageBytes + pageBytes / 2
+                                                             : 8 + 2 * (pageBytes + 114) + pageBytes / 2;
+    std::filesystem::resize_file(path, cut);
+    const std::string message = errorOf(path);
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("page 2"), std::string::npos) << message;
+    EXPECT_NE(message.find("cut short"), std::string::npos) << message;
+  }
+  // Cut in page 1: not taken for a single-page TIFF.
+  writeTiff(dir.file("one.tif"), fourPages());
+  std::filesystem::resize_file(dir.file("one.tif"), 8 + (48 + 114) + 20);
+  const std::string message = errorOf(dir.file("one.tif"));
+  EXPECT_NE(message.find("page 1"), std::string::npos) << message;
+  EXPECT_EQ(message.find("single-page"), std::string::npos) << message;
+}
+
+// A file cut after the source opened it fails the read of the page it lost, naming it, rather than giving
+// zeros; a single-page slice cut short is refused when the stack opens.
+TEST(SourceImages, ATiffCutAfterOpeningOrASliceCutShortIsAnError) {
+  TempDir dir;
+  writeTiff(dir.file("pages.tif"), fourPages(), /*directoriesFirst=*/true);
+  const auto source = openVolumeSource(dir.file("pages.tif"));
+  EXPECT_EQ(readSlab<uint8_t>(*source, 1, 1), slicePattern<uint8_t>(8, 6, 1));
+  std::filesystem::resize_file(dir.file("pages.tif"), 8 + 4 * 114 + 2 * 48 + 20);
+  try {
+    readSlab<uint8_t>(*source, 2, 1);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(dir.file("pages.tif") + " (page 2)"), std::string::npos) << e.what();
+  }
+
+  std::filesystem::create_directories(dir.file("stack"));
+  for (uint32_t z = 0; z < 3; ++z)
+    writeTiff(dir.file("stack/s" + std::to_string(z) + ".tif"),
+              {tiffPage(8, 6, slicePattern<uint8_t>(8, 6, z))},
+              /*directoriesFirst=*/true);
+  std::filesystem::resize_file(dir.file("stack/s1.tif"), 8 + 114 + 30);
+  const std::string message = errorOf(dir.file("stack"));
+  EXPECT_NE(message.find(dir.file("stack/s1.tif")), std::string::npos) << message;
+  EXPECT_NE(message.find("cut short"), std::string::npos) << message;
 }
 
 // OpenImageIO widens 12-bit and 4-bit TIFF samples to the type's range; the volume keeps the file's
