@@ -30,6 +30,9 @@ struct SliceFormat {
   // The file's bits per sample when fewer than the type holds (4-bit or 12-bit TIFF): OpenImageIO scales
   // them up to the type's range, and they are scaled back to the file's values; else 0.
   uint32_t narrowBits = 0;
+  // TIFF's MinIsWhite: viewers show 0 as white. The volume keeps the stored values, as at every other bit
+  // depth; OpenImageIO inverts 8-bit (and narrower) ones, which is undone.
+  bool minIsWhite = false;
 };
 
 std::string describe(const SliceRef& slice, bool multiPage) {
@@ -79,7 +82,12 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, const std::string& what) {
                   "-bit samples; expected 8, 16 or 32 bits, or unsigned samples");
     format.narrowBits = uint32_t(bits);
   }
+  format.minIsWhite = spec.get_int_attribute("tiff:PhotometricInterpretation", 1) == 0;
   return format;
+}
+
+std::string photometricName(const SliceFormat& format) {
+  return format.minIsWhite ? "MinIsWhite" : "MinIsBlack";
 }
 
 // Scales samples OpenImageIO widened from `bits` bits back to the file's values: it fills the type's range by
@@ -110,6 +118,10 @@ void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const s
     throw Error("image slice " + what + " has " + bitsOf(slice) + "-bit samples, but " + firstWhat + " has " +
                 bitsOf(first) + "-bit ones; all slices must have one bit depth");
   }
+  // Opposite meanings of a stored value: one slice's dark is another's bright.
+  if (slice.minIsWhite != first.minIsWhite)
+    throw Error("image slice " + what + " is " + photometricName(slice) + ", but " + firstWhat + " is " +
+                photometricName(first) + " (TIFF photometric interpretation); all slices must have one");
 }
 
 class ImageSliceSource final : public VolumeSource {
@@ -134,6 +146,10 @@ class ImageSliceSource final : public VolumeSource {
       info_.valueMax = format_.narrowBits ? double((1u << format_.narrowBits) - 1) : 255.0;
     }
     info_.description = std::move(description);
+    if (format_.minIsWhite)
+      addNote(
+          "the TIFF slices are MinIsWhite (viewers show 0 as white); the volume keeps their stored values, "
+          "so what a viewer shows dark is high in the volume");
   }
 
   const VolumeInfo& info() const override { return info_; }
@@ -180,6 +196,8 @@ class ImageSliceSource final : public VolumeSource {
     // A TIFF strip that cannot be read leaves zeros and an error message, but read_image succeeds.
     if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()) || in->has_error())
       throw Error("cannot read image slice " + what + ": " + firstLine(oiioError(in)));
+    if (format_.minIsWhite && spec.format == OIIO::TypeDesc::UINT8)
+      for (std::byte& b : out) b = ~b;  // undoes OpenImageIO's 255 - v
     if (format_.narrowBits) narrowSamples(out, format_.type, format_.narrowBits);
   }
 

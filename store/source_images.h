@@ -1,7 +1,8 @@
 // The image-stack VolumeSource, read with OpenImageIO: a directory of 2D slices (every .tif/.tiff/.png file),
 // a glob pattern of slices (e.g. "dir/slice_*.png"), or one multi-page TIFF (each page a slice). Slices are
 // single-channel uint8, uint16, int16 or float images, all of one size, type and bit depth (samples of fewer
-// bits than their type, a 12-bit TIFF say, keep the file's values); slice 0 is z = 0. Owned by loader/.
+// bits than their type, a 12-bit TIFF say, keep the file's values, and so do MinIsWhite TIFFs, whose 0
+// viewers show as white); slice 0 is z = 0. Owned by loader/.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time).
 #pragma once
@@ -32,8 +33,8 @@ int countImagePages(const std::string& path);
 std::string sliceNumberingNote(const std::vector<std::string>& files);
 
 // A stack of slice files (a directory or glob pattern). Every slice is checked when opening: a slice of
-// different size or type, an unreadable file, or a multi-channel image throws ropecast::Error naming the
-// file.
+// different size, type, bit depth or photometric interpretation (MinIsWhite among MinIsBlack), an unreadable
+// file, or a multi-channel image throws ropecast::Error naming the file.
 std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
                                                    const SourceOptions& options);
 

@@ -299,6 +299,43 @@ TEST(SourceImages, NarrowBitDepthsKeepTheFilesValues) {
       << message;
 }
 
+// A MinIsWhite TIFF (photometric 0: viewers show 0 as white) keeps its stored values, whatever its bit
+// depth (OpenImageIO inverts 8-bit and narrower samples only), with a note; a stack mixing MinIsWhite and
+// MinIsBlack slices is refused.
+TEST(SourceImages, MinIsWhiteTiffsKeepTheirStoredValues) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.file("white8"));
+  for (uint32_t z = 0; z < 3; ++z)
+    writeTiff(dir.file("white8/s" + std::to_string(z) + ".tif"),
+              {tiffPage(7, 5, slicePattern<uint8_t>(7, 5, z), /*photometric=*/0)});
+  const auto white8 = openVolumeSource(dir.file("white8"));
+  expectSlices<uint8_t>(*white8, 7, 5, 3);
+  EXPECT_EQ(white8->info().notes.size(), 1u);
+  for (const std::string& note : white8->info().notes)
+    EXPECT_NE(note.find("MinIsWhite"), std::string::npos) << note;
+
+  std::vector<TiffPage> pages16;
+  for (uint32_t z = 0; z < 3; ++z) pages16.push_back(tiffPage(6, 4, slicePattern<uint16_t>(6, 4, z), 0));
+  writeTiff(dir.file("white16.tif"), pages16);
+  expectSlices<uint16_t>(*openVolumeSource(dir.file("white16.tif")), 6, 4, 3);
+
+  // 1-bit: the stored bits 1011 0000.
+  std::vector<TiffPage> pages1(2, TiffPage{8, 1, 1, 0, {0b10110000}});
+  writeTiff(dir.file("white1.tif"), pages1);
+  const auto white1 = openVolumeSource(dir.file("white1.tif"));
+  EXPECT_EQ(white1->info().valueMax, 1.0);
+  EXPECT_EQ(readSlab<uint8_t>(*white1, 1, 1), (std::vector<uint8_t>{1, 0, 1, 1, 0, 0, 0, 0}));
+
+  writeTiff(dir.file("white8/s3.tif"), {tiffPage(7, 5, slicePattern<uint8_t>(7, 5, 3), /*photometric=*/1)});
+  std::string message = errorOf(dir.file("white8"));
+  EXPECT_NE(message.find(dir.file("white8/s3.tif") + " is MinIsBlack"), std::string::npos) << message;
+  EXPECT_NE(message.find(dir.file("white8/s0.tif") + " is MinIsWhite"), std::string::npos) << message;
+  pages16[1].photometric = 1;
+  writeTiff(dir.file("mixed16.tif"), pages16);
+  message = errorOf(dir.file("mixed16.tif"));
+  EXPECT_NE(message.find(dir.file("mixed16.tif") + " (page 1) is MinIsBlack"), std::string::npos) << message;
+}
+
 // A multi-page TIFF among the slices of a folder would give its first page only.
 TEST(SourceImages, AMultiPageTiffAmongSlicesIsRefused) {
   TempDir dir;
