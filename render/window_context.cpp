@@ -34,7 +34,8 @@ std::string windowSystemProblem() {
 
 WindowContext::WindowContext(const WindowContextOptions& options) {
   glfwSetErrorCallback(onGlfwError);
-  if (!glfwInit()) throw Error("WindowContext: no display: GLFW cannot initialize (" + takeGlfwError() + ")");
+  if (!glfwInit())
+    throw NoDisplayError("WindowContext: no display: GLFW cannot initialize (" + takeGlfwError() + ")");
   glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);

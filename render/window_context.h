@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 
+#include "core/error.h"
 #include "render/gl_context.h"
 
 struct GLFWwindow;
@@ -22,10 +23,17 @@ struct WindowContextOptions {
   bool debugOutput = GlContextOptions{}.debugOutput;
 };
 
+// No display to open a window on (GLFW cannot initialize), as opposed to a display without OpenGL 4.5 core:
+// callers point at different remedies.
+class NoDisplayError : public Error {
+ public:
+  using Error::Error;
+};
+
 class WindowContext {
  public:
-  // Throws ropecast::Error naming what failed: no display (GLFW cannot initialize: the message says so, so
-  // callers can point at the headless way), no window, no 4.5 core context.
+  // Throws NoDisplayError when there is no display, ropecast::Error naming what else failed: no window, no
+  // 4.5 core context.
   explicit WindowContext(const WindowContextOptions& options);
   ~WindowContext();
   WindowContext(const WindowContext&) = delete;

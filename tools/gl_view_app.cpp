@@ -257,10 +257,14 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   windowOptions.height = o.size.at(1);
   try {
     window_ = std::make_unique<WindowContext>(windowOptions);
-  } catch (const Error& e) {
+  } catch (const NoDisplayError& e) {
     throw Error(
         std::string("view: ") + e.what() +
         ". The viewer needs an X11 display (DISPLAY); `ropecast render` draws the same images headless");
+  } catch (const Error& e) {
+    throw Error(std::string("view: ") + e.what() +
+                ". The viewer needs OpenGL 4.5 core on the display (Mesa's software driver has it: "
+                "LIBGL_ALWAYS_SOFTWARE=1); `ropecast render` draws the same images headless");
   }
 
   // Opened once the window exists: a run without a display leaves no file behind.

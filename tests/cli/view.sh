@@ -2,8 +2,9 @@
 # `ropecast view` end to end under Xvfb (llvmpipe through GLX): the converged screenshot is the image `render
 # --converge` draws with the same camera and settings; a scripted drag lands on the orbit docs/VIEWER.md
 # documents, and the camera it saves is one `render --path` reads; a scripted isovalue change and a transfer
-# function load draw what `render` draws with them; without a display the viewer refuses cleanly and names
-# `ropecast render`; --max-frames ends every wait; what the script and the panels write never replaces an input.
+# function load draw what `render` draws with them; without a display, or without OpenGL 4.5 on it, the viewer
+# refuses cleanly, says which, and names `ropecast render`; --max-frames ends every wait; what the script and the
+# panels write never replaces an input.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
 ropecast=$(realpath "$1")  # the panel check runs in its own folder
@@ -63,6 +64,13 @@ if ! command -v xvfb-run > /dev/null; then
   exit "$((failures > 0))"
 fi
 xview() { xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view "$@"; }
+
+# A display whose OpenGL is older than 4.5 (Mesa made to report 3.3): the message says that, not "no display".
+MESA_GL_VERSION_OVERRIDE=3.3 xview $vol --screenshot "$dir/old_gl.png" > /dev/null 2> "$dir/err.txt"
+rc=$?
+{ [ "$rc" = 1 ] && grep -q "OpenGL 4.5" "$dir/err.txt" && ! grep -q "X11 display" "$dir/err.txt" &&
+  grep -q "ropecast render" "$dir/err.txt" && [ ! -e "$dir/old_gl.png" ]; } ||
+  fail "a display without OpenGL 4.5: exit $rc: $(cat "$dir/err.txt")"
 
 # --screenshot alone: the converged view, as render --converge draws it at the default orbit.
 run "view --screenshot" xview $vol --screenshot "$dir/v0.png"
