@@ -5,8 +5,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -27,7 +30,7 @@ struct SliceFormat {
   uint32_t width = 0;
   uint32_t height = 0;
   SampleType type = SampleType::UInt8;
-  // The file's bits per sample when fewer than the type holds (4-bit or 12-bit TIFF): OpenImageIO scales
+  // The file's bits per sample when fewer than the type holds (1-bit PNG, 12-bit TIFF): OpenImageIO scales
   // them up to the type's range, and they are scaled back to the file's values; else 0.
   uint32_t narrowBits = 0;
   // TIFF's MinIsWhite: viewers show 0 as white. The volume keeps the stored values, as at every other bit
@@ -43,6 +46,25 @@ std::string oiioError(const OIIO::ImageInput* in) {
   std::string message = in ? in->geterror() : OIIO::geterror();
   if (message.empty()) message = "unknown OpenImageIO error";
   return message;
+}
+
+// The bit depth of a grayscale PNG's samples (1, 2, 4, 8 or 16) from its header; 0 for other files.
+uint32_t grayPngBitDepth(const std::string& path) {
+  std::array<unsigned char, 26> header{};  // signature, then the IHDR chunk up to its color type
+  std::ifstream in(path, std::ios::binary);
+  if (!in.read(reinterpret_cast<char*>(header.data()), header.size())) return 0;
+  static constexpr std::array<unsigned char, 8> kSignature{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  const bool gray = std::equal(kSignature.begin(), kSignature.end(), header.begin()) &&
+                    std::memcmp(&header[12], "IHDR", 4) == 0 && header[25] == 0;
+  return gray ? header[24] : 0;
+}
+
+// The spec OpenImageIO gives, with the bits per sample of a PNG: it widens 1-, 2- and 4-bit grayscale to 8
+// bits (a bilevel image reads 0 and 255) and does not say so, where a TIFF says.
+OIIO::ImageSpec withFileBits(OIIO::ImageSpec spec, const OIIO::ImageInput& in, const std::string& path) {
+  if (spec.get_int_attribute("oiio:BitsPerSample", 0) == 0 && std::string_view(in.format_name()) == "png")
+    if (const uint32_t bits = grayPngBitDepth(path)) spec.attribute("oiio:BitsPerSample", int(bits));
+  return spec;
 }
 
 // OpenImageIO's messages may run to a line per strip.
@@ -171,7 +193,7 @@ class ImageSliceSource final : public VolumeSource {
     }
     const auto in = openImage(slice.path);
     tiffPageCount(slice.path);  // refuses a TIFF cut short, whose missing data would read as zeros
-    OIIO::ImageSpec spec = in->spec();
+    OIIO::ImageSpec spec = withFileBits(in->spec(), *in, slice.path);
     // A multi-page TIFF among the slices would give its first page only.
     if (in->seek_subimage(1, 0))
       throw Error("image slice " + slice.path + " has " + std::to_string(countImagePages(slice.path)) +
@@ -191,7 +213,8 @@ class ImageSliceSource final : public VolumeSource {
     if (!in->seek_subimage(slice.page, 0, spec))
       throw Error("cannot read image slice " + what + ": " + oiioError(in));
     // The file may have changed since the stack was opened.
-    checkSameFormat(format_, sliceFormat(spec, what), describe(slices_[0], multiPage_), what);
+    checkSameFormat(format_, sliceFormat(withFileBits(spec, *in, slice.path), what),
+                    describe(slices_[0], multiPage_), what);
     in->geterror();  // clears an earlier message, so that one after the read is the read's
     // A TIFF strip that cannot be read leaves zeros and an error message, but read_image succeeds.
     if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()) || in->has_error())

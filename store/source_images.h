@@ -1,8 +1,8 @@
 // The image-stack VolumeSource, read with OpenImageIO: a directory of 2D slices (every .tif/.tiff/.png file),
 // a glob pattern of slices (e.g. "dir/slice_*.png"), or one multi-page TIFF (each page a slice). Slices are
 // single-channel uint8, uint16, int16 or float images, all of one size, type and bit depth (samples of fewer
-// bits than their type, a 12-bit TIFF say, keep the file's values, and so do MinIsWhite TIFFs, whose 0
-// viewers show as white); slice 0 is z = 0. Owned by loader/.
+// bits than their type, a 12-bit TIFF or a 1-bit PNG say, keep the file's values, and so do MinIsWhite TIFFs,
+// whose 0 viewers show as white); slice 0 is z = 0. Owned by loader/.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time).
 #pragma once

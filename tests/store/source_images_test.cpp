@@ -1,5 +1,6 @@
 // Tests of the image-stack VolumeSource (OpenImageIO): PNG and TIFF stacks from a directory or a glob,
-// multi-page TIFFs, every supported pixel type, slab reads at any z, name ordering, and each bad slice
+// multi-page TIFFs, every supported pixel type, bit depths narrower than it (bilevel PNG, 12-bit TIFF),
+// MinIsWhite TIFFs, slab reads at any z, name ordering, and each bad slice
 // (different size or type, unreadable, multi-channel, a TIFF cut short) or bad spec giving an error that
 // names the file.
 #include "store/source_images.h"
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "core/error.h"
 #include "tests/store/store_test_util.h"
@@ -211,6 +213,52 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<int16_t>(*i16, 5, 12, 3);
 }
 
+// Samples of `bits` bits (1, 2 or 4), w x h, packed as PNG and TIFF store them: the first sample in the high
+// bits, each row starting on a byte.
+std::vector<uint8_t> packRows(const std::vector<uint8_t>& samples, uint32_t w, uint32_t h, int bits) {
+  const size_t rowBytes = (size_t(w) * bits + 7) / 8;
+  std::vector<uint8_t> packed(rowBytes * h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x)
+      packed[y * rowBytes + x * bits / 8] |= uint8_t(samples[y * w + x] << (8 - bits - x * bits % 8));
+  return packed;
+}
+
+// A grayscale PNG of 1-, 2- or 4-bit samples, written byte by byte (OpenImageIO writes none narrower than 8).
+void writeNarrowPng(const std::string& path, uint32_t w, uint32_t h, int bits,
+                    const std::vector<uint8_t>& samples) {
+  const std::vector<uint8_t> packed = packRows(samples, w, h, bits);
+  const size_t rowBytes = packed.size() / h;
+  std::vector<uint8_t> rows;
+  for (uint32_t y = 0; y < h; ++y) {
+    rows.push_back(0);  // filter: none
+    rows.insert(rows.end(), packed.begin() + y * rowBytes, packed.begin() + (y + 1) * rowBytes);
+  }
+  uLongf zipped = compressBound(uLong(rows.size()));
+  std::vector<uint8_t> idat(zipped);
+  ASSERT_EQ(compress(idat.data(), &zipped, rows.data(), uLong(rows.size())), Z_OK);
+  idat.resize(zipped);
+  std::vector<uint8_t> file{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  const auto put32 = [&](uint32_t v) {
+    for (int i = 3; i >= 0; --i) file.push_back(uint8_t(v >> (8 * i)));
+  };
+  const auto chunk = [&](const char* type, const std::vector<uint8_t>& data) {
+    put32(uint32_t(data.size()));
+    const size_t start = file.size();
+    file.insert(file.end(), type, type + 4);
+    file.insert(file.end(), data.begin(), data.end());
+    put32(uint32_t(crc32(0, file.data() + start, uInt(file.size() - start))));
+  };
+  std::vector<uint8_t> header;
+  for (uint32_t v : {w, h})
+    for (int i = 3; i >= 0; --i) header.push_back(uint8_t(v >> (8 * i)));
+  header.insert(header.end(), {uint8_t(bits), 0, 0, 0, 0});  // grayscale, deflate, no filter, no interlace
+  chunk("IHDR", header);
+  chunk("IDAT", idat);
+  chunk("IEND", {});
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), file.size());
+}
+
 // Four 8 x 6 pages of slicePattern<uint8_t>.
 std::vector<TiffPage> fourPages() {
   std::vector<TiffPage> pages;
@@ -334,6 +382,43 @@ TEST(SourceImages, MinIsWhiteTiffsKeepTheirStoredValues) {
   writeTiff(dir.file("mixed16.tif"), pages16);
   message = errorOf(dir.file("mixed16.tif"));
   EXPECT_NE(message.find(dir.file("mixed16.tif") + " (page 1) is MinIsBlack"), std::string::npos) << message;
+}
+
+// OpenImageIO widens 1-, 2- and 4-bit PNGs to 8 bits (a bilevel slice reads 0 and 255) and does not say so;
+// they keep the file's values as narrow TIFFs do, and a bilevel PNG stacks with a bilevel TIFF.
+TEST(SourceImages, BilevelAndNarrowPngsKeepTheFilesValues) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.file("bilevel"));
+  std::vector<std::vector<uint8_t>> masks;
+  for (uint32_t z = 0; z < 3; ++z) {
+    std::vector<uint8_t> mask(13 * 3);  // 13 wide: rows end inside a byte
+    for (size_t i = 0; i < mask.size(); ++i) mask[i] = uint8_t((i * 7 + z) % 3 == 0);
+    masks.push_back(mask);
+    writeNarrowPng(dir.file("bilevel/m" + std::to_string(z) + ".png"), 13, 3, 1, mask);
+  }
+  writeTiff(dir.file("bilevel/m3.tif"), {TiffPage{13, 3, 1, 1, packRows(masks[0], 13, 3, 1)}});
+  masks.push_back(masks[0]);
+  const auto bilevel = openVolumeSource(dir.file("bilevel"));
+  EXPECT_EQ(bilevel->info().type, SampleType::UInt8);
+  EXPECT_EQ(bilevel->info().valueMax, 1.0);
+  for (uint32_t z = 0; z < 4; ++z) EXPECT_EQ(readSlab<uint8_t>(*bilevel, z, 1), masks[z]) << "slice " << z;
+
+  for (int bits : {2, 4}) {
+    std::vector<uint8_t> values(5 * 2);
+    for (size_t i = 0; i < values.size(); ++i) values[i] = uint8_t((i * 3) % (1u << bits));
+    const std::string path = dir.file("narrow" + std::to_string(bits) + "_0.png");
+    writeNarrowPng(path, 5, 2, bits, values);
+    const auto narrow = openVolumeSource(dir.file("narrow" + std::to_string(bits) + "_*.png"));
+    EXPECT_EQ(narrow->info().valueMax, double((1u << bits) - 1)) << bits << " bits";
+    EXPECT_EQ(readSlab<uint8_t>(*narrow, 0, 1), values) << bits << " bits";
+  }
+
+  writeImage(dir.file("bilevel/m4.png"), 13, 3, slicePattern<uint8_t>(13, 3, 4));  // 8 bits
+  const std::string message = errorOf(dir.file("bilevel"));
+  EXPECT_NE(message.find(dir.file("bilevel/m4.png") + " has 8-bit samples, but " +
+                         dir.file("bilevel/m0.png") + " has 1-bit ones"),
+            std::string::npos)
+      << message;
 }
 
 // A multi-page TIFF among the slices of a folder would give its first page only.
