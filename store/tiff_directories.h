@@ -12,9 +12,10 @@
 
 namespace ropecast {
 
-// The number of pages of a TIFF file, or nullopt when `path` does not start with a TIFF header. Throws
-// ropecast::Error naming the file and page when a directory or the image data of a page lies past the end
-// of the file, or when the directories loop. The caller has checked that `path` is a regular file.
+// The number of pages of a TIFF file (0 when its header points to no directory), or nullopt when `path` does
+// not start with a TIFF header. Throws ropecast::Error naming the file and page when a directory or the image
+// data of a page lies past the end of the file, or when the directories loop. The caller has checked that
+// `path` is a regular file.
 std::optional<int> tiffPageCount(const std::string& path);
 
 }  // namespace ropecast

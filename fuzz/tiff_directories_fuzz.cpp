@@ -1,0 +1,42 @@
+// libFuzzer target for the TIFF directory walk (store/tiff_directories.h): any file must either give a page
+// count (0 or more) or none (not a TIFF), or throw ropecast::Error; never crash, hang or throw anything
+// else. tiffPageCount reads a path, so each input is written to one temporary file first.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <string>
+
+#include <unistd.h>
+
+#include "core/error.h"
+#include "store/tiff_directories.h"
+
+namespace {
+
+const std::string& inputPath() {
+  static const std::string path = [] {
+    char name[] = "/tmp/ropecast_tiff_fuzz_XXXXXX";
+    const int fd = mkstemp(name);
+    if (fd < 0) std::abort();
+    close(fd);
+    return std::string(name);
+  }();
+  return path;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string& path = inputPath();
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
+  try {
+    const std::optional<int> pages = ropecast::tiffPageCount(path);
+    if (pages && *pages < 0) std::abort();
+  } catch (const ropecast::Error&) {
+    // A file cut short, or directories that loop, is expected to be refused this way.
+  }
+  return 0;
+}
