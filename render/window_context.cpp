@@ -25,13 +25,6 @@ std::string takeGlfwError() {
 
 }  // namespace
 
-std::string windowSystemProblem() {
-  glfwSetErrorCallback(onGlfwError);
-  if (!glfwInit()) return "no display: GLFW cannot initialize (" + takeGlfwError() + ")";
-  glfwTerminate();
-  return "";
-}
-
 WindowContext::WindowContext(const WindowContextOptions& options) {
   glfwSetErrorCallback(onGlfwError);
   if (!glfwInit())

@@ -51,8 +51,4 @@ class WindowContext {
   GlContextInfo info_;
 };
 
-// Why GLFW could not initialize, in words ("" when it can): no display, or no X11 server at $DISPLAY.
-// Terminates GLFW again; for messages before any work starts.
-std::string windowSystemProblem();
-
 }  // namespace ropecast
