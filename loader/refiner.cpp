@@ -57,16 +57,26 @@ WorldBox boundingBox(const NodeDataParts& parts) {
   return box;
 }
 
+ProjectedVoxelSize::ProjectedVoxelSize(const OctreeLayout& layout, glm::dvec3 spacing, const RefineView& view)
+    : layout_(layout),
+      spacing_(spacing),
+      eye_(view.camera.eye),
+      minSpacing_(std::min({spacing.x, spacing.y, spacing.z})),
+      maxSpacing_(std::max({spacing.x, spacing.y, spacing.z})),
+      tanHalfFov_(std::tan(glm::radians(view.camera.fovYDeg) * 0.5)),
+      viewportHeight_(double(view.viewportHeight)) {}
+
+double ProjectedVoxelSize::operator()(const NodeKey& key) const {
+  const WorldBox box = nodeWorldBox(layout_, spacing_, key);
+  const glm::dvec3 nearest = glm::clamp(eye_, box.lo, box.hi);
+  const double distance = std::max(glm::length(nearest - eye_), 0.5 * minSpacing_);
+  const double voxelWorld = double(uint64_t(1) << layout_.levelOfDepth(key.depth)) * maxSpacing_;
+  return voxelWorld / (2.0 * distance * tanHalfFov_) * viewportHeight_;
+}
+
 double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
                             const RefineView& view) {
-  const WorldBox box = nodeWorldBox(layout, spacing, key);
-  const double minSpacing = std::min({spacing.x, spacing.y, spacing.z});
-  const double maxSpacing = std::max({spacing.x, spacing.y, spacing.z});
-  const glm::dvec3 nearest = glm::clamp(view.camera.eye, box.lo, box.hi);
-  const double distance = std::max(glm::length(nearest - view.camera.eye), 0.5 * minSpacing);
-  const double voxelWorld = double(uint64_t(1) << layout.levelOfDepth(key.depth)) * maxSpacing;
-  const double tanHalf = std::tan(glm::radians(view.camera.fovYDeg) * 0.5);
-  return voxelWorld / (2.0 * distance * tanHalf) * double(view.viewportHeight);
+  return ProjectedVoxelSize(layout, spacing, view)(key);
 }
 
 ViewFrustum viewFrustum(const RefineView& view) {
@@ -126,11 +136,11 @@ class RefineRun {
       : nodes_(nodes),
         layout_(nodes.info().layout),
         spacing_(nodes.info().volume.spacing),
-        view_(view),
         isEmpty_(isEmpty),
         residency_(residency),
         hints_(hints),
         frustum_(viewFrustum(view)),
+        voxelPixels_(layout_, spacing_, view),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
 
   RefineResult run() {
@@ -256,7 +266,7 @@ class RefineRun {
     return {info.kind == NodeKind::Constant ? Class::ConstantBrick : Class::DataBrick, LeafReason::Adequate};
   }
 
-  double pixels(const NodeKey& k) const { return projectedVoxelPixels(layout_, spacing_, k, view_); }
+  double pixels(const NodeKey& k) const { return voxelPixels_(k); }
   NodeHint hintOf(const NodeKey& k) const { return hints_ ? hints_(k) : NodeHint::None; }
 
   static LeafReason reasonOf(BrickResidency::Outcome o) {
@@ -284,11 +294,11 @@ class RefineRun {
   const BrickSource& nodes_;
   const OctreeLayout& layout_;
   glm::dvec3 spacing_;
-  const RefineView& view_;
   const EmptinessPredicate& isEmpty_;
   BrickResidency& residency_;
   const NodeHints& hints_;
   ViewFrustum frustum_;
+  ProjectedVoxelSize voxelPixels_;
   double adequatePixels_;
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;
   RefineResult result_;

@@ -141,6 +141,20 @@ WorldBox boundingBox(const NodeDataParts& parts);
 // clamped to half a full-resolution voxel, so a node containing the eye gets a very large value).
 double projectedVoxelPixels(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key,
                             const RefineView& view);
+// The same for many nodes of one view: what does not depend on the node is computed once.
+class ProjectedVoxelSize {
+ public:
+  ProjectedVoxelSize(const OctreeLayout& layout, glm::dvec3 spacing, const RefineView& view);
+  double operator()(const NodeKey& key) const;
+
+ private:
+  const OctreeLayout& layout_;
+  glm::dvec3 spacing_;
+  glm::dvec3 eye_;
+  double minSpacing_, maxSpacing_;
+  double tanHalfFov_;
+  double viewportHeight_;
+};
 
 // The planes through the eye that bound what the view sees (behind, right, left, top, bottom), inward
 // normals.

@@ -1,8 +1,10 @@
 #include "loader/working_set.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -48,10 +50,15 @@ class WorkingSet::Residency final : public BrickResidency {
     SlotTable& slots = ws_.slots_;
     if (keys.size() + reservedSlots_ > slots.availableCount()) return Outcome::PoolFull;
 
+    // A node's children, or the root: each looked up once.
+    std::array<std::optional<uint32_t>, 8> resident;
+    if (keys.size() > resident.size()) throw Error("WorkingSet: internal error, more than 8 keys at once");
     bool missing = false;
     uint64_t uploadCount = 0;
-    for (const NodeKey& k : keys) {
-      if (slots.find(k)) continue;
+    for (size_t i = 0; i < keys.size(); ++i) {
+      const NodeKey& k = keys[i];
+      resident[i] = slots.find(k);
+      if (resident[i]) continue;
       ++uploadCount;
       if (ws_.cache_.contains(k)) {
         ++stats.cacheHits;
@@ -73,12 +80,10 @@ class WorkingSet::Residency final : public BrickResidency {
     }
 
     // Pin the resident children first so that acquiring slots for the others cannot evict them.
-    std::vector<uint8_t> resident(keys.size(), 0);
     for (size_t i = 0; i < keys.size(); ++i) {
-      if (const auto slot = slots.find(keys[i])) {
-        slots.pin(*slot);
-        slotsOut[i] = *slot;
-        resident[i] = 1;
+      if (resident[i]) {
+        slots.pin(*resident[i]);
+        slotsOut[i] = *resident[i];
       }
     }
     for (size_t i = 0; i < keys.size(); ++i) {

@@ -26,6 +26,8 @@ OctreeLayout OctreeLayout::forVolume(glm::u32vec3 dims, uint32_t brickSize) {
   while ((1u << l.maxDepth) < bricks) ++l.maxDepth;
   uint64_t offset = 0;
   for (uint32_t d = 0; d <= l.maxDepth; ++d) {
+    const glm::u32vec3 n = l.levelDims(l.levelOfDepth(d));
+    l.insideNodes_.push_back({ceilDiv(n.x, brickSize), ceilDiv(n.y, brickSize), ceilDiv(n.z, brickSize)});
     l.depthOffsets_.push_back(offset);
     offset += l.insideNodeCount(d);
   }
@@ -35,11 +37,6 @@ OctreeLayout OctreeLayout::forVolume(glm::u32vec3 dims, uint32_t brickSize) {
 
 glm::u32vec3 OctreeLayout::levelDims(uint32_t level) const {
   return {ceilShift(dims.x, level), ceilShift(dims.y, level), ceilShift(dims.z, level)};
-}
-
-glm::u32vec3 OctreeLayout::insideNodes(uint32_t depth) const {
-  const glm::u32vec3 n = levelDims(levelOfDepth(depth));
-  return {ceilDiv(n.x, brickSize), ceilDiv(n.y, brickSize), ceilDiv(n.z, brickSize)};
 }
 
 bool OctreeLayout::isInside(const NodeKey& k) const {

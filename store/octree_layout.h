@@ -60,8 +60,11 @@ struct OctreeLayout {
   uint32_t levelOfDepth(uint32_t depth) const { return maxDepth - depth; }
   // Samples per axis at a resolution level: ceil(dims / 2^level).
   glm::u32vec3 levelDims(uint32_t level) const;
-  // Nodes per axis at a depth that are inside the data: ceil(levelDims / brickSize).
-  glm::u32vec3 insideNodes(uint32_t depth) const;
+  // Nodes per axis at a depth that are inside the data: ceil(levelDims / brickSize); none deeper than
+  // maxDepth or in a layout not made by forVolume.
+  glm::u32vec3 insideNodes(uint32_t depth) const {
+    return depth < insideNodes_.size() ? insideNodes_[depth] : glm::u32vec3(0);
+  }
   bool isInside(const NodeKey& k) const;
   // Dense numbering of the inside nodes, depth by depth from the root, x fastest within a depth.
   uint64_t insideNodeCount() const;
@@ -72,7 +75,9 @@ struct OctreeLayout {
   uint64_t cubeSamples() const { return uint64_t(brickSize) << maxDepth; }
 
  private:
-  std::vector<uint64_t> depthOffsets_;  // filled by forVolume
+  // Filled by forVolume, per depth (the refinement asks for them at every node it reaches).
+  std::vector<uint64_t> depthOffsets_;
+  std::vector<glm::u32vec3> insideNodes_;
 };
 
 }  // namespace ropecast
