@@ -4,7 +4,8 @@
 # documents, and the camera it saves is one `render --path` reads; a scripted isovalue change and a transfer
 # function load draw what `render` draws with them; without a display, or without OpenGL 4.5 on it, the viewer
 # refuses cleanly, says which, and names `ropecast render`; --max-frames ends every wait; what the script and the
-# panels write never replaces an input.
+# panels write never replaces an input; a converged view idles; closing the window before a script's screenshot
+# is an error.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
 ropecast=$(realpath "$1")  # the panel check runs in its own folder
@@ -323,6 +324,70 @@ run "view save_camera onto a timed path" xview $vol --script "$dir/save_timed.js
 run "render --path the timed path" "$ropecast" render $vol --path "$dir/timed.json" --frames 3 -o "$dir/timed.png"
 python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))[-1].get("time") != 1.5)' "$dir/timed.json" ||
   fail "save_camera onto a timed path: the new keyframe is not at 1.5 s: $(cat "$dir/timed.json")"
+
+# A converged view sleeps until something happens: the three seconds of waiting for the script's quit draw no
+# frame (a viewer that went on rendering would write a stats line per frame, tens of them at least).
+echo '[{"event": "wait_converged"}, {"event": "quit", "at": 3}]' > "$dir/idle.json"
+run "view idles once converged" xview $vol --script "$dir/idle.json" --stats "$dir/idle.jsonl"
+after=$(python3 -c 'import json, sys
+frames = [json.loads(line) for line in open(sys.argv[1])]
+first = next((i for i, f in enumerate(frames) if f["converged"]), len(frames))
+print(len(frames) - first - 1)' "$dir/idle.jsonl")
+[ "$after" -le 2 ] || fail "a converged view went on rendering: $after frames after it converged"
+
+# The window closed by the user (the window manager's close button: WM_DELETE_WINDOW) before a script's
+# screenshot is written: exit 1, the message names the event and its file, and no file appears.
+cat > "$dir/xclose.py" << 'PY'
+import ctypes
+X = ctypes.cdll.LoadLibrary("libX11.so.6")
+X.XOpenDisplay.restype = ctypes.c_void_p
+X.XDefaultRootWindow.argtypes = [ctypes.c_void_p]
+X.XDefaultRootWindow.restype = ctypes.c_ulong
+X.XInternAtom.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int]
+X.XInternAtom.restype = ctypes.c_ulong
+X.XQueryTree.argtypes = [ctypes.c_void_p, ctypes.c_ulong, ctypes.POINTER(ctypes.c_ulong),
+                         ctypes.POINTER(ctypes.c_ulong), ctypes.POINTER(ctypes.POINTER(ctypes.c_ulong)),
+                         ctypes.POINTER(ctypes.c_uint)]
+X.XSendEvent.argtypes = [ctypes.c_void_p, ctypes.c_ulong, ctypes.c_int, ctypes.c_long, ctypes.c_void_p]
+X.XSync.argtypes = [ctypes.c_void_p, ctypes.c_int]
+class ClientMessage(ctypes.Structure):
+    _fields_ = [("type", ctypes.c_int), ("serial", ctypes.c_ulong), ("send_event", ctypes.c_int),
+                ("display", ctypes.c_void_p), ("window", ctypes.c_ulong), ("message_type", ctypes.c_ulong),
+                ("format", ctypes.c_int), ("data", ctypes.c_long * 5)]
+class XEvent(ctypes.Union):
+    _fields_ = [("xclient", ClientMessage), ("pad", ctypes.c_long * 24)]
+d = X.XOpenDisplay(None)
+root = X.XDefaultRootWindow(d)
+protocols = X.XInternAtom(d, b"WM_PROTOCOLS", 0)
+delete = X.XInternAtom(d, b"WM_DELETE_WINDOW", 0)
+r, p, n = ctypes.c_ulong(), ctypes.c_ulong(), ctypes.c_uint()
+children = ctypes.POINTER(ctypes.c_ulong)()
+X.XQueryTree(d, root, ctypes.byref(r), ctypes.byref(p), ctypes.byref(children), ctypes.byref(n))
+for i in range(n.value):  # no window manager under Xvfb: the viewer's window is a child of the root
+    e = XEvent()
+    e.xclient.type = 33  # ClientMessage
+    e.xclient.window = children[i]
+    e.xclient.message_type = protocols
+    e.xclient.format = 32
+    e.xclient.data[0] = delete
+    X.XSendEvent(d, children[i], 0, 0, ctypes.byref(e))
+X.XSync(d, 0)
+PY
+echo "[{\"event\": \"screenshot\", \"file\": \"$dir/up.png\"},
+ {\"event\": \"screenshot\", \"file\": \"$dir/late.png\", \"at\": 60}]" > "$dir/late.json"
+xvfb-run -a -s "-screen 0 320x240x24" bash -c '
+  "$1" view $4 --script "$2/late.json" 2> "$2/err.txt" & viewer=$!
+  for i in $(seq 200); do [ -e "$2/up.png" ] && break; sleep 0.3; done
+  python3 "$3"
+  wait $viewer' _ "$ropecast" "$dir" "$dir/xclose.py" "$vol" > /dev/null 2>&1
+rc=$?
+if [ "$rc" = 1 ] && [ -e "$dir/up.png" ] && [ ! -e "$dir/late.png" ] &&
+  grep -qF "event 1 (screenshot): the window was closed before it wrote $dir/late.png" "$dir/err.txt"; then
+  echo "ok   window closed before the script's screenshot"
+else
+  fail "window closed before the script's screenshot: exit $rc, up.png $([ -e "$dir/up.png" ] && echo written ||
+    echo missing): $(cat "$dir/err.txt")"
+fi
 
 # The panels' buttons pass the guard the command line's outputs do. Run where the panels' default file names
 # are inputs (the store view.png, --tf tf.json, --script cameras.json), click "save" (transfer function), "save
