@@ -25,14 +25,38 @@ ValueMapping valueMappingFor(SampleType t, double lo, double hi) {
     case SampleType::UInt8:
     case SampleType::UInt16:
       return {1.0, 0.0};
+    case SampleType::Int8:
+      return {1.0, -128.0};
     case SampleType::Int16:
       return {1.0, -32768.0};
-    case SampleType::Float32: {
+    case SampleType::UInt32:
+    case SampleType::Int32:
+      if (hi - lo <= 65535.0) return {1.0, lo};  // every value of the range has its own stored value
+      return {(hi - lo) / 65535.0, lo};
+    case SampleType::Float32:
+    case SampleType::Float64: {
       const double range = hi > lo ? hi - lo : 1.0;
       return {range / 65535.0, lo};
     }
   }
   return {};
+}
+
+bool isExactMapping(SampleType t, const ValueMapping& m) {
+  switch (t) {
+    case SampleType::UInt8:
+    case SampleType::Int8:
+    case SampleType::UInt16:
+    case SampleType::Int16:
+      return true;
+    case SampleType::UInt32:
+    case SampleType::Int32:
+      return m.scale == 1.0;
+    case SampleType::Float32:
+    case SampleType::Float64:
+      return false;
+  }
+  return false;
 }
 
 }  // namespace ropecast

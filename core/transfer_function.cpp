@@ -42,8 +42,23 @@ const std::vector<PresetPoint> kLinear = {
     {1.0, 1.0, 0.95, 0.85, 0.1},
 };
 
+// Signed 16- and 32-bit integers are taken as CT data, and floats that reach below -500; the other types
+// (unsigned, or int8's [-128, 127]) are not.
 bool isHounsfieldData(const TfDataRange& d) {
-  return d.sourceType == SampleType::Int16 || (d.sourceType == SampleType::Float32 && d.minValue <= -500.0);
+  switch (d.sourceType) {
+    case SampleType::Int16:
+    case SampleType::Int32:
+      return true;
+    case SampleType::Float32:
+    case SampleType::Float64:
+      return d.minValue <= -500.0;
+    case SampleType::UInt8:
+    case SampleType::Int8:
+    case SampleType::UInt16:
+    case SampleType::UInt32:
+      return false;
+  }
+  return false;
 }
 
 TransferFunction fromPresetPoints(const std::vector<PresetPoint>& pts,

@@ -131,16 +131,33 @@ class CompressPool {
   std::vector<std::thread> workers_;
 };
 
-// Turns one source slice into stored values (store_format.h: uint8/uint16 kept, int16 offset, float32
-// quantized and clamped to [0, floatHigh], the stored value of the range's high end: 65535, or 0 when every
-// finite value is the same, so that an infinity stays in the value range).
+// Samples of source type V through the mapping (the types of mapsOverValueRange): rounded to the nearest
+// stored value and clamped to [0, high], the stored value of the range's high end (65535 when quantized; for
+// a float range whose finite values are all one, 0, so that an infinity stays in the value range); NaN reads
+// as the range's low end. With scale 1 (uint32/int32 whose range fits 16 bits) this is exact.
+template <typename V, typename T>
+void mapToStored(const std::byte* in, size_t count, const ValueMapping& mapping, double high, T* out) {
+  const double inverseScale = 1.0 / mapping.scale;
+  for (size_t i = 0; i < count; ++i) {
+    V v;
+    std::memcpy(&v, in + sizeof(V) * i, sizeof(V));
+    const double q = std::nearbyint((double(v) - mapping.offset) * inverseScale);
+    out[i] = std::isnan(q) ? T(0) : T(std::clamp(q, 0.0, high));
+  }
+}
+
+// Turns one source slice into stored values (store_format.h: uint8/uint16 kept, int8 and int16 offset, the
+// others through mapToStored).
 template <typename T>
-void toStored(const std::byte* in, size_t count, SampleType type, const ValueMapping& mapping,
-              double floatHigh, T* out) {
+void toStored(const std::byte* in, size_t count, SampleType type, const ValueMapping& mapping, double high,
+              T* out) {
   switch (type) {
     case SampleType::UInt8:
     case SampleType::UInt16:
       std::memcpy(out, in, count * sizeof(T));
+      return;
+    case SampleType::Int8:
+      for (size_t i = 0; i < count; ++i) out[i] = T(int32_t(int8_t(in[i])) + 128);
       return;
     case SampleType::Int16:
       for (size_t i = 0; i < count; ++i) {
@@ -149,16 +166,14 @@ void toStored(const std::byte* in, size_t count, SampleType type, const ValueMap
         out[i] = T(int32_t(v) + 32768);
       }
       return;
-    case SampleType::Float32: {
-      const double inverseScale = 1.0 / mapping.scale;
-      for (size_t i = 0; i < count; ++i) {
-        float v;
-        std::memcpy(&v, in + 4 * i, 4);
-        const double q = std::nearbyint((double(v) - mapping.offset) * inverseScale);
-        out[i] = std::isnan(q) ? T(0) : T(std::clamp(q, 0.0, floatHigh));  // NaN -> the range's low end
-      }
-      return;
-    }
+    case SampleType::UInt32:
+      return mapToStored<uint32_t>(in, count, mapping, high, out);
+    case SampleType::Int32:
+      return mapToStored<int32_t>(in, count, mapping, high, out);
+    case SampleType::Float32:
+      return mapToStored<float>(in, count, mapping, high, out);
+    case SampleType::Float64:
+      return mapToStored<double>(in, count, mapping, high, out);
   }
 }
 
@@ -167,30 +182,56 @@ uint32_t slabSlicesFor(const VolumeInfo& info) {
   return std::clamp<uint32_t>(uint32_t(target / std::max<size_t>(info.sliceBytes(), 1)), 1u, info.dims.z);
 }
 
-// The float32 pre-pass: the finite min/max of a source without a known range.
+// Widens the finite min/max [lo, hi] by samples of type V.
+template <typename V>
+void widenRange(std::span<const std::byte> bytes, double& lo, double& hi) {
+  const size_t n = bytes.size() / sizeof(V);
+  for (size_t i = 0; i < n; ++i) {
+    V v;
+    std::memcpy(&v, bytes.data() + sizeof(V) * i, sizeof(V));
+    if (std::isfinite(double(v))) lo = std::min(lo, double(v)), hi = std::max(hi, double(v));
+  }
+}
+
+// The pre-pass of a source whose mapping depends on its range (mapsOverValueRange) and that does not know it:
+// the min/max of its finite values.
 std::pair<double, double> scanValueRange(VolumeSource& source, const ConvertOptions& options) {
   const VolumeInfo& info = source.info();
   const uint32_t slab = slabSlicesFor(info);
   std::vector<std::byte> buffer(size_t(slab) * info.sliceBytes());
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   ConvertProgress progress{ConvertProgress::Phase::ValueRange, 0, info.dims.z, 0,
                            uint64_t(info.dims.z) * info.sliceBytes()};
   for (uint32_t z = 0; z < info.dims.z; z += slab) {
     const uint32_t count = std::min(slab, info.dims.z - z);
     const auto bytes = std::span(buffer).first(size_t(count) * info.sliceBytes());
     source.readSlab(z, count, bytes);
-    const size_t n = bytes.size() / 4;
-    for (size_t i = 0; i < n; ++i) {
-      float v;
-      std::memcpy(&v, bytes.data() + 4 * i, 4);
-      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    switch (info.type) {
+      case SampleType::UInt32:
+        widenRange<uint32_t>(bytes, lo, hi);
+        break;
+      case SampleType::Int32:
+        widenRange<int32_t>(bytes, lo, hi);
+        break;
+      case SampleType::Float32:
+        widenRange<float>(bytes, lo, hi);
+        break;
+      case SampleType::Float64:
+        widenRange<double>(bytes, lo, hi);
+        break;
+      case SampleType::UInt8:
+      case SampleType::Int8:
+      case SampleType::UInt16:
+      case SampleType::Int16:
+        throw std::logic_error("convert: a value range pre-pass over " +
+                               std::string(sampleTypeName(info.type)) + " samples, whose mapping needs none");
     }
     progress.slicesDone = z + count;
     progress.bytesDone = progress.slicesDone * info.sliceBytes();
     if (options.progress) options.progress(progress);
   }
   if (lo > hi) return {0.0, 0.0};  // no finite value at all
-  return {double(lo), double(hi)};
+  return {lo, hi};
 }
 
 // The cascade of per-level slice windows (see converter.h). T is the stored sample type.
@@ -372,7 +413,7 @@ class Cascade {
 
 template <typename T>
 void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueMapping& mapping,
-                  double floatHigh, const ConvertOptions& options, std::vector<StoreNodeEntry>& entries,
+                  double storedHigh, const ConvertOptions& options, std::vector<StoreNodeEntry>& entries,
                   CompressPool& pool, uint64_t queuedBytes, ConvertStats& stats) {
   const VolumeInfo& info = source.info();
   Cascade<T> cascade(layout, mapping, options.discardBelow, entries, pool);
@@ -386,7 +427,7 @@ void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueM
     source.readSlab(z, count, std::span(buffer).first(size_t(count) * sliceBytes));
     for (uint32_t i = 0; i < count; ++i) {
       std::vector<T> slice = cascade.newSlice(0);
-      toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, floatHigh, slice.data());
+      toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, storedHigh, slice.data());
       cascade.push(0, std::move(slice));
     }
     progress.slicesDone = z + count;
@@ -438,14 +479,21 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   metadata.payloadEncoding =
       metadata.storedType == SampleType::UInt16 ? PayloadEncoding::ZstdBytePlanes : PayloadEncoding::Zstd;
   double lo = 0.0, hi = 0.0;
-  if (info.type == SampleType::Float32) {
+  if (mapsOverValueRange(info.type)) {
     if (info.valueMin && info.valueMax && std::isfinite(*info.valueMin) && std::isfinite(*info.valueMax))
       std::tie(lo, hi) = std::pair(*info.valueMin, *info.valueMax);
     else
       std::tie(lo, hi) = scanValueRange(source, options);
   }
   metadata.mapping = valueMappingFor(info.type, lo, hi);
-  const double floatHigh = std::nearbyint(metadata.mapping.toStored(hi));
+  // A float64 range can be too wide for a double (hi - lo overflows) or so narrow that its step underflows.
+  const double inverseScale = 1.0 / metadata.mapping.scale;
+  if (!(metadata.mapping.scale > 0.0) || !std::isfinite(metadata.mapping.scale) ||
+      !std::isfinite(inverseScale))
+    throw Error("convert: source '" + info.description + "' has " + std::string(sampleTypeName(info.type)) +
+                " values in [" + formatNumber(lo) + ", " + formatNumber(hi) +
+                "], a range that cannot be quantized to 16 bits in double precision");
+  const double storedHigh = std::nearbyint(metadata.mapping.toStored(hi));
 
   StoreWriter writer(output);  // before the long work, so an unwritable output fails at once
   std::vector<StoreNodeEntry> entries(layout.insideNodeCount(), StoreNodeEntry{});
@@ -457,16 +505,18 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   {
     CompressPool pool(writer, entries, options.zstdLevel, threads, maxQueued);
     if (metadata.storedType == SampleType::UInt8)
-      streamSlices<uint8_t>(source, layout, metadata.mapping, floatHigh, options, entries, pool,
+      streamSlices<uint8_t>(source, layout, metadata.mapping, storedHigh, options, entries, pool,
                             maxQueued * brickBytes, stats);
     else
-      streamSlices<uint16_t>(source, layout, metadata.mapping, floatHigh, options, entries, pool,
+      streamSlices<uint16_t>(source, layout, metadata.mapping, storedHigh, options, entries, pool,
                              maxQueued * brickBytes, stats);
     pool.finish();
   }
 
-  // The value range in data units: the quantization range for float32, the root's range otherwise.
-  if (info.type != SampleType::Float32) {
+  // The value range in data units: the range the mapping was made over for the types of mapsOverValueRange
+  // (their quantization range; for uint32/int32 kept exactly, the root's range too), the root's range
+  // otherwise.
+  if (!mapsOverValueRange(info.type)) {
     lo = metadata.mapping.toData(entries[0].minValue);
     hi = metadata.mapping.toData(entries[0].maxValue);
   }

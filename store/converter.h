@@ -22,7 +22,9 @@
 namespace ropecast {
 
 struct ConvertProgress {
-  enum class Phase { ValueRange, Bricks };  // ValueRange: the min/max pre-pass of a float32 source
+  // ValueRange: the min/max pre-pass of a source whose mapping depends on its range (float32, float64,
+  // uint32, int32; core/sample_type.h mapsOverValueRange).
+  enum class Phase { ValueRange, Bricks };
   Phase phase = Phase::Bricks;
   uint64_t slicesDone = 0;
   uint64_t slicesTotal = 0;

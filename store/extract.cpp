@@ -1,7 +1,9 @@
 #include "store/extract.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "core/error.h"
@@ -11,11 +13,21 @@ namespace ropecast {
 
 namespace {
 
+// The data value of a stored sample as the integer type I: rounded to nearest, within I's range.
+template <typename I>
+I roundedData(uint16_t stored, const ValueMapping& mapping) {
+  const double v = std::nearbyint(mapping.toData(stored));
+  return I(std::clamp(v, double(std::numeric_limits<I>::min()), double(std::numeric_limits<I>::max())));
+}
+
 // Writes one stored sample in the original type.
 void writeOriginal(uint16_t stored, SampleType type, const ValueMapping& mapping, std::byte* out) {
   switch (type) {
     case SampleType::UInt8:
       *out = std::byte(stored);
+      return;
+    case SampleType::Int8:
+      *out = std::byte(uint8_t(int8_t(int32_t(stored) - 128)));
       return;
     case SampleType::UInt16:
       std::memcpy(out, &stored, 2);
@@ -25,9 +37,24 @@ void writeOriginal(uint16_t stored, SampleType type, const ValueMapping& mapping
       std::memcpy(out, &v, 2);
       return;
     }
+    case SampleType::UInt32: {
+      const uint32_t v = roundedData<uint32_t>(stored, mapping);
+      std::memcpy(out, &v, 4);
+      return;
+    }
+    case SampleType::Int32: {
+      const int32_t v = roundedData<int32_t>(stored, mapping);
+      std::memcpy(out, &v, 4);
+      return;
+    }
     case SampleType::Float32: {
       const float v = float(mapping.toData(stored));
       std::memcpy(out, &v, 4);
+      return;
+    }
+    case SampleType::Float64: {
+      const double v = mapping.toData(stored);
+      std::memcpy(out, &v, 8);
       return;
     }
   }

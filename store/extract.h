@@ -1,6 +1,8 @@
-// Extraction of one resolution level of a bricked octree as a raw volume (`ropecast extract`): x fastest, in
-// the volume's original type (uint8/uint16/int16 exactly as converted; float32 dequantized through
-// ValueMapping). Empty (discarded) nodes read as stored value 0. Reads one z-row of bricks at a time.
+// Extraction of one resolution level of a bricked octree as a raw volume (`ropecast extract`): x fastest,
+// little-endian, in the volume's original type (int8/uint8/int16/uint16 exactly as converted; uint32/int32
+// through ValueMapping, rounded to the nearest integer: exact where their range fit 16 bits; float32/float64
+// dequantized through ValueMapping). Empty (discarded) nodes read as stored value 0. Reads one z-row of
+// bricks at a time.
 //
 // Threads: any thread; the BrickSource may be shared with other readers.
 #pragma once

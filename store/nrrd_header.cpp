@@ -65,6 +65,10 @@ std::optional<double> parseNumber(std::string_view s) {
   return v;
 }
 
+// The types read, for messages (in any of the spec's spellings).
+constexpr std::string_view kNrrdTypeList =
+    "int8, uint8, int16, uint16, int32, uint32, float or double (or another of their NRRD spellings)";
+
 std::optional<SampleType> parseNrrdType(std::string_view t) {
   // The spellings the NRRD format defines for each type ropecast reads.
   struct TypeNames {
@@ -72,10 +76,15 @@ std::optional<SampleType> parseNrrdType(std::string_view t) {
     std::string_view names[6];
   };
   static const TypeNames kTypes[] = {
+      {SampleType::Int8,
+       {"signed char", "int8", "int8_t"}},  // not plain "char", whose signedness C leaves open
       {SampleType::UInt8, {"uchar", "unsigned char", "uint8", "uint8_t"}},
-      {SampleType::UInt16, {"ushort", "unsigned short", "unsigned short int", "uint16", "uint16_t"}},
       {SampleType::Int16, {"short", "short int", "signed short", "signed short int", "int16", "int16_t"}},
+      {SampleType::UInt16, {"ushort", "unsigned short", "unsigned short int", "uint16", "uint16_t"}},
+      {SampleType::Int32, {"int", "signed int", "int32", "int32_t"}},
+      {SampleType::UInt32, {"uint", "unsigned int", "uint32", "uint32_t"}},
       {SampleType::Float32, {"float"}},
+      {SampleType::Float64, {"double"}},
   };
   for (const TypeNames& entry : kTypes)
     for (std::string_view name : entry.names)
@@ -84,31 +93,10 @@ std::optional<SampleType> parseNrrdType(std::string_view t) {
 }
 
 bool isKnownUnsupportedNrrdType(std::string_view t) {
-  static const std::string_view kOthers[] = {"signed char",
-                                             "int8",
-                                             "int8_t",
-                                             "int",
-                                             "signed int",
-                                             "int32",
-                                             "int32_t",
-                                             "uint",
-                                             "unsigned int",
-                                             "uint32",
-                                             "uint32_t",
-                                             "longlong",
-                                             "long long",
-                                             "long long int",
-                                             "signed long long",
-                                             "signed long long int",
-                                             "int64",
-                                             "int64_t",
-                                             "ulonglong",
-                                             "unsigned long long",
-                                             "unsigned long long int",
-                                             "uint64",
-                                             "uint64_t",
-                                             "double",
-                                             "block"};
+  static const std::string_view kOthers[] = {
+      "longlong", "long long", "long long int", "signed long long",   "signed long long int",
+      "int64",    "int64_t",   "ulonglong",     "unsigned long long", "unsigned long long int",
+      "uint64",   "uint64_t",  "block"};
   for (std::string_view o : kOthers)
     if (o == t) return true;
   return false;
@@ -179,8 +167,8 @@ class HeaderParser {
       const auto t = parseNrrdType(value);
       if (!t) {
         if (isKnownUnsupportedNrrdType(value))
-          failField(name, "unsupported type " + quoted(value) + "; expected uint8, uint16, int16 or float");
-        failField(name, "unknown type " + quoted(value) + "; expected uint8, uint16, int16 or float");
+          failField(name, "unsupported type " + quoted(value) + "; expected " + std::string(kNrrdTypeList));
+        failField(name, "unknown type " + quoted(value) + "; expected " + std::string(kNrrdTypeList));
       }
       header_.type = *t;
       type_ = true;

@@ -2,7 +2,8 @@
 // untrusted text: a pure function over a string, fuzzed by fuzz/nrrd_header_fuzz.cpp. Used by the NRRD volume
 // source (store/). Pure function; any thread.
 //
-// Supported: "NRRD000n" magic, dimension 3, type (the NRRD spellings of uint8, uint16, int16, float), sizes,
+// Supported: "NRRD000n" magic, dimension 3, type (the NRRD spellings of int8, uint8, int16, uint16, int32,
+// uint32, float and double; not the 64-bit integers or block; plain "char" is no NRRD type), sizes,
 // encoding raw or gzip, endian, spacings or space directions (spacing = length of each direction), byte skip
 // (-1 = data at the end of the file, raw only), line skip, data file (one detached file). Other fields,
 // comments and key/value pairs are ignored.

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "store/source_images.h"
@@ -24,12 +25,19 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-// Only raw files lack dims and type; every other source says its own.
-void rejectDimsAndType(const std::string& spec, const SourceOptions& options) {
-  if (options.dims || options.type)
-    throw UsageError(
-        "openVolumeSource: " + spec +
-        ": --dims and --type apply to raw files only; this source states its own dimensions and type");
+// Only raw files lack dims, type, byte order and the offset of their samples; every other source says its own
+// (a procedural volume, an image stack), or has no such layout. `kind` names the source in the message.
+void rejectRawOptions(const std::string& spec, const SourceOptions& options, const std::string& kind) {
+  std::vector<std::string> given;
+  if (options.dims) given.push_back("--dims");
+  if (options.type) given.push_back("--type");
+  if (options.byteOrder) given.push_back("--byte-order");
+  if (options.headerBytes) given.push_back("--header-bytes");
+  if (given.empty()) return;
+  std::string names = given.front();
+  for (size_t i = 1; i < given.size(); ++i) names += (i + 1 == given.size() ? " and " : ", ") + given[i];
+  throw UsageError("openVolumeSource: " + spec + ": " + names + (given.size() == 1 ? " applies" : " apply") +
+                   " to raw files only; " + kind + " states its own dimensions, type and layout");
 }
 
 }  // namespace
@@ -41,27 +49,27 @@ bool isSlicePattern(const std::string& spec) {
 
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
   if (isProceduralSpec(spec)) {
-    rejectDimsAndType(spec, options);
+    rejectRawOptions(spec, options, "a procedural volume");
     return openProceduralSource(proceduralNameAndSize(spec), options);
   }
   if (isSlicePattern(spec)) {
-    rejectDimsAndType(spec, options);
+    rejectRawOptions(spec, options, "a stack of image slices");
     return openImageStackSource(spec, options);
   }
   std::error_code ec;
   const fs::file_status status = fs::status(spec, ec);
   if (!fs::exists(status)) throw Error(spec + ": no such file or directory");
   if (fs::is_directory(status)) {
-    rejectDimsAndType(spec, options);
+    rejectRawOptions(spec, options, "a stack of image slices");
     return openImageStackSource(spec, options);
   }
   const std::string ext = lowerExtension(spec);
   if (ext == ".nrrd" || ext == ".nhdr") {
-    rejectDimsAndType(spec, options);
+    rejectRawOptions(spec, options, "a NRRD header");
     return openNrrdSource(spec, options);
   }
   if (ext == ".tif" || ext == ".tiff") {
-    rejectDimsAndType(spec, options);
+    rejectRawOptions(spec, options, "a TIFF");
     if (countImagePages(spec) < 2)
       throw Error(
           "openVolumeSource: " + spec +

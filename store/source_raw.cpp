@@ -21,26 +21,34 @@ namespace {
 
 class RawSource final : public VolumeSource {
  public:
-  RawSource(const std::string& path, VolumeInfo info) : file_(path), info_(std::move(info)) {
-    const uint64_t expected = info_.sampleCount() * bytesPerSample(info_.type);
+  RawSource(const std::string& path, VolumeInfo info, uint64_t headerBytes, bool bigEndian)
+      : file_(path), info_(std::move(info)), headerBytes_(headerBytes), bigEndian_(bigEndian) {
+    // At most 2^60 samples of at most 8 bytes, after a header of at most kMaxRawHeaderBytes: no overflow.
+    const uint64_t dataBytes = info_.sampleCount() * bytesPerSample(info_.type);
+    const uint64_t expected = headerBytes_ + dataBytes;
+    const std::string volume = std::to_string(info_.dims.x) + "x" + std::to_string(info_.dims.y) + "x" +
+                               std::to_string(info_.dims.z) + " " + std::string(sampleTypeName(info_.type));
     if (file_.sizeBytes() != expected)
       throw Error("raw file " + path + ": size is " + std::to_string(file_.sizeBytes()) +
-                  " bytes, expected " + std::to_string(expected) + " (" + std::to_string(info_.dims.x) + "x" +
-                  std::to_string(info_.dims.y) + "x" + std::to_string(info_.dims.z) + " " +
-                  std::string(sampleTypeName(info_.type)) + "): file is " +
-                  (file_.sizeBytes() < expected ? "truncated" : "too long"));
+                  " bytes, expected " + std::to_string(expected) + " (" +
+                  (headerBytes_ > 0 ? std::to_string(headerBytes_) + " header bytes + " + volume + " = " +
+                                          std::to_string(dataBytes) + " bytes"
+                                    : volume) +
+                  "): file is " + (file_.sizeBytes() < expected ? "truncated" : "too long"));
   }
 
   const VolumeInfo& info() const override { return info_; }
 
  private:
   void readSlices(uint32_t z0, uint32_t, std::span<std::byte> out) override {
-    file_.readAt(uint64_t(z0) * info_.sliceBytes(), out);
-    samplesToNative(out, info_.type, false);
+    file_.readAt(headerBytes_ + uint64_t(z0) * info_.sliceBytes(), out);
+    samplesToNative(out, info_.type, bigEndian_);
   }
 
   PosixFile file_;
   VolumeInfo info_;
+  uint64_t headerBytes_;
+  bool bigEndian_;
 };
 
 }  // namespace
@@ -87,18 +95,23 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
     info.type = *fromName->type;
   } else if (fromName) {
     throw Error("raw file " + path + ": unsupported sample type '" + fromName->typeName +
-                "' in the file name; expected uint8, uint16, int16 or float32 (or give --type)");
+                "' in the file name; expected " + std::string(kSampleTypeList) + " (or give --type)");
   } else {
-    throw UsageError("raw file " + path +
-                     ": sample type unknown; give --type (uint8, uint16, int16, float32)");
+    throw UsageError("raw file " + path + ": sample type unknown; give --type (" +
+                     std::string(kSampleTypeList) + ")");
   }
+  const uint64_t headerBytes = options.headerBytes.value_or(0);
+  if (headerBytes > kMaxRawHeaderBytes)
+    throw UsageError("raw file " + path + ": --header-bytes " + std::to_string(headerBytes) +
+                     ": expected at most " + std::to_string(kMaxRawHeaderBytes));
   info.spacing = options.spacing.value_or(glm::dvec3(1.0));
   if (info.type == SampleType::UInt8) {
     info.valueMin = 0.0;
     info.valueMax = 255.0;
   }
   info.description = "raw:" + path;
-  return std::make_unique<RawSource>(path, std::move(info));
+  return std::make_unique<RawSource>(path, std::move(info), headerBytes,
+                                     options.byteOrder.value_or(ByteOrder::Little) == ByteOrder::Big);
 }
 
 PosixFile::PosixFile(std::string path) : path_(std::move(path)) {

@@ -1,5 +1,6 @@
-// The raw VolumeSource (a headerless file of samples, x fastest, little-endian), plus the small file helpers
-// the file-based sources share (PosixFile, byte-order conversion). Owned by loader/.
+// The raw VolumeSource (a file of samples, x fastest, little-endian unless told otherwise, after a header of
+// any length that is skipped), plus the small file helpers the file-based sources share (PosixFile,
+// byte-order conversion). Owned by loader/.
 //
 // Threads: as VolumeSource. PosixFile::readAt uses pread, so one PosixFile may be read from several threads.
 #pragma once
@@ -27,9 +28,13 @@ struct RawFileName {
 // Parses the file name part of `path`; nullopt if it does not have the `_XxYxZ_type.raw` form.
 std::optional<RawFileName> parseRawFileName(std::string_view path);
 
-// Opens a raw file. Dims and type from options, else from the file name; spacing from options (default
-// 1,1,1). Throws ropecast::Error naming the file if dims/type are unknown or the file size is not dims *
-// bytes per sample (saying expected and actual size).
+// The longest header a raw file may have (options.headerBytes): 2^53 bytes, so that the expected file size,
+// header and samples, is exact in a uint64 and in a double.
+inline constexpr uint64_t kMaxRawHeaderBytes = uint64_t(1) << 53;
+
+// Opens a raw file. Dims and type from options, else from the file name; spacing, byte order (default
+// little) and header bytes (default 0) from options. Throws ropecast::Error naming the file if dims/type are
+// unknown or the file size is not the header plus dims * bytes per sample (saying expected and actual size).
 std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const SourceOptions& options);
 
 // A read-only file descriptor, closed on destruction. Errors name the path.

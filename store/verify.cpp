@@ -59,14 +59,16 @@ class Verifier {
   }
 
   // The metadata's valueRange (data units; the default isovalue and transfer function come from it) is the
-  // root's range mapped to data units, or for float32 the quantization range, which holds the root's range.
+  // root's range mapped to data units, or for the types mapped over their range (float32, float64, uint32,
+  // int32) that range, which holds the root's range: within half a quantization step, or exactly where the
+  // mapping is exact.
   void checkValueRange() {
     const StoreMetadata& m = store_.metadata();
     const NodeInfo root = store_.node({0, {0, 0, 0}});
     if (root.kind == NodeKind::Empty || !m.volume.valueMin || !m.volume.valueMax) return;
     const double lo = m.mapping.toData(root.minValue), hi = m.mapping.toData(root.maxValue);
-    const double tolerance = m.volume.type == SampleType::Float32 ? 0.5 * m.mapping.scale : 0.0;
-    const bool matches = m.volume.type == SampleType::Float32
+    const double tolerance = isExactMapping(m.volume.type, m.mapping) ? 0.0 : 0.5 * m.mapping.scale;
+    const bool matches = mapsOverValueRange(m.volume.type)
                              ? lo >= *m.volume.valueMin - tolerance && hi <= *m.volume.valueMax + tolerance
                              : lo == *m.volume.valueMin && hi == *m.volume.valueMax;
     if (!matches)

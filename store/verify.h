@@ -1,7 +1,7 @@
 // Verification of a store (`ropecast verify`): reads every node and checks
 //   - each payload's checksum and decompression (Store::readBrick),
 //   - kinds: Constant has min == max, Empty only below the recorded --discard-below,
-//   - the metadata valueRange: the root's range in data units (float32: holds it),
+//   - the metadata valueRange: the root's range in data units (types mapped over their range: holds it),
 //   - ranges: each brick's values inside its node's [min, max], children's ranges inside the parent's, and
 //   the
 //     node's range exactly the union of its own brick's and its children's,

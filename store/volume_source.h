@@ -26,8 +26,9 @@ struct VolumeInfo {
   glm::dvec3 spacing{1.0};  // world units per sample (mm for medical data)
   SampleType type = SampleType::UInt8;
   std::optional<double> valueMin;  // known value range in data units, if the source knows it cheaply
-  std::optional<double> valueMax;  // (float32 sources without it get a range pre-pass in the converter)
-  std::string description;         // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
+  std::optional<double>
+      valueMax;             // (mapsOverValueRange types without it get a range pre-pass in the converter)
+  std::string description;  // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
   // What the source noticed about its input that a person should hear, though the samples are read as
   // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.
   std::vector<std::string> notes;
@@ -85,15 +86,21 @@ class VolumeSource {
   virtual void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) = 0;
 };
 
-// Options that apply to sources whose file does not say them (raw files), or override what it says.
+// The byte order of a raw file's samples.
+enum class ByteOrder : uint8_t { Little, Big };
+
+// Options that apply to sources whose file does not say them (raw files), or override what it says. All but
+// the spacing are raw files' only: given for another input, opening it is a UsageError naming them.
 struct SourceOptions {
-  std::optional<glm::u32vec3> dims;   // --dims X,Y,Z
-  std::optional<SampleType> type;     // --type T
-  std::optional<glm::dvec3> spacing;  // --spacing SX,SY,SZ
+  std::optional<glm::u32vec3> dims;     // --dims X,Y,Z
+  std::optional<SampleType> type;       // --type T
+  std::optional<glm::dvec3> spacing;    // --spacing SX,SY,SZ
+  std::optional<ByteOrder> byteOrder;   // --byte-order little|big (default little)
+  std::optional<uint64_t> headerBytes;  // --header-bytes N: bytes before the samples (default 0)
 };
 
 // Opens a source from a command-line spec:
-//   path/to/name_XxYxZ_type.raw or any raw file with options.dims/type,
+//   path/to/name_XxYxZ_type.raw or any raw file with options.dims/type (and byteOrder, headerBytes),
 //   path.nrrd / path.nhdr, a directory or glob of 2D slices (TIFF/PNG), a multi-page TIFF,
 //   procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
 // Throws ropecast::Error naming the spec and what was expected.

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/sample_type.h"
 #include "store/converter.h"
+#include "store/source_raw.h"
 #include "store/store_writer.h"
 #include "store/volume_source.h"
 #include "tools/cli_checks.h"
@@ -22,6 +23,8 @@ struct ConvertArgs {
   std::string input, output;
   std::vector<uint32_t> dims;
   std::optional<SampleType> type;
+  std::optional<ByteOrder> byteOrder;
+  std::optional<uint64_t> headerBytes;
   std::vector<double> spacing;
   uint32_t brick = kDefaultBrickSize;
   std::optional<double> discardBelow;
@@ -46,6 +49,8 @@ int runConvert(const ConvertArgs& a) {
       throw UsageError("convert: --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
   }
   sourceOptions.type = a.type;
+  sourceOptions.byteOrder = a.byteOrder;
+  sourceOptions.headerBytes = a.headerBytes;
   ConvertOptions options;
   options.brickSize = a.brick;
   options.discardBelow = a.discardBelow;
@@ -107,7 +112,15 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   addDimsOption(app, "--dims", a->dims, "X,Y,Z samples per axis of a raw file");
   addEnumOption(app, "--type", a->type, sampleTypeNames(), "sample type of a raw file", /*ignoreCase=*/true,
-                "{uint8,uint16,int16,float32} (or an alias: u8, ushort, short, float, ...)");
+                "{int8,uint8,int16,uint16,int32,uint32,float32,float64} (or an alias: u8, short, int, float, "
+                "double, ...)");
+  addEnumOption(
+      app, "--byte-order", a->byteOrder,
+      std::vector<std::pair<std::string, ByteOrder>>{{"little", ByteOrder::Little}, {"big", ByteOrder::Big}},
+      "byte order of a raw file's samples (default little)");
+  app.add_option("--header-bytes", a->headerBytes, "bytes to skip at the start of a raw file (default 0)")
+      ->type_name("N")
+      ->check(integerIn(0, double(kMaxRawHeaderBytes)));
   addTripleOption(app, "--spacing", a->spacing,
                   "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
   app.add_option("--zstd-level", a->zstdLevel, "zstd compression level")->capture_default_str();

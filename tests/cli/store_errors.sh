@@ -85,9 +85,26 @@ expect_usage "convert to an empty name" "--output: expected a file name, got ''"
   "$ropecast" convert procedural:sphere:16 -o "" --quiet
 expect_usage "convert to standard output" "--output: expected a file name, got '-'" \
   "$ropecast" convert procedural:sphere:16 -o - --quiet
-expect_usage "dims for a source that states its own" "--dims and --type apply to raw files only" \
+expect_usage "dims for a source that states its own" "procedural:sphere:16: --dims applies to raw files only" \
   "$ropecast" convert procedural:sphere:16 --dims 16,16,16 -o "$dir/d.store" --quiet
 expect_absent "$dir/d.store"
+# The raw layout options apply to raw files only: a NRRD header states its own byte order and where its data
+# starts, a procedural volume has no file.
+printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n\n' > "$dir/u8.nrrd"
+head -c 64 /dev/zero >> "$dir/u8.nrrd"
+expect_usage "--byte-order for a NRRD" "$dir/u8.nrrd: --byte-order applies to raw files only" \
+  "$ropecast" convert "$dir/u8.nrrd" --byte-order big -o "$dir/bo.store" --quiet
+expect_absent "$dir/bo.store"
+expect_usage "--header-bytes for a procedural volume" "procedural:sphere:16: --header-bytes applies to raw files only" \
+  "$ropecast" convert procedural:sphere:16 --header-bytes 10 -o "$dir/hb.store" --quiet
+expect_absent "$dir/hb.store"
+expect_usage "unknown byte order" "--byte-order" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --byte-order middle -o "$dir/bm.store" --quiet
+expect_absent "$dir/bm.store"
+# A header the file does not have room for: the expected size counts it.
+expect_failure "raw with a header, too short" "expected 15424 (64 header bytes + 24x20x16 uint16 = 15360 bytes)" \
+  "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --header-bytes 64 -o "$dir/h64.store" --quiet
+expect_absent "$dir/h64.store"
 expect_usage "zstd level beyond zstd's" "--zstd-level 100: expected a value in" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --zstd-level 100 -o "$dir/z100.store" --quiet
 expect_absent "$dir/z100.store"

@@ -22,6 +22,21 @@ head -c $((20 * 20 * 9 * 2)) /dev/urandom > "$dir/ct.bin"
 cmp "$dir/ct.bin" "$dir/b0.raw"
 "$ropecast" verify "$dir/b.store" --quiet
 
+# A big-endian int32 raw file after a 100-byte header (a wide type whose range fits 16 bits: kept exactly):
+# extract writes it back as little-endian int32.
+python3 - "$dir/be.bin" "$dir/le.raw" <<'PY'
+import struct, sys
+values = [-20000 + (i * 7919) % 60001 for i in range(14 * 9 * 6)]
+open(sys.argv[1], "wb").write(b"H" * 100 + struct.pack(">%di" % len(values), *values))
+open(sys.argv[2], "wb").write(struct.pack("<%di" % len(values), *values))
+PY
+"$ropecast" convert "$dir/be.bin" --dims 14,9,6 --type int32 --byte-order big --header-bytes 100 \
+  -o "$dir/be.store" --brick 4 --quiet
+"$ropecast" info "$dir/be.store" | grep -q "^type *int32 (stored as uint16"
+"$ropecast" verify "$dir/be.store" --quiet
+"$ropecast" extract "$dir/be.store" -o "$dir/be0.raw" --quiet
+cmp "$dir/le.raw" "$dir/be0.raw"
+
 # info: text and JSON name the dims, type and spacing.
 "$ropecast" info "$dir/b.store" | grep -q "20 x 20 x 9 samples, spacing 0.5 x 0.5 x 2"
 "$ropecast" info "$dir/b.store" --json > "$dir/info.json"

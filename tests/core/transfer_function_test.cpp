@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -120,6 +121,28 @@ TEST(TransferFunction, CtPresetsStayInHounsfieldForInt16AndScaleOtherwise) {
     EXPECT_EQ(tf.evaluate(0.0).a, 0.0) << name << ": the minimum (background) must be transparent";
     EXPECT_GT(tf.evaluate(255.0).a, 0.0) << name;
   }
+}
+
+// int32 data is taken as Hounsfield as int16 is, float64 as float32 is (when it reaches below -500); int8 and
+// uint32 data get the Hounsfield axis stretched over their range, as uint8 and uint16 do.
+TEST(TransferFunction, WiderTypesPlaceCtPresetsAsTheirNarrowerKin) {
+  const auto boneAlpha = [](SampleType type, double lo, double hi, double at) {
+    return TransferFunction::preset("ct-bone", TfDataRange{type, lo, hi}).evaluate(at).a;
+  };
+  for (const auto& [lo, hi, at] : {std::tuple{0.0, 4095.0, 700.0}, std::tuple{-1024.0, 5000.0, 700.0},
+                                   std::tuple{-128.0, 127.0, 50.0}}) {
+    EXPECT_EQ(boneAlpha(SampleType::Int32, lo, hi, at), boneAlpha(SampleType::Int16, lo, hi, at)) << lo;
+    EXPECT_EQ(boneAlpha(SampleType::Float64, lo, hi, at), boneAlpha(SampleType::Float32, lo, hi, at)) << lo;
+    EXPECT_EQ(boneAlpha(SampleType::UInt32, lo, hi, at), boneAlpha(SampleType::UInt16, lo, hi, at)) << lo;
+    EXPECT_EQ(boneAlpha(SampleType::Int8, lo, hi, at), boneAlpha(SampleType::UInt8, lo, hi, at)) << lo;
+  }
+  // The rules differ where it matters: Hounsfield or stretched.
+  EXPECT_NE(boneAlpha(SampleType::Int32, 0.0, 4095.0, 700.0),
+            boneAlpha(SampleType::UInt32, 0.0, 4095.0, 700.0));
+  EXPECT_NE(boneAlpha(SampleType::Float64, -1024.0, 5000.0, 700.0),
+            boneAlpha(SampleType::UInt16, -1024.0, 5000.0, 700.0));
+  EXPECT_NE(boneAlpha(SampleType::Int8, -128.0, 127.0, 50.0),
+            boneAlpha(SampleType::Int16, -128.0, 127.0, 50.0));
 }
 
 TEST(TransferFunction, PresetsAreKnownByTheirExactNames) {

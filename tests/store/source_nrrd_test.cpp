@@ -80,15 +80,24 @@ TEST(SourceNrrd, AttachedRawOfEveryType) {
   check(uint16_t{}, "unsigned short", SampleType::UInt16);
   check(int16_t{}, "short", SampleType::Int16);
   check(float{}, "float", SampleType::Float32);
+  check(int8_t{}, "signed char", SampleType::Int8);
+  check(uint32_t{}, "uint", SampleType::UInt32);
+  check(int32_t{}, "int", SampleType::Int32);
+  check(double{}, "double", SampleType::Float64);
 }
 
 TEST(SourceNrrd, TypeSpellingsOfTheSpec) {
   const std::pair<const char*, SampleType> spellings[] = {
-      {"uint8", SampleType::UInt8},     {"unsigned char", SampleType::UInt8},
-      {"uint8_t", SampleType::UInt8},   {"ushort", SampleType::UInt16},
-      {"uint16_t", SampleType::UInt16}, {"unsigned short int", SampleType::UInt16},
-      {"int16", SampleType::Int16},     {"signed short int", SampleType::Int16},
-      {"short int", SampleType::Int16}, {"float", SampleType::Float32}};
+      {"uint8", SampleType::UInt8},         {"unsigned char", SampleType::UInt8},
+      {"uint8_t", SampleType::UInt8},       {"ushort", SampleType::UInt16},
+      {"uint16_t", SampleType::UInt16},     {"unsigned short int", SampleType::UInt16},
+      {"int16", SampleType::Int16},         {"signed short int", SampleType::Int16},
+      {"short int", SampleType::Int16},     {"float", SampleType::Float32},
+      {"int8", SampleType::Int8},           {"int8_t", SampleType::Int8},
+      {"unsigned int", SampleType::UInt32}, {"uint32", SampleType::UInt32},
+      {"uint32_t", SampleType::UInt32},     {"signed int", SampleType::Int32},
+      {"int32", SampleType::Int32},         {"int32_t", SampleType::Int32},
+      {"double", SampleType::Float64}};
   for (const auto& [name, type] : spellings)
     EXPECT_EQ(parseNrrdHeader(headerFor(name, "raw") + "\n", "t.nrrd").type, type) << name;
 }
@@ -110,6 +119,20 @@ TEST(SourceNrrd, BigEndianIsSwapped) {
   writeFile(b, header + "\n" + gzipOf(bytesOf(f32, true)));
   auto gz = openVolumeSource(b);
   EXPECT_EQ(readSlab<float>(*gz, 0, 5), f32);
+
+  const auto f64 = samplePattern<double>(9 * 6 * 5);
+  const std::string c = dir.file("bigd.nrrd");
+  header = headerFor("double", "raw");
+  header.replace(header.find("endian: little"), 14, "endian: big");
+  writeFile(c, header + "\n" + bytesOf(f64, true));
+  EXPECT_EQ(readSlab<double>(*openVolumeSource(c), 0, 5), f64);
+
+  const auto i32 = samplePattern<int32_t>(9 * 6 * 5);
+  const std::string d = dir.file("bigi.nrrd");
+  header = headerFor("int32", "gzip");
+  header.replace(header.find("endian: little"), 14, "endian: big");
+  writeFile(d, header + "\n" + gzipOf(bytesOf(i32, true)));
+  EXPECT_EQ(readSlab<int32_t>(*openVolumeSource(d), 0, 5), i32);
 }
 
 TEST(SourceNrrd, GzipSlabsInAnyOrder) {
@@ -228,7 +251,9 @@ TEST(SourceNrrd, MalformedHeadersNameFileAndField) {
       {"dimension text", replaced("dimension: 3", "dimension: three"), "field 'dimension'"},
       {"unknown encoding", replaced("encoding: raw", "encoding: lzma"), "unknown encoding 'lzma'"},
       {"unsupported encoding", replaced("encoding: raw", "encoding: ascii"), "unsupported encoding 'ascii'"},
-      {"unsupported type", replaced("type: uint16", "type: double"), "unsupported type 'double'"},
+      {"unsupported type", replaced("type: uint16", "type: int64"), "unsupported type 'int64'"},
+      {"plain char", replaced("type: uint16", "type: char"), "unknown type 'char'"},
+      {"not a NRRD spelling", replaced("type: uint16", "type: float64"), "unknown type 'float64'"},
       {"unknown type", replaced("type: uint16", "type: quaternion"), "unknown type 'quaternion'"},
       {"bad endian", replaced("endian: little", "endian: middle"), "field 'endian'"},
       {"bad spacings", good + "spacings: 1 x 1\n", "field 'spacings'"},

@@ -1,8 +1,10 @@
 // Tests of the raw VolumeSource and the dispatcher's choice of it: every type reads back what was written,
-// slabs at any z, dims/type from options or an Open SciVis-style file name, and each bad input (truncated,
-// too long, unknown type, no dims, missing file) gives an error naming the file and the problem.
+// slabs at any z, dims/type from options or an Open SciVis-style file name, big-endian samples after a
+// header, and each bad input (truncated, too long, unknown type, no dims, missing file, layout options for
+// another kind of input) gives an error naming the file or option and the problem.
 #include "store/source_raw.h"
 
+#include <bit>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +65,106 @@ TEST(SourceRaw, EveryTypeReadsBackWhatWasWritten) {
   expectRoundTrip<uint16_t>(dir, "uint16", SampleType::UInt16);
   expectRoundTrip<int16_t>(dir, "int16", SampleType::Int16);
   expectRoundTrip<float>(dir, "float32", SampleType::Float32);
+  expectRoundTrip<int8_t>(dir, "int8", SampleType::Int8);
+  expectRoundTrip<uint32_t>(dir, "uint32", SampleType::UInt32);
+  expectRoundTrip<int32_t>(dir, "int32", SampleType::Int32);
+  expectRoundTrip<double>(dir, "float64", SampleType::Float64);
+}
+
+// `values` as a file holds them: after `header` bytes, in the given byte order.
+template <typename T>
+std::string fileBytes(const std::vector<T>& values, bool bigEndian, size_t header) {
+  std::string bytes(header + values.size() * sizeof(T), 'h');
+  std::memcpy(bytes.data() + header, values.data(), values.size() * sizeof(T));
+  if (bigEndian != (std::endian::native == std::endian::big))
+    for (size_t i = header; i < bytes.size(); i += sizeof(T))
+      std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
+  return bytes;
+}
+
+template <typename T>
+void expectBigEndianAfterHeader(const TempDir& dir, const std::string& typeName, size_t header) {
+  const glm::u32vec3 dims(6, 5, 7);
+  const auto data = samplePattern<T>(dims);
+  const std::string path = dir.file("big_6x5x7_" + typeName + ".raw");
+  const std::string bytes = fileBytes(data, true, header);
+  writeFile(path, bytes.data(), bytes.size());
+  SourceOptions options;
+  options.byteOrder = ByteOrder::Big;
+  options.headerBytes = header;
+  auto source = openVolumeSource(path, options);
+  EXPECT_EQ(source->info().type, parseSampleType(typeName));
+  EXPECT_EQ(readSlab<T>(*source, 0, dims.z), data) << typeName;
+  const auto slab = readSlab<T>(*source, 4, 3);
+  EXPECT_TRUE(std::equal(slab.begin(), slab.end(), data.begin() + 4 * 30)) << typeName;
+}
+
+TEST(SourceRaw, BigEndianSamplesAfterAHeaderReadBackWhatWasWritten) {
+  TempDir dir;
+  expectBigEndianAfterHeader<int32_t>(dir, "int32", 37);
+  expectBigEndianAfterHeader<uint32_t>(dir, "uint32", 1);
+  expectBigEndianAfterHeader<double>(dir, "float64", 512);
+  expectBigEndianAfterHeader<int16_t>(dir, "int16", 3);
+  expectBigEndianAfterHeader<float>(dir, "float32", 0);
+  expectBigEndianAfterHeader<int8_t>(dir, "int8", 5);  // one byte: the order changes nothing
+  // Little-endian, the default, after a header.
+  const auto data = samplePattern<uint16_t>({6, 5, 7});
+  const std::string path = dir.file("little_6x5x7_uint16.raw");
+  const std::string bytes = fileBytes(data, false, 100);
+  writeFile(path, bytes.data(), bytes.size());
+  SourceOptions options;
+  options.headerBytes = 100;
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(path, options), 0, 7), data);
+}
+
+TEST(SourceRaw, TheExpectedSizeCountsTheHeader) {
+  TempDir dir;
+  const std::vector<uint8_t> bytes(2 * 10 * 10 * 10);
+  const std::string path = dir.file("v_10x10x10_uint16.raw");
+  writeFile(path, bytes.data(), bytes.size());
+  SourceOptions options;
+  options.headerBytes = 64;
+  const std::string message = errorOf(path, options);
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(
+      message.find("size is 2000 bytes, expected 2064 (64 header bytes + 10x10x10 uint16 = 2000 bytes)"),
+      std::string::npos)
+      << message;
+  EXPECT_NE(message.find("truncated"), std::string::npos) << message;
+  // A header longer than the whole file.
+  options.headerBytes = 5000;
+  EXPECT_NE(errorOf(path, options).find("expected 7000 (5000 header bytes"), std::string::npos)
+      << errorOf(path, options);
+  // The header given, the data too long for the dims.
+  options.headerBytes = 16;
+  options.dims = glm::u32vec3(10, 10, 9);
+  EXPECT_NE(errorOf(path, options).find("too long"), std::string::npos) << errorOf(path, options);
+}
+
+// A NRRD states its byte order and where its data starts; a procedural volume or image stack has no raw
+// layout at all: the options are a usage error naming the option and the input.
+TEST(SourceRaw, LayoutOptionsAreRefusedForOtherInputs) {
+  TempDir dir;
+  const std::string nrrd = dir.file("v.nrrd");
+  const std::string text = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n12345678";
+  writeFile(nrrd, text.data(), text.size());
+  SourceOptions byteOrder;
+  byteOrder.byteOrder = ByteOrder::Big;
+  EXPECT_THROW(openVolumeSource(nrrd, byteOrder), UsageError);
+  EXPECT_NE(errorOf(nrrd, byteOrder).find(nrrd + ": --byte-order applies to raw files only"),
+            std::string::npos)
+      << errorOf(nrrd, byteOrder);
+  SourceOptions header;
+  header.headerBytes = 0;  // given, even as 0
+  EXPECT_NE(errorOf("procedural:sphere:8", header).find("procedural:sphere:8: --header-bytes applies to raw"),
+            std::string::npos)
+      << errorOf("procedural:sphere:8", header);
+  SourceOptions both = byteOrder;
+  both.headerBytes = 4;
+  both.type = SampleType::UInt8;
+  EXPECT_NE(errorOf(dir.path().string(), both).find("--type, --byte-order and --header-bytes apply to raw"),
+            std::string::npos)
+      << errorOf(dir.path().string(), both);
 }
 
 TEST(SourceRaw, ParsesOpenSciVisNames) {
@@ -77,9 +179,15 @@ TEST(SourceRaw, ParsesOpenSciVisNames) {
   const auto alias = parseRawFileName("x_2x3x4_ushort.raw");
   ASSERT_TRUE(alias);
   EXPECT_EQ(alias->type, SampleType::UInt16);
-  const auto unknown = parseRawFileName("x_2x3x4_float64.raw");
+  const auto wide = parseRawFileName("x_2x3x4_float64.raw");
+  ASSERT_TRUE(wide);
+  EXPECT_EQ(wide->type, SampleType::Float64);
+  EXPECT_EQ(parseRawFileName("x_2x3x4_i8.raw")->type, SampleType::Int8);
+  EXPECT_EQ(parseRawFileName("x_2x3x4_uint32.raw")->type, SampleType::UInt32);
+  EXPECT_EQ(parseRawFileName("x_2x3x4_int32.raw")->type, SampleType::Int32);
+  const auto unknown = parseRawFileName("x_2x3x4_int64.raw");
   ASSERT_TRUE(unknown);
-  EXPECT_EQ(unknown->typeName, "float64");
+  EXPECT_EQ(unknown->typeName, "int64");
   EXPECT_FALSE(unknown->type);
   const auto upper = parseRawFileName("SCAN_4x5x6_UINT16.RAW");
   ASSERT_TRUE(upper);
@@ -143,11 +251,12 @@ TEST(SourceRaw, SizeMismatchNamesFileExpectedAndActual) {
 TEST(SourceRaw, UnknownTypeOrDimsNameTheFile) {
   TempDir dir;
   const std::vector<uint8_t> bytes(64);
-  const std::string unknownType = dir.file("v_2x2x2_float64.raw");
+  const std::string unknownType = dir.file("v_2x2x2_int64.raw");
   writeFile(unknownType, bytes.data(), bytes.size());
   const std::string typeMessage = errorOf(unknownType);
   EXPECT_NE(typeMessage.find(unknownType), std::string::npos) << typeMessage;
-  EXPECT_NE(typeMessage.find("'float64'"), std::string::npos) << typeMessage;
+  EXPECT_NE(typeMessage.find("'int64'"), std::string::npos) << typeMessage;
+  EXPECT_NE(typeMessage.find("float64"), std::string::npos) << typeMessage;  // the types there are
 
   const std::string noDims = dir.file("volume.dat");
   writeFile(noDims, bytes.data(), bytes.size());
@@ -158,7 +267,7 @@ TEST(SourceRaw, UnknownTypeOrDimsNameTheFile) {
   SourceOptions dimsOnly;
   dimsOnly.dims = glm::u32vec3(4, 4, 4);
   EXPECT_NE(errorOf(noDims, dimsOnly).find("--type"), std::string::npos);
-  EXPECT_EQ(parseSampleType("int32"), std::nullopt);  // so the CLI rejects --type int32 before we get here
+  EXPECT_EQ(parseSampleType("int64"), std::nullopt);  // so the CLI rejects --type int64 before we get here
 }
 
 TEST(SourceRaw, MissingFileIsNamed) {
@@ -199,6 +308,11 @@ TEST(SourceRaw, BigEndianSamplesAreSwappedToNative) {
   float f;
   std::memcpy(&f, floatBytes.data(), 4);
   EXPECT_EQ(f, 1.0f);
+  std::vector<uint8_t> doubleBytes = {0xC0, 0x00, 0, 0, 0, 0, 0, 0};  // -2.0 big-endian
+  samplesToNative(std::as_writable_bytes(std::span(doubleBytes)), SampleType::Float64, true);
+  double d;
+  std::memcpy(&d, doubleBytes.data(), 8);
+  EXPECT_EQ(d, -2.0);
 }
 
 }  // namespace

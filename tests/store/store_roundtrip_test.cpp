@@ -1,6 +1,9 @@
-// Round trips through convert -> Store -> extract for every sample type and odd sizes.
+// Round trips through convert -> Store -> extract for every sample type and odd sizes; the wider types (int8,
+// uint32, int32, float64) from raw and NRRD files, read back through the store's mapping.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <fstream>
 #include <limits>
 
 #include "core/error.h"
@@ -204,6 +207,225 @@ TEST(StoreRoundTrip, ASourceNameThatIsNotUtf8IsKeptWithReplacementCharacters) {
   options.brickSize = 8;
   convertVolume(source, dir / "n.store", options);
   EXPECT_EQ(Store::open(dir / "n.store")->metadata().volume.description, "scan\uFFFD\uFFFD.raw");
+}
+
+// `values` as a file holds them: after `header` bytes, in the given byte order.
+template <typename T>
+std::string fileBytes(const std::vector<T>& values, bool bigEndian = false, size_t header = 0) {
+  std::string bytes(header + values.size() * sizeof(T), 'h');
+  std::memcpy(bytes.data() + header, values.data(), values.size() * sizeof(T));
+  if (bigEndian != (std::endian::native == std::endian::big))
+    for (size_t i = header; i < bytes.size(); i += sizeof(T))
+      std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
+  return bytes;
+}
+
+void writeFile(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+  ASSERT_TRUE(out.good()) << path;
+}
+
+// An attached NRRD of `values`, big-endian.
+template <typename T>
+std::string nrrdBytes(const std::string& nrrdType, glm::u32vec3 d, const std::vector<T>& values) {
+  return "NRRD0004\ntype: " + nrrdType + "\ndimension: 3\nsizes: " + std::to_string(d.x) + " " +
+         std::to_string(d.y) + " " + std::to_string(d.z) + "\nencoding: raw\nendian: big\n\n" +
+         fileBytes(values, true);
+}
+
+// Level 0 in data units: the stored values of the finest bricks through the store's mapping.
+std::vector<double> level0Data(const Store& store) {
+  const BrickSourceInfo& info = store.info();
+  const OctreeLayout& layout = info.layout;
+  const uint32_t b = layout.brickSize, edge = layout.storedBrickEdge();
+  const glm::u32vec3 dims = layout.levelDims(0), nodes = layout.insideNodes(layout.maxDepth);
+  std::vector<double> data(size_t(dims.x) * dims.y * dims.z);
+  std::vector<std::byte> brick(store.brickBytes());
+  for (uint32_t cz = 0; cz < nodes.z; ++cz)
+    for (uint32_t cy = 0; cy < nodes.y; ++cy)
+      for (uint32_t cx = 0; cx < nodes.x; ++cx) {
+        store.readBrick({layout.maxDepth, {cx, cy, cz}}, brick);
+        const std::vector<uint16_t> stored = testing::widen(brick, info.storedType);
+        for (uint32_t z = cz * b; z < std::min((cz + 1) * b, dims.z); ++z)
+          for (uint32_t y = cy * b; y < std::min((cy + 1) * b, dims.y); ++y)
+            for (uint32_t x = cx * b; x < std::min((cx + 1) * b, dims.x); ++x) {
+              const size_t in =
+                  (size_t(z - cz * b + kBrickBorder) * edge + (y - cy * b + kBrickBorder)) * edge +
+                  (x - cx * b + kBrickBorder);
+              data[(size_t(z) * dims.y + y) * dims.x + x] = info.mapping.toData(stored[in]);
+            }
+      }
+  return data;
+}
+
+// Level 0 as extract writes it, in the original type T.
+template <typename T>
+std::vector<T> extractedLevel0(const Store& store) {
+  const std::vector<std::byte> bytes = extractLevelBytes(store, 0);
+  std::vector<T> values(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  return values;
+}
+
+std::unique_ptr<Store> convertAndOpen(const TempDir& dir, const std::string& spec,
+                                      const SourceOptions& sourceOptions = {}) {
+  const auto source = openVolumeSource(spec, sourceOptions);
+  const std::filesystem::path output = dir / (std::filesystem::path(spec).filename().string() + ".store");
+  ConvertOptions options;
+  options.brickSize = 8;
+  convertVolume(*source, output, options);
+  auto store = Store::open(output);
+  const VerifyReport report = verifyStore(*store);
+  EXPECT_TRUE(report.ok()) << spec << ": " << (report.problems.empty() ? "" : report.problems.front());
+  return store;
+}
+
+// What a round trip must keep of each sample: exactly (step 0), or within half a quantization step in the
+// store and, extracted to an integer type, rounded to the nearest integer as well.
+template <typename T>
+void expectKept(const Store& store, const std::vector<T>& values, SampleType type, bool exact,
+                const std::string& what) {
+  EXPECT_EQ(store.info().volume.type, type) << what;
+  EXPECT_EQ(store.info().storedType, storedTypeFor(type)) << what;
+  const double step = store.info().mapping.scale;
+  EXPECT_EQ(step == 1.0, exact) << what << ": scale " << step;
+  const std::vector<double> data = level0Data(store);
+  const std::vector<T> extracted = extractedLevel0<T>(store);
+  ASSERT_EQ(data.size(), values.size()) << what;
+  ASSERT_EQ(extracted.size(), values.size()) << what;
+  const double rounding = std::is_integral_v<T> ? 0.5 : 0.0;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const double v = double(values[i]);
+    if (exact) {
+      ASSERT_EQ(data[i], v) << what << ": sample " << i;
+      ASSERT_EQ(extracted[i], values[i]) << what << ": sample " << i;
+    } else {
+      ASSERT_LE(std::abs(data[i] - v), 0.5 * step * (1 + 1e-9)) << what << ": sample " << i;
+      ASSERT_LE(std::abs(double(extracted[i]) - v), 0.5 * step * (1 + 1e-9) + rounding)
+          << what << ": sample " << i;
+    }
+  }
+}
+
+// Through a little-endian raw file named name_XxYxZ_type.raw, a big-endian one with a header given by
+// options, and a big-endian NRRD.
+template <typename T>
+void expectRoundTripThroughFiles(const std::string& typeName, const std::string& nrrdType, SampleType type,
+                                 glm::u32vec3 d, const std::vector<T>& values, bool exact) {
+  TempDir dir;
+  const std::string dimsText = std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);
+  const std::string named = dir.file("v_" + dimsText + "_" + typeName + ".raw");
+  writeFile(named, fileBytes(values));
+  expectKept(*convertAndOpen(dir, named), values, type, exact, named);
+
+  const std::string headed = dir.file("headed.bin");
+  writeFile(headed, fileBytes(values, true, 301));
+  SourceOptions options;
+  options.dims = d;
+  options.type = type;
+  options.byteOrder = ByteOrder::Big;
+  options.headerBytes = 301;
+  expectKept(*convertAndOpen(dir, headed, options), values, type, exact, headed);
+
+  const std::string nrrd = dir.file(typeName + ".nrrd");
+  writeFile(nrrd, nrrdBytes(nrrdType, d, values));
+  expectKept(*convertAndOpen(dir, nrrd), values, type, exact, nrrd);
+}
+
+constexpr glm::u32vec3 kDims{21, 13, 11};
+
+TEST(StoreRoundTrip, Int8IsKeptExactlyAsValuePlus128) {
+  std::vector<int8_t> values = testing::samplePattern<int8_t>(kDims);
+  values[0] = -128;
+  values[1] = 127;
+  expectRoundTripThroughFiles<int8_t>("int8", "signed char", SampleType::Int8, kDims, values, true);
+}
+
+// 32-bit integers whose range spans at most 65535 are stored as value - min, exactly: here at both ends of
+// their type and with the widest such span.
+TEST(StoreRoundTrip, ThirtyTwoBitIntegersWhoseRangeFits16BitsAreKeptExactly) {
+  std::vector<uint32_t> unsignedValues(size_t(kDims.x) * kDims.y * kDims.z);
+  for (size_t i = 0; i < unsignedValues.size(); ++i)
+    unsignedValues[i] = 4294901760u + uint32_t(i * 7919 % 65536);
+  unsignedValues[0] = 4294901760u;
+  unsignedValues[1] = 4294967295u;
+  expectRoundTripThroughFiles<uint32_t>("uint32", "uint32_t", SampleType::UInt32, kDims, unsignedValues,
+                                        true);
+
+  std::vector<int32_t> signedValues(unsignedValues.size());
+  for (size_t i = 0; i < signedValues.size(); ++i) signedValues[i] = INT32_MIN + int32_t(i * 7919 % 65536);
+  signedValues[0] = INT32_MIN;
+  signedValues[1] = INT32_MIN + 65535;
+  expectRoundTripThroughFiles<int32_t>("int32", "int", SampleType::Int32, kDims, signedValues, true);
+}
+
+// Wider ranges are quantized over [min, max] as float32 is: within half a step in the store, and extracted
+// as the nearest integer to that.
+TEST(StoreRoundTrip, ThirtyTwoBitIntegersOverWiderRangesAreQuantizedWithinHalfAStep) {
+  std::vector<int32_t> full(size_t(kDims.x) * kDims.y * kDims.z);
+  for (size_t i = 0; i < full.size(); ++i) full[i] = int32_t(uint32_t(i * 2654435761u));
+  full[0] = INT32_MIN;
+  full[1] = INT32_MAX;
+  expectRoundTripThroughFiles<int32_t>("int32", "int32", SampleType::Int32, kDims, full, false);
+
+  std::vector<int32_t> justWider(full.size());  // a span of 65536: one more value than 16 bits hold
+  for (size_t i = 0; i < justWider.size(); ++i) justWider[i] = -1000 + int32_t(i * 7919 % 65537);
+  justWider[0] = -1000;
+  justWider[1] = -1000 + 65536;
+  expectRoundTripThroughFiles<int32_t>("i32", "signed int", SampleType::Int32, kDims, justWider, false);
+
+  std::vector<uint32_t> unsignedValues(full.size());
+  for (size_t i = 0; i < unsignedValues.size(); ++i) unsignedValues[i] = uint32_t(i * 2654435761u);
+  expectRoundTripThroughFiles<uint32_t>("uint32", "unsigned int", SampleType::UInt32, kDims, unsignedValues,
+                                        false);
+}
+
+// float64 is quantized over its finite range as float32 is, there beyond what a float holds; NaN reads as
+// the range's low end, infinities as the ends they point to.
+TEST(StoreRoundTrip, Float64IsQuantizedWithinHalfAStepOverItsRange) {
+  const std::vector<double> field = testing::ballField(kDims, 9);
+  std::vector<double> values(field.size());
+  for (size_t i = 0; i < field.size(); ++i) values[i] = -3e40 + 7e40 * field[i];
+  expectRoundTripThroughFiles<double>("float64", "double", SampleType::Float64, kDims, values, false);
+
+  TempDir dir;
+  values[10] = std::numeric_limits<double>::quiet_NaN();
+  values[11] = std::numeric_limits<double>::infinity();
+  values[12] = -std::numeric_limits<double>::infinity();
+  const std::string path = dir.file("odd_21x13x11_f64.raw");
+  writeFile(path, fileBytes(values));
+  const auto store = convertAndOpen(dir, path);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double v : values)
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  EXPECT_EQ(*store->info().volume.valueMin, lo);
+  EXPECT_EQ(*store->info().volume.valueMax, hi);
+  const std::vector<double> back = extractedLevel0<double>(*store);
+  EXPECT_EQ(back[10], lo);
+  EXPECT_DOUBLE_EQ(back[11], hi);
+  EXPECT_EQ(back[12], lo);
+}
+
+// A float64 range wider than a double holds (max - min overflows) cannot be quantized: an error naming the
+// source, and no store.
+TEST(StoreRoundTrip, Float64WhoseRangeOverflowsIsRefused) {
+  TempDir dir;
+  std::vector<double> values(8 * 8 * 8, 0.0);
+  values[0] = -1e308;
+  values[1] = 1e308;
+  const std::string path = dir.file("huge_8x8x8_float64.raw");
+  writeFile(path, fileBytes(values));
+  const auto source = openVolumeSource(path);
+  try {
+    convertVolume(*source, dir / "huge.store");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot be quantized"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "huge.store"));
+  EXPECT_EQ(dir.fileCount(), 1u);  // the source alone: no temporary left
 }
 
 }  // namespace
