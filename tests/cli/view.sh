@@ -64,10 +64,15 @@ if ! command -v xvfb-run > /dev/null; then
   echo "skip: xvfb-run is not installed (scripts/bootstrap installs xvfb)"
   exit "$((failures > 0))"
 fi
-xview() { xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view "$@"; }
+# xvfb-run with an authority file of ours: without one it makes a temporary folder, whose removal has failed under
+# load ("problem while cleaning up temporary directory"), turning the viewer's exit status into 5.
+xrun() { xvfb-run -a -f "$dir/Xauthority" "$@"; }
+xview() { xrun -s "-screen 0 320x240x24" "$ropecast" view "$@"; }
 
-# A display whose OpenGL is older than 4.5 (Mesa made to report 3.3): the message says that, not "no display".
-MESA_GL_VERSION_OVERRIDE=3.3 xview $vol --screenshot "$dir/old_gl.png" > /dev/null 2> "$dir/err.txt"
+# A display whose OpenGL is older than 4.5 (Mesa made to report 3.3 to the viewer): the message says that, not
+# "no display".
+xview_old_gl() { xrun -s "-screen 0 320x240x24" env MESA_GL_VERSION_OVERRIDE=3.3 "$ropecast" view "$@"; }
+xview_old_gl $vol --screenshot "$dir/old_gl.png" > /dev/null 2> "$dir/err.txt"
 rc=$?
 { [ "$rc" = 1 ] && grep -q "OpenGL 4.5" "$dir/err.txt" && ! grep -q "X11 display" "$dir/err.txt" &&
   grep -q "ropecast render" "$dir/err.txt" && [ ! -e "$dir/old_gl.png" ]; } ||
@@ -279,7 +284,7 @@ run "view --script screenshot with panels, quit" xview $vol --script "$dir/panel
 cat > "$dir/held.json" << JSON
 [{"event": "key_down", "key": "w"}, {"event": "wait_converged"}, {"event": "screenshot", "file": "$dir/held.png"}]
 JSON
-timeout 300 xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view $vol --script "$dir/held.json" --max-frames 20 \
+timeout 300 xvfb-run -a -f "$dir/Xauthority" -s "-screen 0 320x240x24" "$ropecast" view $vol --script "$dir/held.json" --max-frames 20 \
   --screenshot "$dir/held_end.png" > /dev/null 2> "$dir/err.txt"
 rc=$?
 { [ "$rc" = 0 ] && [ -s "$dir/held.png" ] && [ -s "$dir/held_end.png" ]; } ||
@@ -309,8 +314,8 @@ cat > "$dir/panels1.json" << JSON
 [{"event": "screenshot", "file": "$dir/p1.png", "panels": true}]
 JSON
 big="procedural:marschner-lobb:48 --brick 16 --size 1024x768"
-run "view two screenshots with panels" xvfb-run -a -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels2.json"
-run "view one screenshot with panels" xvfb-run -a -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels1.json"
+run "view two screenshots with panels" xrun -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels2.json"
+run "view one screenshot with panels" xrun -s "-screen 0 1100x800x24" "$ropecast" view $big --script "$dir/panels1.json"
 [ -s "$dir/pa.png" ] || fail "the first of two screenshots with panels was not written"
 for shot in pa pb; do
   "$ropecast" compare "$dir/p1.png" "$dir/$shot.png" --min-psnr 30 > "$dir/cmp.txt" 2>&1 ||
@@ -375,7 +380,7 @@ X.XSync(d, 0)
 PY
 echo "[{\"event\": \"screenshot\", \"file\": \"$dir/up.png\"},
  {\"event\": \"screenshot\", \"file\": \"$dir/late.png\", \"at\": 60}]" > "$dir/late.json"
-xvfb-run -a -s "-screen 0 320x240x24" bash -c '
+xrun -s "-screen 0 320x240x24" bash -c '
   "$1" view $4 --script "$2/late.json" 2> "$2/err.txt" & viewer=$!
   for i in $(seq 200); do [ -e "$2/up.png" ] && break; sleep 0.3; done
   python3 "$3"
@@ -413,7 +418,7 @@ if python3 -c 'import ctypes; ctypes.cdll.LoadLibrary("libXtst.so.6")' 2> /dev/n
   # Up once ready.png is written; the wait keeps the window open for the clicks.
   echo '[{"event": "screenshot", "file": "ready.png"}, {"event": "wait_converged", "at": 6}]' > cameras.json
   cp view.png view.bak; cp tf.json tf.bak; cp cameras.json cameras.bak
-  xvfb-run -a -s "-screen 0 800x600x24" bash -c '
+  xrun -s "-screen 0 800x600x24" bash -c '
     "$1" view view.png --tf tf.json --mode dvr --size 760x560 --script cameras.json 2> err.txt & viewer=$!
     for i in $(seq 200); do [ -e ready.png ] && break; sleep 0.3; done
     python3 "$2" 77,381 470,274 468,320
