@@ -166,6 +166,7 @@ class RefineRun {
       refineOrStop(n);
     }
     readAhead(residency_.readAheadRoom());
+    if (poolFull_) readBelowPoolFull(residency_.poolFullReadAheadRoom());
     result_.complete = complete_;
     return std::move(result_);
   }
@@ -252,6 +253,19 @@ class RefineRun {
         }
       }
       wanted = std::move(next);
+    }
+  }
+
+  // RefineResult::poolFullReadAhead.
+  void readBelowPoolFull(size_t room) {
+    std::vector<NodeKey>& ahead = result_.poolFullReadAhead;
+    for (const PlannedLeaf& l : result_.leaves) {
+      if (ahead.size() >= room) break;
+      if (l.reason != LeafReason::PoolFull) continue;
+      for (uint32_t o = 0; o < 8 && ahead.size() < room; ++o) {
+        const NodeKey c = l.key.child(o);
+        if (classify(c).cls == Class::DataBrick) ahead.push_back(c);
+      }
     }
   }
 

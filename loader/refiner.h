@@ -102,6 +102,9 @@ class BrickResidency {
   // How many bricks beyond those acquire() asked for may be read ahead (RefineResult::readAhead), asked once
   // after the refinement: the room left in the GPU pool and in the read requests. 0: no read-ahead.
   virtual size_t readAheadRoom() const { return 0; }
+  // How many bricks may be read below the leaves the GPU pool had no room for
+  // (RefineResult::poolFullReadAhead), asked once after a refinement that filled the pool. 0: none.
+  virtual size_t poolFullReadAheadRoom() const { return 0; }
 };
 
 struct RefineResult {
@@ -113,6 +116,12 @@ struct RefineResult {
   // hinted Occluded or Unused), level by level and by decreasing projected voxel size within a level, at most
   // BrickResidency::readAheadRoom(). Some may be resident already.
   std::vector<NodeKey> readAhead;
+  // When the GPU pool filled: the data children of the PoolFull leaves, leaf by leaf in the order the
+  // refinement reached them (priority), at most BrickResidency::poolFullReadAheadRoom(). They are what takes
+  // the slots the next hints free (the bricks of nodes found occluded or unused are reused first), so with
+  // them in core the frame that frees the slots fills them, instead of requesting them and waiting a frame
+  // for the disk. Some may be in core already.
+  std::vector<NodeKey> poolFullReadAhead;
   // No leaf waits for data or for upload budget: the next frame with the same input gives the same cut
   // (Occluded and Unused leaves wait for nothing the loader can do).
   bool complete = false;

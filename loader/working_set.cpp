@@ -41,9 +41,10 @@ SharedBrick makeConstantBrick(const BrickSourceInfo& info, uint16_t storedValue)
 // The data path as the refiner sees it during one update(): GPU slots, CPU cache, requests, upload budget.
 class WorkingSet::Residency final : public BrickResidency {
  public:
-  Residency(WorkingSet& ws, uint64_t uploadBudgetBytes)
+  Residency(WorkingSet& ws, uint64_t uploadBudgetBytes, size_t poolFullReadAhead)
       : ws_(ws),
         uploadBudgetBytes_(uploadBudgetBytes),
+        poolFullReadAhead_(poolFullReadAhead),
         keepRoom_(ws.cache_.budgetBytes() / ws.brickBytes_ - ws.maxRequests_) {}  // requests: half the cache
 
   Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
@@ -102,6 +103,11 @@ class WorkingSet::Residency final : public BrickResidency {
         ws_.slots_.availableCount() - std::min<uint64_t>(reservedSlots_, ws_.slots_.availableCount());
     const size_t requestRoom = ws_.maxRequests_ - std::min(requests.size(), ws_.maxRequests_);
     return size_t(std::min<uint64_t>(poolRoom, requestRoom));
+  }
+
+  size_t poolFullReadAheadRoom() const override {
+    const size_t requestRoom = ws_.maxRequests_ - std::min(requests.size(), ws_.maxRequests_);
+    return std::min(poolFullReadAhead_, requestRoom);
   }
 
   // Marks the kept bricks most recently used, the highest priority last: the reads the next frames take into
@@ -178,6 +184,7 @@ class WorkingSet::Residency final : public BrickResidency {
 
   WorkingSet& ws_;
   uint64_t uploadBudgetBytes_;  // this frame's: config and FrameInput, at least one brick
+  size_t poolFullReadAhead_;    // the most bricks read below PoolFull leaves this frame
   uint64_t reservedSlots_ = 0;  // children held back by the upload budget that have no slot yet
   uint64_t keepRoom_;           // CPU cache bricks beside the reads the workers may land
   uint64_t keptCount_ = 0;      // kept bricks, and those still to read for the same nodes
@@ -214,6 +221,9 @@ WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config
   // needs all children of a node at once) could use them. The workers may read all of it without waiting for
   // a frame to take what they read.
   maxRequests_ = std::max<uint64_t>(cache_.budgetBytes() / brickBytes_ / 2, 1);
+  poolFullReadAhead_ =
+      size_t(std::min<uint64_t>(std::max<uint64_t>(kMinPoolFullReadAhead, config.gpuSlots / 32),
+                                cache_.budgetBytes() / brickBytes_ / 8));
   io_ = std::make_unique<IoQueue>(source, config.ioThreads, maxRequests_);
 }
 
@@ -234,10 +244,10 @@ void WorkingSet::takeLoadedBricks() {
 }
 
 WorkingSetFrame WorkingSet::update(const FrameInput& input) {
-  return update(input, std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes));
+  return update(input, std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), /*progressive=*/true);
 }
 
-WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudgetBytes) {
+WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudgetBytes, bool progressive) {
   const auto start = SteadyClock::now();
   takeLoadedBricks();
 
@@ -252,7 +262,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudge
     if (const auto slot = slots_.find(k)) slots_.demote(*slot);
   }
   const uint64_t usedEvictionsBefore = slots_.usedEvictions();
-  Residency residency(*this, std::max(uploadBudgetBytes, brickBytes_));
+  // Only hints free pool slots on a still view, and only progressive frames come back for what was read.
+  Residency residency(*this, std::max(uploadBudgetBytes, brickBytes_),
+                      progressive && input.hints ? poolFullReadAhead_ : 0);
   // A node whose children the rays asked for and whose uploads the budget spreads over frames keeps the rank
   // of a request until they are all up, though the rays ask for something else meanwhile (a nearer node
   // that its uploads displaced): else each takes the other's slots in turn and a still view never settles.
@@ -276,6 +288,9 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudge
   std::stable_sort(requests.begin(), requests.end(),
                    [](const BrickRequest& a, const BrickRequest& b) { return a.priority > b.priority; });
   for (const NodeKey& k : refined.readAhead) {
+    if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
+  }
+  for (const NodeKey& k : refined.poolFullReadAhead) {
     if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
   }
   if (requests.size() > maxRequests_) requests.resize(maxRequests_);
@@ -319,7 +334,7 @@ WorkingSetFrame WorkingSet::updateUntilConverged(const FrameInput& input, const 
   for (uint32_t i = 0; i < std::max(maxFrames, 1u); ++i) {
     // No upload budget: it paces the uploads of progressive frames, and these passes make one frame whose
     // uploads are merged anyway.
-    frame = update(input, std::numeric_limits<uint64_t>::max());
+    frame = update(input, std::numeric_limits<uint64_t>::max(), /*progressive=*/false);
     refineMs += frame.stats.refineMs;
     usedBricksEvicted += frame.stats.usedBricksEvicted;
     bytesRead += frame.stats.bytesRead;

@@ -1,11 +1,12 @@
 // WorkingSet: the per-frame loader (Gobbetti et al. 2008, Sect. 4 and 7). Each update() drains the bricks the
 // I/O workers read into the CPU cache, refines the cut for the frame's camera with what is in core, assigns
 // GPU pool slots (LRU, occluded ones first, never one of the cut being built), asks the I/O workers for the
-// bricks the refinement lacked and for those the next refinements will lack (read-ahead; dropping requests no
-// longer wanted) and returns a plain plan: the cut with its slots, and the uploads to do now within the
-// upload budget. A frame always renders what is present: a node whose children are not all ready stays a leaf
-// at its coarser level, and update() never waits for the disk; nor do the I/O workers wait for frames (up to
-// half the CPU cache is read without being taken).
+// bricks the refinement lacked and for those the next refinements will lack (read-ahead, and with a full pool
+// in progressive frames with hints, below the leaves it had no room for; dropping requests no longer wanted)
+// and returns a plain plan: the cut with its slots, and the uploads to do now within the upload budget. A
+// frame always renders what is present: a node whose children are not all ready stays a leaf at its coarser
+// level, and update() never waits for the disk; nor do the I/O workers wait for frames (up to half the CPU
+// cache is read without being taken).
 // updateUntilConverged() is the synchronous mode (for `render` without progression, and tests): the same
 // code, repeated until the cut is complete.
 //
@@ -115,7 +116,8 @@ class WorkingSet {
  private:
   class Residency;
   void takeLoadedBricks();
-  WorkingSetFrame update(const FrameInput& input, uint64_t uploadBudgetBytes);
+  // progressive: a frame of update(), not a pass of updateUntilConverged().
+  WorkingSetFrame update(const FrameInput& input, uint64_t uploadBudgetBytes, bool progressive);
 
   const BrickSource& source_;
   WorkingSetConfig config_;
@@ -123,6 +125,12 @@ class WorkingSet {
   // Bricks requested at once, and read without being taken: half the CPU cache. Memory for bricks is thus at
   // most 1.5x --cpu-cache while frames are slower than the reads.
   size_t maxRequests_ = 1;
+  // Bricks read below the leaves a full GPU pool had no room for (RefineResult::poolFullReadAhead), in
+  // progressive frames with hints: a thirty-second of the pool (what one round of answers may free is a small
+  // share of it), at least one node's children, at most an eighth of the CPU cache (they must not evict each
+  // other, nor the bricks of waiting nodes).
+  static constexpr size_t kMinPoolFullReadAhead = 8;
+  size_t poolFullReadAhead_ = 0;
   BrickCache cache_;
   SlotTable slots_;
   // FrameInput::hiddenNodes, during update().

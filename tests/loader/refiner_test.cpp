@@ -36,8 +36,10 @@ class FakeResidency : public BrickResidency {
   std::set<NodeKey, KeyLess> notInCore;
   std::set<NodeKey, KeyLess> acquired;
   size_t readAheadRoom() const override { return aheadRoom; }
+  size_t poolFullReadAheadRoom() const override { return poolFullRoom; }
   std::set<NodeKey, KeyLess> askedFor;  // acquired or not
   size_t aheadRoom = 0;
+  size_t poolFullRoom = 0;
   size_t slotCapacity = 1u << 30;
   size_t pinned = 0;
   uint32_t nextSlot = 0;
@@ -302,6 +304,53 @@ TEST(Refiner, AFullPoolGoesToNodesInPriorityOrder) {
     EXPECT_GT(highestRefused, 0.0) << "capacity " << capacity;
     EXPECT_GE(lowestRefined, highestRefused) << "capacity " << capacity;
   }
+}
+
+TEST(Refiner, AFullPoolReadsAheadBelowTheLeavesItHadNoRoomForInTheirOrder) {
+  // Depth-3 children of odd depth-2 nodes are empty or constant but one: only data children are read.
+  auto fn = [](const NodeKey& k) -> NodeInfo {
+    if (k.depth == 3 && k.parent().coord.x % 2 == 1) {
+      const uint32_t octant = (k.coord.x & 1u) | (k.coord.y & 1u) << 1 | (k.coord.z & 1u) << 2;
+      if (octant == 1) return {NodeKind::Constant, 7, 7};
+      if (octant != 0) return {NodeKind::Empty, 0, 0};
+    }
+    return {NodeKind::Data, 0, 255};
+  };
+  const FakeBrickSource src({256, 256, 256}, 16, fn);
+  const RefineView view = viewFrom({-20, -30, -40}, {128, 128, 128}, 512, 60.0);
+  FakeResidency res;
+  res.slotCapacity = 60;
+  res.poolFullRoom = 1u << 20;
+  const RefineResult r = refine(src, view, {}, res);
+  // The data children in view of the PoolFull leaves, leaf by leaf in the cut's order.
+  std::vector<NodeKey> expected;
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.reason != LeafReason::PoolFull) continue;
+    for (uint32_t o = 0; o < 8; ++o) {
+      const NodeKey c = l.key.child(o);
+      if (src.node(c).kind == NodeKind::Data &&
+          boxInFrustum(nodeWorldBox(src.info().layout, glm::dvec3(1.0), c), view))
+        expected.push_back(c);
+    }
+  }
+  ASSERT_GT(expected.size(), 16u);
+  EXPECT_EQ(r.poolFullReadAhead, expected);
+  EXPECT_TRUE(std::none_of(r.poolFullReadAhead.begin(), r.poolFullReadAhead.end(),
+                           [&](const NodeKey& k) { return res.acquired.count(k) != 0; }));
+
+  // Within the room, the first ones; none without room, nor when the pool held everything.
+  FakeResidency small = res;
+  small.poolFullRoom = 11;
+  small.pinned = 0;
+  const RefineResult r11 = refine(src, view, {}, small);
+  EXPECT_EQ(r11.poolFullReadAhead, std::vector<NodeKey>(expected.begin(), expected.begin() + 11));
+  FakeResidency none = res;
+  none.poolFullRoom = 0;
+  none.pinned = 0;
+  EXPECT_TRUE(refine(src, view, {}, none).poolFullReadAhead.empty());
+  FakeResidency roomy;
+  roomy.poolFullRoom = 1u << 20;
+  EXPECT_TRUE(refine(src, view, {}, roomy).poolFullReadAhead.empty());
 }
 
 TEST(Refiner, NodesOutsideTheFrustumAreCulled) {

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -436,6 +437,52 @@ TEST(WorkingSet, BricksOfHiddenNodesAreReusedBeforeThoseThatLeftTheCutEarlier) {
         EXPECT_TRUE(onlyA.count(k)) << "by recency alone, the bricks that left the cut first go first";
     }
   }
+}
+
+TEST(WorkingSet, AFullPoolWithHintsFillsTheSlotsAHiddenNodeFreesWithoutWaitingForTheDisk) {
+  // Progressive frames with hints (none says anything yet) in a pool too small for the view, until the cut
+  // settles and nothing is pending. Then a refined node is hidden: its children's slots go to the first
+  // node the pool had no room for, whose bricks were read while the pool was full, so the same frame uploads
+  // them and nothing is requested. Without that read-ahead the node would wait a frame for the disk.
+  FakeBrickSource src = makeScene();
+  FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+  in.hints = [](const NodeKey&) { return NodeHint::None; };
+  WorkingSetConfig cfg = config(/*slots=*/60);
+  cfg.cpuCacheBytes = 400 * src.brickBytes();
+  WorkingSet ws(src, cfg);
+  WorkingSetFrame settled;
+  for (int frame = 0; frame < 100; ++frame) {
+    settled = ws.update(in);
+    if (settled.converged && ws.io().pendingCount() == 0) break;
+    ws.waitForReads(std::chrono::seconds(1));
+  }
+  ASSERT_TRUE(settled.converged);
+  ASSERT_EQ(ws.io().pendingCount(), 0u);
+  const auto firstPoolFull =
+      std::find_if(settled.leaves.begin(), settled.leaves.end(),
+                   [](const PlannedLeaf& l) { return l.reason == LeafReason::PoolFull; });
+  ASSERT_NE(firstPoolFull, settled.leaves.end());
+  const NodeKey waiting = firstPoolFull->key;
+  // A refined node, not above the waiting one, whose eight children are leaves with bricks.
+  std::map<NodeKey, int, KeyLess> brickChildren;
+  for (const PlannedLeaf& l : settled.leaves)
+    if (l.content == LeafContent::Brick && l.key.depth > 0) ++brickChildren[l.key.parent()];
+  std::optional<NodeKey> hidden;
+  for (const auto& [parent, count] : brickChildren) {
+    NodeKey a = waiting;
+    while (a.depth > parent.depth) a = a.parent();
+    if (count == 8 && a != parent) hidden = parent;
+  }
+  ASSERT_TRUE(hidden);
+
+  FrameInput hiding = in;
+  hiding.hints = [&](const NodeKey& k) { return k == *hidden ? NodeHint::Occluded : NodeHint::None; };
+  const WorkingSetFrame f = ws.update(hiding);
+  EXPECT_EQ(f.stats.cacheMisses, 0u);
+  EXPECT_TRUE(f.converged);
+  const auto cut = cutOf(f);
+  EXPECT_FALSE(cut.count(waiting)) << "the waiting node was not refined";
+  for (uint32_t o = 0; o < 8; ++o) EXPECT_TRUE(cut.count(waiting.child(o)));
 }
 
 TEST(WorkingSet, AColdStartReadsTheTreeWithoutWaitingForFrames) {
