@@ -20,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::errorOf;
+using testing::fileBytes;
 using testing::readSlab;
 using testing::samplePattern;
 using testing::TempDir;
@@ -69,17 +70,6 @@ TEST(SourceRaw, EveryTypeReadsBackWhatWasWritten) {
   expectRoundTrip<uint32_t>(dir, "uint32", SampleType::UInt32);
   expectRoundTrip<int32_t>(dir, "int32", SampleType::Int32);
   expectRoundTrip<double>(dir, "float64", SampleType::Float64);
-}
-
-// `values` as a file holds them: after `header` bytes, in the given byte order.
-template <typename T>
-std::string fileBytes(const std::vector<T>& values, bool bigEndian, size_t header) {
-  std::string bytes(header + values.size() * sizeof(T), 'h');
-  std::memcpy(bytes.data() + header, values.data(), values.size() * sizeof(T));
-  if (bigEndian != (std::endian::native == std::endian::big))
-    for (size_t i = header; i < bytes.size(); i += sizeof(T))
-      std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
-  return bytes;
 }
 
 template <typename T>

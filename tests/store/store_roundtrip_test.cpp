@@ -16,6 +16,7 @@
 namespace ropecast {
 namespace {
 
+using testing::fileBytes;
 using testing::TempDir;
 
 // Level 0 of a float32 store, as extract writes it.
@@ -207,17 +208,6 @@ TEST(StoreRoundTrip, ASourceNameThatIsNotUtf8IsKeptWithReplacementCharacters) {
   options.brickSize = 8;
   convertVolume(source, dir / "n.store", options);
   EXPECT_EQ(Store::open(dir / "n.store")->metadata().volume.description, "scan\uFFFD\uFFFD.raw");
-}
-
-// `values` as a file holds them: after `header` bytes, in the given byte order.
-template <typename T>
-std::string fileBytes(const std::vector<T>& values, bool bigEndian = false, size_t header = 0) {
-  std::string bytes(header + values.size() * sizeof(T), 'h');
-  std::memcpy(bytes.data() + header, values.data(), values.size() * sizeof(T));
-  if (bigEndian != (std::endian::native == std::endian::big))
-    for (size_t i = header; i < bytes.size(); i += sizeof(T))
-      std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
-  return bytes;
 }
 
 void writeFile(const std::filesystem::path& path, const std::string& bytes) {

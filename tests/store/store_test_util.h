@@ -1,9 +1,10 @@
 // Helpers shared by the store, converter and VolumeSource tests: synthetic volumes, a direct (non-streaming)
-// computation of the level pyramid and of expected bricks, a temporary directory, typed slab reads and the
-// message a bad source spec gives. Test code only; one thread.
+// computation of the level pyramid and of expected bricks, a temporary directory, typed slab reads, raw
+// file bytes and the message a bad source spec gives. Test code only; one thread.
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -24,6 +25,17 @@
 #include "store/volume_source.h"
 
 namespace ropecast::testing {
+
+// `values` as a file holds them: after `header` bytes, in the given byte order.
+template <typename T>
+std::string fileBytes(const std::vector<T>& values, bool bigEndian = false, size_t header = 0) {
+  std::string bytes(header + values.size() * sizeof(T), 'h');
+  std::memcpy(bytes.data() + header, values.data(), values.size() * sizeof(T));
+  if (bigEndian != (std::endian::native == std::endian::big))
+    for (size_t i = header; i < bytes.size(); i += sizeof(T))
+      std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
+  return bytes;
+}
 
 // A fresh directory under the system temp dir, removed with everything in it at the end of the test.
 class TempDir {
