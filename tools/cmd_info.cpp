@@ -1,6 +1,8 @@
 // `ropecast info STORE [--json]`: what a store holds (store/store.h summarizeStore). Main thread.
+#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +16,21 @@ namespace {
 
 double ratio(uint64_t a, uint64_t b) {
   return b > 0 ? double(a) / double(b) : 0.0;
+}
+
+// "stored", "stored - 32768", "stored * 0.6824 - 5000": the mapping as a person reads it.
+std::string mappingFormula(const ValueMapping& m) {
+  char text[96];
+  const char* sign = m.offset < 0 ? "-" : "+";
+  if (m.scale == 1.0) {
+    if (m.offset == 0.0) return "stored";
+    std::snprintf(text, sizeof text, "stored %s %g", sign, std::abs(m.offset));
+  } else if (m.offset == 0.0) {
+    std::snprintf(text, sizeof text, "stored * %g", m.scale);
+  } else {
+    std::snprintf(text, sizeof text, "stored * %g %s %g", m.scale, sign, std::abs(m.offset));
+  }
+  return text;
 }
 
 int runInfo(const std::string& path, bool json) {
@@ -51,9 +68,8 @@ int runInfo(const std::string& path, bool json) {
   std::printf("store      %s\n", path.c_str());
   std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
               v.spacing.x, v.spacing.y, v.spacing.z);
-  std::printf("type       %s (stored as %s, data = stored * %g + %g)\n",
-              std::string(sampleTypeName(v.type)).c_str(), std::string(sampleTypeName(m.storedType)).c_str(),
-              m.mapping.scale, m.mapping.offset);
+  std::printf("type       %s (stored as %s, data = %s)\n", std::string(sampleTypeName(v.type)).c_str(),
+              std::string(sampleTypeName(m.storedType)).c_str(), mappingFormula(m.mapping).c_str());
   std::printf("values     [%g, %g]%s\n", v.valueMin.value_or(0), v.valueMax.value_or(0),
               m.discardBelow ? (", discarded below " + std::to_string(*m.discardBelow)).c_str() : "");
   std::printf("bricks     %u^3 + border %u, %u levels, zstd level %d\n", m.brickSize, m.border, m.levels,

@@ -21,6 +21,7 @@ head -c $((20 * 20 * 9 * 2)) /dev/urandom > "$dir/ct.bin"
 "$ropecast" extract "$dir/b.store" -o "$dir/b0.raw" --quiet
 cmp "$dir/ct.bin" "$dir/b0.raw"
 "$ropecast" verify "$dir/b.store" --quiet
+"$ropecast" info "$dir/b.store" | grep -q "^type *int16 (stored as uint16, data = stored - 32768)$"
 
 # A big-endian int32 raw file after a 100-byte header (a wide type whose range fits 16 bits: kept exactly):
 # extract writes it back as little-endian int32.
@@ -32,7 +33,7 @@ open(sys.argv[2], "wb").write(struct.pack("<%di" % len(values), *values))
 PY
 "$ropecast" convert "$dir/be.bin" --dims 14,9,6 --type int32 --byte-order big --header-bytes 100 \
   -o "$dir/be.store" --brick 4 --quiet
-"$ropecast" info "$dir/be.store" | grep -q "^type *int32 (stored as uint16"
+"$ropecast" info "$dir/be.store" | grep -q "^type *int32 (stored as uint16, data = stored - 20000)$"
 "$ropecast" verify "$dir/be.store" --quiet
 "$ropecast" extract "$dir/be.store" -o "$dir/be0.raw" --quiet
 cmp "$dir/le.raw" "$dir/be0.raw"
