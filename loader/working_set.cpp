@@ -224,6 +224,8 @@ WorkingSet::WorkingSet(const BrickSource& source, const WorkingSetConfig& config
   poolFullReadAhead_ =
       size_t(std::min<uint64_t>(std::max<uint64_t>(kMinPoolFullReadAhead, config.gpuSlots / 32),
                                 cache_.budgetBytes() / brickBytes_ / 8));
+  if (poolFullReadAhead_ < kMinPoolFullReadAhead)
+    poolFullReadAhead_ = 0;  // part of a node's children: no use
   io_ = std::make_unique<IoQueue>(source, config.ioThreads, maxRequests_);
 }
 

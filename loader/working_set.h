@@ -128,7 +128,7 @@ class WorkingSet {
   // Bricks read below the leaves a full GPU pool had no room for (RefineResult::poolFullReadAhead), in
   // progressive frames with hints: a thirty-second of the pool (what one round of answers may free is a small
   // share of it), at least one node's children, at most an eighth of the CPU cache (they must not evict each
-  // other, nor the bricks of waiting nodes).
+  // other, nor the bricks of waiting nodes); none when that eighth cannot hold one node's children.
   static constexpr size_t kMinPoolFullReadAhead = 8;
   size_t poolFullReadAhead_ = 0;
   BrickCache cache_;
