@@ -79,27 +79,49 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
   return in;
 }
 
-SliceFormat sliceFormat(const OIIO::ImageSpec& spec, const std::string& what) {
+// The sample types of OpenImageIO's pixel types.
+constexpr std::pair<OIIO::TypeDesc::BASETYPE, SampleType> kPixelTypes[] = {
+    {OIIO::TypeDesc::UINT8, SampleType::UInt8},   {OIIO::TypeDesc::INT8, SampleType::Int8},
+    {OIIO::TypeDesc::UINT16, SampleType::UInt16}, {OIIO::TypeDesc::INT16, SampleType::Int16},
+    {OIIO::TypeDesc::UINT32, SampleType::UInt32}, {OIIO::TypeDesc::INT32, SampleType::Int32},
+    {OIIO::TypeDesc::FLOAT, SampleType::Float32}, {OIIO::TypeDesc::DOUBLE, SampleType::Float64}};
+
+// OpenImageIO's TIFF reader copies samples of 64 bits when it reads whole strips, but leaves them out (zeros,
+// and no error) when it reads one row or one tile at a time: in a TIFF one row high, or a tiled one. Of a
+// tiled TIFF it also leaves out samples of 17 to 31 bits. Such a file is refused rather than read as zeros.
+void refuseWhatOpenImageIOReadsAsZeros(const OIIO::ImageSpec& spec, std::string_view formatName, int bits,
+                                       const std::string& what) {
+  if (formatName != "tiff") return;
+  const std::string samples = std::to_string(bits) + "-bit samples";
+  if (spec.tile_width > 0 && bits > 16 && bits != 32)
+    throw Error("image slice " + what + " is a tiled TIFF of " + samples +
+                ", which OpenImageIO reads as zeros; expected one in strips (not tiled)");
+  if (spec.height == 1 && bits == 64)
+    throw Error("image slice " + what + " is a TIFF of " + samples +
+                " one row high, which OpenImageIO reads as zeros; expected slices of two rows or more");
+}
+
+// `formatName`: OpenImageIO's name of the file's format ("tiff", "png", ...).
+SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName, const std::string& what) {
   if (spec.nchannels != 1)
     throw Error("image slice " + what + " has " + std::to_string(spec.nchannels) +
                 " channels; expected a single-channel (grayscale) image");
   if (spec.depth > 1) throw Error("image slice " + what + " is a 3D image; expected 2D slices");
   if (spec.width <= 0 || spec.height <= 0) throw Error("image slice " + what + " is empty");
   SliceFormat format{uint32_t(spec.width), uint32_t(spec.height)};
-  if (spec.format == OIIO::TypeDesc::UINT8)
-    format.type = SampleType::UInt8;
-  else if (spec.format == OIIO::TypeDesc::UINT16)
-    format.type = SampleType::UInt16;
-  else if (spec.format == OIIO::TypeDesc::INT16)
-    format.type = SampleType::Int16;
-  else if (spec.format == OIIO::TypeDesc::FLOAT)
-    format.type = SampleType::Float32;
-  else
+  const auto* known = std::find_if(std::begin(kPixelTypes), std::end(kPixelTypes),
+                                   [&](const auto& p) { return spec.format == p.first; });
+  if (known == std::end(kPixelTypes))
     throw Error("image slice " + what + " has pixel type " + std::string(spec.format.c_str()) +
-                "; expected uint8, uint16, int16 or float");
+                "; expected " + std::string(kSampleTypeList));
+  format.type = known->second;
+  const uint32_t typeBits = uint32_t(8 * bytesPerSample(format.type));
   const int bits = spec.get_int_attribute("oiio:BitsPerSample", 0);
-  if (bits > 0 && format.type != SampleType::Float32 && uint32_t(bits) < 8 * bytesPerSample(format.type)) {
-    if (format.type == SampleType::Int16)
+  refuseWhatOpenImageIOReadsAsZeros(spec, formatName, bits > 0 ? bits : int(typeBits), what);
+  const bool isFloat = format.type == SampleType::Float32 || format.type == SampleType::Float64;
+  if (bits > 0 && !isFloat && uint32_t(bits) < typeBits) {
+    if (format.type == SampleType::Int8 || format.type == SampleType::Int16 ||
+        format.type == SampleType::Int32)
       throw Error("image slice " + what + " has signed " + std::to_string(bits) +
                   "-bit samples; expected 8, 16 or 32 bits, or unsigned samples");
     format.narrowBits = uint32_t(bits);
@@ -112,15 +134,22 @@ std::string photometricName(const SliceFormat& format) {
   return format.minIsWhite ? "MinIsWhite" : "MinIsBlack";
 }
 
+template <typename T>
+void shiftRight(std::span<std::byte> samples, uint32_t shift) {
+  const std::span<T> values(reinterpret_cast<T*>(samples.data()), samples.size() / sizeof(T));
+  for (T& v : values) v = T(v >> shift);
+}
+
 // Scales samples OpenImageIO widened from `bits` bits back to the file's values: it fills the type's range by
-// shifting left and repeating the high bits below, so a right shift undoes either.
+// shifting left and repeating the high bits below, so a right shift undoes either. (Unsigned types only.)
 void narrowSamples(std::span<std::byte> samples, SampleType type, uint32_t bits) {
-  if (type == SampleType::UInt8) {
-    for (std::byte& b : samples) b >>= (8 - bits);
-  } else {
-    const std::span<uint16_t> values(reinterpret_cast<uint16_t*>(samples.data()), samples.size() / 2);
-    for (uint16_t& v : values) v = uint16_t(v >> (16 - bits));
-  }
+  const uint32_t shift = uint32_t(8 * bytesPerSample(type)) - bits;
+  if (type == SampleType::UInt8)
+    shiftRight<uint8_t>(samples, shift);
+  else if (type == SampleType::UInt16)
+    shiftRight<uint16_t>(samples, shift);
+  else
+    shiftRight<uint32_t>(samples, shift);
 }
 
 void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const std::string& firstWhat,
@@ -154,7 +183,7 @@ class ImageSliceSource final : public VolumeSource {
     // Check every slice now, so a bad stack fails before any conversion work.
     if (multiPage_) multiPageInput_ = openImage(slices_.front().path);
     for (size_t z = 0; z < slices_.size(); ++z) {
-      const SliceFormat slice = sliceFormat(specOf(slices_[z]), describe(slices_[z], multiPage_));
+      const SliceFormat slice = formatOf(slices_[z]);
       if (z == 0)
         format_ = slice;
       else
@@ -183,22 +212,24 @@ class ImageSliceSource final : public VolumeSource {
       readSlice(slices_[z0 + i], out.subspan(i * info_.sliceBytes(), info_.sliceBytes()));
   }
 
-  OIIO::ImageSpec specOf(const SliceRef& slice) {
+  // The format of a slice (sliceFormat); a slice file of its own is checked to be whole and of one page.
+  SliceFormat formatOf(const SliceRef& slice) {
     if (multiPage_) {
       OIIO::ImageSpec spec;
       if (!multiPageInput_->seek_subimage(slice.page, 0, spec))
         throw Error("cannot read image slice " + describe(slice, true) + ": " +
                     oiioError(multiPageInput_.get()));
-      return spec;
+      return sliceFormat(spec, multiPageInput_->format_name(), describe(slice, true));
     }
     const auto in = openImage(slice.path);
     tiffPageCount(slice.path);  // refuses a TIFF cut short, whose missing data would read as zeros
-    OIIO::ImageSpec spec = withFileBits(in->spec(), *in, slice.path);
+    const OIIO::ImageSpec spec = withFileBits(in->spec(), *in, slice.path);
+    const std::string formatName = in->format_name();
     // A multi-page TIFF among the slices would give its first page only.
     if (in->seek_subimage(1, 0))
       throw Error("image slice " + slice.path + " has " + std::to_string(countImagePages(slice.path)) +
                   " pages; convert a multi-page TIFF on its own, or give single-page slices");
-    return spec;
+    return sliceFormat(spec, formatName, slice.path);
   }
 
   void readSlice(const SliceRef& slice, std::span<std::byte> out) {
@@ -213,7 +244,7 @@ class ImageSliceSource final : public VolumeSource {
     if (!in->seek_subimage(slice.page, 0, spec))
       throw Error("cannot read image slice " + what + ": " + oiioError(in));
     // The file may have changed since the stack was opened.
-    checkSameFormat(format_, sliceFormat(withFileBits(spec, *in, slice.path), what),
+    checkSameFormat(format_, sliceFormat(withFileBits(spec, *in, slice.path), in->format_name(), what),
                     describe(slices_[0], multiPage_), what);
     in->geterror();  // clears an earlier message, so that one after the read is the read's
     // A TIFF strip that cannot be read leaves zeros and an error message, but read_image succeeds.

@@ -1,8 +1,10 @@
 // The image-stack VolumeSource, read with OpenImageIO: a directory of 2D slices (every .tif/.tiff/.png file),
 // a glob pattern of slices (e.g. "dir/slice_*.png"), or one multi-page TIFF (each page a slice). Slices are
-// single-channel uint8, uint16, int16 or float images, all of one size, type and bit depth (samples of fewer
-// bits than their type, a 12-bit TIFF or a 1-bit PNG say, keep the file's values, and so do MinIsWhite TIFFs,
-// whose 0 viewers show as white); slice 0 is z = 0. Owned by loader/.
+// single-channel int8, uint8, int16, uint16, int32, uint32, float32 or float64 images (PNG holds uint8 and
+// uint16 only), all of one size, type and bit depth (unsigned samples of fewer bits than their type, a 12-bit
+// TIFF or a 1-bit PNG say, keep the file's values, and so do MinIsWhite TIFFs, whose 0 viewers show as
+// white); slice 0 is z = 0. TIFFs whose samples OpenImageIO would read as zeros are refused (tiled ones of
+// 24- or 64-bit samples, and those of 64-bit samples one row high). Owned by loader/.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time).
 #pragma once
@@ -34,7 +36,8 @@ std::string sliceNumberingNote(const std::vector<std::string>& files);
 
 // A stack of slice files (a directory or glob pattern). Every slice is checked when opening: a slice of
 // different size, type, bit depth or photometric interpretation (MinIsWhite among MinIsBlack), an unreadable
-// file, or a multi-channel image throws ropecast::Error naming the file.
+// file, a multi-channel image, or a TIFF whose samples OpenImageIO would read as zeros throws ropecast::Error
+// naming the file.
 std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
                                                    const SourceOptions& options);
 

@@ -38,6 +38,39 @@ PY
 "$ropecast" extract "$dir/be.store" -o "$dir/be0.raw" --quiet
 cmp "$dir/le.raw" "$dir/be0.raw"
 
+# A uint32 label stack (a folder of single-page TIFFs, deflate-compressed, as segmentation tools write them):
+# labels spanning at most 65535 are kept exactly, and extract gives them back as uint32.
+mkdir "$dir/labels"
+python3 - "$dir/labels" "$dir/labels.raw" <<'PY'
+import struct, sys, zlib
+w, h, depth = 13, 11, 6
+def write_tiff(path, samples):
+    data = zlib.compress(struct.pack("<%dI" % len(samples), *samples))
+    pad = len(data) % 2
+    entries = [(256, 4, w), (257, 4, h), (258, 3, 32), (259, 3, 8), (262, 3, 1), (273, 4, 8),
+               (277, 3, 1), (278, 4, h), (279, 4, len(data)), (339, 3, 1)]
+    out = b"II*\0" + struct.pack("<I", 8 + len(data) + pad) + data + b"\0" * pad
+    out += struct.pack("<H", len(entries))
+    for tag, kind, value in entries:  # kind 3: a 16-bit value, 4: a 32-bit one
+        packed = struct.pack("<HH", value, 0) if kind == 3 else struct.pack("<I", value)
+        out += struct.pack("<HHI", tag, kind, 1) + packed
+    open(path, "wb").write(out + struct.pack("<I", 0))
+volume = []
+for z in range(depth):
+    labels = [0 if (x + y + z) % 5 == 0 else 1 + (x // 4 + 3 * (y // 4) + 7 * z) % 40
+              for y in range(h) for x in range(w)]
+    if z == 2:
+        labels[5] = 65535
+    write_tiff("%s/mask_%d.tif" % (sys.argv[1], z), labels)
+    volume += labels
+open(sys.argv[2], "wb").write(struct.pack("<%dI" % len(volume), *volume))
+PY
+"$ropecast" convert "$dir/labels" -o "$dir/labels.store" --brick 8 --quiet
+"$ropecast" info "$dir/labels.store" | grep -q "^type *uint32 (stored as uint16, data = stored)$"
+"$ropecast" verify "$dir/labels.store" --quiet
+"$ropecast" extract "$dir/labels.store" -o "$dir/labels0.raw" --quiet
+cmp "$dir/labels.raw" "$dir/labels0.raw"
+
 # info: text and JSON name the dims, type and spacing.
 "$ropecast" info "$dir/b.store" | grep -q "20 x 20 x 9 samples, spacing 0.5 x 0.5 x 2"
 "$ropecast" info "$dir/b.store" --json > "$dir/info.json"

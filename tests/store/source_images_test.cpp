@@ -1,12 +1,16 @@
 // Tests of the image-stack VolumeSource (OpenImageIO): PNG and TIFF stacks from a directory or a glob,
-// multi-page TIFFs, every supported pixel type, bit depths narrower than it (bilevel PNG, 12-bit TIFF),
-// MinIsWhite TIFFs, slab reads at any z, name ordering, and each bad slice
-// (different size or type, unreadable, multi-channel, a TIFF cut short) or bad spec giving an error that
-// names the file.
+// multi-page TIFFs, every supported pixel type (int8, uint32, int32 and float64 converted and read back
+// through the store's mapping), bit depths narrower than it (bilevel PNG, 12-bit TIFF, 24-bit TIFF),
+// MinIsWhite TIFFs, slab reads at any z, name ordering, and each bad slice (different size or type,
+// unreadable, multi-channel, a TIFF cut short, one OpenImageIO would read as zeros) or bad spec giving an
+// error that names the file.
 #include "store/source_images.h"
 
 #include <OpenImageIO/imageio.h>
 
+#include <array>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -17,21 +21,28 @@
 
 #include "core/error.h"
 #include "tests/store/store_test_util.h"
+#include "tests/store/testutil_round_trip.h"
 
 namespace ropecast {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::convertAndOpen;
 using testing::errorOf;
+using testing::expectKept;
 using testing::readSlab;
 using testing::TempDir;
 
 template <typename T>
 OIIO::TypeDesc typeDescOf() {
   if constexpr (std::is_same_v<T, uint8_t>) return OIIO::TypeDesc::UINT8;
+  if constexpr (std::is_same_v<T, int8_t>) return OIIO::TypeDesc::INT8;
   if constexpr (std::is_same_v<T, uint16_t>) return OIIO::TypeDesc::UINT16;
   if constexpr (std::is_same_v<T, int16_t>) return OIIO::TypeDesc::INT16;
+  if constexpr (std::is_same_v<T, uint32_t>) return OIIO::TypeDesc::UINT32;
+  if constexpr (std::is_same_v<T, int32_t>) return OIIO::TypeDesc::INT32;
   if constexpr (std::is_same_v<T, float>) return OIIO::TypeDesc::FLOAT;
+  if constexpr (std::is_same_v<T, double>) return OIIO::TypeDesc::DOUBLE;
 }
 
 // Slice z of a w x h stack: distinct in x, y and z.
@@ -47,12 +58,14 @@ std::vector<T> slicePattern(uint32_t w, uint32_t h, uint32_t z) {
   return v;
 }
 
+// An image of `pixels`; tiled in tiles of `tile` x `tile` pixels when `tile` > 0.
 template <typename T>
 void writeImage(const std::string& path, uint32_t w, uint32_t h, const std::vector<T>& pixels,
-                int channels = 1) {
+                int channels = 1, int tile = 0) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out) << OIIO::geterror();
-  const OIIO::ImageSpec spec(int(w), int(h), channels, typeDescOf<T>());
+  OIIO::ImageSpec spec(int(w), int(h), channels, typeDescOf<T>());
+  spec.tile_width = spec.tile_height = tile;
   ASSERT_TRUE(out->open(path, spec)) << out->geterror();
   ASSERT_TRUE(out->write_image(typeDescOf<T>(), pixels.data())) << out->geterror();
   ASSERT_TRUE(out->close());
@@ -81,19 +94,27 @@ void writeNarrowImage(const std::string& path, uint32_t w, uint32_t h, const std
   ASSERT_TRUE(out->close());
 }
 
+// A multi-page TIFF of w x h pages.
 template <typename T>
-void writeMultiPage(const std::string& path, uint32_t w, uint32_t h, uint32_t pages) {
+void writePages(const std::string& path, uint32_t w, uint32_t h, const std::vector<std::vector<T>>& pages) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out && out->supports("multiimage"));
-  std::vector<OIIO::ImageSpec> specs(pages, OIIO::ImageSpec(int(w), int(h), 1, typeDescOf<T>()));
-  ASSERT_TRUE(out->open(path, int(pages), specs.data())) << out->geterror();
-  for (uint32_t z = 0; z < pages; ++z) {
+  std::vector<OIIO::ImageSpec> specs(pages.size(), OIIO::ImageSpec(int(w), int(h), 1, typeDescOf<T>()));
+  ASSERT_TRUE(out->open(path, int(pages.size()), specs.data())) << out->geterror();
+  for (size_t z = 0; z < pages.size(); ++z) {
     if (z > 0) {
       ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
     }
-    ASSERT_TRUE(out->write_image(typeDescOf<T>(), slicePattern<T>(w, h, z).data())) << out->geterror();
+    ASSERT_TRUE(out->write_image(typeDescOf<T>(), pages[z].data())) << out->geterror();
   }
   ASSERT_TRUE(out->close());
+}
+
+template <typename T>
+void writeMultiPage(const std::string& path, uint32_t w, uint32_t h, uint32_t pages) {
+  std::vector<std::vector<T>> patterns;
+  for (uint32_t z = 0; z < pages; ++z) patterns.push_back(slicePattern<T>(w, h, z));
+  writePages(path, w, h, patterns);
 }
 
 // A single-channel page of a TIFF written byte by byte (writeTiff), its rows packed as the file stores them.
@@ -102,24 +123,43 @@ struct TiffPage {
   uint16_t bits = 8;
   uint16_t photometric = 1;  // 0: MinIsWhite, 1: MinIsBlack
   std::vector<uint8_t> data;
+  uint16_t sampleFormat = 1;  // 1: unsigned, 2: signed, 3: floating point (tagged only when not 1)
 };
 
 template <typename T>
 TiffPage tiffPage(uint32_t w, uint32_t h, const std::vector<T>& samples, uint16_t photometric = 1) {
   TiffPage page{w, h, uint16_t(8 * sizeof(T)), photometric, std::vector<uint8_t>(samples.size() * sizeof(T))};
+  page.sampleFormat = std::is_floating_point_v<T> ? 3 : std::is_signed_v<T> ? 2 : 1;
   std::memcpy(page.data.data(), samples.data(), page.data.size());  // little-endian, as the file says
   return page;
+}
+
+// The directory entries of a page whose data starts at `dataAt`: tag, type (3: 16 bits, 4: 32 bits), value.
+// SampleFormat only for samples that are not unsigned, so that the directories of unsigned pages are 114
+// bytes (9 entries).
+std::vector<std::array<uint32_t, 3>> tiffEntries(const TiffPage& page, uint32_t dataAt) {
+  std::vector<std::array<uint32_t, 3>> entries = {
+      {256, 4, page.width}, {257, 4, page.height},      {258, 3, page.bits},
+      {259, 3, 1},          {262, 3, page.photometric}, {273, 4, dataAt},
+      {277, 3, 1},          {278, 4, page.height},      {279, 4, uint32_t(page.data.size())}};
+  if (page.sampleFormat != 1) entries.push_back({339, 3, page.sampleFormat});
+  return entries;
+}
+
+uint32_t tiffDirectoryBytes(const TiffPage& page) {
+  return uint32_t(2 + tiffEntries(page, 0).size() * 12 + 4);
 }
 
 // A little-endian, uncompressed TIFF, for what OpenImageIO does not write: MinIsWhite pages, and every page's
 // directory ahead of all the image data (OpenImageIO writes each page's data, then its directory).
 void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool directoriesFirst = false) {
-  constexpr uint32_t kEntries = 9, kDirectoryBytes = 2 + kEntries * 12 + 4;
   std::vector<uint8_t> file{'I', 'I', 42, 0, 0, 0, 0, 0};
   const auto put = [&](uint32_t at, uint32_t value, int bytes) {
     for (int i = 0; i < bytes; ++i) file[at + i] = uint8_t(value >> (8 * i));
   };
-  uint32_t dataAt = 8 + (directoriesFirst ? uint32_t(pages.size()) * kDirectoryBytes : 0);
+  uint32_t dataAt = 8;
+  if (directoriesFirst)
+    for (const TiffPage& page : pages) dataAt += tiffDirectoryBytes(page);
   uint32_t linkAt = 4;  // where the offset of the next directory goes
   for (const TiffPage& page : pages) {
     if (!directoriesFirst) {
@@ -128,22 +168,18 @@ void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool
       if (file.size() % 2) file.push_back(0);  // directories start on a word boundary
     }
     const uint32_t directoryAt = uint32_t(file.size());
+    const std::vector<std::array<uint32_t, 3>> entries = tiffEntries(page, dataAt);
     put(linkAt, directoryAt, 4);
-    file.resize(file.size() + kDirectoryBytes);
-    put(directoryAt, kEntries, 2);
-    const uint32_t entries[kEntries][3] = {
-        // tag, type (3: 16 bits, 4: 32 bits), value
-        {256, 4, page.width}, {257, 4, page.height},      {258, 3, page.bits},
-        {259, 3, 1},          {262, 3, page.photometric}, {273, 4, dataAt},
-        {277, 3, 1},          {278, 4, page.height},      {279, 4, uint32_t(page.data.size())}};
-    for (uint32_t e = 0; e < kEntries; ++e) {
+    file.resize(file.size() + tiffDirectoryBytes(page));
+    put(directoryAt, uint32_t(entries.size()), 2);
+    for (uint32_t e = 0; e < entries.size(); ++e) {
       const uint32_t at = directoryAt + 2 + 12 * e;
       put(at, entries[e][0], 2);
       put(at + 2, entries[e][1], 2);
       put(at + 4, 1, 4);
       put(at + 8, entries[e][2], entries[e][1] == 3 ? 2 : 4);
     }
-    linkAt = directoryAt + 2 + kEntries * 12;
+    linkAt = directoryAt + 2 + uint32_t(entries.size()) * 12;
     if (directoriesFirst) dataAt += uint32_t(page.data.size());
   }
   if (directoriesFirst)
@@ -211,6 +247,126 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<float>(*source, 10, 7, 6);
   auto i16 = openVolumeSource(dir.file("pages16.tiff"));
   expectSlices<int16_t>(*i16, 5, 12, 3);
+}
+
+// `values` (w x h slices, x fastest) as a folder of TIFF slices and as a multi-page TIFF, each converted and
+// read back through the store's mapping: kept as a raw file of the same type keeps them (expectKept).
+template <typename T>
+void expectKeptThroughTiffs(SampleType type, uint32_t w, uint32_t h, const std::vector<T>& values,
+                            bool exact) {
+  TempDir dir;
+  const size_t sliceSamples = size_t(w) * h;
+  std::vector<std::vector<T>> slices;
+  for (size_t at = 0; at < values.size(); at += sliceSamples)
+    slices.emplace_back(values.begin() + at, values.begin() + at + sliceSamples);
+  std::filesystem::create_directories(dir.file("stack"));
+  for (size_t z = 0; z < slices.size(); ++z)
+    writeImage(dir.file("stack/s" + std::to_string(z) + ".tif"), w, h, slices[z]);
+  writePages(dir.file("pages.tif"), w, h, slices);
+  for (const std::string& spec : {dir.file("stack"), dir.file("pages.tif")}) {
+    EXPECT_EQ(openVolumeSource(spec)->info().type, type) << spec;
+    expectKept(*convertAndOpen(dir, spec), values, type, exact, spec);
+  }
+}
+
+constexpr uint32_t kWideW = 9, kWideH = 7, kWideDepth = 5, kWideSamples = kWideW * kWideH * kWideDepth;
+
+// int8 slices are stored as value + 128, as int8 raw files are.
+TEST(SourceImages, Int8SlicesAreKeptExactly) {
+  std::vector<int8_t> values(kWideSamples);
+  for (size_t i = 0; i < values.size(); ++i) values[i] = int8_t(int(i * 37 % 256) - 128);
+  values[0] = -128;
+  values[1] = 127;
+  expectKeptThroughTiffs<int8_t>(SampleType::Int8, kWideW, kWideH, values, true);
+}
+
+// uint32 and int32 slices (label masks, say) whose values span at most 65535 are stored as value - min,
+// exactly: here at the ends of their type, with the widest such span.
+TEST(SourceImages, ThirtyTwoBitIntegerSlicesWhoseRangeFits16BitsAreKeptExactly) {
+  std::vector<uint32_t> unsignedValues(kWideSamples);
+  for (size_t i = 0; i < unsignedValues.size(); ++i)
+    unsignedValues[i] = 4294901760u + uint32_t(i * 7919 % 65536);
+  unsignedValues[0] = 4294901760u;
+  unsignedValues[1] = 4294967295u;
+  expectKeptThroughTiffs<uint32_t>(SampleType::UInt32, kWideW, kWideH, unsignedValues, true);
+
+  std::vector<int32_t> signedValues(kWideSamples);
+  for (size_t i = 0; i < signedValues.size(); ++i) signedValues[i] = INT32_MIN + int32_t(i * 7919 % 65536);
+  signedValues[0] = INT32_MIN;
+  signedValues[1] = INT32_MIN + 65535;
+  expectKeptThroughTiffs<int32_t>(SampleType::Int32, kWideW, kWideH, signedValues, true);
+}
+
+// Wider ranges are quantized over [min, max]: within half a step.
+TEST(SourceImages, ThirtyTwoBitIntegerSlicesOverWiderRangesAreQuantizedWithinHalfAStep) {
+  std::vector<int32_t> signedValues(kWideSamples);
+  for (size_t i = 0; i < signedValues.size(); ++i) signedValues[i] = int32_t(uint32_t(i * 2654435761u));
+  signedValues[0] = INT32_MIN;
+  signedValues[1] = INT32_MAX;
+  expectKeptThroughTiffs<int32_t>(SampleType::Int32, kWideW, kWideH, signedValues, false);
+
+  std::vector<uint32_t> unsignedValues(kWideSamples);
+  for (size_t i = 0; i < unsignedValues.size(); ++i) unsignedValues[i] = uint32_t(i * 2654435761u);
+  unsignedValues[1] = 4294967295u;
+  expectKeptThroughTiffs<uint32_t>(SampleType::UInt32, kWideW, kWideH, unsignedValues, false);
+}
+
+// float64 slices are quantized over their range, here one beyond what a float holds.
+TEST(SourceImages, Float64SlicesAreQuantizedWithinHalfAStep) {
+  std::vector<double> values(kWideSamples);
+  for (size_t i = 0; i < values.size(); ++i)
+    values[i] = -3e40 + 7e40 * std::fmod(double(i) * 0.6180339887, 1.0);
+  expectKeptThroughTiffs<double>(SampleType::Float64, kWideW, kWideH, values, false);
+}
+
+// Slices of one width but another signedness are of another type.
+TEST(SourceImages, AStackMixingUint32AndInt32SlicesNamesBoth) {
+  TempDir dir;
+  for (uint32_t z = 0; z < 3; ++z)
+    writeImage(dir.file("s" + std::to_string(z) + ".tif"), 5, 4, slicePattern<uint32_t>(5, 4, z));
+  writeImage(dir.file("s3.tif"), 5, 4, slicePattern<int32_t>(5, 4, 3));
+  const std::string message = errorOf(dir.path().string());
+  EXPECT_NE(message.find(dir.file("s3.tif") + " has type int32, but " + dir.file("s0.tif") + " has uint32"),
+            std::string::npos)
+      << message;
+}
+
+// OpenImageIO reads 64-bit samples as zeros, and reports no error, from a tiled TIFF or one a single row high
+// (it reads those a tile or a row at a time), and so 17- to 31-bit samples from a tiled TIFF: such slices
+// are refused, naming the file. Tiled 8- and 32-bit TIFFs read as they should.
+TEST(SourceImages, TiffsWhoseSamplesOpenImageIOReadsAsZerosAreRefused) {
+  TempDir dir;
+  writeImage(dir.file("tiled64.tif"), 20, 18, slicePattern<double>(20, 18, 0), 1, 16);
+  writeImage(dir.file("row64_0.tif"), 20, 1, slicePattern<double>(20, 1, 0));
+  writeImage(dir.file("row64_1.tif"), 20, 1, slicePattern<double>(20, 1, 1));
+  {
+    auto out = OIIO::ImageOutput::create(dir.file("tiled24.tif"));
+    OIIO::ImageSpec spec(20, 18, 1, OIIO::TypeDesc::UINT32);
+    spec.attribute("oiio:BitsPerSample", 24);
+    spec.tile_width = spec.tile_height = 16;
+    const std::vector<uint32_t> samples(20 * 18, 0x12345600u);
+    ASSERT_TRUE(out->open(dir.file("tiled24.tif"), spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT32, samples.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+  }
+  for (const std::string bits : {"64", "24"}) {
+    const std::string message = errorOf(dir.file("tiled" + bits + "*"));
+    EXPECT_NE(message.find(dir.file("tiled" + bits + ".tif") + " is a tiled TIFF of " + bits +
+                           "-bit samples, which OpenImageIO reads as zeros"),
+              std::string::npos)
+        << message;
+  }
+  const std::string message = errorOf(dir.file("row64_*.tif"));
+  EXPECT_NE(message.find(dir.file("row64_0.tif") +
+                         " is a TIFF of 64-bit samples one row high, which OpenImageIO reads as zeros"),
+            std::string::npos)
+      << message;
+
+  writeImage(dir.file("tiled32_0.tif"), 20, 18, slicePattern<int32_t>(20, 18, 0), 1, 16);
+  writeImage(dir.file("tiled32_1.tif"), 20, 18, slicePattern<int32_t>(20, 18, 1), 1, 16);
+  expectSlices<int32_t>(*openVolumeSource(dir.file("tiled32_*.tif")), 20, 18, 2);
+  writeImage(dir.file("tiled8_0.tif"), 20, 18, slicePattern<int8_t>(20, 18, 0), 1, 16);
+  expectSlices<int8_t>(*openVolumeSource(dir.file("tiled8_*.tif")), 20, 18, 1);
 }
 
 // Samples of `bits` bits (1, 2 or 4), w x h, packed as PNG and TIFF store them: the first sample in the high
@@ -340,8 +496,33 @@ TEST(SourceImages, NarrowBitDepthsKeepTheFilesValues) {
   const auto read4 = readSlab<uint8_t>(*tiff4, 0, 1);
   EXPECT_EQ(std::vector<uint16_t>(read4.begin(), read4.end()), values4);
 
+  std::filesystem::create_directories(dir.file("tiff24"));
+  std::vector<uint32_t> values24(5 * 3);
+  for (size_t i = 0; i < values24.size(); ++i) values24[i] = uint32_t(i * 1118481 + 7);  // up to 15658741
+  values24[1] = 0xffffff;
+  {
+    // OpenImageIO writes the high 24 bits of the uint32 samples it is given.
+    auto out = OIIO::ImageOutput::create(dir.file("tiff24/a.tif"));
+    OIIO::ImageSpec spec(5, 3, 1, OIIO::TypeDesc::UINT32);
+    spec.attribute("oiio:BitsPerSample", 24);
+    std::vector<uint32_t> widened(values24.size());
+    for (size_t i = 0; i < values24.size(); ++i) widened[i] = values24[i] << 8;
+    ASSERT_TRUE(out->open(dir.file("tiff24/a.tif"), spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT32, widened.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+  }
+  auto tiff24 = openVolumeSource(dir.file("tiff24"));
+  EXPECT_EQ(tiff24->info().type, SampleType::UInt32);
+  EXPECT_EQ(readSlab<uint32_t>(*tiff24, 0, 1), values24);
+
+  // Signed samples narrower than their type: a 4-bit int8 TIFF.
+  writeTiff(dir.file("signed4.tif"), {TiffPage{4, 1, 4, 1, {0x1f, 0x7a}, 2}});
+  std::string message = errorOf(dir.file("signed4*.tif"));
+  EXPECT_NE(message.find(dir.file("signed4.tif") + " has signed 4-bit samples"), std::string::npos)
+      << message;
+
   writeImage(dir.file("tiff12/s2.tif"), 6, 4, slicePattern<uint16_t>(6, 4, 2));  // 16 bits
-  const std::string message = errorOf(dir.file("tiff12"));
+  message = errorOf(dir.file("tiff12"));
   EXPECT_NE(message.find("16-bit samples, but " + dir.file("tiff12/s0.tif") + " has 12-bit ones"),
             std::string::npos)
       << message;
@@ -373,6 +554,17 @@ TEST(SourceImages, MinIsWhiteTiffsKeepTheirStoredValues) {
   const auto white1 = openVolumeSource(dir.file("white1.tif"));
   EXPECT_EQ(white1->info().valueMax, 1.0);
   EXPECT_EQ(readSlab<uint8_t>(*white1, 1, 1), (std::vector<uint8_t>{1, 0, 1, 1, 0, 0, 0, 0}));
+
+  // Signed and floating-point samples, which OpenImageIO does not invert either.
+  std::vector<TiffPage> pagesInt8, pagesFloat64;
+  for (uint32_t z = 0; z < 3; ++z) {
+    pagesInt8.push_back(tiffPage(6, 4, slicePattern<int8_t>(6, 4, z), 0));
+    pagesFloat64.push_back(tiffPage(6, 4, slicePattern<double>(6, 4, z), 0));
+  }
+  writeTiff(dir.file("white_int8.tif"), pagesInt8);
+  expectSlices<int8_t>(*openVolumeSource(dir.file("white_int8.tif")), 6, 4, 3);
+  writeTiff(dir.file("white_float64.tif"), pagesFloat64);
+  expectSlices<double>(*openVolumeSource(dir.file("white_float64.tif")), 6, 4, 3);
 
   writeTiff(dir.file("white8/s3.tif"), {tiffPage(7, 5, slicePattern<uint8_t>(7, 5, 3), /*photometric=*/1)});
   std::string message = errorOf(dir.file("white8"));
