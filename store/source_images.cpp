@@ -10,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -36,6 +38,9 @@ struct SliceFormat {
   // TIFF's MinIsWhite: viewers show 0 as white. The volume keeps the stored values, as at every other bit
   // depth; OpenImageIO inverts 8-bit (and narrower) ones, which is undone.
   bool minIsWhite = false;
+  // 1: gray; 3 or 4: RGB or RGBA (a palette image too, which OpenImageIO expands), read as gray from R when
+  // R = G = B (and alpha is opaque) at every pixel, which only the pixels tell (grayFromColor).
+  uint32_t channels = 1;
 };
 
 std::string describe(const SliceRef& slice, bool multiPage) {
@@ -74,7 +79,10 @@ std::string firstLine(const std::string& message) {
 
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
   requireRegularFile(path, "cannot read image " + path);  // before OpenImageIO's open, which waits on a FIFO
-  auto in = OIIO::ImageInput::open(path);
+  // Alpha as the file stores it: OpenImageIO would otherwise multiply the color channels by it.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw Error("cannot read image " + path + ": " + oiioError(nullptr));
   return in;
 }
@@ -103,9 +111,14 @@ void refuseWhatOpenImageIOReadsAsZeros(const OIIO::ImageSpec& spec, std::string_
 
 // `formatName`: OpenImageIO's name of the file's format ("tiff", "png", ...).
 SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName, const std::string& what) {
-  if (spec.nchannels != 1)
-    throw Error("image slice " + what + " has " + std::to_string(spec.nchannels) +
-                " channels; expected a single-channel (grayscale) image");
+  static const std::vector<std::string> kRgb{"R", "G", "B"}, kRgba{"R", "G", "B", "A"};
+  const std::vector<std::string> names(spec.channelnames.begin(), spec.channelnames.end());
+  if (spec.nchannels != 1 && names != kRgb && names != kRgba) {
+    std::string listed;
+    for (const std::string& name : names) listed += (listed.empty() ? "" : ", ") + name;
+    throw Error("image slice " + what + " has " + std::to_string(spec.nchannels) + " channels (" + listed +
+                "); expected a single-channel (grayscale) image, or RGB or RGBA with equal color channels");
+  }
   if (spec.depth > 1) throw Error("image slice " + what + " is a 3D image; expected 2D slices");
   if (spec.width <= 0 || spec.height <= 0) throw Error("image slice " + what + " is empty");
   SliceFormat format{uint32_t(spec.width), uint32_t(spec.height)};
@@ -119,19 +132,81 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName
   const int bits = spec.get_int_attribute("oiio:BitsPerSample", 0);
   refuseWhatOpenImageIOReadsAsZeros(spec, formatName, bits > 0 ? bits : int(typeBits), what);
   const bool isFloat = format.type == SampleType::Float32 || format.type == SampleType::Float64;
-  if (bits > 0 && !isFloat && uint32_t(bits) < typeBits) {
+  const int photometric = spec.get_int_attribute("tiff:PhotometricInterpretation", 1);
+  // A palette TIFF's bits per sample are those of its indexes; its colors are of the type's full range.
+  const bool palette = photometric == 3;
+  if (bits > 0 && !isFloat && !palette && uint32_t(bits) < typeBits) {
     if (format.type == SampleType::Int8 || format.type == SampleType::Int16 ||
         format.type == SampleType::Int32)
       throw Error("image slice " + what + " has signed " + std::to_string(bits) +
                   "-bit samples; expected 8, 16 or 32 bits, or unsigned samples");
     format.narrowBits = uint32_t(bits);
   }
-  format.minIsWhite = spec.get_int_attribute("tiff:PhotometricInterpretation", 1) == 0;
+  format.minIsWhite = photometric == 0;
+  format.channels = uint32_t(spec.nchannels);
   return format;
 }
 
 std::string photometricName(const SliceFormat& format) {
-  return format.minIsWhite ? "MinIsWhite" : "MinIsBlack";
+  return format.minIsWhite ? "MinIsWhite" : format.channels > 1 ? "RGB" : "MinIsBlack";
+}
+
+// A sample as a number (int8 and uint8 too), with the digits that tell floats apart.
+template <typename T>
+std::string sampleText(T value) {
+  std::ostringstream text;
+  text.precision(std::numeric_limits<T>::max_digits10);
+  text << +value;
+  return text.str();
+}
+
+// The gray of RGB or RGBA `pixels` (`channels` samples each, `width` to a row) into `gray`: R, where R, G and
+// B are the same sample and alpha is the type's maximum (1 for floats); else an error naming the first pixel
+// that is not gray.
+template <typename T>
+void grayFromColor(std::span<const std::byte> pixels, uint32_t channels, uint32_t width,
+                   std::span<std::byte> gray, const std::string& what) {
+  const T* pixel = reinterpret_cast<const T*>(pixels.data());
+  T* out = reinterpret_cast<T*>(gray.data());
+  const T opaque = std::is_floating_point_v<T> ? T(1) : std::numeric_limits<T>::max();
+  const auto at = [&](size_t i) {
+    return "pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) + ")";
+  };
+  for (size_t i = 0; i < gray.size() / sizeof(T); ++i, pixel += channels) {
+    // Bit for bit, so that a NaN gray is gray too.
+    if (std::memcmp(&pixel[0], &pixel[1], sizeof(T)) != 0 ||
+        std::memcmp(&pixel[0], &pixel[2], sizeof(T)) != 0)
+      throw Error("image slice " + what + " has color channels that differ at " + at(i) + ": R " +
+                  sampleText(pixel[0]) + ", G " + sampleText(pixel[1]) + ", B " + sampleText(pixel[2]) +
+                  "; expected a grayscale image, or color channels equal at every pixel");
+    if (channels == 4 && pixel[3] != opaque)
+      throw Error("image slice " + what + " has alpha " + sampleText(pixel[3]) + " at " + at(i) +
+                  "; expected a grayscale image, or alpha opaque (" + sampleText(opaque) +
+                  ") at every pixel");
+    out[i] = pixel[0];
+  }
+}
+
+void grayFromColor(std::span<const std::byte> pixels, const SliceFormat& format, std::span<std::byte> gray,
+                   const std::string& what) {
+  switch (format.type) {
+    case SampleType::UInt8:
+      return grayFromColor<uint8_t>(pixels, format.channels, format.width, gray, what);
+    case SampleType::Int8:
+      return grayFromColor<int8_t>(pixels, format.channels, format.width, gray, what);
+    case SampleType::UInt16:
+      return grayFromColor<uint16_t>(pixels, format.channels, format.width, gray, what);
+    case SampleType::Int16:
+      return grayFromColor<int16_t>(pixels, format.channels, format.width, gray, what);
+    case SampleType::UInt32:
+      return grayFromColor<uint32_t>(pixels, format.channels, format.width, gray, what);
+    case SampleType::Int32:
+      return grayFromColor<int32_t>(pixels, format.channels, format.width, gray, what);
+    case SampleType::Float32:
+      return grayFromColor<float>(pixels, format.channels, format.width, gray, what);
+    case SampleType::Float64:
+      return grayFromColor<double>(pixels, format.channels, format.width, gray, what);
+  }
 }
 
 template <typename T>
@@ -180,10 +255,14 @@ class ImageSliceSource final : public VolumeSource {
   ImageSliceSource(std::vector<SliceRef> slices, bool multiPage, std::string description,
                    const SourceOptions& options)
       : slices_(std::move(slices)), multiPage_(multiPage) {
-    // Check every slice now, so a bad stack fails before any conversion work.
+    // Check every slice now, so a bad stack fails before any conversion work; whether a color slice is gray
+    // takes its pixels, and is checked as it is read.
     if (multiPage_) multiPageInput_ = openImage(slices_.front().path);
+    size_t colorSlices = 0;
+    std::string firstColor;
     for (size_t z = 0; z < slices_.size(); ++z) {
       const SliceFormat slice = formatOf(slices_[z]);
+      if (slice.channels > 1 && colorSlices++ == 0) firstColor = describe(slices_[z], multiPage_);
       if (z == 0)
         format_ = slice;
       else
@@ -201,6 +280,14 @@ class ImageSliceSource final : public VolumeSource {
       addNote(
           "the TIFF slices are MinIsWhite (viewers show 0 as white); the volume keeps their stored values, "
           "so what a viewer shows dark is high in the volume");
+    if (colorSlices > 0)
+      addNote(
+          (colorSlices == slices_.size()
+               ? std::string("the slices are")
+               : std::to_string(colorSlices) + " of the " + std::to_string(slices_.size()) +
+                     " slices (first: " + firstColor + ") are") +
+          " RGB or RGBA images, read as gray (their red channel): each must have equal color channels "
+          "and an opaque alpha at every pixel, or converting stops, naming the first pixel that does not");
   }
 
   const VolumeInfo& info() const override { return info_; }
@@ -244,12 +331,15 @@ class ImageSliceSource final : public VolumeSource {
     if (!in->seek_subimage(slice.page, 0, spec))
       throw Error("cannot read image slice " + what + ": " + oiioError(in));
     // The file may have changed since the stack was opened.
-    checkSameFormat(format_, sliceFormat(withFileBits(spec, *in, slice.path), in->format_name(), what),
-                    describe(slices_[0], multiPage_), what);
+    const SliceFormat format = sliceFormat(withFileBits(spec, *in, slice.path), in->format_name(), what);
+    checkSameFormat(format_, format, describe(slices_[0], multiPage_), what);
+    std::vector<std::byte> pixels(format.channels > 1 ? out.size() * format.channels : 0);
+    const std::span<std::byte> read = format.channels > 1 ? std::span<std::byte>(pixels) : out;
     in->geterror();  // clears an earlier message, so that one after the read is the read's
     // A TIFF strip that cannot be read leaves zeros and an error message, but read_image succeeds.
-    if (!in->read_image(slice.page, 0, 0, 1, spec.format, out.data()) || in->has_error())
+    if (!in->read_image(slice.page, 0, 0, int(format.channels), spec.format, read.data()) || in->has_error())
       throw Error("cannot read image slice " + what + ": " + firstLine(oiioError(in)));
+    if (format.channels > 1) grayFromColor(pixels, format, out, what);
     if (format_.minIsWhite && spec.format == OIIO::TypeDesc::UINT8)
       for (std::byte& b : out) b = ~b;  // undoes OpenImageIO's 255 - v
     if (format_.narrowBits) narrowSamples(out, format_.type, format_.narrowBits);

@@ -1,9 +1,9 @@
 // Tests of the image-stack VolumeSource (OpenImageIO): PNG and TIFF stacks from a directory or a glob,
 // multi-page TIFFs, every supported pixel type (int8, uint32, int32 and float64 converted and read back
 // through the store's mapping), bit depths narrower than it (bilevel PNG, 12-bit TIFF, 24-bit TIFF),
-// MinIsWhite TIFFs, slab reads at any z, name ordering, and each bad slice (different size or type,
-// unreadable, multi-channel, a TIFF cut short, one OpenImageIO would read as zeros) or bad spec giving an
-// error that names the file.
+// MinIsWhite TIFFs, gray slices saved as RGB, RGBA or palette images, slab reads at any z, name ordering,
+// and each bad slice (different size or type, unreadable, two channels, color that is not gray, a TIFF cut
+// short, one OpenImageIO would read as zeros) or bad spec giving an error that names the file.
 #include "store/source_images.h"
 
 #include <OpenImageIO/imageio.h>
@@ -14,6 +14,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -30,6 +32,7 @@ namespace fs = std::filesystem;
 using testing::convertAndOpen;
 using testing::errorOf;
 using testing::expectKept;
+using testing::level0Data;
 using testing::readSlab;
 using testing::TempDir;
 
@@ -66,6 +69,7 @@ void writeImage(const std::string& path, uint32_t w, uint32_t h, const std::vect
   ASSERT_TRUE(out) << OIIO::geterror();
   OIIO::ImageSpec spec(int(w), int(h), channels, typeDescOf<T>());
   spec.tile_width = spec.tile_height = tile;
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // alpha as given, not divided out of the color
   ASSERT_TRUE(out->open(path, spec)) << out->geterror();
   ASSERT_TRUE(out->write_image(typeDescOf<T>(), pixels.data())) << out->geterror();
   ASSERT_TRUE(out->close());
@@ -94,12 +98,14 @@ void writeNarrowImage(const std::string& path, uint32_t w, uint32_t h, const std
   ASSERT_TRUE(out->close());
 }
 
-// A multi-page TIFF of w x h pages.
+// A multi-page TIFF of w x h pages of `channels` samples a pixel.
 template <typename T>
-void writePages(const std::string& path, uint32_t w, uint32_t h, const std::vector<std::vector<T>>& pages) {
+void writePages(const std::string& path, uint32_t w, uint32_t h, const std::vector<std::vector<T>>& pages,
+                int channels = 1) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out && out->supports("multiimage"));
-  std::vector<OIIO::ImageSpec> specs(pages.size(), OIIO::ImageSpec(int(w), int(h), 1, typeDescOf<T>()));
+  std::vector<OIIO::ImageSpec> specs(pages.size(),
+                                     OIIO::ImageSpec(int(w), int(h), channels, typeDescOf<T>()));
   ASSERT_TRUE(out->open(path, int(pages.size()), specs.data())) << out->geterror();
   for (size_t z = 0; z < pages.size(); ++z) {
     if (z > 0) {
@@ -380,10 +386,11 @@ std::vector<uint8_t> packRows(const std::vector<uint8_t>& samples, uint32_t w, u
   return packed;
 }
 
-// A grayscale PNG of 1-, 2- or 4-bit samples, written byte by byte (OpenImageIO writes none narrower than 8).
-void writeNarrowPng(const std::string& path, uint32_t w, uint32_t h, int bits,
-                    const std::vector<uint8_t>& samples) {
-  const std::vector<uint8_t> packed = packRows(samples, w, h, bits);
+// A PNG written byte by byte: `packed` rows as the file stores them (packRows), of `bits` bits per sample and
+// PNG color type `colorType` (0: grayscale, 3: palette), after the chunks `before` (PLTE, tRNS).
+void writePng(const std::string& path, uint32_t w, uint32_t h, int bits, uint8_t colorType,
+              const std::vector<uint8_t>& packed,
+              const std::vector<std::pair<std::string, std::vector<uint8_t>>>& before = {}) {
   const size_t rowBytes = packed.size() / h;
   std::vector<uint8_t> rows;
   for (uint32_t y = 0; y < h; ++y) {
@@ -398,21 +405,28 @@ void writeNarrowPng(const std::string& path, uint32_t w, uint32_t h, int bits,
   const auto put32 = [&](uint32_t v) {
     for (int i = 3; i >= 0; --i) file.push_back(uint8_t(v >> (8 * i)));
   };
-  const auto chunk = [&](const char* type, const std::vector<uint8_t>& data) {
+  const auto chunk = [&](const std::string& type, const std::vector<uint8_t>& data) {
     put32(uint32_t(data.size()));
     const size_t start = file.size();
-    file.insert(file.end(), type, type + 4);
+    file.insert(file.end(), type.begin(), type.end());
     file.insert(file.end(), data.begin(), data.end());
     put32(uint32_t(crc32(0, file.data() + start, uInt(file.size() - start))));
   };
   std::vector<uint8_t> header;
   for (uint32_t v : {w, h})
     for (int i = 3; i >= 0; --i) header.push_back(uint8_t(v >> (8 * i)));
-  header.insert(header.end(), {uint8_t(bits), 0, 0, 0, 0});  // grayscale, deflate, no filter, no interlace
+  header.insert(header.end(), {uint8_t(bits), colorType, 0, 0, 0});  // deflate, no filter, no interlace
   chunk("IHDR", header);
+  for (const auto& [type, data] : before) chunk(type, data);
   chunk("IDAT", idat);
   chunk("IEND", {});
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), file.size());
+}
+
+// A grayscale PNG of 1-, 2- or 4-bit samples (OpenImageIO writes none narrower than 8).
+void writeNarrowPng(const std::string& path, uint32_t w, uint32_t h, int bits,
+                    const std::vector<uint8_t>& samples) {
+  writePng(path, w, h, bits, 0, packRows(samples, w, h, bits));
 }
 
 // Four 8 x 6 pages of slicePattern<uint8_t>.
@@ -613,6 +627,135 @@ TEST(SourceImages, BilevelAndNarrowPngsKeepTheFilesValues) {
       << message;
 }
 
+// `gray` (a sample a pixel) as RGB, R = G = B, or with 4 channels as RGBA with an opaque alpha.
+template <typename T>
+std::vector<T> asColor(const std::vector<T>& gray, int channels) {
+  std::vector<T> color;
+  for (T v : gray) {
+    color.insert(color.end(), 3, v);
+    if (channels == 4) color.push_back(std::numeric_limits<T>::max());
+  }
+  return color;
+}
+
+// A PNG palette of `entries` grays, entry i being 255 - i * 255 / (entries - 1): an index is not its gray.
+std::vector<uint8_t> grayPalette(int entries) {
+  std::vector<uint8_t> palette;
+  for (int i = 0; i < entries; ++i) palette.insert(palette.end(), 3, uint8_t(255 - i * 255 / (entries - 1)));
+  return palette;
+}
+
+// Gray content saved as RGB or RGBA (8 or 16 bits, PNG or TIFF, slices or pages), as a palette PNG of grays
+// (OpenImageIO expands it to RGB, or RGBA with a tRNS chunk), or mixed with gray slices, converts to the
+// same store as the gray slices, with a note.
+TEST(SourceImages, GraySlicesSavedAsColorOrPaletteImagesConvertLikeGrayOnes) {
+  TempDir dir;
+  constexpr uint32_t w = 11, h = 9, depth = 4;
+  const std::vector<std::string> colorStacks = {"rgb", "rgba", "palette", "palette_alpha", "mixed"};
+  for (const std::string& name : colorStacks) std::filesystem::create_directories(dir.file(name));
+  for (const std::string name : {"gray", "gray16", "rgb16"})
+    std::filesystem::create_directories(dir.file(name));
+  std::vector<std::vector<uint16_t>> rgb16Pages;
+  for (uint32_t z = 0; z < depth; ++z) {
+    const std::string slice = "/s" + std::to_string(z) + ".png";
+    const std::vector<uint8_t> gray = slicePattern<uint8_t>(w, h, z);
+    writeImage(dir.file("gray" + slice), w, h, gray);
+    writeImage(dir.file("rgb" + slice), w, h, asColor(gray, 3), 3);
+    writeImage(dir.file("rgba" + slice), w, h, asColor(gray, 4), 4);
+    std::vector<uint8_t> indexes(gray.size());
+    for (size_t i = 0; i < gray.size(); ++i) indexes[i] = uint8_t(255 - gray[i]);
+    writePng(dir.file("palette" + slice), w, h, 8, 3, indexes, {{"PLTE", grayPalette(256)}});
+    writePng(dir.file("palette_alpha" + slice), w, h, 8, 3, indexes,
+             {{"PLTE", grayPalette(256)}, {"tRNS", std::vector<uint8_t>(256, 255)}});
+    if (z % 2)
+      writeImage(dir.file("mixed" + slice), w, h, asColor(gray, 3), 3);
+    else
+      writeImage(dir.file("mixed" + slice), w, h, gray);
+    const std::vector<uint16_t> gray16 = slicePattern<uint16_t>(w, h, z);
+    writeImage(dir.file("gray16/s" + std::to_string(z) + ".tif"), w, h, gray16);
+    writeImage(dir.file("rgb16/s" + std::to_string(z) + ".tif"), w, h, asColor(gray16, 3), 3);
+    rgb16Pages.push_back(asColor(gray16, 4));
+  }
+  writePages(dir.file("rgba16_pages.tif"), w, h, rgb16Pages, 4);
+
+  const std::vector<double> gray = level0Data(*convertAndOpen(dir, dir.file("gray")));
+  for (const std::string& name : colorStacks) {
+    const auto source = openVolumeSource(dir.file(name));
+    EXPECT_EQ(source->info().type, SampleType::UInt8) << name;
+    ASSERT_EQ(source->info().notes.size(), 1u) << name;
+    const std::string said = name == "mixed"
+                                 ? "2 of the 4 slices (first: " + dir.file("mixed/s1.png") + ") are"
+                                 : "the slices are";
+    EXPECT_NE(source->info().notes[0].find(said + " RGB or RGBA images, read as gray"), std::string::npos)
+        << source->info().notes[0];
+    EXPECT_EQ(level0Data(*convertAndOpen(dir, dir.file(name))), gray) << name;
+  }
+  const std::vector<double> gray16 = level0Data(*convertAndOpen(dir, dir.file("gray16")));
+  for (const std::string name : {"rgb16", "rgba16_pages.tif"}) {
+    EXPECT_EQ(openVolumeSource(dir.file(name))->info().type, SampleType::UInt16) << name;
+    EXPECT_EQ(level0Data(*convertAndOpen(dir, dir.file(name))), gray16) << name;
+  }
+
+  // A palette of 2-bit indexes: the grays are the palette's, of 8 bits.
+  std::vector<uint8_t> indexes(5 * 2), grays(indexes.size());
+  for (size_t i = 0; i < indexes.size(); ++i) {
+    indexes[i] = uint8_t(i * 3 % 4);
+    grays[i] = uint8_t(255 - indexes[i] * 85);
+  }
+  writePng(dir.file("palette2_0.png"), 5, 2, 2, 3, packRows(indexes, 5, 2, 2), {{"PLTE", grayPalette(4)}});
+  const auto palette2 = openVolumeSource(dir.file("palette2_*.png"));
+  EXPECT_EQ(palette2->info().valueMax, 255.0);
+  EXPECT_EQ(readSlab<uint8_t>(*palette2, 0, 1), grays);
+}
+
+// The message of reading slice z of `source` alone; "" if it reads.
+std::string readErrorOf(VolumeSource& source, uint32_t z) {
+  try {
+    readSlab<uint8_t>(source, z, 1);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Whether a color slice is gray takes its pixels: the stack opens, and reading the slice that is not fails,
+// naming it and its first pixel that is not gray.
+TEST(SourceImages, AColorSliceThatIsNotGrayIsRefusedNamingThePixel) {
+  TempDir dir;
+  std::vector<std::vector<uint8_t>> rgb, rgba;
+  for (uint32_t z = 0; z < 3; ++z) {
+    rgb.push_back(asColor(slicePattern<uint8_t>(6, 5, z), 3));
+    rgba.push_back(asColor(slicePattern<uint8_t>(6, 5, z), 4));
+  }
+  const size_t at = 2 * 6 + 4;  // pixel (4, 2)
+  const uint8_t r = rgb[1][3 * at];
+  rgb[1][3 * at + 1] = uint8_t(r + 1);
+  rgba[2][4 * at + 3] = 0;
+  for (uint32_t z = 0; z < 3; ++z) {
+    writeImage(dir.file("rgb" + std::to_string(z) + ".png"), 6, 5, rgb[z], 3);
+    writeImage(dir.file("rgba" + std::to_string(z) + ".png"), 6, 5, rgba[z], 4);
+  }
+  writePages(dir.file("pages.tif"), 6, 5, rgb, 3);
+
+  const auto source = openVolumeSource(dir.file("rgb*.png"));
+  EXPECT_EQ(readErrorOf(*source, 0), "");
+  const std::string differ = " has color channels that differ at pixel (4, 2): R " + std::to_string(r) +
+                             ", G " + std::to_string(r + 1) + ", B " + std::to_string(r) +
+                             "; expected a grayscale image, or color channels equal at every pixel";
+  std::string message = readErrorOf(*source, 1);
+  EXPECT_NE(message.find(dir.file("rgb1.png") + differ), std::string::npos) << message;
+  message = readErrorOf(*openVolumeSource(dir.file("pages.tif")), 1);
+  EXPECT_NE(message.find(dir.file("pages.tif") + " (page 1)" + differ), std::string::npos) << message;
+  EXPECT_THROW(convertAndOpen(dir, dir.file("pages.tif")), Error);
+
+  message = readErrorOf(*openVolumeSource(dir.file("rgba*.png")), 2);
+  EXPECT_NE(message.find(dir.file("rgba2.png") +
+                         " has alpha 0 at pixel (4, 2); expected a grayscale image, or alpha opaque (255) at "
+                         "every pixel"),
+            std::string::npos)
+      << message;
+}
+
 // A multi-page TIFF among the slices of a folder would give its first page only.
 TEST(SourceImages, AMultiPageTiffAmongSlicesIsRefused) {
   TempDir dir;
@@ -674,10 +817,10 @@ TEST(SourceImages, UnreadableOrMultiChannelNamesTheFile) {
   EXPECT_NE(message.find(dir.file("s1.png")), std::string::npos) << message;
 
   fs::remove(dir.file("s1.png"));
-  writeImage(dir.file("s1.png"), 6, 6, std::vector<uint8_t>(6 * 6 * 3, 9), 3);
+  writeImage(dir.file("s1.png"), 6, 6, std::vector<uint8_t>(6 * 6 * 2, 9), 2);  // gray and alpha
   message = errorOf(dir.file("s*.png"));
   EXPECT_NE(message.find(dir.file("s1.png")), std::string::npos) << message;
-  EXPECT_NE(message.find("3 channels"), std::string::npos) << message;
+  EXPECT_NE(message.find("2 channels"), std::string::npos) << message;
 
   // A slice broken after opening fails the read, naming it.
   writeImage(dir.file("s1.png"), 6, 6, slicePattern<uint8_t>(6, 6, 1));
