@@ -527,6 +527,26 @@ TEST(WorkingSet, ReadsOnlyWhatTheGpuPoolHasRoomFor) {
   EXPECT_EQ(ws.slots().occupiedCount(), f.stats.bricksResident);
 }
 
+TEST(WorkingSet, ASynchronousLoadWithHintsReadsNothingBelowWhatThePoolHasNoRoomFor) {
+  // The read-ahead below a full pool's leaves is for progressive frames, whose later answers free slots; a
+  // synchronous load has no answers, so with hints it reads exactly what it reads without.
+  std::vector<uint64_t> reads;
+  for (const bool withHints : {false, true}) {
+    FakeBrickSource fake({256, 256, 256}, 16);
+    WorkingSetConfig cfg = config(/*slots=*/320);  // room for 10 bricks below the full pool's leaves
+    cfg.cpuCacheBytes = 2000 * fake.brickBytes();
+    WorkingSet ws(fake, cfg);
+    FrameInput in = frameFrom({128 + 300, 128 - 180, 128 + 120}, 800, {128, 128, 128});
+    if (withHints) in.hints = [](const NodeKey&) { return NodeHint::None; };
+    const WorkingSetFrame f = ws.updateUntilConverged(in);
+    ASSERT_TRUE(f.converged);
+    ASSERT_GT(f.stats.leavesPoolFull, 2u);
+    ws.waitForReads(std::chrono::seconds(1));
+    reads.push_back(fake.reads());
+  }
+  EXPECT_EQ(reads[0], reads[1]);
+}
+
 TEST(WorkingSet, ConstantNodesAreUploadedAsFilledBricksWithoutReads) {
   // Everything is constant below the root: only the root is read.
   FakeBrickSource src({64, 64, 64}, 16, [](const NodeKey& k) -> NodeInfo {
