@@ -111,13 +111,14 @@ void refuseWhatOpenImageIOReadsAsZeros(const OIIO::ImageSpec& spec, std::string_
 
 // `formatName`: OpenImageIO's name of the file's format ("tiff", "png", ...).
 SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName, const std::string& what) {
-  static const std::vector<std::string> kRgb{"R", "G", "B"}, kRgba{"R", "G", "B", "A"};
+  static const std::vector<std::string> kGrayAlpha{"Y", "A"}, kRgb{"R", "G", "B"}, kRgba{"R", "G", "B", "A"};
   const std::vector<std::string> names(spec.channelnames.begin(), spec.channelnames.end());
-  if (spec.nchannels != 1 && names != kRgb && names != kRgba) {
+  if (spec.nchannels != 1 && names != kGrayAlpha && names != kRgb && names != kRgba) {
     std::string listed;
     for (const std::string& name : names) listed += (listed.empty() ? "" : ", ") + name;
     throw Error("image slice " + what + " has " + std::to_string(spec.nchannels) + " channels (" + listed +
-                "); expected a single-channel (grayscale) image, or RGB or RGBA with equal color channels");
+                "); expected a single-channel (grayscale) image, gray with an opaque alpha, or RGB or RGBA "
+                "with equal color channels");
   }
   if (spec.depth > 1) throw Error("image slice " + what + " is a 3D image; expected 2D slices");
   if (spec.width <= 0 || spec.height <= 0) throw Error("image slice " + what + " is empty");
@@ -148,7 +149,7 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName
 }
 
 std::string photometricName(const SliceFormat& format) {
-  return format.minIsWhite ? "MinIsWhite" : format.channels > 1 ? "RGB" : "MinIsBlack";
+  return format.minIsWhite ? "MinIsWhite" : format.channels > 2 ? "RGB" : "MinIsBlack";
 }
 
 // A sample as a number (int8 and uint8 too), with the digits that tell floats apart.
@@ -160,9 +161,9 @@ std::string sampleText(T value) {
   return text.str();
 }
 
-// The gray of RGB or RGBA `pixels` (`channels` samples each, `width` to a row) into `gray`: R, where R, G and
-// B are the same sample and alpha is the type's maximum (1 for floats); else an error naming the first pixel
-// that is not gray.
+// The gray of gray+alpha, RGB or RGBA `pixels` (`channels` samples each, `width` to a row) into `gray`: the
+// first channel, where R, G and B are the same sample and alpha is the type's maximum (1 for floats); else an
+// error naming the first pixel that is not gray.
 template <typename T>
 void grayFromColor(std::span<const std::byte> pixels, uint32_t channels, uint32_t width,
                    std::span<std::byte> gray, const std::string& what) {
@@ -174,13 +175,13 @@ void grayFromColor(std::span<const std::byte> pixels, uint32_t channels, uint32_
   };
   for (size_t i = 0; i < gray.size() / sizeof(T); ++i, pixel += channels) {
     // Bit for bit, so that a NaN gray is gray too.
-    if (std::memcmp(&pixel[0], &pixel[1], sizeof(T)) != 0 ||
-        std::memcmp(&pixel[0], &pixel[2], sizeof(T)) != 0)
+    if (channels > 2 && (std::memcmp(&pixel[0], &pixel[1], sizeof(T)) != 0 ||
+                         std::memcmp(&pixel[0], &pixel[2], sizeof(T)) != 0))
       throw Error("image slice " + what + " has color channels that differ at " + at(i) + ": R " +
                   sampleText(pixel[0]) + ", G " + sampleText(pixel[1]) + ", B " + sampleText(pixel[2]) +
                   "; expected a grayscale image, or color channels equal at every pixel");
-    if (channels == 4 && pixel[3] != opaque)
-      throw Error("image slice " + what + " has alpha " + sampleText(pixel[3]) + " at " + at(i) +
+    if ((channels == 2 || channels == 4) && pixel[channels - 1] != opaque)
+      throw Error("image slice " + what + " has alpha " + sampleText(pixel[channels - 1]) + " at " + at(i) +
                   "; expected a grayscale image, or alpha opaque (" + sampleText(opaque) +
                   ") at every pixel");
     out[i] = pixel[0];
@@ -286,8 +287,9 @@ class ImageSliceSource final : public VolumeSource {
                ? std::string("the slices are")
                : std::to_string(colorSlices) + " of the " + std::to_string(slices_.size()) +
                      " slices (first: " + firstColor + ") are") +
-          " RGB or RGBA images, read as gray (their red channel): each must have equal color channels "
-          "and an opaque alpha at every pixel, or converting stops, naming the first pixel that does not");
+          " RGB, RGBA or gray+alpha images, read as gray (their first channel): each must have equal color "
+          "channels and an opaque alpha at every pixel, or converting stops, naming the first pixel that "
+          "does not");
   }
 
   const VolumeInfo& info() const override { return info_; }

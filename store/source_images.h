@@ -1,12 +1,12 @@
 // The image-stack VolumeSource, read with OpenImageIO: a directory of 2D slices (every .tif/.tiff/.png file),
 // a glob pattern of slices (e.g. "dir/slice_*.png"), or one multi-page TIFF (each page a slice). Slices are
 // single-channel int8, uint8, int16, uint16, int32, uint32, float32 or float64 images (PNG holds uint8 and
-// uint16 only), or RGB or RGBA ones (palette images too) read as gray from R where R = G = B and alpha is
-// opaque at every pixel (checked as each slice is read), all of one size, type and bit depth (unsigned
-// samples of fewer bits than their type, a 12-bit TIFF or a 1-bit PNG say, keep the file's values, and so do
-// MinIsWhite TIFFs, whose 0 viewers show as white); slice 0 is z = 0. TIFFs whose samples OpenImageIO would
-// read as zeros are refused (tiled ones of 24- or 64-bit samples, and those of 64-bit samples one row high).
-// Owned by loader/.
+// uint16 only), or gray+alpha, RGB or RGBA ones (palette images too) read as gray from the first channel
+// where R = G = B and alpha is opaque at every pixel (checked as each slice is read), all of one size, type
+// and bit depth (unsigned samples of fewer bits than their type, a 12-bit TIFF or a 1-bit PNG say, keep the
+// file's values, and so do MinIsWhite TIFFs, whose 0 viewers show as white); slice 0 is z = 0. TIFFs whose
+// samples OpenImageIO would read as zeros are refused (tiled ones of 24- or 64-bit samples, and those of
+// 64-bit samples one row high). Owned by loader/.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time).
 #pragma once

@@ -627,13 +627,14 @@ TEST(SourceImages, BilevelAndNarrowPngsKeepTheFilesValues) {
       << message;
 }
 
-// `gray` (a sample a pixel) as RGB, R = G = B, or with 4 channels as RGBA with an opaque alpha.
+// `gray` (a sample a pixel) as RGB, R = G = B, or with 4 channels as RGBA with an opaque alpha, or with 2 as
+// gray with an opaque alpha.
 template <typename T>
 std::vector<T> asColor(const std::vector<T>& gray, int channels) {
   std::vector<T> color;
   for (T v : gray) {
-    color.insert(color.end(), 3, v);
-    if (channels == 4) color.push_back(std::numeric_limits<T>::max());
+    color.insert(color.end(), channels == 2 ? 1 : 3, v);
+    if (channels != 3) color.push_back(std::numeric_limits<T>::max());
   }
   return color;
 }
@@ -651,7 +652,8 @@ std::vector<uint8_t> grayPalette(int entries) {
 TEST(SourceImages, GraySlicesSavedAsColorOrPaletteImagesConvertLikeGrayOnes) {
   TempDir dir;
   constexpr uint32_t w = 11, h = 9, depth = 4;
-  const std::vector<std::string> colorStacks = {"rgb", "rgba", "palette", "palette_alpha", "mixed"};
+  const std::vector<std::string> colorStacks = {"gray_alpha", "rgb",           "rgba",
+                                                "palette",    "palette_alpha", "mixed"};
   for (const std::string& name : colorStacks) std::filesystem::create_directories(dir.file(name));
   for (const std::string name : {"gray", "gray16", "rgb16"})
     std::filesystem::create_directories(dir.file(name));
@@ -660,6 +662,7 @@ TEST(SourceImages, GraySlicesSavedAsColorOrPaletteImagesConvertLikeGrayOnes) {
     const std::string slice = "/s" + std::to_string(z) + ".png";
     const std::vector<uint8_t> gray = slicePattern<uint8_t>(w, h, z);
     writeImage(dir.file("gray" + slice), w, h, gray);
+    writeImage(dir.file("gray_alpha" + slice), w, h, asColor(gray, 2), 2);
     writeImage(dir.file("rgb" + slice), w, h, asColor(gray, 3), 3);
     writeImage(dir.file("rgba" + slice), w, h, asColor(gray, 4), 4);
     std::vector<uint8_t> indexes(gray.size());
@@ -686,7 +689,8 @@ TEST(SourceImages, GraySlicesSavedAsColorOrPaletteImagesConvertLikeGrayOnes) {
     const std::string said = name == "mixed"
                                  ? "2 of the 4 slices (first: " + dir.file("mixed/s1.png") + ") are"
                                  : "the slices are";
-    EXPECT_NE(source->info().notes[0].find(said + " RGB or RGBA images, read as gray"), std::string::npos)
+    EXPECT_NE(source->info().notes[0].find(said + " RGB, RGBA or gray+alpha images, read as gray"),
+              std::string::npos)
         << source->info().notes[0];
     EXPECT_EQ(level0Data(*convertAndOpen(dir, dir.file(name))), gray) << name;
   }
@@ -722,8 +726,9 @@ std::string readErrorOf(VolumeSource& source, uint32_t z) {
 // naming it and its first pixel that is not gray.
 TEST(SourceImages, AColorSliceThatIsNotGrayIsRefusedNamingThePixel) {
   TempDir dir;
-  std::vector<std::vector<uint8_t>> rgb, rgba;
+  std::vector<std::vector<uint8_t>> grayAlpha, rgb, rgba;
   for (uint32_t z = 0; z < 3; ++z) {
+    grayAlpha.push_back(asColor(slicePattern<uint8_t>(6, 5, z), 2));
     rgb.push_back(asColor(slicePattern<uint8_t>(6, 5, z), 3));
     rgba.push_back(asColor(slicePattern<uint8_t>(6, 5, z), 4));
   }
@@ -731,7 +736,9 @@ TEST(SourceImages, AColorSliceThatIsNotGrayIsRefusedNamingThePixel) {
   const uint8_t r = rgb[1][3 * at];
   rgb[1][3 * at + 1] = uint8_t(r + 1);
   rgba[2][4 * at + 3] = 0;
+  grayAlpha[1][2 * at + 1] = 7;
   for (uint32_t z = 0; z < 3; ++z) {
+    writeImage(dir.file("ga" + std::to_string(z) + ".png"), 6, 5, grayAlpha[z], 2);
     writeImage(dir.file("rgb" + std::to_string(z) + ".png"), 6, 5, rgb[z], 3);
     writeImage(dir.file("rgba" + std::to_string(z) + ".png"), 6, 5, rgba[z], 4);
   }
@@ -748,6 +755,12 @@ TEST(SourceImages, AColorSliceThatIsNotGrayIsRefusedNamingThePixel) {
   EXPECT_NE(message.find(dir.file("pages.tif") + " (page 1)" + differ), std::string::npos) << message;
   EXPECT_THROW(convertAndOpen(dir, dir.file("pages.tif")), Error);
 
+  message = readErrorOf(*openVolumeSource(dir.file("ga*.png")), 1);
+  EXPECT_NE(message.find(dir.file("ga1.png") +
+                         " has alpha 7 at pixel (4, 2); expected a grayscale image, or alpha opaque (255) at "
+                         "every pixel"),
+            std::string::npos)
+      << message;
   message = readErrorOf(*openVolumeSource(dir.file("rgba*.png")), 2);
   EXPECT_NE(message.find(dir.file("rgba2.png") +
                          " has alpha 0 at pixel (4, 2); expected a grayscale image, or alpha opaque (255) at "
@@ -816,11 +829,12 @@ TEST(SourceImages, UnreadableOrMultiChannelNamesTheFile) {
   std::string message = errorOf(dir.file("s*.png"));
   EXPECT_NE(message.find(dir.file("s1.png")), std::string::npos) << message;
 
-  fs::remove(dir.file("s1.png"));
-  writeImage(dir.file("s1.png"), 6, 6, std::vector<uint8_t>(6 * 6 * 2, 9), 2);  // gray and alpha
-  message = errorOf(dir.file("s*.png"));
-  EXPECT_NE(message.find(dir.file("s1.png")), std::string::npos) << message;
-  EXPECT_NE(message.find("2 channels"), std::string::npos) << message;
+  // Channels that are neither gray, gray and alpha, RGB nor RGBA: refused when the stack opens.
+  writeImage(dir.file("t0.tif"), 6, 6, slicePattern<uint8_t>(6, 6, 0));
+  writeImage(dir.file("t1.tif"), 6, 6, std::vector<uint8_t>(6 * 6 * 5, 9), 5);
+  message = errorOf(dir.file("t*.tif"));
+  EXPECT_NE(message.find(dir.file("t1.tif")), std::string::npos) << message;
+  EXPECT_NE(message.find("5 channels"), std::string::npos) << message;
 
   // A slice broken after opening fails the read, naming it.
   writeImage(dir.file("s1.png"), 6, 6, slicePattern<uint8_t>(6, 6, 1));
