@@ -48,6 +48,30 @@ constexpr size_t bytesPerSample(SampleType t) {
   return 0;
 }
 
+// Calls f(T{}) with T the C++ type of a sample type's values (uint8_t, int8_t, ..., double): the one place
+// that maps the enum to types, for code that does the same thing to samples of every type.
+template <typename F>
+void forSampleType(SampleType t, F&& f) {
+  switch (t) {
+    case SampleType::UInt8:
+      return f(uint8_t{});
+    case SampleType::Int8:
+      return f(int8_t{});
+    case SampleType::UInt16:
+      return f(uint16_t{});
+    case SampleType::Int16:
+      return f(int16_t{});
+    case SampleType::UInt32:
+      return f(uint32_t{});
+    case SampleType::Int32:
+      return f(int32_t{});
+    case SampleType::Float32:
+      return f(float{});
+    case SampleType::Float64:
+      return f(double{});
+  }
+}
+
 // The largest value of a stored type (UInt8 or UInt16): what a normalized texture value of 1 stands for.
 constexpr uint32_t storedMaxOf(SampleType stored) {
   return stored == SampleType::UInt8 ? 255u : 65535u;

@@ -206,26 +206,7 @@ std::pair<double, double> scanValueRange(VolumeSource& source, const ConvertOpti
     const uint32_t count = std::min(slab, info.dims.z - z);
     const auto bytes = std::span(buffer).first(size_t(count) * info.sliceBytes());
     source.readSlab(z, count, bytes);
-    switch (info.type) {
-      case SampleType::UInt32:
-        widenRange<uint32_t>(bytes, lo, hi);
-        break;
-      case SampleType::Int32:
-        widenRange<int32_t>(bytes, lo, hi);
-        break;
-      case SampleType::Float32:
-        widenRange<float>(bytes, lo, hi);
-        break;
-      case SampleType::Float64:
-        widenRange<double>(bytes, lo, hi);
-        break;
-      case SampleType::UInt8:
-      case SampleType::Int8:
-      case SampleType::UInt16:
-      case SampleType::Int16:
-        throw std::logic_error("convert: a value range pre-pass over " +
-                               std::string(sampleTypeName(info.type)) + " samples, whose mapping needs none");
-    }
+    forSampleType(info.type, [&](auto zero) { widenRange<decltype(zero)>(bytes, lo, hi); });
     progress.slicesDone = z + count;
     progress.bytesDone = progress.slicesDone * info.sliceBytes();
     if (options.progress) options.progress(progress);

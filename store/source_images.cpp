@@ -190,24 +190,9 @@ void grayFromColor(std::span<const std::byte> pixels, uint32_t channels, uint32_
 
 void grayFromColor(std::span<const std::byte> pixels, const SliceFormat& format, std::span<std::byte> gray,
                    const std::string& what) {
-  switch (format.type) {
-    case SampleType::UInt8:
-      return grayFromColor<uint8_t>(pixels, format.channels, format.width, gray, what);
-    case SampleType::Int8:
-      return grayFromColor<int8_t>(pixels, format.channels, format.width, gray, what);
-    case SampleType::UInt16:
-      return grayFromColor<uint16_t>(pixels, format.channels, format.width, gray, what);
-    case SampleType::Int16:
-      return grayFromColor<int16_t>(pixels, format.channels, format.width, gray, what);
-    case SampleType::UInt32:
-      return grayFromColor<uint32_t>(pixels, format.channels, format.width, gray, what);
-    case SampleType::Int32:
-      return grayFromColor<int32_t>(pixels, format.channels, format.width, gray, what);
-    case SampleType::Float32:
-      return grayFromColor<float>(pixels, format.channels, format.width, gray, what);
-    case SampleType::Float64:
-      return grayFromColor<double>(pixels, format.channels, format.width, gray, what);
-  }
+  forSampleType(format.type, [&](auto zero) {
+    grayFromColor<decltype(zero)>(pixels, format.channels, format.width, gray, what);
+  });
 }
 
 template <typename T>
