@@ -11,13 +11,35 @@
 #include <list>
 #include <memory>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "store/octree_layout.h"
 
 namespace ropecast {
 
-using BrickBytes = std::vector<std::byte>;
+// Leaves the bytes a vector is sized with uninitialized: a brick is written whole by whoever makes it (a
+// reader decompresses into it), and clearing it first would touch every page twice.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;  // default-initialized: no value written
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+using BrickBytes = std::vector<std::byte, UninitializedAllocator<std::byte>>;
 using SharedBrick = std::shared_ptr<const BrickBytes>;
 
 class BrickCache {
