@@ -191,6 +191,45 @@ class WorkingSet::Residency final : public BrickResidency {
   std::vector<NodeKey> kept_;   // in priority order
 };
 
+// The data path of a refinement that only asks for reads (WorkingSet::prefetch): no slot is taken, pinned or
+// uploaded to. The slots each node would take are counted instead, so that the requests stop where the GPU
+// pool would have no room, as update()'s do.
+class WorkingSet::ReadPlan final : public BrickResidency {
+ public:
+  explicit ReadPlan(const WorkingSet& ws) : ws_(ws) {}
+
+  Outcome acquire(std::span<const NodeKey> keys, double priority, std::span<uint32_t> slotsOut) override {
+    if (keys.size() > poolRoom()) return Outcome::PoolFull;
+    bool missing = false;
+    for (const NodeKey& k : keys) {
+      if (ws_.slots_.find(k) || ws_.cache_.contains(k) || ws_.source_.node(k).kind == NodeKind::Constant)
+        continue;
+      requests.push_back({k, priority});
+      missing = true;
+    }
+    taken_ += keys.size();  // in core or waited for, these nodes take their slots
+    if (missing) return Outcome::NotInCore;
+    std::fill(slotsOut.begin(), slotsOut.end(), 0u);  // the plan is not drawn: no slot is real
+    return Outcome::Ready;
+  }
+
+  size_t readAheadRoom() const override {
+    const size_t requestRoom = ws_.maxRequests_ - std::min(requests.size(), ws_.maxRequests_);
+    return size_t(std::min<uint64_t>(poolRoom(), requestRoom));
+  }
+
+  std::vector<BrickRequest> requests;
+
+ private:
+  uint64_t poolRoom() const {
+    const uint64_t available = ws_.slots_.availableCount();
+    return available - std::min(taken_, available);
+  }
+
+  const WorkingSet& ws_;
+  uint64_t taken_ = 0;
+};
+
 namespace {
 
 // The budgets' checks, before the members they size are made: the messages name the options and the least
@@ -245,6 +284,29 @@ void WorkingSet::takeLoadedBricks() {
   if (!firstError.empty()) throw Error(firstError);
 }
 
+void WorkingSet::askForReads(std::vector<BrickRequest> requests, const RefineResult& refined) {
+  // The bricks the refinement waits for by priority, then those read ahead in their order; the queue reads
+  // them in this order (priority by rank).
+  std::stable_sort(requests.begin(), requests.end(),
+                   [](const BrickRequest& a, const BrickRequest& b) { return a.priority > b.priority; });
+  for (const NodeKey& k : refined.readAhead) {
+    if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
+  }
+  for (const NodeKey& k : refined.poolFullReadAhead) {
+    if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
+  }
+  if (requests.size() > maxRequests_) requests.resize(maxRequests_);
+  for (size_t i = 0; i < requests.size(); ++i) requests[i].priority = double(requests.size() - i);
+  io_->replaceRequests(std::move(requests));
+}
+
+void WorkingSet::prefetch(const FrameInput& input) {
+  takeLoadedBricks();
+  ReadPlan plan(*this);
+  const RefineResult refined = refine(source_, input.view, input.isEmpty, plan, input.hints);
+  askForReads(std::move(plan.requests), refined);
+}
+
 WorkingSetFrame WorkingSet::update(const FrameInput& input) {
   return update(input, std::min(config_.uploadBudgetBytes, input.uploadBudgetBytes), /*progressive=*/true);
 }
@@ -284,20 +346,7 @@ WorkingSetFrame WorkingSet::update(const FrameInput& input, uint64_t uploadBudge
     if (l.reason == LeafReason::UploadBudget && hints && hints(l.key) == NodeHint::Requested)
       uploading.insert(l.key);
   uploadingForRays_ = std::move(uploading);
-  // The bricks this frame waits for by priority, then those read ahead in their order; the queue reads them
-  // in this order (priority by rank).
-  std::vector<BrickRequest>& requests = residency.requests;
-  std::stable_sort(requests.begin(), requests.end(),
-                   [](const BrickRequest& a, const BrickRequest& b) { return a.priority > b.priority; });
-  for (const NodeKey& k : refined.readAhead) {
-    if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
-  }
-  for (const NodeKey& k : refined.poolFullReadAhead) {
-    if (!slots_.find(k) && !cache_.contains(k)) requests.push_back({k, 0.0});
-  }
-  if (requests.size() > maxRequests_) requests.resize(maxRequests_);
-  for (size_t i = 0; i < requests.size(); ++i) requests[i].priority = double(requests.size() - i);
-  io_->replaceRequests(std::move(requests));
+  askForReads(std::move(residency.requests), refined);
 
   WorkingSetFrame out;
   out.leaves = std::move(refined.leaves);

@@ -103,6 +103,12 @@ class WorkingSet {
   WorkingSetFrame updateUntilConverged(const FrameInput& input, const LoadProgressFn& progress = {},
                                        uint32_t maxFrames = 100000);
 
+  // Asks the I/O workers for the bricks update() with this input would ask for now, its read-ahead included,
+  // without planning a frame: no GPU slot is taken, no upload planned, no frame counted. For a renderer
+  // about to spend time before its first frame (making its GPU pool, compiling its programs): the reads need
+  // neither, so they need not wait for them. The next update() takes what arrived and asks again.
+  void prefetch(const FrameInput& input);
+
   // Blocks until no read is pending, or the read bricks fill what the workers may hold, or the timeout passes
   // (IoQueue::waitUntilIdle); update() takes what arrived. Between frames only: update() itself never waits.
   bool waitForReads(std::chrono::milliseconds timeout) { return io_->waitUntilIdle(timeout); }
@@ -115,7 +121,11 @@ class WorkingSet {
 
  private:
   class Residency;
+  class ReadPlan;
   void takeLoadedBricks();
+  // Hands the I/O workers a refinement's requests (in priority order), then its read-ahead, at most
+  // maxRequests_; the queue drops what it was reading that is no longer asked for.
+  void askForReads(std::vector<BrickRequest> requests, const RefineResult& refined);
   // progressive: a frame of update(), not a pass of updateUntilConverged().
   WorkingSetFrame update(const FrameInput& input, uint64_t uploadBudgetBytes, bool progressive);
 

@@ -74,8 +74,23 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
   return [tf](uint16_t lo, uint16_t hi) { return !tf->hasOpacity(lo, hi); };
 }
 
+namespace {
+
+// What the loader needs of a request before any hint: the view and the emptiness.
+FrameInput viewInputOf(const FrameRequest& request, const BrickSourceInfo& info) {
+  FrameInput input;
+  input.view.camera = request.camera;
+  input.view.viewportWidth = request.width;
+  input.view.viewportHeight = request.height;
+  input.view.voxelsPerPixel = request.voxelsPerPixel;
+  input.isEmpty = emptinessFor(request.params, info, request.tf);
+  return input;
+}
+
+}  // namespace
+
 FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
-                             const FrameRendererConfig& config)
+                             const FrameRendererConfig& config, const FrameRequest* firstRequest)
     : source_(source),
       glRenderer_(gl.renderer),
       uploadPacer_(config.uploadTimeBudgetMs, source.brickBytes()) {
@@ -87,16 +102,23 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   poolConfig.uploadThroughPbo = config.uploadThroughPbo;
   if (config.storedGradients) poolConfig.extraBytesPerTexel = GradientPool::kBytesPerTexel;
   poolConfig.maxSlots = info.layout.insideNodeCount();
-  pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
-  if (config.storedGradients) gradients_ = std::make_unique<GradientPool>(pool_->geometry().textureDims);
-  indexTexture_ = std::make_unique<IndexTexture>(kRopeTexelComponents, gl.maxTextureBufferTexels);
+  const BrickPoolGeometry poolGeometry =
+      planBrickPool(poolConfig.brickSize, poolConfig.storedType, poolConfig.budgetBytes, gl.max3DTextureSize,
+                    poolConfig.extraBytesPerTexel, poolConfig.maxSlots);
 
   WorkingSetConfig wsConfig;
   wsConfig.cpuCacheBytes = config.cpuCacheBytes;
-  wsConfig.gpuSlots = pool_->slotCount();
+  wsConfig.gpuSlots = poolGeometry.slotCount();
   wsConfig.uploadBudgetBytes = config.uploadBudgetBytes;
   wsConfig.ioThreads = config.ioThreads;
   workingSet_ = std::make_unique<WorkingSet>(source, wsConfig);
+  if (firstRequest) workingSet_->prefetch(viewInputOf(*firstRequest, info));
+
+  pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
+  if (pool_->slotCount() != poolGeometry.slotCount())
+    throw Error("FrameRenderer: internal error, the pool has other slots than planned");
+  if (config.storedGradients) gradients_ = std::make_unique<GradientPool>(pool_->geometry().textureDims);
+  indexTexture_ = std::make_unique<IndexTexture>(kRopeTexelComponents, gl.maxTextureBufferTexels);
   if (config.feedback) feedback_ = std::make_unique<FeedbackBuffer>();
   if (config.occlusion) {
     queries_ = std::make_unique<OcclusionQueries>();
@@ -362,12 +384,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (occlusion) collectVisibility(feedback, stats);
 
   // Pass 1, refine: the loader plans the cut and the uploads of this frame.
-  FrameInput input;
-  input.view.camera = request.camera;
-  input.view.viewportWidth = request.width;
-  input.view.viewportHeight = request.height;
-  input.view.voxelsPerPixel = request.voxelsPerPixel;
-  input.isEmpty = emptinessFor(request.params, source_.info(), request.tf);
+  FrameInput input = viewInputOf(request, source_.info());
   // Occluded or unused leaves do not refine, and a refined node whose leaves are all occluded or unused
   // collapses: while the view changes, every frame; on a still view (and emptiness, above) as CollapseGuard
   // allows, so that the tree converges.

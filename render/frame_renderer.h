@@ -98,7 +98,11 @@ struct FrameRequest {
 
 class FrameRenderer {
  public:
-  FrameRenderer(const GlContextInfo& gl, const BrickSource& source, const FrameRendererConfig& config);
+  // With `firstRequest`, the loader begins reading what that request's first refinement needs
+  // (WorkingSet::prefetch) before the GPU pool is made: making a large pool takes a while (llvmpipe clears
+  // it in memory), and the reads need neither the pool nor a frame.
+  FrameRenderer(const GlContextInfo& gl, const BrickSource& source, const FrameRendererConfig& config,
+                const FrameRequest* firstRequest = nullptr);
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;

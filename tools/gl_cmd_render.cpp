@@ -195,8 +195,6 @@ RenderedFrame renderBrute(const RenderOptions& o, RenderSetup& s) {
 // of frame 0; the FrameRenderer resolves --backend auto for the context's GL renderer.
 struct OctreeRender {
   OctreeRender(const RenderOptions& o, const RenderSetup& s, const GlContext& gl, bool synchronous) {
-    const FrameRendererConfig config = frameRendererConfigOf(o, s.params);
-    renderer = std::make_unique<FrameRenderer>(gl.info(), s.bricks(), config);
     request.width = s.width;
     request.height = s.height;
     request.params = s.params;
@@ -210,6 +208,9 @@ struct OctreeRender {
     // would show nothing new.
     request.keepImageWhileReading = o.converge;
     request.camera = s.cameraOf(0);
+    // The reads of frame 0's view begin while the GPU pool is made and the shader compiled.
+    renderer =
+        std::make_unique<FrameRenderer>(gl.info(), s.bricks(), frameRendererConfigOf(o, s.params), &request);
     renderer->prepare(request);  // shader compilation before frame 0, not in its frame_ms
   }
   std::unique_ptr<FrameRenderer> renderer;

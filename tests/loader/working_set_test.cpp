@@ -513,6 +513,42 @@ TEST(WorkingSet, AColdStartReadsTheTreeWithoutWaitingForFrames) {
   EXPECT_EQ(fake.reads(), dataUploads);
 }
 
+TEST(WorkingSet, APrefetchReadsWhatTheFirstUpdateAsksForWithoutPlanningAFrame) {
+  // A pool that holds the view, and one that fills (the reads stop at its room in both).
+  for (const uint32_t slots : {2000u, 40u}) {
+    SCOPED_TRACE("slots " + std::to_string(slots));
+    WorkingSetConfig cfg = config(slots);
+    cfg.cpuCacheBytes = 2000 * 46656;  // no CPU eviction: every read is a first read
+    FrameInput in = frameFrom({64 + 150, 64 - 90, 64 + 60});
+    in.isEmpty = isoEmpty;
+    const auto readSet = [](const FakeBrickSource& f) {
+      const std::vector<NodeKey> order = f.readOrder();
+      return std::set<NodeKey, KeyLess>(order.begin(), order.end());
+    };
+
+    FakeBrickSource updated = makeScene();
+    WorkingSet first(updated, cfg);
+    const WorkingSetFrame firstFrame = first.update(in);
+    ASSERT_TRUE(first.waitForReads(std::chrono::seconds(10)));
+
+    FakeBrickSource prefetched = makeScene();
+    WorkingSet ws(prefetched, cfg);
+    ws.prefetch(in);
+    ASSERT_TRUE(ws.waitForReads(std::chrono::seconds(10)));
+    EXPECT_EQ(ws.frameCount(), 0u);
+    EXPECT_EQ(ws.slots().occupiedCount(), 0u);
+    ASSERT_GT(prefetched.reads(), 8u);  // the read-ahead too, not only the root's children
+    EXPECT_EQ(readSet(prefetched), readSet(updated));
+
+    // Its first frame is the second one of a renderer that did not prefetch.
+    const WorkingSetFrame f = ws.update(in);
+    const WorkingSetFrame second = first.update(in);
+    EXPECT_EQ(cutOf(f), cutOf(second));
+    EXPECT_EQ(f.uploads.size(), second.uploads.size() + firstFrame.uploads.size());
+    EXPECT_EQ(f.converged, second.converged);
+  }
+}
+
 TEST(WorkingSet, ReadsOnlyWhatTheGpuPoolHasRoomFor) {
   FakeBrickSource fake = makeScene();
   WorkingSetConfig cfg = config(/*slots=*/40);

@@ -2,7 +2,8 @@
 // FrameRenderer::render with synchronous=false, repeated on one camera until stats.converged, end with the
 // same cut and the same image as one synchronous frame (synchronous=true) of a fresh renderer with the same
 // budgets, for iso and DVR, with a small upload budget, a small GPU pool and a slow source
-// (DelayedBrickSource). Every asynchronous frame also stays within the upload budget and the pool.
+// (DelayedBrickSource), and with the reads begun before the pool was made (FrameRenderer made with the
+// request). Every asynchronous frame also stays within the upload budget and the pool.
 //
 // The images are compared up to float rounding: both renderers build the same cut (checked leaf by leaf);
 // only the pool slots may differ (the slot a brick gets depends on the order in which bricks arrived; in
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -46,7 +48,10 @@ struct ConvergeCase {
   bool expectPoolFull = false;  // the pool is too small for the view: the refinement stops at PoolFull
   double uploadTimeBudgetMs = 0.0;
   bool uploadThroughPbo = false;
-  bool prepare = false;                               // FrameRenderer::prepare() before the first frame
+  bool prepare = false;  // FrameRenderer::prepare() before the first frame
+  // The renderer made with the request (its reads begin before the pool is made), and the first frame
+  // drawn once they are done.
+  bool prefetch = false;
   GradientSource gradients = GradientSource::Stored;  // as `ropecast render` (DVR only)
 
   bool storedGradients() const { return mode == RenderMode::Dvr && gradients == GradientSource::Stored; }
@@ -76,7 +81,6 @@ class ConvergeTest : public ::testing::Test {
     // them, hidden nodes stay coarse: tests/render/visibility_converge_gltest.cpp).
     config.occlusion = false;
     config.feedback = false;
-    FrameRenderer renderer(gl_->info(), source, config);
 
     const BrickSourceInfo& info = source.info();
     std::optional<TfTable> tf;
@@ -95,6 +99,10 @@ class ConvergeTest : public ::testing::Test {
     request.camera = orbitCamera(35.0, 25.0, 1.6, glm::dvec3(0.0), boxMax, 40.0);
     request.synchronous = synchronous;
 
+    FrameRenderer renderer(gl_->info(), source, config, c.prefetch ? &request : nullptr);
+    if (c.prefetch) {
+      EXPECT_TRUE(renderer.waitForReads(std::chrono::seconds(10)));
+    }
     Rendered out;
     if (c.prepare) renderer.prepare(request);
     for (uint32_t i = 0; i < (synchronous ? 1u : maxFrames); ++i) {
@@ -113,9 +121,15 @@ class ConvergeTest : public ::testing::Test {
     ASSERT_TRUE(sync.frames.back().converged);
     const Rendered async = render(source, c, /*synchronous=*/false);
     ASSERT_TRUE(async.frames.back().converged) << "not converged after " << async.frames.size() << " frames";
-    // A cold cache really is cold: the first asynchronous frame cannot have everything.
-    EXPECT_GT(async.frames.size(), 2u);
-    EXPECT_FALSE(async.frames.front().converged);
+    if (c.prefetch) {
+      // The first frame takes what was read before it.
+      EXPECT_GT(async.frames.front().bricksUploaded, 0u);
+    } else {
+      // A cold cache really is cold: the first asynchronous frame cannot have everything.
+      EXPECT_GT(async.frames.size(), 2u);
+      EXPECT_FALSE(async.frames.front().converged);
+      EXPECT_EQ(async.frames.front().bricksUploaded, 0u);
+    }
 
     const uint64_t brickBytes = source.brickBytes();
     const uint64_t poolBytes =
@@ -231,6 +245,26 @@ TEST_F(ConvergeTest, PreparingTheProgramBeforeTheFirstFrameChangesNothing) {
     EXPECT_EQ(maxAbsDifference(plain.color, prepared.color, 4), 0.0);
     EXPECT_EQ(maxAbsDifference(plain.depth, prepared.depth, 1), 0.0);
     expectConvergesToSynchronous(source, c);  // the asynchronous frames after prepare() too
+  }
+}
+
+TEST_F(ConvergeTest, ReadingBeforeThePoolIsMadeChangesNothingButWhenTheBricksArrive) {
+  const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
+  for (const bool poolFull : {false, true}) {  // a pool that holds the view, one that fills
+    SCOPED_TRACE(poolFull ? "a pool that fills" : "a pool that holds the view");
+    ConvergeCase c;
+    if (poolFull) {
+      c.gpuBudgetBytes = 64 * c.gpuBytesPerSlot(source);  // as ASmallPoolConvergesToTheSameCoarserImage
+      c.voxelsPerPixel = 2.0;
+      c.expectPoolFull = true;
+    }
+    const Rendered plain = render(source, c, /*synchronous=*/true);
+    c.prefetch = true;
+    const Rendered prefetched = render(source, c, /*synchronous=*/true);
+    EXPECT_EQ(prefetched.frames.front().bricksUploaded, plain.frames.front().bricksUploaded);
+    EXPECT_EQ(maxAbsDifference(plain.color, prefetched.color, 4), 0.0);
+    EXPECT_EQ(maxAbsDifference(plain.depth, prefetched.depth, 1), 0.0);
+    expectConvergesToSynchronous(source, c);
   }
 }
 
