@@ -87,12 +87,20 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
   return in;
 }
 
-// The sample types of OpenImageIO's pixel types.
+// The sample types of OpenImageIO's pixel types. Half floats are read as float32, which holds each exactly.
 constexpr std::pair<OIIO::TypeDesc::BASETYPE, SampleType> kPixelTypes[] = {
     {OIIO::TypeDesc::UINT8, SampleType::UInt8},   {OIIO::TypeDesc::INT8, SampleType::Int8},
     {OIIO::TypeDesc::UINT16, SampleType::UInt16}, {OIIO::TypeDesc::INT16, SampleType::Int16},
     {OIIO::TypeDesc::UINT32, SampleType::UInt32}, {OIIO::TypeDesc::INT32, SampleType::Int32},
-    {OIIO::TypeDesc::FLOAT, SampleType::Float32}, {OIIO::TypeDesc::DOUBLE, SampleType::Float64}};
+    {OIIO::TypeDesc::FLOAT, SampleType::Float32}, {OIIO::TypeDesc::DOUBLE, SampleType::Float64},
+    {OIIO::TypeDesc::HALF, SampleType::Float32}};
+
+// The pixel type a slice of `type` is read as (OpenImageIO converts half to it).
+OIIO::TypeDesc pixelTypeOf(SampleType type) {
+  for (const auto& [pixelType, sampleType] : kPixelTypes)
+    if (sampleType == type) return pixelType;
+  throw Error("no image pixel type for sample type " + std::string(sampleTypeName(type)));
+}
 
 // OpenImageIO's TIFF reader copies samples of 64 bits when it reads whole strips, but leaves them out (zeros,
 // and no error) when it reads one row or one tile at a time: in a TIFF one row high, or a tiled one. Of a
@@ -127,7 +135,7 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName
                                    [&](const auto& p) { return spec.format == p.first; });
   if (known == std::end(kPixelTypes))
     throw Error("image slice " + what + " has pixel type " + std::string(spec.format.c_str()) +
-                "; expected " + std::string(kSampleTypeList));
+                "; expected " + std::string(kSampleTypeList) + " (or 16-bit float, read as float32)");
   format.type = known->second;
   const uint32_t typeBits = uint32_t(8 * bytesPerSample(format.type));
   const int bits = spec.get_int_attribute("oiio:BitsPerSample", 0);
@@ -324,7 +332,8 @@ class ImageSliceSource final : public VolumeSource {
     const std::span<std::byte> read = format.channels > 1 ? std::span<std::byte>(pixels) : out;
     in->geterror();  // clears an earlier message, so that one after the read is the read's
     // A TIFF strip that cannot be read leaves zeros and an error message, but read_image succeeds.
-    if (!in->read_image(slice.page, 0, 0, int(format.channels), spec.format, read.data()) || in->has_error())
+    if (!in->read_image(slice.page, 0, 0, int(format.channels), pixelTypeOf(format.type), read.data()) ||
+        in->has_error())
       throw Error("cannot read image slice " + what + ": " + firstLine(oiioError(in)));
     if (format.channels > 1) grayFromColor(pixels, format, out, what);
     if (format_.minIsWhite && spec.format == OIIO::TypeDesc::UINT8)

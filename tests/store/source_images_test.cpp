@@ -6,6 +6,7 @@
 // short, one OpenImageIO would read as zeros) or bad spec giving an error that names the file.
 #include "store/source_images.h"
 
+#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
 #include <array>
@@ -323,6 +324,29 @@ TEST(SourceImages, Float64SlicesAreQuantizedWithinHalfAStep) {
   for (size_t i = 0; i < values.size(); ++i)
     values[i] = -3e40 + 7e40 * std::fmod(double(i) * 0.6180339887, 1.0);
   expectKeptThroughTiffs<double>(SampleType::Float64, kWideW, kWideH, values, false);
+}
+
+// 16-bit float slices (half; OpenImageIO writes none, writeTiff does), single- and multi-page: read as
+// float32, which holds every half value exactly; the pattern's values are all halves.
+TEST(SourceImages, HalfFloatSlicesAreReadExactlyAsFloat32) {
+  TempDir dir;
+  const auto halfPage = [](uint32_t z) {
+    const std::vector<float> values = slicePattern<float>(20, 18, z);
+    std::vector<uint16_t> bits(values.size());
+    for (size_t i = 0; i < values.size(); ++i) bits[i] = Imath::half(values[i]).bits();
+    TiffPage page = tiffPage(20, 18, bits);
+    page.sampleFormat = 3;
+    return page;
+  };
+  for (uint32_t z = 0; z < 3; ++z) writeTiff(dir.file("half_" + std::to_string(z) + ".tif"), {halfPage(z)});
+  auto source = openVolumeSource(dir.file("half_*.tif"));
+  EXPECT_EQ(source->info().type, SampleType::Float32);
+  expectSlices<float>(*source, 20, 18, 3);
+  writeTiff(dir.file("pages.tif"), {halfPage(0), halfPage(1)});
+  expectSlices<float>(*openVolumeSource(dir.file("pages.tif")), 20, 18, 2);
+  // Float32 slices beside half ones: the same values either way.
+  writeImage(dir.file("half_3.tif"), 20, 18, slicePattern<float>(20, 18, 3));
+  expectSlices<float>(*openVolumeSource(dir.file("half_*.tif")), 20, 18, 4);
 }
 
 // Slices of one width but another signedness are of another type.
