@@ -109,9 +109,14 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
     info.valueMin = 0.0;
     info.valueMax = 255.0;
   }
-  info.description = "raw:" + path;
-  return std::make_unique<RawSource>(path, std::move(info), headerBytes,
-                                     options.byteOrder.value_or(ByteOrder::Little) == ByteOrder::Big);
+  const bool bigEndian = options.byteOrder.value_or(ByteOrder::Little) == ByteOrder::Big;
+  // How the file was read, beside its name: what another reading of it would need.
+  std::string readAs;
+  if (bigEndian && bytesPerSample(info.type) > 1) readAs = "big-endian";
+  if (headerBytes > 0)
+    readAs += (readAs.empty() ? "" : ", ") + std::to_string(headerBytes) + " header bytes skipped";
+  info.description = "raw:" + path + (readAs.empty() ? "" : " (" + readAs + ")");
+  return std::make_unique<RawSource>(path, std::move(info), headerBytes, bigEndian);
 }
 
 PosixFile::PosixFile(std::string path) : path_(std::move(path)) {

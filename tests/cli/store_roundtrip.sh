@@ -34,6 +34,9 @@ PY
 "$ropecast" convert "$dir/be.bin" --dims 14,9,6 --type int32 --byte-order big --header-bytes 100 \
   -o "$dir/be.store" --brick 4 --quiet
 "$ropecast" info "$dir/be.store" | grep -q "^type *int32 (stored as uint16, data = stored - 20000)$"
+# The store says how the file was read.
+"$ropecast" info "$dir/be.store" | grep -q "^source *raw:$dir/be.bin (big-endian, 100 header bytes skipped) "
+"$ropecast" info "$dir/b.store" | grep -q "^source *raw:$dir/ct.bin (by"
 "$ropecast" verify "$dir/be.store" --quiet
 "$ropecast" extract "$dir/be.store" -o "$dir/be0.raw" --quiet
 cmp "$dir/le.raw" "$dir/be0.raw"
