@@ -131,6 +131,8 @@ struct TiffPage {
   uint16_t photometric = 1;  // 0: MinIsWhite, 1: MinIsBlack
   std::vector<uint8_t> data;
   uint16_t sampleFormat = 1;  // 1: unsigned, 2: signed, 3: floating point (tagged only when not 1)
+  // A palette page's ColorMap (photometric 3): the reds, greens, then blues of its 2^bits entries.
+  std::vector<uint16_t> colorMap{};
 };
 
 template <typename T>
@@ -141,15 +143,17 @@ TiffPage tiffPage(uint32_t w, uint32_t h, const std::vector<T>& samples, uint16_
   return page;
 }
 
-// The directory entries of a page whose data starts at `dataAt`: tag, type (3: 16 bits, 4: 32 bits), value.
-// SampleFormat only for samples that are not unsigned, so that the directories of unsigned pages are 114
-// bytes (9 entries).
-std::vector<std::array<uint32_t, 3>> tiffEntries(const TiffPage& page, uint32_t dataAt) {
-  std::vector<std::array<uint32_t, 3>> entries = {
-      {256, 4, page.width}, {257, 4, page.height},      {258, 3, page.bits},
-      {259, 3, 1},          {262, 3, page.photometric}, {273, 4, dataAt},
-      {277, 3, 1},          {278, 4, page.height},      {279, 4, uint32_t(page.data.size())}};
-  if (page.sampleFormat != 1) entries.push_back({339, 3, page.sampleFormat});
+// The directory entries of a page whose data starts at `dataAt` (and its color map at `colorMapAt`): tag,
+// type (3: 16 bits, 4: 32 bits), count, value (or where the values are, for more than one). SampleFormat only
+// for samples that are not unsigned, so that the directories of unsigned pages are 114 bytes (9 entries).
+std::vector<std::array<uint32_t, 4>> tiffEntries(const TiffPage& page, uint32_t dataAt,
+                                                 uint32_t colorMapAt = 0) {
+  std::vector<std::array<uint32_t, 4>> entries = {
+      {256, 4, 1, page.width}, {257, 4, 1, page.height},      {258, 3, 1, page.bits},
+      {259, 3, 1, 1},          {262, 3, 1, page.photometric}, {273, 4, 1, dataAt},
+      {277, 3, 1, 1},          {278, 4, 1, page.height},      {279, 4, 1, uint32_t(page.data.size())}};
+  if (!page.colorMap.empty()) entries.push_back({320, 3, uint32_t(page.colorMap.size()), colorMapAt});
+  if (page.sampleFormat != 1) entries.push_back({339, 3, 1, page.sampleFormat});
   return entries;
 }
 
@@ -157,8 +161,9 @@ uint32_t tiffDirectoryBytes(const TiffPage& page) {
   return uint32_t(2 + tiffEntries(page, 0).size() * 12 + 4);
 }
 
-// A little-endian, uncompressed TIFF, for what OpenImageIO does not write: MinIsWhite pages, and every page's
-// directory ahead of all the image data (OpenImageIO writes each page's data, then its directory).
+// A little-endian, uncompressed TIFF, for what OpenImageIO does not write: MinIsWhite pages, palette pages
+// with the color maps given, half floats, and every page's directory ahead of all the image data (OpenImageIO
+// writes each page's data, then its directory; then no page may have a color map).
 void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool directoriesFirst = false) {
   std::vector<uint8_t> file{'I', 'I', 42, 0, 0, 0, 0, 0};
   const auto put = [&](uint32_t at, uint32_t value, int bytes) {
@@ -169,13 +174,18 @@ void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool
     for (const TiffPage& page : pages) dataAt += tiffDirectoryBytes(page);
   uint32_t linkAt = 4;  // where the offset of the next directory goes
   for (const TiffPage& page : pages) {
+    uint32_t colorMapAt = 0;
     if (!directoriesFirst) {
       dataAt = uint32_t(file.size());
       file.insert(file.end(), page.data.begin(), page.data.end());
       if (file.size() % 2) file.push_back(0);  // directories start on a word boundary
+      colorMapAt = uint32_t(file.size());
+      file.resize(file.size() + 2 * page.colorMap.size());
+      for (size_t i = 0; i < page.colorMap.size(); ++i)
+        put(colorMapAt + uint32_t(2 * i), page.colorMap[i], 2);
     }
     const uint32_t directoryAt = uint32_t(file.size());
-    const std::vector<std::array<uint32_t, 3>> entries = tiffEntries(page, dataAt);
+    const std::vector<std::array<uint32_t, 4>> entries = tiffEntries(page, dataAt, colorMapAt);
     put(linkAt, directoryAt, 4);
     file.resize(file.size() + tiffDirectoryBytes(page));
     put(directoryAt, uint32_t(entries.size()), 2);
@@ -183,8 +193,8 @@ void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool
       const uint32_t at = directoryAt + 2 + 12 * e;
       put(at, entries[e][0], 2);
       put(at + 2, entries[e][1], 2);
-      put(at + 4, 1, 4);
-      put(at + 8, entries[e][2], entries[e][1] == 3 ? 2 : 4);
+      put(at + 4, entries[e][2], 4);
+      put(at + 8, entries[e][3], entries[e][1] == 3 && entries[e][2] == 1 ? 2 : 4);
     }
     linkAt = directoryAt + 2 + uint32_t(entries.size()) * 12;
     if (directoriesFirst) dataAt += uint32_t(page.data.size());
@@ -723,6 +733,36 @@ TEST(SourceImages, GraySlicesSavedAsColorOrPaletteImagesConvertLikeGrayOnes) {
     EXPECT_EQ(openVolumeSource(dir.file(name))->info().type, SampleType::UInt16) << name;
     EXPECT_EQ(level0Data(*convertAndOpen(dir, dir.file(name))), gray16) << name;
   }
+
+  // Palette TIFFs of 8- and 4-bit indexes whose color maps hold grays (16 bits an entry, g * 257 for the
+  // 8-bit gray g): they read as the 8-bit grays, like a palette PNG's.
+  const auto grayColorMap = [](int entries) {
+    std::vector<uint16_t> map;
+    for (int channel = 0; channel < 3; ++channel)
+      for (int i = 0; i < entries; ++i) map.push_back(uint16_t(257 * (255 - i * 255 / (entries - 1))));
+    return map;
+  };
+  std::filesystem::create_directories(dir.file("palette_tiff"));
+  for (uint32_t z = 0; z < depth; ++z) {
+    const std::vector<uint8_t> slice = slicePattern<uint8_t>(w, h, z);
+    std::vector<uint8_t> indexes(slice.size());
+    for (size_t i = 0; i < slice.size(); ++i) indexes[i] = uint8_t(255 - slice[i]);
+    TiffPage page = tiffPage(w, h, indexes, /*photometric=*/3);
+    page.colorMap = grayColorMap(256);
+    writeTiff(dir.file("palette_tiff/s" + std::to_string(z) + ".tif"), {page});
+  }
+  EXPECT_EQ(level0Data(*convertAndOpen(dir, dir.file("palette_tiff"))), gray);
+  std::vector<uint8_t> indexes4(5 * 2), grays4(indexes4.size());
+  for (size_t i = 0; i < indexes4.size(); ++i) {
+    indexes4[i] = uint8_t(i * 7 % 16);
+    grays4[i] = uint8_t(255 - indexes4[i] * 17);
+  }
+  TiffPage page4{5, 2, 4, 3, packRows(indexes4, 5, 2, 4)};
+  page4.colorMap = grayColorMap(16);
+  writeTiff(dir.file("palette4_0.tif"), {page4});
+  const auto palette4 = openVolumeSource(dir.file("palette4_*.tif"));
+  EXPECT_EQ(palette4->info().type, SampleType::UInt8);
+  EXPECT_EQ(readSlab<uint8_t>(*palette4, 0, 1), grays4);
 
   // A palette of 2-bit indexes: the grays are the palette's, of 8 bits.
   std::vector<uint8_t> indexes(5 * 2), grays(indexes.size());
