@@ -14,21 +14,22 @@
 #include <utility>
 #include <vector>
 
+#include "loader/brick_memory.h"
 #include "store/octree_layout.h"
 
 namespace ropecast {
 
-// Leaves the bytes a vector is sized with uninitialized: a brick is written whole by whoever makes it (a
-// reader decompresses into it), and clearing it first would touch every page twice.
+// Bricks' memory (loader/brick_memory.h), whose bytes a vector sized with it leaves uninitialized: a brick is
+// written whole by whoever makes it (a reader decompresses into it), and clearing it first would touch every
+// page twice.
 template <class T>
-struct UninitializedAllocator : std::allocator<T> {
+struct BrickAllocator {
+  using value_type = T;
+  BrickAllocator() = default;
   template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <class U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  BrickAllocator(const BrickAllocator<U>&) noexcept {}
+  T* allocate(size_t n) { return static_cast<T*>(brick_memory::allocate(n * sizeof(T))); }
+  void deallocate(T* p, size_t n) noexcept { brick_memory::deallocate(p, n * sizeof(T)); }
   template <class U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;  // default-initialized: no value written
@@ -37,9 +38,13 @@ struct UninitializedAllocator : std::allocator<T> {
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
+  template <class U>
+  bool operator==(const BrickAllocator<U>&) const noexcept {
+    return true;
+  }
 };
 
-using BrickBytes = std::vector<std::byte, UninitializedAllocator<std::byte>>;
+using BrickBytes = std::vector<std::byte, BrickAllocator<std::byte>>;
 using SharedBrick = std::shared_ptr<const BrickBytes>;
 
 class BrickCache {
