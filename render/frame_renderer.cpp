@@ -112,7 +112,7 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   wsConfig.uploadBudgetBytes = config.uploadBudgetBytes;
   wsConfig.ioThreads = config.ioThreads;
   workingSet_ = std::make_unique<WorkingSet>(source, wsConfig);
-  if (firstRequest) workingSet_->prefetch(viewInputOf(*firstRequest, info));
+  if (firstRequest && firstRequest->synchronous) workingSet_->prefetch(viewInputOf(*firstRequest, info));
 
   pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
   if (pool_->slotCount() != poolGeometry.slotCount())

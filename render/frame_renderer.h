@@ -98,9 +98,12 @@ struct FrameRequest {
 
 class FrameRenderer {
  public:
-  // With `firstRequest`, the loader begins reading what that request's first refinement needs
-  // (WorkingSet::prefetch) before the GPU pool is made: making a large pool takes a while (llvmpipe clears
-  // it in memory), and the reads need neither the pool nor a frame.
+  // With a synchronous `firstRequest`, the loader begins reading what that request's first refinement needs
+  // (WorkingSet::prefetch) before the GPU pool is made: making a large pool takes a while (llvmpipe clears it
+  // in memory), and the reads need neither the pool nor a frame. Asynchronous frames read nothing before the
+  // first: with occlusion or feedback the answers of drawn frames steer the reads, and reads ahead of the
+  // first answer load what it would have hidden (with a slow pool to make, the whole tree of a small store);
+  // without them, frame times would no longer hold the reading that a progressive render waits for.
   FrameRenderer(const GlContextInfo& gl, const BrickSource& source, const FrameRendererConfig& config,
                 const FrameRequest* firstRequest = nullptr);
   ~FrameRenderer();

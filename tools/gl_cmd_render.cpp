@@ -208,7 +208,7 @@ struct OctreeRender {
     // would show nothing new.
     request.keepImageWhileReading = o.converge;
     request.camera = s.cameraOf(0);
-    // The reads of frame 0's view begin while the GPU pool is made and the shader compiled.
+    // A synchronous frame's reads begin while the GPU pool is made.
     renderer =
         std::make_unique<FrameRenderer>(gl.info(), s.bricks(), frameRendererConfigOf(o, s.params), &request);
     renderer->prepare(request);  // shader compilation before frame 0, not in its frame_ms

@@ -313,29 +313,26 @@ void Viewer::setTransferFunction(TransferFunction function, const std::string& n
 
 // A renderer for the current parameters. A switch to DVR with stored gradients needs a GradientPool, which a
 // FrameRenderer gets at construction: then the renderer is made again (its bricks load again). A new one
-// begins reading the frame's view while it makes its pool, and compiles its shaders for the frame's request
-// before that frame, not in its ms (as render does).
+// compiles its shaders for the frame's request before that frame, not in its ms (as render does).
 void Viewer::ensureRenderer(bool moving) {
   if (renderer_ && (rendererHasGradients_ || !usesStoredGradients(params_))) return;
   renderer_.reset();
   FrameRendererConfig config = frameRendererConfigOf(o_, params_);
-  FrameRequest first = currentRequest(moving);
   try {
-    renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config, &first);
+    renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
   } catch (const UsageError& e) {
     if (!config.storedGradients) throw;
     // Stored gradients take 8 more bytes per pool texel: a --gpu-budget too small for a brick with them can
     // still hold one without, its gradients computed per sample. The session goes on.
     params_.gradients = GradientSource::Computed;
     config = frameRendererConfigOf(o_, params_);
-    first = currentRequest(moving);
-    renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config, &first);
+    renderer_ = std::make_unique<FrameRenderer>(window_->info(), bricks(), config);
     message_ = std::string(e.what()) + " with stored gradients: computing them per sample instead";
     std::fprintf(stderr, "ropecast view: %s\n", message_.c_str());
   }
   rendererHasGradients_ = config.storedGradients;
   lastRequest_.reset();
-  renderer_->prepare(first);
+  renderer_->prepare(currentRequest(moving));
 }
 
 FrameRequest Viewer::currentRequest(bool moving) {

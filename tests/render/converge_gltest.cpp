@@ -2,8 +2,8 @@
 // FrameRenderer::render with synchronous=false, repeated on one camera until stats.converged, end with the
 // same cut and the same image as one synchronous frame (synchronous=true) of a fresh renderer with the same
 // budgets, for iso and DVR, with a small upload budget, a small GPU pool and a slow source
-// (DelayedBrickSource), and with the reads begun before the pool was made (FrameRenderer made with the
-// request). Every asynchronous frame also stays within the upload budget and the pool.
+// (DelayedBrickSource), and with a synchronous request's reads begun before the pool was made (FrameRenderer
+// made with the request). Every asynchronous frame also stays within the upload budget and the pool.
 //
 // The images are compared up to float rounding: both renderers build the same cut (checked leaf by leaf);
 // only the pool slots may differ (the slot a brick gets depends on the order in which bricks arrived; in
@@ -35,6 +35,7 @@ struct Rendered {
   FloatImage color, depth;
   std::vector<CutLeaf> leaves;
   std::vector<FrameStats> frames;
+  uint64_t readsBeforeFirstFrame = 0;
 };
 
 struct ConvergeCase {
@@ -49,8 +50,8 @@ struct ConvergeCase {
   double uploadTimeBudgetMs = 0.0;
   bool uploadThroughPbo = false;
   bool prepare = false;  // FrameRenderer::prepare() before the first frame
-  // The renderer made with the request (its reads begin before the pool is made), and the first frame
-  // drawn once they are done.
+  // The renderer made with the request (a synchronous one's reads begin before the pool is made), and the
+  // first frame drawn once they are done.
   bool prefetch = false;
   GradientSource gradients = GradientSource::Stored;  // as `ropecast render` (DVR only)
 
@@ -100,10 +101,11 @@ class ConvergeTest : public ::testing::Test {
     request.synchronous = synchronous;
 
     FrameRenderer renderer(gl_->info(), source, config, c.prefetch ? &request : nullptr);
+    Rendered out;
     if (c.prefetch) {
       EXPECT_TRUE(renderer.waitForReads(std::chrono::seconds(10)));
+      out.readsBeforeFirstFrame = renderer.workingSet().io().readsStarted();
     }
-    Rendered out;
     if (c.prepare) renderer.prepare(request);
     for (uint32_t i = 0; i < (synchronous ? 1u : maxFrames); ++i) {
       out.frames.push_back(renderer.render(request));
@@ -121,15 +123,10 @@ class ConvergeTest : public ::testing::Test {
     ASSERT_TRUE(sync.frames.back().converged);
     const Rendered async = render(source, c, /*synchronous=*/false);
     ASSERT_TRUE(async.frames.back().converged) << "not converged after " << async.frames.size() << " frames";
-    if (c.prefetch) {
-      // The first frame takes what was read before it.
-      EXPECT_GT(async.frames.front().bricksUploaded, 0u);
-    } else {
-      // A cold cache really is cold: the first asynchronous frame cannot have everything.
-      EXPECT_GT(async.frames.size(), 2u);
-      EXPECT_FALSE(async.frames.front().converged);
-      EXPECT_EQ(async.frames.front().bricksUploaded, 0u);
-    }
+    // A cold cache really is cold: the first asynchronous frame cannot have everything.
+    EXPECT_GT(async.frames.size(), 2u);
+    EXPECT_FALSE(async.frames.front().converged);
+    EXPECT_EQ(async.frames.front().bricksUploaded, 0u);
 
     const uint64_t brickBytes = source.brickBytes();
     const uint64_t poolBytes =
@@ -248,7 +245,7 @@ TEST_F(ConvergeTest, PreparingTheProgramBeforeTheFirstFrameChangesNothing) {
   }
 }
 
-TEST_F(ConvergeTest, ReadingBeforeThePoolIsMadeChangesNothingButWhenTheBricksArrive) {
+TEST_F(ConvergeTest, ASynchronousRequestReadsBeforeThePoolIsMadeAndDrawsTheSameImage) {
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
   for (const bool poolFull : {false, true}) {  // a pool that holds the view, one that fills
     SCOPED_TRACE(poolFull ? "a pool that fills" : "a pool that holds the view");
@@ -261,10 +258,24 @@ TEST_F(ConvergeTest, ReadingBeforeThePoolIsMadeChangesNothingButWhenTheBricksArr
     const Rendered plain = render(source, c, /*synchronous=*/true);
     c.prefetch = true;
     const Rendered prefetched = render(source, c, /*synchronous=*/true);
+    EXPECT_GT(prefetched.readsBeforeFirstFrame, 8u);  // the read-ahead too, not only the root's children
     EXPECT_EQ(prefetched.frames.front().bricksUploaded, plain.frames.front().bricksUploaded);
     EXPECT_EQ(maxAbsDifference(plain.color, prefetched.color, 4), 0.0);
     EXPECT_EQ(maxAbsDifference(plain.depth, prefetched.depth, 1), 0.0);
+    // An asynchronous request reads nothing before its first frame (with or without the answers that steer
+    // its reads).
     expectConvergesToSynchronous(source, c);
+  }
+  for (const bool answers : {false, true}) {
+    FrameRendererConfig config;
+    config.occlusion = config.feedback = answers;
+    FrameRequest request;
+    request.width = request.height = 64;
+    request.params.isoValue = 140.0;
+    request.camera = orbitCamera(35.0, 25.0, 1.6, glm::dvec3(0.0), glm::dvec3(64.0), 40.0);
+    FrameRenderer renderer(gl_->info(), source, config, &request);
+    EXPECT_TRUE(renderer.waitForReads(std::chrono::seconds(10)));
+    EXPECT_EQ(renderer.workingSet().io().readsStarted(), 0u) << "answers " << answers;
   }
 }
 
