@@ -7,6 +7,11 @@
 
 namespace ropecast {
 
+uint32_t defaultIoThreads() {
+  const unsigned cores = std::thread::hardware_concurrency();  // 0 when unknown
+  return std::clamp<uint32_t>(cores, 2, 8);
+}
+
 IoQueue::IoQueue(const BrickSource& source, uint32_t workerCount, size_t maxReadyBricks)
     : source_(source), maxReadyBricks_(std::max<size_t>(maxReadyBricks, 1)) {
   if (workerCount == 0) throw Error("IoQueue: at least one I/O thread is needed");

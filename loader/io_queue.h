@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <unordered_set>
 #include <vector>
@@ -25,6 +26,13 @@
 #include "store/brick_source.h"
 
 namespace ropecast {
+
+// The I/O threads a loader starts unless told (`--io-threads`): one per core, at least 2 (one reads while the
+// other decompresses) and at most 8. With a GPU the cores have nothing else to do while a view loads; with a
+// software rasterizer they draw the frames too.
+inline constexpr std::string_view kDefaultIoThreadsRule = "one per core, at least 2, at most 8";
+inline constexpr uint32_t kMaxIoThreads = 256;
+uint32_t defaultIoThreads();
 
 struct BrickRequest {
   NodeKey key;

@@ -54,8 +54,8 @@ struct FrameRendererConfig {
   // --upload-time-budget: milliseconds of uploads per asynchronous frame (0 = none), turned into bytes from
   // the throughput of earlier frames (render/upload_pacer.h); the smaller of the two budgets applies.
   double uploadTimeBudgetMs = 0.0;
-  bool uploadThroughPbo = false;  // --upload-pbo (render/brick_pool.h)
-  uint32_t ioThreads = 2;
+  bool uploadThroughPbo = false;            // --upload-pbo (render/brick_pool.h)
+  uint32_t ioThreads = defaultIoThreads();  // --io-threads
   // A GradientPool beside the brick pool, derived at every upload, for DVR requests with stored gradients
   // (RenderParams::gradients); it takes its share of the GPU budget. usesStoredGradients() says when.
   bool storedGradients = false;

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
 #include "store/store.h"
 #include "tools/cli_checks.h"
@@ -110,6 +111,10 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->check(finiteIn(0.0, 100000.0));
   app.add_option("--io-delay-ms", o.ioDelayMs, "added latency per brick read (shows asynchrony)")
       ->check(finiteIn(0.0, 10000.0));
+  app.add_option("--io-threads", o.ioThreads,
+                 "threads that read and decompress bricks (default: " + std::to_string(defaultIoThreads()) +
+                     " on this machine; " + std::string(kDefaultIoThreadsRule) + ")")
+      ->check(CLI::Range(1u, kMaxIoThreads));
   addEnumOption(app, "--occlusion", o.occlusion, kOnOffNames,
                 "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
   addEnumOption(app, "--feedback", o.feedback, kOnOffNames,
@@ -250,6 +255,7 @@ FrameRendererConfig frameRendererConfigOf(const RenderOptions& o, const RenderPa
   config.uploadTimeBudgetMs = o.uploadTimeBudgetMs;
   config.storedGradients = usesStoredGradients(params);
   config.uploadThroughPbo = o.uploadPbo;
+  if (o.ioThreads > 0) config.ioThreads = o.ioThreads;
   config.occlusion = o.occlusion;
   config.feedback = o.feedback;
   config.visibility.tiles.queryBudget = o.queryBudget;

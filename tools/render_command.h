@@ -50,6 +50,7 @@ struct RenderOptions {
   uint32_t maxFrames = 1000;
   uint32_t every = 0;
   double ioDelayMs = 0.0;
+  uint32_t ioThreads = 0;         // 0: FrameRendererConfig's default
   std::optional<uint32_t> brick;  // procedural inputs only (default kDefaultBrickSize)
   bool occlusion = true;
   bool feedback = true;

@@ -63,6 +63,8 @@ expect_usage "brute stage without brute force" "--brute-stage compute applies to
 expect_usage "brute stage with the octree ray caster" "--brute-stage fragment applies to --backend brute" "$vol" \
   --backend compute --brute-stage fragment
 expect_usage "bad gradients" "--gradients" "$vol" --gradients sobel
+expect_usage "no I/O thread" "--io-threads: Value 0 not in range 1 to 256" "$vol" --io-threads 0
+expect_usage "I/O threads not a number" "--io-threads: Value many not in range" "$vol" --io-threads many
 expect_usage "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
 expect_usage "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0
 # Options that would be ignored are refused: one camera, a frame cap and frame files only where they apply.

@@ -131,6 +131,12 @@ tail -n 1 "$dir/v.jsonl" | grep -q '"converged":true' || fail "--converge: last 
 [ "$(ls "$dir"/v_*.png 2>/dev/null | wc -l)" -eq "$(wc -l < "$dir/v.jsonl")" ] ||
   fail "--every 1 wrote $(ls "$dir"/v_*.png 2>/dev/null | wc -l) frames for $(wc -l < "$dir/v.jsonl") stats lines"
 cmp -s "$(ls "$dir"/v_*.png | tail -n 1)" "$dir/v.png" || fail "--every 1: the last numbered frame is not the -o image"
+# The loader's thread count changes when bricks arrive, not the converged image.
+for threads in 1 7; do
+  run "converge with --io-threads $threads" "$ropecast" render $small -o "$dir/t$threads.png" --converge \
+    --io-delay-ms 5 --upload-budget 64K --io-threads "$threads"
+  cmp -s "$dir/t$threads.png" "$dir/v.png" || fail "--io-threads $threads: another converged image"
+done
 # Brute force's frames along a path are written alike (every second one, and the last).
 run "brute every" "$ropecast" render $small -o "$dir/b.png" --backend brute --frames 3 --every 2
 [ "$(ls "$dir"/b_*.png 2>/dev/null | tr '\n' ' ')" = "$dir/b_0000.png $dir/b_0002.png " ] ||
