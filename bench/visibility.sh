@@ -17,8 +17,9 @@
 # 1b. Iso from the page cache again, the same cut with 16 times fewer pixels (IMAGE / 4 on a side,
 #    --voxels-per-pixel 4, which asks for the same bricks), CHEAP_REPS times: frames and seconds to converge,
 #    medians (what the frames' cost on this machine adds to the answers' round trips).
-# 2. The same, iso only, with a slow disk (--io-delay-ms SLOW_IO per brick read): answers come back while the
-#    tree is still being read, as in Gobbetti et al. 2008's out-of-core setting.
+# 2. The same, iso only, with a slow disk (--io-delay-ms SLOW_IO per brick read, --io-threads 2: the same disk
+#    on every machine): answers come back while the tree is still being read, as in Gobbetti et al. 2008's
+#    out-of-core setting.
 # 3. Cold cache, then bench/flyby_path.json (FRAMES frames at PATH_IMAGE) with GPU and CPU budgets smaller than
 #    the path's working set: frame time median and max, bytes read and uploaded, evictions of bricks the rays
 #    used in the frame before (used_evictions); PATH_REPS times, the configurations taking turns (frame times
@@ -99,7 +100,7 @@ if [ "${SKIP_CONVERGE:-0}" != 1 ] && [ "$slow_io" != 0 ]; then
     # shellcheck disable=SC2046
     "$ROPECAST" render "$store" --mode iso --size "$IMAGE" --orbit 30,20,1.6 --converge --max-frames "$max_frames" \
       --gpu-budget "${GPU:-1G}" --cpu-cache "${CPU:-1G}" $(flags "$config") --io-delay-ms "$slow_io" \
-      --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.$EXT"
+      --io-threads 2 --stats "$WORK/slow-iso-$config.jsonl" -o "$WORK/slow-iso-$config.$EXT"
   done
 fi
 path_reps=${PATH_REPS:-1}
