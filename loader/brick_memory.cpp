@@ -39,10 +39,17 @@ std::byte* mapChunk(size_t bytes) {
   return chunk;
 }
 
+struct Chunk {
+  std::byte* start = nullptr;
+  size_t bytes = 0;
+};
+
 struct SizeClass {
   std::vector<void*> free;  // blocks given back, taken first
   std::byte* next = nullptr;
   std::byte* end = nullptr;  // the rest of the current chunk: [next, end)
+  std::vector<Chunk> chunks;
+  size_t live = 0;  // blocks handed out and not given back
 };
 
 class Blocks {
@@ -53,37 +60,52 @@ class Blocks {
     if (!c.free.empty()) {
       void* p = c.free.back();
       c.free.pop_back();
+      ++c.live;
       return p;
     }
     if (size_t(c.end - c.next) < block) {
       const size_t bytes = std::max(kChunkBytes, roundUp(block, kHugePageBytes));
+      c.chunks.reserve(c.chunks.size() + 1);  // before mapping: nothing to undo if this throws
       c.next = mapChunk(bytes);
       c.end = c.next + bytes;
-      ++chunks_;
+      c.chunks.push_back({c.next, bytes});
+      ++mapped_;
     }
     void* p = c.next;
     c.next += block;
+    ++c.live;
     return p;
   }
 
+  // The last block of a size given back returns that size's chunks to the system: a renderer that ends (a
+  // regression case of `regress`) leaves no memory to sizes no later one may use.
   void deallocate(void* p, size_t block) noexcept {
     std::lock_guard lock(mutex_);
+    const auto it = classes_.find(block);
+    if (it == classes_.end()) return;  // not a block of ours: cannot happen
+    SizeClass& c = it->second;
+    if (--c.live == 0) {
+      for (const Chunk& chunk : c.chunks) ::munmap(chunk.start, chunk.bytes);
+      mapped_ -= c.chunks.size();
+      classes_.erase(it);
+      return;
+    }
     try {
-      classes_[block].free.push_back(p);
+      c.free.push_back(p);
     } catch (...) {
-      // No memory for the free list's growth: the block is lost to reuse, not to correctness.
+      // No memory for the free list's growth: the block is lost to reuse until its chunks are returned.
     }
   }
 
-  size_t chunkCount() {
+  size_t mappedChunks() {
     std::lock_guard lock(mutex_);
-    return chunks_;
+    return mapped_;
   }
 
  private:
   std::mutex mutex_;
   std::unordered_map<size_t, SizeClass> classes_;
-  size_t chunks_ = 0;
+  size_t mapped_ = 0;
 };
 
 // Never destroyed: bricks may be freed by static destructors after any function-local static would be.
@@ -112,8 +134,8 @@ void deallocate(void* block, size_t bytes) noexcept {
   blocks().deallocate(block, roundUp(bytes, kBlockAlignment));
 }
 
-size_t chunkCount() {
-  return blocks().chunkCount();
+size_t mappedChunks() {
+  return blocks().mappedChunks();
 }
 
 }  // namespace ropecast::brick_memory

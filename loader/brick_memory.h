@@ -1,8 +1,9 @@
 // BrickMemory: where decompressed bricks live. Blocks of one size are carved from chunks of 32 MiB that the
 // kernel may back with transparent huge pages (madvise MADV_HUGEPAGE; Linux's "madvise" mode, the default of
 // many distributions, gives them only to memory that asks): filling a cold CPU cache then takes a page fault
-// per 2 MiB rather than one per 4 KiB. A freed block is kept for the next brick of its size, and the chunks
-// stay until the process ends, so the memory held is the most that bricks of each size ever took at once.
+// per 2 MiB rather than one per 4 KiB. A freed block is kept for the next brick of its size, and a size's
+// chunks go back to the system when its last block is freed: while bricks of a size live, the memory held for
+// them is the most they took at once.
 // Blocks under kMinBlockBytes (the bricks of small test volumes) come from operator new. Under
 // AddressSanitizer every block does, so that it still sees a brick used after it was freed.
 //
@@ -33,7 +34,7 @@ void* allocate(size_t bytes);
 // `bytes` as given to the allocate() that returned `block`.
 void deallocate(void* block, size_t bytes) noexcept;
 
-// Chunks mapped so far (for tests).
-size_t chunkCount();
+// Chunks mapped now (for tests).
+size_t mappedChunks();
 
 }  // namespace ropecast::brick_memory

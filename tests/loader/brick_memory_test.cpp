@@ -1,6 +1,7 @@
 // Bricks' memory: blocks of a size are distinct, aligned and writable; a freed block is the next one handed
-// out of its size, without a new chunk; small blocks and, under AddressSanitizer, all of them come from
-// operator new; threads allocating and freeing at once never get one block twice.
+// out of its size, without a new chunk; a size's chunks go back when its last block does; small blocks and,
+// under AddressSanitizer, all of them come from operator new; threads allocating and freeing at once never
+// get one block twice.
 #include "loader/brick_memory.h"
 
 #include <algorithm>
@@ -37,9 +38,10 @@ TEST(BrickMemory, BlocksAreDistinctAlignedAndWritable) {
 }
 
 TEST(BrickMemory, AFreedBlockIsReusedWithoutANewChunk) {
+  void* kept = brick_memory::allocate(kBrickBytes + 64);  // the size stays in use throughout
   void* first = brick_memory::allocate(kBrickBytes + 64);
   brick_memory::deallocate(first, kBrickBytes + 64);
-  const size_t chunks = brick_memory::chunkCount();
+  const size_t chunks = brick_memory::mappedChunks();
   std::vector<void*> again;
   for (int i = 0; i < 100; ++i) {
     again.push_back(brick_memory::allocate(kBrickBytes + 64));
@@ -47,17 +49,35 @@ TEST(BrickMemory, AFreedBlockIsReusedWithoutANewChunk) {
   }
   if (brick_memory::kChunked) {
     for (void* p : again) EXPECT_EQ(p, first);  // the freed block, each time
-    EXPECT_EQ(brick_memory::chunkCount(), chunks);
+    EXPECT_EQ(brick_memory::mappedChunks(), chunks);
   } else {
-    EXPECT_EQ(brick_memory::chunkCount(), 0u);  // AddressSanitizer: operator new, never a chunk
+    EXPECT_EQ(brick_memory::mappedChunks(), 0u);  // AddressSanitizer: operator new, never a chunk
   }
+  brick_memory::deallocate(kept, kBrickBytes + 64);
+}
+
+TEST(BrickMemory, ASizeWhoseLastBlockIsFreedGivesItsChunksBack) {
+  const size_t before = brick_memory::mappedChunks();
+  std::vector<void*> blocks;
+  for (int i = 0; i < 600; ++i) blocks.push_back(brick_memory::allocate(kBrickBytes + 128));
+  // 600 blocks of 78 KiB take two chunks of 32 MiB.
+  EXPECT_EQ(brick_memory::mappedChunks(), before + (brick_memory::kChunked ? 2u : 0u));
+  for (size_t i = 0; i + 1 < blocks.size(); ++i) brick_memory::deallocate(blocks[i], kBrickBytes + 128);
+  EXPECT_EQ(brick_memory::mappedChunks(), before + (brick_memory::kChunked ? 2u : 0u));  // one still lives
+  brick_memory::deallocate(blocks.back(), kBrickBytes + 128);
+  EXPECT_EQ(brick_memory::mappedChunks(), before);
+  // The size can be used again.
+  void* p = brick_memory::allocate(kBrickBytes + 128);
+  std::memset(p, 1, kBrickBytes + 128);
+  brick_memory::deallocate(p, kBrickBytes + 128);
+  EXPECT_EQ(brick_memory::mappedChunks(), before);
 }
 
 TEST(BrickMemory, SmallBlocksComeFromOperatorNew) {
-  const size_t chunks = brick_memory::chunkCount();
+  const size_t chunks = brick_memory::mappedChunks();
   std::vector<void*> blocks;
   for (int i = 0; i < 1000; ++i) blocks.push_back(brick_memory::allocate(brick_memory::kMinBlockBytes - 1));
-  EXPECT_EQ(brick_memory::chunkCount(), chunks);
+  EXPECT_EQ(brick_memory::mappedChunks(), chunks);
   for (void* p : blocks) brick_memory::deallocate(p, brick_memory::kMinBlockBytes - 1);
 }
 
