@@ -28,6 +28,7 @@
 #include "core/transfer_function.h"
 #include "index/rope_index.h"
 #include "loader/collapse_guard.h"
+#include "loader/io_queue.h"
 #include "loader/ray_feedback.h"
 #include "loader/working_set.h"
 #include "occlusion/visibility_tracker.h"

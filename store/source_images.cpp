@@ -142,9 +142,8 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName
   refuseWhatOpenImageIOReadsAsZeros(spec, formatName, bits > 0 ? bits : int(typeBits), what);
   const bool isFloat = format.type == SampleType::Float32 || format.type == SampleType::Float64;
   const int photometric = spec.get_int_attribute("tiff:PhotometricInterpretation", 1);
-  // A palette TIFF's bits per sample are its indexes'; its colors fill the type's range, whatever those are.
-  const bool palette = photometric == 3;
-  if (bits > 0 && !isFloat && !palette && uint32_t(bits) < typeBits) {
+  // Palette images come expanded to 8-bit colors, their oiio:BitsPerSample 8 whatever their indexes' bits.
+  if (bits > 0 && !isFloat && uint32_t(bits) < typeBits) {
     if (format.type == SampleType::Int8 || format.type == SampleType::Int16 ||
         format.type == SampleType::Int32)
       throw Error("image slice " + what + " has signed " + std::to_string(bits) +

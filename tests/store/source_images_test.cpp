@@ -819,18 +819,20 @@ TEST(SourceImages, AColorSliceThatIsNotGrayIsRefusedNamingThePixel) {
   EXPECT_NE(message.find(dir.file("pages.tif") + " (page 1)" + differ), std::string::npos) << message;
   EXPECT_THROW(convertAndOpen(dir, dir.file("pages.tif")), Error);
 
-  message = readErrorOf(*openVolumeSource(dir.file("ga*.png")), 1);
-  EXPECT_NE(message.find(dir.file("ga1.png") +
-                         " has alpha 7 at pixel (4, 2); expected a grayscale image, or alpha opaque (255) at "
-                         "every pixel"),
-            std::string::npos)
-      << message;
-  message = readErrorOf(*openVolumeSource(dir.file("rgba*.png")), 2);
-  EXPECT_NE(message.find(dir.file("rgba2.png") +
-                         " has alpha 0 at pixel (4, 2); expected a grayscale image, or alpha opaque (255) at "
-                         "every pixel"),
-            std::string::npos)
-      << message;
+  struct AlphaCase {
+    std::string stack;
+    uint32_t slice;
+    int alpha;
+  };
+  for (const AlphaCase& c : {AlphaCase{"ga", 1, 7}, AlphaCase{"rgba", 2, 0}}) {
+    message = readErrorOf(*openVolumeSource(dir.file(c.stack + "*.png")), c.slice);
+    EXPECT_NE(
+        message.find(dir.file(c.stack + std::to_string(c.slice) + ".png") + " has alpha " +
+                     std::to_string(c.alpha) +
+                     " at pixel (4, 2); expected a grayscale image, or alpha opaque (255) at every pixel"),
+        std::string::npos)
+        << message;
+  }
 }
 
 // A multi-page TIFF among the slices of a folder would give its first page only.
