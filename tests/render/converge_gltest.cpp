@@ -123,8 +123,9 @@ class ConvergeTest : public ::testing::Test {
     ASSERT_TRUE(sync.frames.back().converged);
     const Rendered async = render(source, c, /*synchronous=*/false);
     ASSERT_TRUE(async.frames.back().converged) << "not converged after " << async.frames.size() << " frames";
-    // A cold cache really is cold: the first asynchronous frame cannot have everything.
-    EXPECT_GT(async.frames.size(), 2u);
+    // A cold cache really is cold: the first asynchronous frame cannot have everything. How many frames the
+    // rest takes depends on how fast the I/O threads read against the frames (under a loaded machine they may
+    // read the whole volume during frame 0), so the count is not asserted.
     EXPECT_FALSE(async.frames.front().converged);
     EXPECT_EQ(async.frames.front().bricksUploaded, 0u);
 
