@@ -13,9 +13,10 @@
 # that hold everything (full detail), against which the images are compared.
 # Per repetition also sync and converge of the same cut with 16 times fewer pixels (IMAGE / 4 on a side,
 # --voxels-per-pixel 4, which asks for the same bricks; frames several times cheaper): what the frames' cost on this machine adds.
-# Prints per run: wall seconds, frames, bricks uploaded, MiB read; the ratios to synchronous (goal <= 1.3),
-# the seconds to the final image and to the synchronous image's quality, and the largest bytes_uploaded of a
-# frame against --upload-budget.
+# Prints per run: wall seconds, processor seconds (user and system), frames, bricks uploaded, MiB read; the
+# ratios to synchronous (goal <= 1.3), the seconds to the final image and to the synchronous image's quality,
+# the processor seconds against synchronous (on few cores the frames and the reads share them), and the
+# largest bytes_uploaded of a frame against --upload-budget.
 # Usage: bench/converge_vs_sync.sh [BUILD_DIR]   (default build/perf)
 # env: DIMS (default 1024x1024x864, 1.7 GiB raw), ORBIT (30,20,1.6: a view that needs 2862 bricks of the
 #      default store), IMAGE (512x512), GPU (256M), CPU (256M), UPLOAD (--upload-budget, 8M), REPS (2),
@@ -45,10 +46,12 @@ run() {
   shift
   local cache
   cache=$(cold)
-  local t0 t1
+  local t0 t1 TIMEFORMAT='%U %S'
   t0=$(date +%s.%N)
-  "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "${RUN_SIZE:-$IMAGE}" --gpu-budget "$GPU" --cpu-cache "$CPU" \
-    ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.$EXT" "$@" >/dev/null 2>"$WORK/$name.err" ||
+  # bash's `time`: the render's processor seconds, user and system, into WORK/NAME.cpu
+  { time "$ROPECAST" render "$store" --mode iso --orbit "$ORBIT" --size "${RUN_SIZE:-$IMAGE}" --gpu-budget "$GPU" \
+    --cpu-cache "$CPU" ${RENDER_ARGS:-} --stats "$WORK/$name.jsonl" -o "$WORK/$name.$EXT" "$@" >/dev/null \
+    2>"$WORK/$name.err"; } 2>"$WORK/$name.cpu" ||
     { cat "$WORK/$name.err" >&2; return 1; }  # the pool's warning (it holds this view and little more) stays here
   t1=$(date +%s.%N)
   awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
@@ -71,7 +74,7 @@ run frames/every --converge --every 1
 GPU=2G CPU=2G run full
 
 python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" "$EXT" "$small" <<'PY'
-import glob, json, subprocess, sys
+import glob, json, os, subprocess, sys
 work, reps, upload, ropecast, ext, small = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6]
 def psnr(a, b):
     if ext != "png":
@@ -92,16 +95,17 @@ MiB = 1 << 20
 def load(name):
     rows = [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
     return {"s": float(open(f"{work}/{name}.s").read()), "cache": open(f"{work}/{name}.cache").read().strip(),
+            "cpu": sum(float(v) for v in open(f"{work}/{name}.cpu").read().split()),
             "frames": len(rows), "uploaded": sum(r["bricks_uploaded"] for r in rows),
             "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
             "maxUpload": max(r["bytes_uploaded"] for r in rows), "converged": rows[-1]["converged"],
             "frameMs": sorted(r["frame_ms"] for r in rows)[len(rows) // 2]}
-print(f"{'run':<16} {'cache':<5} {'wall s':>7} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
+print(f"{'run':<16} {'cache':<5} {'wall s':>7} {'CPU s':>6} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
       f"{'MiB read':>8} {'converged':>9}")
 for rep in range(1, reps + 1):
     runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "loader", "budget", "sync_small", "converge_small")}
     for n, r in runs.items():
-        print(f"{n + str(rep):<16} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
+        print(f"{n + str(rep):<16} {r['cache']:<5} {r['s']:7.2f} {r['cpu']:6.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
               f"{r['uploaded']:9d} {r['read']:8.1f} {str(r['converged']):>9}")
     s = runs["sync"]["s"]
     rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
@@ -112,6 +116,9 @@ for rep in range(1, reps + 1):
         final += f", to the synchronous image's quality (frame {quality_frame}) {until(quality_frame) / s:.2f}"
     print(f"  converge / sync: {runs['converge']['s'] / s:.2f}{final}; "
           f"loader alone / sync: {runs['loader']['s'] / s:.2f} (goal <= 1.3)")
+    cpu = runs["sync"]["cpu"]
+    print(f"  processor seconds against sync: converge {runs['converge']['cpu'] / cpu:.2f}, "
+          f"loader alone {runs['loader']['cpu'] / cpu:.2f} (on {os.cpu_count()} cores)")
     print(f"  the same cut at {small}, --voxels-per-pixel 4 (16x fewer pixels): converge / sync "
           f"{runs['converge_small']['s'] / runs['sync_small']['s']:.2f}")
     print(f"  with --upload-budget {upload}: "
