@@ -141,7 +141,6 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName
   const int bits = spec.get_int_attribute("oiio:BitsPerSample", 0);
   refuseWhatOpenImageIOReadsAsZeros(spec, formatName, bits > 0 ? bits : int(typeBits), what);
   const bool isFloat = format.type == SampleType::Float32 || format.type == SampleType::Float64;
-  const int photometric = spec.get_int_attribute("tiff:PhotometricInterpretation", 1);
   // Palette images come expanded to 8-bit colors, their oiio:BitsPerSample 8 whatever their indexes' bits.
   if (bits > 0 && !isFloat && uint32_t(bits) < typeBits) {
     if (format.type == SampleType::Int8 || format.type == SampleType::Int16 ||
@@ -150,7 +149,7 @@ SliceFormat sliceFormat(const OIIO::ImageSpec& spec, std::string_view formatName
                   "-bit samples; expected 8, 16 or 32 bits, or unsigned samples");
     format.narrowBits = uint32_t(bits);
   }
-  format.minIsWhite = photometric == 0;
+  format.minIsWhite = spec.get_int_attribute("tiff:PhotometricInterpretation", 1) == 0;
   format.channels = uint32_t(spec.nchannels);
   return format;
 }

@@ -263,10 +263,10 @@ TEST_F(ConvergeTest, ASynchronousRequestReadsBeforeThePoolIsMadeAndDrawsTheSameI
     EXPECT_EQ(prefetched.frames.front().bricksUploaded, plain.frames.front().bricksUploaded);
     EXPECT_EQ(maxAbsDifference(plain.color, prefetched.color, 4), 0.0);
     EXPECT_EQ(maxAbsDifference(plain.depth, prefetched.depth, 1), 0.0);
-    // An asynchronous request reads nothing before its first frame (with or without the answers that steer
-    // its reads).
     expectConvergesToSynchronous(source, c);
   }
+  // An asynchronous request reads nothing before its first frame (with or without the answers that steer its
+  // reads).
   for (const bool answers : {false, true}) {
     FrameRendererConfig config;
     config.occlusion = config.feedback = answers;
