@@ -13,7 +13,8 @@
 # that hold everything (full detail), against which the images are compared.
 # Per repetition also sync and converge of the same cut with 16 times fewer pixels (IMAGE / 4 on a side,
 # --voxels-per-pixel 4, which asks for the same bricks; frames several times cheaper): what the frames' cost on this machine adds.
-# Prints per run: wall seconds, processor seconds (user and system), frames, bricks uploaded, MiB read; the
+# Prints per run: wall seconds, processor seconds (user and system), frames, bricks uploaded, MiB read, the
+# share of the drawn frames' pixels cast (--converge casts only what changed on a still view); the
 # ratios to synchronous (goal <= 1.3), the seconds to the final image and to the synchronous image's quality,
 # the processor seconds against synchronous (on few cores the frames and the reads share them), and the
 # largest bytes_uploaded of a frame against --upload-budget.
@@ -99,14 +100,16 @@ def load(name):
             "frames": len(rows), "uploaded": sum(r["bricks_uploaded"] for r in rows),
             "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
             "maxUpload": max(r["bytes_uploaded"] for r in rows), "converged": rows[-1]["converged"],
+            # Of the pixels of the drawn frames, those cast (a frame of a still view casts what changed).
+            "cast": sum(r["fragments"] for r in rows) / max(1, rows[0]["fragments"] * sum(r["drawn"] for r in rows)),
             "frameMs": sorted(r["frame_ms"] for r in rows)[len(rows) // 2]}
 print(f"{'run':<16} {'cache':<5} {'wall s':>7} {'CPU s':>6} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
-      f"{'MiB read':>8} {'converged':>9}")
+      f"{'MiB read':>8} {'pixels cast':>11} {'converged':>9}")
 for rep in range(1, reps + 1):
     runs = {n: load(f"{n}{rep}") for n in ("sync", "converge", "loader", "budget", "sync_small", "converge_small")}
     for n, r in runs.items():
         print(f"{n + str(rep):<16} {r['cache']:<5} {r['s']:7.2f} {r['cpu']:6.2f} {r['frames']:6d} {r['frameMs']:15.0f} "
-              f"{r['uploaded']:9d} {r['read']:8.1f} {str(r['converged']):>9}")
+              f"{r['uploaded']:9d} {r['read']:8.1f} {r['cast']:10.0%} {str(r['converged']):>9}")
     s = runs["sync"]["s"]
     rows = [json.loads(l) for l in open(f"{work}/converge{rep}.jsonl")]
     # Seconds until frame k ended: the run's wall time less the frames after k.

@@ -1,6 +1,7 @@
 // FrameRenderer: one frame of the out-of-core ray caster as named passes (docs/ARCHITECTURE.md):
 //   hear back (occlusion answers) -> refine (loader WorkingSet) -> upload (BrickPool)
 //   -> build index (RopeIndexBuilder, IndexTexture) -> plan tiles (VisibilityTracker)
+//   -> plan recast (planRecast: on a still view, the pixels a changed cut needs cast again)
 //   -> ray cast + queries (RaycastPass, OcclusionQueries) -> stats.
 // A frame that would draw the last one's converged image again may end after refine, keeping that image
 // (FrameRequest::keepConvergedImage).
@@ -14,6 +15,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -37,6 +39,7 @@
 #include "render/multipass_pass.h"
 #include "render/occlusion_queries.h"
 #include "render/raycast_pass.h"
+#include "render/recast_plan.h"
 #include "render/upload_pacer.h"
 #include "store/brick_source.h"
 
@@ -95,6 +98,12 @@ struct FrameRequest {
   // uploads what is read draws, and a converged cut is always one that was drawn. Independent of
   // keepConvergedImage's rule against two kept frames in a row, which is about kept converged frames.
   bool keepImageWhileReading = false;
+  // For a caller that looks at a still view's frames as they converge (render --converge, the viewer): an
+  // asynchronous frame on the last drawn view casts only the pixels whose rays meet a leaf that differs from
+  // the drawn frame's (render/recast_plan.h) and keeps the others, which casting them would give again; the
+  // rays' feedback about the pixels not cast is carried over from the answer about the drawn frame.
+  // FrameStats::fragments counts the pixels cast. Not for frame-time measurements of a still view.
+  bool recastChangesOnly = false;
 };
 
 class FrameRenderer {
@@ -157,6 +166,13 @@ class FrameRenderer {
   void collectVisibility(bool feedback, FrameStats& stats);
   // Hear back: the rays' usage and requests of earlier frames, into RayFeedback.
   void collectFeedback(FrameStats& stats);
+  // Plan recast: with FrameRequest::recastChangesOnly, which pixels of the last drawn view this frame's cut
+  // needs cast again (nullopt: all of them); with `castFeedback`, the answer it carries over for the others.
+  std::optional<RecastPlan> planRecastOf(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
+                                         bool castFeedback);
+  // After a frame drawn by the ray-cast pass: its leaves are what the targets show now. `redraw`: it drew the
+  // converged image again (FrameRenderer::redrawsConvergedImage).
+  void rememberCastLeaves(const std::vector<PlannedLeaf>& leaves, bool redraw);
   // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them. A
   // leaf is projected and queried by the bounding box of its data parts (nodeDataParts under `isEmpty`); a
   // node collapsed on this view because its leaves were hidden is queried part by part. With `feedback`,
@@ -233,6 +249,26 @@ class FrameRenderer {
   // The inner nodes of the last drawn frame's tree, once a later frame has begun (with
   // FrameRequest::keepImageWhileReading only).
   std::unordered_set<NodeKey, NodeKeyHash> drawnInnerNodes_;
+
+  // The frame whose image the ray-cast pass's targets hold (drawn whole or in part), its leaves by node and
+  // in its cut's order; castValid_ false when they hold none (prepare's draw, a multi-pass frame).
+  bool castValid_ = false;
+  uint64_t castFrame_ = 0;
+  DrawnLeaves castLeaves_;
+  std::vector<NodeKey> castKeys_;
+  // The rays' answer about frame castFrame_, by node, when it came back whole (nothing dropped): what a frame
+  // recasting only what changed carries over for the rays it does not cast.
+  struct CastAnswer {
+    bool valid = false;
+    std::unordered_set<NodeKey, NodeKeyHash> used, requested, hit, any;
+  };
+  CastAnswer castAnswer_;
+  // For each frame cast in part with feedback, the answer it carries over: indices into its cut.
+  struct CarriedAnswer {
+    uint64_t frame = 0;
+    std::vector<uint32_t> used, requested, hit;
+  };
+  std::deque<CarriedAnswer> carriedAnswers_;
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the

@@ -30,6 +30,14 @@ namespace {
 constexpr GLuint kStopDepthTextureUnit = 0;  // shaders/stop_depth.frag uStopDepth
 constexpr GLint kTileRectLocation = 0;       // shaders/raycast.vert uTileRect
 
+// The pixels both rectangles hold (an empty rectangle when none).
+PixelRect intersection(const PixelRect& a, const PixelRect& b) {
+  const uint32_t x0 = std::max(a.x, b.x), y0 = std::max(a.y, b.y);
+  const uint32_t x1 = std::min(a.x + a.width, b.x + b.width), y1 = std::min(a.y + a.height, b.y + b.height);
+  if (x1 <= x0 || y1 <= y0) return {};
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
 }  // namespace
 
 VolumeGeometry VolumeGeometry::of(const BrickSourceInfo& info) {
@@ -133,6 +141,15 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
       throw Error("RaycastPass::render: the GradientPool's dimensions differ from the brick pool's");
   }
 
+  if (schedule.castOnly) {
+    if (target_.width() != f.width || target_.height() != f.height)
+      throw Error("RaycastPass::render: casting part of a " + std::to_string(f.width) + "x" +
+                  std::to_string(f.height) + " image whose other pixels were not drawn at that size");
+    for (const PixelRect& r : *schedule.castOnly)
+      if (r.x + r.width > f.width || r.y + r.height > f.height)
+        throw Error("RaycastPass::render: a rectangle to cast reaches outside the image");
+  }
+
   const ShaderProgram& p = program(f.params, f.feedback != nullptr);
   target_.resize(f.width, f.height);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
@@ -148,7 +165,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
 
   timer_.begin();
   afterFirstTileTimed_ = false;
-  if (f.params.backend == RenderBackend::Fragment) {
+  if (f.params.backend == RenderBackend::Fragment && !schedule.castOnly) {
     const float clearDepth = 1.0f;
     glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);
   }
@@ -157,8 +174,14 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
                                                ? std::span<const PixelRect>(&whole, 1)
                                                : std::span<const PixelRect>(schedule.tiles);
   lastDrawCalls_ = 0;
+  lastPixelsCast_ = 0;
+  // A tile, or its part of the rectangles to cast.
+  const auto cast = [&](const PixelRect& tile) {
+    if (!schedule.castOnly) return castTile(f, p, tile);
+    for (const PixelRect& r : *schedule.castOnly) castTile(f, p, intersection(tile, r));
+  };
   bindForCasting(f, p);
-  castTile(f, p, tiles[0]);
+  cast(tiles[0]);
   if (schedule.afterFirstTile) {
     if (f.params.backend == RenderBackend::Compute) copyStopDepth(tiles[0]);
     target_.bindForDrawing();
@@ -168,7 +191,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
     afterFirstTileTimed_ = true;
     bindForCasting(f, p);
   }
-  for (const PixelRect& tile : tiles.subspan(1)) castTile(f, p, tile);
+  for (const PixelRect& tile : tiles.subspan(1)) cast(tile);
   if (f.params.backend == RenderBackend::Compute) {
     finishComputeWrites();
   } else {
@@ -213,6 +236,7 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
 
 void RaycastPass::castTile(const RaycastFrame& f, const ShaderProgram& p, const PixelRect& tile) {
   if (tile.width == 0 || tile.height == 0) return;
+  lastPixelsCast_ += uint64_t(tile.width) * tile.height;
   if (f.params.backend == RenderBackend::Compute) {
     dispatchComputeTile(p, tile);
     ++lastDrawCalls_;

@@ -17,6 +17,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -79,9 +80,13 @@ RaycastBlock raycastFrameBlock(const RaycastFrame& frame);
 // framebuffer bound and its depth attachment holding, over tiles[0], the window depth where each ray stopped
 // (shaders/window_depth.glsl); then the other tiles are cast. The tiles must cover the image exactly once.
 // Empty: the whole image at once, no callback.
+// With castOnly, only the pixels of those rectangles are cast (each tile's part of them, in the order above)
+// and the targets keep the last render's pixels elsewhere, their stop depths included: a still view whose cut
+// changed in places (render/recast_plan.h). The last render must have had the same size.
 struct TileSchedule {
   std::vector<PixelRect> tiles;
   std::function<void()> afterFirstTile;
+  std::optional<std::vector<PixelRect>> castOnly;
 };
 
 class RaycastPass {
@@ -102,6 +107,8 @@ class RaycastPass {
   // schedule's callback, which is timed on its own: lastAfterFirstTileMs() (0 when there was none).
   double lastRaycastMs();
   double lastAfterFirstTileMs();
+  // Pixels the last render() cast: its castOnly rectangles' or the whole image's.
+  uint64_t lastPixelsCast() const { return lastPixelsCast_; }
   // GL draws (or compute dispatches) of the last render()'s ray cast: one per kTileSize square of each tile
   // for the fragment entry point, one per tile for the compute one.
   uint64_t lastDrawCalls() const { return lastDrawCalls_; }
@@ -139,6 +146,7 @@ class RaycastPass {
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
   uint64_t lastDrawCalls_ = 0;
+  uint64_t lastPixelsCast_ = 0;
   uint32_t stopDepthTexture_ = 0;  // compute entry point: R32F, the size of the target
   uint32_t stopDepthWidth_ = 0, stopDepthHeight_ = 0;
   std::unique_ptr<ShaderProgram> stopDepthProgram_;

@@ -24,6 +24,8 @@ class RenderTarget {
   // Reallocates the textures when the size changes. Throws ropecast::Error when the framebuffer is
   // incomplete.
   void resize(uint32_t width, uint32_t height);
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
 
   // Binds the framebuffer for a full-target draw of opaque pixels: viewport over the whole target, no
   // blending, no face culling. The caller sets the depth test it needs.

@@ -207,6 +207,8 @@ struct OctreeRender {
     // --converge waits for the reads after a frame that uploaded nothing on a still camera; the frame itself
     // would show nothing new.
     request.keepImageWhileReading = o.converge;
+    // --converge writes only the converged image: a frame whose cut changed in places casts those places.
+    request.recastChangesOnly = o.converge;
     request.camera = s.cameraOf(0);
     // A synchronous frame's reads begin while the GPU pool is made.
     renderer =

@@ -345,6 +345,7 @@ FrameRequest Viewer::currentRequest(bool moving) {
   r.tf = &*tfTable_;
   r.synchronous = false;
   r.keepConvergedImage = true;  // the view shows readColor's image, and idles once converged
+  r.recastChangesOnly = true;   // a still view's frames cast only the pixels of the leaves that changed
   // While the camera moves, --target-frame-ms trades quality for frame time: the step first (StepPacer), then
   // a coarser refinement target once the step is at its largest. A still camera gets the full quality.
   if (moving && stepPacer_.enabled()) {

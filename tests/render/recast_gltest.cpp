@@ -1,0 +1,149 @@
+// FrameRequest::recastChangesOnly: a frame on the last drawn view casts only the pixels whose rays meet a
+// leaf that changed, and its image is exactly what casting the whole image of its cut gives (isosurface and
+// DVR, fragment and compute entry points, occlusion queries and feedback on); progressive frames so cast
+// fewer pixels, and the view converges to the image the whole frames converge to.
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <span>
+
+#include "core/transfer_function.h"
+#include "index/rope_index.h"
+#include "render/frame_renderer.h"
+#include "store/procedural_bricks.h"
+#include "testutil_gl.h"
+
+namespace ropecast {
+namespace {
+
+constexpr uint32_t kRecastImageSize = 128;
+
+FrameRequest recastViewRequest(const BrickSourceInfo& info, RenderMode mode, RenderBackend backend) {
+  FrameRequest request;
+  request.width = request.height = kRecastImageSize;
+  request.params.mode = mode;
+  request.params.backend = backend;
+  request.params.isoValue = 140.0;
+  request.params.gradients = GradientSource::Computed;
+  request.camera = orbitCamera(35.0, 25.0, 1.6, glm::dvec3(0.0), glm::dvec3(info.volume.dims), 40.0);
+  return request;
+}
+
+// Casts the whole image of the renderer's last cut, with its pool, through a pass of its own.
+class WholeCast {
+ public:
+  WholeCast() : index_(kRopeTexelComponents, test::sharedGlContext().info().maxTextureBufferTexels) {}
+  FloatImage color(const FrameRenderer& renderer, const BrickSource& source, const FrameRequest& request) {
+    builder_.build(renderer.lastCut(), rope_);
+    index_.upload(std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(rope_.texels.data()),
+                                            rope_.texels.size() * kRopeTexelComponents));
+    RaycastFrame frame;
+    frame.pool = &renderer.pool();
+    frame.index = &index_;
+    frame.camera = request.camera;
+    frame.volume = VolumeGeometry::of(source.info());
+    frame.params = request.params;
+    frame.tf = request.tf;
+    frame.width = request.width;
+    frame.height = request.height;
+    pass_.render(frame);
+    return pass_.readColor();
+  }
+
+ private:
+  RaycastPass pass_;
+  IndexTexture index_;
+  RopeIndexBuilder builder_;
+  RopeIndex rope_;
+};
+
+struct RecastRun {
+  FloatImage color;
+  bool converged = false;
+  uint32_t frames = 0;
+  uint32_t partialFrames = 0;  // drawn frames that cast fewer pixels than the image has
+  uint64_t pixelsCast = 0;
+};
+
+// From a cold cache to convergence; with `check`, every drawn frame's image is compared with a whole cast.
+RecastRun convergeFromCold(const BrickSource& source, FrameRequest request, uint64_t gpuBudgetBytes,
+                           bool recast, WholeCast* check) {
+  FrameRendererConfig config;
+  config.gpuBudgetBytes = gpuBudgetBytes;
+  // A few nodes' bricks a frame: the cut changes in a few places at a time, whenever the reads come in.
+  config.uploadBudgetBytes = 96 * source.brickBytes();
+  FrameRenderer renderer(test::sharedGlContext().info(), source, config);
+  request.recastChangesOnly = recast;
+  request.keepConvergedImage = true;
+  RecastRun run;
+  for (; run.frames < 200 && !run.converged; ++run.frames) {
+    const FrameStats stats = renderer.render(request);
+    run.converged = stats.converged;
+    if (!stats.drawn) continue;
+    run.pixelsCast += stats.fragments;
+    run.partialFrames += stats.fragments < uint64_t(kRecastImageSize) * kRecastImageSize;
+    if (!check) continue;
+    const FloatImage drawn = renderer.readColor();
+    const FloatImage whole = check->color(renderer, source, request);
+    EXPECT_EQ(drawn.pixels, whole.pixels)
+        << "frame " << stats.frame << " (" << stats.fragments << " pixels cast) differs from a whole cast by "
+        << test::maxAbsDifference(drawn, whole, 4);
+  }
+  run.color = renderer.readColor();
+  return run;
+}
+
+class RecastTest : public ::testing::TestWithParam<std::tuple<RenderBackend, RenderMode>> {};
+
+TEST_P(RecastTest, ProgressiveFramesCastLessAndDrawWhatAWholeCastDraws) {
+  const auto [backend, mode] = GetParam();
+  const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
+  std::optional<TfTable> tf;
+  FrameRequest request = recastViewRequest(source.info(), mode, backend);
+  if (mode == RenderMode::Dvr) {
+    tf = TfTable::bake(TransferFunction::fromSpec("ct-soft", tfDataRangeFor(source.info())),
+                       source.info().mapping, 255);
+    request.tf = &*tf;
+  }
+  // A pool smaller than the view wants, whose slots the answers free for finer bricks.
+  const uint64_t tightBudget = 24ull << 20;
+  const RecastRun whole = convergeFromCold(source, request, tightBudget, false, nullptr);
+  WholeCast check;
+  const RecastRun recast = convergeFromCold(source, request, tightBudget, true, &check);
+  ASSERT_TRUE(whole.converged);
+  ASSERT_TRUE(recast.converged) << "not converged after " << recast.frames << " frames";
+  EXPECT_GT(recast.partialFrames, 0u);
+
+  EXPECT_LT(recast.pixelsCast, whole.pixelsCast);
+  EXPECT_GE(test::psnrDb(recast.color, whole.color), 40.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(BackendsAndModes, RecastTest,
+                         ::testing::Combine(::testing::Values(RenderBackend::Fragment,
+                                                              RenderBackend::Compute),
+                                            ::testing::Values(RenderMode::Iso, RenderMode::Dvr)));
+
+// A frame that draws the converged image again casts nothing; one on another view casts it whole.
+TEST(Recast, AStillConvergedViewCastsNothingAndAnotherViewCastsAll) {
+  const ProceduralBricks source({ProceduralKind::Noise, 96}, 8);
+  FrameRenderer renderer(test::sharedGlContext().info(), source, FrameRendererConfig{});
+  FrameRequest request = recastViewRequest(source.info(), RenderMode::Iso, RenderBackend::Fragment);
+  request.recastChangesOnly = true;
+  FrameStats stats;
+  for (uint32_t frame = 0; frame < 200 && !stats.converged; ++frame) stats = renderer.render(request);
+  ASSERT_TRUE(stats.converged);
+  const FloatImage converged = renderer.readColor();
+  stats = renderer.render(request);
+  EXPECT_TRUE(stats.drawn);
+  EXPECT_EQ(stats.fragments, 0u);
+  EXPECT_EQ(renderer.readColor().pixels, converged.pixels);
+
+  request.camera = orbitCamera(50.0, 25.0, 1.6, glm::dvec3(0.0), glm::dvec3(source.info().volume.dims), 40.0);
+  EXPECT_EQ(renderer.render(request).fragments, uint64_t(kRecastImageSize) * kRecastImageSize);
+  // The warm-up draw leaves other pixels in the targets: the next frame casts them all.
+  renderer.prepare(request);
+  EXPECT_EQ(renderer.render(request).fragments, uint64_t(kRecastImageSize) * kRecastImageSize);
+}
+
+}  // namespace
+}  // namespace ropecast
