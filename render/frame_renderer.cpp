@@ -343,8 +343,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
 std::optional<RecastPlan> FrameRenderer::planRecastOf(const FrameRequest& request,
                                                       const std::vector<PlannedLeaf>& leaves,
                                                       bool castFeedback) {
-  if (!request.recastChangesOnly || !castValid_ || lastMultipass_ || !drawsLastView(request))
-    return std::nullopt;
+  if (!request.recastChangesOnly || !castValid_ || !drawsLastView(request)) return std::nullopt;
   // The rays not cast answer as they did about the drawn frame: that answer must be at hand, and whole.
   if (castFeedback && !castAnswer_.valid) return std::nullopt;
   const BrickSourceInfo& info = source_.info();

@@ -142,9 +142,10 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   }
 
   if (schedule.castOnly) {
-    if (target_.width() != f.width || target_.height() != f.height)
+    if (target_.width() != f.width || target_.height() != f.height || lastBackend_ != f.params.backend)
       throw Error("RaycastPass::render: casting part of a " + std::to_string(f.width) + "x" +
-                  std::to_string(f.height) + " image whose other pixels were not drawn at that size");
+                  std::to_string(f.height) +
+                  " image whose other pixels were not drawn at that size by the same entry point");
     for (const PixelRect& r : *schedule.castOnly)
       if (r.x + r.width > f.width || r.y + r.height > f.height)
         throw Error("RaycastPass::render: a rectangle to cast reaches outside the image");
@@ -201,6 +202,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
   timer_.end();
+  lastBackend_ = f.params.backend;
   checkGlError("RaycastPass::render");
 }
 

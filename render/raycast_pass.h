@@ -82,7 +82,7 @@ RaycastBlock raycastFrameBlock(const RaycastFrame& frame);
 // Empty: the whole image at once, no callback.
 // With castOnly, only the pixels of those rectangles are cast (each tile's part of them, in the order above)
 // and the targets keep the last render's pixels elsewhere, their stop depths included: a still view whose cut
-// changed in places (render/recast_plan.h). The last render must have had the same size.
+// changed in places (render/recast_plan.h). The last render must have had the same size and entry point.
 struct TileSchedule {
   std::vector<PixelRect> tiles;
   std::function<void()> afterFirstTile;
@@ -147,7 +147,8 @@ class RaycastPass {
   uint32_t tfTexture_ = 0;
   uint64_t lastDrawCalls_ = 0;
   uint64_t lastPixelsCast_ = 0;
-  uint32_t stopDepthTexture_ = 0;  // compute entry point: R32F, the size of the target
+  RenderBackend lastBackend_ = RenderBackend::Auto;  // of the last render(); Auto before the first
+  uint32_t stopDepthTexture_ = 0;                    // compute entry point: R32F, the size of the target
   uint32_t stopDepthWidth_ = 0, stopDepthHeight_ = 0;
   std::unique_ptr<ShaderProgram> stopDepthProgram_;
   GpuTimer timer_;

@@ -4,9 +4,11 @@
 // fewer pixels, and the view converges to the image the whole frames converge to.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <optional>
 #include <span>
 
+#include "core/error.h"
 #include "core/transfer_function.h"
 #include "index/rope_index.h"
 #include "render/frame_renderer.h"
@@ -143,6 +145,69 @@ TEST(Recast, AStillConvergedViewCastsNothingAndAnotherViewCastsAll) {
   // The warm-up draw leaves other pixels in the targets: the next frame casts them all.
   renderer.prepare(request);
   EXPECT_EQ(renderer.render(request).fragments, uint64_t(kRecastImageSize) * kRecastImageSize);
+}
+
+// RaycastPass with TileSchedule::castOnly: the rectangles' pixels are those of a whole cast of the new frame,
+// the others those of the render before (its stop depth too: the queries after the first tile test against
+// it); a partial cast over an image of another size, or drawn by the other entry point, is refused.
+TEST(Recast, APartialCastDrawsItsRectanglesAndKeepsTheRest) {
+  test::SceneSpec spec;
+  spec.dims = glm::u32vec3(32);
+  spec.value = [](glm::dvec3 x) { return 0.5 + 0.4 * std::sin(0.3 * x.x) * std::cos(0.2 * x.y + 0.1 * x.z); };
+  const test::GlScene scene = test::buildScene(spec);
+  for (const RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+    SCOPED_TRACE(backend == RenderBackend::Fragment ? "fragment" : "compute");
+    RaycastFrame before, after;
+    before.width = before.height = 48;
+    before.params.mode = RenderMode::Iso;
+    before.params.isoValue = 0.5 * 65535.0;
+    before.params.backend = backend;
+    before.camera = orbitCamera(30.0, 20.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
+    after = before;
+    after.camera = orbitCamera(40.0, 25.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
+    // Two tiles, with a callback after the first (which puts the compute entry point's stop depths of the
+    // first tile into the depth attachment).
+    TileSchedule whole;
+    whole.tiles = {{0, 0, 48, 24}, {0, 24, 48, 24}};
+    whole.afterFirstTile = [] {};
+    RaycastPass wholePass, partialPass;
+    test::renderScene(wholePass, scene, before, whole);
+    const FloatImage oldColor = wholePass.readColor(), oldStop = wholePass.readStopDepth();
+    test::renderScene(wholePass, scene, after, whole);
+    const FloatImage newColor = wholePass.readColor(), newStop = wholePass.readStopDepth();
+
+    test::renderScene(partialPass, scene, before, whole);
+    const PixelRect a{0, 0, 16, 32}, b{20, 30, 28, 18};  // each across both tiles
+    TileSchedule schedule = whole;
+    schedule.castOnly = std::vector<PixelRect>{a, b};
+    test::renderScene(partialPass, scene, after, schedule);
+    EXPECT_EQ(partialPass.lastPixelsCast(), uint64_t(16 * 32 + 28 * 18));
+    const FloatImage color = partialPass.readColor(), stop = partialPass.readStopDepth();
+    const auto inside = [](const PixelRect& r, uint32_t x, uint32_t y) {
+      return x >= r.x && x < r.x + r.width && y >= r.y && y < r.y + r.height;
+    };
+    uint32_t wrong = 0;
+    for (uint32_t y = 0; y < 48; ++y)
+      for (uint32_t x = 0; x < 48; ++x) {
+        const bool cast = inside(a, x, y) || inside(b, x, y);
+        const size_t i = size_t(y) * 48 + x;
+        for (uint32_t c = 0; c < 4; ++c)
+          wrong += color.pixels[i * 4 + c] != (cast ? newColor : oldColor).pixels[i * 4 + c];
+        // The compute entry point's depth attachment holds the first tile's stop depths only.
+        if (backend == RenderBackend::Fragment || y < 24)
+          wrong += stop.pixels[i] != (cast ? newStop : oldStop).pixels[i];
+      }
+    EXPECT_EQ(wrong, 0u);
+
+    RaycastFrame smaller = after;
+    smaller.width = 40;
+    EXPECT_THROW(test::renderScene(partialPass, scene, smaller, schedule), Error);
+    RaycastFrame other = after;
+    other.params.backend =
+        backend == RenderBackend::Fragment ? RenderBackend::Compute : RenderBackend::Fragment;
+    test::renderScene(partialPass, scene, after);
+    EXPECT_THROW(test::renderScene(partialPass, scene, other, schedule), Error);
+  }
 }
 
 }  // namespace
