@@ -178,6 +178,8 @@ class Viewer {
   FrameStats lastStats_;
   uint64_t framesRendered_ = 0;
   double lastDrawnMs_ = 0.0;  // the last drawn frame's ms, what the stats panel shows as the frame rate
+  double lastCastShare_ =
+      0.0;  // of the last drawn frame's pixels, those it cast (a still view casts changes)
   FloatImage color_;
   // Frames the next event (or the --screenshot after the script) has waited for the view to converge; at
   // --max-frames it runs anyway, with a warning, so a camera that keeps moving cannot hold the script.
@@ -366,7 +368,10 @@ bool Viewer::sameAsLast(const FrameRequest& r) const {
 void Viewer::renderFrame(const FrameRequest& request) {
   lastStats_ = renderer_->render(request);
   lastStats_.frame = framesRendered_++;  // one count for the session: a switch to DVR makes a new renderer
-  if (lastStats_.drawn) lastDrawnMs_ = lastStats_.frameMs;  // a kept frame takes no drawing time
+  if (lastStats_.drawn) {                // a kept frame takes no drawing time
+    lastDrawnMs_ = lastStats_.frameMs;
+    lastCastShare_ = double(lastStats_.fragments) / (double(request.width) * request.height);
+  }
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
@@ -749,7 +754,11 @@ void Viewer::drawPanels() {
                 std::string(renderBackendName(st.backend)).c_str());
     ImGui::Text("leaves %llu  resident %llu  uploads %llu", (unsigned long long)st.leaves,
                 (unsigned long long)st.bricksResident, (unsigned long long)st.bricksUploaded);
-    ImGui::Text("pending %llu  step %.2f", (unsigned long long)st.requestsPending, st.stepVoxels);
+    if (st.backend == RenderBackend::Multipass)  // its fragments are the blocks', not pixels cast
+      ImGui::Text("pending %llu  step %.2f", (unsigned long long)st.requestsPending, st.stepVoxels);
+    else
+      ImGui::Text("pending %llu  step %.2f  pixels cast %.0f%%", (unsigned long long)st.requestsPending,
+                  st.stepVoxels, 100.0 * lastCastShare_);
     ImGui::Text("CPU cache %.1f MiB  GPU pool %.1f MiB", st.cpuCacheBytes / 1048576.0,
                 st.gpuPoolUsedBytes / 1048576.0);
     ImGui::Text("visible %llu  occluded %llu  queries %llu", (unsigned long long)st.nodesVisible,
