@@ -18,7 +18,7 @@
 namespace ropecast {
 namespace {
 
-constexpr uint32_t kRecastImageSize = 128;
+constexpr uint32_t kRecastImageSize = 96;
 
 FrameRequest recastViewRequest(const BrickSourceInfo& info, RenderMode mode, RenderBackend backend) {
   FrameRequest request;
