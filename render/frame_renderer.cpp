@@ -200,7 +200,7 @@ void FrameRenderer::prepare(const FrameRequest& request) {
   if (frame.feedback) feedback_->discard();
   raycast_.lastRaycastMs();  // waits for the draw
   if (query) queries_->dropPending();
-  castValid_ = false;  // the targets hold the 1x1 image
+  recast_.forget();  // the targets hold the 1x1 image
 }
 
 void FrameRenderer::collectVisibility(bool feedback, FrameStats& stats) {
@@ -223,41 +223,11 @@ void FrameRenderer::collectFeedback(FrameStats& stats) {
   // Every readback that arrived; the latest one's nodes are what the hints say.
   while (std::optional<FeedbackReadback> readback = feedback_->poll()) {
     // A frame cast in part: the rays it did not cast answer as they did about the frame drawn before it.
-    while (!carriedAnswers_.empty() && carriedAnswers_.front().frame < readback->frame)
-      carriedAnswers_.pop_front();
-    if (!carriedAnswers_.empty() && carriedAnswers_.front().frame == readback->frame) {
-      const CarriedAnswer& carried = carriedAnswers_.front();
-      readback->usedLeaves.insert(readback->usedLeaves.end(), carried.used.begin(), carried.used.end());
-      readback->requestedLeaves.insert(readback->requestedLeaves.end(), carried.requested.begin(),
-                                       carried.requested.end());
-      readback->hitLeaves.insert(readback->hitLeaves.end(), carried.hit.begin(), carried.hit.end());
-      carriedAnswers_.pop_front();
-      for (std::vector<uint32_t>* list :
-           {&readback->usedLeaves, &readback->requestedLeaves, &readback->hitLeaves}) {
-        std::sort(list->begin(), list->end());  // a leaf both cast rays and kept ones list, once
-        list->erase(std::unique(list->begin(), list->end()), list->end());
-      }
-    }
+    recast_.addCarried(*readback);
     if (!rayFeedback_.answer(readback->frame, readback->usedLeaves, readback->requestedLeaves,
                              readback->hitLeaves))
       continue;
-    if (castValid_ && readback->frame == castFrame_) {
-      castAnswer_ = {};
-      castAnswer_.valid = readback->usedDropped + readback->requestedDropped + readback->hitDropped == 0;
-      const auto add = [this](const std::vector<uint32_t>& leaves,
-                              std::unordered_set<NodeKey, NodeKeyHash>& to) {
-        for (const uint32_t i : leaves)
-          if (i < castKeys_.size()) {
-            to.insert(castKeys_[i]);
-            castAnswer_.any.insert(castKeys_[i]);
-          }
-      };
-      if (castAnswer_.valid) {
-        add(readback->usedLeaves, castAnswer_.used);
-        add(readback->requestedLeaves, castAnswer_.requested);
-        add(readback->hitLeaves, castAnswer_.hit);
-      }
-    }
+    recast_.heard(*readback);
     stats.feedbackRequests = readback->requestedLeaves.size();
     stats.feedbackHits = readback->hitLeaves.size();
     stats.feedbackDropped = readback->usedDropped + readback->requestedDropped + readback->hitDropped;
@@ -343,47 +313,15 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
 std::optional<RecastPlan> FrameRenderer::planRecastOf(const FrameRequest& request,
                                                       const std::vector<PlannedLeaf>& leaves,
                                                       bool castFeedback) {
-  if (!request.recastChangesOnly || !castValid_ || !drawsLastView(request)) return std::nullopt;
-  // The rays not cast answer as they did about the drawn frame: that answer must be at hand, and whole.
-  if (castFeedback && !castAnswer_.valid) return std::nullopt;
+  if (!request.recastChangesOnly || !drawsLastView(request)) return std::nullopt;
   const BrickSourceInfo& info = source_.info();
-  RecastInput input;
-  input.camera = request.camera;
-  input.width = request.width;
-  input.height = request.height;
-  input.layout = &info.layout;
-  input.spacing = info.volume.spacing;
-  input.drawn = &castLeaves_;
-  input.leaves = &leaves;
-  input.answered = castFeedback ? &castAnswer_.any : nullptr;
-  RecastPlan recast = planRecast(input);
-  if (recast.whole) return std::nullopt;
-  if (castFeedback) {
-    CarriedAnswer& carried = carriedAnswers_.emplace_back();
-    carried.frame = frame_;
-    for (const uint32_t i : recast.keptIn) {
-      if (castAnswer_.used.contains(leaves[i].key)) carried.used.push_back(i);
-      if (castAnswer_.requested.contains(leaves[i].key)) carried.requested.push_back(i);
-    }
-    for (const uint32_t i : recast.keptWhole)
-      if (castAnswer_.hit.contains(leaves[i].key)) carried.hit.push_back(i);
-  }
-  return recast;
-}
-
-void FrameRenderer::rememberCastLeaves(const std::vector<PlannedLeaf>& leaves, bool redraw) {
-  castValid_ = true;
-  castFrame_ = frame_;
-  castLeaves_.clear();
-  castKeys_.clear();
-  castKeys_.reserve(leaves.size());
-  for (const PlannedLeaf& leaf : leaves) {
-    castLeaves_[leaf.key] = leaf.content == LeafContent::Brick ? leaf.slot : kEmptyLeafSlot;
-    castKeys_.push_back(leaf.key);
-  }
-  // The answer about this frame is still to come, but for a frame that draws the converged image again (the
-  // same view and cut, cast without feedback): the answer about the frame before is what its rays would say.
-  if (!redraw) castAnswer_.valid = false;
+  RecastInput view;
+  view.camera = request.camera;
+  view.width = request.width;
+  view.height = request.height;
+  view.layout = &info.layout;
+  view.spacing = info.volume.spacing;
+  return recast_.plan(view, leaves, frame_, castFeedback);
 }
 
 bool FrameRenderer::cutConverged(bool loaderConverged, bool occlusion, bool feedback) const {
@@ -572,9 +510,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   }
   lastMultipass_ = multipass;
   if (multipass)
-    castValid_ = false;
+    recast_.forget();
   else
-    rememberCastLeaves(plan.leaves, redraw);
+    recast_.drew(frame_, plan.leaves, redraw);
   if (cutHash != currentCutHash_) cutChangedFrame_ = frame_;
   currentCutHash_ = cutHash;
   if (castFeedback) {

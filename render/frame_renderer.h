@@ -15,7 +15,6 @@
 
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,7 +38,7 @@
 #include "render/multipass_pass.h"
 #include "render/occlusion_queries.h"
 #include "render/raycast_pass.h"
-#include "render/recast_plan.h"
+#include "render/recast_tracker.h"
 #include "render/upload_pacer.h"
 #include "store/brick_source.h"
 
@@ -170,9 +169,6 @@ class FrameRenderer {
   // needs cast again (nullopt: all of them); with `castFeedback`, the answer it carries over for the others.
   std::optional<RecastPlan> planRecastOf(const FrameRequest& request, const std::vector<PlannedLeaf>& leaves,
                                          bool castFeedback);
-  // After a frame drawn by the ray-cast pass: its leaves are what the targets show now. `redraw`: it drew the
-  // converged image again (FrameRenderer::redrawsConvergedImage).
-  void rememberCastLeaves(const std::vector<PlannedLeaf>& leaves, bool redraw);
   // Plan tiles: the non-empty leaves of the cut, projected; which to query, and the tiles around them. A
   // leaf is projected and queried by the bounding box of its data parts (nodeDataParts under `isEmpty`); a
   // node collapsed on this view because its leaves were hidden is queried part by part. With `feedback`,
@@ -249,26 +245,9 @@ class FrameRenderer {
   // The inner nodes of the last drawn frame's tree, once a later frame has begun (with
   // FrameRequest::keepImageWhileReading only).
   std::unordered_set<NodeKey, NodeKeyHash> drawnInnerNodes_;
-
-  // The frame whose image the ray-cast pass's targets hold (drawn whole or in part), its leaves by node and
-  // in its cut's order; castValid_ false when they hold none (prepare's draw, a multi-pass frame).
-  bool castValid_ = false;
-  uint64_t castFrame_ = 0;
-  DrawnLeaves castLeaves_;
-  std::vector<NodeKey> castKeys_;
-  // The rays' answer about frame castFrame_, by node, when it came back whole (nothing dropped): what a frame
-  // recasting only what changed carries over for the rays it does not cast.
-  struct CastAnswer {
-    bool valid = false;
-    std::unordered_set<NodeKey, NodeKeyHash> used, requested, hit, any;
-  };
-  CastAnswer castAnswer_;
-  // For each frame cast in part with feedback, the answer it carries over: indices into its cut.
-  struct CarriedAnswer {
-    uint64_t frame = 0;
-    std::vector<uint32_t> used, requested, hit;
-  };
-  std::deque<CarriedAnswer> carriedAnswers_;
+  // The frame whose image the ray-cast pass's targets hold, and the rays' answer about it: what a frame
+  // recasting only what changed needs.
+  RecastTracker recast_;
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the
