@@ -95,10 +95,13 @@ RecastPlan planRecast(const RecastInput& in) {
   if (in.width == 0 || in.height == 0) throw Error("planRecast: empty image size");
   RecastPlan plan;
   BlockMask mask(in.width, in.height);
+  const auto project = [&](const NodeKey& key) {
+    const WorldBox box = nodeWorldBox(*in.layout, in.spacing, key);
+    return projectBox(box.lo, box.hi, in.camera, in.width, in.height);
+  };
   // The changed leaves' blocks; false when a box holds the eye (its rays cannot be bounded on the screen).
   const auto castBox = [&](const NodeKey& key) {
-    const WorldBox box = nodeWorldBox(*in.layout, in.spacing, key);
-    const BoxProjection p = projectBox(box.lo, box.hi, in.camera, in.width, in.height);
+    const BoxProjection p = project(key);
     if (p.nearEye) return false;
     mask.add(mask.blocksOf(p.rect));
     return true;
@@ -129,8 +132,7 @@ RecastPlan planRecast(const RecastInput& in) {
     for (uint32_t i = 0; i < in.leaves->size(); ++i) {
       const PlannedLeaf& leaf = (*in.leaves)[i];
       if (leaf.content != LeafContent::Brick || !in.answered->contains(leaf.key)) continue;
-      const WorldBox box = nodeWorldBox(*in.layout, in.spacing, leaf.key);
-      const BoxProjection p = projectBox(box.lo, box.hi, in.camera, in.width, in.height);
+      const BoxProjection p = project(leaf.key);
       const BlockMask::Cover cover = p.nearEye        ? BlockMask::Cover::Some
                                      : p.rect.empty() ? BlockMask::Cover::None
                                                       : mask.cover(mask.blocksOf(p.rect));

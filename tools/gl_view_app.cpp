@@ -178,8 +178,8 @@ class Viewer {
   FrameStats lastStats_;
   uint64_t framesRendered_ = 0;
   double lastDrawnMs_ = 0.0;  // the last drawn frame's ms, what the stats panel shows as the frame rate
-  double lastCastShare_ =
-      0.0;  // of the last drawn frame's pixels, those it cast (a still view casts changes)
+  // Of the last drawn frame's pixels, those it cast (a still view casts what changed).
+  double lastCastShare_ = 0.0;
   FloatImage color_;
   // Frames the next event (or the --screenshot after the script) has waited for the view to converge; at
   // --max-frames it runs anyway, with a warning, so a camera that keeps moving cannot hold the script.
