@@ -12,7 +12,9 @@
 #      occlusion and feedback on and off (the goal: <= 1.3x; generating and converting the store included);
 #   4. bench/visibility.sh, iso from the page cache and a slow disk: what occlusion queries and ray feedback
 #      cost a GPU frame (frame ms, occlusion_draw_ms in the stats) and how fast they converge;
-#   5. bench/render_vs_brute.sh at 512x512;
+#   5. bench/render_vs_brute.sh at 512x512, then at 2048x2048 (part "brute2k": 512x512 rays are about as many
+#      threads as a GPU keeps in flight at once, so there a frame lasts as long as its slowest rays; 16 times
+#      the rays measure throughput instead);
 #   6. bench/converge_vs_sync.sh again with two I/O threads (`--io-threads 2`, the count before the default
 #      became one per core): what the device's cores add to loading (part "iothreads", the store of part 3).
 #
@@ -21,15 +23,15 @@
 #
 # scripts/device_prepare makes what is carried. Each part's output is in $OUT/PART.txt and its stats under
 # $OUT/PART/ (stores and images stay on the device); the parts' tables are printed last, with each part's exit
-# status and seconds. Env: PART_S (110), PARTS ("index visgl modes converge visibility brute iothreads"). Off
-# the device it runs the same against whatever GL this machine has (slowly on llvmpipe: narrow it with PARTS
-# and PART_S).
+# status and seconds. Env: PART_S (110), PARTS ("index visgl modes converge visibility brute brute2k
+# iothreads"). Off the device it runs the same against whatever GL this machine has (slowly on llvmpipe: narrow
+# it with PARTS and PART_S).
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
 OUT=${OUT:-$(mktemp -d /tmp/device_bench.XXXXXX)}
 mkdir -p "$OUT"
 PART_S=${PART_S:-110}
-PARTS=${PARTS:-"index visgl modes converge visibility brute iothreads"}
+PARTS=${PARTS:-"index visgl modes converge visibility brute brute2k iothreads"}
 source bench/lib/device.sh
 device_gl_setup
 build=$(device_ropecast_build) || exit 1
@@ -71,13 +73,17 @@ for p in $PARTS; do
       part brute env EXT=ppm IMAGE="${IMAGE:-512x512}" FRAMES=20 STILL=12 ROUNDS=3 WORK="$OUT/brute" \
         bench/render_vs_brute.sh "$build"
       ;;
+    brute2k)
+      part brute2k env EXT=ppm IMAGE=2048x2048 FRAMES=20 STILL=12 ROUNDS=3 WORK="$OUT/brute2k" \
+        bench/render_vs_brute.sh "$build"
+      ;;
     iothreads)
       mkdir -p "$OUT/iothreads"
       ln -sf "$OUT"/converge/ct_*.rcast "$OUT/iothreads/" 2>/dev/null # part 3's store, if it made one
       part iothreads env EXT=ppm REPS=1 RENDER_ARGS="--io-threads 2" WORK="$OUT/iothreads" \
         bench/converge_vs_sync.sh "$build"
       ;;
-    *) summary+=("$p: unknown part (index, visgl, modes, converge, visibility, brute, iothreads)") ;;
+    *) summary+=("$p: unknown part (index, visgl, modes, converge, visibility, brute, brute2k, iothreads)") ;;
   esac
 done
 # What comes back: stats and tables, not stores, raw volumes or images.
