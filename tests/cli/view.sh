@@ -85,7 +85,7 @@ same "converged view = render" "$dir/v0.png" "$dir/r0.png"
 
 # A slow disk: the screenshot waits for the reads as render --converge does (the frames that could only show the
 # same cut used to spend --max-frames in a second), and is render's image.
-slow="procedural:sphere:32 --brick 8 --size 48x40 --io-delay-ms 300"
+slow="procedural:sphere:32 --brick 8 --size 48x40 --io-delay-ms 100"
 xview $slow --screenshot "$dir/vslow.png" > /dev/null 2> "$dir/err.txt" || fail "view from a slow disk: $(cat "$dir/err.txt")"
 ! grep -q "not converged" "$dir/err.txt" || fail "view from a slow disk gave up: $(cat "$dir/err.txt")"
 run "render from a slow disk" "$ropecast" render $slow --converge -o "$dir/rslow.png"
