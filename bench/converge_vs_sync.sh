@@ -74,9 +74,9 @@ rm -rf "$WORK/frames" && mkdir -p "$WORK/frames"
 run frames/every --converge --every 1
 GPU=2G CPU=2G run full
 
-python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" "$EXT" "$small" <<'PY'
+python3 - "$WORK" "$REPS" "$UPLOAD" "$ROPECAST" "$EXT" "$small" "$IMAGE" <<'PY'
 import glob, json, os, subprocess, sys
-work, reps, upload, ropecast, ext, small = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6]
+work, reps, upload, ropecast, ext, small, image = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6], sys.argv[7]
 def psnr(a, b):
     if ext != "png":
         return float("nan")  # a build without OpenImageIO cannot read images back
@@ -95,13 +95,14 @@ budget = int(float(upload[:-1]) * units[upload[-1]]) if upload[-1] in units else
 MiB = 1 << 20
 def load(name):
     rows = [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
+    w, h = map(int, (small if name.startswith(("sync_small", "converge_small")) else image).split("x"))
     return {"s": float(open(f"{work}/{name}.s").read()), "cache": open(f"{work}/{name}.cache").read().strip(),
             "cpu": sum(float(v) for v in open(f"{work}/{name}.cpu").read().split()),
             "frames": len(rows), "uploaded": sum(r["bricks_uploaded"] for r in rows),
             "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
             "maxUpload": max(r["bytes_uploaded"] for r in rows), "converged": rows[-1]["converged"],
             # Of the pixels of the drawn frames, those cast (a frame of a still view casts what changed).
-            "cast": sum(r["fragments"] for r in rows) / max(1, rows[0]["fragments"] * sum(r["drawn"] for r in rows)),
+            "cast": sum(r["fragments"] for r in rows) / max(1, w * h * sum(r["drawn"] for r in rows)),
             "frameMs": sorted(r["frame_ms"] for r in rows)[len(rows) // 2]}
 print(f"{'run':<16} {'cache':<5} {'wall s':>7} {'CPU s':>6} {'frames':>6} {'median frame ms':>15} {'bricks up':>9} "
       f"{'MiB read':>8} {'pixels cast':>11} {'converged':>9}")

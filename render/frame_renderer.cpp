@@ -484,8 +484,12 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // A frame that draws the converged image again is cast without feedback: its rays would say what the held
   // answers say, which are renewed instead.
   const bool castFeedback = feedback && !redraw;
-  // Pass 5, plan recast: on the last drawn view, only the pixels whose rays meet a leaf that changed.
-  if (!multipass)
+  // Pass 5, plan recast: on the last drawn view, only the pixels whose rays meet a leaf that changed; none
+  // when the cut holds no brick to sample (a cold start's first frame), whose rays would all miss.
+  schedule.nothingToSample =
+      std::none_of(plan.leaves.begin(), plan.leaves.end(),
+                   [](const PlannedLeaf& leaf) { return leaf.content == LeafContent::Brick; });
+  if (!multipass && !schedule.nothingToSample)
     if (const std::optional<RecastPlan> recast = planRecastOf(request, plan.leaves, castFeedback))
       schedule.castOnly = recast->rects;
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -166,6 +167,15 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
 
   timer_.begin();
   afterFirstTileTimed_ = false;
+  lastDrawCalls_ = 0;
+  lastPixelsCast_ = 0;
+  if (schedule.nothingToSample) {
+    writeMisses(f, schedule);
+    timer_.end();
+    lastBackend_ = f.params.backend;
+    checkGlError("RaycastPass::render");
+    return;
+  }
   if (f.params.backend == RenderBackend::Fragment && !schedule.castOnly) {
     const float clearDepth = 1.0f;
     glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);
@@ -174,8 +184,6 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   const std::span<const PixelRect> tiles = schedule.tiles.empty()
                                                ? std::span<const PixelRect>(&whole, 1)
                                                : std::span<const PixelRect>(schedule.tiles);
-  lastDrawCalls_ = 0;
-  lastPixelsCast_ = 0;
   // A tile, or its part of the rectangles to cast.
   const auto cast = [&](const PixelRect& tile) {
     if (!schedule.castOnly) return castTile(f, p, tile);
@@ -204,6 +212,28 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   timer_.end();
   lastBackend_ = f.params.backend;
   checkGlError("RaycastPass::render");
+}
+
+void RaycastPass::writeMisses(const RaycastFrame& f, const TileSchedule& schedule) {
+  // What shaders/compositing.glsl's missedRay() gives every pixel: the background with no coverage, no
+  // depth, and a stop depth at infinity (window depth 1, as shaders/window_depth.glsl maps it).
+  const float miss[4] = {float(f.params.background.x), float(f.params.background.y),
+                         float(f.params.background.z), 0.0f};
+  const float infinity = std::numeric_limits<float>::infinity();
+  glClearTexImage(target_.colorTexture(), 0, GL_RGBA, GL_FLOAT, miss);
+  glClearTexImage(target_.depthTexture(), 0, GL_RED, GL_FLOAT, &infinity);
+  if (f.params.backend == RenderBackend::Compute)
+    glClearTexImage(stopDepthTexture_, 0, GL_RED, GL_FLOAT, &infinity);
+  const float farDepth = 1.0f;
+  glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &farDepth);
+  if (schedule.afterFirstTile) {
+    target_.bindForDrawing();
+    afterFirstTileTimer_.begin();
+    schedule.afterFirstTile();
+    afterFirstTileTimer_.end();
+    afterFirstTileTimed_ = true;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
 }
 
 double RaycastPass::lastRaycastMs() {

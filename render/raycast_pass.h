@@ -83,10 +83,14 @@ RaycastBlock raycastFrameBlock(const RaycastFrame& frame);
 // With castOnly, only the pixels of those rectangles are cast (each tile's part of them, in the order above)
 // and the targets keep the last render's pixels elsewhere, their stop depths included: a still view whose cut
 // changed in places (render/recast_plan.h). The last render must have had the same size and entry point.
+// With nothingToSample (the cut holds no brick: every leaf empty, or the root's brick not in core yet), every
+// ray would meet only leaves it skips and end as a miss, so the targets are set to a miss everywhere instead
+// of casting (no pixel counts as cast), and afterFirstTile runs against that depth.
 struct TileSchedule {
   std::vector<PixelRect> tiles;
   std::function<void()> afterFirstTile;
   std::optional<std::vector<PixelRect>> castOnly;
+  bool nothingToSample = false;
 };
 
 class RaycastPass {
@@ -137,6 +141,8 @@ class RaycastPass {
   void castTile(const RaycastFrame& frame, const ShaderProgram& p, const PixelRect& tile);
   // Compute entry point: the stop depths of `tile` into the depth attachment (shaders/stop_depth.frag).
   void copyStopDepth(const PixelRect& tile);
+  // The targets as if every ray missed (TileSchedule::nothingToSample), then the schedule's callback.
+  void writeMisses(const RaycastFrame& frame, const TileSchedule& schedule);
 
   // (backend, mode, stored gradients, leaf batch, feedback) -> program
   std::map<std::tuple<RenderBackend, RenderMode, bool, bool, bool>, std::unique_ptr<ShaderProgram>> programs_;

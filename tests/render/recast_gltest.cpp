@@ -4,9 +4,11 @@
 // fewer pixels, and the view converges to the image the whole frames converge to.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <span>
+#include <string>
 
 #include "core/error.h"
 #include "core/transfer_function.h"
@@ -63,7 +65,9 @@ struct RecastRun {
   FloatImage color;
   bool converged = false;
   uint32_t frames = 0;
-  uint32_t partialFrames = 0;  // drawn frames that cast fewer pixels than the image has
+  // Drawn frames that cast some pixels but fewer than the image has (a frame whose cut holds no brick, as a
+  // cold start's first, casts none and is not one).
+  uint32_t partialFrames = 0;
 };
 
 // From a cold cache to convergence; with `check`, every drawn frame's image is compared with a whole cast.
@@ -81,7 +85,8 @@ RecastRun convergeFromCold(const BrickSource& source, FrameRequest request, uint
     const FrameStats stats = renderer.render(request);
     run.converged = stats.converged;
     if (!stats.drawn) continue;
-    run.partialFrames += stats.fragments < uint64_t(kRecastImageSize) * kRecastImageSize;
+    run.partialFrames +=
+        stats.fragments > 0 && stats.fragments < uint64_t(kRecastImageSize) * kRecastImageSize;
     if (!check) continue;
     const FloatImage drawn = renderer.readColor();
     const FloatImage whole = check->color(renderer, source, request);
@@ -207,6 +212,65 @@ TEST(Recast, APartialCastDrawsItsRectanglesAndKeepsTheRest) {
     test::renderScene(partialPass, scene, after);
     EXPECT_THROW(test::renderScene(partialPass, scene, other, schedule), Error);
   }
+}
+
+TEST(Recast, ACutWithNothingToSampleWritesWhatMissingRaysWrite) {
+  // Every leaf empty, at two levels: the rays walk the cut and sample nothing.
+  test::SceneSpec spec;
+  spec.dims = glm::u32vec3(32);
+  spec.value = [](glm::dvec3 x) { return 0.5 + 0.4 * std::sin(0.3 * x.x) * std::cos(0.2 * x.y); };
+  spec.refine = [](const NodeKey& k) { return k.depth == 0 || (k.depth == 1 && k.coord.x == 0); };
+  spec.emptyLeaf = [](const NodeKey&) { return true; };
+  const test::GlScene empty = test::buildScene(spec);
+  ASSERT_EQ(empty.dataLeaves, 0u);
+  spec.refine = {};
+  spec.emptyLeaf = {};
+  const test::GlScene full = test::buildScene(spec);
+  const TfTable tf =
+      TfTable::bake(TransferFunction({TfPoint{0, {1, 0, 0, 0}}, TfPoint{65535, {0.9, 0.8, 0.1, 0.6}}}),
+                    ValueMapping{}, 65535);
+  for (const RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute})
+    for (const RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+      SCOPED_TRACE(std::string(backend == RenderBackend::Fragment ? "fragment" : "compute") +
+                   (mode == RenderMode::Iso ? ", iso" : ", dvr"));
+      RaycastFrame frame;
+      frame.width = frame.height = 48;
+      frame.params.mode = mode;
+      frame.params.isoValue = 0.5 * 65535.0;
+      frame.params.backend = backend;
+      frame.params.background = {0.2, 0.4, 0.6};
+      frame.tf = &tf;
+      frame.camera = orbitCamera(30.0, 20.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
+      TileSchedule cast;
+      cast.tiles = {{0, 0, 48, 24}, {0, 24, 48, 24}};
+      cast.afterFirstTile = [] {};
+      RaycastPass castPass, missPass;
+      test::renderScene(castPass, empty, frame, cast);
+      // The other pass last drew an image with data, which the misses must replace everywhere.
+      test::renderScene(missPass, full, frame, cast);
+      TileSchedule misses = cast;
+      bool calledBack = false;
+      misses.afterFirstTile = [&] { calledBack = true; };
+      misses.nothingToSample = true;
+      test::renderScene(missPass, empty, frame, misses);
+      EXPECT_TRUE(calledBack);
+      EXPECT_EQ(missPass.lastPixelsCast(), 0u);
+      EXPECT_EQ(missPass.readColor().pixels, castPass.readColor().pixels);
+      EXPECT_EQ(missPass.readDepth().pixels, castPass.readDepth().pixels);
+      // The compute entry point's depth attachment holds the first tile's stop depths only.
+      const FloatImage stop = missPass.readStopDepth(), castStop = castPass.readStopDepth();
+      const size_t compared = backend == RenderBackend::Fragment ? stop.pixels.size() : size_t(48) * 24;
+      EXPECT_TRUE(std::equal(stop.pixels.begin(), stop.pixels.begin() + compared, castStop.pixels.begin()));
+      // A frame cast in part after it keeps the misses' stop depths (compute: the pass's own copy of them).
+      TileSchedule partial = cast;
+      partial.castOnly = std::vector<PixelRect>{{0, 0, 16, 16}};
+      test::renderScene(missPass, empty, frame, partial);
+      test::renderScene(castPass, empty, frame, partial);
+      const FloatImage keptStop = missPass.readStopDepth(), castKeptStop = castPass.readStopDepth();
+      EXPECT_TRUE(std::equal(keptStop.pixels.begin(), keptStop.pixels.begin() + compared,
+                             castKeptStop.pixels.begin()));
+      EXPECT_EQ(missPass.readColor().pixels, castPass.readColor().pixels);
+    }
 }
 
 }  // namespace
