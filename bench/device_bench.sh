@@ -9,7 +9,9 @@
 #   2. bench/modes.sh: the single pass against the multi-pass renderer, iso and DVR, 512x512 and 1024x1024
 #      (the goal: >= 2x on a GPU);
 #   3. bench/converge_vs_sync.sh: progressive loading against a synchronous render of the CT-like store, with
-#      occlusion and feedback on and off (the goal: <= 1.3x; generating and converting the store included);
+#      occlusion and feedback on and off (the goal: <= 1.3x; generating and converting the store included),
+#      three repetitions, since the first on a fresh machine can be slower with the same work (most likely
+#      the driver compiling shaders the synchronous render did not use);
 #   4. bench/visibility.sh, iso from the page cache and a slow disk: what occlusion queries and ray feedback
 #      cost a GPU frame (frame ms, occlusion_draw_ms in the stats) and how fast they converge;
 #   5. bench/render_vs_brute.sh at 512x512, then at 2048x2048 (part "brute2k": 512x512 rays are about as many
@@ -65,7 +67,7 @@ for p in $PARTS; do
       fi
       ;;
     modes) part modes env PLOT=0 REPS=2 WORK="$OUT/modes" bench/modes.sh "$build" ;;
-    converge) part converge env EXT=ppm REPS=1 WORK="$OUT/converge" bench/converge_vs_sync.sh "$build" ;;
+    converge) part converge env EXT=ppm REPS=3 WORK="$OUT/converge" bench/converge_vs_sync.sh "$build" ;;
     visibility)
       part visibility env EXT=ppm MODES=iso SKIP_PATH=1 STEADY=4 MAX_FRAMES=4000 WORK="$OUT/visibility" bench/visibility.sh "$build"
       ;;
@@ -80,7 +82,7 @@ for p in $PARTS; do
     iothreads)
       mkdir -p "$OUT/iothreads"
       ln -sf "$OUT"/converge/ct_*.rcast "$OUT/iothreads/" 2>/dev/null # part 3's store, if it made one
-      part iothreads env EXT=ppm REPS=1 RENDER_ARGS="--io-threads 2" WORK="$OUT/iothreads" \
+      part iothreads env EXT=ppm REPS=3 RENDER_ARGS="--io-threads 2" WORK="$OUT/iothreads" \
         bench/converge_vs_sync.sh "$build"
       ;;
     *) summary+=("$p: unknown part (index, visgl, modes, converge, visibility, brute, brute2k, iothreads)") ;;
