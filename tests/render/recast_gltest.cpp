@@ -151,6 +151,30 @@ TEST(Recast, AStillConvergedViewCastsNothingAndAnotherViewCastsAll) {
   EXPECT_EQ(renderer.render(request).fragments, uint64_t(kRecastImageSize) * kRecastImageSize);
 }
 
+// The RaycastPass tests below: a 48x48 frame of a 32^3 scene, cast in two tiles with a callback after the
+// first (which puts the compute entry point's stop depths of the first tile into the depth attachment, so
+// only those are compared).
+constexpr uint32_t kPassImageSize = 48;
+constexpr size_t kFirstTilePixels = size_t(kPassImageSize) * (kPassImageSize / 2);
+
+RaycastFrame passFrame(RenderBackend backend, RenderMode mode) {
+  RaycastFrame frame;
+  frame.width = frame.height = kPassImageSize;
+  frame.params.mode = mode;
+  frame.params.isoValue = 0.5 * 65535.0;
+  frame.params.backend = backend;
+  frame.camera = orbitCamera(30.0, 20.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
+  return frame;
+}
+
+TileSchedule twoTiles() {
+  TileSchedule schedule;
+  schedule.tiles = {{0, 0, kPassImageSize, kPassImageSize / 2},
+                    {0, kPassImageSize / 2, kPassImageSize, kPassImageSize / 2}};
+  schedule.afterFirstTile = [] {};
+  return schedule;
+}
+
 // RaycastPass with TileSchedule::castOnly: the rectangles' pixels are those of a whole cast of the new frame,
 // the others those of the render before (its stop depth too: the queries after the first tile test against
 // it); a partial cast over an image of another size, or drawn by the other entry point, is refused.
@@ -161,19 +185,10 @@ TEST(Recast, APartialCastDrawsItsRectanglesAndKeepsTheRest) {
   const test::GlScene scene = test::buildScene(spec);
   for (const RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
     SCOPED_TRACE(backend == RenderBackend::Fragment ? "fragment" : "compute");
-    RaycastFrame before, after;
-    before.width = before.height = 48;
-    before.params.mode = RenderMode::Iso;
-    before.params.isoValue = 0.5 * 65535.0;
-    before.params.backend = backend;
-    before.camera = orbitCamera(30.0, 20.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
-    after = before;
+    const RaycastFrame before = passFrame(backend, RenderMode::Iso);
+    RaycastFrame after = before;
     after.camera = orbitCamera(40.0, 25.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
-    // Two tiles, with a callback after the first (which puts the compute entry point's stop depths of the
-    // first tile into the depth attachment).
-    TileSchedule whole;
-    whole.tiles = {{0, 0, 48, 24}, {0, 24, 48, 24}};
-    whole.afterFirstTile = [] {};
+    const TileSchedule whole = twoTiles();
     RaycastPass wholePass, partialPass;
     test::renderScene(wholePass, scene, before, whole);
     const FloatImage oldColor = wholePass.readColor(), oldStop = wholePass.readStopDepth();
@@ -191,14 +206,13 @@ TEST(Recast, APartialCastDrawsItsRectanglesAndKeepsTheRest) {
       return x >= r.x && x < r.x + r.width && y >= r.y && y < r.y + r.height;
     };
     uint32_t wrong = 0;
-    for (uint32_t y = 0; y < 48; ++y)
-      for (uint32_t x = 0; x < 48; ++x) {
+    for (uint32_t y = 0; y < kPassImageSize; ++y)
+      for (uint32_t x = 0; x < kPassImageSize; ++x) {
         const bool cast = inside(a, x, y) || inside(b, x, y);
-        const size_t i = size_t(y) * 48 + x;
+        const size_t i = size_t(y) * kPassImageSize + x;
         for (uint32_t c = 0; c < 4; ++c)
           wrong += color.pixels[i * 4 + c] != (cast ? newColor : oldColor).pixels[i * 4 + c];
-        // The compute entry point's depth attachment holds the first tile's stop depths only.
-        if (backend == RenderBackend::Fragment || y < 24)
+        if (backend == RenderBackend::Fragment || i < kFirstTilePixels)
           wrong += stop.pixels[i] != (cast ? newStop : oldStop).pixels[i];
       }
     EXPECT_EQ(wrong, 0u);
@@ -233,17 +247,10 @@ TEST(Recast, ACutWithNothingToSampleWritesWhatMissingRaysWrite) {
     for (const RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
       SCOPED_TRACE(std::string(backend == RenderBackend::Fragment ? "fragment" : "compute") +
                    (mode == RenderMode::Iso ? ", iso" : ", dvr"));
-      RaycastFrame frame;
-      frame.width = frame.height = 48;
-      frame.params.mode = mode;
-      frame.params.isoValue = 0.5 * 65535.0;
-      frame.params.backend = backend;
+      RaycastFrame frame = passFrame(backend, mode);
       frame.params.background = {0.2, 0.4, 0.6};
       frame.tf = &tf;
-      frame.camera = orbitCamera(30.0, 20.0, 1.8, glm::dvec3(0.0), glm::dvec3(32.0));
-      TileSchedule cast;
-      cast.tiles = {{0, 0, 48, 24}, {0, 24, 48, 24}};
-      cast.afterFirstTile = [] {};
+      const TileSchedule cast = twoTiles();
       RaycastPass castPass, missPass;
       test::renderScene(castPass, empty, frame, cast);
       // The other pass last drew an image with data, which the misses must replace everywhere.
@@ -257,9 +264,8 @@ TEST(Recast, ACutWithNothingToSampleWritesWhatMissingRaysWrite) {
       EXPECT_EQ(missPass.lastPixelsCast(), 0u);
       EXPECT_EQ(missPass.readColor().pixels, castPass.readColor().pixels);
       EXPECT_EQ(missPass.readDepth().pixels, castPass.readDepth().pixels);
-      // The compute entry point's depth attachment holds the first tile's stop depths only.
       const FloatImage stop = missPass.readStopDepth(), castStop = castPass.readStopDepth();
-      const size_t compared = backend == RenderBackend::Fragment ? stop.pixels.size() : size_t(48) * 24;
+      const size_t compared = backend == RenderBackend::Fragment ? stop.pixels.size() : kFirstTilePixels;
       EXPECT_TRUE(std::equal(stop.pixels.begin(), stop.pixels.begin() + compared, castStop.pixels.begin()));
       // A frame cast in part after it keeps the misses' stop depths (compute: the pass's own copy of them).
       TileSchedule partial = cast;
