@@ -152,10 +152,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
         throw Error("RaycastPass::render: a rectangle to cast reaches outside the image");
   }
 
-  const ShaderProgram& p = program(f.params, f.feedback != nullptr);
   target_.resize(f.width, f.height);
-  if (f.tf) uploadTf(tfTexture_, *f.tf);
-  blockBuffer_.upload(raycastFrameBlock(f));
   if (f.params.backend == RenderBackend::Compute &&
       (stopDepthWidth_ != f.width || stopDepthHeight_ != f.height)) {
     glDeleteTextures(1, &stopDepthTexture_);
@@ -165,17 +162,21 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
     stopDepthHeight_ = f.height;
   }
 
-  timer_.begin();
   afterFirstTileTimed_ = false;
   lastDrawCalls_ = 0;
   lastPixelsCast_ = 0;
-  if (schedule.nothingToSample) {
+  if (schedule.nothingToSample) {  // the targets alone: no program, transfer function or uniforms
+    timer_.begin();
     writeMisses(f, schedule);
     timer_.end();
     lastBackend_ = f.params.backend;
     checkGlError("RaycastPass::render");
     return;
   }
+  const ShaderProgram& p = program(f.params, f.feedback != nullptr);
+  if (f.tf) uploadTf(tfTexture_, *f.tf);
+  blockBuffer_.upload(raycastFrameBlock(f));
+  timer_.begin();
   if (f.params.backend == RenderBackend::Fragment && !schedule.castOnly) {
     const float clearDepth = 1.0f;
     glClearNamedFramebufferfv(target_.framebuffer(), GL_DEPTH, 0, &clearDepth);

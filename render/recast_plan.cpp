@@ -111,9 +111,8 @@ RecastPlan planRecast(const RecastInput& in) {
   current.reserve(in.leaves->size());
   for (const PlannedLeaf& leaf : *in.leaves) {
     current.insert(leaf.key);
-    const uint32_t slot = leaf.content == LeafContent::Brick ? leaf.slot : kEmptyLeafSlot;
     const auto drawn = in.drawn->find(leaf.key);
-    if (drawn != in.drawn->end() && drawn->second == slot) continue;
+    if (drawn != in.drawn->end() && drawn->second == drawnSlotOf(leaf)) continue;
     ++plan.changedLeaves;
     if (!castBox(leaf.key)) plan.whole = true;
   }

@@ -33,6 +33,10 @@ namespace ropecast {
 // The leaves of a drawn cut: node -> the pool slot of its brick, kEmptyLeafSlot for an empty leaf.
 using DrawnLeaves = std::unordered_map<NodeKey, uint32_t, NodeKeyHash>;
 constexpr uint32_t kEmptyLeafSlot = UINT32_MAX;
+// What DrawnLeaves holds for a leaf.
+inline uint32_t drawnSlotOf(const PlannedLeaf& leaf) {
+  return leaf.content == LeafContent::Brick ? leaf.slot : kEmptyLeafSlot;
+}
 
 struct RecastInput {
   Camera camera;

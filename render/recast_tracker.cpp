@@ -11,7 +11,7 @@ void RecastTracker::drew(uint64_t frame, const std::vector<PlannedLeaf>& leaves,
   keys_.clear();
   keys_.reserve(leaves.size());
   for (const PlannedLeaf& leaf : leaves) {
-    leaves_[leaf.key] = leaf.content == LeafContent::Brick ? leaf.slot : kEmptyLeafSlot;
+    leaves_[leaf.key] = drawnSlotOf(leaf);
     keys_.push_back(leaf.key);
   }
   // The answer about this frame is still to come, but for a frame that draws the converged image again: the

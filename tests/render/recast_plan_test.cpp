@@ -19,8 +19,7 @@ struct Scene : test::RecastScene {
   RecastPlan plan(const std::vector<PlannedLeaf>& drawnCut, const std::vector<PlannedLeaf>& now,
                   const std::unordered_set<NodeKey, NodeKeyHash>* answered = nullptr) const {
     DrawnLeaves drawn;
-    for (const PlannedLeaf& leaf : drawnCut)
-      drawn[leaf.key] = leaf.content == LeafContent::Brick ? leaf.slot : kEmptyLeafSlot;
+    for (const PlannedLeaf& leaf : drawnCut) drawn[leaf.key] = drawnSlotOf(leaf);
     RecastInput in = view();
     in.drawn = &drawn;
     in.leaves = &now;
