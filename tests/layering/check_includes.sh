@@ -30,35 +30,35 @@ report() {
   status=1
 }
 
-while IFS= read -r file; do
+# One grep over every source (a process per file costs seconds); its lines read "FILE:LINE:TEXT".
+while IFS=: read -r file line text; do
   top=${file%%/*}
-  while IFS=: read -r line text; do
-    [[ $text =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*[\"\<]([^\"\>]+)[\"\>] ]] || continue
-    target=${BASH_REMATCH[1]}
-    lib=${target%%/*}
-    if [[ $target =~ $gl_headers ]]; then
-      case $file in
-        render/* | tools/gl_* | tests/*_gltest.cpp | tests/render/testutil_gl.*) ;;
-        *) report "$file:$line" "includes the GL header <$target> outside render/ and the GL tools and tests" ;;
-      esac
-      continue
-    fi
-    [[ $target == */* ]] || continue  # a system header, or a file next to the includer
-    if [ "$lib" = tools ]; then
-      case $file in
-        tools/* | tests/tools/*) ;;
-        *) report "$file:$line" "includes \"$target\": nothing but tools/ and its tests may reach tools/" ;;
-      esac
-      continue
-    fi
-    if [ -n "${allowed[$top]:-}" ] && [ -d "$lib" ] && [[ " ${allowed[$top]} " != *" $lib "* ]]; then
-      report "$file:$line" "includes \"$target\": $top/ may include only ${allowed[$top]// /, }"
-    fi
-    if [[ $file == tests/*_test.cpp && $file != tests/render/* && $lib == render ]]; then
-      report "$file:$line" "includes \"$target\": a CPU test (*_test.cpp) outside tests/render/ needs no GL"
-    fi
-  done < <(grep -n '#[[:space:]]*include' "$file" || true)
-done < <(git ls-files --cached --others --exclude-standard -- '*.h' '*.cpp' '*.c' | grep -v '^build')
+  [[ $text =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*[\"\<]([^\"\>]+)[\"\>] ]] || continue
+  target=${BASH_REMATCH[1]}
+  lib=${target%%/*}
+  if [[ $target =~ $gl_headers ]]; then
+    case $file in
+      render/* | tools/gl_* | tests/*_gltest.cpp | tests/render/testutil_gl.*) ;;
+      *) report "$file:$line" "includes the GL header <$target> outside render/ and the GL tools and tests" ;;
+    esac
+    continue
+  fi
+  [[ $target == */* ]] || continue  # a system header, or a file next to the includer
+  if [ "$lib" = tools ]; then
+    case $file in
+      tools/* | tests/tools/*) ;;
+      *) report "$file:$line" "includes \"$target\": nothing but tools/ and its tests may reach tools/" ;;
+    esac
+    continue
+  fi
+  if [ -n "${allowed[$top]:-}" ] && [ -d "$lib" ] && [[ " ${allowed[$top]} " != *" $lib "* ]]; then
+    report "$file:$line" "includes \"$target\": $top/ may include only ${allowed[$top]// /, }"
+  fi
+  if [[ $file == tests/*_test.cpp && $file != tests/render/* && $lib == render ]]; then
+    report "$file:$line" "includes \"$target\": a CPU test (*_test.cpp) outside tests/render/ needs no GL"
+  fi
+done < <(git ls-files --cached --others --exclude-standard -z -- '*.h' '*.cpp' '*.c' | grep -zv '^build' |
+  xargs -0r grep -Hn '#[[:space:]]*include' || true)
 
 if [ "$status" = 0 ]; then echo "check_includes: the layering holds"; fi
 exit "$status"
