@@ -7,11 +7,13 @@
 // leaves no query or feedback behind.
 #include <gtest/gtest.h>
 
+#include <condition_variable>
+#include <mutex>
 #include <optional>
 
 #include "core/transfer_function.h"
-#include "loader/io_queue.h"
 #include "render/frame_renderer.h"
+#include "store/brick_source.h"
 #include "store/procedural_bricks.h"
 #include "testutil_gl.h"
 
@@ -304,6 +306,48 @@ TEST(VisibilityConverge, AFrameThatWouldRedrawTheConvergedImageKeepsIt) {
   }
 }
 
+// Reads that wait at a gate the test closes, so that frames have reads pending and nothing to upload however
+// this machine times reads against frames. Any thread; close() and open() from the test's.
+class GatedBrickSource final : public BrickSource {
+ public:
+  explicit GatedBrickSource(const BrickSource& inner) : inner_(inner) {}
+  const BrickSourceInfo& info() const override { return inner_.info(); }
+  NodeInfo node(const NodeKey& key) const override { return inner_.node(key); }
+  void readBrick(const NodeKey& key, std::span<std::byte> out) const override {
+    {
+      std::unique_lock lock(mutex_);
+      opened_.wait(lock, [&] { return open_; });
+      ++reading_;
+    }
+    inner_.readBrick(key, out);
+    std::lock_guard lock(mutex_);
+    if (--reading_ == 0) readsDone_.notify_all();
+  }
+  // Returns once every read that passed the gate has finished: the reads begun later wait for open().
+  void close() {
+    std::unique_lock lock(mutex_);
+    open_ = false;
+    readsDone_.wait(lock, [&] { return reading_ == 0; });
+  }
+  void open() {
+    std::lock_guard lock(mutex_);
+    open_ = true;
+    opened_.notify_all();
+  }
+
+ private:
+  const BrickSource& inner_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable opened_, readsDone_;
+  bool open_ = true;
+  mutable uint32_t reading_ = 0;
+};
+
+struct GateOpenedAtExit {
+  GatedBrickSource& gate;
+  ~GateOpenedAtExit() { gate.open(); }
+};
+
 // With FrameRequest::keepImageWhileReading (render --converge, which keeps the converged image too), a frame
 // on the last drawn view that uploads nothing while reads are pending keeps the image: it could only show
 // collapsed nodes the rays did not see. Such a frame is never the converged one, and never one of more than a
@@ -311,7 +355,7 @@ TEST(VisibilityConverge, AFrameThatWouldRedrawTheConvergedImageKeepsIt) {
 // the converged cut and image are those of frames that draw every time.
 TEST(VisibilityConverge, AFrameThatOnlyWaitsForReadsKeepsTheImage) {
   const ProceduralBricks procedural({ProceduralKind::Noise, 64}, 8);
-  const DelayedBrickSource source(procedural, 8.0);  // reads outlast some frames
+  GatedBrickSource source(procedural);
   // A pool with room for half the view: the slots the answers free go to nodes whose bricks are read then.
   const Converged roomy = renderUntilConverged(procedural, RenderMode::Iso, RenderBackend::Fragment, {});
   ASSERT_TRUE(roomy.last.converged);
@@ -324,13 +368,14 @@ TEST(VisibilityConverge, AFrameThatOnlyWaitsForReadsKeepsTheImage) {
   };
   const auto converge = [&](bool keepWhileReading) {
     FrameRenderer renderer(test::sharedGlContext().info(), source, visibilityConfig({true, true}, halfPool));
+    const GateOpenedAtExit reopen{source};  // the renderer's reads end before it does, however this one ends
     FrameRequest request = viewRequest(source.info(), RenderMode::Iso, RenderBackend::Fragment);
     request.keepImageWhileReading = keepWhileReading;
     request.keepConvergedImage = true;
     Run run;
     FloatImage lastDrawn;
     FrameStats stats;
-    uint32_t inARow = 0;
+    uint32_t inARow = 0, gatedFrames = 0;
     for (uint32_t frame = 0; frame < 4000 && !stats.converged; ++frame) {
       stats = renderer.render(request);
       if (stats.drawn) {
@@ -343,7 +388,15 @@ TEST(VisibilityConverge, AFrameThatOnlyWaitsForReadsKeepsTheImage) {
         ++run.keptWhileReading;
         run.mostInARow = std::max(run.mostInARow, ++inARow);
       }
-      if (stats.bricksUploaded == 0) renderer.waitForReads(std::chrono::milliseconds(5));
+      // Every fourth frame with reads pending stops the reads for two frames: the first takes what was read
+      // before, the second has nothing to upload.
+      if (gatedFrames > 0) {
+        if (--gatedFrames == 0) source.open();
+      } else if (stats.requestsPending > 0 && frame % 4 == 0) {
+        source.close();
+        gatedFrames = 2;
+      }
+      if (stats.bricksUploaded == 0 && gatedFrames == 0) renderer.waitForReads(std::chrono::milliseconds(5));
     }
     EXPECT_TRUE(stats.converged);
     run.convergedKept = stats.converged && !stats.drawn;
