@@ -134,23 +134,38 @@ class CompressPool {
 // Samples of source type V through the mapping (the types of mapsOverValueRange): rounded to the nearest
 // stored value and clamped to [0, high], the stored value of the range's high end (65535 when quantized; for
 // a float range whose finite values are all one, 0, so that an infinity stays in the value range); NaN reads
-// as the range's low end. With scale 1 (uint32/int32 whose range fits 16 bits) this is exact.
+// as the range's low end. With scale 1 (uint32/int32 whose range fits 16 bits) this is exact. Counts what it
+// could not keep in `stats`.
 template <typename V, typename T>
-void mapToStored(const std::byte* in, size_t count, const ValueMapping& mapping, double high, T* out) {
+void mapToStored(const std::byte* in, size_t count, const ValueMapping& mapping, double high, T* out,
+                 ConvertStats& stats) {
   const double inverseScale = 1.0 / mapping.scale;
+  uint64_t nan = 0, infinite = 0, clamped = 0;
   for (size_t i = 0; i < count; ++i) {
     V v;
     std::memcpy(&v, in + sizeof(V) * i, sizeof(V));
     const double q = std::nearbyint((double(v) - mapping.offset) * inverseScale);
-    out[i] = std::isnan(q) ? T(0) : T(std::clamp(q, 0.0, high));
+    if (std::isnan(q)) {
+      out[i] = T(0);
+      ++nan;
+      continue;
+    }
+    if (std::isinf(double(v)))
+      ++infinite;
+    else if (q < 0.0 || q > high)
+      ++clamped;
+    out[i] = T(std::clamp(q, 0.0, high));
   }
+  stats.nanSamples += nan;
+  stats.infiniteSamples += infinite;
+  stats.clampedSamples += clamped;
 }
 
 // Turns one source slice into stored values (store_format.h: uint8/uint16 kept, int8 and int16 offset, the
 // others through mapToStored).
 template <typename T>
 void toStored(const std::byte* in, size_t count, SampleType type, const ValueMapping& mapping, double high,
-              T* out) {
+              T* out, ConvertStats& stats) {
   switch (type) {
     case SampleType::UInt8:
     case SampleType::UInt16:
@@ -167,13 +182,13 @@ void toStored(const std::byte* in, size_t count, SampleType type, const ValueMap
       }
       return;
     case SampleType::UInt32:
-      return mapToStored<uint32_t>(in, count, mapping, high, out);
+      return mapToStored<uint32_t>(in, count, mapping, high, out, stats);
     case SampleType::Int32:
-      return mapToStored<int32_t>(in, count, mapping, high, out);
+      return mapToStored<int32_t>(in, count, mapping, high, out, stats);
     case SampleType::Float32:
-      return mapToStored<float>(in, count, mapping, high, out);
+      return mapToStored<float>(in, count, mapping, high, out, stats);
     case SampleType::Float64:
-      return mapToStored<double>(in, count, mapping, high, out);
+      return mapToStored<double>(in, count, mapping, high, out, stats);
   }
 }
 
@@ -408,7 +423,8 @@ void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueM
     source.readSlab(z, count, std::span(buffer).first(size_t(count) * sliceBytes));
     for (uint32_t i = 0; i < count; ++i) {
       std::vector<T> slice = cascade.newSlice(0);
-      toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, storedHigh, slice.data());
+      toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, storedHigh, slice.data(),
+               stats);
       cascade.push(0, std::move(slice));
     }
     progress.slicesDone = z + count;
@@ -503,6 +519,8 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   }
   metadata.volume.valueMin = lo;
   metadata.volume.valueMax = hi;
+  stats.valueMin = lo;
+  stats.valueMax = hi;
   writer.finish(metadata, entries);
 
   for (const StoreNodeEntry& e : entries) {

@@ -49,6 +49,11 @@ struct ConvertStats {
   uint64_t readBufferBytes = 0;  // the slab read from the source (~16 MiB, at least one slice)
   uint64_t brickQueueBytes = 0;  // raw bricks waiting for a compression worker, at most
   uint64_t peakBufferedBytes() const { return peakWindowBytes + readBufferBytes + brickQueueBytes; }
+  // Samples the value mapping could not keep (sources of the types whose mapping depends on their range):
+  // NaN, stored as the range's low end; infinities, and finite values outside a range the source declares
+  // (an NRRD's min and max), clamped to the nearer end. docs/FORMAT.md "Stored values".
+  uint64_t nanSamples = 0, infiniteSamples = 0, clampedSamples = 0;
+  double valueMin = 0.0, valueMax = 0.0;  // the value range written, in data units
 };
 
 // What is wrong with the options, whatever the source ("convert: --brick 3: expected ..."), or "".

@@ -81,6 +81,17 @@ int runConvert(const ConvertArgs& a) {
     std::fprintf(stderr,
                  "ropecast convert: warning: every sample lies below --discard-below %s: %s holds no data\n",
                  formatNumber(*a.discardBelow).c_str(), a.output.c_str());
+  // Said even with -q: the store holds values the source did not have there.
+  const auto warnSamples = [](uint64_t count, const std::string& what, const std::string& storedAs) {
+    if (count > 0)
+      std::fprintf(stderr, "ropecast convert: warning: %llu %s %s; stored as %s\n", (unsigned long long)count,
+                   count == 1 ? "sample is" : "samples are", what.c_str(), storedAs.c_str());
+  };
+  const std::string range = "[" + formatNumber(stats.valueMin) + ", " + formatNumber(stats.valueMax) + "]";
+  warnSamples(stats.nanSamples, "NaN", "the value range's low end, " + formatNumber(stats.valueMin));
+  warnSamples(stats.infiniteSamples, "infinite", "the nearer end of the value range " + range);
+  warnSamples(stats.clampedSamples, "outside the value range the source declares, " + range,
+              "the nearer end");
   if (!a.quiet) {
     const VolumeInfo& info = source->info();
     const double rawBytes = double(info.sampleCount()) * double(bytesPerSample(info.type));

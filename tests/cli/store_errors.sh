@@ -170,6 +170,22 @@ else
   echo "FAIL --discard-below above the data: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
 
+# NaN and infinite samples convert, and how they were stored is said, even with -q.
+python3 - "$dir/nan_6x5x4_float32.raw" <<'PY'
+import struct, sys
+values = [0.25 * (i % 9) for i in range(6 * 5 * 4)]
+values[3], values[7], values[8], values[50] = float("nan"), float("nan"), float("inf"), float("-inf")
+open(sys.argv[1], "wb").write(struct.pack("<%df" % len(values), *values))
+PY
+if "$ropecast" convert "$dir/nan_6x5x4_float32.raw" -o "$dir/nan.store" --quiet 2> "$dir/err.txt" &&
+  grep -qxF "ropecast convert: warning: 2 samples are NaN; stored as the value range's low end, 0" "$dir/err.txt" &&
+  grep -qxF "ropecast convert: warning: 2 samples are infinite; stored as the nearer end of the value range [0, 2]" \
+    "$dir/err.txt"; then
+  echo "ok   NaN and infinite samples: warned"
+else
+  echo "FAIL NaN and infinite samples: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+fi
+
 # A NRRD whose space directions flip an axis converts, and the warning says only lengths were used.
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\nspace directions: (-1,0,0) (0,1,0) (0,0,1)\n\n' \
   > "$dir/flip.nrrd"

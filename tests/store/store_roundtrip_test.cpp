@@ -118,8 +118,15 @@ TEST(StoreRoundTrip, Float32WithAKnownRangeSkipsThePrePassAndClampsOutliers) {
   options.brickSize = 4;
   std::vector<ConvertProgress::Phase> phases;
   options.progress = [&](const ConvertProgress& p) { phases.push_back(p.phase); };
-  convertVolume(source, dir / "k.store", options);
+  const ConvertStats stats = convertVolume(source, dir / "k.store", options);
   EXPECT_EQ(std::count(phases.begin(), phases.end(), ConvertProgress::Phase::ValueRange), 0);
+  // What the mapping could not keep is counted (convert warns with it).
+  EXPECT_EQ(stats.nanSamples, 1u);
+  EXPECT_EQ(stats.infiniteSamples, 0u);
+  const auto outside = [](float v) { return v < 0.0f || v > 4.0f; };  // -10, 99 and those of 4.1 to 4.9
+  EXPECT_EQ(stats.clampedSamples, uint64_t(std::count_if(samples.begin(), samples.end(), outside)));
+  EXPECT_EQ(stats.valueMin, 0.0);
+  EXPECT_EQ(stats.valueMax, 4.0);
   const auto store = Store::open(dir / "k.store");
   EXPECT_EQ(*store->info().volume.valueMin, 0.0);
   EXPECT_EQ(*store->info().volume.valueMax, 4.0);
@@ -143,7 +150,9 @@ TEST(StoreRoundTrip, Float32WhoseFiniteValuesAreOneKeepsInfinitiesInTheRange) {
       ArraySource::fromSamples<float>(testing::volumeInfo(dims, SampleType::Float32), samples);
   ConvertOptions options;
   options.brickSize = 4;
-  convertVolume(source, dir / "c.store", options);
+  const ConvertStats stats = convertVolume(source, dir / "c.store", options);
+  EXPECT_EQ(stats.infiniteSamples, 2u);
+  EXPECT_EQ(stats.nanSamples + stats.clampedSamples, 0u);
   const auto store = Store::open(dir / "c.store");
   EXPECT_EQ(*store->info().volume.valueMin, 5.0);
   EXPECT_EQ(*store->info().volume.valueMax, 5.0);
