@@ -50,8 +50,8 @@ struct ConvertStats {
   uint64_t brickQueueBytes = 0;  // raw bricks waiting for a compression worker, at most
   uint64_t peakBufferedBytes() const { return peakWindowBytes + readBufferBytes + brickQueueBytes; }
   // Samples the value mapping could not keep (sources of the types whose mapping depends on their range):
-  // NaN, stored as the range's low end; infinities, and finite values outside a range the source declares
-  // (an NRRD's min and max), clamped to the nearer end. docs/FORMAT.md "Stored values".
+  // NaN, stored as the range's low end; infinities, and finite values outside a range the source knows
+  // (VolumeInfo::valueMin, valueMax), clamped to the nearer end. docs/FORMAT.md "Stored values".
   uint64_t nanSamples = 0, infiniteSamples = 0, clampedSamples = 0;
   double valueMin = 0.0, valueMax = 0.0;  // the value range written, in data units
 };

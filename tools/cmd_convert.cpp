@@ -90,8 +90,7 @@ int runConvert(const ConvertArgs& a) {
   const std::string range = "[" + formatNumber(stats.valueMin) + ", " + formatNumber(stats.valueMax) + "]";
   warnSamples(stats.nanSamples, "NaN", "the value range's low end, " + formatNumber(stats.valueMin));
   warnSamples(stats.infiniteSamples, "infinite", "the nearer end of the value range " + range);
-  warnSamples(stats.clampedSamples, "outside the value range the source declares, " + range,
-              "the nearer end");
+  warnSamples(stats.clampedSamples, "outside the value range the source gives, " + range, "the nearer end");
   if (!a.quiet) {
     const VolumeInfo& info = source->info();
     const double rawBytes = double(info.sampleCount()) * double(bytesPerSample(info.type));
