@@ -9,6 +9,7 @@
 #include <deque>
 #include <exception>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <string>
 #include <system_error>
@@ -25,8 +26,10 @@ namespace ropecast {
 
 namespace {
 
-// Compresses bricks on worker threads and appends them through the writer; the submitting thread blocks while
-// the queue is full, so at most `maxQueued` raw bricks wait in memory.
+// Compresses bricks on worker threads and appends them through the writer in the order they were submitted,
+// whichever worker finishes first, so that a store does not depend on the thread count or on timing. The
+// submitting thread blocks while the queue is full, so at most `maxQueued` raw bricks wait in memory, and
+// workers wait while `maxQueued` compressed bricks wait for an earlier one.
 class CompressPool {
  public:
   CompressPool(StoreWriter& writer, std::vector<StoreNodeEntry>& entries, int zstdLevel, unsigned threads,
@@ -46,7 +49,7 @@ class CompressPool {
     std::unique_lock lock(mutex_);
     spaceFree_.wait(lock, [&] { return queue_.size() < maxQueued_ || error_; });
     if (error_) std::rethrow_exception(error_);
-    queue_.push_back({nodeIndex, std::move(brick)});
+    queue_.push_back({submitted_++, nodeIndex, std::move(brick)});
     workAvailable_.notify_one();
   }
 
@@ -66,8 +69,13 @@ class CompressPool {
 
  private:
   struct Job {
+    uint64_t sequence;  // submission order, the order of the payloads in the file
     uint64_t nodeIndex;
     std::vector<std::byte> brick;
+  };
+  struct Compressed {
+    uint64_t nodeIndex;
+    std::vector<std::byte> payload;
   };
 
   void stop() {
@@ -88,7 +96,11 @@ class CompressPool {
       Job job;
       {
         std::unique_lock lock(mutex_);
-        workAvailable_.wait(lock, [&] { return !queue_.empty() || stopping_; });
+        // Jobs are taken in order, so the brick the file needs next is never queued behind a full reorder
+        // buffer: a worker holds it.
+        workAvailable_.wait(lock, [&] {
+          return (!queue_.empty() && compressedWaiting_.size() < maxQueued_) || (stopping_ && queue_.empty());
+        });
         if (queue_.empty()) break;
         job = std::move(queue_.front());
         queue_.pop_front();
@@ -100,11 +112,7 @@ class CompressPool {
             ZSTD_compress2(context, compressed.data(), compressed.size(), job.brick.data(), job.brick.size());
         if (ZSTD_isError(n))
           throw Error(std::string("convert: zstd compression failed: ") + ZSTD_getErrorName(n));
-        const auto payload = std::span<const std::byte>(compressed).first(n);
-        StoreNodeEntry& e = entries_[job.nodeIndex];  // only this worker touches these payload fields
-        e.payloadCrc = storeCrc32(payload);
-        e.payloadBytes = uint32_t(n);
-        e.payloadOffset = writer_.appendPayload(payload);
+        writeInOrder(job.sequence, {job.nodeIndex, std::vector(compressed.begin(), compressed.begin() + n)});
       } catch (...) {
         std::lock_guard lock(mutex_);
         if (!error_) error_ = std::current_exception();
@@ -118,6 +126,28 @@ class CompressPool {
     ZSTD_freeCCtx(context);
   }
 
+  // Keeps the payload until every earlier one is written; the worker that completes the next one writes it
+  // and the waiting ones that follow it (one writer at a time, outside the lock).
+  void writeInOrder(uint64_t sequence, Compressed compressed) {
+    std::unique_lock lock(mutex_);
+    compressedWaiting_.emplace(sequence, std::move(compressed));
+    if (writing_) return;  // the worker writing takes this one in turn
+    writing_ = true;
+    while (!compressedWaiting_.empty() && compressedWaiting_.begin()->first == nextToWrite_) {
+      auto next = compressedWaiting_.extract(compressedWaiting_.begin());
+      lock.unlock();
+      const std::vector<std::byte>& payload = next.mapped().payload;
+      StoreNodeEntry& e = entries_[next.mapped().nodeIndex];  // only the writing worker touches these fields
+      e.payloadCrc = storeCrc32(payload);
+      e.payloadBytes = uint32_t(payload.size());
+      e.payloadOffset = writer_.appendPayload(payload);
+      lock.lock();
+      ++nextToWrite_;
+      workAvailable_.notify_all();  // room in the reorder buffer
+    }
+    writing_ = false;
+  }
+
   StoreWriter& writer_;
   std::vector<StoreNodeEntry>& entries_;
   int zstdLevel_;
@@ -125,6 +155,9 @@ class CompressPool {
   std::mutex mutex_;
   std::condition_variable workAvailable_, spaceFree_;
   std::deque<Job> queue_;
+  uint64_t submitted_ = 0, nextToWrite_ = 0;
+  std::map<uint64_t, Compressed> compressedWaiting_;  // by sequence, none before nextToWrite_
+  bool writing_ = false;
   std::vector<std::vector<std::byte>> spare_;
   bool stopping_ = false;
   std::exception_ptr error_;
