@@ -542,6 +542,7 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
                              maxQueued * brickBytes, stats);
     pool.finish();
   }
+  stats.reorderBytes = maxQueued * ZSTD_compressBound(brickBytes);
 
   // The value range in data units: the range the mapping was made over for the types of mapsOverValueRange
   // (their quantization range; for uint32/int32 kept exactly, the root's range too), the root's range

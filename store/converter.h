@@ -48,7 +48,10 @@ struct ConvertStats {
   uint64_t peakWindowBytes = 0;  // slices held by the per-level windows at their peak
   uint64_t readBufferBytes = 0;  // the slab read from the source (~16 MiB, at least one slice)
   uint64_t brickQueueBytes = 0;  // raw bricks waiting for a compression worker, at most
-  uint64_t peakBufferedBytes() const { return peakWindowBytes + readBufferBytes + brickQueueBytes; }
+  uint64_t reorderBytes = 0;     // compressed bricks waiting for an earlier one to be written, at most
+  uint64_t peakBufferedBytes() const {
+    return peakWindowBytes + readBufferBytes + brickQueueBytes + reorderBytes;
+  }
   // Samples the value mapping could not keep (sources of the types whose mapping depends on their range):
   // NaN, stored as the range's low end; infinities, and finite values outside a range the source knows
   // (VolumeInfo::valueMin, valueMax), clamped to the nearer end. docs/FORMAT.md "Stored values".

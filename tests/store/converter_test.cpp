@@ -62,6 +62,8 @@ TEST(Converter, BufferedMemoryDoesNotGrowWithDepth) {
   EXPECT_GE(b.peakWindowBytes, (8 + 2 * kBrickBorder) * sliceBytes);
   EXPECT_LE(b.readBufferBytes, (size_t(16) << 20) + sliceBytes);
   EXPECT_EQ(b.brickQueueBytes, 4 * 2 * 12 * 12 * 12 * 2u);  // 4 bricks per worker
+  EXPECT_EQ(b.reorderBytes, a.reorderBytes);                // as many compressed ones, whatever nz is
+  EXPECT_LE(b.reorderBytes, b.brickQueueBytes * 11 / 10);
 }
 
 // The payloads go into the file in node order whichever worker compresses them first: the same input and
