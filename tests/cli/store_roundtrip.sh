@@ -12,6 +12,11 @@ head -c $((31 * 17 * 23 * 2)) /dev/urandom > "$dir/noise_31x17x23_uint16.raw"
 "$ropecast" verify "$dir/a.store" --quiet
 "$ropecast" extract "$dir/a.store" --level 0 -o "$dir/a0.raw" --quiet
 cmp "$dir/noise_31x17x23_uint16.raw" "$dir/a0.raw"
+# The same input and options give the same file, whatever the compression threads.
+"$ropecast" convert "$dir/noise_31x17x23_uint16.raw" -o "$dir/a1thread.store" --brick 8 --threads 1 --quiet
+"$ropecast" convert "$dir/noise_31x17x23_uint16.raw" -o "$dir/a4threads.store" --brick 8 --threads 4 --quiet
+cmp "$dir/a1thread.store" "$dir/a4threads.store"
+cmp "$dir/a.store" "$dir/a4threads.store"
 "$ropecast" extract "$dir/a.store" --level 1 -o "$dir/a1.raw" --quiet
 test "$(stat -c %s "$dir/a1.raw")" -eq $((16 * 9 * 12 * 2))
 
