@@ -4,21 +4,16 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <span>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "tests/common/temp_dir.h"
 
 namespace ropecast {
 namespace {
-
-std::string contents(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 TEST(TemporaryFile, TheOutputAppearsOnlyWhenCommitted) {
   const TemporaryFolder folder("ropecast-test");
@@ -35,7 +30,7 @@ TEST(TemporaryFile, TheOutputAppearsOnlyWhenCommitted) {
   file.writeAt(0, std::as_bytes(std::span(text)));
   EXPECT_FALSE(std::filesystem::exists(out));
   file.commit();
-  EXPECT_EQ(contents(out), text);
+  EXPECT_EQ(test::readBytes(out), text);
   EXPECT_FALSE(std::filesystem::exists(file.path()));
 }
 
@@ -58,7 +53,7 @@ TEST(TemporaryFile, AnOutputNameAsLongAsAFileNameMayBeIsWritten) {
   EXPECT_EQ(file.path().parent_path(), out.parent_path());
   file.writeAt(0, std::as_bytes(std::span(text)));
   file.commit();
-  EXPECT_EQ(contents(out), text);
+  EXPECT_EQ(test::readBytes(out), text);
 }
 
 // Refused before any work is done: the temporary's shortened name would have been created, and the rename at

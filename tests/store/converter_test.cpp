@@ -4,23 +4,17 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "store/store.h"
 #include "store/verify.h"
+#include "tests/common/temp_dir.h"
 #include "tests/store/store_test_util.h"
 
 namespace ropecast {
 namespace {
 
 using testing::TempDir;
-
-std::string storeFileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 ArraySource ballSource(glm::u32vec3 dims) {
   return ArraySource::fromSamples<uint16_t>(
@@ -75,11 +69,11 @@ TEST(Converter, SameFileWithOneOrSeveralWorkers) {
   options.brickSize = 8;
   options.workerThreads = 1;
   convertVolume(source, dir / "one.store", options);
-  const std::string one = storeFileBytes(dir / "one.store");
+  const std::string one = test::readBytes(dir / "one.store");
   for (int run = 0; run < 3; ++run) {
     options.workerThreads = 3 + run;
     convertVolume(source, dir / "several.store", options);
-    EXPECT_TRUE(storeFileBytes(dir / "several.store") == one) << options.workerThreads << " workers";
+    EXPECT_TRUE(test::readBytes(dir / "several.store") == one) << options.workerThreads << " workers";
   }
   EXPECT_TRUE(verifyStore(*Store::open(dir / "several.store")).ok());
 }
