@@ -302,11 +302,13 @@ void compareCases(std::vector<CaseOutcome>& outcomes, const std::string& folder,
         o.goldenFile = c.name + ".golden.png";
         copyAtomically(c.golden, (fs::path(folder) / o.goldenFile).string(), "regress --report");
       }
-      const std::string differenceFile = c.name + ".difference.png";
-      o.difference =
-          compareWithGolden(c.golden, (fs::path(folder) / o.renderFile).string(), t.failingPixelError,
-                            report ? (fs::path(folder) / differenceFile).string() : "");
-      if (report) o.differenceFile = differenceFile;
+      FloatImage difference;
+      o.difference = compareWithGolden(c.golden, (fs::path(folder) / o.renderFile).string(),
+                                       t.failingPixelError, report ? &difference : nullptr);
+      if (report) {
+        o.differenceFile = c.name + ".difference.png";
+        writePng((fs::path(folder) / o.differenceFile).string(), difference, false);
+      }
     } catch (const Error& e) {
       o.problems.push_back(e.what());
       continue;

@@ -9,7 +9,6 @@
 #include "core/error.h"
 #include "core/float_image.h"
 #include "core/input_file.h"
-#include "reference/image_io.h"
 
 namespace ropecast::tools {
 namespace {
@@ -44,7 +43,7 @@ void checkRenderImage(const std::string& render) {
 }
 
 GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
-                                   double failingPixelError, const std::string& differenceImage) {
+                                   double failingPixelError, FloatImage* difference) {
   const OIIO::ImageBuf a = readBuf(golden, "golden image");
   const OIIO::ImageBuf b = readBuf(render, "render");
   const OIIO::ImageSpec &sa = a.spec(), &sb = b.spec();
@@ -71,22 +70,17 @@ GoldenDifference compareWithGolden(const std::string& golden, const std::string&
   d.failingPixels = r.nfail;
   d.failingShare = double(r.nfail) / (double(d.width) * double(d.height));
   d.amplification = amplificationFor(d.maxError);
-  if (differenceImage.empty()) return d;
+  if (!difference) return d;
 
-  OIIO::ImageBuf difference = OIIO::ImageBufAlgo::absdiff(a, b, roi);
-  difference = OIIO::ImageBufAlgo::mul(difference, float(d.amplification));
-  FloatImage image;
-  image.width = d.width;
-  image.height = d.height;
-  image.channels = 3;
-  image.pixels.assign(size_t(d.width) * d.height * 3, 0.0f);
-  OIIO::ROI all = difference.roi();
+  OIIO::ImageBuf amplified = OIIO::ImageBufAlgo::absdiff(a, b, roi);
+  amplified = OIIO::ImageBufAlgo::mul(amplified, float(d.amplification));
+  difference->width = d.width;
+  difference->height = d.height;
+  difference->channels = channels;
+  difference->pixels.assign(size_t(d.width) * d.height * channels, 0.0f);
+  OIIO::ROI all = amplified.roi();
   all.chend = channels;
-  std::vector<float> pixels(size_t(d.width) * d.height * channels);
-  difference.get_pixels(all, OIIO::TypeDesc::FLOAT, pixels.data());
-  for (size_t p = 0; p < size_t(d.width) * d.height; ++p)
-    for (int c = 0; c < channels; ++c) image.pixels[p * 3 + c] = pixels[p * channels + c];
-  writePng(differenceImage, image, false);
+  amplified.get_pixels(all, OIIO::TypeDesc::FLOAT, difference->pixels.data());
   return d;
 }
 

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "core/float_image.h"
+
 namespace ropecast::tools {
 
 // How a render differs from its golden image over the RGB channels (values in [0, 1]).
@@ -21,10 +23,10 @@ struct GoldenDifference {
 // cannot be read or is not an RGB(A) image.
 void checkRenderImage(const std::string& render);
 
-// Compares `render` with `golden` (both read by OpenImageIO, both RGB or RGBA). With `differenceImage`
-// non-empty, also writes |golden - render| * amplification there as a PNG. Throws ropecast::Error naming the
-// file that cannot be read or is not RGB(A), and both sizes when they differ.
+// Compares `render` with `golden` (both read by OpenImageIO, both RGB or RGBA). With `difference` given, also
+// makes |golden - render| * amplification there (RGB), for the caller to write. Throws ropecast::Error naming
+// the file that cannot be read or is not RGB(A), and both sizes when they differ.
 GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
-                                   double failingPixelError, const std::string& differenceImage);
+                                   double failingPixelError, FloatImage* difference);
 
 }  // namespace ropecast::tools

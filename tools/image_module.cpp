@@ -1,0 +1,24 @@
+// The image module's entry point (tools/image_module.h): the one symbol ropecast_images.so exports.
+#include "tools/image_module.h"
+
+#include "store/source_images.h"
+
+namespace {
+
+const ropecast::tools::ImageModule kModule{
+    .encodeImage = &ropecast::encodeImage,
+    .imageWriterProblem = &ropecast::imageWriterProblem,
+    .decodeImage = &ropecast::decodeImage,
+    .countImagePages = &ropecast::countImagePages,
+    .openImageStackSource = &ropecast::openImageStackSource,
+    .openMultiPageTiffSource = &ropecast::openMultiPageTiffSource,
+    .checkRenderImage = &ropecast::tools::checkRenderImage,
+    .compareWithGolden = &ropecast::tools::compareWithGolden,
+};
+
+}  // namespace
+
+extern "C" __attribute__((visibility("default"))) const ropecast::tools::ImageModule*
+ropecast_image_module() {
+  return &kModule;
+}
