@@ -89,6 +89,30 @@ CLI::Validator integerIn(double lo, double hi) {
       "", "integerIn");
 }
 
+CLI::Validator integerRange(double lo, double hi) {
+  CLI::Validator integer = integerIn(lo, hi);
+  char range[96];
+  std::snprintf(range, sizeof range, "%s in [%.0f, %.0f]", lo < 0 ? "INT" : "UINT", lo, hi);
+  return integer.description(range);
+}
+
+std::string alternatives(const std::vector<std::string>& names) {
+  std::string text;
+  for (size_t i = 0; i < names.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return text;
+}
+
+CLI::Validator expecting(CLI::Validator check, const std::string& expected) {
+  const std::string description = check.get_description();
+  return CLI::Validator(
+      [check = std::move(check), expected](std::string& input) -> std::string {
+        const std::string given = input;
+        return check(input).empty() ? "" : "expected " + expected + ", got '" + given + "'";
+      },
+      description, "expecting");
+}
+
 // Not CLI::AsSizeValue: it reads the number as an integer ("1.5G" is refused), takes a bare unit ("M" as
 // 1 MiB) and wraps a negative number ("-1G" overflows from 2^64 - 1). This keeps the sizes ropecast has
 // always accepted: a non-negative decimal number, then nothing or K, M, G, T with an optional "B" or "iB", in

@@ -47,6 +47,24 @@ CLI::Validator nonZeroSize(const std::string& instead);
 // The CLI11 transform of integer options given as numbers ("512", "5e2", "512.0"): rewrites the value to the
 // integer's digits, or returns what was expected.
 CLI::Validator integerIn(double lo, double hi);
+// integerIn for an option of one integer, with the range in --help ("UINT in [1, 1000000]"). (CLI::Range says
+// "Value 2.5 not in range 1 to 1000000", and the same of 2e1.)
+CLI::Validator integerRange(double lo, double hi);
+
+// "a", "a or b", "a, b or c".
+std::string alternatives(const std::vector<std::string>& names);
+
+// `check` with its refusal said as "expected EXPECTED, got 'VALUE'" (CLI::IsMember says "foo not in
+// {iso,dvr}"); a value `check` maps (CLI::ignore_case) stays mapped.
+CLI::Validator expecting(CLI::Validator check, const std::string& expected);
+
+// CLI::IsMember(values): "expected 8, 16, 32 or 64, got '7'".
+template <typename T>
+CLI::Validator oneOf(const std::vector<T>& values) {
+  std::vector<std::string> names;
+  for (const T& value : values) names.push_back(CLI::detail::to_string(value));
+  return expecting(CLI::IsMember(values), alternatives(names));
+}
 
 // An option naming one value of an enum: CLI::IsMember checks the name (--help lists the names, a bad one is
 // refused with them) and CLI::Transformer maps it straight to the enum. (CLI::CheckedTransformer alone would
@@ -58,7 +76,8 @@ CLI::Option* addEnumOption(CLI::App& app, const std::string& name, Target& value
                            bool ignoreCase = false, const std::string& listed = "") {
   std::vector<std::string> keys;
   for (const auto& entry : names) keys.push_back(entry.first);
-  CLI::Validator member = ignoreCase ? CLI::IsMember(keys, CLI::ignore_case) : CLI::IsMember(keys);
+  CLI::Validator member = expecting(ignoreCase ? CLI::IsMember(keys, CLI::ignore_case) : CLI::IsMember(keys),
+                                    listed.empty() ? alternatives(keys) : listed);
   if (!listed.empty()) member.description(listed);
   // transform() puts a validator first: the name is checked, then mapped.
   CLI::Option* option = app.add_option(name, value, help)

@@ -83,7 +83,7 @@ std::function<int()> setupIndexBench(CLI::App& app) {
       ->check(integerIn(1, 1000000));
   app.add_option("--max-depth", options->maxDepth, "deepest leaf of the random cut")
       ->capture_default_str()
-      ->check(CLI::Range(0u, kCutMaxDepth));
+      ->transform(integerRange(0, kCutMaxDepth));
   app.add_option("--empty-fraction", options->emptyFraction, "share of Empty leaves")
       ->capture_default_str()
       ->check(finiteIn(0.0, 1.0));

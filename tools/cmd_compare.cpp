@@ -14,6 +14,7 @@
 #include "reference/image_compare.h"
 #include "reference/image_io.h"
 #include "tools/cli_checks.h"
+#include "tools/cli_values.h"
 #include "tools/command.h"
 
 namespace ropecast::tools {
@@ -66,7 +67,7 @@ const CommandRegistration compareCommand("compare", 70, [](CLI::App& app) -> std
          "--channels", o->channels,
          "channels compared: 3 = RGB, 4 = RGBA, 1 = the first (default: 3; 1 when an image has fewer, "
          "such as a depth EXR)")
-      ->check(CLI::Range(1u, 4u));
+      ->transform(integerRange(1, 4));
   app.add_option("--min-psnr", o->minPsnr, "exit with status 3 when the PSNR is below this (dB)")
       ->check(finiteIn(0.0, HUGE_VAL));
   return [o] { return runCompare(*o); };

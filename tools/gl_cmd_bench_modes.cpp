@@ -447,10 +447,10 @@ std::function<int()> setupModesBench(CLI::App& app) {
       ->capture_default_str()
       ->excludes(app.get_option("--path"));
   app.add_option("--frames", o->frames, "frames along the path")
-      ->check(CLI::Range(1u, 100000u))
+      ->transform(integerRange(1, 100000))
       ->capture_default_str();
   app.add_option("--reps", o->reps, "repetitions of the path per configuration, interleaved")
-      ->check(CLI::Range(1u, 1000u))
+      ->transform(integerRange(1, 1000))
       ->capture_default_str();
   addEnumOption(app, "--mode", o->mode, kModeNames, "isosurface or direct volume rendering");
   app.add_option("--iso", o->iso,
@@ -471,7 +471,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
       ->check(nonZeroSize("leave --gpu-budget out for the driver's default"));
   addByteSizeOption(app, "--cpu-cache", o->cpuCache, "CPU brick cache bytes")->default_str("1G");
   app.add_option("--brick", o->brick, "brick size for procedural inputs")
-      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
+      ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
   app.add_option(
          "--configs", o->configs,
          "comma-separated configurations: single-fragment, single-compute, multipass (default: the single "

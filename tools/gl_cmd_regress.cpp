@@ -30,9 +30,11 @@
 #include "core/temporary_file.h"
 #include "reference/image_io.h"
 #include "store/procedural.h"
+#include "tools/cli_values.h"
 #include "tools/command.h"
 #include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
+#include "tools/parse_error_text.h"
 #include "tools/regress_images.h"
 #include "tools/regress_report.h"
 #include "tools/regress_suite.h"
@@ -70,7 +72,7 @@ RenderOptions parseCaseOptions(const RegressCase& c, const std::string& suitePat
     throw SuiteError(where +
                      ": options: --help-all asks for help, which a case cannot show; give render options");
   } catch (const CLI::ParseError& e) {
-    throw SuiteError(where + ": options: " + e.what());
+    throw SuiteError(where + ": options: " + parseErrorText(app, e));
   }
   const auto refuse = [&where](bool given, const char* option) {
     if (given)
@@ -431,7 +433,7 @@ const CommandRegistration regressCommand("regress", 60, [](CLI::App& app) -> std
           app.add_flag("--update-all", a->updateAll, "write the goldens of all cases from their renders"));
   app.add_option("--report", a->report, "write an HTML report (index.html and its images) into this folder");
   app.add_option("--jobs", a->jobs, "cases rendered at once, each in its own process (`ropecast render`)")
-      ->check(CLI::Range(1u, 64u))
+      ->transform(integerRange(1, 64))
       ->capture_default_str();
   return [a] { return runRegress(*a); };
 });

@@ -378,7 +378,7 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
       ->excludes(app.get_option("--backend"));
   app.add_option("--frames", o.frames,
                  "frames to render (more than 1: progressive loading; with --converge, at least this many)")
-      ->check(CLI::Range(1u, 1000000u));
+      ->transform(integerRange(1, 1000000));
   CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes")
                           ->check(notEmpty("a camera path file"));
   for (const char* camera : {"--orbit", "--eye", "--target", "--up", "--fov"})
@@ -386,11 +386,11 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
   CLI::Option* converge = app.add_flag("--converge", o.converge,
                                        "render until the working set is complete and nothing is pending");
   app.add_option("--max-frames", o.maxFrames, "frame cap for --converge")
-      ->check(CLI::Range(1u, 1000000u))
+      ->transform(integerRange(1, 1000000))
       ->capture_default_str()
       ->needs(converge);
   app.add_option("--every", o.every, "also write every K-th frame, and the last, as OUT_NNNN.png")
-      ->check(CLI::Range(1u, 1000000u));
+      ->transform(integerRange(1, 1000000));
   app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }
 

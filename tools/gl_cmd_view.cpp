@@ -12,6 +12,7 @@
 #include "core/transfer_function.h"
 #include "reference/image_io.h"
 #include "tools/cli_checks.h"
+#include "tools/cli_values.h"
 #include "tools/command.h"
 #include "tools/gl_view_app.h"
 #include "tools/output_guard.h"
@@ -111,7 +112,7 @@ const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::func
       ->check(nonEmptyPath("a file"));
   app.add_option("--max-frames", o->maxFrames,
                  "frames a screenshot or wait_converged waits for the view to converge (then it runs anyway)")
-      ->check(CLI::Range(1u, 1000000u))
+      ->transform(integerRange(1, 1000000))
       ->capture_default_str();
   return [o] { return runView(*o); };
 });

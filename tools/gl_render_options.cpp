@@ -114,7 +114,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   app.add_option("--io-threads", o.ioThreads,
                  "threads that read and decompress bricks (default: " + std::to_string(defaultIoThreads()) +
                      " on this machine; " + std::string(kDefaultIoThreadsRule) + ")")
-      ->check(CLI::Range(1u, kMaxIoThreads));
+      ->transform(integerRange(1, kMaxIoThreads));
   addEnumOption(app, "--occlusion", o.occlusion, kOnOffNames,
                 "progressive frames: occlusion queries between screen tiles keep hidden nodes from refining");
   addEnumOption(app, "--feedback", o.feedback, kOnOffNames,
@@ -122,14 +122,14 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
                 "requested nodes and the tree in use refine first, nodes no ray sampled do not refine, used "
                 "bricks stay in the pool");
   app.add_option("--query-budget", o.queryBudget, "occlusion queries per frame")
-      ->check(CLI::Range(1u, 1000000u))
+      ->transform(integerRange(1, 1000000))
       ->capture_default_str();
   app.add_option("--visibility-threshold", o.visibilityThreshold,
                  "visible pixels below which a queried node counts as occluded")
       ->check(integerIn(0, 4294967295.0))
       ->capture_default_str();
   app.add_option("--brick", o.brick, "brick size for procedural inputs")
-      ->check(CLI::IsMember({8u, 16u, 32u, 64u}));
+      ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
 }
 
 namespace {

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "tools/command.h"
+#include "tools/parse_error_text.h"
 
 namespace ropecast::tools {
 std::vector<CommandEntry>& commandRegistry() {
@@ -59,7 +60,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // --help and --version end here with 0; every usage error exits 2 (CLI11 would use its own 100+ codes).
-    return app.exit(e) == 0 ? 0 : kUsageError;
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "ropecast: error: %s\n(%s --help lists the options)\n",
+                 parseErrorText(app, e).c_str(), parsedCommandPath(app).c_str());
+    return kUsageError;
   }
   try {
     for (auto& [sub, run] : runs)

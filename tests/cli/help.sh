@@ -54,6 +54,22 @@ fi
 rc=$?
 if [ "$rc" = 2 ] && grep -qF -- "--size" "$dir_err"; then echo "ok   a bad option value exits 2"
 else fail "render --size 0x1: exit $rc: $(cat "$dir_err")"; fi
+# A parse error reads like every other error, says what was expected, and names the --help to read.
+"$ropecast" render procedural:sphere:16 -o x.png --voxel-per-pixel 2 > /dev/null 2> "$dir_err"
+rc=$?
+if [ "$rc" = 2 ] && grep -qxF "ropecast: error: unknown option --voxel-per-pixel (did you mean --voxels-per-pixel?)" "$dir_err" &&
+  grep -qxF "(ropecast render --help lists the options)" "$dir_err"; then
+  echo "ok   a mistyped option is named with the one meant (exit 2)"
+else
+  fail "render --voxel-per-pixel: exit $rc: $(cat "$dir_err")"
+fi
+"$ropecast" render procedural:sphere:16 -o x.png --orbit 30,20 > /dev/null 2> "$dir_err"
+rc=$?
+if [ "$rc" = 2 ] && grep -qxF "ropecast: error: --orbit: expected 3 values separated by ',', got 2" "$dir_err"; then
+  echo "ok   a short list says how many values it takes (exit 2)"
+else
+  fail "render --orbit 30,20: exit $rc: $(cat "$dir_err")"
+fi
 "$ropecast" --version > /dev/null || fail "ropecast --version exited non-zero"
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"

@@ -54,17 +54,17 @@ expect_usage "procedural size out of range" "bad SIZE '0'" procedural:sphere:0
 expect_usage "bad size" "--size" "$vol" --size 0x4
 expect_usage "size not WxH" "--size" "$vol" --size 512
 expect_usage "bad mode" "--mode" "$vol" --mode foo
-expect_usage "bad backend" "--backend: vulkan not in {auto,fragment,compute,brute,multipass}" "$vol" --backend vulkan
-expect_failure "backend by number" "--backend: 1 not in" "$vol" --backend 1
-expect_usage "bad brute stage" "--brute-stage: vertex not in {auto,fragment,compute}" "$vol" --backend brute \
+expect_usage "bad backend" "--backend: expected auto, fragment, compute, brute or multipass, got 'vulkan'" "$vol" --backend vulkan
+expect_failure "backend by number" "--backend: expected auto, fragment, compute, brute or multipass, got '1'" "$vol" --backend 1
+expect_usage "bad brute stage" "--brute-stage: expected auto, fragment or compute, got 'vertex'" "$vol" --backend brute \
   --brute-stage vertex
 expect_usage "brute stage without brute force" "--brute-stage compute applies to --backend brute" "$vol" \
   --brute-stage compute
 expect_usage "brute stage with the octree ray caster" "--brute-stage fragment applies to --backend brute" "$vol" \
   --backend compute --brute-stage fragment
 expect_usage "bad gradients" "--gradients" "$vol" --gradients sobel
-expect_usage "no I/O thread" "--io-threads: Value 0 not in range 1 to 256" "$vol" --io-threads 0
-expect_usage "I/O threads not a number" "--io-threads: Value many not in range" "$vol" --io-threads many
+expect_usage "no I/O thread" "--io-threads: expected an integer in [1, 256], got '0'" "$vol" --io-threads 0
+expect_usage "I/O threads not a number" "--io-threads: expected an integer in [1, 256], got 'many'" "$vol" --io-threads many
 expect_usage "negative target frame time" "--target-frame-ms" "$vol" --target-frame-ms -5
 expect_usage "no frame for --converge" "--max-frames" "$vol" --converge --max-frames 0
 # Options that would be ignored are refused: one camera, a frame cap and frame files only where they apply.

@@ -43,7 +43,7 @@ grep -q -- "--backend ENUM:{auto,fragment,compute,multipass}" <<< "$help" ||
   fail "view --help offers backends the viewer refuses: $(grep -- --backend <<< "$help")"
 env -u DISPLAY "$ropecast" view $vol --backend brute > /dev/null 2> "$dir/err.txt"
 rc=$?
-{ [ "$rc" = 2 ] && grep -q -- "--backend: brute not in" "$dir/err.txt"; } || fail "--backend brute: exit $rc: $(cat "$dir/err.txt")"
+{ [ "$rc" = 2 ] && grep -qF -- "--backend: expected auto, fragment, compute or multipass, got 'brute'" "$dir/err.txt"; } || fail "--backend brute: exit $rc: $(cat "$dir/err.txt")"
 [ ! -e "$dir/none.png" ] || fail "no display: a screenshot was written"
 
 # A script's transfer function and camera path files are checked before the window opens (no display here):
