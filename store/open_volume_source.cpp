@@ -1,9 +1,11 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
 //   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; a directory or a pattern with * or ? -> image
-//   stack; .tif/.tiff -> multi-page TIFF (a single page alone is an error); anything else -> raw.
+//   stack; .tif/.tiff -> multi-page TIFF (a single page alone is an error); a single .png or a store is an
+//   error; anything else -> raw.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include "store/source_nrrd.h"
 #include "store/source_procedural.h"
 #include "store/source_raw.h"
+#include "store/store_format.h"
 #include "store/volume_source.h"
 
 namespace ropecast {
@@ -38,6 +41,13 @@ void rejectRawOptions(const std::string& spec, const SourceOptions& options, con
   for (size_t i = 1; i < given.size(); ++i) names += (i + 1 == given.size() ? " and " : ", ") + given[i];
   throw UsageError("openVolumeSource: " + spec + ": " + names + (given.size() == 1 ? " applies" : " apply") +
                    " to raw files only; " + kind + " states its own dimensions, type and layout");
+}
+
+// A store given where a volume is expected would be read as a raw file of unknown dimensions.
+bool startsWithStoreMagic(const std::string& path) {
+  char magic[sizeof kStoreMagic] = {};
+  std::ifstream file(path, std::ios::binary);
+  return file.read(magic, sizeof magic) && std::equal(magic, magic + sizeof magic, kStoreMagic);
 }
 
 }  // namespace
@@ -77,6 +87,15 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
           "slices, or a multi-page TIFF");
     return openMultiPageTiffSource(spec, options);
   }
+  if (ext == ".png")
+    throw Error(
+        "openVolumeSource: " + spec +
+        " is a single image; give its folder or a pattern (e.g. dir/slice_*.png) to read a stack of slices");
+  if (startsWithStoreMagic(spec))
+    throw Error(
+        "openVolumeSource: " + spec +
+        " is a ropecast store already (convert reads volumes: raw, NRRD, image stacks, TIFF); render, view "
+        "and info read it as it is, and `ropecast extract` writes a level of it as a raw volume");
   return openRawSource(spec, options);
 }
 

@@ -115,6 +115,14 @@ expect_usage "raw without --type" "plain.raw: sample type unknown; give --type" 
 expect_usage "raw without --dims" "plain.raw: dimensions unknown; give --dims" \
   "$ropecast" convert "$dir/plain.raw" -o "$dir/p.store" --quiet
 expect_absent "$dir/p.store"
+# A store, or one PNG, given where a volume is wanted: said as such, not read as a raw file of unknown size.
+expect_failure "a store to convert" "good.store is a ropecast store already" \
+  "$ropecast" convert "$dir/good.store" -o "$dir/again.store" --quiet
+expect_absent "$dir/again.store"
+head -c 64 /dev/urandom > "$dir/one.png"
+expect_failure "one PNG to convert" "one.png is a single image; give its folder or a pattern" \
+  "$ropecast" convert "$dir/one.png" -o "$dir/png.store" --quiet
+expect_absent "$dir/png.store"
 # A detached NRRD header whose data file is missing: the message names both.
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: gone.raw\n\n' > "$dir/h.nhdr"
 expect_failure "NRRD data file missing" "NRRD header $dir/h.nhdr names data file gone.raw" \
