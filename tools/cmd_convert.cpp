@@ -58,7 +58,7 @@ int runConvert(const ConvertArgs& a) {
   options.workerThreads = a.threads;
   if (const std::string problem = convertOptionsProblem(options); !problem.empty()) throw UsageError(problem);
   OutputGuard guard("convert");
-  for (const std::string& file : volumeSpecFiles(a.input)) guard.addInput("the input", file);
+  guard.addVolumeInput("the input", a.input);
   guard.addOutput("-o", a.output);
   guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind

@@ -86,8 +86,12 @@ std::string fileIdentity(const std::string& path) {
 }
 
 void OutputGuard::addInput(std::string what, const std::string& path) {
-  if (path.empty() || isProceduralSpec(path)) return;
-  for (std::string& file : expandInput(path)) inputs_.push_back({what, std::move(file)});
+  if (!path.empty() && !isProceduralSpec(path)) inputs_.push_back({std::move(what), path});
+}
+
+void OutputGuard::addVolumeInput(std::string what, const std::string& spec) {
+  for (const std::string& given : volumeSpecFiles(spec))
+    for (std::string& file : expandInput(given)) inputs_.push_back({what, std::move(file)});
 }
 
 void OutputGuard::addOutput(std::string option, const std::string& path) {

@@ -6,8 +6,8 @@
 //
 // Two paths are the same file when stat() finds the same device and inode (through symlinks and hard links);
 // for paths that do not exist yet, when their absolute paths are equal with the symlinks of their existing
-// folders resolved. An input that is a directory counts as itself and every entry in it; a glob pattern
-// counts as every file it matches.
+// folders resolved. A volume input that is a directory counts as itself and every entry in it, and a glob
+// pattern as every file it matches; any other input counts as the path itself.
 #pragma once
 
 #include <functional>
@@ -21,9 +21,13 @@ class OutputGuard {
   // `who` starts every message ("render", "convert").
   explicit OutputGuard(std::string who) : who_(std::move(who)) {}
 
-  // A file, directory or glob pattern the command reads. `what` names it in messages: "the input",
-  // "--tf", "the suite". Empty paths and procedural:NAME:SIZE specs are ignored.
+  // A file the command reads (a store, --tf, the suite). `what` names it in messages: "the input", "--tf",
+  // "the suite". A folder given for it is not expanded: the command's reader refuses it, in its own words.
+  // Empty paths and procedural:NAME:SIZE specs are ignored.
   void addInput(std::string what, const std::string& path);
+  // A volume `ropecast convert` reads (volumeSpecFiles): a raw or NRRD file and the data file its header
+  // names, or a folder or glob pattern of slices and every file in it.
+  void addVolumeInput(std::string what, const std::string& spec);
   // A file the command will write. `option` names it in messages ("-o", "--stats").
   void addOutput(std::string option, const std::string& path);
   // Files of a series the command may write into `directory` (e.g. --every's OUT_NNNN.png), given by a test
@@ -57,7 +61,7 @@ std::string fileIdentity(const std::string& path);
 
 // The input files named by a volume spec as `ropecast convert` reads it (store/volume_source.h): nothing for
 // procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD header and its detached data file, a directory
-// or glob pattern as given (OutputGuard expands them).
+// or glob pattern as given (addVolumeInput expands them).
 std::vector<std::string> volumeSpecFiles(const std::string& spec);
 
 }  // namespace ropecast::tools

@@ -101,14 +101,24 @@ TEST_F(OutputGuardTest, AFileInAnInputFolderOrGlobIsRefused) {
   test::writeText(dir / "slices" / "s1.png", "b");
   for (const std::string& source : {(dir / "slices").string(), (dir / "slices" / "s*.png").string()}) {
     OutputGuard guard("convert");
-    guard.addInput("the input", source);
+    guard.addVolumeInput("the input", source);
     guard.addOutput("-o", (dir / "slices" / "s1.png").string());
     EXPECT_NE(guard.problem(), "") << source;
     OutputGuard fresh("convert");
-    fresh.addInput("the input", source);
+    fresh.addVolumeInput("the input", source);
     fresh.addOutput("-o", (dir / "slices" / "volume.rcast").string());
     EXPECT_EQ(fresh.problem(), "") << source;
   }
+}
+
+// A folder given where a file is read (render's store) is not a volume: the files in it are not inputs, and
+// the reader says what is wrong ("a folder, expected a file"), not the guard.
+TEST_F(OutputGuardTest, AFolderGivenForAFileInputDoesNotClaimItsFiles) {
+  test::writeText(dir / "renders" / "x.png", "an earlier render");
+  OutputGuard guard("render");
+  guard.addInput("the input", (dir / "renders").string());
+  guard.addOutput("-o", (dir / "renders" / "x.png").string());
+  EXPECT_EQ(guard.problem(), "");
 }
 
 TEST_F(OutputGuardTest, TwoOutputsOnOneFileAreRefusedNamingBoth) {
