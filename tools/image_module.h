@@ -1,9 +1,9 @@
 // The image module: the parts of ropecast that read or write image files through OpenImageIO (image codecs,
 // image-stack sources, golden-image comparison), built as a shared module, ropecast_images.so, that the
-// ropecast executable loads the first time a command needs one. OpenImageIO brings some 260 shared libraries,
-// whose loading took about half a second from every start; commands that touch no image (info, verify,
-// convert from raw or NRRD, view without a screenshot) no longer pay it. Test executables link those parts
-// directly.
+// ropecast executable loads the first time a command needs one. OpenImageIO loads a few hundred shared
+// libraries, which took the larger part of every start; commands that touch no image (info, verify, convert
+// from raw or NRRD, view without a screenshot) no longer load them (docs/BENCHMARKS.md, "Start-up"). Test
+// executables link those parts directly.
 //
 // The module links its own copy of core/ and store/, so it keeps no state of ropecast's: it makes no
 // TemporaryFile (whose removal on a signal lives in the executable's copy) and returns bytes and images for

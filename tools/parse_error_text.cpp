@@ -100,7 +100,9 @@ std::string mismatchText(const std::string& message, const CLI::App& command) {
 
 std::vector<std::string> likelyMeant(const std::string& given, const std::vector<std::string>& options) {
   const std::string typed = given.substr(0, given.find('='));
-  const std::string bare = typed.substr(typed.find_first_not_of('-'));
+  const size_t start = typed.find_first_not_of('-');
+  if (start == std::string::npos) return {};  // "---": no name to compare
+  const std::string bare = typed.substr(start);
   // One slip in a short name, two in a longer one ("--voxel-per-pixel" for "--voxels-per-pixel").
   const size_t tolerance = bare.size() <= 4 ? 1 : 2;
   std::vector<std::pair<size_t, std::string>> scored;

@@ -96,6 +96,8 @@ TEST(ParseErrorText, LikelyMeantTakesNearAndBegunNames) {
   EXPECT_EQ(likelyMeant("--isp", options), std::vector<std::string>{"--iso"});
   EXPECT_EQ(likelyMeant("--cache", options), std::vector<std::string>{});
   EXPECT_EQ(likelyMeant("-x", options), std::vector<std::string>{});
+  EXPECT_EQ(likelyMeant("---", options), std::vector<std::string>{});
+  EXPECT_EQ(likelyMeant("--=3", options), std::vector<std::string>{});
 }
 
 }  // namespace
