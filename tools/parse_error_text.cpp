@@ -127,6 +127,12 @@ std::string parseErrorText(const CLI::App& app, const CLI::ParseError& error) {
   // (An ExtrasError is named after the command it arose in, not its class.)
   if (dynamic_cast<const CLI::ExtrasError*>(&error)) return extrasText(message, command);
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) return mismatchText(message, command);
+  if (message == "A subcommand is required") {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : command.get_subcommands([](const CLI::App*) { return true; }))
+      names.push_back(sub->get_name());
+    return "a command is required: " + alternatives(names);
+  }
   return message;
 }
 

@@ -83,9 +83,9 @@ TEST(ParseErrorText, ValuesOutOfTheirRangeOrSet) {
   EXPECT_EQ(accepted.brick, 16u);
 }
 
-TEST(ParseErrorText, OtherErrorsKeepTheirText) {
+TEST(ParseErrorText, MissingInputsAndCommands) {
   EXPECT_EQ(Program().errorFor({"render"}), "input is required | ropecast render");
-  EXPECT_EQ(Program().errorFor({}), "A subcommand is required | ropecast");
+  EXPECT_EQ(Program().errorFor({}), "a command is required: render | ropecast");
 }
 
 TEST(ParseErrorText, LikelyMeantTakesNearAndBegunNames) {
