@@ -77,10 +77,10 @@ std::function<int()> setupIndexBench(CLI::App& app) {
   // A leaf costs the cut, the index and the traversal test about 230 bytes: 10 million take over 2 GiB.
   app.add_option("--leaves", options->leaves, "leaves in the random cut (at least this many)")
       ->capture_default_str()
-      ->check(integerIn(1, 10000000));
+      ->transform(integerRange(1, 10000000));
   app.add_option("--frames", options->frames, "builds to time")
       ->capture_default_str()
-      ->check(integerIn(1, 1000000));
+      ->transform(integerRange(1, 1000000));
   app.add_option("--max-depth", options->maxDepth, "deepest leaf of the random cut")
       ->capture_default_str()
       ->transform(integerRange(0, kCutMaxDepth));

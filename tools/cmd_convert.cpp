@@ -130,13 +130,13 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
       "byte order of a raw file's samples (default little)");
   app.add_option("--header-bytes", a->headerBytes, "bytes to skip at the start of a raw file (default 0)")
       ->type_name("N")
-      ->check(integerIn(0, double(kMaxRawHeaderBytes)));
+      ->transform(integerRange(0, double(kMaxRawHeaderBytes)));
   addTripleOption(app, "--spacing", a->spacing,
                   "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
   app.add_option("--zstd-level", a->zstdLevel, "zstd compression level")->capture_default_str();
   app.add_option("--threads", a->threads, "compression threads (0: one per core), at most 1024")
       ->capture_default_str()
-      ->check(integerIn(0, 1024));
+      ->transform(integerRange(0, 1024));
   app.add_flag("-q,--quiet", a->quiet, "no progress bar and no summary");
   return [a] { return runConvert(*a); };
 });

@@ -126,7 +126,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->capture_default_str();
   app.add_option("--visibility-threshold", o.visibilityThreshold,
                  "visible pixels below which a queried node counts as occluded")
-      ->check(integerIn(0, 4294967295.0))
+      ->transform(integerRange(0, 4294967295.0))
       ->capture_default_str();
   app.add_option("--brick", o.brick, "brick size for procedural inputs")
       ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
