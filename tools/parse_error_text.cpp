@@ -96,6 +96,20 @@ std::string mismatchText(const std::string& message, const CLI::App& command) {
   return message;
 }
 
+// "Could not convert: --level = abc", for an option of a number type without a check of its own.
+std::string conversionText(const std::string& message, const CLI::App& command) {
+  static const std::regex couldNot(R"(^Could not convert: (\S+) = (.*)$)");
+  std::smatch m;
+  if (!std::regex_match(message, m, couldNot)) return message;
+  const CLI::Option* option = command.get_option_no_throw(m[1]);
+  const std::string type = option ? option->get_type_name() : "";
+  const std::string expected = type.starts_with("UINT")    ? "an integer >= 0"
+                               : type.starts_with("INT")   ? "an integer"
+                               : type.starts_with("FLOAT") ? "a number"
+                                                           : "a value of type " + type;
+  return m[1].str() + ": expected " + expected + ", got '" + m[2].str() + "'";
+}
+
 }  // namespace
 
 std::vector<std::string> likelyMeant(const std::string& given, const std::vector<std::string>& options) {
@@ -127,6 +141,7 @@ std::string parseErrorText(const CLI::App& app, const CLI::ParseError& error) {
   // (An ExtrasError is named after the command it arose in, not its class.)
   if (dynamic_cast<const CLI::ExtrasError*>(&error)) return extrasText(message, command);
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) return mismatchText(message, command);
+  if (dynamic_cast<const CLI::ConversionError*>(&error)) return conversionText(message, command);
   if (message == "A subcommand is required") {
     std::vector<std::string> names;
     for (const CLI::App* sub : command.get_subcommands([](const CLI::App*) { return true; }))

@@ -18,7 +18,7 @@ struct Program {
   std::vector<double> orbit;
   std::vector<uint32_t> size;
   double iso = 0.5;
-  uint32_t frames = 1, brick = 32;
+  uint32_t frames = 1, brick = 32, level = 0;
   double voxelsPerPixel = 1.0;
 
   Program() {
@@ -33,6 +33,7 @@ struct Program {
     render->add_option("--brick", brick)->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
     render->add_option("--voxels-per-pixel", voxelsPerPixel);
     render->add_option("--voxel-size", voxelsPerPixel);
+    render->add_option("--level", level);
   }
 
   // The text for `args` (after the program name), or "" when they parse.
@@ -75,6 +76,10 @@ TEST(ParseErrorText, ValuesOutOfTheirRangeOrSet) {
             "--frames: expected an integer in [1, 1000000], got '0' | ropecast render");
   EXPECT_EQ(Program().errorFor({"render", "x.rcast", "--frames", "2.5"}),
             "--frames: expected an integer in [1, 1000000], got '2.5' | ropecast render");
+  EXPECT_EQ(Program().errorFor({"render", "x.rcast", "--level", "abc"}),
+            "--level: expected an integer >= 0, got 'abc' | ropecast render");
+  EXPECT_EQ(Program().errorFor({"render", "x.rcast", "--iso", "1..2"}),
+            "--iso: expected a number, got '1..2' | ropecast render");
   EXPECT_EQ(Program().errorFor({"render", "x.rcast", "--brick", "7"}),
             "--brick: expected 8, 16, 32 or 64, got '7' | ropecast render");
   Program accepted;
