@@ -110,6 +110,17 @@ std::string conversionText(const std::string& message, const CLI::App& command) 
   return m[1].str() + ": expected " + expected + ", got '" + m[2].str() + "'";
 }
 
+// "input is required" / "--output is required", with what the option is.
+std::string requiredText(const std::string& message, const CLI::App& command) {
+  static const std::regex isRequired(R"(^(\S+) is required$)");
+  std::smatch m;
+  if (!std::regex_match(message, m, isRequired)) return message;
+  const CLI::Option* option = command.get_option_no_throw(m[1]);
+  if (!option || option->get_description().empty()) return message;
+  return (option->nonpositional() ? m[1].str() + " is required: " : "missing " + m[1].str() + ": ") +
+         option->get_description();
+}
+
 }  // namespace
 
 std::vector<std::string> likelyMeant(const std::string& given, const std::vector<std::string>& options) {
@@ -142,6 +153,8 @@ std::string parseErrorText(const CLI::App& app, const CLI::ParseError& error) {
   if (dynamic_cast<const CLI::ExtrasError*>(&error)) return extrasText(message, command);
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) return mismatchText(message, command);
   if (dynamic_cast<const CLI::ConversionError*>(&error)) return conversionText(message, command);
+  if (dynamic_cast<const CLI::RequiredError*>(&error) && message != "A subcommand is required")
+    return requiredText(message, command);
   if (message == "A subcommand is required") {
     std::vector<std::string> names;
     for (const CLI::App* sub : command.get_subcommands([](const CLI::App*) { return true; }))

@@ -24,8 +24,8 @@ struct Program {
   Program() {
     app.require_subcommand(1);
     CLI::App* render = app.add_subcommand("render");
-    render->add_option("input", input)->required();
-    render->add_option("-o,--output", output);
+    render->add_option("input", input, "store file (.rcast) or procedural:NAME:SIZE")->required();
+    render->add_option("-o,--output", output, "output PNG");
     addTripleOption(*render, "--orbit", orbit, "AZ,EL,DIST");
     addImageSizeOption(*render, "--size", size, "WxH");
     render->add_option("--iso", iso);
@@ -89,7 +89,8 @@ TEST(ParseErrorText, ValuesOutOfTheirRangeOrSet) {
 }
 
 TEST(ParseErrorText, MissingInputsAndCommands) {
-  EXPECT_EQ(Program().errorFor({"render"}), "input is required | ropecast render");
+  EXPECT_EQ(Program().errorFor({"render"}),
+            "missing input: store file (.rcast) or procedural:NAME:SIZE | ropecast render");
   EXPECT_EQ(Program().errorFor({}), "a command is required: render | ropecast");
 }
 
