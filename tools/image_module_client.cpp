@@ -4,7 +4,6 @@
 #include <dlfcn.h>
 
 #include <filesystem>
-#include <mutex>
 #include <system_error>
 
 #include "core/error.h"
@@ -44,11 +43,9 @@ const ImageModule& loadImageModule() {
 }  // namespace
 
 const ImageModule& imageModule() {
-  static std::mutex mutex;
-  static const ImageModule* loaded = nullptr;  // stays null after a failure, so the next call says why again
-  const std::lock_guard lock(mutex);
-  if (!loaded) loaded = &loadImageModule();
-  return *loaded;
+  // A static's initialization that throws is tried again by the next call, which then says why again.
+  static const ImageModule& module = loadImageModule();
+  return module;
 }
 
 void checkRenderImage(const std::string& render) {
