@@ -380,7 +380,7 @@ TEST(VisibilityConverge, AFrameThatOnlyWaitsForReadsKeepsTheImage) {
     Run run;
     FloatImage lastDrawn;
     FrameStats stats;
-    uint32_t inARow = 0, gatedFrames = 0;
+    uint32_t inARow = 0, gatedFrames = 0, idleGatedFrames = 0;
     for (uint32_t frame = 0; frame < 4000 && !stats.converged; ++frame) {
       stats = renderer.render(request);
       if (stats.drawn) {
@@ -393,13 +393,20 @@ TEST(VisibilityConverge, AFrameThatOnlyWaitsForReadsKeepsTheImage) {
         ++run.keptWhileReading;
         run.mostInARow = std::max(run.mostInARow, ++inARow);
       }
-      // Every fourth frame with reads pending stops the reads for two frames: the first takes what was read
-      // before, the second has nothing to upload.
+      // Every fourth frame with reads pending stops the reads until two frames in a row upload nothing, or
+      // for eight frames: the first frames take what was read before (a read that passed the gate as it
+      // closed reaches the loader when its thread next runs, maybe a frame late), the next has nothing to
+      // upload.
       if (gatedFrames > 0) {
-        if (--gatedFrames == 0) source.open();
+        idleGatedFrames = stats.bricksUploaded == 0 ? idleGatedFrames + 1 : 0;
+        if (++gatedFrames > 8 || idleGatedFrames == 2) {
+          source.open();
+          gatedFrames = 0;
+        }
       } else if (stats.requestsPending > 0 && frame % 4 == 0) {
         source.close();
-        gatedFrames = 2;
+        gatedFrames = 1;
+        idleGatedFrames = 0;
       }
       if (stats.bricksUploaded == 0 && gatedFrames == 0) renderer.waitForReads(std::chrono::milliseconds(5));
     }
