@@ -1,7 +1,8 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
-//   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; a directory or a pattern with * or ? -> image
-//   stack; .tif/.tiff -> multi-page TIFF (a single page alone is an error); a single .png or a store is an
-//   error; anything else -> raw.
+//   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; a pattern with * or ? -> image stack; a
+//   directory -> DICOM series if it holds DICOM files, else image stack; a DICOM file -> its series;
+//   .tif/.tiff -> multi-page TIFF (a single page alone is an error); a single .png or a store is an error;
+//   anything else -> raw.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "store/source_dicom.h"
 #include "store/source_images.h"
 #include "store/source_nrrd.h"
 #include "store/source_procedural.h"
@@ -50,6 +52,16 @@ bool startsWithStoreMagic(const std::string& path) {
   return file.read(magic, sizeof magic) && std::equal(magic, magic + sizeof magic, kStoreMagic);
 }
 
+// Whether a folder holds image slices: a DICOM folder with them too is ambiguous.
+bool holdsSliceImages(const std::string& directory) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(directory, ec)) {
+    const std::string ext = lowerExtension(entry.path().string());
+    if (ext == ".png" || ext == ".tif" || ext == ".tiff") return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 bool isSlicePattern(const std::string& spec) {
@@ -70,8 +82,22 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   const fs::file_status status = fs::status(spec, ec);
   if (!fs::exists(status)) throw Error(spec + ": no such file or directory");
   if (fs::is_directory(status)) {
+    if (!listDicomFiles(spec).empty()) {
+      if (holdsSliceImages(spec))
+        throw Error(
+            "openVolumeSource: " + spec +
+            " holds DICOM files and image slices (.png, .tif); give one DICOM image to read its series, "
+            "or a pattern (e.g. " +
+            (fs::path(spec) / "*.png").string() + ") to read the slices");
+      rejectRawOptions(spec, options, "a DICOM series");
+      return openDicomSource(spec, options);
+    }
     rejectRawOptions(spec, options, "a stack of image slices");
     return openImageStackSource(spec, options);
+  }
+  if (startsWithDicomMagic(spec)) {
+    rejectRawOptions(spec, options, "a DICOM series");
+    return openDicomSource(spec, options);
   }
   const std::string ext = lowerExtension(spec);
   if (ext == ".nrrd" || ext == ".nhdr") {
@@ -87,6 +113,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
           "slices, or a multi-page TIFF");
     return openMultiPageTiffSource(spec, options);
   }
+  if (ext == ".dcm")
+    throw Error("openVolumeSource: " + spec +
+                " is not a DICOM file of the standard's file format (no DICM signature after its 128-byte "
+                "preamble)");
   if (ext == ".png")
     throw Error(
         "openVolumeSource: " + spec +

@@ -1,4 +1,4 @@
-// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, image stacks,
+// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, image stacks, DICOM,
 // procedural). Sources never hold the whole volume; procedural ones generate what is asked for.
 //
 // Threads: info() any thread. readSlab() may be called from one thread at a time per source object
@@ -101,8 +101,8 @@ struct SourceOptions {
 
 // Opens a source from a command-line spec:
 //   path/to/name_XxYxZ_type.raw or any raw file with options.dims/type (and byteOrder, headerBytes),
-//   path.nrrd / path.nhdr, a directory or glob of 2D slices (TIFF/PNG), a multi-page TIFF,
-//   procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
+//   path.nrrd / path.nhdr, a directory or glob of 2D slices (TIFF/PNG), a multi-page TIFF, a folder of a
+//   DICOM series or one of its images, procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
 // Throws ropecast::Error naming the spec and what was expected.
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options = {});
 

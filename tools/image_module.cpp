@@ -1,6 +1,7 @@
 // The image module's entry point (tools/image_module.h): the one symbol ropecast_images.so exports.
 #include "tools/image_module.h"
 
+#include "store/source_dicom.h"
 #include "store/source_images.h"
 
 namespace {
@@ -12,6 +13,7 @@ const ropecast::tools::ImageModule kModule{
     .countImagePages = &ropecast::countImagePages,
     .openImageStackSource = &ropecast::openImageStackSource,
     .openMultiPageTiffSource = &ropecast::openMultiPageTiffSource,
+    .openDicomSource = &ropecast::openDicomSource,
     .checkRenderImage = &ropecast::tools::checkRenderImage,
     .compareWithGolden = &ropecast::tools::compareWithGolden,
 };

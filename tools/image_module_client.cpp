@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "store/source_dicom.h"
 #include "store/source_images.h"
 #include "tools/image_module.h"
 
@@ -25,7 +26,8 @@ const ImageModule& loadImageModule() {
   const fs::path* found = nullptr;
   for (const fs::path& candidate : candidates)
     if (!found && fs::is_regular_file(candidate, ec)) found = &candidate;
-  const std::string need = "image files (PNG, EXR, TIFF) and image stacks need ropecast's image module ";
+  const std::string need =
+      "image files (PNG, EXR, TIFF), image stacks and DICOM need ropecast's image module ";
   if (!found)
     throw Error(need + kImageModuleFile + ", which is neither at " + candidates[0].string() + " nor at " +
                 candidates[1].string() + " (install it with ropecast, or rebuild)");
@@ -89,6 +91,10 @@ std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryO
 
 std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options) {
   return tools::imageModule().openMultiPageTiffSource(path, options);
+}
+
+std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const SourceOptions& options) {
+  return tools::imageModule().openDicomSource(spec, options);
 }
 
 }  // namespace ropecast

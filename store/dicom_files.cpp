@@ -1,0 +1,31 @@
+// Recognizing DICOM files by their signature (store/source_dicom.h), without GDCM: the ropecast executable
+// chooses a volume's reader with it before it loads the image module.
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "store/source_dicom.h"
+
+namespace ropecast {
+
+bool startsWithDicomMagic(const std::string& path) {
+  std::array<char, 132> head{};
+  std::ifstream file(path, std::ios::binary);
+  return file.read(head.data(), head.size()) && std::equal(head.end() - 4, head.end(), "DICM");
+}
+
+std::vector<std::string> listDicomFiles(const std::string& directory) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(directory, ec))
+    if (entry.is_regular_file(ec) && startsWithDicomMagic(entry.path().string()))
+      files.push_back(entry.path().string());
+  if (ec) throw Error("cannot list DICOM folder " + directory + ": " + ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace ropecast

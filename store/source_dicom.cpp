@@ -1,0 +1,532 @@
+// The DICOM-series source (store/source_dicom.h): headers read with GDCM's Scanner, which stops before the
+// pixel data, and each slice's pixels with its ImageReader, which decodes the compressed transfer syntaxes
+// (JPEG, JPEG-LS, JPEG 2000, RLE).
+#include "store/source_dicom.h"
+
+#include <gdcmImage.h>
+#include <gdcmImageReader.h>
+#include <gdcmPixelFormat.h>
+#include <gdcmScanner.h>
+#include <gdcmTag.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+
+const gdcm::Tag kSeriesUid(0x0020, 0x000e), kSeriesNumber(0x0020, 0x0011), kModality(0x0008, 0x0060),
+    kSeriesDescription(0x0008, 0x103e), kInstanceNumber(0x0020, 0x0013), kPosition(0x0020, 0x0032),
+    kOrientation(0x0020, 0x0037), kRows(0x0028, 0x0010), kColumns(0x0028, 0x0011),
+    kPixelSpacing(0x0028, 0x0030), kFrames(0x0028, 0x0008), kSamplesPerPixel(0x0028, 0x0002),
+    kPhotometric(0x0028, 0x0004), kBitsAllocated(0x0028, 0x0100), kBitsStored(0x0028, 0x0101),
+    kPixelRepresentation(0x0028, 0x0103), kSlope(0x0028, 0x1053), kIntercept(0x0028, 0x1052),
+    kSliceThickness(0x0018, 0x0050), kSpacingBetweenSlices(0x0018, 0x0088), kSopClass(0x0008, 0x0016);
+
+// The SOP classes of enhanced (and legacy converted enhanced) CT, MR and PET images, whose per-frame
+// functional groups place each frame: GDCM takes the spacing between frames from them.
+constexpr const char* kEnhancedSopClasses[] = {
+    "1.2.840.10008.5.1.4.1.1.2.1", "1.2.840.10008.5.1.4.1.1.2.2", "1.2.840.10008.5.1.4.1.1.4.1",
+    "1.2.840.10008.5.1.4.1.1.4.4", "1.2.840.10008.5.1.4.1.1.130", "1.2.840.10008.5.1.4.1.1.128.1"};
+
+// A header value as text, trimmed of DICOM's padding; "" when the file does not have it.
+std::string textOf(const gdcm::Scanner& scanner, const std::string& file, const gdcm::Tag& tag) {
+  const char* value = scanner.GetValue(file.c_str(), tag);
+  std::string text = value ? value : "";
+  const auto padding = [](unsigned char c) { return c == ' ' || c == '\0'; };
+  while (!text.empty() && padding(text.back())) text.pop_back();
+  size_t start = 0;
+  while (start < text.size() && padding(text[start])) ++start;
+  return text.substr(start);
+}
+
+// The numbers of a multi-valued header value ("a\b\c"); nullopt when it is missing, has another count, or a
+// value is not a number.
+std::optional<std::vector<double>> numbersOf(const std::string& text, size_t count) {
+  if (text.empty()) return std::nullopt;
+  std::vector<double> values;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t end = text.find('\\', start);
+    if (end == std::string::npos) end = text.size();
+    std::string part = text.substr(start, end - start);
+    part.erase(0, part.find_first_not_of(' '));
+    part.erase(part.find_last_not_of(' ') + 1);
+    if (!part.empty() && part.front() == '+') part.erase(0, 1);
+    double value = 0.0;
+    const auto [rest, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (part.empty() || error != std::errc() || rest != part.data() + part.size() || !std::isfinite(value))
+      return std::nullopt;
+    values.push_back(value);
+    start = end + 1;
+  }
+  if (values.size() != count) return std::nullopt;
+  return values;
+}
+
+std::optional<double> numberOf(const std::string& text) {
+  const auto values = numbersOf(text, 1);
+  return values ? std::optional<double>(values->front()) : std::nullopt;
+}
+
+// What one image's header says about it.
+struct DicomImage {
+  std::string path;
+  std::string seriesUid, seriesNumber, modality, seriesDescription;
+  std::optional<glm::dvec3> position;
+  std::optional<std::vector<double>> orientation;  // row direction, then column direction
+  std::optional<double> instance;
+  double slope = 1.0, intercept = 0.0;
+  // The pixel format, as text: images of one series must agree on it.
+  std::string rows, columns, samplesPerPixel, photometric, bitsAllocated, bitsStored, pixelRepresentation;
+  std::string frames, pixelSpacing, sliceThickness, spacingBetweenSlices, sopClass;
+};
+
+// The headers of the image files among `files` (those with rows and columns: a DICOMDIR or a report has
+// none).
+std::vector<DicomImage> scanImages(const std::vector<std::string>& files, const std::string& where) {
+  gdcm::Scanner scanner;
+  for (const gdcm::Tag& tag : {kSeriesUid,      kSeriesNumber,  kModality,       kSeriesDescription,
+                               kInstanceNumber, kPosition,      kOrientation,    kRows,
+                               kColumns,        kPixelSpacing,  kFrames,         kSamplesPerPixel,
+                               kPhotometric,    kBitsAllocated, kBitsStored,     kPixelRepresentation,
+                               kSlope,          kIntercept,     kSliceThickness, kSpacingBetweenSlices,
+                               kSopClass})
+    scanner.AddTag(tag);
+  if (!scanner.Scan(files)) throw Error("cannot read the DICOM headers in " + where);
+  std::vector<DicomImage> images;
+  for (const std::string& file : files) {
+    if (!scanner.IsKey(file.c_str())) continue;  // a file GDCM could not parse: not an image of the series
+    DicomImage image;
+    image.path = file;
+    const auto text = [&](const gdcm::Tag& tag) { return textOf(scanner, file, tag); };
+    image.rows = text(kRows);
+    image.columns = text(kColumns);
+    if (image.rows.empty() || image.columns.empty()) continue;
+    image.seriesUid = text(kSeriesUid);
+    image.seriesNumber = text(kSeriesNumber);
+    image.modality = text(kModality);
+    image.seriesDescription = text(kSeriesDescription);
+    if (const auto p = numbersOf(text(kPosition), 3)) image.position = glm::dvec3((*p)[0], (*p)[1], (*p)[2]);
+    image.orientation = numbersOf(text(kOrientation), 6);
+    image.instance = numberOf(text(kInstanceNumber));
+    const std::string slope = text(kSlope), intercept = text(kIntercept);
+    if (!slope.empty()) {
+      const auto value = numberOf(slope);
+      if (!value || *value == 0.0)
+        throw Error("DICOM image " + file + " has Rescale Slope '" + slope + "'; expected a non-zero number");
+      image.slope = *value;
+    }
+    if (!intercept.empty()) {
+      const auto value = numberOf(intercept);
+      if (!value)
+        throw Error("DICOM image " + file + " has Rescale Intercept '" + intercept + "'; expected a number");
+      image.intercept = *value;
+    }
+    image.samplesPerPixel = text(kSamplesPerPixel);
+    image.photometric = text(kPhotometric);
+    image.bitsAllocated = text(kBitsAllocated);
+    image.bitsStored = text(kBitsStored);
+    image.pixelRepresentation = text(kPixelRepresentation);
+    image.frames = text(kFrames);
+    image.pixelSpacing = text(kPixelSpacing);
+    image.sliceThickness = text(kSliceThickness);
+    image.spacingBetweenSlices = text(kSpacingBetweenSlices);
+    image.sopClass = text(kSopClass);
+    images.push_back(std::move(image));
+  }
+  return images;
+}
+
+// "1.2.840.113619.2.55: series 3, CT 'ABDOMEN', 120 images, e.g. dir/IM0001", for the list of a folder's
+// series.
+std::string seriesSummary(const std::vector<const DicomImage*>& images) {
+  const DicomImage& first = *images.front();
+  std::string text = first.seriesUid.empty() ? std::string("(no Series Instance UID)") : first.seriesUid;
+  text += ":";
+  if (!first.seriesNumber.empty()) text += " series " + first.seriesNumber + ",";
+  if (!first.modality.empty()) text += " " + first.modality;
+  if (!first.seriesDescription.empty()) text += " '" + first.seriesDescription + "'";
+  if (!first.modality.empty() || !first.seriesDescription.empty()) text += ",";
+  return text + " " + std::to_string(images.size()) + (images.size() == 1 ? " image" : " images") +
+         ", e.g. " + first.path;
+}
+
+// Throws naming both files where `image` differs from `first` in size or pixel format.
+void checkSameFormat(const DicomImage& first, const DicomImage& image) {
+  const struct {
+    const char* name;
+    const std::string DicomImage::*field;
+  } fields[] = {{"Rows", &DicomImage::rows},
+                {"Columns", &DicomImage::columns},
+                {"Samples per Pixel", &DicomImage::samplesPerPixel},
+                {"Photometric Interpretation", &DicomImage::photometric},
+                {"Bits Allocated", &DicomImage::bitsAllocated},
+                {"Bits Stored", &DicomImage::bitsStored},
+                {"Pixel Representation", &DicomImage::pixelRepresentation}};
+  for (const auto& f : fields)
+    if (first.*f.field != image.*f.field)
+      throw Error("DICOM image " + image.path + " has " + f.name + " " + image.*f.field + ", but " +
+                  first.path + " has " + first.*f.field +
+                  "; the images of a series must share one size and pixel format");
+}
+
+uint32_t positiveInteger(const DicomImage& image, const std::string& text, const char* name, uint32_t max) {
+  const auto value = numberOf(text);
+  if (!value || *value < 1 || *value > max || *value != std::floor(*value))
+    throw Error("DICOM image " + image.path + " has " + name + " '" + text +
+                "'; expected an integer in [1, " + std::to_string(max) + "]");
+  return uint32_t(*value);
+}
+
+// The stored pixel format the series shares.
+struct PixelLayout {
+  uint32_t bitsAllocated = 16, bitsStored = 16;
+  bool isSigned = false;
+};
+
+// The sample type that holds every value stored * slope + intercept of the series exactly, where slopes and
+// intercepts are integers; float32 otherwise.
+SampleType sampleTypeFor(const PixelLayout& layout, const std::vector<DicomImage>& slices) {
+  const double storedLo = layout.isSigned ? -std::ldexp(1.0, int(layout.bitsStored) - 1) : 0.0;
+  const double storedHi = layout.isSigned ? std::ldexp(1.0, int(layout.bitsStored) - 1) - 1.0
+                                          : std::ldexp(1.0, int(layout.bitsStored)) - 1.0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const DicomImage& slice : slices) {
+    if (slice.slope != std::floor(slice.slope) || slice.intercept != std::floor(slice.intercept))
+      return SampleType::Float32;
+    for (const double stored : {storedLo, storedHi}) {
+      lo = std::min(lo, stored * slice.slope + slice.intercept);
+      hi = std::max(hi, stored * slice.slope + slice.intercept);
+    }
+  }
+  if (layout.bitsAllocated == 8 && lo >= 0 && hi <= 255) return SampleType::UInt8;
+  if (layout.bitsAllocated == 8 && lo >= -128 && hi <= 127) return SampleType::Int8;
+  if (lo >= 0 && hi <= 65535) return SampleType::UInt16;
+  if (lo >= -32768 && hi <= 32767) return SampleType::Int16;
+  if (lo >= 0 && hi <= 4294967295.0) return SampleType::UInt32;
+  if (lo >= -2147483648.0 && hi <= 2147483647.0) return SampleType::Int32;
+  return SampleType::Float32;
+}
+
+// An image's pixel data as GDCM decodes it: frames one after another, samples of `bitsAllocated` bits. With
+// the spacing and rescale GDCM finds for it, in the header or (enhanced images) in its functional groups.
+struct DecodedImage {
+  uint32_t bitsAllocated = 16, bitsStored = 16;
+  bool isSigned = false;
+  std::vector<char> pixels;
+  glm::dvec3 spacing{1.0};
+  double slope = 1.0, intercept = 0.0;
+};
+
+// Decodes `path`, checking that it holds `frames` gray frames of the size the volume has.
+DecodedImage decodeImage(const std::string& path, glm::u32vec3 dims, uint32_t frames) {
+  gdcm::ImageReader reader;
+  reader.SetFileName(path.c_str());
+  if (!reader.Read()) throw Error("cannot read DICOM image " + path + " (GDCM could not decode it)");
+  const gdcm::Image& image = reader.GetImage();
+  const gdcm::PixelFormat& format = image.GetPixelFormat();
+  DecodedImage decoded;
+  decoded.bitsAllocated = format.GetBitsAllocated();
+  decoded.bitsStored = std::clamp<uint32_t>(format.GetBitsStored(), 1, decoded.bitsAllocated);
+  decoded.isSigned = format.GetPixelRepresentation() == 1;
+  const uint32_t decodedFrames = image.GetNumberOfDimensions() > 2 ? image.GetDimension(2) : 1;
+  const uint32_t bits = decoded.bitsAllocated;
+  if (image.GetColumns() != dims.x || image.GetRows() != dims.y || decodedFrames != frames ||
+      format.GetSamplesPerPixel() != 1 || (bits != 8 && bits != 16 && bits != 32))
+    throw Error("DICOM image " + path + " decodes to " + std::to_string(decodedFrames) + " frame(s) of " +
+                std::to_string(image.GetColumns()) + "x" + std::to_string(image.GetRows()) + " pixels of " +
+                std::to_string(format.GetSamplesPerPixel()) + " samples of " + std::to_string(bits) +
+                " bits; its header says " + std::to_string(frames) + " of " + std::to_string(dims.x) + "x" +
+                std::to_string(dims.y) + " of 1 sample");
+  decoded.pixels.resize(image.GetBufferLength());
+  if (decoded.pixels.size() < size_t(dims.x) * dims.y * frames * (bits / 8) ||
+      !image.GetBuffer(decoded.pixels.data()))
+    throw Error("cannot read DICOM image " + path + ": its pixel data is shorter than its header says");
+  decoded.spacing = {image.GetSpacing(0), image.GetSpacing(1), image.GetSpacing(2)};
+  decoded.slope = image.GetSlope();
+  decoded.intercept = image.GetIntercept();
+  return decoded;
+}
+
+// Pixels [first, first + count) of `image` as stored * slope + intercept, in `type`, into `out`. Bits above
+// Bits Stored may hold overlays: they are masked off, and the sign is the highest stored bit's.
+void rescaleInto(const DecodedImage& image, size_t first, size_t count, double slope, double intercept,
+                 SampleType type, std::span<std::byte> out) {
+  const uint32_t bits = image.bitsAllocated, stored = image.bitsStored;
+  const uint64_t mask = (1ull << stored) - 1;
+  const char* bytes = image.pixels.data() + first * (bits / 8);
+  const auto storedValue = [&](size_t i) -> int64_t {
+    uint64_t raw = 0;
+    if (bits == 8) raw = uint8_t(bytes[i]);
+    if (bits == 16) {
+      uint16_t v;
+      std::memcpy(&v, bytes + 2 * i, 2);
+      raw = v;
+    }
+    if (bits == 32) {
+      uint32_t v;
+      std::memcpy(&v, bytes + 4 * i, 4);
+      raw = v;
+    }
+    raw &= mask;
+    if (image.isSigned && (raw >> (stored - 1)) & 1) return int64_t(raw) - int64_t(mask) - 1;
+    return int64_t(raw);
+  };
+  forSampleType(type, [&](auto zero) {
+    using T = decltype(zero);
+    T* samples = reinterpret_cast<T*>(out.data());
+    for (size_t i = 0; i < count; ++i) samples[i] = T(double(storedValue(i)) * slope + intercept);
+  });
+}
+
+// Single-frame images, one per slice, each decoded as its slice is read.
+class DicomSeriesSource final : public VolumeSource {
+ public:
+  DicomSeriesSource(std::vector<DicomImage> slices, VolumeInfo info)
+      : slices_(std::move(slices)), info_(std::move(info)) {}
+
+  const VolumeInfo& info() const override { return info_; }
+
+ private:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    const size_t pixels = size_t(info_.dims.x) * info_.dims.y;
+    for (uint32_t i = 0; i < count; ++i) {
+      const DicomImage& slice = slices_[z0 + i];
+      rescaleInto(decodeImage(slice.path, info_.dims, 1), 0, pixels, slice.slope, slice.intercept, info_.type,
+                  out.subspan(i * info_.sliceBytes(), info_.sliceBytes()));
+    }
+  }
+
+  std::vector<DicomImage> slices_;
+  VolumeInfo info_;
+};
+
+// One multi-frame image, a frame per slice in the file's order: GDCM decodes the pixel data whole, so it is
+// decoded once, when opening, and held.
+class DicomMultiFrameSource final : public VolumeSource {
+ public:
+  DicomMultiFrameSource(DecodedImage decoded, VolumeInfo info)
+      : decoded_(std::move(decoded)), info_(std::move(info)) {}
+
+  const VolumeInfo& info() const override { return info_; }
+
+ private:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    const size_t pixels = size_t(info_.dims.x) * info_.dims.y;
+    rescaleInto(decoded_, z0 * pixels, count * pixels, decoded_.slope, decoded_.intercept, info_.type, out);
+  }
+
+  DecodedImage decoded_;
+  VolumeInfo info_;
+};
+
+// Sorts a series' slices into the order they are stacked in, and returns the spacing between them where their
+// positions say it. What a person should hear about the stacking goes to `notes`.
+std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::string& listed,
+                                  std::vector<std::string>& notes) {
+  const DicomImage& first = slices.front();
+  const bool positioned = std::all_of(slices.begin(), slices.end(),
+                                      [](const DicomImage& s) { return s.position && s.orientation; });
+  std::optional<double> sliceSpacing;
+  if (positioned) {
+    for (const DicomImage& slice : slices)
+      for (size_t i = 0; i < 6; ++i)
+        if (std::abs((*slice.orientation)[i] - (*first.orientation)[i]) > 1e-4)
+          throw Error(
+              "DICOM image " + slice.path + " is oriented otherwise than " + first.path +
+              " (Image Orientation (Patient)); a series of one orientation is read (a localizer among "
+              "the slices?)");
+    const std::vector<double>& o = *first.orientation;
+    const glm::dvec3 normal = glm::cross(glm::dvec3(o[0], o[1], o[2]), glm::dvec3(o[3], o[4], o[5]));
+    if (!(glm::length(normal) > 0.5))
+      throw Error("DICOM image " + first.path + " has Image Orientation (Patient) whose directions are not " +
+                  "perpendicular unit vectors");
+    std::stable_sort(slices.begin(), slices.end(), [&](const DicomImage& a, const DicomImage& b) {
+      return glm::dot(*a.position, normal) < glm::dot(*b.position, normal);
+    });
+    if (slices.size() > 1) {
+      const double extent = glm::dot(*slices.back().position - *first.position, normal);
+      double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+      for (size_t z = 1; z < slices.size(); ++z) {
+        const double gap = glm::dot(*slices[z].position - *slices[z - 1].position, normal);
+        if (gap <= 1e-6 * std::max(1.0, std::abs(extent)))
+          throw Error(
+              "DICOM images " + slices[z - 1].path + " and " + slices[z].path +
+              " lie at one position; a series of one image per position is read (several acquisitions "
+              "or echoes in one series?)");
+        smallest = std::min(smallest, gap);
+        largest = std::max(largest, gap);
+      }
+      sliceSpacing = extent / double(slices.size() - 1);
+      if (largest - smallest > 0.01 * *sliceSpacing)
+        notes.push_back("the gaps between the DICOM slices vary from " + formatNumber(smallest) + " to " +
+                        formatNumber(largest) + " (a missing slice?); they are stacked " +
+                        formatNumber(*sliceSpacing) + " apart, the average");
+      const glm::dvec3 offset = *slices.back().position - *first.position;
+      if (glm::length(offset - extent * normal) > 0.01 * std::abs(extent))
+        notes.push_back(
+            "the DICOM slices' positions do not lie along their normal (a tilted gantry?); they are stacked "
+            "unsheared");
+    }
+  } else if (std::all_of(slices.begin(), slices.end(), [](const DicomImage& s) { return s.instance; })) {
+    std::stable_sort(slices.begin(), slices.end(),
+                     [](const DicomImage& a, const DicomImage& b) { return *a.instance < *b.instance; });
+    notes.push_back(
+        "the DICOM images have no Image Position and Orientation (Patient); they are stacked by Instance "
+        "Number");
+  } else {
+    throw Error("DICOM images of " + listed + " have neither Image Position and Orientation (Patient) nor " +
+                "Instance Number (e.g. " + first.path + "); their order is unknown");
+  }
+  return sliceSpacing;
+}
+
+}  // namespace
+
+std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const SourceOptions& options) {
+  std::error_code ec;
+  const bool isFolder = fs::is_directory(spec, ec);
+  const std::string folder = isFolder ? spec : fs::path(spec).parent_path().string();
+  const std::string listed = folder.empty() ? "." : folder;
+  std::vector<DicomImage> images = scanImages(listDicomFiles(listed), listed);
+  if (images.empty())
+    throw Error("DICOM folder " + listed + " has no DICOM images (files that begin with the DICM signature " +
+                "and hold Rows and Columns)");
+
+  // The series: the one the given image belongs to, or the folder's only one.
+  std::map<std::string, std::vector<const DicomImage*>> bySeries;
+  for (const DicomImage& image : images) bySeries[image.seriesUid].push_back(&image);
+  std::string seriesUid;
+  if (!isFolder) {
+    const auto given = std::find_if(images.begin(), images.end(), [&](const DicomImage& image) {
+      return fs::equivalent(image.path, spec, ec);
+    });
+    if (given == images.end())
+      throw Error(
+          spec +
+          " is a DICOM file without an image (a DICOMDIR or a report?); give the folder of a series or "
+          "one of its images");
+    seriesUid = given->seriesUid;
+  } else if (bySeries.size() > 1) {
+    std::string list;
+    for (const auto& [uid, members] : bySeries) list += "\n  " + seriesSummary(members);
+    throw Error("DICOM folder " + listed + " holds " + std::to_string(bySeries.size()) +
+                " series; give one image of the series to convert (its folder's images of that series are "
+                "read):" +
+                list);
+  } else {
+    seriesUid = bySeries.begin()->first;
+  }
+  std::vector<DicomImage> slices;
+  for (DicomImage& image : images)
+    if (image.seriesUid == seriesUid) slices.push_back(std::move(image));
+
+  const DicomImage& first = slices.front();
+  for (const DicomImage& slice : slices) {
+    if (slices.size() > 1 && !slice.frames.empty() && slice.frames != "1")
+      throw Error("DICOM image " + slice.path + " holds " + slice.frames + " frames, and its series " +
+                  std::to_string(slices.size()) +
+                  " images; a series is read as single-frame images, or as one multi-frame image");
+    checkSameFormat(first, slice);
+  }
+  if (first.samplesPerPixel != "1" && !first.samplesPerPixel.empty())
+    throw Error("DICOM image " + first.path + " has " + first.samplesPerPixel + " samples per pixel (" +
+                first.photometric + "); a volume is read from gray images (MONOCHROME1 or MONOCHROME2)");
+  PixelLayout layout;
+  layout.bitsAllocated = positiveInteger(first, first.bitsAllocated, "Bits Allocated", 32);
+  if (layout.bitsAllocated != 8 && layout.bitsAllocated != 16 && layout.bitsAllocated != 32)
+    throw Error("DICOM image " + first.path + " has Bits Allocated " + first.bitsAllocated +
+                "; expected 8, 16 or 32");
+  layout.bitsStored = first.bitsStored.empty()
+                          ? layout.bitsAllocated
+                          : positiveInteger(first, first.bitsStored, "Bits Stored", layout.bitsAllocated);
+  layout.isSigned = first.pixelRepresentation == "1";
+  const glm::u32vec3 sliceDims(positiveInteger(first, first.columns, "Columns", kMaxDimsPerAxis),
+                               positiveInteger(first, first.rows, "Rows", kMaxDimsPerAxis), 1);
+  const std::string seriesText = seriesUid.empty() ? "without UID" : seriesUid;
+  const std::string monochrome1Note =
+      "the DICOM images are MONOCHROME1 (viewers show 0 as white); the volume keeps their values, so what a "
+      "viewer shows dark is high in the volume";
+
+  VolumeInfo info;
+  std::vector<std::string> notes;
+  if (first.photometric == "MONOCHROME1") notes.push_back(monochrome1Note);
+  if (!first.frames.empty() && first.frames != "1") {
+    info.dims = sliceDims;
+    info.dims.z = positiveInteger(first, first.frames, "Number of Frames", kMaxDimsPerAxis);
+    DecodedImage decoded = decodeImage(first.path, info.dims, info.dims.z);
+    DicomImage rescale = first;  // GDCM's rescale, which enhanced images keep in functional groups
+    rescale.slope = decoded.slope;
+    rescale.intercept = decoded.intercept;
+    info.type = sampleTypeFor(layout, {rescale});
+    // Spacing Between Slices where the header has it (NM, some MR); GDCM's spacing from the functional groups
+    // of enhanced images. Without either the frames are frames in time (a cine), for which GDCM gives Frame
+    // Time as the spacing: they are stacked at the pixel spacing instead.
+    const bool enhanced = std::find(std::begin(kEnhancedSopClasses), std::end(kEnhancedSopClasses),
+                                    first.sopClass) != std::end(kEnhancedSopClasses);
+    const std::optional<double> between = numberOf(first.spacingBetweenSlices);
+    if (between && *between > 0) {
+      decoded.spacing.z = *between;
+    } else if (!enhanced) {
+      decoded.spacing.z = decoded.spacing.x;
+      if (!options.spacing)
+        notes.push_back(
+            "the frames of DICOM image " + first.path +
+            " say no spacing between them (frames in time, a cine?); they are stacked at the pixel "
+            "spacing (--spacing sets it)");
+    }
+    info.spacing = options.spacing.value_or(decoded.spacing);
+    if (!isValidSpacing(info.spacing))
+      throw Error("DICOM image " + first.path + " has spacing " + formatSpacing(info.spacing) +
+                  "; expected " + validSpacingText() + " (--spacing sets it)");
+    info.description =
+        "dicom:" + first.path + " (series " + seriesText + ", " + std::to_string(info.dims.z) + " frames)";
+    info.notes = std::move(notes);
+    return std::make_unique<DicomMultiFrameSource>(std::move(decoded), std::move(info));
+  }
+  std::optional<double> sliceSpacing = stackSlices(slices, listed, notes);
+  if (!sliceSpacing)
+    if (const auto thickness = numberOf(first.sliceThickness); thickness && *thickness > 0)
+      sliceSpacing = *thickness;
+
+  info.dims = {sliceDims.x, sliceDims.y, uint32_t(slices.size())};
+  if (options.spacing) {
+    info.spacing = *options.spacing;
+  } else {
+    const auto pixelSpacing = numbersOf(first.pixelSpacing, 2);
+    if (pixelSpacing && (*pixelSpacing)[0] > 0 && (*pixelSpacing)[1] > 0)
+      info.spacing = {(*pixelSpacing)[1], (*pixelSpacing)[0], sliceSpacing.value_or((*pixelSpacing)[0])};
+    else
+      notes.push_back(
+          "the DICOM images have no Pixel Spacing; the volume takes 1 per sample (--spacing sets it)");
+    if (!sliceSpacing && pixelSpacing)
+      notes.push_back(
+          "the spacing across the DICOM slices is unknown (no positions, or one slice, and no Slice "
+          "Thickness); it takes the spacing between rows (--spacing sets it)");
+    if (!isValidSpacing(info.spacing))
+      throw Error("DICOM series of " + first.path + " has spacing " + formatSpacing(info.spacing) +
+                  "; expected " + validSpacingText() + " (--spacing sets it)");
+  }
+  info.type = sampleTypeFor(layout, slices);
+  info.description =
+      "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) + " images)";
+  info.notes = std::move(notes);
+  return std::make_unique<DicomSeriesSource>(std::move(slices), std::move(info));
+}
+
+}  // namespace ropecast

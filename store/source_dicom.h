@@ -1,0 +1,37 @@
+// The DICOM-series VolumeSource, read with GDCM: the single-frame images of one series (CT, MR, PET, ...) in
+// one folder, whatever their file names. Slices are stacked by their position along the slice normal (Image
+// Position (Patient) on the normal of Image Orientation (Patient)), or by Instance Number where positions are
+// missing; never by name. Spacing: Pixel Spacing in-plane (its second value along x, the rows' direction),
+// the distance between neighbouring positions across; --spacing overrides both. Values: the stored ones
+// through Rescale Slope and Intercept (Hounsfield units for CT), kept exact as an integer type where every
+// slope and intercept is an integer, else float32. Owned by loader/.
+//
+// Threads: as VolumeSource (readSlab from one thread at a time). The listing functions, any thread.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "store/volume_source.h"
+
+namespace ropecast {
+
+// Whether the file holds the DICOM part-10 signature ("DICM" after a 128-byte preamble). False for files that
+// cannot be read.
+bool startsWithDicomMagic(const std::string& path);
+
+// The DICOM files (startsWithDicomMagic) directly inside `directory`, in name order; empty when it has none.
+// Throws ropecast::Error naming the directory if it cannot be listed.
+std::vector<std::string> listDicomFiles(const std::string& directory);
+
+// A DICOM series: `spec` is a folder that holds the images of one series (other DICOM objects, a DICOMDIR
+// say, and files of other kinds are passed over), or one image of a series, whose folder's images of that
+// series are read. Every image's header is checked when opening: a folder of several series (the error lists
+// them, each with one of its files to give instead), multi-frame or color images, images of different sizes,
+// pixel formats or orientations, or two images at one position throw ropecast::Error naming the files. Uneven
+// gaps between positions (a missing slice) and positions off the slice normal (a tilted gantry) are notes:
+// the slices are stacked evenly, unsheared.
+std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const SourceOptions& options);
+
+}  // namespace ropecast

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# `ropecast convert` of DICOM series, end to end through the image module: a folder of one series (names in the
+# reverse of the slices' order) converts to a store of its size, type, spacing and values; one image of a
+# folder of two series converts its own series; the folder alone is refused, listing both, and writes nothing.
+# Usage: bash dicom.sh /path/to/ropecast  (ROPECAST_DICOM_WRITER: tests/cli/write_dicom_series, which ctest sets)
+set -uo pipefail
+ropecast="$1"
+writer="${ROPECAST_DICOM_WRITER:?the DICOM series writer (tests/cli/write_dicom_series) is not set}"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+
+mkdir "$dir/ct" "$dir/two"
+"$writer" "$dir/ct" 6 || exit 1
+"$writer" "$dir/two" 3 1.2.826.0.1.3680043.9.7607.1 a || exit 1
+"$writer" "$dir/two" 2 1.2.826.0.1.3680043.9.7607.2 b || exit 1
+
+# A series: 5x4 pixels of 0.5 x 0.75 mm, 6 slices 2.5 mm apart; values 100 + 37 z + 3 i - 1024.
+"$ropecast" convert "$dir/ct" -o "$dir/ct.rcast" --quiet 2> "$dir/err.txt" || { fail "convert of a series"; cat "$dir/err.txt"; }
+"$ropecast" info "$dir/ct.rcast" > "$dir/info.txt" || fail "info of the converted series"
+for expected in "5 x 4 x 6 samples, spacing 0.5 x 0.75 x 2.5" "type       int16" "values     [-924, -682]" "dicom:"; do
+  grep -qF -- "$expected" "$dir/info.txt" || { fail "info does not say '$expected':"; cat "$dir/info.txt"; }
+done
+# Level 0 extracted as int16: the slices in position order, the first at the last name.
+"$ropecast" extract "$dir/ct.rcast" --level 0 -o "$dir/level0.raw" --quiet || fail "extract"
+python3 - "$dir/level0.raw" <<'PY' || fail "the extracted values are not the series'"
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+values = struct.unpack("<%dh" % (len(data) // 2), data)
+expected = [100 + 37 * z + 3 * i - 1024 for z in range(6) for i in range(20)]
+sys.exit(0 if list(values) == expected else 1)
+PY
+
+# Two series in one folder: refused, naming both, writing nothing; one image converts its series.
+"$ropecast" convert "$dir/two" -o "$dir/two.rcast" --quiet 2> "$dir/err.txt"
+rc=$?
+[ "$rc" -ge 1 ] && [ "$rc" -le 127 ] || fail "a folder of two series: exit $rc"
+grep -qF "holds 2 series" "$dir/err.txt" && grep -qF "7607.2: CT, 2 images" "$dir/err.txt" ||
+  { fail "the two series are not listed:"; cat "$dir/err.txt"; }
+[ ! -e "$dir/two.rcast" ] || fail "a refused series left $dir/two.rcast"
+"$ropecast" convert "$dir/two/b1" -o "$dir/b.rcast" --quiet || fail "convert of one image's series"
+"$ropecast" info "$dir/b.rcast" | grep -qF "5 x 4 x 2 samples" || fail "one image's series is not its 2 images"
+
+if [ "$failures" -ne 0 ]; then
+  echo "dicom.sh: $failures failure(s)"
+  exit 1
+fi
+echo "dicom.sh: all passed"

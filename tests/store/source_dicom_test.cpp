@@ -1,0 +1,368 @@
+// Tests of the DICOM-series VolumeSource (GDCM): slices stacked by position whatever their file names, the
+// spacing from Pixel Spacing and the positions, Rescale Slope and Intercept (exact integer types, float32
+// otherwise), bits above Bits Stored masked and signed values sign-extended, a series chosen by one of its
+// images, objects without images and other files passed over, Instance Number where positions are missing,
+// notes for uneven gaps and tilted positions, a round trip through the converter, and each bad series
+// (several in one folder, one position twice, sizes or orientations that differ, a multi-frame image among
+// others, color images, a DICOM folder with image slices) giving an error that names the files. A multi-frame
+// image is a volume of its frames.
+#include "store/source_dicom.h"
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "tests/store/store_test_util.h"
+#include "tests/store/testutil_dicom.h"
+#include "tests/store/testutil_round_trip.h"
+
+namespace ropecast {
+namespace {
+
+using testing::convertAndOpen;
+using testing::DicomSliceSpec;
+using testing::errorOf;
+using testing::expectKept;
+using testing::readSlab;
+using testing::TempDir;
+using testing::writeDicomSlice;
+
+constexpr uint32_t kColumns = 5, kRows = 4;
+
+// Slice z's stored values: distinct in every slice and pixel.
+std::vector<int64_t> storedValues(uint32_t z, int64_t base = 100) {
+  std::vector<int64_t> values(kColumns * kRows);
+  for (size_t i = 0; i < values.size(); ++i) values[i] = base + int64_t(z) * 37 + int64_t(i) * 3;
+  return values;
+}
+
+// A series of `count` slices 2.5 apart along z, written under names whose order is not the positions' (the
+// first name holds the last slice), with CT's rescale (slope 1, intercept -1024).
+DicomSliceSpec ctSlice(uint32_t z) {
+  DicomSliceSpec spec;
+  spec.columns = kColumns;
+  spec.rows = kRows;
+  spec.stored = storedValues(z);
+  spec.position = glm::dvec3(-10.0, 20.0, 30.0 + 2.5 * z);
+  spec.instance = int(z + 1);
+  spec.slope = 1.0;
+  spec.intercept = -1024.0;
+  return spec;
+}
+
+void writeCtSeries(const TempDir& dir, uint32_t count, const std::string& prefix = "IM") {
+  for (uint32_t z = 0; z < count; ++z)
+    writeDicomSlice(dir.file(prefix + std::to_string(count - z)), ctSlice(z));
+}
+
+template <typename T>
+std::vector<T> expectedCt(uint32_t count) {
+  std::vector<T> values;
+  for (uint32_t z = 0; z < count; ++z)
+    for (const int64_t stored : storedValues(z)) values.push_back(T(stored - 1024));
+  return values;
+}
+
+TEST(SourceDicom, StacksByPositionWithSpacingAndRescale) {
+  const TempDir dir;
+  writeCtSeries(dir, 6);
+  for (const std::string& spec : {dir.path().string(), dir.file("IM3")}) {
+    const auto source = openVolumeSource(spec);
+    const VolumeInfo& info = source->info();
+    EXPECT_EQ(info.dims, glm::u32vec3(kColumns, kRows, 6)) << spec;
+    EXPECT_EQ(info.type, SampleType::Int16) << spec;  // 12 bits stored, minus 1024
+    EXPECT_DOUBLE_EQ(info.spacing.x, 0.5) << spec;    // Pixel Spacing's second value: between columns
+    EXPECT_DOUBLE_EQ(info.spacing.y, 0.75) << spec;
+    EXPECT_DOUBLE_EQ(info.spacing.z, 2.5) << spec;
+    EXPECT_TRUE(info.notes.empty()) << info.notes.front();
+    EXPECT_NE(info.description.find("6 images"), std::string::npos) << info.description;
+    EXPECT_EQ(readSlab<int16_t>(*source, 0, 6), expectedCt<int16_t>(6)) << spec;
+    const std::vector<int16_t> all = expectedCt<int16_t>(6);
+    EXPECT_EQ(readSlab<int16_t>(*source, 3, 2),
+              std::vector<int16_t>(all.begin() + 3 * kColumns * kRows, all.begin() + 5 * kColumns * kRows));
+  }
+}
+
+TEST(SourceDicom, ConvertsToAStoreThatKeepsTheValues) {
+  const TempDir dir, out;
+  const std::filesystem::path series = dir / "series";
+  std::filesystem::create_directory(series);
+  for (uint32_t z = 0; z < 9; ++z) writeDicomSlice((series / ("s" + std::to_string(z))).string(), ctSlice(z));
+  const auto store = convertAndOpen(out, series.string());
+  expectKept(*store, expectedCt<int16_t>(9), SampleType::Int16, true, "CT series");
+  EXPECT_DOUBLE_EQ(store->info().volume.spacing.z, 2.5);
+}
+
+TEST(SourceDicom, SlicesGoAlongTheNormalOfTheirOrientation) {
+  const TempDir dir;
+  // Rows along patient y, columns along x: the normal is -z, so the slice highest in z comes first.
+  for (uint32_t k = 0; k < 4; ++k) {
+    DicomSliceSpec spec = ctSlice(k);
+    spec.orientation = std::array<double, 6>{0, 1, 0, 1, 0, 0};
+    writeDicomSlice(dir.file("a" + std::to_string(k)), spec);
+  }
+  const auto source = openVolumeSource(dir.path().string());
+  EXPECT_DOUBLE_EQ(source->info().spacing.z, 2.5);
+  std::vector<int16_t> expected;
+  for (uint32_t k = 4; k-- > 0;)
+    for (const int64_t stored : storedValues(k)) expected.push_back(int16_t(stored - 1024));
+  EXPECT_EQ(readSlab<int16_t>(*source, 0, 4), expected);
+}
+
+TEST(SourceDicom, AMultiFrameImageIsAVolumeOfItsFrames) {
+  for (const bool placed : {true, false}) {
+    const TempDir dir;
+    DicomSliceSpec spec = ctSlice(0);
+    spec.frames = 3;
+    spec.stored.clear();
+    for (uint32_t z = 0; z < 3; ++z)
+      for (const int64_t stored : storedValues(z)) spec.stored.push_back(stored);
+    if (placed) spec.spacingBetweenSlices = 4.0;
+    writeDicomSlice(dir.file("volume.dcm"), spec);
+    const auto source = openVolumeSource(dir.file("volume.dcm"));
+    const VolumeInfo& info = source->info();
+    EXPECT_EQ(info.dims, glm::u32vec3(kColumns, kRows, 3));
+    EXPECT_EQ(info.type, SampleType::Int16);
+    EXPECT_DOUBLE_EQ(info.spacing.x, 0.5);
+    EXPECT_DOUBLE_EQ(info.spacing.y, 0.75);
+    // Frames without a spacing between them are frames in time: stacked at the pixel spacing, and said.
+    EXPECT_DOUBLE_EQ(info.spacing.z, placed ? 4.0 : 0.5);
+    EXPECT_EQ(info.notes.size(), placed ? 0u : 1u);
+    if (!placed) {
+      EXPECT_NE(info.notes.front().find("frames in time"), std::string::npos) << info.notes.front();
+    }
+    EXPECT_EQ(readSlab<int16_t>(*source, 0, 3), expectedCt<int16_t>(3));
+    const std::vector<int16_t> all = expectedCt<int16_t>(3);
+    EXPECT_EQ(readSlab<int16_t>(*source, 2, 1),
+              std::vector<int16_t>(all.begin() + 2 * kColumns * kRows, all.end()));
+  }
+}
+
+TEST(SourceDicom, TypesFollowTheRescale) {
+  struct Case {
+    uint16_t bitsAllocated, bitsStored;
+    bool isSigned;
+    std::optional<double> slope, intercept;
+    SampleType type;
+  } cases[] = {
+      {8, 8, false, std::nullopt, std::nullopt, SampleType::UInt8},
+      {16, 12, false, std::nullopt, std::nullopt, SampleType::UInt16},
+      {16, 16, true, std::nullopt, std::nullopt, SampleType::Int16},
+      {16, 16, true, 1.0, -1024.0, SampleType::Int32},  // below int16
+      {16, 12, false, 2.0, 0.0, SampleType::UInt16},
+      {16, 16, false, 1.0, -1024.0, SampleType::Int32},
+      {16, 12, false, 0.5, 3.0, SampleType::Float32},
+      {16, 12, false, 1.0, 0.25, SampleType::Float32},
+  };
+  for (const Case& c : cases) {
+    const TempDir dir;
+    for (uint32_t z = 0; z < 3; ++z) {
+      DicomSliceSpec spec = ctSlice(z);
+      spec.bitsAllocated = c.bitsAllocated;
+      spec.bitsStored = c.bitsStored;
+      spec.isSigned = c.isSigned;
+      spec.slope = c.slope;
+      spec.intercept = c.intercept;
+      spec.stored = storedValues(z, c.isSigned ? -40 : 3);
+      writeDicomSlice(dir.file("i" + std::to_string(z)), spec);
+    }
+    const auto source = openVolumeSource(dir.path().string());
+    const std::string what = std::to_string(c.bitsAllocated) + "/" + std::to_string(c.bitsStored) +
+                             (c.isSigned ? " signed" : " unsigned") + ", slope " +
+                             formatNumber(c.slope.value_or(1)) + ", intercept " +
+                             formatNumber(c.intercept.value_or(0));
+    ASSERT_EQ(source->info().type, c.type) << what;
+    std::vector<double> expected;
+    for (uint32_t z = 0; z < 3; ++z)
+      for (const int64_t stored : storedValues(z, c.isSigned ? -40 : 3))
+        expected.push_back(double(stored) * c.slope.value_or(1) + c.intercept.value_or(0));
+    std::vector<double> read;
+    forSampleType(c.type, [&](auto zero) {
+      for (const auto v : readSlab<decltype(zero)>(*source, 0, 3)) read.push_back(double(v));
+    });
+    EXPECT_EQ(read, expected) << what;
+  }
+}
+
+TEST(SourceDicom, BitsAboveBitsStoredAreMaskedAndTheSignExtended) {
+  const TempDir dir;
+  DicomSliceSpec spec = ctSlice(0);
+  spec.slope.reset();
+  spec.intercept.reset();
+  spec.bitsStored = 12;
+  spec.stored = storedValues(0);
+  spec.stored[0] = 0xF000 | 7;  // an overlay bit pattern above the 12 stored bits
+  writeDicomSlice(dir.file("unsigned"), spec);
+  const auto unsignedSource = openVolumeSource(dir.file("unsigned"));
+  EXPECT_EQ(readSlab<uint16_t>(*unsignedSource, 0, 1)[0], 7);
+
+  const TempDir signedDir;
+  spec.isSigned = true;
+  spec.stored[0] = 0x0FFF;  // -1 in 12 bits, its upper bits left clear
+  spec.stored[1] = -5;      // the upper bits copy the sign
+  writeDicomSlice(signedDir.file("signed"), spec);
+  const auto signedSource = openVolumeSource(signedDir.file("signed"));
+  EXPECT_EQ(signedSource->info().type, SampleType::Int16);
+  const std::vector<int16_t> values = readSlab<int16_t>(*signedSource, 0, 1);
+  EXPECT_EQ(values[0], -1);
+  EXPECT_EQ(values[1], -5);
+}
+
+TEST(SourceDicom, OtherFilesAndObjectsWithoutImagesArePassedOver) {
+  const TempDir dir;
+  writeCtSeries(dir, 3);
+  testing::writeDicomWithoutImage(dir.file("DICOMDIR"));
+  std::ofstream(dir.file("README.txt")) << "scanned on a Tuesday\n";
+  const auto source = openVolumeSource(dir.path().string());
+  EXPECT_EQ(source->info().dims.z, 3u);
+  EXPECT_NE(errorOf(dir.file("DICOMDIR")).find("DICOM file without an image"), std::string::npos)
+      << errorOf(dir.file("DICOMDIR"));
+}
+
+TEST(SourceDicom, OneImageChoosesItsSeriesAndAFolderOfSeveralIsRefused) {
+  const TempDir dir;
+  writeCtSeries(dir, 4, "ct");
+  for (uint32_t z = 0; z < 2; ++z) {
+    DicomSliceSpec spec = ctSlice(z);
+    spec.seriesUid = "1.2.826.0.1.3680043.9.7607.2";
+    spec.modality = "MR";
+    spec.seriesDescription = "T1 AXIAL";
+    spec.slope.reset();
+    spec.intercept.reset();
+    writeDicomSlice(dir.file("mr" + std::to_string(z)), spec);
+  }
+  const std::string error = errorOf(dir.path().string());
+  EXPECT_NE(error.find("holds 2 series"), std::string::npos) << error;
+  EXPECT_NE(error.find("1.2.826.0.1.3680043.9.7607.1: CT, 4 images, e.g. " + dir.file("ct1")),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("MR 'T1 AXIAL', 2 images"), std::string::npos) << error;
+  EXPECT_EQ(openVolumeSource(dir.file("ct2"))->info().dims.z, 4u);
+  const auto mr = openVolumeSource(dir.file("mr1"));
+  EXPECT_EQ(mr->info().dims.z, 2u);
+  EXPECT_EQ(mr->info().type, SampleType::UInt16);
+}
+
+TEST(SourceDicom, InstanceNumberOrdersSlicesWithoutPositions) {
+  const TempDir dir;
+  for (uint32_t z = 0; z < 3; ++z) {
+    DicomSliceSpec spec = ctSlice(z);
+    spec.position.reset();
+    spec.orientation.reset();
+    spec.instance = int(10 * z + 5);
+    writeDicomSlice(dir.file("x" + std::to_string(2 - z)), spec);
+  }
+  const auto source = openVolumeSource(dir.path().string());
+  EXPECT_EQ(readSlab<int16_t>(*source, 0, 3), expectedCt<int16_t>(3));
+  // Without positions or Slice Thickness, the spacing across is the spacing between rows (said too).
+  EXPECT_DOUBLE_EQ(source->info().spacing.z, 0.75);
+  ASSERT_EQ(source->info().notes.size(), 2u);
+  EXPECT_NE(source->info().notes[0].find("stacked by Instance Number"), std::string::npos)
+      << source->info().notes[0];
+  EXPECT_NE(source->info().notes[1].find("spacing across the DICOM slices is unknown"), std::string::npos)
+      << source->info().notes[1];
+
+  DicomSliceSpec unordered = ctSlice(3);
+  unordered.position.reset();
+  unordered.instance.reset();
+  writeDicomSlice(dir.file("x9"), unordered);
+  EXPECT_NE(errorOf(dir.path().string()).find("their order is unknown"), std::string::npos)
+      << errorOf(dir.path().string());
+}
+
+TEST(SourceDicom, UnevenGapsAndTiltedPositionsAreNoted) {
+  const TempDir gaps, tilted;
+  for (const uint32_t z : {0u, 1u, 2u, 4u, 5u})
+    writeDicomSlice(gaps.file("g" + std::to_string(z)), ctSlice(z));
+  const auto missing = openVolumeSource(gaps.path().string());
+  EXPECT_EQ(missing->info().dims.z, 5u);
+  EXPECT_DOUBLE_EQ(missing->info().spacing.z, 12.5 / 4);
+  ASSERT_EQ(missing->info().notes.size(), 1u);
+  EXPECT_NE(missing->info().notes[0].find("vary from 2.5 to 5"), std::string::npos)
+      << missing->info().notes[0];
+
+  for (uint32_t z = 0; z < 4; ++z) {
+    DicomSliceSpec spec = ctSlice(z);
+    spec.position = *spec.position + glm::dvec3(0.0, 0.8 * z, 0.0);  // a gantry tilted about x
+    writeDicomSlice(tilted.file("t" + std::to_string(z)), spec);
+  }
+  const auto sheared = openVolumeSource(tilted.path().string());
+  ASSERT_EQ(sheared->info().notes.size(), 1u);
+  EXPECT_NE(sheared->info().notes[0].find("tilted gantry"), std::string::npos) << sheared->info().notes[0];
+}
+
+TEST(SourceDicom, BadSeriesNameTheirFiles) {
+  const auto errorFor = [](const std::vector<DicomSliceSpec>& slices) {
+    const TempDir dir;
+    for (size_t z = 0; z < slices.size(); ++z) writeDicomSlice(dir.file("f" + std::to_string(z)), slices[z]);
+    return errorOf(dir.path().string());
+  };
+  DicomSliceSpec twice = ctSlice(1);
+  std::string error = errorFor({ctSlice(0), ctSlice(1), twice});
+  EXPECT_NE(error.find("lie at one position"), std::string::npos) << error;
+  EXPECT_NE(error.find("/f1"), std::string::npos) << error;
+  EXPECT_NE(error.find("/f2"), std::string::npos) << error;
+
+  DicomSliceSpec wider = ctSlice(1);
+  wider.columns = kColumns + 1;
+  wider.stored.resize(size_t(wider.columns) * kRows);
+  error = errorFor({ctSlice(0), wider});
+  EXPECT_NE(error.find("has Columns 6, but"), std::string::npos) << error;
+
+  DicomSliceSpec turned = ctSlice(1);
+  turned.orientation = std::array<double, 6>{0, 1, 0, 1, 0, 0};
+  error = errorFor({ctSlice(0), turned});
+  EXPECT_NE(error.find("oriented otherwise"), std::string::npos) << error;
+
+  DicomSliceSpec frames = ctSlice(0);
+  frames.frames = 3;
+  error = errorFor({frames, ctSlice(1)});
+  EXPECT_NE(error.find("holds 3 frames, and its series 2 images"), std::string::npos) << error;
+
+  DicomSliceSpec color = ctSlice(0);
+  color.samplesPerPixel = 3;
+  color.photometric = "RGB";
+  color.bitsAllocated = color.bitsStored = 8;
+  error = errorFor({color});
+  EXPECT_NE(error.find("3 samples per pixel (RGB)"), std::string::npos) << error;
+
+  DicomSliceSpec flat = ctSlice(0);
+  flat.slope = 0.0;
+  error = errorFor({flat});
+  EXPECT_NE(error.find("Rescale Slope '0'"), std::string::npos) << error;
+}
+
+TEST(SourceDicom, AFolderOfDicomAndSlicesIsAmbiguous) {
+  const TempDir dir;
+  writeCtSeries(dir, 2);
+  std::ofstream(dir.file("slice_0.png")) << "not read";
+  const std::string error = errorOf(dir.path().string());
+  EXPECT_NE(error.find("holds DICOM files and image slices"), std::string::npos) << error;
+  EXPECT_EQ(openVolumeSource(dir.file("IM1"))->info().dims.z, 2u);  // one image still names its series
+
+  const TempDir empty;
+  std::ofstream(empty.file("scan.dcm")) << "no preamble";
+  EXPECT_NE(errorOf(empty.file("scan.dcm")).find("no DICM signature"), std::string::npos)
+      << errorOf(empty.file("scan.dcm"));
+}
+
+TEST(SourceDicom, RawOptionsAreRefusedAndSpacingOverrides) {
+  const TempDir dir;
+  writeCtSeries(dir, 2);
+  SourceOptions options;
+  options.dims = glm::u32vec3(1);
+  EXPECT_NE(errorOf(dir.path().string(), options).find("a DICOM series states its own"), std::string::npos)
+      << errorOf(dir.path().string(), options);
+  options = {};
+  options.spacing = glm::dvec3(1.0, 2.0, 3.0);
+  EXPECT_EQ(openVolumeSource(dir.path().string(), options)->info().spacing, glm::dvec3(1.0, 2.0, 3.0));
+}
+
+}  // namespace
+}  // namespace ropecast
