@@ -404,9 +404,16 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
   const std::string folder = isFolder ? spec : fs::path(spec).parent_path().string();
   const std::string listed = folder.empty() ? "." : folder;
   std::vector<DicomImage> images = scanImages(listDicomFiles(listed), listed);
-  if (images.empty())
-    throw Error("DICOM folder " + listed + " has no DICOM images (files that begin with the DICM signature " +
-                "and hold Rows and Columns)");
+  if (images.empty()) {
+    // A DICOMDIR beside the folders of its series, as exports and discs lay them out.
+    const bool subfolders =
+        std::any_of(fs::directory_iterator(listed, ec), fs::directory_iterator(),
+                    [](const fs::directory_entry& entry) { return entry.is_directory(); });
+    throw Error(
+        "DICOM folder " + listed +
+        " has no DICOM images (files that begin with the DICM signature and hold Rows and Columns)" +
+        (subfolders ? "; a series is read from its own folder: give the subfolder that holds it" : ""));
+  }
 
   // The series: the one the given image belongs to, or the folder's only one.
   std::map<std::string, std::vector<const DicomImage*>> bySeries;

@@ -223,6 +223,16 @@ TEST(SourceDicom, OtherFilesAndObjectsWithoutImagesArePassedOver) {
   EXPECT_EQ(source->info().dims.z, 3u);
   EXPECT_NE(errorOf(dir.file("DICOMDIR")).find("DICOM file without an image"), std::string::npos)
       << errorOf(dir.file("DICOMDIR"));
+
+  // A disc's layout: a DICOMDIR beside the folders of the series.
+  const TempDir disc;
+  testing::writeDicomWithoutImage(disc.file("DICOMDIR"));
+  std::filesystem::create_directory(disc / "SE0001");
+  writeDicomSlice((disc / "SE0001" / "IM1").string(), ctSlice(0));
+  const std::string error = errorOf(disc.path().string());
+  EXPECT_NE(error.find("has no DICOM images"), std::string::npos) << error;
+  EXPECT_NE(error.find("give the subfolder that holds it"), std::string::npos) << error;
+  EXPECT_EQ(openVolumeSource((disc / "SE0001").string())->info().dims.z, 1u);
 }
 
 TEST(SourceDicom, OneImageChoosesItsSeriesAndAFolderOfSeveralIsRefused) {
