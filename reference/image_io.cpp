@@ -12,6 +12,7 @@
 #include "core/input_file.h"
 #include "core/temporary_file.h"
 #include "reference/image_codec.h"
+#include "reference/png_encoder.h"
 
 namespace ropecast {
 
@@ -37,10 +38,12 @@ ImageEncoding encodingOf(const FloatImage& image, uint32_t channels, bool floatS
 }
 
 // Writes the encoded bytes under a temporary name next to `path` ("OUT.tmp-XXXXXX": a fixed name could be a
-// file of the user's, an input even).
+// file of the user's, an input even). PNG's 8-bit pixels are encoded here; other formats through OpenImageIO.
 StagedImage stage(const std::string& where, const std::string& path, const ImageEncoding& encoding,
                   const void* pixels) {
-  const std::vector<unsigned char> encoded = encodeImage(where, path, encoding, pixels);
+  const std::vector<unsigned char> encoded = !encoding.floatSamples && hasPngExtension(path)
+                                                 ? encodePng(where, path, encoding, pixels)
+                                                 : encodeImage(where, path, encoding, pixels);
   auto file = std::make_unique<TemporaryFile>(path, where);  // removed unless committed, also on a signal
   file->writeAt(0, std::as_bytes(std::span(encoded)));
   return file;
@@ -58,12 +61,13 @@ std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
   if (!parentFolderExists(path))
     return "its folder '" + std::filesystem::path(path).parent_path().string() + "' does not exist";
   if (kind == ImageOutputKind::FloatExr)
-    return hasExrExtension(path) ? "" : "expected a file name ending in .exr (float data)";
+    return hasExrExtension(path) ? imageWriterProblem(path)
+                                 : "expected a file name ending in .exr (float data)";
   // ".png" alone is a hidden file's name without an extension to the file system, and to OpenImageIO.
   if (std::filesystem::path(path).extension().empty())
     return "expected a name and an extension such as .png, got '" +
            std::filesystem::path(path).filename().string() + "'";
-  return imageWriterProblem(path);
+  return hasPngExtension(path) ? "" : imageWriterProblem(path);
 }
 
 StagedImage stagePng(const std::string& path, const FloatImage& image, bool withAlpha) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The image module (tools/image_module.h): ropecast links no OpenImageIO and loads ropecast_images.so the first
-# time a command needs an image; without the module, or with a wrong one, the commands that touch no image
-# still work and those that do fail with a message that names it, leaving nothing behind.
+# time a command needs an image other than a PNG it writes (reference/png_encoder.h); without the module, or with
+# a wrong one, the commands that need none still work (render to PNG among them) and those that do fail with a
+# message that names it, leaving nothing behind.
 # Usage: bash image_module.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -50,8 +51,13 @@ alone="$dir/alone/ropecast"
 "$alone" convert "$dir/v_16x16x16_uint8.raw" -o "$dir/out/raw.rcast" -q && echo "ok   convert raw without the module" ||
   fail "convert raw without the module"
 rm -f "$dir/out/raw.rcast"
-expect_failure "render to PNG without the module" "ropecast_images.so, which is neither at $dir/alone/ropecast_images.so" \
-  "$alone" render "$dir/v.rcast" -o "$dir/out/x.png"
+"$alone" render "$dir/v.rcast" --size 16x16 -o "$dir/out/x.png" -q && [ -s "$dir/out/x.png" ] &&
+  echo "ok   render to PNG without the module" || fail "render to PNG without the module"
+rm -f "$dir/out/x.png"
+expect_failure "render with an EXR without the module" "ropecast_images.so, which is neither at $dir/alone/ropecast_images.so" \
+  "$alone" render "$dir/v.rcast" --size 16x16 -o "$dir/out/x.png" --exr "$dir/out/x.exr"
+expect_failure "render to JPEG without the module" "ropecast_images.so" \
+  "$alone" render "$dir/v.rcast" --size 16x16 -o "$dir/out/x.jpg"
 expect_failure "convert a PNG stack without the module" "ropecast_images.so" \
   "$alone" convert "$dir/slices" -o "$dir/out/s.rcast"
 expect_failure "compare without the module" "ropecast_images.so" \
@@ -62,11 +68,11 @@ expect_failure "compare without the module" "ropecast_images.so" \
 cp "$ropecast" "$dir/wrong/ropecast"
 echo "not a shared library" > "$dir/wrong/ropecast_images.so"
 expect_failure "a module that does not load" "$dir/wrong/ropecast_images.so, which does not load" \
-  "$dir/wrong/ropecast" render "$dir/v.rcast" -o "$dir/out/x.png"
+  "$dir/wrong/ropecast" render "$dir/v.rcast" -o "$dir/out/x.jpg"
 other=$(ldd "$ropecast" | awk '/libzstd/ {print $3; exit}')
 cp "$other" "$dir/wrong/ropecast_images.so"
 expect_failure "another library under the module's name" "which is from another build of ropecast" \
-  "$dir/wrong/ropecast" render "$dir/v.rcast" -o "$dir/out/x.png"
+  "$dir/wrong/ropecast" render "$dir/v.rcast" -o "$dir/out/x.jpg"
 [ -z "$(ls -A "$dir/out")" ] && echo "ok   nothing written" || { fail "left behind:"; ls -A "$dir/out"; }
 
 # With the module: an error raised inside it reaches the command line whole.

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "reference/image_io.h"
+#include "reference/png_encoder.h"
 #include "tests/render/testutil_gl.h"
 
 namespace ropecast {
@@ -55,6 +56,42 @@ TEST(ImageIo, PngQuantizesAndClamps) {
           EXPECT_NEAR(b.at(x, y, c), want, 1e-6);
         }
       }
+}
+
+// libpng encodes every 8-bit layout PNG has, and what it writes reads back through OpenImageIO; other formats
+// are still OpenImageIO's.
+TEST(ImageIo, PngEncoderWritesEveryLayoutAndOtherFormatsStillWork) {
+  const auto dir = test::freshTempDir();
+  constexpr uint32_t kWidth = 5, kHeight = 3;
+  for (uint32_t channels = 1; channels <= 4; ++channels) {
+    std::vector<uint8_t> pixels(size_t(kWidth) * kHeight * channels);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t(i * 37 + channels);
+    ImageEncoding encoding;
+    encoding.width = kWidth;
+    encoding.height = kHeight;
+    encoding.channels = channels;
+    const std::string path = (dir / ("c" + std::to_string(channels) + ".PNG")).string();
+    const std::vector<unsigned char> bytes = encodePng("test", path, encoding, pixels.data());
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    const FloatImage read = readImage(path);
+    ASSERT_EQ(read.channels, channels);
+    ASSERT_EQ(read.width, kWidth);
+    ASSERT_EQ(read.height, kHeight);
+    for (size_t i = 0; i < pixels.size(); ++i)
+      EXPECT_NEAR(read.pixels[i], pixels[i] / 255.0f, 1e-6) << channels << " channels, value " << i;
+  }
+  ImageEncoding floats;
+  floats.width = floats.height = 1;
+  floats.channels = 4;
+  floats.floatSamples = true;
+  const float pixel[4] = {};
+  EXPECT_THROW(encodePng("test", "f.png", floats, pixel), Error);
+  EXPECT_TRUE(hasPngExtension("a.Png"));
+  EXPECT_FALSE(hasPngExtension("a.png.tif"));
+
+  const FloatImage img = gradientImage(6, 4);
+  writePng((dir / "a.tif").string(), img, false);
+  EXPECT_EQ(readImage((dir / "a.tif").string()).channels, 3u);
 }
 
 // The temporary name is unique: a file of the user's named like a temporary (here the input of a render,
