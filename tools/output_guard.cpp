@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "store/procedural.h"
+#include "store/source_dicom.h"
 #include "store/source_nrrd.h"
 #include "store/volume_source.h"
 
@@ -157,6 +158,12 @@ void OutputGuard::check() const {
 std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   if (isProceduralSpec(spec)) return {};
   std::vector<std::string> files{spec};
+  std::error_code ec;
+  if (!fs::is_directory(spec, ec) && startsWithDicomMagic(spec)) {
+    const std::string folder = fs::path(spec).parent_path().string();
+    for (std::string& file : listDicomFiles(folder.empty() ? "." : folder)) files.push_back(std::move(file));
+    return files;
+  }
   std::string ext = fs::path(spec).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".nhdr" && ext != ".nrrd") return files;

@@ -26,7 +26,8 @@ class OutputGuard {
   // Empty paths and procedural:NAME:SIZE specs are ignored.
   void addInput(std::string what, const std::string& path);
   // A volume `ropecast convert` reads (volumeSpecFiles): a raw or NRRD file and the data file its header
-  // names, or a folder or glob pattern of slices and every file in it.
+  // names, a DICOM image and the other DICOM files of its folder, or a folder or glob pattern of slices and
+  // every file in it.
   void addVolumeInput(std::string what, const std::string& spec);
   // A file the command will write. `option` names it in messages ("-o", "--stats").
   void addOutput(std::string option, const std::string& path);
@@ -60,8 +61,9 @@ class OutputGuard {
 std::string fileIdentity(const std::string& path);
 
 // The input files named by a volume spec as `ropecast convert` reads it (store/volume_source.h): nothing for
-// procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD header and its detached data file, a directory
-// or glob pattern as given (addVolumeInput expands them).
+// procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD header and its detached data file, a DICOM image
+// and the DICOM files of its folder (its series is among them), a directory or glob pattern as given
+// (addVolumeInput expands them).
 std::vector<std::string> volumeSpecFiles(const std::string& spec);
 
 }  // namespace ropecast::tools

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `ropecast convert` of DICOM series, end to end through the image module: a folder of one series (names in the
 # reverse of the slices' order) converts to a store of its size, type, spacing and values; one image of a
-# folder of two series converts its own series; the folder alone is refused, listing both, and writes nothing.
+# folder of two series converts its own series, and is refused an output onto another image of it; the folder
+# alone is refused, listing both, and writes nothing.
 # Usage: bash dicom.sh /path/to/ropecast  (ROPECAST_DICOM_WRITER: tests/cli/write_dicom_series, which ctest sets)
 set -uo pipefail
 ropecast="$1"
@@ -39,6 +40,12 @@ rc=$?
 grep -qF "holds 2 series" "$dir/err.txt" && grep -qF "7607.2: CT, 2 images" "$dir/err.txt" ||
   { fail "the two series are not listed:"; cat "$dir/err.txt"; }
 [ ! -e "$dir/two.rcast" ] || fail "a refused series left $dir/two.rcast"
+# The other images of the series are inputs too: writing onto one is refused, and leaves it as it was.
+sum=$(md5sum < "$dir/two/b2")
+"$ropecast" convert "$dir/two/b1" -o "$dir/two/b2" --quiet 2> "$dir/err.txt" &&
+  fail "convert wrote its store onto an image of the series it read"
+grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal:"; cat "$dir/err.txt"; }
+[ "$(md5sum < "$dir/two/b2")" = "$sum" ] || fail "an image of the series was changed"
 "$ropecast" convert "$dir/two/b1" -o "$dir/b.rcast" --quiet || fail "convert of one image's series"
 "$ropecast" info "$dir/b.rcast" | grep -qF "5 x 4 x 2 samples" || fail "one image's series is not its 2 images"
 
