@@ -1,5 +1,5 @@
-// Image files: PNG (8-bit RGB or RGBA, clamped to [0,1], no gamma; through libpng, png_encoder.h), other 8-bit
-// formats OpenImageIO writes, and OpenEXR (float RGBA; a depth EXR with one float channel "Z") through
+// Image files: PNG (8-bit RGB or RGBA, clamped to [0,1], no gamma; through libpng, png_encoder.h), other
+// 8-bit formats OpenImageIO writes, and OpenEXR (float RGBA; a depth EXR with one float channel "Z") through
 // OpenImageIO, and reading them back as floats (tests, regression goldens).
 // Writes go to a unique temporary name next to the path ("<path>.tmp-XXXXXX") and are renamed when complete,
 // so a failure leaves nothing half-written and no file of the user's is touched but the output. GL-free; any

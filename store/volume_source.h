@@ -1,5 +1,5 @@
-// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, image stacks, DICOM,
-// procedural). Sources never hold the whole volume; procedural ones generate what is asked for.
+// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, image stacks,
+// DICOM, procedural). Sources never hold the whole volume; procedural ones generate what is asked for.
 //
 // Threads: info() any thread. readSlab() may be called from one thread at a time per source object
 // (the converter reads slabs sequentially; a source may use worker threads internally).
