@@ -35,6 +35,12 @@ using testing::writeDicomSlice;
 
 constexpr uint32_t kColumns = 5, kRows = 4;
 
+// "prefix" followed by n: appended, because GCC 12 warns, wrongly, of an overlapping copy in "prefix" +
+// string.
+std::string numbered(const char* prefix, uint64_t n) {
+  return std::string(prefix).append(std::to_string(n));
+}
+
 // Slice z's stored values: distinct in every slice and pixel.
 std::vector<int64_t> storedValues(uint32_t z, int64_t base = 100) {
   std::vector<int64_t> values(kColumns * kRows);
@@ -93,7 +99,7 @@ TEST(SourceDicom, ConvertsToAStoreThatKeepsTheValues) {
   const TempDir dir, out;
   const std::filesystem::path series = dir / "series";
   std::filesystem::create_directory(series);
-  for (uint32_t z = 0; z < 9; ++z) writeDicomSlice((series / ("s" + std::to_string(z))).string(), ctSlice(z));
+  for (uint32_t z = 0; z < 9; ++z) writeDicomSlice((series / numbered("s", z)).string(), ctSlice(z));
   const auto store = convertAndOpen(out, series.string());
   expectKept(*store, expectedCt<int16_t>(9), SampleType::Int16, true, "CT series");
   EXPECT_DOUBLE_EQ(store->info().volume.spacing.z, 2.5);
@@ -105,7 +111,7 @@ TEST(SourceDicom, SlicesGoAlongTheNormalOfTheirOrientation) {
   for (uint32_t k = 0; k < 4; ++k) {
     DicomSliceSpec spec = ctSlice(k);
     spec.orientation = std::array<double, 6>{0, 1, 0, 1, 0, 0};
-    writeDicomSlice(dir.file("a" + std::to_string(k)), spec);
+    writeDicomSlice(dir.file(numbered("a", k)), spec);
   }
   const auto source = openVolumeSource(dir.path().string());
   EXPECT_DOUBLE_EQ(source->info().spacing.z, 2.5);
@@ -170,7 +176,7 @@ TEST(SourceDicom, TypesFollowTheRescale) {
       spec.slope = c.slope;
       spec.intercept = c.intercept;
       spec.stored = storedValues(z, c.isSigned ? -40 : 3);
-      writeDicomSlice(dir.file("i" + std::to_string(z)), spec);
+      writeDicomSlice(dir.file(numbered("i", z)), spec);
     }
     const auto source = openVolumeSource(dir.path().string());
     const std::string what = std::to_string(c.bitsAllocated) + "/" + std::to_string(c.bitsStored) +
@@ -245,7 +251,7 @@ TEST(SourceDicom, OneImageChoosesItsSeriesAndAFolderOfSeveralIsRefused) {
     spec.seriesDescription = "T1 AXIAL";
     spec.slope.reset();
     spec.intercept.reset();
-    writeDicomSlice(dir.file("mr" + std::to_string(z)), spec);
+    writeDicomSlice(dir.file(numbered("mr", z)), spec);
   }
   const std::string error = errorOf(dir.path().string());
   EXPECT_NE(error.find("holds 2 series"), std::string::npos) << error;
@@ -266,7 +272,7 @@ TEST(SourceDicom, InstanceNumberOrdersSlicesWithoutPositions) {
     spec.position.reset();
     spec.orientation.reset();
     spec.instance = int(10 * z + 5);
-    writeDicomSlice(dir.file("x" + std::to_string(2 - z)), spec);
+    writeDicomSlice(dir.file(numbered("x", 2 - z)), spec);
   }
   const auto source = openVolumeSource(dir.path().string());
   EXPECT_EQ(readSlab<int16_t>(*source, 0, 3), expectedCt<int16_t>(3));
@@ -288,8 +294,7 @@ TEST(SourceDicom, InstanceNumberOrdersSlicesWithoutPositions) {
 
 TEST(SourceDicom, UnevenGapsAndTiltedPositionsAreNoted) {
   const TempDir gaps, tilted;
-  for (const uint32_t z : {0u, 1u, 2u, 4u, 5u})
-    writeDicomSlice(gaps.file("g" + std::to_string(z)), ctSlice(z));
+  for (const uint32_t z : {0u, 1u, 2u, 4u, 5u}) writeDicomSlice(gaps.file(numbered("g", z)), ctSlice(z));
   const auto missing = openVolumeSource(gaps.path().string());
   EXPECT_EQ(missing->info().dims.z, 5u);
   EXPECT_DOUBLE_EQ(missing->info().spacing.z, 12.5 / 4);
@@ -300,7 +305,7 @@ TEST(SourceDicom, UnevenGapsAndTiltedPositionsAreNoted) {
   for (uint32_t z = 0; z < 4; ++z) {
     DicomSliceSpec spec = ctSlice(z);
     spec.position = *spec.position + glm::dvec3(0.0, 0.8 * z, 0.0);  // a gantry tilted about x
-    writeDicomSlice(tilted.file("t" + std::to_string(z)), spec);
+    writeDicomSlice(tilted.file(numbered("t", z)), spec);
   }
   const auto sheared = openVolumeSource(tilted.path().string());
   ASSERT_EQ(sheared->info().notes.size(), 1u);
@@ -310,7 +315,7 @@ TEST(SourceDicom, UnevenGapsAndTiltedPositionsAreNoted) {
 TEST(SourceDicom, BadSeriesNameTheirFiles) {
   const auto errorFor = [](const std::vector<DicomSliceSpec>& slices) {
     const TempDir dir;
-    for (size_t z = 0; z < slices.size(); ++z) writeDicomSlice(dir.file("f" + std::to_string(z)), slices[z]);
+    for (size_t z = 0; z < slices.size(); ++z) writeDicomSlice(dir.file(numbered("f", z)), slices[z]);
     return errorOf(dir.path().string());
   };
   DicomSliceSpec twice = ctSlice(1);
