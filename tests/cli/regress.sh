@@ -168,9 +168,10 @@ expect 0 "a case's warning (--jobs 2)" "case 'capped': ropecast render: not conv
 expect 0 "a case's warning (--jobs 1)" "case 'capped': ropecast render: not converged after 1 frames" capped.json --jobs 1 --update-all
 
 # Ctrl-C: the temporary folder of the renders goes with the run (the process group gets the signal, as from a
-# terminal). Slow cases (every read 200 ms) are still rendering when the signal comes.
+# terminal). Slow cases (every read 1 s: a render to PNG starts in a quarter second) are still rendering when
+# the signal comes.
 mkdir -p tmp
-printf '{"cases": [{"name": "s1", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--io-delay-ms", "200"], "golden": "s1.png"}, {"name": "s2", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--io-delay-ms", "200"], "golden": "s2.png"}]}' > slow.json
+printf '{"cases": [{"name": "s1", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--io-delay-ms", "1000"], "golden": "s1.png"}, {"name": "s2", "input": "procedural:sphere:48", "options": ["--size", "32x32", "--io-delay-ms", "1000"], "golden": "s2.png"}]}' > slow.json
 for jobs in 1 2; do
   TMPDIR="$dir/tmp" setsid bash -c 'exec "$0" regress slow.json --jobs "$1" > /dev/null 2>&1' "$ropecast" "$jobs" &
   leader=$!

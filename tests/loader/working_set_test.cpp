@@ -157,8 +157,9 @@ TEST(WorkingSet, TheSynchronousLoadReportsItsProgressUntilNothingIsPending) {
   std::vector<LoadProgress> reports;
   const WorkingSetFrame f = ws.updateUntilConverged(in, [&](const LoadProgress& p) { reports.push_back(p); });
   ASSERT_TRUE(f.converged);
-  // More than one report: the load comes in waves, a level at a time.
-  ASSERT_GT(reports.size(), 2u);
+  // A report while reads are pending and one when none are (how many between depends on how the reads and
+  // the waves of refinement interleave on this machine).
+  ASSERT_GE(reports.size(), 2u);
   for (size_t i = 1; i < reports.size(); ++i) {
     EXPECT_GE(reports[i].bricksRead, reports[i - 1].bricksRead);
     EXPECT_GE(reports[i].bytesRead, reports[i - 1].bytesRead);
