@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/input_file.h"
 #include "core/temporary_file.h"
 #include "reference/image_codec.h"
@@ -41,7 +42,7 @@ ImageEncoding encodingOf(const FloatImage& image, uint32_t channels, bool floatS
 // file of the user's, an input even). PNG's 8-bit pixels are encoded here; other formats through OpenImageIO.
 StagedImage stage(const std::string& where, const std::string& path, const ImageEncoding& encoding,
                   const void* pixels) {
-  const std::vector<unsigned char> encoded = !encoding.floatSamples && hasPngExtension(path)
+  const std::vector<unsigned char> encoded = !encoding.floatSamples && hasExtension(path, ".png")
                                                  ? encodePng(where, path, encoding, pixels)
                                                  : encodeImage(where, path, encoding, pixels);
   auto file = std::make_unique<TemporaryFile>(path, where);  // removed unless committed, also on a signal
@@ -61,13 +62,13 @@ std::string imageOutputProblem(const std::string& path, ImageOutputKind kind) {
   if (!parentFolderExists(path))
     return "its folder '" + std::filesystem::path(path).parent_path().string() + "' does not exist";
   if (kind == ImageOutputKind::FloatExr)
-    return hasExrExtension(path) ? imageWriterProblem(path)
-                                 : "expected a file name ending in .exr (float data)";
+    return hasExtension(path, ".exr") ? imageWriterProblem(path)
+                                      : "expected a file name ending in .exr (float data)";
   // ".png" alone is a hidden file's name without an extension to the file system, and to OpenImageIO.
   if (std::filesystem::path(path).extension().empty())
     return "expected a name and an extension such as .png, got '" +
            std::filesystem::path(path).filename().string() + "'";
-  return hasPngExtension(path) ? "" : imageWriterProblem(path);
+  return hasExtension(path, ".png") ? "" : imageWriterProblem(path);
 }
 
 StagedImage stagePng(const std::string& path, const FloatImage& image, bool withAlpha) {

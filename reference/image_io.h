@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,12 +38,6 @@ inline void writeExr(const std::string& path, const FloatImage& image) {
 }
 inline void writeDepthExr(const std::string& path, const FloatImage& depth) {
   stageDepthExr(path, depth)->commit();
-}
-// Whether `path` names an EXR file (its extension .exr in any case), which holds float data.
-inline bool hasExrExtension(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext.size() == 4 && ext[0] == '.' && (ext[1] | 0x20) == 'e' && (ext[2] | 0x20) == 'x' &&
-         (ext[3] | 0x20) == 'r';
 }
 // What an image output is for: writePng's 8-bit color, or writeExr's and writeDepthExr's float data.
 enum class ImageOutputKind { Color8, FloatExr };

@@ -2,17 +2,9 @@
 
 #include <png.h>
 
-#include <filesystem>
-
 #include "core/error.h"
 
 namespace ropecast {
-
-bool hasPngExtension(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext.size() == 4 && ext[0] == '.' && (ext[1] | 0x20) == 'p' && (ext[2] | 0x20) == 'n' &&
-         (ext[3] | 0x20) == 'g';
-}
 
 std::vector<unsigned char> encodePng(const std::string& where, const std::string& path,
                                      const ImageEncoding& encoding, const void* pixels) {

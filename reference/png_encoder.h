@@ -10,9 +10,6 @@
 
 namespace ropecast {
 
-// Whether `path` names a PNG file (its extension .png in any case).
-bool hasPngExtension(const std::string& path);
-
 // The bytes of a PNG file holding `pixels`: 8-bit gray, gray+alpha, RGB or RGBA (1 to 4 channels, alpha last
 // and not premultiplied), rows from the top. Throws ropecast::Error naming `where` and `path`.
 std::vector<unsigned char> encodePng(const std::string& where, const std::string& path,

@@ -1,6 +1,5 @@
 #include "store/nrrd_header.h"
 
-#include <charconv>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -9,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace ropecast {
 namespace {
@@ -43,24 +43,13 @@ std::vector<std::string_view> splitWords(std::string_view s) {
   return words;
 }
 
-// A whole field as a number of type T: blanks around it and a leading '+' allowed; nullopt otherwise.
-template <typename T>
-std::optional<T> parseWhole(std::string_view s) {
-  s = trim(s);
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  T v{};
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (s.empty() || ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
-  return v;
-}
-
 std::optional<int64_t> parseInteger(std::string_view s) {
-  return parseWhole<int64_t>(s);
+  return parseWholeNumber<int64_t>(s);
 }
 
 // Finite numbers and NaN (NRRD writes "nan" for unknown spacings); nullopt for anything else.
 std::optional<double> parseNumber(std::string_view s) {
-  const std::optional<double> v = parseWhole<double>(s);
+  const std::optional<double> v = parseWholeNumber<double>(s);
   if (v && std::isinf(*v)) return std::nullopt;
   return v;
 }

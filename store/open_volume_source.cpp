@@ -4,13 +4,13 @@
 //   .tif/.tiff -> multi-page TIFF (a single page alone is an error); a single .png or a store is an error;
 //   anything else -> raw.
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "store/source_dicom.h"
 #include "store/source_images.h"
 #include "store/source_nrrd.h"
@@ -23,12 +23,6 @@ namespace ropecast {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lowerExtension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 // Only raw files lack dims, type, byte order and the offset of their samples; every other source says its own
 // (a procedural volume, an image stack), or has no such layout. `kind` names the source in the message.
@@ -55,10 +49,8 @@ bool startsWithStoreMagic(const std::string& path) {
 // Whether a folder holds image slices: a DICOM folder with them too is ambiguous.
 bool holdsSliceImages(const std::string& directory) {
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(directory, ec)) {
-    const std::string ext = lowerExtension(entry.path().string());
-    if (ext == ".png" || ext == ".tif" || ext == ".tiff") return true;
-  }
+  for (const auto& entry : fs::directory_iterator(directory, ec))
+    if (isSliceImageName(entry.path().string())) return true;
   return false;
 }
 

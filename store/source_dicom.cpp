@@ -10,7 +10,6 @@
 #include <gdcmTag.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +22,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace ropecast {
 namespace {
@@ -63,15 +63,10 @@ std::optional<std::vector<double>> numbersOf(const std::string& text, size_t cou
   while (start <= text.size()) {
     size_t end = text.find('\\', start);
     if (end == std::string::npos) end = text.size();
-    std::string part = text.substr(start, end - start);
-    part.erase(0, part.find_first_not_of(' '));
-    part.erase(part.find_last_not_of(' ') + 1);
-    if (!part.empty() && part.front() == '+') part.erase(0, 1);
-    double value = 0.0;
-    const auto [rest, error] = std::from_chars(part.data(), part.data() + part.size(), value);
-    if (part.empty() || error != std::errc() || rest != part.data() + part.size() || !std::isfinite(value))
-      return std::nullopt;
-    values.push_back(value);
+    const std::optional<double> value =
+        parseWholeNumber<double>(std::string_view(text).substr(start, end - start));
+    if (!value || !std::isfinite(*value)) return std::nullopt;
+    values.push_back(*value);
     start = end + 1;
   }
   if (values.size() != count) return std::nullopt;
@@ -339,28 +334,31 @@ class DicomMultiFrameSource final : public VolumeSource {
 // positions say it. What a person should hear about the stacking goes to `notes`.
 std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::string& listed,
                                   std::vector<std::string>& notes) {
-  const DicomImage& first = slices.front();
   const bool positioned = std::all_of(slices.begin(), slices.end(),
                                       [](const DicomImage& s) { return s.position && s.orientation; });
   std::optional<double> sliceSpacing;
   if (positioned) {
+    // Every image is oriented as the first listed; the slices are then sorted along that normal.
+    const DicomImage& listedFirst = slices.front();
     for (const DicomImage& slice : slices)
       for (size_t i = 0; i < 6; ++i)
-        if (std::abs((*slice.orientation)[i] - (*first.orientation)[i]) > 1e-4)
+        if (std::abs((*slice.orientation)[i] - (*listedFirst.orientation)[i]) > 1e-4)
           throw Error(
-              "DICOM image " + slice.path + " is oriented otherwise than " + first.path +
+              "DICOM image " + slice.path + " is oriented otherwise than " + listedFirst.path +
               " (Image Orientation (Patient)); a series of one orientation is read (a localizer among "
               "the slices?)");
-    const std::vector<double>& o = *first.orientation;
+    const std::vector<double>& o = *listedFirst.orientation;
     const glm::dvec3 normal = glm::cross(glm::dvec3(o[0], o[1], o[2]), glm::dvec3(o[3], o[4], o[5]));
     if (!(glm::length(normal) > 0.5))
-      throw Error("DICOM image " + first.path + " has Image Orientation (Patient) whose directions are not " +
+      throw Error("DICOM image " + listedFirst.path +
+                  " has Image Orientation (Patient) whose directions are not " +
                   "perpendicular unit vectors");
     std::stable_sort(slices.begin(), slices.end(), [&](const DicomImage& a, const DicomImage& b) {
       return glm::dot(*a.position, normal) < glm::dot(*b.position, normal);
     });
     if (slices.size() > 1) {
-      const double extent = glm::dot(*slices.back().position - *first.position, normal);
+      const glm::dvec3 lowest = *slices.front().position, highest = *slices.back().position;
+      const double extent = glm::dot(highest - lowest, normal);
       double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
       for (size_t z = 1; z < slices.size(); ++z) {
         const double gap = glm::dot(*slices[z].position - *slices[z - 1].position, normal);
@@ -377,8 +375,7 @@ std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::st
         notes.push_back("the gaps between the DICOM slices vary from " + formatNumber(smallest) + " to " +
                         formatNumber(largest) + " (a missing slice?); they are stacked " +
                         formatNumber(*sliceSpacing) + " apart, the average");
-      const glm::dvec3 offset = *slices.back().position - *first.position;
-      if (glm::length(offset - extent * normal) > 0.01 * std::abs(extent))
+      if (glm::length(highest - lowest - extent * normal) > 0.01 * std::abs(extent))
         notes.push_back(
             "the DICOM slices' positions do not lie along their normal (a tilted gantry?); they are stacked "
             "unsheared");
@@ -391,7 +388,7 @@ std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::st
         "Number");
   } else {
     throw Error("DICOM images of " + listed + " have neither Image Position and Orientation (Patient) nor " +
-                "Instance Number (e.g. " + first.path + "); their order is unknown");
+                "Instance Number (e.g. " + slices.front().path + "); their order is unknown");
   }
   return sliceSpacing;
 }
@@ -507,15 +504,16 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
     return std::make_unique<DicomMultiFrameSource>(std::move(decoded), std::move(info));
   }
   std::optional<double> sliceSpacing = stackSlices(slices, listed, notes);
+  const DicomImage& bottom = slices.front();  // the slices are in their stacking order now
   if (!sliceSpacing)
-    if (const auto thickness = numberOf(first.sliceThickness); thickness && *thickness > 0)
+    if (const auto thickness = numberOf(bottom.sliceThickness); thickness && *thickness > 0)
       sliceSpacing = *thickness;
 
   info.dims = {sliceDims.x, sliceDims.y, uint32_t(slices.size())};
   if (options.spacing) {
     info.spacing = *options.spacing;
   } else {
-    const auto pixelSpacing = numbersOf(first.pixelSpacing, 2);
+    const auto pixelSpacing = numbersOf(bottom.pixelSpacing, 2);
     if (pixelSpacing && (*pixelSpacing)[0] > 0 && (*pixelSpacing)[1] > 0)
       info.spacing = {(*pixelSpacing)[1], (*pixelSpacing)[0], sliceSpacing.value_or((*pixelSpacing)[0])};
     else
@@ -526,7 +524,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
           "the spacing across the DICOM slices is unknown (no positions, or one slice, and no Slice "
           "Thickness); it takes the spacing between rows (--spacing sets it)");
     if (!isValidSpacing(info.spacing))
-      throw Error("DICOM series of " + first.path + " has spacing " + formatSpacing(info.spacing) +
+      throw Error("DICOM series of " + bottom.path + " has spacing " + formatSpacing(info.spacing) +
                   "; expected " + validSpacingText() + " (--spacing sets it)");
   }
   info.type = sampleTypeFor(layout, slices);

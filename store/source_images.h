@@ -13,28 +13,16 @@
 
 #include <memory>
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "store/slice_files.h"
 #include "store/volume_source.h"
 
 namespace ropecast {
 
-// Name order in which slices are stacked: runs of digits compare as numbers, so "s2.png" < "s10.png" (and
-// zero-padded names keep their plain order).
-bool sliceNameLess(std::string_view a, std::string_view b);
-
-// The slice files of a directory (its .tif/.tiff/.png files, case-insensitive) or of a glob pattern, in
-// sliceNameLess order. Throws ropecast::Error naming the directory or pattern if nothing matches.
-std::vector<std::string> listSliceFiles(const std::string& directoryOrPattern);
-
 // How many subimages (pages) an image file has. Throws ropecast::Error naming the file if it cannot be read,
 // and the page where a TIFF is cut short.
 int countImagePages(const std::string& path);
-
-// For files numbered in their names (the last run of digits): a note when numbers repeat or some are missing
-// between the first and the last (slices are stacked one after another whatever their numbers); else "".
-std::string sliceNumberingNote(const std::vector<std::string>& files);
 
 // A stack of slice files (a directory or glob pattern). Every slice is checked when opening: a slice of
 // different size, type, bit depth or photometric interpretation (MinIsWhite among MinIsBlack), an unreadable

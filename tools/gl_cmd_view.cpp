@@ -8,6 +8,7 @@
 
 #include "core/camera_path.h"
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/temporary_file.h"
 #include "core/transfer_function.h"
 #include "reference/image_io.h"
@@ -23,7 +24,7 @@ namespace {
 // An image the viewer will write: a writer for it (its folder exists, its extension is known), and, for an
 // EXR, the depth image beside it (NAME_depth.exr) as an output too.
 void addImageOutput(OutputGuard& guard, const std::string& what, const std::string& path) {
-  const bool exr = hasExrExtension(path);
+  const bool exr = hasExtension(path, ".exr");
   if (const std::string problem =
           imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
       !problem.empty())

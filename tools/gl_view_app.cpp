@@ -25,6 +25,7 @@
 #include "core/camera_path.h"
 #include "core/elapsed.h"
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/input_file.h"
 #include "core/orbit_controller.h"
 #include "core/temporary_file.h"
@@ -587,7 +588,7 @@ void Viewer::reportPanelError(const std::exception& e) {
 
 void Viewer::screenshot(const std::string& path, bool panels) {
   warnIfPoolLimited(o_, lastStats_, "view");
-  const bool exr = hasExrExtension(path);
+  const bool exr = hasExtension(path, ".exr");
   if (const std::string problem =
           imageOutputProblem(path, exr ? ImageOutputKind::FloatExr : ImageOutputKind::Color8);
       !problem.empty())
@@ -724,7 +725,7 @@ void Viewer::drawPanels() {
     if (ImGui::Button("screenshot")) {
       try {
         checkPanelOutput("the panel's screenshot", screenshotPath_);
-        if (hasExrExtension(screenshotPath_))
+        if (hasExtension(screenshotPath_, ".exr"))
           checkPanelOutput("the panel's screenshot (its depth)", screenshotDepthPath(screenshotPath_));
         screenshot(screenshotPath_, false);
       } catch (const Error& e) {

@@ -3,11 +3,11 @@
 #include <glob.h>
 #include <sys/stat.h>
 
-#include <cctype>
 #include <filesystem>
 #include <optional>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/temporary_file.h"
 #include "store/procedural.h"
 #include "store/source_dicom.h"
@@ -164,8 +164,7 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
     for (std::string& file : listDicomFiles(folder.empty() ? "." : folder)) files.push_back(std::move(file));
     return files;
   }
-  std::string ext = fs::path(spec).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lowerExtension(spec);
   if (ext != ".nhdr" && ext != ".nrrd") return files;
   // A detached header names its data file; a header that cannot be read is refused when the source opens.
   try {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/input_file.h"
 #include "core/json_keys.h"
 #include "store/procedural.h"
@@ -108,9 +109,7 @@ RegressSuite parseRegressSuite(const std::string& text, const std::string& suite
     c.input = isProceduralSpec(input) ? input : resolve(input);
     c.golden = resolve(requireString(entry, "golden", where));
     // Goldens are the renders' PNGs (--update copies one there): another name would hold PNG bytes.
-    std::string extension = std::filesystem::path(c.golden).extension().string();
-    for (char& ch : extension) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    if (extension != ".png")
+    if (!hasExtension(c.golden, ".png"))
       throw SuiteError(where + ".golden: " + c.golden + ": expected a PNG file (a name ending in .png)");
     if (const auto options = entry.find("options"); options != entry.end()) {
       if (!options->is_array()) throw SuiteError(where + ".options: expected an array of strings");

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/input_file.h"
 #include "core/json_keys.h"
 #include "reference/image_io.h"
@@ -200,7 +201,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.file = r.text("file");
       e.panels = r.flag("panels");
       // The window is 8-bit: a float EXR of it would hold no more than a PNG, and no depth.
-      if (e.panels && hasExrExtension(e.file))
+      if (e.panels && hasExtension(e.file, ".exr"))
         r.fail("\"panels\": true writes a PNG of the window; an EXR screenshot is the 3D view alone");
       add(e);
     } else if (kind == "save_camera") {

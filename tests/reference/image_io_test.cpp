@@ -86,8 +86,6 @@ TEST(ImageIo, PngEncoderWritesEveryLayoutAndOtherFormatsStillWork) {
   floats.floatSamples = true;
   const float pixel[4] = {};
   EXPECT_THROW(encodePng("test", "f.png", floats, pixel), Error);
-  EXPECT_TRUE(hasPngExtension("a.Png"));
-  EXPECT_FALSE(hasPngExtension("a.png.tif"));
 
   const FloatImage img = gradientImage(6, 4);
   writePng((dir / "a.tif").string(), img, false);
