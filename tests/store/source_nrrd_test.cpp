@@ -25,12 +25,7 @@ using testing::errorOf;
 using testing::readSlab;
 using testing::samplePattern;
 using testing::TempDir;
-
-void writeFile(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  ASSERT_TRUE(out.good()) << path;
-}
+using testing::writeFile;
 
 template <typename T>
 std::string bytesOf(const std::vector<T>& values, bool bigEndian) {

@@ -24,12 +24,7 @@ using testing::fileBytes;
 using testing::readSlab;
 using testing::samplePattern;
 using testing::TempDir;
-
-void writeFile(const std::string& path, const void* data, size_t bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(static_cast<const char*>(data), std::streamsize(bytes));
-  ASSERT_TRUE(out.good()) << path;
-}
+using testing::writeFile;
 
 template <typename T>
 void expectRoundTrip(const TempDir& dir, const std::string& typeName, SampleType type) {

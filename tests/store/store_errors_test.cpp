@@ -19,15 +19,12 @@ namespace ropecast {
 namespace {
 
 using testing::TempDir;
+using testing::writeFile;
 
 std::vector<char> readFile(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
-void writeFile(const std::filesystem::path& p, const std::vector<char>& bytes) {
-  std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-}
-
 std::string openError(const std::filesystem::path& p) {
   try {
     Store::open(p);

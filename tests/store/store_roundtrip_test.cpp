@@ -22,6 +22,7 @@ using testing::expectKept;
 using testing::extractedLevel0;
 using testing::fileBytes;
 using testing::TempDir;
+using testing::writeFile;
 
 // Level 0 of a float32 store, as extract writes it.
 std::vector<float> level0Floats(const Store& store) {
@@ -221,12 +222,6 @@ TEST(StoreRoundTrip, ASourceNameThatIsNotUtf8IsKeptWithReplacementCharacters) {
   options.brickSize = 8;
   convertVolume(source, dir / "n.store", options);
   EXPECT_EQ(Store::open(dir / "n.store")->metadata().volume.description, "scan\uFFFD\uFFFD.raw");
-}
-
-void writeFile(const std::filesystem::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  ASSERT_TRUE(out.good()) << path;
 }
 
 // An attached NRRD of `values`, big-endian.

@@ -1,6 +1,6 @@
 // Helpers shared by the store, converter and VolumeSource tests: synthetic volumes, a direct (non-streaming)
 // computation of the level pyramid and of expected bricks, a temporary directory, typed slab reads, raw
-// file bytes and the message a bad source spec gives. Test code only; one thread.
+// file bytes, writing them and the message a bad source spec gives. Test code only; one thread.
 #pragma once
 
 #include <algorithm>
@@ -10,9 +10,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <span>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -35,6 +37,19 @@ std::string fileBytes(const std::vector<T>& values, bool bigEndian = false, size
     for (size_t i = header; i < bytes.size(); i += sizeof(T))
       std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
   return bytes;
+}
+
+// Writes `size` bytes at `data` to `path`, replacing it. Throws ropecast::Error naming the file if it cannot.
+inline void writeFile(const std::filesystem::path& path, const void* data, size_t size) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(static_cast<const char*>(data), std::streamsize(size));
+  if (!out.good()) throw Error("test: cannot write " + path.string());
+}
+inline void writeFile(const std::filesystem::path& path, std::string_view bytes) {
+  writeFile(path, bytes.data(), bytes.size());
+}
+inline void writeFile(const std::filesystem::path& path, const std::vector<char>& bytes) {
+  writeFile(path, bytes.data(), bytes.size());
 }
 
 // A fresh directory under the system temp dir, removed with everything in it at the end of the test.
