@@ -28,4 +28,26 @@ std::vector<std::string> listDicomFiles(const std::string& directory) {
   return files;
 }
 
+std::vector<std::string> listDicomFilesBelow(const std::string& directory) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code ec;
+  size_t entries = 0;
+  fs::recursive_directory_iterator it(directory, fs::directory_options::skip_permission_denied, ec);
+  for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (++entries > kDicomSearchEntries)
+      throw Error("the search of " + directory + " for DICOM images stopped after " +
+                  std::to_string(kDicomSearchEntries) + " files and folders (" +
+                  std::to_string(kDicomSearchDepth) +
+                  " levels down); give the folder of one series, or one of its images");
+    if (it.depth() >= kDicomSearchDepth) it.disable_recursion_pending();  // its entries would lie deeper
+    std::error_code fileError;                                            // a dangling link is passed over
+    if (it.depth() > 0 && it->is_regular_file(fileError) && startsWithDicomMagic(it->path().string()))
+      files.push_back(it->path().string());
+  }
+  if (ec) throw Error("cannot list DICOM folder " + directory + ": " + ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
 }  // namespace ropecast

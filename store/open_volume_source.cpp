@@ -1,6 +1,7 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
 //   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; a pattern with * or ? -> image stack; a
-//   directory -> DICOM series if it holds DICOM files, else image stack; a DICOM file -> its series;
+//   directory -> DICOM series if it holds DICOM files, or no slices and DICOM files in its subfolders, else
+//   image stack; a DICOM file -> its series;
 //   .tif/.tiff -> multi-page TIFF (a single page alone is an error); a single .png or a store is an error;
 //   anything else -> raw.
 #include <algorithm>
@@ -83,6 +84,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
             (fs::path(spec) / "*.png").string() + ") to read the slices");
       rejectRawOptions(spec, options, "a DICOM series");
       return openDicomSource(spec, options);
+    }
+    if (!holdsSliceImages(spec) && !listDicomFilesBelow(spec).empty()) {
+      rejectRawOptions(spec, options, "a DICOM series");
+      return openDicomSource(spec, options);  // a disc's or an export's folders, without a DICOMDIR
     }
     rejectRawOptions(spec, options, "a stack of image slices");
     return openImageStackSource(spec, options);

@@ -94,6 +94,7 @@ struct DicomImage {
 // The headers of the image files among `files` (those with rows and columns: a DICOMDIR or a report has
 // none).
 std::vector<DicomImage> scanImages(const std::vector<std::string>& files, const std::string& where) {
+  if (files.empty()) return {};
   gdcm::Scanner scanner;
   for (const gdcm::Tag& tag : {kSeriesUid,      kSeriesNumber,  kModality,       kSeriesDescription,
                                kInstanceNumber, kPosition,      kOrientation,    kRows,
@@ -401,22 +402,22 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
   const std::string folder = isFolder ? spec : fs::path(spec).parent_path().string();
   const std::string listed = folder.empty() ? "." : folder;
   std::vector<DicomImage> images = scanImages(listDicomFiles(listed), listed);
-  if (images.empty()) {
-    // A DICOMDIR beside the folders of its series, as exports and discs lay them out.
-    const bool subfolders =
-        std::any_of(fs::directory_iterator(listed, ec), fs::directory_iterator(),
-                    [](const fs::directory_entry& entry) { return entry.is_directory(); });
+  // A folder without images of its own, as exports and discs lay them out: a DICOMDIR beside the folders of
+  // the series, which are searched for their images.
+  const bool searchedBelow = images.empty();
+  if (searchedBelow) images = scanImages(listDicomFilesBelow(listed), listed);
+  if (images.empty())
     throw Error(
         "DICOM folder " + listed +
-        " has no DICOM images (files that begin with the DICM signature and hold Rows and Columns)" +
-        (subfolders ? "; a series is read from its own folder: give the subfolder that holds it" : ""));
-  }
+        " has no DICOM images (files that begin with the DICM signature and hold Rows and Columns), nor "
+        "has any of its folders " +
+        std::to_string(kDicomSearchDepth) + " levels down");
 
   // The series: the one the given image belongs to, or the folder's only one.
   std::map<std::string, std::vector<const DicomImage*>> bySeries;
   for (const DicomImage& image : images) bySeries[image.seriesUid].push_back(&image);
   std::string seriesUid;
-  if (!isFolder) {
+  if (!isFolder && !searchedBelow) {
     const auto given = std::find_if(images.begin(), images.end(), [&](const DicomImage& image) {
       return fs::equivalent(image.path, spec, ec);
     });
@@ -429,8 +430,9 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
   } else if (bySeries.size() > 1) {
     std::string list;
     for (const auto& [uid, members] : bySeries) list += "\n  " + seriesSummary(members);
-    throw Error("DICOM folder " + listed + " holds " + std::to_string(bySeries.size()) +
-                " series; give one image of the series to convert (its folder's images of that series are "
+    throw Error("DICOM folder " + listed + " holds " + std::to_string(bySeries.size()) + " series" +
+                (searchedBelow ? " in its folders" : "") +
+                "; give one image of the series to convert (its folder's images of that series are "
                 "read):" +
                 list);
   } else {

@@ -25,16 +25,27 @@ bool startsWithDicomMagic(const std::string& path);
 // Throws ropecast::Error naming the directory if it cannot be listed.
 std::vector<std::string> listDicomFiles(const std::string& directory);
 
+// How many folders deep listDicomFilesBelow looks, and how many entries it looks at before it gives up: a
+// disc's or an export's layout (a DICOMDIR beside DICOM/patient/study/series folders) is four folders deep.
+inline constexpr int kDicomSearchDepth = 5;
+inline constexpr size_t kDicomSearchEntries = 200000;
+
+// The DICOM files in the subfolders of `directory` (not in it), down to kDicomSearchDepth folders, in name
+// order; symbolic links to folders are not followed. Throws ropecast::Error naming the directory if it
+// cannot be listed, or if it holds more than kDicomSearchEntries entries there (not a series' export).
+std::vector<std::string> listDicomFilesBelow(const std::string& directory);
+
 // A DICOM series: `spec` is a folder that holds the images of one series (other DICOM objects, a DICOMDIR
 // say, and files of other kinds are passed over), or one image of a series, whose folder's images of that
-// series are read. Every image's header is checked when opening: a folder of several series (the error lists
-// them, each with one of its files to give instead), a multi-frame image among others, color images, images
-// of different sizes, pixel formats or orientations, or two images at one position throw ropecast::Error
-// naming the files. Uneven gaps between positions (a missing slice) and positions off the slice normal (a
-// tilted gantry) are notes: the slices are stacked evenly, unsheared. A series of one multi-frame image
-// (enhanced CT or MR, NM) is a volume of its frames in the file's order, decoded whole when opening (GDCM
-// decodes pixel data at once); frames that say no spacing between them (a cine) are stacked at the pixel
-// spacing, noted.
+// series are read. A folder without images of its own (a disc's or an export's top, or its DICOMDIR given)
+// is searched below (listDicomFilesBelow): its one series is read, wherever its images lie. Every image's
+// header is checked when opening: a folder of several series (the error lists them, each with one of its
+// files to give instead), a multi-frame image among others, color images, images of different sizes, pixel
+// formats or orientations, or two images at one position throw ropecast::Error naming the files. Uneven gaps
+// between positions (a missing slice) and positions off the slice normal (a tilted gantry) are notes: the
+// slices are stacked evenly, unsheared. A series of one multi-frame image (enhanced CT or MR, NM) is a volume
+// of its frames in the file's order, decoded whole when opening (GDCM decodes pixel data at once); frames
+// that say no spacing between them (a cine) are stacked at the pixel spacing, noted.
 std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const SourceOptions& options);
 
 }  // namespace ropecast

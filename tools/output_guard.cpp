@@ -159,9 +159,18 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   if (isProceduralSpec(spec)) return {};
   std::vector<std::string> files{spec};
   std::error_code ec;
-  if (!fs::is_directory(spec, ec) && startsWithDicomMagic(spec)) {
-    const std::string folder = fs::path(spec).parent_path().string();
-    for (std::string& file : listDicomFiles(folder.empty() ? "." : folder)) files.push_back(std::move(file));
+  const bool folderGiven = fs::is_directory(spec, ec);
+  if (folderGiven || startsWithDicomMagic(spec)) {
+    const std::string parent = fs::path(spec).parent_path().string();
+    const std::string folder = folderGiven ? spec : parent.empty() ? "." : parent;
+    // A folder counts with its entries (addVolumeInput expands it), a DICOM image with its folder's DICOM
+    // files; both with the DICOM files of the folders below, where a disc's or an export's series lie.
+    if (!folderGiven)
+      for (std::string& file : listDicomFiles(folder)) files.push_back(std::move(file));
+    try {
+      for (std::string& file : listDicomFilesBelow(folder)) files.push_back(std::move(file));
+    } catch (const Error&) {  // a folder too large to search is refused when the source opens
+    }
     return files;
   }
   const std::string ext = lowerExtension(spec);

@@ -2,7 +2,8 @@
 # `ropecast convert` of DICOM series, end to end through the image module: a folder of one series (names in the
 # reverse of the slices' order) converts to a store of its size, type, spacing and values; one image of a
 # folder of two series converts its own series, and is refused an output onto another image of it; the folder
-# alone is refused, listing both, and writes nothing.
+# alone is refused, listing both, and writes nothing; a disc's top folder converts the series in its folders,
+# whose images may not be overwritten.
 # Usage: bash dicom.sh /path/to/ropecast  (ROPECAST_DICOM_WRITER: tests/cli/write_dicom_series, which ctest sets)
 set -uo pipefail
 ropecast="$1"
@@ -48,6 +49,17 @@ grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal:"
 [ "$(md5sum < "$dir/two/b2")" = "$sum" ] || fail "an image of the series was changed"
 "$ropecast" convert "$dir/two/b1" -o "$dir/b.rcast" --quiet || fail "convert of one image's series"
 "$ropecast" info "$dir/b.rcast" | grep -qF "5 x 4 x 2 samples" || fail "one image's series is not its 2 images"
+
+# A disc's layout: the top folder converts the series in its folders, and the series' images count as inputs.
+mkdir -p "$dir/disc/DICOM/PA0/ST0/SE0"
+"$writer" "$dir/disc/DICOM/PA0/ST0/SE0" 6 || exit 1
+"$ropecast" convert "$dir/disc" -o "$dir/disc.rcast" --quiet 2> "$dir/err.txt" || { fail "convert of a disc"; cat "$dir/err.txt"; }
+"$ropecast" info "$dir/disc.rcast" | grep -qF "5 x 4 x 6 samples" || fail "the disc's series is not its 6 images"
+sum=$(md5sum < "$dir/disc/DICOM/PA0/ST0/SE0/IM3")
+"$ropecast" convert "$dir/disc" -o "$dir/disc/DICOM/PA0/ST0/SE0/IM3" --quiet 2> "$dir/err.txt" &&
+  fail "convert wrote its store onto an image of the disc it read"
+grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal for the disc:"; cat "$dir/err.txt"; }
+[ "$(md5sum < "$dir/disc/DICOM/PA0/ST0/SE0/IM3")" = "$sum" ] || fail "an image of the disc was changed"
 
 if [ "$failures" -ne 0 ]; then
   echo "dicom.sh: $failures failure(s)"

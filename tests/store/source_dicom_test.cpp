@@ -1,11 +1,11 @@
 // Tests of the DICOM-series VolumeSource (GDCM): slices stacked by position whatever their file names, the
 // spacing from Pixel Spacing and the positions, Rescale Slope and Intercept (exact integer types, float32
 // otherwise), bits above Bits Stored masked and signed values sign-extended, a series chosen by one of its
-// images, objects without images and other files passed over, Instance Number where positions are missing,
-// notes for uneven gaps and tilted positions, a round trip through the converter, and each bad series
-// (several in one folder, one position twice, sizes or orientations that differ, a multi-frame image among
-// others, color images, a DICOM folder with image slices) giving an error that names the files. A multi-frame
-// image is a volume of its frames.
+// images, objects without images and other files passed over, a disc's folders searched for its series,
+// Instance Number where positions are missing, notes for uneven gaps and tilted positions, a round trip
+// through the converter, and each bad series (several in one folder, one position twice, sizes or
+// orientations that differ, a multi-frame image among others, color images, a DICOM folder with image slices)
+// giving an error that names the files. A multi-frame image is a volume of its frames.
 #include "store/source_dicom.h"
 
 #include <cmath>
@@ -229,16 +229,46 @@ TEST(SourceDicom, OtherFilesAndObjectsWithoutImagesArePassedOver) {
   EXPECT_EQ(source->info().dims.z, 3u);
   EXPECT_NE(errorOf(dir.file("DICOMDIR")).find("DICOM file without an image"), std::string::npos)
       << errorOf(dir.file("DICOMDIR"));
+}
 
-  // A disc's layout: a DICOMDIR beside the folders of the series.
+TEST(SourceDicom, ADiscsFoldersAreSearchedForItsSeries) {
+  // A disc's or an export's layout: a DICOMDIR beside DICOM/patient/study/series folders.
   const TempDir disc;
   testing::writeDicomWithoutImage(disc.file("DICOMDIR"));
-  std::filesystem::create_directory(disc / "SE0001");
-  writeDicomSlice((disc / "SE0001" / "IM1").string(), ctSlice(0));
+  const std::filesystem::path study = disc / "DICOM" / "PA000000" / "ST000000";
+  std::filesystem::create_directories(study / "SE000000");
+  for (uint32_t z = 0; z < 3; ++z)
+    writeDicomSlice((study / "SE000000" / numbered("IM", 2 - z)).string(), ctSlice(z));
+  std::ofstream(disc.file("AUTORUN.INF")) << "[autorun]\n";
+  for (const std::filesystem::path& given : {disc.path(), disc / "DICOMDIR", disc / "DICOM"}) {
+    const auto source = openVolumeSource(given.string());
+    EXPECT_EQ(source->info().dims, glm::u32vec3(kColumns, kRows, 3)) << given;
+    EXPECT_EQ(readSlab<int16_t>(*source, 0, 3), expectedCt<int16_t>(3)) << given;
+  }
+
+  // A second series, in a folder of its own: the search lists both, each with an image to give instead.
+  std::filesystem::create_directories(study / "SE000001");
+  DicomSliceSpec mr = ctSlice(0);
+  mr.seriesUid = "1.2.826.0.1.3680043.9.7607.2";
+  mr.modality = "MR";
+  writeDicomSlice((study / "SE000001" / "IM0").string(), mr);
   const std::string error = errorOf(disc.path().string());
-  EXPECT_NE(error.find("has no DICOM images"), std::string::npos) << error;
-  EXPECT_NE(error.find("give the subfolder that holds it"), std::string::npos) << error;
-  EXPECT_EQ(openVolumeSource((disc / "SE0001").string())->info().dims.z, 1u);
+  EXPECT_NE(error.find("holds 2 series in its folders"), std::string::npos) << error;
+  EXPECT_NE(error.find("MR, 1 image, e.g. " + (study / "SE000001" / "IM0").string()), std::string::npos)
+      << error;
+  EXPECT_EQ(openVolumeSource((study / "SE000000" / "IM0").string())->info().dims.z, 3u);
+  EXPECT_EQ(errorOf((disc / "DICOMDIR").string()), error);
+
+  // Deeper than the search goes: the folder is said to have no images.
+  const TempDir deep;
+  testing::writeDicomWithoutImage(deep.file("DICOMDIR"));
+  std::filesystem::path folder = deep.path();
+  for (int level = 0; level <= kDicomSearchDepth; ++level) folder /= numbered("L", uint64_t(level));
+  std::filesystem::create_directories(folder);
+  writeDicomSlice((folder / "IM1").string(), ctSlice(0));
+  const std::string tooDeep = errorOf(deep.path().string());
+  EXPECT_NE(tooDeep.find("has no DICOM images"), std::string::npos) << tooDeep;
+  EXPECT_EQ(openVolumeSource(folder.parent_path().string())->info().dims.z, 1u);
 }
 
 TEST(SourceDicom, OneImageChoosesItsSeriesAndAFolderOfSeveralIsRefused) {
