@@ -13,8 +13,10 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <vector>
@@ -331,15 +333,65 @@ class DicomMultiFrameSource final : public VolumeSource {
   VolumeInfo info_;
 };
 
+// The normal of an Image Orientation (Patient) (row and column directions); throws naming `what` where the
+// two are not perpendicular unit vectors.
+glm::dvec3 normalOf(const std::vector<double>& o, const std::string& what) {
+  const glm::dvec3 normal = glm::cross(glm::dvec3(o[0], o[1], o[2]), glm::dvec3(o[3], o[4], o[5]));
+  if (!(glm::length(normal) > 0.5))
+    throw Error(what +
+                " has Image Orientation (Patient) whose directions are not perpendicular unit vectors");
+  return normal;
+}
+
+// Where images lie along their normal: their order (stable) and the average gap between neighbours.
+struct StackOrder {
+  std::vector<size_t> order;      // order[k]: the image stacked k-th
+  std::optional<double> spacing;  // with two images or more
+};
+
+// The order of `positions` along `normal`. Uneven gaps (a missing slice) and positions off the normal (a
+// tilted gantry) are noted in `notes`, which call the images `what` ("the DICOM slices"); two at one position
+// throw samePosition(a, b), the message naming them.
+StackOrder stackAlongNormal(const std::vector<glm::dvec3>& positions, const glm::dvec3& normal,
+                            const std::string& what,
+                            const std::function<std::string(size_t, size_t)>& samePosition,
+                            std::vector<std::string>& notes) {
+  StackOrder stack;
+  stack.order.resize(positions.size());
+  std::iota(stack.order.begin(), stack.order.end(), size_t(0));
+  std::stable_sort(stack.order.begin(), stack.order.end(), [&](size_t a, size_t b) {
+    return glm::dot(positions[a], normal) < glm::dot(positions[b], normal);
+  });
+  if (positions.size() < 2) return stack;
+  const glm::dvec3 lowest = positions[stack.order.front()], highest = positions[stack.order.back()];
+  const double extent = glm::dot(highest - lowest, normal);
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (size_t k = 1; k < positions.size(); ++k) {
+    const size_t below = stack.order[k - 1], above = stack.order[k];
+    const double gap = glm::dot(positions[above] - positions[below], normal);
+    if (gap <= 1e-6 * std::max(1.0, std::abs(extent))) throw Error(samePosition(below, above));
+    smallest = std::min(smallest, gap);
+    largest = std::max(largest, gap);
+  }
+  stack.spacing = extent / double(positions.size() - 1);
+  if (largest - smallest > 0.01 * *stack.spacing)
+    notes.push_back("the gaps between " + what + " vary from " + formatNumber(smallest) + " to " +
+                    formatNumber(largest) + " (a missing slice?); they are stacked " +
+                    formatNumber(*stack.spacing) + " apart, the average");
+  if (glm::length(highest - lowest - extent * normal) > 0.01 * std::abs(extent))
+    notes.push_back("the positions of " + what +
+                    " do not lie along their normal (a tilted gantry?); they are stacked unsheared");
+  return stack;
+}
+
 // Sorts a series' slices into the order they are stacked in, and returns the spacing between them where their
 // positions say it. What a person should hear about the stacking goes to `notes`.
 std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::string& listed,
                                   std::vector<std::string>& notes) {
   const bool positioned = std::all_of(slices.begin(), slices.end(),
                                       [](const DicomImage& s) { return s.position && s.orientation; });
-  std::optional<double> sliceSpacing;
   if (positioned) {
-    // Every image is oriented as the first listed; the slices are then sorted along that normal.
+    // Every image is oriented as the first listed, whose normal orders them.
     const DicomImage& listedFirst = slices.front();
     for (const DicomImage& slice : slices)
       for (size_t i = 0; i < 6; ++i)
@@ -348,50 +400,32 @@ std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::st
               "DICOM image " + slice.path + " is oriented otherwise than " + listedFirst.path +
               " (Image Orientation (Patient)); a series of one orientation is read (a localizer among "
               "the slices?)");
-    const std::vector<double>& o = *listedFirst.orientation;
-    const glm::dvec3 normal = glm::cross(glm::dvec3(o[0], o[1], o[2]), glm::dvec3(o[3], o[4], o[5]));
-    if (!(glm::length(normal) > 0.5))
-      throw Error("DICOM image " + listedFirst.path +
-                  " has Image Orientation (Patient) whose directions are not " +
-                  "perpendicular unit vectors");
-    std::stable_sort(slices.begin(), slices.end(), [&](const DicomImage& a, const DicomImage& b) {
-      return glm::dot(*a.position, normal) < glm::dot(*b.position, normal);
-    });
-    if (slices.size() > 1) {
-      const glm::dvec3 lowest = *slices.front().position, highest = *slices.back().position;
-      const double extent = glm::dot(highest - lowest, normal);
-      double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
-      for (size_t z = 1; z < slices.size(); ++z) {
-        const double gap = glm::dot(*slices[z].position - *slices[z - 1].position, normal);
-        if (gap <= 1e-6 * std::max(1.0, std::abs(extent)))
-          throw Error(
-              "DICOM images " + slices[z - 1].path + " and " + slices[z].path +
-              " lie at one position; a series of one image per position is read (several acquisitions "
-              "or echoes in one series?)");
-        smallest = std::min(smallest, gap);
-        largest = std::max(largest, gap);
-      }
-      sliceSpacing = extent / double(slices.size() - 1);
-      if (largest - smallest > 0.01 * *sliceSpacing)
-        notes.push_back("the gaps between the DICOM slices vary from " + formatNumber(smallest) + " to " +
-                        formatNumber(largest) + " (a missing slice?); they are stacked " +
-                        formatNumber(*sliceSpacing) + " apart, the average");
-      if (glm::length(highest - lowest - extent * normal) > 0.01 * std::abs(extent))
-        notes.push_back(
-            "the DICOM slices' positions do not lie along their normal (a tilted gantry?); they are stacked "
-            "unsheared");
-    }
-  } else if (std::all_of(slices.begin(), slices.end(), [](const DicomImage& s) { return s.instance; })) {
+    const glm::dvec3 normal = normalOf(*listedFirst.orientation, "DICOM image " + listedFirst.path);
+    std::vector<glm::dvec3> positions;
+    for (const DicomImage& slice : slices) positions.push_back(*slice.position);
+    const StackOrder stack = stackAlongNormal(
+        positions, normal, "the DICOM slices",
+        [&](size_t a, size_t b) {
+          return "DICOM images " + slices[a].path + " and " + slices[b].path +
+                 " lie at one position; a series of one image per position is read (several acquisitions "
+                 "or echoes in one series?)";
+        },
+        notes);
+    std::vector<DicomImage> stacked;
+    for (const size_t i : stack.order) stacked.push_back(std::move(slices[i]));
+    slices = std::move(stacked);
+    return stack.spacing;
+  }
+  if (std::all_of(slices.begin(), slices.end(), [](const DicomImage& s) { return s.instance; })) {
     std::stable_sort(slices.begin(), slices.end(),
                      [](const DicomImage& a, const DicomImage& b) { return *a.instance < *b.instance; });
     notes.push_back(
         "the DICOM images have no Image Position and Orientation (Patient); they are stacked by Instance "
         "Number");
-  } else {
-    throw Error("DICOM images of " + listed + " have neither Image Position and Orientation (Patient) nor " +
-                "Instance Number (e.g. " + slices.front().path + "); their order is unknown");
+    return std::nullopt;
   }
-  return sliceSpacing;
+  throw Error("DICOM images of " + listed + " have neither Image Position and Orientation (Patient) nor " +
+              "Instance Number (e.g. " + slices.front().path + "); their order is unknown");
 }
 
 }  // namespace
