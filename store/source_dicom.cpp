@@ -7,7 +7,9 @@
 #include <gdcmImageReader.h>
 #include <gdcmPixelFormat.h>
 #include <gdcmScanner.h>
+#include <gdcmSequenceOfItems.h>
 #include <gdcmTag.h>
+#include <gdcmTrace.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +20,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,7 @@
 
 #include "core/error.h"
 #include "core/number_text.h"
+#include "store/dicom_structure.h"
 
 namespace ropecast {
 namespace {
@@ -38,6 +42,9 @@ const gdcm::Tag kSeriesUid(0x0020, 0x000e), kSeriesNumber(0x0020, 0x0011), kModa
     kPhotometric(0x0028, 0x0004), kBitsAllocated(0x0028, 0x0100), kBitsStored(0x0028, 0x0101),
     kPixelRepresentation(0x0028, 0x0103), kSlope(0x0028, 0x1053), kIntercept(0x0028, 0x1052),
     kSliceThickness(0x0018, 0x0050), kSpacingBetweenSlices(0x0018, 0x0088), kSopClass(0x0008, 0x0016);
+// An enhanced image's functional groups: shared by all frames, per frame, and the two that place a frame.
+const gdcm::Tag kSharedGroups(0x5200, 0x9229), kPerFrameGroups(0x5200, 0x9230),
+    kPlanePosition(0x0020, 0x9113), kPlaneOrientation(0x0020, 0x9116), kPixelMeasures(0x0028, 0x9110);
 
 // The SOP classes of enhanced (and legacy converted enhanced) CT, MR and PET images, whose per-frame
 // functional groups place each frame: GDCM takes the spacing between frames from them.
@@ -45,15 +52,59 @@ constexpr const char* kEnhancedSopClasses[] = {
     "1.2.840.10008.5.1.4.1.1.2.1", "1.2.840.10008.5.1.4.1.1.2.2", "1.2.840.10008.5.1.4.1.1.4.1",
     "1.2.840.10008.5.1.4.1.1.4.4", "1.2.840.10008.5.1.4.1.1.130", "1.2.840.10008.5.1.4.1.1.128.1"};
 
-// A header value as text, trimmed of DICOM's padding; "" when the file does not have it.
-std::string textOf(const gdcm::Scanner& scanner, const std::string& file, const gdcm::Tag& tag) {
-  const char* value = scanner.GetValue(file.c_str(), tag);
-  std::string text = value ? value : "";
+// GDCM's own warnings and errors (an enhanced image's frames out of order, say), kept from stderr: this
+// reader says what matters in its errors and notes, with GDCM's words where it cannot decode a file.
+std::ostringstream& gdcmMessages() {
+  static std::ostringstream messages;
+  return messages;
+}
+
+void captureGdcmMessages() {
+  gdcm::Trace::SetWarningStream(gdcmMessages());
+  gdcm::Trace::SetErrorStream(gdcmMessages());
+  gdcmMessages().str("");
+}
+
+// The last line GDCM wrote since captureGdcmMessages, as ": LINE" ("" when none).
+std::string gdcmWords() {
+  std::istringstream lines(gdcmMessages().str());
+  std::string line, last;
+  while (std::getline(lines, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  return last.empty() ? "" : ": " + last;
+}
+
+// `text` without DICOM's padding (spaces and NULs) at either end.
+std::string withoutPadding(std::string text) {
   const auto padding = [](unsigned char c) { return c == ' ' || c == '\0'; };
   while (!text.empty() && padding(text.back())) text.pop_back();
   size_t start = 0;
   while (start < text.size() && padding(text[start])) ++start;
   return text.substr(start);
+}
+
+// A header value as text, trimmed of DICOM's padding; "" when the file does not have it.
+std::string textOf(const gdcm::Scanner& scanner, const std::string& file, const gdcm::Tag& tag) {
+  const char* value = scanner.GetValue(file.c_str(), tag);
+  return withoutPadding(value ? value : "");
+}
+
+// The items of the sequence `tag` in `ds` (null when it has none): held, because GDCM may parse them anew.
+gdcm::SmartPointer<gdcm::SequenceOfItems> itemsOf(const gdcm::DataSet& ds, const gdcm::Tag& tag) {
+  if (!ds.FindDataElement(tag)) return nullptr;
+  gdcm::SmartPointer<gdcm::SequenceOfItems> items = ds.GetDataElement(tag).GetValueAsSQ();
+  return items && items->GetNumberOfItems() > 0 ? items : nullptr;
+}
+
+// The text of `tag` in the first item of the functional group `group` (Plane Position, say) of a frame's or
+// the shared groups `groups`; "" when any of them is missing.
+std::string groupText(const gdcm::DataSet& groups, const gdcm::Tag& group, const gdcm::Tag& tag) {
+  const gdcm::SmartPointer<gdcm::SequenceOfItems> items = itemsOf(groups, group);
+  if (!items) return "";
+  const gdcm::DataSet& item = items->GetItem(1).GetNestedDataSet();
+  if (!item.FindDataElement(tag)) return "";
+  const gdcm::ByteValue* value = item.GetDataElement(tag).GetByteValue();
+  return value ? withoutPadding(std::string(value->GetPointer(), value->GetLength())) : "";
 }
 
 // The numbers of a multi-valued header value ("a\b\c"); nullopt when it is missing, has another count, or a
@@ -105,7 +156,11 @@ std::vector<DicomImage> scanImages(const std::vector<std::string>& files, const 
                                kSlope,          kIntercept,     kSliceThickness, kSpacingBetweenSlices,
                                kSopClass})
     scanner.AddTag(tag);
-  if (!scanner.Scan(files)) throw Error("cannot read the DICOM headers in " + where);
+  for (const std::string& file : files)
+    if (const std::string problem = dicomStructureProblem(file); !problem.empty())
+      throw Error("DICOM file " + file + " cannot be read: " + problem);
+  captureGdcmMessages();
+  if (!scanner.Scan(files)) throw Error("cannot read the DICOM headers in " + where + gdcmWords());
   std::vector<DicomImage> images;
   for (const std::string& file : files) {
     if (!scanner.IsKey(file.c_str())) continue;  // a file GDCM could not parse: not an image of the series
@@ -229,13 +284,42 @@ struct DecodedImage {
   std::vector<char> pixels;
   glm::dvec3 spacing{1.0};
   double slope = 1.0, intercept = 0.0;
+  // Where an enhanced image places its frames (its functional groups): a position for every frame, or none,
+  // and the pixel spacing there (GDCM gives none for frames it finds out of order).
+  std::vector<glm::dvec3> framePositions;
+  std::optional<std::vector<double>> frameOrientation, framePixelSpacing;
 };
+
+// The frames' Image Position (Patient) from the per-frame functional groups, and the orientation and pixel
+// spacing from the shared ones (else the first frame's), where `ds` has them for all `frames`.
+void readFramePlacement(const gdcm::DataSet& ds, uint32_t frames, DecodedImage& decoded) {
+  const gdcm::SmartPointer<gdcm::SequenceOfItems> perFrame = itemsOf(ds, kPerFrameGroups);
+  if (!perFrame || perFrame->GetNumberOfItems() != frames) return;
+  const gdcm::SmartPointer<gdcm::SequenceOfItems> shared = itemsOf(ds, kSharedGroups);
+  const auto sharedText = [&](const gdcm::Tag& group, const gdcm::Tag& tag) {
+    const std::string text = shared ? groupText(shared->GetItem(1).GetNestedDataSet(), group, tag) : "";
+    return text.empty() ? groupText(perFrame->GetItem(1).GetNestedDataSet(), group, tag) : text;
+  };
+  const std::string orientation = sharedText(kPlaneOrientation, kOrientation);
+  decoded.framePixelSpacing = numbersOf(sharedText(kPixelMeasures, kPixelSpacing), 2);
+  std::vector<glm::dvec3> positions;
+  for (uint32_t frame = 1; frame <= frames; ++frame) {
+    const auto p =
+        numbersOf(groupText(perFrame->GetItem(frame).GetNestedDataSet(), kPlanePosition, kPosition), 3);
+    if (!p) return;
+    positions.emplace_back((*p)[0], (*p)[1], (*p)[2]);
+  }
+  decoded.frameOrientation = numbersOf(orientation, 6);
+  if (decoded.frameOrientation) decoded.framePositions = std::move(positions);
+}
 
 // Decodes `path`, checking that it holds `frames` gray frames of the size the volume has.
 DecodedImage decodeImage(const std::string& path, glm::u32vec3 dims, uint32_t frames) {
   gdcm::ImageReader reader;
   reader.SetFileName(path.c_str());
-  if (!reader.Read()) throw Error("cannot read DICOM image " + path + " (GDCM could not decode it)");
+  captureGdcmMessages();
+  if (!reader.Read())
+    throw Error("cannot read DICOM image " + path + " (GDCM could not decode it" + gdcmWords() + ")");
   const gdcm::Image& image = reader.GetImage();
   const gdcm::PixelFormat& format = image.GetPixelFormat();
   DecodedImage decoded;
@@ -258,7 +342,18 @@ DecodedImage decodeImage(const std::string& path, glm::u32vec3 dims, uint32_t fr
   decoded.spacing = {image.GetSpacing(0), image.GetSpacing(1), image.GetSpacing(2)};
   decoded.slope = image.GetSlope();
   decoded.intercept = image.GetIntercept();
+  if (frames > 1) readFramePlacement(reader.GetFile().GetDataSet(), frames, decoded);
   return decoded;
+}
+
+// Puts the frames of `image`, each `framePixels` pixels, in `order` (order[k]: the frame to put k-th).
+void reorderFrames(DecodedImage& image, const std::vector<size_t>& order, size_t framePixels) {
+  if (std::is_sorted(order.begin(), order.end())) return;
+  const size_t frameBytes = framePixels * (image.bitsAllocated / 8);
+  std::vector<char> ordered(image.pixels.size());
+  for (size_t k = 0; k < order.size(); ++k)
+    std::memcpy(ordered.data() + k * frameBytes, image.pixels.data() + order[k] * frameBytes, frameBytes);
+  image.pixels = std::move(ordered);
 }
 
 // Pixels [first, first + count) of `image` as stored * slope + intercept, in `type`, into `out`. Bits above
@@ -514,13 +609,28 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
     rescale.slope = decoded.slope;
     rescale.intercept = decoded.intercept;
     info.type = sampleTypeFor(layout, {rescale});
-    // Spacing Between Slices where the header has it (NM, some MR); GDCM's spacing from the functional groups
-    // of enhanced images. Without either the frames are frames in time (a cine), for which GDCM gives Frame
-    // Time as the spacing: they are stacked at the pixel spacing instead.
+    // The frames of an enhanced image that places each one are stacked as a series' slices are, along their
+    // normal. Else Spacing Between Slices where the header has it (NM, some MR), or GDCM's spacing from the
+    // functional groups of enhanced images. Without either the frames are frames in time (a cine), for which
+    // GDCM gives Frame Time as the spacing: they are stacked at the pixel spacing instead.
     const bool enhanced = std::find(std::begin(kEnhancedSopClasses), std::end(kEnhancedSopClasses),
                                     first.sopClass) != std::end(kEnhancedSopClasses);
     const std::optional<double> between = numberOf(first.spacingBetweenSlices);
-    if (between && *between > 0) {
+    if (enhanced && !decoded.framePositions.empty()) {
+      const std::string image = "DICOM image " + first.path;
+      const StackOrder stack = stackAlongNormal(
+          decoded.framePositions, normalOf(*decoded.frameOrientation, image), "the frames of " + image,
+          [&](size_t a, size_t b) {
+            return "frames " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " of " + image +
+                   " lie at one position; a multi-frame image of one frame per position is read (several "
+                   "stacks, echoes or time points in one image?)";
+          },
+          notes);
+      reorderFrames(decoded, stack.order, size_t(sliceDims.x) * sliceDims.y);
+      if (stack.spacing) decoded.spacing.z = *stack.spacing;
+      if (const auto& pixel = decoded.framePixelSpacing; pixel && (*pixel)[0] > 0 && (*pixel)[1] > 0)
+        decoded.spacing.x = (*pixel)[1], decoded.spacing.y = (*pixel)[0];  // row spacing first
+    } else if (between && *between > 0) {
       decoded.spacing.z = *between;
     } else if (!enhanced) {
       decoded.spacing.z = decoded.spacing.x;

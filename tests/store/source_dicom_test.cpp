@@ -5,7 +5,8 @@
 // Instance Number where positions are missing, notes for uneven gaps and tilted positions, a round trip
 // through the converter, and each bad series (several in one folder, one position twice, sizes or
 // orientations that differ, a multi-frame image among others, color images, a DICOM folder with image slices)
-// giving an error that names the files. A multi-frame image is a volume of its frames.
+// giving an error that names the files. A multi-frame image is a volume of its frames, stacked by their
+// positions where an enhanced image gives them.
 #include "store/source_dicom.h"
 
 #include <cmath>
@@ -148,6 +149,43 @@ TEST(SourceDicom, AMultiFrameImageIsAVolumeOfItsFrames) {
     EXPECT_EQ(readSlab<int16_t>(*source, 2, 1),
               std::vector<int16_t>(all.begin() + 2 * kColumns * kRows, all.end()));
   }
+}
+
+TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
+  // Four frames 2 apart along z, stored in the order 2, 0, 3, 1 (Slice Thickness 1, which is not the
+  // spacing).
+  const uint32_t storedAt[] = {2, 0, 3, 1};
+  DicomSliceSpec spec = ctSlice(0);
+  spec.frames = 4;
+  spec.stored.clear();
+  for (const uint32_t z : storedAt) {
+    for (const int64_t stored : storedValues(z)) spec.stored.push_back(stored);
+    spec.framePositions.push_back(glm::dvec3(-10.0, 20.0, 30.0 + 2.0 * z));
+  }
+  const TempDir dir;
+  writeDicomSlice(dir.file("enhanced.dcm"), spec);
+  const auto source = openVolumeSource(dir.file("enhanced.dcm"));
+  const VolumeInfo& info = source->info();
+  EXPECT_EQ(info.dims, glm::u32vec3(kColumns, kRows, 4));
+  EXPECT_EQ(info.type, SampleType::Int16);  // the rescale of the shared functional groups
+  EXPECT_EQ(info.spacing, glm::dvec3(0.5, 0.75, 2.0));
+  EXPECT_TRUE(info.notes.empty()) << info.notes.front();
+  EXPECT_EQ(readSlab<int16_t>(*source, 0, 4), expectedCt<int16_t>(4));
+
+  // A missing frame is noted; two frames at one position (two stacks in one image) are refused.
+  spec.framePositions[2].z += 2.0;
+  const TempDir gaps, twice;
+  writeDicomSlice(gaps.file("gap.dcm"), spec);
+  const auto gap = openVolumeSource(gaps.file("gap.dcm"));
+  ASSERT_EQ(gap->info().notes.size(), 1u);
+  EXPECT_NE(gap->info().notes[0].find("the gaps between the frames of DICOM image"), std::string::npos)
+      << gap->info().notes[0];
+  spec.framePositions[2] = spec.framePositions[0];
+  writeDicomSlice(twice.file("twice.dcm"), spec);
+  const std::string error = errorOf(twice.file("twice.dcm"));
+  EXPECT_NE(error.find("frames 1 and 3 of DICOM image " + twice.file("twice.dcm") + " lie at one position"),
+            std::string::npos)
+      << error;
 }
 
 TEST(SourceDicom, TypesFollowTheRescale) {

@@ -2,6 +2,7 @@
 
 #include <gdcmAttribute.h>
 #include <gdcmFile.h>
+#include <gdcmSequenceOfItems.h>
 #include <gdcmUIDGenerator.h>
 #include <gdcmWriter.h>
 
@@ -18,6 +19,55 @@ void put(gdcm::DataSet& ds, const T& value) {
   ds.Replace(attribute.GetAsDataElement());
 }
 
+// A sequence of `items` under `tag`.
+gdcm::DataElement sequenceOf(const gdcm::Tag& tag, const std::vector<gdcm::DataSet>& items) {
+  gdcm::SmartPointer<gdcm::SequenceOfItems> sequence = new gdcm::SequenceOfItems();
+  sequence->SetLengthToUndefined();
+  for (const gdcm::DataSet& nested : items) {
+    gdcm::Item item;
+    item.SetVLToUndefined();
+    item.SetNestedDataSet(nested);
+    sequence->AddItem(item);
+  }
+  gdcm::DataElement element(tag);
+  element.SetVR(gdcm::VR::SQ);
+  element.SetValue(*sequence);
+  element.SetVLToUndefined();
+  return element;
+}
+
+// An Enhanced CT image's functional groups (DicomSliceSpec::framePositions).
+void putFunctionalGroups(gdcm::DataSet& ds, const DicomSliceSpec& spec) {
+  gdcm::DataSet measures, orientation, rescale, shared;
+  if (spec.pixelSpacing) {
+    gdcm::Attribute<0x0028, 0x0030> spacing = {{spec.pixelSpacing->x, spec.pixelSpacing->y}};
+    measures.Replace(spacing.GetAsDataElement());
+  }
+  put<0x0018, 0x0050>(measures, 1.0);  // Slice Thickness, unlike the positions' spacing
+  shared.Replace(sequenceOf(gdcm::Tag(0x0028, 0x9110), {measures}));
+  if (spec.orientation) {
+    gdcm::Attribute<0x0020, 0x0037> value;
+    for (unsigned i = 0; i < 6; ++i) value.SetValue((*spec.orientation)[i], i);
+    orientation.Replace(value.GetAsDataElement());
+    shared.Replace(sequenceOf(gdcm::Tag(0x0020, 0x9116), {orientation}));
+  }
+  put<0x0028, 0x1053>(rescale, spec.slope.value_or(1.0));
+  put<0x0028, 0x1052>(rescale, spec.intercept.value_or(0.0));
+  put<0x0028, 0x1054>(rescale, "HU");
+  shared.Replace(sequenceOf(gdcm::Tag(0x0028, 0x9145), {rescale}));
+  ds.Replace(sequenceOf(gdcm::Tag(0x5200, 0x9229), {shared}));
+
+  std::vector<gdcm::DataSet> frames;
+  for (const glm::dvec3& p : spec.framePositions) {
+    gdcm::DataSet position, frame;
+    gdcm::Attribute<0x0020, 0x0032> value = {{p.x, p.y, p.z}};
+    position.Replace(value.GetAsDataElement());
+    frame.Replace(sequenceOf(gdcm::Tag(0x0020, 0x9113), {position}));
+    frames.push_back(frame);
+  }
+  ds.Replace(sequenceOf(gdcm::Tag(0x5200, 0x9230), frames));
+}
+
 // The writer's own file is filled: gdcm::File is reference-counted, and a writer given one frees it.
 void write(const std::string& path, gdcm::Writer& writer) {
   writer.GetFile().GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
@@ -31,28 +81,31 @@ void writeDicomSlice(const std::string& path, const DicomSliceSpec& spec) {
   gdcm::Writer writer;
   gdcm::DataSet& ds = writer.GetFile().GetDataSet();
   gdcm::UIDGenerator uids;
-  put<0x0008, 0x0016>(ds, "1.2.840.10008.5.1.4.1.1.2");  // CT Image Storage
+  const bool enhanced = !spec.framePositions.empty();
+  put<0x0008, 0x0016>(ds, enhanced ? "1.2.840.10008.5.1.4.1.1.2.1"  // Enhanced CT Image Storage
+                                   : "1.2.840.10008.5.1.4.1.1.2");  // CT Image Storage
   put<0x0008, 0x0018>(ds, uids.Generate());
   put<0x0020, 0x000d>(ds, "1.2.826.0.1.3680043.9.7607.0");
   put<0x0020, 0x000e>(ds, spec.seriesUid.c_str());
   put<0x0008, 0x0060>(ds, spec.modality.c_str());
   if (!spec.seriesDescription.empty()) put<0x0008, 0x103e>(ds, spec.seriesDescription.c_str());
   if (spec.instance) put<0x0020, 0x0013>(ds, *spec.instance);
-  if (spec.position) {
+  if (enhanced) putFunctionalGroups(ds, spec);
+  if (spec.position && !enhanced) {
     gdcm::Attribute<0x0020, 0x0032> position = {{spec.position->x, spec.position->y, spec.position->z}};
     ds.Replace(position.GetAsDataElement());
   }
-  if (spec.orientation) {
+  if (spec.orientation && !enhanced) {
     gdcm::Attribute<0x0020, 0x0037> orientation;
     for (unsigned i = 0; i < 6; ++i) orientation.SetValue((*spec.orientation)[i], i);
     ds.Replace(orientation.GetAsDataElement());
   }
-  if (spec.pixelSpacing) {
+  if (spec.pixelSpacing && !enhanced) {
     gdcm::Attribute<0x0028, 0x0030> spacing = {{spec.pixelSpacing->x, spec.pixelSpacing->y}};
     ds.Replace(spacing.GetAsDataElement());
   }
-  if (spec.slope) put<0x0028, 0x1053>(ds, *spec.slope);
-  if (spec.intercept) put<0x0028, 0x1052>(ds, *spec.intercept);
+  if (spec.slope && !enhanced) put<0x0028, 0x1053>(ds, *spec.slope);
+  if (spec.intercept && !enhanced) put<0x0028, 0x1052>(ds, *spec.intercept);
   if (spec.frames) put<0x0028, 0x0008>(ds, int32_t(*spec.frames));
   if (spec.spacingBetweenSlices) put<0x0018, 0x0088>(ds, *spec.spacingBetweenSlices);
   put<0x0028, 0x0002>(ds, spec.samplesPerPixel);

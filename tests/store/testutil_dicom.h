@@ -13,7 +13,8 @@
 
 namespace ropecast::testing {
 
-// One single-frame image, in Explicit VR Little Endian. Header values left empty or unset are not written.
+// One image (several frames where `frames` says so), in Explicit VR Little Endian. Header values left empty
+// or unset are not written.
 struct DicomSliceSpec {
   uint32_t columns = 5, rows = 4;
   uint16_t bitsAllocated = 16, bitsStored = 12;
@@ -28,6 +29,10 @@ struct DicomSliceSpec {
       glm::dvec2(0.75, 0.5);       // as the header orders it: row spacing first
   std::optional<uint32_t> frames;  // Number of Frames: `stored` holds them one after another
   std::optional<double> spacingBetweenSlices;
+  // Written as an Enhanced CT image when set (one position per frame): the positions in the per-frame
+  // functional groups, the orientation, pixel spacing (with a Slice Thickness of 1) and rescale in the shared
+  // ones, none of them at the top level.
+  std::vector<glm::dvec3> framePositions;
   std::string seriesUid = "1.2.826.0.1.3680043.9.7607.1";
   std::string modality = "CT", seriesDescription, photometric = "MONOCHROME2";
 };
