@@ -78,7 +78,7 @@ void removeTemporariesAndDie(int signal) {
   // The children first: their temporaries may lie in a temporary folder of ours.
   for (auto& child : childSlots)
     if (const pid_t pid = child.load(); pid > 0) {
-      ::kill(pid, signal);
+      ::kill(pid, signal == SIGABRT ? SIGTERM : signal);  // our abort is not the child's
       ::kill(pid, SIGCONT);  // a stopped child (Ctrl-Z) would never end, nor this wait for it
     }
   for (auto& child : childSlots)
@@ -192,7 +192,8 @@ TemporaryFile::~TemporaryFile() {
 }
 
 void removeTemporaryFilesOnSignals() {
-  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) std::signal(signal, removeTemporariesAndDie);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGABRT})
+    std::signal(signal, removeTemporariesAndDie);
   // Past the file size limit (ulimit -f) a write then fails with EFBIG, which the writers report and clean
   // up after like a full disk, instead of the process dying with its temporary left behind.
   std::signal(SIGXFSZ, SIG_IGN);

@@ -73,10 +73,11 @@ class TemporaryFolder {
   int signalSlot_ = -1;
 };
 
-// For the command-line tools: installs SIGINT/SIGTERM/SIGHUP/SIGQUIT/SIGPIPE handlers that remove every
-// TemporaryFile still open in the process (async-signal-safe: unlink only) and then die of the signal as
-// before, so an interrupted convert, extract or render leaves nothing behind either; ignores SIGXFSZ, so that
-// a write past the file size limit fails (EFBIG) as on a full disk. Main thread, once.
+// For the command-line tools: installs SIGINT/SIGTERM/SIGHUP/SIGQUIT/SIGPIPE/SIGABRT handlers that remove
+// every TemporaryFile still open in the process (async-signal-safe: unlink only) and then die of the signal
+// as before, so an interrupted convert, extract or render, or one a library aborts (GDCM asserts on some
+// damaged DICOM files), leaves nothing behind either; ignores SIGXFSZ, so that a write past the file size
+// limit fails (EFBIG) as on a full disk. Main thread, once.
 void removeTemporaryFilesOnSignals();
 
 // A child process (posix_spawn) that the handlers of removeTemporaryFilesOnSignals pass their signal on to,

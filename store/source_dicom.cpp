@@ -3,6 +3,9 @@
 // (JPEG, JPEG-LS, JPEG 2000, RLE).
 #include "store/source_dicom.h"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmPixelFormat.h>
@@ -12,12 +15,14 @@
 #include <gdcmTrace.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -73,6 +78,41 @@ std::string gdcmWords() {
     if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
   return last.empty() ? "" : ": " + last;
 }
+
+// GDCM, as Debian builds it, asserts (aborts) on some damaged files that the structure check passes. While it
+// reads one, an abort first says which file, then goes on to the handler that was there before (a command's,
+// which removes its temporaries: core/temporary_file.h) and dies of it.
+std::atomic<const char*> fileInGdcm{nullptr};
+struct sigaction abortBeforeGdcm {};
+
+void sayWhichFileGdcmStoppedOn(int) {
+  if (const char* file = fileInGdcm.load()) {
+    const auto say = [](const char* text) { [[maybe_unused]] auto n = ::write(2, text, std::strlen(text)); };
+    say("ropecast: error: GDCM stopped on the DICOM file ");
+    say(file);
+    say(", which is damaged or of a form it cannot read\n");
+  }
+  ::sigaction(SIGABRT, &abortBeforeGdcm, nullptr);
+  ::raise(SIGABRT);
+}
+
+// Names `file` (a path, or a folder being scanned) to an abort while it lives. One reading thread at a time.
+class GdcmReading {
+ public:
+  explicit GdcmReading(const std::string& file) {
+    static std::once_flag installed;
+    std::call_once(installed, [] {
+      struct sigaction action {};
+      action.sa_handler = sayWhichFileGdcmStoppedOn;
+      sigemptyset(&action.sa_mask);
+      ::sigaction(SIGABRT, &action, &abortBeforeGdcm);
+    });
+    fileInGdcm.store(file.c_str());
+  }
+  ~GdcmReading() { fileInGdcm.store(nullptr); }
+  GdcmReading(const GdcmReading&) = delete;
+  GdcmReading& operator=(const GdcmReading&) = delete;
+};
 
 // `text` without DICOM's padding (spaces and NULs) at either end.
 std::string withoutPadding(std::string text) {
@@ -160,6 +200,7 @@ std::vector<DicomImage> scanImages(const std::vector<std::string>& files, const 
     if (const std::string problem = dicomStructureProblem(file); !problem.empty())
       throw Error("DICOM file " + file + " cannot be read: " + problem);
   captureGdcmMessages();
+  const GdcmReading reading(where);
   if (!scanner.Scan(files)) throw Error("cannot read the DICOM headers in " + where + gdcmWords());
   std::vector<DicomImage> images;
   for (const std::string& file : files) {
@@ -318,6 +359,7 @@ DecodedImage decodeImage(const std::string& path, glm::u32vec3 dims, uint32_t fr
   gdcm::ImageReader reader;
   reader.SetFileName(path.c_str());
   captureGdcmMessages();
+  const GdcmReading reading(path);
   if (!reader.Read())
     throw Error("cannot read DICOM image " + path + " (GDCM could not decode it" + gdcmWords() + ")");
   const gdcm::Image& image = reader.GetImage();

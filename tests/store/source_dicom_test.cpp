@@ -188,6 +188,27 @@ TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
       << error;
 }
 
+TEST(SourceDicomDeathTest, AnAbortInGdcmNamesTheFile) {
+  // An enhanced image whose frames have positions but no orientation: GDCM asserts while it computes their
+  // spacing. The process still dies (of SIGABRT), having said which file stopped it.
+  DicomSliceSpec spec = ctSlice(0);
+  spec.frames = 2;
+  spec.stored.clear();
+  for (uint32_t z = 0; z < 2; ++z)
+    for (const int64_t stored : storedValues(z)) spec.stored.push_back(stored);
+  spec.framePositions = {glm::dvec3(0.0), glm::dvec3(0.0, 0.0, 1.0)};
+  spec.orientation.reset();
+  // The death test runs this again in a process of its own (other threads are running), which dies before
+  // it can remove a folder: both use one folder, which this process removes.
+  const std::filesystem::path folder = std::filesystem::path(ROPECAST_BINARY_DIR) / "dicom_death_test";
+  std::filesystem::create_directories(folder);
+  const std::string file = (folder / "unoriented.dcm").string();
+  writeDicomSlice(file, spec);
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_DEATH(openVolumeSource(file), "GDCM stopped on the DICOM file " + file + ", which is damaged");
+  std::filesystem::remove_all(folder);
+}
+
 TEST(SourceDicom, TypesFollowTheRescale) {
   struct Case {
     uint16_t bitsAllocated, bitsStored;
