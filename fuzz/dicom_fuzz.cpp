@@ -9,29 +9,13 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "core/error.h"
 #include "core/sample_type.h"
+#include "fuzz/fuzz_input_file.h"
 #include "store/source_dicom.h"
 
-namespace {
-
-const std::string& inputPath() {
-  static const std::string path = [] {
-    char folder[] = "/tmp/ropecast_dicom_fuzz_XXXXXX";
-    if (!mkdtemp(folder)) std::abort();
-    return std::string(folder) + "/image.dcm";
-  }();
-  return path;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string& path = inputPath();
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
+  const std::string& path = ropecast::fuzz::writeInputFile("image.dcm", data, size);
   try {
     const auto source = ropecast::openDicomSource(path, {});
     const ropecast::VolumeInfo& info = source->info();

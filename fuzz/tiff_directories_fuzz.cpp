@@ -8,30 +8,12 @@
 #include <optional>
 #include <string>
 
-#include <unistd.h>
-
 #include "core/error.h"
+#include "fuzz/fuzz_input_file.h"
 #include "store/tiff_directories.h"
 
-namespace {
-
-const std::string& inputPath() {
-  static const std::string path = [] {
-    char name[] = "/tmp/ropecast_tiff_fuzz_XXXXXX";
-    const int fd = mkstemp(name);
-    if (fd < 0) std::abort();
-    close(fd);
-    return std::string(name);
-  }();
-  return path;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string& path = inputPath();
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
+  const std::string& path = ropecast::fuzz::writeInputFile("pages.tif", data, size);
   try {
     const std::optional<int> pages = ropecast::tiffPageCount(path);
     if (pages && *pages < 0) std::abort();

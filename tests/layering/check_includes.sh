@@ -20,7 +20,7 @@ declare -A allowed=(
   [reference]="core store index reference"
   [occlusion]="core store occlusion"
   [render]="core store loader index occlusion shaders render"
-  [fuzz]="core store"
+  [fuzz]="core store fuzz"
 )
 gl_headers='^(epoxy|EGL|GL|GLES[0-9]*|GLFW)/'
 
