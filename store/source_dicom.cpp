@@ -377,9 +377,20 @@ DecodedImage decodeImage(const std::string& path, glm::u32vec3 dims, uint32_t fr
                 std::to_string(format.GetSamplesPerPixel()) + " samples of " + std::to_string(bits) +
                 " bits; its header says " + std::to_string(frames) + " of " + std::to_string(dims.x) + "x" +
                 std::to_string(dims.y) + " of 1 sample");
+  // GDCM copies native (uncompressed) pixel data as long as the image's size says, past the end of an
+  // element that is shorter.
+  const size_t bytes = size_t(dims.x) * dims.y * frames * (bits / 8);
+  if (const gdcm::DataElement& data = image.GetDataElement(); !data.GetSequenceOfFragments()) {
+    const gdcm::ByteValue* value = data.GetByteValue();
+    if (!value || uint64_t(value->GetLength()) < bytes)
+      throw Error("cannot read DICOM image " + path + ": its pixel data holds " +
+                  std::to_string(value ? uint64_t(value->GetLength()) : uint64_t(0)) +
+                  " bytes, and its header says " + std::to_string(bytes) + " (" + std::to_string(frames) +
+                  " frame(s) of " + std::to_string(dims.x) + "x" + std::to_string(dims.y) + " pixels of " +
+                  std::to_string(bits) + " bits)");
+  }
   decoded.pixels.resize(image.GetBufferLength());
-  if (decoded.pixels.size() < size_t(dims.x) * dims.y * frames * (bits / 8) ||
-      !image.GetBuffer(decoded.pixels.data()))
+  if (decoded.pixels.size() < bytes || !image.GetBuffer(decoded.pixels.data()))
     throw Error("cannot read DICOM image " + path + ": its pixel data is shorter than its header says");
   decoded.spacing = {image.GetSpacing(0), image.GetSpacing(1), image.GetSpacing(2)};
   decoded.slope = image.GetSlope();

@@ -209,6 +209,20 @@ TEST(SourceDicomDeathTest, AnAbortInGdcmNamesTheFile) {
   std::filesystem::remove_all(folder);
 }
 
+TEST(SourceDicom, PixelDataShorterThanTheSizeIsRefused) {
+  // A whole file (its elements end where they say) whose pixel data holds 2 of the 3 frames its header says.
+  DicomSliceSpec spec = ctSlice(0);
+  spec.frames = 3;
+  spec.stored.assign(size_t(kColumns) * kRows * 3, 100);
+  spec.pixelDataBytes = size_t(kColumns) * kRows * 2 * 2;
+  const TempDir dir;
+  writeDicomSlice(dir.file("short.dcm"), spec);
+  const std::string error = errorOf(dir.file("short.dcm"));
+  EXPECT_NE(error.find("its pixel data holds 80 bytes, and its header says 120 (3 frame(s) of 5x4 pixels"),
+            std::string::npos)
+      << error;
+}
+
 TEST(SourceDicom, TypesFollowTheRescale) {
   struct Case {
     uint16_t bitsAllocated, bitsStored;

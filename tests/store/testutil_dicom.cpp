@@ -120,8 +120,9 @@ void writeDicomSlice(const std::string& path, const DicomSliceSpec& spec) {
 
   const size_t samples = size_t(spec.rows) * spec.columns * spec.samplesPerPixel * spec.frames.value_or(1);
   const size_t bytesPerSample = spec.bitsAllocated / 8;
-  std::vector<char> bytes((samples * bytesPerSample + 1) / 2 * 2, 0);  // even length, as DICOM requires
-  for (size_t i = 0; i < samples && i < spec.stored.size(); ++i) {
+  std::vector<char> bytes(spec.pixelDataBytes ? spec.pixelDataBytes : (samples * bytesPerSample + 1) / 2 * 2,
+                          0);  // even length, as DICOM requires
+  for (size_t i = 0; i < samples && i < spec.stored.size() && (i + 1) * bytesPerSample <= bytes.size(); ++i) {
     // Two's complement within the allocated bits: the bits above Bits Stored copy the sign, as writers do.
     const uint64_t raw = uint64_t(spec.stored[i]);
     std::memcpy(bytes.data() + i * bytesPerSample, &raw, bytesPerSample);  // little-endian host

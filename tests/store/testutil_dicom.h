@@ -33,6 +33,9 @@ struct DicomSliceSpec {
   // functional groups, the orientation, pixel spacing (with a Slice Thickness of 1) and rescale in the shared
   // ones, none of them at the top level.
   std::vector<glm::dvec3> framePositions;
+  // The pixel data's length in bytes where it is not what the size says (a file that lies about it); 0: the
+  // size's.
+  size_t pixelDataBytes = 0;
   std::string seriesUid = "1.2.826.0.1.3680043.9.7607.1";
   std::string modality = "CT", seriesDescription, photometric = "MONOCHROME2";
 };
