@@ -72,8 +72,9 @@ class StructureWalker {
         return fail("the file meta element " + tagText(h.tag) + " at byte " + std::to_string(h.at) +
                     " has an undefined length");
       if (h.tag == kMetaGroupLength && h.length == 4) {
-        const uint64_t metaEnd = pos_ + 4 + u32(Syntax{});
-        if (metaEnd > size_) return fail(cutShort("the file meta group"));
+        if (size_ - pos_ < 4) return fail(cutShort("the file meta group"));
+        const uint64_t groupLength = u32(Syntax{});  // the bytes of the group after this element
+        if (pos_ + groupLength > size_) return fail(cutShort("the file meta group"));
       } else if (h.tag == kTransferSyntax && h.length <= 64) {
         std::string value(h.length, '\0');
         if (!bytes(value.data(), value.size())) return fail(cutShort("the Transfer Syntax UID"));
