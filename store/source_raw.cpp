@@ -26,8 +26,7 @@ class RawSource final : public VolumeSource {
     // At most 2^60 samples of at most 8 bytes, after a header of at most kMaxRawHeaderBytes: no overflow.
     const uint64_t dataBytes = info_.sampleCount() * bytesPerSample(info_.type);
     const uint64_t expected = headerBytes_ + dataBytes;
-    const std::string volume = std::to_string(info_.dims.x) + "x" + std::to_string(info_.dims.y) + "x" +
-                               std::to_string(info_.dims.z) + " " + std::string(sampleTypeName(info_.type));
+    const std::string volume = formatDims(info_.dims) + " " + std::string(sampleTypeName(info_.type));
     if (file_.sizeBytes() != expected)
       throw Error("raw file " + path + ": size is " + std::to_string(file_.sizeBytes()) +
                   " bytes, expected " + std::to_string(expected) + " (" +
@@ -86,8 +85,7 @@ std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const Sourc
   }
   // Before the size check, whose product of dims would overflow.
   if (!isValidDims(info.dims))
-    throw Error("raw file " + path + ": dimensions " + std::to_string(info.dims.x) + "x" +
-                std::to_string(info.dims.y) + "x" + std::to_string(info.dims.z) + ": each must be 1 to " +
+    throw Error("raw file " + path + ": dimensions " + formatDims(info.dims) + ": each must be 1 to " +
                 std::to_string(kMaxDimsPerAxis));
   if (options.type) {
     info.type = *options.type;

@@ -64,6 +64,11 @@ inline std::string validSpacingText() {
   return "three numbers in [" + formatNumber(kMinSpacing) + ", " + formatNumber(kMaxSpacing) + "]";
 }
 
+// "XxYxZ", for messages.
+inline std::string formatDims(glm::u32vec3 d) {
+  return std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);
+}
+
 // "SX,SY,SZ" as the command line takes it, for messages.
 inline std::string formatSpacing(glm::dvec3 s) {
   return formatNumber(s.x) + "," + formatNumber(s.y) + "," + formatNumber(s.z);
