@@ -6,6 +6,8 @@
 #include <optional>
 #include <string_view>
 
+#include "core/header_text.h"
+
 namespace ropecast {
 
 // `text` as a number of type T, with blanks (spaces, tabs, line ends) around it and a leading '+' allowed;
@@ -13,11 +15,7 @@ namespace ropecast {
 // callers that need finite values check them.
 template <typename T>
 std::optional<T> parseWholeNumber(std::string_view text) {
-  const auto blank = [](char c) {
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-  };
-  while (!text.empty() && blank(text.front())) text.remove_prefix(1);
-  while (!text.empty() && blank(text.back())) text.remove_suffix(1);
+  text = trimBlanks(text);
   if (!text.empty() && text.front() == '+') {
     text.remove_prefix(1);
     if (!text.empty() && text.front() == '-') return std::nullopt;  // "+-1"

@@ -59,4 +59,14 @@ bool isExactMapping(SampleType t, const ValueMapping& m) {
   return false;
 }
 
+SampleType integerTypeHolding(double lo, double hi, bool eightBitsAllowed) {
+  if (eightBitsAllowed && lo >= 0 && hi <= 255) return SampleType::UInt8;
+  if (eightBitsAllowed && lo >= -128 && hi <= 127) return SampleType::Int8;
+  if (lo >= 0 && hi <= 65535) return SampleType::UInt16;
+  if (lo >= -32768 && hi <= 32767) return SampleType::Int16;
+  if (lo >= 0 && hi <= 4294967295.0) return SampleType::UInt32;
+  if (lo >= -2147483648.0 && hi <= 2147483647.0) return SampleType::Int32;
+  return SampleType::Float32;
+}
+
 }  // namespace ropecast

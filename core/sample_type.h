@@ -149,6 +149,11 @@ inline constexpr std::string_view kSampleTypeList =
 // Accepts the names of kSampleTypeNames in any case; nullopt otherwise.
 std::optional<SampleType> parseSampleType(std::string_view name);
 
+// The narrowest integer type that holds every whole number in [lo, hi] (the 8-bit types only where
+// `eightBitsAllowed`); Float32 where none does. For values a source rescales (DICOM's Rescale Slope and
+// Intercept, NIfTI's scl_slope and scl_inter) with whole slopes and intercepts.
+SampleType integerTypeHolding(double lo, double hi, bool eightBitsAllowed);
+
 // data = stored * scale + offset.
 struct ValueMapping {
   double scale = 1.0;

@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <limits>
 #include <vector>
 
@@ -157,6 +158,54 @@ void FileSamples::read(uint64_t offset, std::span<std::byte> out) {
   inflate_->read(out);
   // The samples' end: the stream's trailer (CRC and length) must follow, else the file was cut.
   if (offset + out.size() == block_.bytes) inflate_->finishMember();
+}
+
+namespace {
+
+class BlockSource final : public VolumeSource {
+ public:
+  BlockSource(VolumeInfo info, std::unique_ptr<FileSamples> samples, bool storedBigEndian)
+      : info_(std::move(info)), samples_(std::move(samples)), bigEndian_(storedBigEndian) {
+    if (info_.type == SampleType::UInt8) {
+      info_.valueMin = 0.0;
+      info_.valueMax = 255.0;
+    }
+  }
+
+  const VolumeInfo& info() const override { return info_; }
+
+ private:
+  void readSlices(uint32_t z0, uint32_t, std::span<std::byte> out) override {
+    samples_->read(uint64_t(z0) * info_.sliceBytes(), out);
+    samplesToNative(out, info_.type, bigEndian_);
+  }
+
+  VolumeInfo info_;
+  std::unique_ptr<FileSamples> samples_;
+  bool bigEndian_;
+};
+
+}  // namespace
+
+std::string pathBesideHeader(const std::string& headerPath, const std::string& fileName) {
+  std::filesystem::path path(fileName);
+  if (path.is_relative()) path = std::filesystem::path(headerPath).parent_path() / path;
+  return path.string();
+}
+
+std::unique_ptr<PosixFile> openDataFile(const std::string& dataPath, const std::string& headerKind,
+                                        const std::string& headerPath, const std::string& fileName) {
+  try {
+    return std::make_unique<PosixFile>(dataPath);
+  } catch (const Error& e) {
+    if (dataPath == headerPath) throw;
+    throw Error(headerKind + " " + headerPath + " names data file " + fileName + ": " + e.what());
+  }
+}
+
+std::unique_ptr<VolumeSource> openBlockSource(VolumeInfo info, std::unique_ptr<FileSamples> samples,
+                                              bool storedBigEndian) {
+  return std::make_unique<BlockSource>(std::move(info), std::move(samples), storedBigEndian);
 }
 
 }  // namespace ropecast

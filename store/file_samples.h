@@ -1,9 +1,11 @@
 // A volume's samples stored as one block of a file, plain or deflated (a gzip or zlib stream), as NRRD,
 // MetaImage and NIfTI files hold them; read by byte range as the sources' slabs ask. Plain blocks are read
 // with pread; deflated ones as a forward stream, which restarts from the block's start when an earlier range
-// is asked for. Used by the file-format VolumeSources (store/).
+// is asked for. Also what the sources of such files share once their header is read: the data file a header
+// names, and the VolumeSource over a block. Used by the file-format VolumeSources (store/).
 //
-// Threads: one thread at a time per object (a deflated stream is per-object state).
+// Threads: FileSamples and the block source, one thread at a time per object (a deflated stream is
+// per-object state); the functions, any thread.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +15,7 @@
 #include <string>
 
 #include "store/source_raw.h"
+#include "store/volume_source.h"
 
 namespace ropecast {
 
@@ -54,5 +57,19 @@ class FileSamples {
   uint64_t rawOffset_ = 0;                  // Raw: file offset of the first sample
   std::unique_ptr<DeflateStream> inflate_;  // Deflated only; reads file_
 };
+
+// The path of the data file a header names (`fileName` as written): relative to the header's folder unless
+// absolute.
+std::string pathBesideHeader(const std::string& headerPath, const std::string& fileName);
+
+// Opens the data file at `dataPath`. When it is not the header's own file, a failure names the header and the
+// file as the header wrote it too: "HEADER_KIND HEADER_PATH names data file FILE_NAME: ...".
+std::unique_ptr<PosixFile> openDataFile(const std::string& dataPath, const std::string& headerKind,
+                                        const std::string& headerPath, const std::string& fileName);
+
+// The VolumeSource whose samples are `samples`, as `info` describes them, stored in the given byte order:
+// what the NRRD and MetaImage sources are once their header is read. Sets the value range of uint8 volumes.
+std::unique_ptr<VolumeSource> openBlockSource(VolumeInfo info, std::unique_ptr<FileSamples> samples,
+                                              bool storedBigEndian);
 
 }  // namespace ropecast

@@ -8,40 +8,12 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/header_text.h"
 #include "core/number_text.h"
+#include "store/volume_source.h"
 
 namespace ropecast {
 namespace {
-
-constexpr size_t kQuoteChars = 60;  // how much of a bad value a message repeats
-
-std::string quoted(std::string_view s) {
-  std::string out(s.substr(0, kQuoteChars));
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
-  return "'" + out + (s.size() > kQuoteChars ? "...'" : "'");
-}
-
-std::string_view trim(std::string_view s) {
-  const auto isSpace = [](char c) {
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-  };
-  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-std::vector<std::string_view> splitWords(std::string_view s) {
-  std::vector<std::string_view> words;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
-    const size_t start = i;
-    while (i < s.size() && s[i] != ' ' && s[i] != '\t') ++i;
-    if (i > start) words.push_back(s.substr(start, i - start));
-  }
-  return words;
-}
 
 std::optional<int64_t> parseInteger(std::string_view s) {
   return parseWholeNumber<int64_t>(s);
@@ -118,14 +90,7 @@ class HeaderParser {
     fail("field '" + std::string(field) + "' (line " + std::to_string(lineNumber_) + "): " + what);
   }
 
-  std::string_view nextLine() {
-    const size_t end = text_.find('\n', pos_);
-    std::string_view line =
-        text_.substr(pos_, end == std::string_view::npos ? std::string_view::npos : end - pos_);
-    pos_ = end == std::string_view::npos ? text_.size() : end + 1;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    return line;
-  }
+  std::string_view nextLine() { return takeLine(text_, pos_); }
 
   void parseMagic() {
     lineNumber_ = 1;
@@ -133,7 +98,7 @@ class HeaderParser {
     const std::string_view magic = nextLine();
     if (!hasNewline || magic.size() != 8 || magic.substr(0, 7) != "NRRD000" || magic[7] < '1' ||
         magic[7] > '9')
-      fail("expected the magic line NRRD0001..NRRD0009 followed by a newline, got " + quoted(magic));
+      fail("expected the magic line NRRD0001..NRRD0009 followed by a newline, got " + quotedExcerpt(magic));
   }
 
   void parseLine(std::string_view line) {
@@ -143,21 +108,22 @@ class HeaderParser {
     if (keyValue != std::string_view::npos && (field == std::string_view::npos || keyValue < field)) return;
     if (field == std::string_view::npos)
       fail("line " + std::to_string(lineNumber_) + ": expected 'field: value' or 'key:=value', got " +
-           quoted(line));
+           quotedExcerpt(line));
     const std::string_view name = line.substr(0, field);
-    const std::string_view value = trim(line.substr(field + 2));
+    const std::string_view value = trimBlanks(line.substr(field + 2));
     if (!seen_.insert(std::string(name)).second) failField(name, "given more than once");
     if (name == "dimension") {
       const auto d = parseInteger(value);
-      if (!d) failField(name, "expected an integer, got " + quoted(value));
+      if (!d) failField(name, "expected an integer, got " + quotedExcerpt(value));
       if (*d != 3) failField(name, "only 3-dimensional volumes are supported, got " + std::to_string(*d));
       dimension_ = true;
     } else if (name == "type") {
       const auto t = parseNrrdType(value);
       if (!t) {
         if (isKnownUnsupportedNrrdType(value))
-          failField(name, "unsupported type " + quoted(value) + "; expected " + std::string(kNrrdTypeList));
-        failField(name, "unknown type " + quoted(value) + "; expected " + std::string(kNrrdTypeList));
+          failField(name,
+                    "unsupported type " + quotedExcerpt(value) + "; expected " + std::string(kNrrdTypeList));
+        failField(name, "unknown type " + quotedExcerpt(value) + "; expected " + std::string(kNrrdTypeList));
       }
       header_.type = *t;
       type_ = true;
@@ -171,7 +137,7 @@ class HeaderParser {
       else if (value == "big")
         header_.bigEndian = true;
       else
-        failField(name, "expected little or big, got " + quoted(value));
+        failField(name, "expected little or big, got " + quotedExcerpt(value));
       endian_ = true;
     } else if (name == "spacings") {
       parseSpacings(name, value);
@@ -180,13 +146,14 @@ class HeaderParser {
     } else if (name == "byte skip") {
       const auto skip = parseInteger(value);
       if (!skip || *skip < -1 || *skip > kMaxSkip)
-        failField(name,
-                  "expected an integer in [-1, " + std::to_string(kMaxSkip) + "], got " + quoted(value));
+        failField(name, "expected an integer in [-1, " + std::to_string(kMaxSkip) + "], got " +
+                            quotedExcerpt(value));
       header_.byteSkip = *skip;
     } else if (name == "line skip") {
       const auto skip = parseInteger(value);
       if (!skip || *skip < 0 || *skip > kMaxSkip)
-        failField(name, "expected an integer in [0, " + std::to_string(kMaxSkip) + "], got " + quoted(value));
+        failField(name, "expected an integer in [0, " + std::to_string(kMaxSkip) + "], got " +
+                            quotedExcerpt(value));
       header_.lineSkip = *skip;
     } else if (name == "data file" || name == "datafile") {
       parseDataFile(name, value);
@@ -196,18 +163,9 @@ class HeaderParser {
   }
 
   void parseSizes(std::string_view name, std::string_view value) {
-    const auto words = splitWords(value);
-    if (words.size() != 3) failField(name, "expected 3 positive integers, got " + quoted(value));
-    uint64_t bytes = 8;  // widest sample; the check must hold whatever type comes later
-    for (int axis = 0; axis < 3; ++axis) {
-      const auto n = parseInteger(words[axis]);
-      if (!n || *n < 1 || *n > int64_t(UINT32_MAX))
-        failField(name, "expected 3 positive integers (each < 2^32), got " + quoted(value));
-      header_.sizes[axis] = uint32_t(*n);
-      if (bytes > kMaxDataBytes / uint64_t(*n))
-        failField(name, quoted(value) + " is too large (more than 2^62 bytes of data)");
-      bytes *= uint64_t(*n);
-    }
+    const SizesText parsed = parseSizesText(value);
+    if (!parsed.problem.empty()) failField(name, parsed.problem);
+    header_.sizes = parsed.sizes;
     sizes_ = true;
   }
 
@@ -218,19 +176,19 @@ class HeaderParser {
       header_.encoding = NrrdEncoding::Gzip;
     } else if (value == "ascii" || value == "text" || value == "txt" || value == "hex" || value == "bzip2" ||
                value == "bz2" || value == "zrl") {
-      failField(name, "unsupported encoding " + quoted(value) + "; expected raw or gzip");
+      failField(name, "unsupported encoding " + quotedExcerpt(value) + "; expected raw or gzip");
     } else {
-      failField(name, "unknown encoding " + quoted(value) + "; expected raw or gzip");
+      failField(name, "unknown encoding " + quotedExcerpt(value) + "; expected raw or gzip");
     }
     encoding_ = true;
   }
 
   void parseSpacings(std::string_view name, std::string_view value) {
     const auto words = splitWords(value);
-    if (words.size() != 3) failField(name, "expected 3 numbers, got " + quoted(value));
+    if (words.size() != 3) failField(name, "expected 3 numbers, got " + quotedExcerpt(value));
     for (int axis = 0; axis < 3; ++axis) {
       const auto s = parseNumber(words[axis]);
-      if (!s) failField(name, "expected 3 numbers, got " + quoted(value));
+      if (!s) failField(name, "expected 3 numbers, got " + quotedExcerpt(value));
       if (*s == 0.0) failField(name, "spacing of axis " + std::to_string(axis) + " is zero");
       spacings_[axis] = std::isnan(*s) ? 1.0 : std::abs(*s);
     }
@@ -245,15 +203,15 @@ class HeaderParser {
     while (true) {
       while (i < value.size() && (value[i] == ' ' || value[i] == '\t')) ++i;
       if (i == value.size()) break;
-      if (axis == 3) failField(name, "expected 3 vectors or 'none', got " + quoted(value));
+      if (axis == 3) failField(name, "expected 3 vectors or 'none', got " + quotedExcerpt(value));
       if (value.substr(i, 4) == "none") {
         i += 4;
         ++axis;
         continue;
       }
-      if (value[i] != '(') failField(name, "expected '(x,y,z)' or 'none', got " + quoted(value));
+      if (value[i] != '(') failField(name, "expected '(x,y,z)' or 'none', got " + quotedExcerpt(value));
       const size_t close = value.find(')', i);
-      if (close == std::string_view::npos) failField(name, "missing ')' in " + quoted(value));
+      if (close == std::string_view::npos) failField(name, "missing ')' in " + quotedExcerpt(value));
       const std::string_view inner = value.substr(i + 1, close - i - 1);
       double squared = 0.0;
       size_t count = 0;
@@ -262,7 +220,7 @@ class HeaderParser {
         const size_t comma = inner.find(',', start);
         const auto c = parseNumber(
             inner.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
-        if (!c || std::isnan(*c)) failField(name, "expected numbers in " + quoted(value));
+        if (!c || std::isnan(*c)) failField(name, "expected numbers in " + quotedExcerpt(value));
         squared += *c * *c;
         alongAxis = alongAxis && (count == size_t(axis) ? *c > 0.0 : *c == 0.0);
         ++count;
@@ -270,7 +228,7 @@ class HeaderParser {
         start = comma + 1;
       }
       if (components && *components != count)
-        failField(name, "vectors of different lengths in " + quoted(value));
+        failField(name, "vectors of different lengths in " + quotedExcerpt(value));
       components = count;
       const double length = std::sqrt(squared);
       if (!(length > 0.0) || std::isinf(length))
@@ -279,7 +237,7 @@ class HeaderParser {
       lengths[axis++] = length;
       i = close + 1;
     }
-    if (axis != 3) failField(name, "expected 3 vectors or 'none', got " + quoted(value));
+    if (axis != 3) failField(name, "expected 3 vectors or 'none', got " + quotedExcerpt(value));
     directions_ = lengths;
     hasDirections_ = true;
   }
@@ -290,7 +248,8 @@ class HeaderParser {
     const bool isList = value == "LIST" || (value.size() > 5 && value.substr(0, 5) == "LIST ");
     bool isFormat = words.size() >= 4;  // "<format> <min> <max> <step> [<subdim>]"
     for (size_t w = 1; isFormat && w < words.size(); ++w) isFormat = parseInteger(words[w]).has_value();
-    if (isList || isFormat) failField(name, "multiple data files are not supported, got " + quoted(value));
+    if (isList || isFormat)
+      failField(name, "multiple data files are not supported, got " + quotedExcerpt(value));
     header_.dataFile = std::string(value);
   }
 
@@ -311,7 +270,6 @@ class HeaderParser {
   }
 
   static constexpr int64_t kMaxSkip = int64_t(1) << 40;
-  static constexpr uint64_t kMaxDataBytes = uint64_t(1) << 62;
 
   std::string_view text_;
   const std::string& fileName_;

@@ -1,9 +1,9 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
-//   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; a pattern with * or ? -> image stack; a
-//   directory -> DICOM series if it holds DICOM files, or no slices and DICOM files in its subfolders, else
-//   image stack; a DICOM file -> its series;
-//   .tif/.tiff -> multi-page TIFF (a single page alone is an error); a single .png or a store is an error;
-//   anything else -> raw.
+//   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; .mha/.mhd -> MetaImage;
+//   .nii/.nii.gz/.hdr/.hdr.gz, or an .img(.gz) beside a .hdr(.gz) -> NIfTI; a pattern with * or ? ->
+//   image stack; a directory -> DICOM series if it holds DICOM files, or no slices and DICOM files in its
+//   subfolders, else image stack; a DICOM file -> its series; .tif/.tiff -> multi-page TIFF (a single page
+//   alone is an error); a single .png or a store is an error; anything else -> raw.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +14,8 @@
 #include "core/file_names.h"
 #include "store/source_dicom.h"
 #include "store/source_images.h"
+#include "store/source_metaimage.h"
+#include "store/source_nifti.h"
 #include "store/source_nrrd.h"
 #include "store/source_procedural.h"
 #include "store/source_raw.h"
@@ -101,6 +103,14 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     rejectRawOptions(spec, options, "a NRRD header");
     return openNrrdSource(spec, options);
   }
+  if (ext == ".mha" || ext == ".mhd") {
+    rejectRawOptions(spec, options, "a MetaImage header");
+    return openMetaImageSource(spec, options);
+  }
+  if (hasNiftiName(spec) || !niftiPairHeader(spec).empty()) {
+    rejectRawOptions(spec, options, "a NIfTI header");
+    return openNiftiSource(spec, options);
+  }
   if (ext == ".tif" || ext == ".tiff") {
     rejectRawOptions(spec, options, "a TIFF");
     if (countImagePages(spec) < 2)
@@ -121,7 +131,8 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   if (startsWithStoreMagic(spec))
     throw Error(
         "openVolumeSource: " + spec +
-        " is a ropecast store already (convert reads volumes: raw, NRRD, image stacks, TIFF); render, view "
+        " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, image stacks, "
+        "TIFF, DICOM); render, view "
         "and info read it as it is, and `ropecast extract` writes a level of it as a raw volume");
   return openRawSource(spec, options);
 }

@@ -308,13 +308,7 @@ SampleType sampleTypeFor(const PixelLayout& layout, const std::vector<DicomImage
       hi = std::max(hi, stored * slice.slope + slice.intercept);
     }
   }
-  if (layout.bitsAllocated == 8 && lo >= 0 && hi <= 255) return SampleType::UInt8;
-  if (layout.bitsAllocated == 8 && lo >= -128 && hi <= 127) return SampleType::Int8;
-  if (lo >= 0 && hi <= 65535) return SampleType::UInt16;
-  if (lo >= -32768 && hi <= 32767) return SampleType::Int16;
-  if (lo >= 0 && hi <= 4294967295.0) return SampleType::UInt32;
-  if (lo >= -2147483648.0 && hi <= 2147483647.0) return SampleType::Int32;
-  return SampleType::Float32;
+  return integerTypeHolding(lo, hi, layout.bitsAllocated == 8);
 }
 
 // An image's pixel data as GDCM decodes it: frames one after another, samples of `bitsAllocated` bits. With

@@ -2,6 +2,9 @@
 
 #include <string>
 
+#include "core/header_text.h"
+#include "core/number_text.h"
+
 namespace ropecast {
 
 void VolumeSource::readSlab(uint32_t z0, uint32_t count, std::span<std::byte> out) {
@@ -14,6 +17,24 @@ void VolumeSource::readSlab(uint32_t z0, uint32_t count, std::span<std::byte> ou
     throw Error("readSlab: " + volume.description + ": output buffer has " + std::to_string(out.size()) +
                 " bytes, expected " + std::to_string(bytes));
   readSlices(z0, count, out);
+}
+
+SizesText parseSizesText(std::string_view text) {
+  const auto words = splitWords(text);
+  SizesText parsed;
+  if (words.size() != 3) return {{0, 0, 0}, "expected 3 positive integers, got " + quotedExcerpt(text)};
+  constexpr uint64_t kMaxDataBytes = uint64_t(1) << 62;
+  uint64_t bytes = 8;  // the widest sample: the bound holds whatever the type
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto n = parseWholeNumber<int64_t>(words[axis]);
+    if (!n || *n < 1 || *n > int64_t(UINT32_MAX))
+      return {{0, 0, 0}, "expected 3 positive integers (each < 2^32), got " + quotedExcerpt(text)};
+    if (bytes > kMaxDataBytes / uint64_t(*n))
+      return {{0, 0, 0}, quotedExcerpt(text) + " is too large (more than 2^62 bytes of data)"};
+    bytes *= uint64_t(*n);
+    parsed.sizes[axis] = uint32_t(*n);
+  }
+  return parsed;
 }
 
 }  // namespace ropecast

@@ -1,5 +1,6 @@
-// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, image stacks,
-// DICOM, procedural). Sources never hold the whole volume; procedural ones generate what is asked for.
+// VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, MetaImage, NIfTI,
+// image stacks, DICOM, procedural). Sources never hold the whole volume; procedural ones generate what is
+// asked for.
 //
 // Threads: info() any thread. readSlab() may be called from one thread at a time per source object
 // (the converter reads slabs sequentially; a source may use worker threads internally).
@@ -12,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -64,6 +66,15 @@ inline std::string validSpacingText() {
   return "three numbers in [" + formatNumber(kMinSpacing) + ", " + formatNumber(kMaxSpacing) + "]";
 }
 
+// A volume's sizes as a header writes them ("X Y Z": NRRD's sizes, MetaImage's DimSize), read: three whole
+// numbers from 1 to 2^32 - 1 whose samples, at 8 bytes (the widest), stay within 2^62 bytes. On failure
+// `problem` says why, quoting the text, and `sizes` is 0.
+struct SizesText {
+  glm::u32vec3 sizes{0};
+  std::string problem;
+};
+SizesText parseSizesText(std::string_view text);
+
 // "XxYxZ", for messages.
 inline std::string formatDims(glm::u32vec3 d) {
   return std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);
@@ -106,7 +117,8 @@ struct SourceOptions {
 
 // Opens a source from a command-line spec:
 //   path/to/name_XxYxZ_type.raw or any raw file with options.dims/type (and byteOrder, headerBytes),
-//   path.nrrd / path.nhdr, a directory or glob of 2D slices (TIFF/PNG), a multi-page TIFF, a folder of a
+//   path.nrrd / path.nhdr, path.mha / path.mhd, path.nii / path.nii.gz / a .hdr and .img pair, a directory or
+//   glob of 2D slices (TIFF/PNG), a multi-page TIFF, a folder of a
 //   DICOM series or one of its images, procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
 // Throws ropecast::Error naming the spec and what was expected.
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options = {});

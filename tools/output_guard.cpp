@@ -11,6 +11,8 @@
 #include "core/temporary_file.h"
 #include "store/procedural.h"
 #include "store/source_dicom.h"
+#include "store/source_metaimage.h"
+#include "store/source_nifti.h"
 #include "store/source_nrrd.h"
 #include "store/volume_source.h"
 
@@ -173,12 +175,21 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
     }
     return files;
   }
-  const std::string ext = lowerExtension(spec);
-  if (ext != ".nhdr" && ext != ".nrrd") return files;
   // A detached header names its data file; a header that cannot be read is refused when the source opens.
+  const std::string ext = lowerExtension(spec);
   try {
-    const NrrdHeader header = readNrrdHeaderFile(spec);
-    if (!header.dataFile.empty()) files.push_back(nrrdDataPath(header, spec));
+    if (ext == ".nhdr" || ext == ".nrrd") {
+      const NrrdHeader header = readNrrdHeaderFile(spec);
+      if (!header.dataFile.empty()) files.push_back(nrrdDataPath(header, spec));
+    } else if (ext == ".mhd" || ext == ".mha") {
+      const MetaImageHeader header = readMetaImageHeaderFile(spec);
+      if (!header.dataFile.empty()) files.push_back(metaImageDataPath(header, spec));
+    } else if (const std::string pairHeader = niftiPairHeader(spec); !pairHeader.empty()) {
+      files.push_back(pairHeader);  // an .img given for its pair
+    } else if (hasNiftiName(spec)) {
+      const std::string data = niftiDataPath(readNiftiHeaderFile(spec), spec);
+      if (!data.empty() && data != spec) files.push_back(data);
+    }
   } catch (const Error&) {
   }
   return files;

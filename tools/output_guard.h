@@ -25,9 +25,9 @@ class OutputGuard {
   // "the suite". A folder given for it is not expanded: the command's reader refuses it, in its own words.
   // Empty paths and procedural:NAME:SIZE specs are ignored.
   void addInput(std::string what, const std::string& path);
-  // A volume `ropecast convert` reads (volumeSpecFiles): a raw or NRRD file and the data file its header
-  // names, a DICOM image and the other DICOM files of its folder, or a folder or glob pattern of slices and
-  // every file in it; DICOM files in the folders below (listDicomFilesBelow) count too.
+  // A volume `ropecast convert` reads (volumeSpecFiles): a raw, NRRD, MetaImage or NIfTI file and the data
+  // file its header names, a DICOM image and the other DICOM files of its folder, or a folder or glob pattern
+  // of slices and every file in it; DICOM files in the folders below (listDicomFilesBelow) count too.
   void addVolumeInput(std::string what, const std::string& spec);
   // A file the command will write. `option` names it in messages ("-o", "--stats").
   void addOutput(std::string option, const std::string& path);
@@ -61,10 +61,10 @@ class OutputGuard {
 std::string fileIdentity(const std::string& path);
 
 // The input files named by a volume spec as `ropecast convert` reads it (store/volume_source.h): nothing for
-// procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD header and its detached data file, a DICOM image
-// and the DICOM files of its folder (its series is among them), a directory or glob pattern as given
-// (addVolumeInput expands them); for a directory or a DICOM file, the DICOM files of the folders below (a
-// disc's series).
+// procedural:NAME:SIZE, a raw or TIFF file itself, an NRRD, MetaImage or NIfTI header and its detached data
+// file (and a NIfTI image its header), a DICOM image and the DICOM files of its folder (its series is among
+// them), a directory or glob pattern as given (addVolumeInput expands them); for a directory or a DICOM file,
+// the DICOM files of the folders below (a disc's series).
 std::vector<std::string> volumeSpecFiles(const std::string& spec);
 
 }  // namespace ropecast::tools

@@ -45,10 +45,12 @@ mkdir slices
 printf 'a' > slices/s0.png
 printf 'b' > slices/s1.png
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\ndata file: scan_8x8x8_uint8.raw\n' > v.nhdr
+printf 'NDims = 3\nDimSize = 8 8 8\nElementType = MET_UCHAR\nElementDataFile = scan_8x8x8_uint8.raw\n' > v.mhd
 printf '{"points": [[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]]}' > tf.json
 printf '[{"orbit": [0, 20, 3]}, {"orbit": [90, 20, 2.5]}]' > path.json
 
-# convert -o: the input, a symlink and a hard link to it, a slice of an input folder or glob, NRRD detached data.
+# convert -o: the input, a symlink and a hard link to it, a slice of an input folder or glob, NRRD and MetaImage
+# detached data.
 refused "convert -o input" "-o scan_8x8x8_uint8.raw" "the input scan_8x8x8_uint8.raw" \
   "$ropecast" convert scan_8x8x8_uint8.raw -o scan_8x8x8_uint8.raw
 refused "convert -o symlink" "-o scan_link.raw" "the input scan_8x8x8_uint8.raw" \
@@ -60,6 +62,7 @@ refused "convert -o slice of folder" "-o slices/s1.png" "the input slices" \
 refused "convert -o slice of glob" "-o slices/s0.png" "the input slices/s0.png" \
   "$ropecast" convert 'slices/s*.png' -o slices/s0.png
 refused "convert -o NRRD data file" "-o scan_hard.raw" "the input" "$ropecast" convert v.nhdr -o scan_hard.raw
+refused "convert -o MetaImage data file" "-o scan_hard.raw" "the input" "$ropecast" convert v.mhd -o scan_hard.raw
 # A header longer than 64 KiB (comments) still names its data file to the guard as it does to the source.
 { printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\n'
   for _ in $(seq 1 2000); do printf '# a comment line of some length, repeated to pass 64 KiB of header\n'; done

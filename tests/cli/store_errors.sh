@@ -127,6 +127,9 @@ expect_absent "$dir/png.store"
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: gone.raw\n\n' > "$dir/h.nhdr"
 expect_failure "NRRD data file missing" "NRRD header $dir/h.nhdr names data file gone.raw" \
   "$ropecast" convert "$dir/h.nhdr" -o "$dir/h.store" --quiet
+printf 'NDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n' > "$dir/h.mhd"
+expect_failure "MetaImage data file missing" "MetaImage header $dir/h.mhd names data file gone.raw" \
+  "$ropecast" convert "$dir/h.mhd" -o "$dir/h.store" --quiet
 expect_absent "$dir/h.store"
 expect_failure "no such input" "$dir/none.raw: no such file or directory" \
   "$ropecast" convert "$dir/none.raw" -o "$dir/n.store" --quiet

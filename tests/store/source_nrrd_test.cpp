@@ -1,8 +1,6 @@
 // Tests of the NRRD header parser and the NRRD VolumeSource: attached and detached data, raw and gzip
 // encodings, big-endian data, spacings and space directions, byte and line skips, gzip slabs read out of
 // order, and each malformed header or data file giving an error that names the file and the field.
-#include <zlib.h>
-
 #include <bit>
 #include <cstring>
 #include <filesystem>
@@ -22,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::errorOf;
+using testing::gzipOf;
 using testing::readSlab;
 using testing::samplePattern;
 using testing::TempDir;
@@ -35,20 +34,6 @@ std::string bytesOf(const std::vector<T>& values, bool bigEndian) {
     for (size_t i = 0; i < bytes.size(); i += sizeof(T))
       std::reverse(bytes.begin() + i, bytes.begin() + i + sizeof(T));
   return bytes;
-}
-
-std::string gzipOf(const std::string& data) {
-  z_stream zs{};
-  EXPECT_EQ(deflateInit2(&zs, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY), Z_OK);
-  std::string out(deflateBound(&zs, uLong(data.size())) + 64, '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
-  zs.avail_in = uInt(data.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = uInt(out.size());
-  EXPECT_EQ(deflate(&zs, Z_FINISH), Z_STREAM_END);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
 }
 
 std::string headerFor(const std::string& type, const std::string& encoding, const std::string& extra = "") {

@@ -232,8 +232,21 @@ std::string nrrdBytes(const std::string& nrrdType, glm::u32vec3 d, const std::ve
          fileBytes(values, true);
 }
 
+// A MetaImage of `values`, big-endian, its data after the header (LOCAL).
+template <typename T>
+std::string metaImageBytes(SampleType type, glm::u32vec3 d, const std::vector<T>& values) {
+  const char* metaType = type == SampleType::Int8      ? "MET_CHAR"
+                         : type == SampleType::Int32   ? "MET_INT"
+                         : type == SampleType::UInt32  ? "MET_UINT"
+                         : type == SampleType::Float64 ? "MET_DOUBLE"
+                                                       : "unexpected type";
+  return "ObjectType = Image\nNDims = 3\nDimSize = " + std::to_string(d.x) + " " + std::to_string(d.y) + " " +
+         std::to_string(d.z) + "\nElementType = " + metaType +
+         "\nBinaryDataByteOrderMSB = True\nElementDataFile = LOCAL\n" + fileBytes(values, true);
+}
+
 // Through a little-endian raw file named name_XxYxZ_type.raw, a big-endian one with a header given by
-// options, and a big-endian NRRD.
+// options, a big-endian NRRD and a big-endian MetaImage.
 template <typename T>
 void expectRoundTripThroughFiles(const std::string& typeName, const std::string& nrrdType, SampleType type,
                                  glm::u32vec3 d, const std::vector<T>& values, bool exact) {
@@ -255,6 +268,10 @@ void expectRoundTripThroughFiles(const std::string& typeName, const std::string&
   const std::string nrrd = dir.file(typeName + ".nrrd");
   writeFile(nrrd, nrrdBytes(nrrdType, d, values));
   expectKept(*convertAndOpen(dir, nrrd), values, type, exact, nrrd);
+
+  const std::string metaImage = dir.file(typeName + ".mha");
+  writeFile(metaImage, metaImageBytes(type, d, values));
+  expectKept(*convertAndOpen(dir, metaImage), values, type, exact, metaImage);
 }
 
 constexpr glm::u32vec3 kDims{21, 13, 11};

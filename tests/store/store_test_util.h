@@ -1,6 +1,7 @@
 // Helpers shared by the store, converter and VolumeSource tests: synthetic volumes, a direct (non-streaming)
 // computation of the level pyramid and of expected bricks, a temporary directory, typed slab reads, raw
-// file bytes, writing them and the message a bad source spec gives. Test code only; one thread.
+// file bytes (plain and gzip-compressed), writing them and the message a bad source spec gives. Test code
+// only; one thread.
 #pragma once
 
 #include <algorithm>
@@ -18,6 +19,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <gtest/gtest.h>
+#include <zlib.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -27,6 +30,21 @@
 #include "store/volume_source.h"
 
 namespace ropecast::testing {
+
+// `data` as one gzip member, as NRRD's gzip encoding and .nii.gz files hold it.
+inline std::string gzipOf(const std::string& data) {
+  z_stream zs{};
+  EXPECT_EQ(deflateInit2(&zs, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY), Z_OK);
+  std::string out(deflateBound(&zs, uLong(data.size())) + 64, '\0');
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+  zs.avail_in = uInt(data.size());
+  zs.next_out = reinterpret_cast<Bytef*>(out.data());
+  zs.avail_out = uInt(out.size());
+  EXPECT_EQ(deflate(&zs, Z_FINISH), Z_STREAM_END);
+  out.resize(zs.total_out);
+  deflateEnd(&zs);
+  return out;
+}
 
 // `values` as a file holds them: after `header` bytes, in the given byte order.
 template <typename T>

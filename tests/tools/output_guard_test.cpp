@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 
 #include "core/error.h"
@@ -157,6 +158,29 @@ TEST(VolumeSpecFiles, NameTheHeaderAndTheDetachedDataOfNrrd) {
             (std::vector<std::string>{(dir / "v.nhdr").string(), (dir / "v.raw").string()}));
   EXPECT_TRUE(volumeSpecFiles("procedural:sphere:64").empty());
   EXPECT_EQ(volumeSpecFiles("a.raw"), std::vector<std::string>{"a.raw"});
+}
+
+TEST(VolumeSpecFiles, NameTheDataFilesOfMetaImageAndNiftiPairs) {
+  const fs::path dir = test::freshTempDir();
+  test::writeText(dir / "v.mhd",
+                  "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = d.raw\n");
+  EXPECT_EQ(volumeSpecFiles((dir / "v.mhd").string()),
+            (std::vector<std::string>{(dir / "v.mhd").string(), (dir / "d.raw").string()}));
+
+  // A NIfTI-1 header of a header/image pair ("ni1"): 2x2x2 uint8 samples from the .img's first byte.
+  std::string header(348, '\0');
+  const auto put16 = [&](size_t at, int16_t v) { std::memcpy(header.data() + at, &v, 2); };
+  const int32_t size = 348;
+  std::memcpy(header.data(), &size, 4);
+  for (size_t i = 0; i < 4; ++i) put16(40 + 2 * i, i == 0 ? 3 : 2);
+  put16(70, 2);  // datatype uint8
+  put16(72, 8);  // bitpix
+  std::memcpy(header.data() + 344, "ni1", 4);
+  test::writeText(dir / "p.hdr", header);
+  test::writeText(dir / "p.img", std::string(8, 'x'));
+  const std::vector<std::string> pair{(dir / "p.hdr").string(), (dir / "p.img").string()};
+  EXPECT_EQ(volumeSpecFiles(pair[0]), pair);
+  EXPECT_EQ(volumeSpecFiles(pair[1]), (std::vector<std::string>{pair[1], pair[0]}));
 }
 
 }  // namespace

@@ -1,0 +1,57 @@
+// libFuzzer target for the MetaImage and NIfTI header parsers (store/metaimage_header.h,
+// store/nifti_header.h): with an even first byte the rest is a MetaImage header's text, with an odd one a
+// NIfTI header's bytes. Any input must either parse into a header whose fields keep the parser's promises or
+// throw ropecast::Error; never crash, hang or throw anything else.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <span>
+#include <string_view>
+
+#include "core/error.h"
+#include "store/metaimage_header.h"
+#include "store/nifti_header.h"
+
+namespace {
+
+// Sizes positive, their bytes without overflow, spacings positive and finite: what the sources rely on.
+template <typename Header>
+void checkVolume(const Header& header) {
+  if (header.sizes.x == 0 || header.sizes.y == 0 || header.sizes.z == 0) std::abort();
+  if (header.dataBytes() / header.sizes.x / header.sizes.y / header.sizes.z !=
+      ropecast::bytesPerSample(header.type))
+    std::abort();  // dataBytes() overflowed
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(header.spacing[axis] > 0.0 && std::isfinite(header.spacing[axis]))) std::abort();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  const bool nifti = data[0] & 1;
+  ++data;
+  --size;
+  try {
+    if (nifti) {
+      const ropecast::NiftiHeader header =
+          ropecast::parseNiftiHeader(std::as_bytes(std::span(data, size)), "fuzz.nii");
+      checkVolume(header);
+      const size_t headerBytes =
+          header.version == 2 ? ropecast::kNifti2HeaderBytes : ropecast::kNifti1HeaderBytes;
+      if (!header.pairedFile && header.voxOffset < headerBytes) std::abort();
+      if (header.scaled &&
+          !(std::isfinite(header.slope) && header.slope != 0.0 && std::isfinite(header.intercept)))
+        std::abort();
+    } else {
+      const std::string_view text(reinterpret_cast<const char*>(data), size);
+      const ropecast::MetaImageHeader header = ropecast::parseMetaImageHeader(text, "fuzz.mha");
+      checkVolume(header);
+      if (header.headerBytes > size || header.headerSize < -1) std::abort();
+    }
+  } catch (const ropecast::Error&) {
+    // Malformed input is expected to be rejected this way.
+  }
+  return 0;
+}

@@ -1,0 +1,205 @@
+#include "store/metaimage_header.h"
+
+#include <cmath>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include "core/error.h"
+#include "core/header_text.h"
+#include "core/number_text.h"
+#include "store/volume_source.h"
+
+namespace ropecast {
+namespace {
+
+// The element types read, for messages.
+constexpr std::string_view kMetaTypeList =
+    "MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT, MET_INT, MET_UINT, MET_LONG, MET_ULONG, MET_FLOAT or "
+    "MET_DOUBLE";
+
+std::optional<SampleType> parseMetaType(std::string_view t) {
+  struct TypeName {
+    std::string_view name;
+    SampleType type;
+  };
+  // MetaIO's MET_LONG and MET_ULONG are 4 bytes whatever the platform's long (its MET_ValueTypeSize).
+  static constexpr TypeName kTypes[] = {
+      {"MET_CHAR", SampleType::Int8},     {"MET_UCHAR", SampleType::UInt8},
+      {"MET_SHORT", SampleType::Int16},   {"MET_USHORT", SampleType::UInt16},
+      {"MET_INT", SampleType::Int32},     {"MET_UINT", SampleType::UInt32},
+      {"MET_LONG", SampleType::Int32},    {"MET_ULONG", SampleType::UInt32},
+      {"MET_FLOAT", SampleType::Float32}, {"MET_DOUBLE", SampleType::Float64}};
+  for (const TypeName& entry : kTypes)
+    if (entry.name == t) return entry.type;
+  return std::nullopt;
+}
+
+class MetaImageHeaderParser {
+ public:
+  MetaImageHeaderParser(std::string_view text, const std::string& fileName)
+      : text_(text), fileName_(fileName) {}
+
+  MetaImageHeader parse() {
+    while (pos_ < text_.size() && !dataFileSeen_) {
+      ++lineNumber_;
+      const std::string_view line = nextLine();
+      if (!trimBlanks(line).empty()) parseLine(line);
+    }
+    header_.headerBytes = pos_;
+    return finish();
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error("MetaImage header of " + fileName_ + ": " + what);
+  }
+  [[noreturn]] void failKey(std::string_view key, const std::string& what) const {
+    fail("key '" + std::string(key) + "' (line " + std::to_string(lineNumber_) + "): " + what);
+  }
+
+  std::string_view nextLine() { return takeLine(text_, pos_); }
+
+  std::vector<double> numbers(std::string_view key, std::string_view value, size_t count) const {
+    const auto words = splitWords(value);
+    if (words.size() != count)
+      failKey(key, "expected " + std::to_string(count) + " numbers, got " + quotedExcerpt(value));
+    std::vector<double> out;
+    for (std::string_view word : words) {
+      const auto n = parseWholeNumber<double>(word);
+      if (!n || !std::isfinite(*n))
+        failKey(key, "expected " + std::to_string(count) + " numbers, got " + quotedExcerpt(value));
+      out.push_back(*n);
+    }
+    return out;
+  }
+
+  int64_t integer(std::string_view key, std::string_view value, int64_t lo, int64_t hi) const {
+    const auto n = parseWholeNumber<int64_t>(value);
+    if (!n || *n < lo || *n > hi)
+      failKey(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                       quotedExcerpt(value));
+    return *n;
+  }
+
+  bool boolean(std::string_view key, std::string_view value) const {
+    const std::string v = lowerAscii(value);
+    if (v == "true" || v == "t" || v == "1") return true;
+    if (v == "false" || v == "f" || v == "0") return false;
+    failKey(key, "expected True or False, got " + quotedExcerpt(value));
+  }
+
+  glm::dvec3 spacing(std::string_view key, std::string_view value) const {
+    const std::vector<double> s = numbers(key, value, 3);
+    for (int axis = 0; axis < 3; ++axis)
+      if (s[axis] == 0.0) failKey(key, "spacing of axis " + std::to_string(axis) + " is zero");
+    return glm::dvec3(std::abs(s[0]), std::abs(s[1]), std::abs(s[2]));
+  }
+
+  void parseLine(std::string_view line) {
+    const size_t equals = line.find('=');
+    if (equals == std::string_view::npos)
+      fail("line " + std::to_string(lineNumber_) + ": expected 'Key = Value', got " + quotedExcerpt(line));
+    const std::string_view key = trimBlanks(line.substr(0, equals));
+    const std::string_view value = trimBlanks(line.substr(equals + 1));
+    const std::string name = lowerAscii(key);
+    if (!seen_.insert(name).second) failKey(key, "given more than once");
+    if (name == "objecttype") {
+      if (lowerAscii(value) != "image") failKey(key, "expected Image, got " + quotedExcerpt(value));
+    } else if (name == "ndims") {
+      const int64_t n = integer(key, value, 1, 64);
+      if (n != 3) failKey(key, "only 3-dimensional volumes are supported, got " + std::to_string(n));
+    } else if (name == "dimsize") {
+      parseSizes(key, value);
+    } else if (name == "elementtype") {
+      const auto t = parseMetaType(value);
+      if (!t)
+        failKey(key, "unsupported element type " + quotedExcerpt(value) + "; expected " +
+                         std::string(kMetaTypeList));
+      header_.type = *t;
+      type_ = true;
+    } else if (name == "elementspacing") {
+      header_.spacing = spacing(key, value);
+      elementSpacing_ = true;
+    } else if (name == "elementsize") {
+      if (!elementSpacing_) header_.spacing = spacing(key, value);
+    } else if (name == "binarydata") {
+      if (!boolean(key, value))
+        failKey(key, "ASCII data (BinaryData = False) is not supported; expected binary data");
+    } else if (name == "binarydatabyteordermsb" || name == "elementbyteordermsb") {
+      const bool big = boolean(key, value);
+      if (byteOrder_ && *byteOrder_ != big)
+        failKey(key, "contradicts the byte order given by the other ...ByteOrderMSB key");
+      byteOrder_ = big;
+      header_.bigEndian = big;
+    } else if (name == "compresseddata") {
+      header_.compressed = boolean(key, value);
+    } else if (name == "headersize") {
+      header_.headerSize = integer(key, value, -1, kMaxSkip);
+    } else if (name == "elementnumberofchannels") {
+      const int64_t n = integer(key, value, 1, 1 << 20);
+      if (n != 1)
+        failKey(key, std::to_string(n) + " channels; only single-channel (scalar) volumes are supported");
+    } else if (name == "transformmatrix" || name == "rotation" || name == "orientation") {
+      const std::vector<double> m = numbers(key, value, 9);
+      for (int row = 0; row < 3; ++row)
+        for (int column = 0; column < 3; ++column) {
+          const double v = m[size_t(row * 3 + column)];
+          if (row == column ? !(v > 0.0) : v != 0.0) header_.matrixTurnsAxes = true;
+        }
+    } else if (name == "elementdatafile") {
+      parseDataFile(key, value);
+    }
+    // Anything else (Offset, CenterOfRotation, AnatomicalOrientation, ElementMin, Comment, ...) does not
+    // change how samples are read.
+  }
+
+  void parseSizes(std::string_view key, std::string_view value) {
+    const SizesText parsed = parseSizesText(value);
+    if (!parsed.problem.empty()) failKey(key, parsed.problem);
+    header_.sizes = parsed.sizes;
+    sizes_ = true;
+  }
+
+  void parseDataFile(std::string_view key, std::string_view value) {
+    if (value.empty()) failKey(key, "expected LOCAL or a file name");
+    const auto words = splitWords(value);
+    const std::string first = lowerAscii(words.front());
+    bool isPattern = words.size() >= 4;  // "<printf pattern> <min> <max> <step>"
+    for (size_t w = 1; isPattern && w < words.size(); ++w)
+      isPattern = parseWholeNumber<int64_t>(words[w]).has_value();
+    if (first == "list" || isPattern)
+      failKey(key, "several data files (one per slice) are not supported, got " + quotedExcerpt(value) +
+                       "; expected LOCAL or one file");
+    if (lowerAscii(value) != "local") header_.dataFile = std::string(value);
+    dataFileSeen_ = true;
+  }
+
+  MetaImageHeader finish() {
+    if (!dataFileSeen_) fail("no ElementDataFile key, which ends a MetaImage header");
+    if (!sizes_) fail("missing key 'DimSize'");
+    if (!type_) fail("missing key 'ElementType'");
+    if (header_.headerSize == -1 && header_.compressed)
+      fail("key 'HeaderSize': -1 (data at the end of the file) is only allowed for uncompressed data");
+    return header_;
+  }
+
+  static constexpr int64_t kMaxSkip = int64_t(1) << 40;
+
+  std::string_view text_;
+  const std::string& fileName_;
+  size_t pos_ = 0;
+  size_t lineNumber_ = 0;
+  MetaImageHeader header_;
+  std::set<std::string> seen_;
+  std::optional<bool> byteOrder_;
+  bool sizes_ = false, type_ = false, elementSpacing_ = false, dataFileSeen_ = false;
+};
+
+}  // namespace
+
+MetaImageHeader parseMetaImageHeader(std::string_view text, const std::string& fileName) {
+  return MetaImageHeaderParser(text, fileName).parse();
+}
+
+}  // namespace ropecast

@@ -1,0 +1,49 @@
+// MetaImage header parsing (ITK's MetaIO format, https://itk.org/Wiki/ITK/MetaIO/Documentation): the part of
+// the MetaImage source that sees untrusted text, a pure function over a string, fuzzed by
+// fuzz/metaimage_header_fuzz.cpp. Used by the MetaImage volume source (store/). Pure function; any thread.
+//
+// Supported: "Key = Value" lines (keys in any case) up to ElementDataFile, which ends the header as MetaIO
+// says it must: ObjectType Image, NDims 3, DimSize, ElementType (MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT,
+// MET_INT, MET_UINT, MET_LONG, MET_ULONG (32-bit in MetaIO), MET_FLOAT, MET_DOUBLE), ElementSpacing (else
+// ElementSize), BinaryData, BinaryDataByteOrderMSB or ElementByteOrderMSB, CompressedData (a zlib stream),
+// HeaderSize (-1: the data ends the file), ElementNumberOfChannels 1, TransformMatrix (or Rotation or
+// Orientation: only whether it turns the axes), ElementDataFile LOCAL or one file. Other keys are ignored.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <glm/vec3.hpp>
+
+#include "core/sample_type.h"
+
+namespace ropecast {
+
+// The most of a file read as its header (readMetaImageHeaderFile in store/source_metaimage.h).
+constexpr size_t kMaxMetaImageHeaderBytes = size_t(1) << 20;
+
+struct MetaImageHeader {
+  SampleType type = SampleType::UInt8;
+  glm::u32vec3 sizes{0};         // samples per axis, axis 0 fastest
+  glm::dvec3 spacing{1.0};       // ElementSpacing, else ElementSize (1 where neither is given)
+  bool matrixTurnsAxes = false;  // TransformMatrix flips, rotates or shears the axes
+  bool compressed = false;       // CompressedData: the data is one zlib stream
+  bool bigEndian = false;        // the data's byte order (irrelevant for 1-byte types)
+  int64_t headerSize = 0;        // bytes of the data file skipped before the data; -1: data at the end
+  std::string dataFile;          // ElementDataFile as written (relative to the header's folder); empty: LOCAL
+  size_t headerBytes = 0;        // bytes of the header, the ElementDataFile line and its line end included
+
+  uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
+};
+
+// Parses the header at the start of `text` (which may continue with the data: parsing stops after the
+// ElementDataFile line). `fileName` is only used in messages. Throws ropecast::Error naming the file and the
+// key for a missing ElementDataFile, NDims, DimSize or ElementType, malformed or out-of-range numbers, a key
+// given twice, sizes that are not 3 positive integers or overflow, NDims other than 3, several channels,
+// ASCII data, unsupported element types, several data files (LIST or a file name pattern), and an ObjectType
+// other than Image.
+MetaImageHeader parseMetaImageHeader(std::string_view text, const std::string& fileName);
+
+}  // namespace ropecast

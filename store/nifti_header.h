@@ -1,0 +1,50 @@
+// NIfTI header parsing (NIfTI-1 and NIfTI-2, https://nifti.nimh.nih.gov/nifti-1/): the part of the NIfTI
+// source that sees untrusted bytes, a pure function over the header's bytes, fuzzed by
+// fuzz/nifti_header_fuzz.cpp. Used by the NIfTI volume source (store/). Pure function; any thread.
+//
+// Supported: both versions in either byte order, single files ("n+1", "n+2": .nii, .nii.gz) and header/image
+// pairs ("ni1", "ni2": .hdr with .img); 3 dimensions (a 4th or more only of size 1); the scalar datatypes
+// int8, uint8, int16, uint16, int32, uint32, float32 and float64; pixdim 1-3 as spacing; scl_slope and
+// scl_inter; whether the qform or sform turns the axes.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "core/sample_type.h"
+
+namespace ropecast {
+
+// The bytes a header needs: NIfTI-1's 348, NIfTI-2's 540.
+constexpr size_t kNifti1HeaderBytes = 348, kNifti2HeaderBytes = 540;
+
+struct NiftiHeader {
+  int version = 1;          // 1 or 2
+  bool pairedFile = false;  // "ni1"/"ni2": the samples are in the .img beside the .hdr
+  SampleType type = SampleType::UInt8;
+  glm::u32vec3 sizes{0};        // samples per axis, axis 0 fastest
+  glm::dvec3 spacing{1.0};      // |pixdim[1..3]| (1 where zero or not finite)
+  bool spacingUnknown = false;  // some pixdim[1..3] was zero or not finite
+  bool bigEndian = false;       // the header's and the samples' byte order
+  uint64_t voxOffset = 0;       // where the samples start in their file (decompressed, for .nii.gz)
+  // Values are slope * stored + intercept where scaled (scl_slope non-zero and finite, and not 1 with
+  // intercept 0).
+  bool scaled = false;
+  double slope = 1.0, intercept = 0.0;
+  bool transformTurnsAxes = false;  // the qform or sform (whichever the file says to use) flips or rotates
+
+  uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
+};
+
+// Parses a header from `bytes` (at least its first 348 bytes; 540 for NIfTI-2). `fileName` is only used in
+// messages. Throws ropecast::Error naming the file and the field for: no NIfTI header (neither size in either
+// byte order, or a magic other than the four), dimensions other than 3 (beyond the 3rd, sizes must be 1),
+// sizes that are not positive or overflow, unsupported datatypes (complex, RGB, 64-bit integers, ...), a
+// bitpix that does not match the datatype, and a vox_offset before the header's end (single files).
+NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName);
+
+}  // namespace ropecast

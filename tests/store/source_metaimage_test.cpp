@@ -1,0 +1,251 @@
+// Tests of the MetaImage header parser and the MetaImage VolumeSource: .mha with its data (LOCAL) and .mhd
+// with a data file, every element type, big-endian and zlib-compressed data read in any order, header skips,
+// the transform matrix's note, and each malformed header or data file giving an error that names the file
+// and the key.
+#include <zlib.h>
+
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "store/metaimage_header.h"
+#include "store/source_metaimage.h"
+#include "store/volume_source.h"
+#include "tests/store/store_test_util.h"
+
+namespace ropecast {
+namespace {
+
+using testing::errorOf;
+using testing::fileBytes;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
+using testing::writeFile;
+
+constexpr size_t kMetaImageSamples = 9 * 6 * 5;
+
+// `data` as one zlib stream, as MetaIO writes CompressedData.
+std::string zlibOf(const std::string& data) {
+  uLongf size = compressBound(uLong(data.size()));
+  std::string out(size, '\0');
+  EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(out.data()), &size,
+                      reinterpret_cast<const Bytef*>(data.data()), uLong(data.size()), 6),
+            Z_OK);
+  out.resize(size);
+  return out;
+}
+
+// A header as ITK writes one, for a 9x6x5 volume; `extra` goes before ElementDataFile.
+std::string metaImageHeader(const std::string& elementType, const std::string& extra = "",
+                            const std::string& dataFile = "LOCAL") {
+  return "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+         "CompressedData = False\nTransformMatrix = 1 0 0 0 1 0 0 0 1\nOffset = 0 0 0\n"
+         "CenterOfRotation = 0 0 0\nAnatomicalOrientation = RAI\nElementSpacing = 0.5 0.75 2\n"
+         "DimSize = 9 6 5\n" +
+         extra + "ElementType = " + elementType + "\nElementDataFile = " + dataFile + "\n";
+}
+
+// Replaces the value of `key` in `header`.
+std::string withValue(std::string header, const std::string& key, const std::string& value) {
+  const size_t at = header.find(key + " = ");
+  EXPECT_NE(at, std::string::npos) << key;
+  const size_t start = at + key.size() + 3;
+  return header.replace(start, header.find('\n', start) - start, value);
+}
+
+TEST(SourceMetaImage, LocalRawOfEveryType) {
+  TempDir dir;
+  auto check = [&](auto tag, const std::string& metaType, SampleType type) {
+    using T = decltype(tag);
+    const auto values = samplePattern<T>(kMetaImageSamples);
+    const std::string path = dir.file(metaType + ".mha");
+    writeFile(path, metaImageHeader(metaType) + fileBytes(values));
+    auto source = openVolumeSource(path);
+    EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5));
+    EXPECT_EQ(source->info().type, type);
+    EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
+    EXPECT_TRUE(source->info().notes.empty());
+    EXPECT_EQ(source->info().description, "metaimage:" + path);
+    EXPECT_EQ(readSlab<T>(*source, 0, 5), values) << metaType;
+    const auto slab = readSlab<T>(*source, 3, 2);
+    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + 3 * 54)) << metaType;
+  };
+  check(int8_t{}, "MET_CHAR", SampleType::Int8);
+  check(uint8_t{}, "MET_UCHAR", SampleType::UInt8);
+  check(int16_t{}, "MET_SHORT", SampleType::Int16);
+  check(uint16_t{}, "MET_USHORT", SampleType::UInt16);
+  check(int32_t{}, "MET_INT", SampleType::Int32);
+  check(uint32_t{}, "MET_UINT", SampleType::UInt32);
+  check(int32_t{}, "MET_LONG", SampleType::Int32);
+  check(uint32_t{}, "MET_ULONG", SampleType::UInt32);
+  check(float{}, "MET_FLOAT", SampleType::Float32);
+  check(double{}, "MET_DOUBLE", SampleType::Float64);
+}
+
+TEST(SourceMetaImage, DetachedBigEndianCompressedAndSkipped) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(kMetaImageSamples);
+
+  // A .mhd beside its data file, which starts with 7 bytes HeaderSize skips; big-endian; keys in other cases.
+  writeFile(dir.file("data.raw"), fileBytes(values, true, 7));
+  const std::string mhd = dir.file("detached.mhd");
+  writeFile(mhd, withValue(metaImageHeader("MET_SHORT", "HeaderSize = 7\n", "data.raw"),
+                           "BinaryDataByteOrderMSB", "True"));
+  auto detached = openVolumeSource(mhd);
+  EXPECT_EQ(readSlab<int16_t>(*detached, 0, 5), values);
+
+  // HeaderSize -1: the samples end the file, whatever comes before them.
+  writeFile(dir.file("tail.raw"), "some leading bytes" + fileBytes(values));
+  const std::string tail = dir.file("tail.mhd");
+  writeFile(tail, metaImageHeader("MET_SHORT", "HeaderSize = -1\n", "tail.raw"));
+  EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(tail), 0, 5), values);
+
+  // ElementSize gives the spacing where ElementSpacing is missing; lower-case keys; CRLF line ends.
+  std::string plain =
+      "ndims = 3\r\ndimsize = 9 6 5\r\nelementsize = 3 2 1\r\nelementtype = MET_SHORT\r\n"
+      "elementdatafile = LOCAL\r\n";
+  const std::string lower = dir.file("lower.mha");
+  writeFile(lower, plain + fileBytes(values));
+  auto lowerSource = openVolumeSource(lower);
+  EXPECT_EQ(lowerSource->info().spacing, glm::dvec3(3.0, 2.0, 1.0));
+  EXPECT_EQ(readSlab<int16_t>(*lowerSource, 0, 5), values);
+
+  // Compressed, big-endian float, slabs read out of order (the stream restarts).
+  const auto floats = samplePattern<float>(kMetaImageSamples);
+  const std::string compressed = dir.file("compressed.mha");
+  writeFile(compressed, withValue(withValue(metaImageHeader("MET_FLOAT"), "CompressedData", "True"),
+                                  "BinaryDataByteOrderMSB", "True") +
+                            zlibOf(fileBytes(floats, true)));
+  auto source = openVolumeSource(compressed);
+  for (const uint32_t z : {3u, 1u, 4u, 0u, 2u}) {
+    const auto slab = readSlab<float>(*source, z, 1);
+    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), floats.begin() + z * 54)) << "slice " << z;
+  }
+  EXPECT_EQ(readSlab<float>(*source, 0, 5), floats);
+}
+
+TEST(SourceMetaImage, AMatrixThatTurnsTheAxesIsNoted) {
+  TempDir dir;
+  const auto values = samplePattern<uint8_t>(kMetaImageSamples);
+  const std::string path = dir.file("flip.mha");
+  writeFile(path, withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", "-1 0 0 0 1 0 0 0 1") +
+                      fileBytes(values));
+  auto source = openVolumeSource(path);
+  ASSERT_EQ(source->info().notes.size(), 1u);
+  EXPECT_NE(source->info().notes[0].find("TransformMatrix flips or rotates the axes"), std::string::npos);
+  EXPECT_EQ(readSlab<uint8_t>(*source, 0, 5), values);
+  EXPECT_TRUE(parseMetaImageHeader(
+                  withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", "0 1 0 1 0 0 0 0 1"), "t.mha")
+                  .matrixTurnsAxes);
+  EXPECT_FALSE(parseMetaImageHeader(metaImageHeader("MET_UCHAR"), "t.mha").matrixTurnsAxes);
+}
+
+TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
+  struct Case {
+    std::string what, header, expected;
+  };
+  const std::string good = metaImageHeader("MET_SHORT");
+  const std::vector<Case> cases = {
+      {"no data file", "NDims = 3\nDimSize = 9 6 5\nElementType = MET_SHORT\n", "no ElementDataFile"},
+      {"no sizes", "NDims = 3\nElementType = MET_SHORT\nElementDataFile = LOCAL\n", "missing key 'DimSize'"},
+      {"no type", "NDims = 3\nDimSize = 9 6 5\nElementDataFile = LOCAL\n", "missing key 'ElementType'"},
+      {"2D", withValue(good, "NDims", "2"), "only 3-dimensional"},
+      {"two sizes", withValue(good, "DimSize", "9 6"), "key 'DimSize'"},
+      {"zero size", withValue(good, "DimSize", "9 0 5"), "key 'DimSize'"},
+      {"huge", withValue(good, "DimSize", "4294967295 4294967295 4294967295"), "too large"},
+      {"64-bit type", withValue(good, "ElementType", "MET_LONG_LONG"), "unsupported element type"},
+      {"vector type", withValue(good, "ElementType", "MET_FLOAT_ARRAY"), "unsupported element type"},
+      {"channels", metaImageHeader("MET_UCHAR", "ElementNumberOfChannels = 3\n"), "single-channel"},
+      {"ASCII", withValue(good, "BinaryData", "False"), "ASCII data"},
+      {"not a boolean", withValue(good, "CompressedData", "maybe"), "expected True or False"},
+      {"other object", withValue(good, "ObjectType", "Tube"), "expected Image"},
+      {"zero spacing", withValue(good, "ElementSpacing", "1 0 1"), "spacing of axis 1 is zero"},
+      {"NaN spacing", withValue(good, "ElementSpacing", "1 nan 1"), "key 'ElementSpacing'"},
+      {"short matrix", withValue(good, "TransformMatrix", "1 0 0 1"), "key 'TransformMatrix'"},
+      {"twice", metaImageHeader("MET_SHORT", "dimsize = 1 1 1\n"), "given more than once"},
+      {"byte orders disagree", metaImageHeader("MET_SHORT", "ElementByteOrderMSB = True\n"), "contradicts"},
+      {"bad header size", metaImageHeader("MET_SHORT", "HeaderSize = -2\n"), "key 'HeaderSize'"},
+      {"end of a compressed file",
+       withValue(metaImageHeader("MET_SHORT", "HeaderSize = -1\n"), "CompressedData", "True"),
+       "uncompressed"},
+      {"list", metaImageHeader("MET_SHORT", "", "LIST"), "several data files"},
+      {"pattern", metaImageHeader("MET_SHORT", "", "slice%03d.raw 1 5 1"), "several data files"},
+      {"no equals sign", "NDims 3\n" + good, "expected 'Key = Value'"},
+  };
+  for (const Case& c : cases) {
+    try {
+      parseMetaImageHeader(c.header, "/some/dir/bad.mha");
+      ADD_FAILURE() << c.what << ": parsed without error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("/some/dir/bad.mha"), std::string::npos) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
+    }
+  }
+}
+
+TEST(SourceMetaImage, BadDataFilesNameTheFile) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(kMetaImageSamples);
+  const std::string data = fileBytes(values);
+
+  const std::string truncated = dir.file("truncated.mha");
+  writeFile(truncated, metaImageHeader("MET_USHORT") + data.substr(0, data.size() - 1));
+  std::string message = errorOf(truncated);
+  EXPECT_NE(message.find(truncated), std::string::npos) << message;
+  EXPECT_NE(message.find("truncated"), std::string::npos) << message;
+
+  const std::string missing = dir.file("missing.mhd");
+  writeFile(missing, metaImageHeader("MET_USHORT", "", "nothere.raw"));
+  message = errorOf(missing);
+  EXPECT_NE(message.find(missing), std::string::npos) << message;
+  EXPECT_NE(message.find(dir.file("nothere.raw")), std::string::npos) << message;
+
+  // Compressed data cut short or damaged: refused while reading, naming the file.
+  const std::string z = zlibOf(data);
+  const std::string compressedHeader = withValue(metaImageHeader("MET_USHORT"), "CompressedData", "True");
+  std::string corruptBytes = z;
+  for (size_t i = 10; i < corruptBytes.size() - 10; i += 7) corruptBytes[i] = char(~corruptBytes[i]);
+  std::string badChecksum = z;
+  badChecksum.back() = char(~badChecksum.back());
+  const std::vector<std::pair<std::string, std::string>> damaged = {
+      {"short.mha", z.substr(0, z.size() / 2)},
+      {"corrupt.mha", corruptBytes},
+      {"nochecksum.mha", z.substr(0, z.size() - 4)},  // every sample there, the stream's Adler-32 cut off
+      {"badchecksum.mha", badChecksum}};
+  for (const auto& [name, bytes] : damaged) {
+    const std::string path = dir.file(name);
+    writeFile(path, compressedHeader + bytes);
+    std::vector<uint16_t> all(kMetaImageSamples);
+    try {
+      openVolumeSource(path)->readSlab(0, 5, std::as_writable_bytes(std::span(all)));
+      ADD_FAILURE() << name << " read without error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+
+  // A header longer than what is read as one (its data file's name could be cut to another file's).
+  const std::string longHeader = dir.file("long.mhd");
+  writeFile(longHeader, "Comment = " + std::string(kMaxMetaImageHeaderBytes, 'c') + "\n" +
+                            metaImageHeader("MET_USHORT", "", "vol.raw"));
+  message = errorOf(longHeader);
+  EXPECT_NE(message.find("longer than the 1048576 bytes read as a header"), std::string::npos) << message;
+  const std::string cutLine = dir.file("cut.mhd");
+  const std::string before = "NDims = 3\nDimSize = 9 6 5\nElementType = MET_USHORT\nComment = ";
+  const std::string padding(kMaxMetaImageHeaderBytes - 50 - before.size() - 1, 'c');
+  writeFile(cutLine, before + padding + "\nElementDataFile = vol" + std::string(400, 'x') + ".raw\n");
+  message = errorOf(cutLine);
+  EXPECT_NE(message.find("longer than the 1048576 bytes read as a header"), std::string::npos) << message;
+
+  // Dims and type come from the header, not from options.
+  SourceOptions options;
+  options.dims = glm::u32vec3(1, 2, 3);
+  EXPECT_NE(errorOf(truncated, options).find("--dims applies to raw files only"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ropecast

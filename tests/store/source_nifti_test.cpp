@@ -1,0 +1,329 @@
+// Tests of the NIfTI header parser and the NIfTI VolumeSource: NIfTI-1 and NIfTI-2 in both byte orders,
+// single files plain and gzip-compressed, header/image pairs given by either file, every scalar datatype,
+// scl_slope and scl_inter applied in a type that holds the values, the qform's and sform's note, and each
+// malformed header or data file giving an error that names the file.
+#include <bit>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "store/nifti_header.h"
+#include "store/source_nifti.h"
+#include "store/volume_source.h"
+#include "tests/store/store_test_util.h"
+
+namespace ropecast {
+namespace {
+
+using testing::errorOf;
+using testing::fileBytes;
+using testing::gzipOf;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
+using testing::writeFile;
+
+constexpr glm::u32vec3 kNiftiDims{9, 6, 5};
+constexpr size_t kNiftiSamples = 9 * 6 * 5;
+
+// A NIfTI header as a writer (nibabel, FSL) leaves one: dims, datatype, pixdim, vox_offset past a 4-byte
+// extension flag, no scaling, no transform; fields set in the file's byte order.
+class NiftiWriter {
+ public:
+  NiftiWriter(int version, int16_t datatype, int16_t bitpix, bool bigEndian = false)
+      : wide_(version == 2), big_(bigEndian), bytes_(wide_ ? 540 : 348, '\0') {
+    put<int32_t>(0, wide_ ? 540 : 348);
+    put<int16_t>(wide_ ? 12 : 70, datatype);
+    put<int16_t>(wide_ ? 14 : 72, bitpix);
+    dims({3, kNiftiDims.x, kNiftiDims.y, kNiftiDims.z});
+    pixdim(0, 1.0);
+    for (int axis = 1; axis <= 3; ++axis) pixdim(axis, 0.5 * axis);
+    voxOffset(bytes_.size() + 4);
+    std::memcpy(bytes_.data() + (wide_ ? 4 : 344), wide_ ? "n+2\0\r\n\032\n" : "n+1\0", wide_ ? 8 : 4);
+  }
+
+  template <typename T>
+  void put(size_t offset, T value) {
+    auto raw = std::bit_cast<std::array<char, sizeof(T)>>(value);
+    if (big_ != (std::endian::native == std::endian::big)) std::reverse(raw.begin(), raw.end());
+    std::memcpy(bytes_.data() + offset, raw.data(), sizeof(T));
+  }
+  void integer(size_t offset1, size_t offset2, int64_t v) {
+    wide_ ? put<int64_t>(offset2, v) : put<int16_t>(offset1, int16_t(v));
+  }
+  void real(size_t offset1, size_t offset2, double v) {
+    wide_ ? put<double>(offset2, v) : put<float>(offset1, float(v));
+  }
+  void dims(std::vector<int64_t> d) {
+    for (size_t i = 0; i < d.size(); ++i) integer(40 + 2 * i, 16 + 8 * i, d[i]);
+  }
+  void pixdim(int i, double v) { real(76 + 4 * size_t(i), 104 + 8 * size_t(i), v); }
+  void voxOffset(double v) { wide_ ? put<int64_t>(168, int64_t(v)) : put<float>(108, float(v)); }
+  void scale(double slope, double intercept) {
+    real(112, 176, slope);
+    real(116, 184, intercept);
+  }
+  void sform(const double rows[3][4]) {
+    wide_ ? put<int32_t>(348, 1) : put<int16_t>(254, 1);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) real(280 + 4 * size_t(r * 4 + c), 400 + 8 * size_t(r * 4 + c), rows[r][c]);
+  }
+  void qform(double b, double c, double d) {
+    wide_ ? put<int32_t>(344, 1) : put<int16_t>(252, 1);
+    real(256, 352, b);
+    real(260, 360, c);
+    real(264, 368, d);
+  }
+  void paired() { std::memcpy(bytes_.data() + (wide_ ? 4 : 344), wide_ ? "ni2" : "ni1", 3); }
+
+  // The header, its 4-byte extension flag (no extensions) and then `data`.
+  std::string file(const std::string& data) const { return bytes_ + std::string(4, '\0') + data; }
+  const std::string& header() const { return bytes_; }
+
+ private:
+  bool wide_, big_;
+  std::string bytes_;
+};
+
+NiftiHeader parsed(const std::string& bytes) {
+  return parseNiftiHeader(std::as_bytes(std::span(bytes.data(), bytes.size())), "t.nii");
+}
+
+TEST(SourceNifti, EveryDatatypeInBothVersions) {
+  TempDir dir;
+  for (const int version : {1, 2}) {
+    auto check = [&](auto tag, int16_t datatype, SampleType type) {
+      using T = decltype(tag);
+      const auto values = samplePattern<T>(kNiftiSamples);
+      const std::string path =
+          dir.file("v" + std::to_string(version) + "_" + std::to_string(datatype) + ".nii");
+      writeFile(path, NiftiWriter(version, datatype, int16_t(8 * sizeof(T))).file(fileBytes(values)));
+      auto source = openVolumeSource(path);
+      EXPECT_EQ(source->info().dims, kNiftiDims);
+      EXPECT_EQ(source->info().type, type);
+      EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 1.0, 1.5));
+      EXPECT_TRUE(source->info().notes.empty());
+      EXPECT_EQ(source->info().description, "nifti:" + path);
+      EXPECT_EQ(readSlab<T>(*source, 0, 5), values) << path;
+      const auto slab = readSlab<T>(*source, 3, 2);
+      EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + 3 * 54)) << path;
+    };
+    check(uint8_t{}, 2, SampleType::UInt8);
+    check(int16_t{}, 4, SampleType::Int16);
+    check(int32_t{}, 8, SampleType::Int32);
+    check(float{}, 16, SampleType::Float32);
+    check(double{}, 64, SampleType::Float64);
+    check(int8_t{}, 256, SampleType::Int8);
+    check(uint16_t{}, 512, SampleType::UInt16);
+    check(uint32_t{}, 768, SampleType::UInt32);
+  }
+}
+
+TEST(SourceNifti, BigEndianCompressedAndFourDimensionsOfOneVolume) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(kNiftiSamples);
+  for (const int version : {1, 2}) {
+    NiftiWriter big(version, 4, 16, true);
+    big.dims({4, kNiftiDims.x, kNiftiDims.y, kNiftiDims.z, 1});  // one volume of a time series
+    const std::string plain = dir.file("big" + std::to_string(version) + ".nii");
+    writeFile(plain, big.file(fileBytes(values, true)));
+    EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(plain), 0, 5), values) << plain;
+
+    // Compressed whole, header included; slabs out of order restart the stream.
+    const std::string gz = dir.file("big" + std::to_string(version) + ".nii.GZ");
+    writeFile(gz, gzipOf(big.file(fileBytes(values, true))));
+    auto source = openVolumeSource(gz);
+    EXPECT_EQ(source->info().dims, kNiftiDims);
+    for (const uint32_t z : {3u, 1u, 4u, 0u, 2u}) {
+      const auto slab = readSlab<int16_t>(*source, z, 1);
+      EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + z * 54)) << gz << " slice " << z;
+    }
+  }
+}
+
+TEST(SourceNifti, AHeaderAndImagePairIsReadFromEither) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(kNiftiSamples);
+  NiftiWriter pair(1, 512, 16);
+  pair.paired();
+  pair.voxOffset(0);
+  writeFile(dir.file("scan.hdr"), pair.header());
+  writeFile(dir.file("scan.img"), fileBytes(values));
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(dir.file("scan.hdr")), 0, 5), values);
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(dir.file("scan.img")), 0, 5), values);
+  EXPECT_EQ(niftiDataPath(readNiftiHeaderFile(dir.file("scan.hdr")), dir.file("scan.hdr")),
+            dir.file("scan.img"));
+
+  // Both compressed, upper-case names.
+  writeFile(dir.file("SCAN2.HDR.GZ"), gzipOf(pair.header()));
+  writeFile(dir.file("SCAN2.IMG.GZ"), gzipOf(fileBytes(values)));
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(dir.file("SCAN2.HDR.GZ")), 0, 5), values);
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(dir.file("SCAN2.IMG.GZ")), 0, 5), values);
+
+  writeFile(dir.file("alone.hdr"), pair.header());
+  const std::string message = errorOf(dir.file("alone.hdr"));
+  EXPECT_NE(message.find(dir.file("alone.hdr")), std::string::npos) << message;
+  EXPECT_NE(message.find("no .img or .img.gz"), std::string::npos) << message;
+}
+
+TEST(SourceNifti, ScaledValuesAreDeliveredInATypeThatHoldsThem) {
+  TempDir dir;
+  const auto u16 = samplePattern<uint16_t>(kNiftiSamples);
+  NiftiWriter shifted(1, 512, 16);
+  shifted.scale(1.0, -1024.0);  // CT stored as uint16 with an intercept: -1024 to 64511 needs int32
+  const std::string a = dir.file("shifted.nii");
+  writeFile(a, shifted.file(fileBytes(u16)));
+  auto source = openVolumeSource(a);
+  EXPECT_EQ(source->info().type, SampleType::Int32);
+  EXPECT_NE(source->info().description.find("scl_slope 1 and scl_inter -1024"), std::string::npos);
+  const auto values = readSlab<int32_t>(*source, 0, 5);
+  for (size_t i = 0; i < kNiftiSamples; ++i) ASSERT_EQ(values[i], int32_t(u16[i]) - 1024) << i;
+
+  const auto u8 = samplePattern<uint8_t>(kNiftiSamples);
+  NiftiWriter doubled(2, 2, 8);
+  doubled.scale(2.0, -100.0);  // -100 to 410: int16
+  const std::string b = dir.file("doubled.nii");
+  writeFile(b, doubled.file(fileBytes(u8)));
+  auto second = openVolumeSource(b);
+  EXPECT_EQ(second->info().type, SampleType::Int16);
+  const auto wide = readSlab<int16_t>(*second, 1, 3);
+  for (size_t i = 0; i < wide.size(); ++i) ASSERT_EQ(wide[i], 2 * int16_t(u8[54 + i]) - 100) << i;
+
+  NiftiWriter fractional(1, 4, 16, true);
+  fractional.scale(0.25, 0.5);
+  const auto i16 = samplePattern<int16_t>(kNiftiSamples);
+  const std::string c = dir.file("fractional.nii");
+  writeFile(c, fractional.file(fileBytes(i16, true)));
+  auto third = openVolumeSource(c);
+  EXPECT_EQ(third->info().type, SampleType::Float32);
+  const auto floats = readSlab<float>(*third, 0, 5);
+  for (size_t i = 0; i < kNiftiSamples; ++i) ASSERT_EQ(floats[i], float(i16[i] * 0.25 + 0.5)) << i;
+
+  // A slope of 0 (unset) or 1 with intercept 0 leaves the values as stored.
+  NiftiWriter identity(1, 4, 16);
+  identity.scale(1.0, 0.0);
+  EXPECT_FALSE(parsed(identity.header()).scaled);
+  identity.scale(0.0, 7.0);
+  EXPECT_FALSE(parsed(identity.header()).scaled);
+}
+
+TEST(SourceNifti, ATransformThatTurnsTheAxesIsNoted) {
+  NiftiWriter writer(1, 2, 8);
+  EXPECT_FALSE(parsed(writer.header()).transformTurnsAxes);
+  writer.qform(0.0, 0.0, 0.0);
+  EXPECT_FALSE(parsed(writer.header()).transformTurnsAxes);
+  writer.pixdim(0, -1.0);  // qfac -1: the third axis flipped
+  EXPECT_TRUE(parsed(writer.header()).transformTurnsAxes);
+  writer.pixdim(0, 1.0);
+  writer.qform(0.0, 0.0, 1.0);  // 180 degrees about z
+  EXPECT_TRUE(parsed(writer.header()).transformTurnsAxes);
+  // The sform, where set, is the one used.
+  const double scaling[3][4] = {{0.5, 0, 0, 10}, {0, 1, 0, 20}, {0, 0, 1.5, 30}};
+  writer.sform(scaling);
+  EXPECT_FALSE(parsed(writer.header()).transformTurnsAxes);
+  const double radiological[3][4] = {{-0.5, 0, 0, 10}, {0, 1, 0, 20}, {0, 0, 1.5, 30}};
+  writer.sform(radiological);
+  EXPECT_TRUE(parsed(writer.header()).transformTurnsAxes);
+
+  TempDir dir;
+  const std::string path = dir.file("flip.nii");
+  writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
+  auto source = openVolumeSource(path);
+  ASSERT_EQ(source->info().notes.size(), 1u);
+  EXPECT_NE(source->info().notes[0].find("qform or sform flips or rotates the axes"), std::string::npos);
+}
+
+TEST(SourceNifti, MalformedHeadersAndDataNameTheFile) {
+  struct Case {
+    std::string what, header, expected;
+  };
+  std::vector<Case> cases;
+  NiftiWriter good(1, 4, 16);
+  auto with = [&](const std::string& what, auto change, const std::string& expected) {
+    NiftiWriter writer = good;
+    change(writer);
+    cases.push_back({what, writer.header(), expected});
+  };
+  with(
+      "size", [](NiftiWriter& w) { w.put<int32_t>(0, 349); }, "expected 348 (NIfTI-1) or 540");
+  with(
+      "ANALYZE", [](NiftiWriter& w) { w.put<int32_t>(344, 0); }, "an ANALYZE 7.5 header");
+  with(
+      "2D",
+      [](NiftiWriter& w) {
+        w.dims({2, 9, 6, 1});
+      },
+      "only 3-dimensional");
+  with(
+      "time series",
+      [](NiftiWriter& w) {
+        w.dims({4, 9, 6, 5, 10});
+      },
+      "dim[4] is 10");
+  with(
+      "zero size",
+      [](NiftiWriter& w) {
+        w.dims({3, 9, 0, 5});
+      },
+      "dim[2] is 0");
+  with(
+      "complex", [](NiftiWriter& w) { w.put<int16_t>(70, 32); }, "complex64 (32) is not supported");
+  with(
+      "RGB", [](NiftiWriter& w) { w.put<int16_t>(70, 128); }, "RGB24 (128) is not supported");
+  with(
+      "int64", [](NiftiWriter& w) { w.put<int16_t>(70, 1024); }, "int64 (1024) is not supported");
+  with(
+      "bitpix", [](NiftiWriter& w) { w.put<int16_t>(72, 8); }, "bitpix is 8");
+  with(
+      "offset in header", [](NiftiWriter& w) { w.voxOffset(100); }, "lies within the 348-byte header");
+  with(
+      "fractional offset", [](NiftiWriter& w) { w.voxOffset(352.5); }, "is not a byte offset");
+  with(
+      "negative offset", [](NiftiWriter& w) { w.voxOffset(-4); }, "is not a byte offset");
+  cases.push_back({"cut short", good.header().substr(0, 200), "ends after 200 bytes"});
+  cases.push_back(
+      {"NIfTI-2 cut short", NiftiWriter(2, 4, 16).header().substr(0, 400), "ends after 400 bytes"});
+  for (const Case& c : cases) {
+    try {
+      parseNiftiHeader(std::as_bytes(std::span(c.header.data(), c.header.size())), "/some/dir/bad.nii");
+      ADD_FAILURE() << c.what << ": parsed without error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("/some/dir/bad.nii"), std::string::npos) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
+    }
+  }
+
+  TempDir dir;
+  const std::string data = fileBytes(samplePattern<int16_t>(kNiftiSamples));
+  const std::string truncated = dir.file("truncated.nii");
+  writeFile(truncated, good.file(data.substr(0, data.size() - 1)));
+  std::string message = errorOf(truncated);
+  EXPECT_NE(message.find(truncated), std::string::npos) << message;
+  EXPECT_NE(message.find("truncated"), std::string::npos) << message;
+
+  const std::string gz = gzipOf(good.file(data));
+  const std::string shortGz = dir.file("short.nii.gz");
+  writeFile(shortGz, gz.substr(0, gz.size() * 2 / 3));
+  std::vector<int16_t> all(kNiftiSamples);
+  try {
+    openVolumeSource(shortGz)->readSlab(0, 5, std::as_writable_bytes(std::span(all)));
+    ADD_FAILURE() << "a gzip file cut short read without error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(shortGz), std::string::npos) << e.what();
+  }
+  const std::string tiny = dir.file("tiny.nii.gz");
+  writeFile(tiny, gz.substr(0, 30));
+  message = errorOf(tiny);
+  EXPECT_NE(message.find(tiny), std::string::npos) << message;
+
+  SourceOptions options;
+  options.type = SampleType::UInt8;
+  EXPECT_NE(errorOf(truncated, options).find("--type applies to raw files only"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ropecast
