@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "store/metaimage_header.h"
 #include "store/nifti_header.h"
+#include "store/vtk_header.h"
 
 namespace {
 
@@ -30,11 +31,16 @@ void checkVolume(const Header& header) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  const bool nifti = data[0] & 1;
+  const int parser = data[0] % 3;
   ++data;
   --size;
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    if (nifti) {
+    if (parser == 2) {
+      const ropecast::VtkHeader header = ropecast::parseVtkHeader(text, "fuzz.vtk");
+      checkVolume(header);
+      if (header.headerBytes > size) std::abort();
+    } else if (parser == 1) {
       const ropecast::NiftiHeader header =
           ropecast::parseNiftiHeader(std::as_bytes(std::span(data, size)), "fuzz.nii");
       checkVolume(header);
@@ -45,7 +51,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           !(std::isfinite(header.slope) && header.slope != 0.0 && std::isfinite(header.intercept)))
         std::abort();
     } else {
-      const std::string_view text(reinterpret_cast<const char*>(data), size);
       const ropecast::MetaImageHeader header = ropecast::parseMetaImageHeader(text, "fuzz.mha");
       checkVolume(header);
       if (header.headerBytes > size || header.headerSize < -1) std::abort();

@@ -19,6 +19,7 @@ namespace ropecast {
 namespace {
 
 using testing::errorOf;
+using testing::expectVolume;
 using testing::fileBytes;
 using testing::readSlab;
 using testing::samplePattern;
@@ -63,15 +64,7 @@ TEST(SourceMetaImage, LocalRawOfEveryType) {
     const auto values = samplePattern<T>(kMetaImageSamples);
     const std::string path = dir.file(metaType + ".mha");
     writeFile(path, metaImageHeader(metaType) + fileBytes(values));
-    auto source = openVolumeSource(path);
-    EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5));
-    EXPECT_EQ(source->info().type, type);
-    EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
-    EXPECT_TRUE(source->info().notes.empty());
-    EXPECT_EQ(source->info().description, "metaimage:" + path);
-    EXPECT_EQ(readSlab<T>(*source, 0, 5), values) << metaType;
-    const auto slab = readSlab<T>(*source, 3, 2);
-    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + 3 * 54)) << metaType;
+    expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "metaimage:" + path}, values);
   };
   check(int8_t{}, "MET_CHAR", SampleType::Int8);
   check(uint8_t{}, "MET_UCHAR", SampleType::UInt8);

@@ -19,6 +19,7 @@ namespace ropecast {
 namespace {
 
 using testing::errorOf;
+using testing::expectVolume;
 using testing::fileBytes;
 using testing::gzipOf;
 using testing::readSlab;
@@ -101,15 +102,7 @@ TEST(SourceNifti, EveryDatatypeInBothVersions) {
       const std::string path =
           dir.file("v" + std::to_string(version) + "_" + std::to_string(datatype) + ".nii");
       writeFile(path, NiftiWriter(version, datatype, int16_t(8 * sizeof(T))).file(fileBytes(values)));
-      auto source = openVolumeSource(path);
-      EXPECT_EQ(source->info().dims, kNiftiDims);
-      EXPECT_EQ(source->info().type, type);
-      EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 1.0, 1.5));
-      EXPECT_TRUE(source->info().notes.empty());
-      EXPECT_EQ(source->info().description, "nifti:" + path);
-      EXPECT_EQ(readSlab<T>(*source, 0, 5), values) << path;
-      const auto slab = readSlab<T>(*source, 3, 2);
-      EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + 3 * 54)) << path;
+      expectVolume(*openVolumeSource(path), {kNiftiDims, type, {0.5, 1.0, 1.5}, "nifti:" + path}, values);
     };
     check(uint8_t{}, 2, SampleType::UInt8);
     check(int16_t{}, 4, SampleType::Int16);

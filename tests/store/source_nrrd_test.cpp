@@ -20,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::errorOf;
+using testing::expectVolume;
 using testing::gzipOf;
 using testing::readSlab;
 using testing::samplePattern;
@@ -48,13 +49,7 @@ TEST(SourceNrrd, AttachedRawOfEveryType) {
     const auto values = samplePattern<T>(9 * 6 * 5);
     const std::string path = dir.file(nrrdType + ".nrrd");
     writeFile(path, headerFor(nrrdType, "raw", "spacings: 0.5 0.75 2\n") + "\n" + bytesOf(values, false));
-    auto source = openVolumeSource(path);
-    EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5));
-    EXPECT_EQ(source->info().type, type);
-    EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
-    EXPECT_EQ(readSlab<T>(*source, 0, 5), values) << nrrdType;
-    const auto slab = readSlab<T>(*source, 3, 2);
-    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + 3 * 54)) << nrrdType;
+    expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "nrrd:" + path}, values);
   };
   check(uint8_t{}, "uchar", SampleType::UInt8);
   check(uint16_t{}, "unsigned short", SampleType::UInt16);

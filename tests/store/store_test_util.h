@@ -116,6 +116,31 @@ std::vector<T> readSlab(VolumeSource& source, uint32_t z0, uint32_t count) {
   return slab;
 }
 
+// What a file-format test expects a source to say of the volume it wrote.
+struct ExpectedVolume {
+  glm::u32vec3 dims;
+  SampleType type;
+  glm::dvec3 spacing;
+  std::string description;
+};
+
+// That `source` is the volume `expected` describes, without notes, holding `values`: read whole, and from a
+// middle slice on.
+template <typename T>
+void expectVolume(VolumeSource& source, const ExpectedVolume& expected, const std::vector<T>& values) {
+  const VolumeInfo& info = source.info();
+  EXPECT_EQ(info.dims, expected.dims) << expected.description;
+  EXPECT_EQ(info.type, expected.type) << expected.description;
+  EXPECT_EQ(info.spacing, expected.spacing) << expected.description;
+  EXPECT_EQ(info.description, expected.description);
+  EXPECT_TRUE(info.notes.empty()) << expected.description;
+  EXPECT_EQ(readSlab<T>(source, 0, info.dims.z), values) << expected.description;
+  const uint32_t middle = info.dims.z / 2;
+  const auto slab = readSlab<T>(source, middle, info.dims.z - middle);
+  EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + middle * info.sliceBytes() / sizeof(T)))
+      << expected.description;
+}
+
 // The message opening `spec` fails with, or "" when it opens.
 inline std::string errorOf(const std::string& spec, const SourceOptions& options = {}) {
   try {

@@ -1,0 +1,36 @@
+#include "store/source_vtk.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "store/file_samples.h"
+#include "store/source_raw.h"
+
+namespace ropecast {
+
+VtkHeader readVtkHeaderFile(const std::string& path) {
+  const PosixFile file(path);
+  std::string text(size_t(std::min<uint64_t>(file.sizeBytes(), kMaxVtkHeaderBytes)), '\0');
+  text.resize(file.readSomeAt(0, std::as_writable_bytes(std::span(text))));
+  return parseVtkHeader(text, path);
+}
+
+std::unique_ptr<VolumeSource> openVtkSource(const std::string& path, const SourceOptions& options) {
+  const VtkHeader header = readVtkHeaderFile(path);
+  SampleBlock block;
+  block.fileKind = "legacy VTK file";
+  block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type));
+  block.bytes = header.dataBytes();
+  block.start = header.headerBytes;
+
+  VolumeInfo info;
+  info.dims = header.sizes;
+  info.type = header.type;
+  info.spacing = options.spacing.value_or(header.spacing);
+  info.description = "vtk:" + path + " (" + header.arrayName + ")";
+  return openBlockSource(std::move(info),
+                         std::make_unique<FileSamples>(std::make_unique<PosixFile>(path), std::move(block)),
+                         /*storedBigEndian=*/true);
+}
+
+}  // namespace ropecast
