@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "store/metaimage_header.h"
 #include "store/nifti_header.h"
+#include "store/vti_header.h"
 #include "store/vtk_header.h"
 
 namespace {
@@ -31,12 +32,16 @@ void checkVolume(const Header& header) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  const int parser = data[0] % 3;
+  const int parser = data[0] % 4;
   ++data;
   --size;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    if (parser == 2) {
+    if (parser == 3) {
+      const ropecast::VtiHeader header = ropecast::parseVtiHeader(text, "fuzz.vti");
+      checkVolume(header);
+      if (header.headerWordBytes != 4 && header.headerWordBytes != 8) std::abort();
+    } else if (parser == 2) {
       const ropecast::VtkHeader header = ropecast::parseVtkHeader(text, "fuzz.vtk");
       checkVolume(header);
       if (header.headerBytes > size) std::abort();

@@ -1,9 +1,10 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
 //   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; .mha/.mhd -> MetaImage;
-//   .nii/.nii.gz/.hdr/.hdr.gz, or an .img(.gz) beside a .hdr(.gz) -> NIfTI; .vtk -> legacy VTK; a pattern
-//   with * or ? -> image stack; a directory -> DICOM series if it holds DICOM files, or no slices and DICOM
-//   files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff -> multi-page TIFF (a
-//   single page alone is an error); a single .png or a store is an error; anything else -> raw.
+//   .nii/.nii.gz/.hdr/.hdr.gz, or an .img(.gz) beside a .hdr(.gz) -> NIfTI; .vtk -> legacy VTK; .vti -> VTK
+//   image data; a pattern with * or ? -> image stack; a directory -> DICOM series if it holds DICOM files, or
+//   no slices and DICOM files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff ->
+//   multi-page TIFF (a single page alone is an error); a single .png or a store is an error; anything else ->
+//   raw.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include "store/source_nrrd.h"
 #include "store/source_procedural.h"
 #include "store/source_raw.h"
+#include "store/source_vti.h"
 #include "store/source_vtk.h"
 #include "store/store_format.h"
 #include "store/volume_source.h"
@@ -112,6 +114,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     rejectRawOptions(spec, options, "a NIfTI header");
     return openNiftiSource(spec, options);
   }
+  if (ext == ".vti") {
+    rejectRawOptions(spec, options, "a VTK image data file");
+    return openVtiSource(spec, options);
+  }
   if (ext == ".vtk") {
     rejectRawOptions(spec, options, "a legacy VTK file");
     return openVtkSource(spec, options);
@@ -136,8 +142,8 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   if (startsWithStoreMagic(spec))
     throw Error(
         "openVolumeSource: " + spec +
-        " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, legacy VTK, "
-        "image stacks, TIFF, DICOM); render, view "
+        " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, VTK (.vtk, "
+        ".vti), image stacks, TIFF, DICOM); render, view "
         "and info read it as it is, and `ropecast extract` writes a level of it as a raw volume");
   return openRawSource(spec, options);
 }

@@ -113,7 +113,7 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
   auto a = std::make_shared<ConvertArgs>();
   app.add_option("input", a->input,
                  "volume: file.raw (name_XxYxZ_type.raw or --dims/--type), .nrrd/.nhdr, .mha/.mhd, "
-                 ".nii/.nii.gz/.hdr, legacy .vtk, "
+                 ".nii/.nii.gz/.hdr, .vti, legacy .vtk, "
                  "directory or glob of slices, multi-page TIFF, DICOM folder or image, procedural:NAME:SIZE")
       ->required();
   app.add_option("-o,--output", a->output, "the store file to write")

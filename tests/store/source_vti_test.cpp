@@ -1,0 +1,241 @@
+// Tests of the VTK XML image data (.vti) header parser and source: the point data's active scalars read from
+// appended raw and base64 data and inline base64 data, plain and in zlib blocks (slabs across blocks, in any
+// order), both byte orders and header word sizes, and each unsupported or damaged file giving an error that
+// names the file.
+#include <zlib.h>
+
+#include <bit>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "store/source_vti.h"
+#include "store/volume_source.h"
+#include "store/vti_header.h"
+#include "tests/store/store_test_util.h"
+
+namespace ropecast {
+namespace {
+
+using testing::errorOf;
+using testing::expectVolume;
+using testing::fileBytes;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
+using testing::writeFile;
+
+constexpr size_t kVtiSamples = 9 * 6 * 5;
+
+std::string base64Of(const std::string& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const size_t n = std::min<size_t>(3, bytes.size() - i);
+    uint32_t bits = 0;
+    for (size_t k = 0; k < 3; ++k) bits = bits << 8 | (k < n ? uint8_t(bytes[i + k]) : 0u);
+    for (size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[bits >> (18 - 6 * k) & 63] : '=';
+  }
+  return out;
+}
+
+// How a writer stores the array: inline or appended, base64 or raw, plain or in zlib blocks of `blockBytes`.
+struct VtiLayout {
+  bool inlined = false, base64 = false, zlib = false, bigEndian = false, wideHeader = false;
+  size_t blockBytes = 100;
+};
+
+// `value` as a header word of the layout.
+std::string word(uint64_t value, const VtiLayout& layout) {
+  std::string bytes(layout.wideHeader ? 8 : 4, '\0');
+  for (size_t i = 0; i < bytes.size(); ++i)
+    bytes[layout.bigEndian ? bytes.size() - 1 - i : i] = char(value >> (8 * i));
+  return bytes;
+}
+
+// The data as VTK's writer encodes it: a byte count and the samples in one run, or a compression header and
+// the blocks in a run of their own (each run base64-encoded apart when base64).
+std::string encodedData(const std::string& samples, const VtiLayout& layout) {
+  const auto encode = [&](const std::string& run) { return layout.base64 ? base64Of(run) : run; };
+  if (!layout.zlib) return encode(word(samples.size(), layout) + samples);
+  std::string header, blocks;
+  const size_t count = (samples.size() + layout.blockBytes - 1) / layout.blockBytes;
+  header += word(count, layout) + word(layout.blockBytes, layout) +
+            word(samples.size() % layout.blockBytes, layout);
+  for (size_t b = 0; b < count; ++b) {
+    const std::string block = samples.substr(b * layout.blockBytes, layout.blockBytes);
+    uLongf size = compressBound(uLong(block.size()));
+    std::string compressed(size, '\0');
+    EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(compressed.data()), &size,
+                        reinterpret_cast<const Bytef*>(block.data()), uLong(block.size()), 6),
+              Z_OK);
+    compressed.resize(size);
+    header += word(size, layout);
+    blocks += compressed;
+  }
+  return encode(header) + encode(blocks);
+}
+
+// A .vti of a 9x6x5 volume whose point data holds a float array "other" first and then `values` as
+// "density", the active scalars.
+template <typename T>
+std::string vtiFile(const std::string& type, const std::vector<T>& values, const VtiLayout& layout) {
+  const std::string other = encodedData(std::string(kVtiSamples * 4, 'o'), layout);
+  const std::string data = encodedData(fileBytes(values, layout.bigEndian), layout);
+  const auto array = [&](const std::string& name, const std::string& arrayType, const std::string& encoded,
+                         size_t offset) {
+    return "<DataArray type=\"" + arrayType + "\" Name=\"" + name + "\" format=\"" +
+           (layout.inlined ? "binary\">\n          " + encoded + "\n        </DataArray>\n"
+                           : "appended\" offset=\"" + std::to_string(offset) + "\"/>\n");
+  };
+  std::string xml =
+      std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"") +
+      (layout.bigEndian ? "BigEndian" : "LittleEndian") + "\" header_type=\"" +
+      (layout.wideHeader ? "UInt64" : "UInt32") + "\"" +
+      (layout.zlib ? " compressor=\"vtkZLibDataCompressor\"" : "") +
+      ">\n  <ImageData WholeExtent=\"-4 4 10 15 0 4\" Origin=\"0 0 0\" Spacing=\"0.5 0.75 2\">\n"
+      "    <Piece Extent=\"-4 4 10 15 0 4\">\n      <PointData Scalars=\"density\">\n        " +
+      array("other", "Float32", other, 0) + "        " + array("density", type, data, other.size()) +
+      "      </PointData>\n      <CellData>\n      </CellData>\n    </Piece>\n  </ImageData>\n";
+  if (!layout.inlined)
+    xml += std::string("  <AppendedData encoding=\"") + (layout.base64 ? "base64" : "raw") + "\">\n   _" +
+           other + data + "\n  </AppendedData>\n";
+  return xml + "</VTKFile>\n";
+}
+
+TEST(SourceVti, EveryLayoutAWriterLeaves) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(kVtiSamples);
+  int file = 0;
+  for (const bool inlined : {false, true})
+    for (const bool base64 : {false, true})
+      for (const bool zlib : {false, true})
+        for (const bool bigEndian : {false, true})
+          for (const bool wideHeader : {false, true}) {
+            if (inlined && !base64) continue;  // inline binary data is base64
+            const VtiLayout layout{inlined, base64, zlib, bigEndian, wideHeader};
+            const std::string path = dir.file("v" + std::to_string(file++) + ".vti");
+            writeFile(path, vtiFile("Int16", values, layout));
+            SCOPED_TRACE(path + (inlined ? " inline" : " appended") + (base64 ? " base64" : " raw") +
+                         (zlib ? " zlib" : "") + (bigEndian ? " big-endian" : "") +
+                         (wideHeader ? " UInt64" : ""));
+            auto source = openVolumeSource(path);
+            expectVolume(*source,
+                         {{9, 6, 5}, SampleType::Int16, {0.5, 0.75, 2.0}, "vti:" + path + " (density)"},
+                         values);
+            // Slabs out of order, across blocks of 100 bytes (a slice is 108).
+            for (const uint32_t z : {3u, 1u, 4u, 0u, 2u}) {
+              const auto slab = readSlab<int16_t>(*source, z, 1);
+              EXPECT_TRUE(std::equal(slab.begin(), slab.end(), values.begin() + z * 54)) << "slice " << z;
+            }
+          }
+}
+
+TEST(SourceVti, EveryType) {
+  TempDir dir;
+  auto check = [&](auto tag, const std::string& vtiType, SampleType type) {
+    using T = decltype(tag);
+    const auto values = samplePattern<T>(kVtiSamples);
+    const std::string path = dir.file(vtiType + ".vti");
+    writeFile(path, vtiFile(vtiType, values, {.zlib = true}));
+    expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "vti:" + path + " (density)"},
+                 values);
+  };
+  check(int8_t{}, "Int8", SampleType::Int8);
+  check(uint8_t{}, "UInt8", SampleType::UInt8);
+  check(uint16_t{}, "UInt16", SampleType::UInt16);
+  check(int32_t{}, "Int32", SampleType::Int32);
+  check(uint32_t{}, "UInt32", SampleType::UInt32);
+  check(float{}, "Float32", SampleType::Float32);
+  check(double{}, "Float64", SampleType::Float64);
+}
+
+TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
+  const auto values = samplePattern<int16_t>(kVtiSamples);
+  const std::string good = vtiFile("Int16", values, {});
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    EXPECT_NE(text.find(from), std::string::npos) << from;
+    return text.replace(text.find(from), from.size(), to);
+  };
+  struct Case {
+    std::string what, text, expected;
+  };
+  const std::vector<Case> cases = {
+      {"not XML", "this is not XML\n", "not well-formed XML at line 1"},
+      {"another root", replaced("<VTKFile", "<VTKFiles"), "expected a VTKFile element first"},
+      {"poly data", replaced("type=\"ImageData\"", "type=\"PolyData\""), "only ImageData (.vti) is read"},
+      {"byte order", replaced("LittleEndian", "MiddleEndian"), "expected LittleEndian or BigEndian"},
+      {"header type", replaced("UInt32", "UInt16"), "expected UInt32 or UInt64"},
+      {"LZ4",
+       replaced("header_type=\"UInt32\"", "header_type=\"UInt32\" compressor=\"vtkLZ4DataCompressor\""),
+       "compressor 'vtkLZ4DataCompressor' is not read"},
+      {"extent", replaced("WholeExtent=\"-4 4 10 15 0 4\"", "WholeExtent=\"-4 4 10 15 4 0\""),
+       "each low <= high"},
+      {"spacing", replaced("Spacing=\"0.5 0.75 2\"", "Spacing=\"0.5 0 2\""), "expected 3 non-zero numbers"},
+      {"piece", replaced("Piece Extent=\"-4 4 10 15 0 4\"", "Piece Extent=\"-4 4 10 15 0 2\""),
+       "the Piece's Extent is not the WholeExtent"},
+      {"two pieces",
+       replaced("    </Piece>\n", "    </Piece>\n    <Piece Extent=\"-4 4 10 15 0 4\"></Piece>\n"),
+       "several Pieces"},
+      {"no such scalars", replaced("Scalars=\"density\"", "Scalars=\"pressure\""),
+       "no DataArray named 'pressure'"},
+      {"components", replaced("Name=\"density\"", "Name=\"density\" NumberOfComponents=\"3\""),
+       "3 components"},
+      {"Int64", replaced("type=\"Int16\"", "type=\"Int64\""), "of type 'Int64' is not read"},
+      {"ASCII", replaced("Name=\"density\" format=\"appended\"", "Name=\"density\" format=\"ascii\""),
+       "ASCII data is not read"},
+      {"no appended data", good.substr(0, good.find("  <AppendedData")), "no AppendedData element"},
+  };
+  for (const Case& c : cases) {
+    try {
+      parseVtiHeader(c.text, "/some/dir/bad.vti");
+      ADD_FAILURE() << c.what << ": parsed without error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("/some/dir/bad.vti"), std::string::npos) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
+    }
+  }
+
+  TempDir dir;
+  const auto expectFailure = [&](const std::string& name, const std::string& text,
+                                 const std::string& expected, bool whenRead) {
+    const std::string path = dir.file(name);
+    writeFile(path, text);
+    std::string message;
+    try {
+      auto source = openVolumeSource(path);
+      if (!whenRead) ADD_FAILURE() << name << ": opened";
+      readSlab<int16_t>(*source, 0, 5);
+      ADD_FAILURE() << name << ": read without error";
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    EXPECT_NE(message.find(path), std::string::npos) << name << ": " << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << name << ": " << message;
+  };
+  const std::string appendedEnd = "\n  </AppendedData>\n</VTKFile>\n";
+  expectFailure("cut.vti", good.substr(0, good.size() - appendedEnd.size() - 3), "truncated", false);
+  const std::string zlibFile = vtiFile("Int16", values, {.zlib = true});
+  expectFailure("cutblocks.vti", zlibFile.substr(0, zlibFile.size() - appendedEnd.size() - 3), "truncated",
+                false);
+  // A byte count for another size.
+  std::string wrongCount = good;
+  const size_t count = wrongCount.find("\n   _") + 5 + kVtiSamples * 4 + 4;  // past "other" and its count
+  wrongCount[count] = char(wrongCount[count] + 2);
+  expectFailure("count.vti", wrongCount, "says it holds 542 bytes", false);
+  // A damaged block, and a base64 character that is none.
+  std::string damaged = zlibFile;
+  damaged[damaged.size() - appendedEnd.size() - 20] ^= 0x55;
+  expectFailure("damaged.vti", damaged, "is damaged", true);
+  std::string notBase64 = vtiFile("Int16", values, {.base64 = true});
+  notBase64[notBase64.size() - appendedEnd.size() - 40] = '#';
+  expectFailure("notbase64.vti", notBase64, "not base64 data", true);
+}
+
+}  // namespace
+}  // namespace ropecast
