@@ -133,6 +133,9 @@ class VtiSource final : public VolumeSource {
            " blocks of " + std::to_string(blockBytes_) + " bytes, the last " + std::to_string(lastBytes) +
            ") does not hold the " + std::to_string(header_.dataBytes()) + " bytes of " +
            formatDims(header_.sizes) + " " + std::string(sampleTypeName(header_.type)) + " samples");
+    if (blocks > file_.sizeBytes() / width)  // each block's size is a word of the file
+      fail("the compression header of the array '" + header_.arrayName + "' counts " +
+           std::to_string(blocks) + " blocks, more than the file holds");
     checkWithinFile(data_, (3 + blocks) * width);
     const auto sizes = words(data_, 3 * width, size_t(blocks));
     uint64_t offset = 0;

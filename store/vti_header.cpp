@@ -160,9 +160,10 @@ class VtiParser {
     std::string sizes;
     for (int axis = 0; axis < 3; ++axis) {
       const double lo = (*extent)[size_t(2 * axis)], hi = (*extent)[size_t(2 * axis + 1)];
-      if (lo != std::floor(lo) || hi != std::floor(hi) || hi < lo)
-        return stop("ImageData WholeExtent: expected 3 pairs of integers, each low <= high");
-      sizes += formatNumber(hi - lo + 1.0) + " ";
+      if (lo != std::floor(lo) || hi != std::floor(hi) || hi < lo || hi - lo >= 4294967295.0)
+        return stop(
+            "ImageData WholeExtent: expected 3 pairs of integers, each low <= high, less than 2^32 apart");
+      sizes += std::to_string(uint64_t(hi - lo) + 1) + " ";
       wholeExtent_[size_t(2 * axis)] = lo;
       wholeExtent_[size_t(2 * axis + 1)] = hi;
     }

@@ -228,6 +228,20 @@ TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
   const size_t count = wrongCount.find("\n   _") + 5 + kVtiSamples * 4 + 4;  // past "other" and its count
   wrongCount[count] = char(wrongCount[count] + 2);
   expectFailure("count.vti", wrongCount, "says it holds 542 bytes", false);
+  // A compression header counting more blocks than the file holds sizes for: 2^62 blocks of 1 byte, for a
+  // float64 volume of 2^59 samples, whose size words alone would be 2^65 bytes.
+  std::string manyBlocks =
+      vtiFile("Float64", samplePattern<double>(kVtiSamples), {.zlib = true, .wideHeader = true});
+  for (const std::string extent : {"WholeExtent=", "Piece Extent="}) {
+    const std::string small = "\"-4 4 10 15 0 4\"";
+    manyBlocks.replace(manyBlocks.find(extent + small) + extent.size(), small.size(),
+                       "\"0 1048575 0 1048575 0 524287\"");
+  }
+  const size_t offsetAt = manyBlocks.find("offset=\"", manyBlocks.find("Name=\"density\"")) + 8;
+  const size_t density = manyBlocks.find("\n   _") + 5 + std::stoull(manyBlocks.substr(offsetAt));
+  const std::string header = std::string(7, '\0') + '\x40' + '\x01' + std::string(15, '\0');  // 2^62, 1, 0
+  manyBlocks.replace(density, header.size(), header);
+  expectFailure("manyblocks.vti", manyBlocks, "more than the file holds", false);
   // A damaged block, and a base64 character that is none.
   std::string damaged = zlibFile;
   damaged[damaged.size() - appendedEnd.size() - 20] ^= 0x55;
