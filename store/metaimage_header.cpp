@@ -142,11 +142,8 @@ class MetaImageHeaderParser {
         failKey(key, std::to_string(n) + " channels; only single-channel (scalar) volumes are supported");
     } else if (name == "transformmatrix" || name == "rotation" || name == "orientation") {
       const std::vector<double> m = numbers(key, value, 9);
-      for (int row = 0; row < 3; ++row)
-        for (int column = 0; column < 3; ++column) {
-          const double v = m[size_t(row * 3 + column)];
-          if (row == column ? !(v > 0.0) : v != 0.0) header_.matrixTurnsAxes = true;
-        }
+      header_.matrixTurnsAxes =
+          header_.matrixTurnsAxes || matrixTurnsAxes(std::span<const double, 9>(m.data(), 9));
     } else if (name == "elementdatafile") {
       parseDataFile(key, value);
     }

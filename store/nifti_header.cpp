@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "store/volume_source.h"
 
 namespace ropecast {
 namespace {
@@ -101,20 +102,6 @@ class NiftiFields {
   std::span<const std::byte> bytes_;
   bool swapped_;
 };
-
-// Whether the 3x3 matrix, rows in `m`, does more than scale each axis by a positive factor.
-bool turnsAxes(const double m[3][3]) {
-  constexpr double kTolerance = 1e-6;
-  double largest = 0.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(m[r][c]));
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      if (!std::isfinite(m[r][c])) return true;
-      if (r == c ? m[r][c] <= kTolerance * largest : std::abs(m[r][c]) > kTolerance * largest) return true;
-    }
-  return false;
-}
 
 }  // namespace
 
@@ -214,12 +201,13 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
   }
 
   // The sform where its code is set (NIfTI's method 3), else the qform (method 2); neither: axes as stored.
-  double m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  std::array<double, 9> m{};
   const size_t real = layout.wide ? 8 : 4;
   if (field.code(layout.sformCode, layout.wide) > 0) {
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) m[r][c] = field.real(layout.srowX + size_t(r * 4 + c) * real, layout.wide);
-    header.transformTurnsAxes = turnsAxes(m);
+      for (int c = 0; c < 3; ++c)
+        m[size_t(r * 3 + c)] = field.real(layout.srowX + size_t(r * 4 + c) * real, layout.wide);
+    header.transformTurnsAxes = matrixTurnsAxes(m);
   } else if (field.code(layout.qformCode, layout.wide) > 0) {
     const double b = field.real(layout.quaternB, layout.wide),
                  c = field.real(layout.quaternB + real, layout.wide),

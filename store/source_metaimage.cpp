@@ -11,10 +11,8 @@
 namespace ropecast {
 
 MetaImageHeader readMetaImageHeaderFile(const std::string& path) {
-  std::string text;
   const PosixFile file(path);
-  text.resize(size_t(std::min<uint64_t>(file.sizeBytes(), kMaxMetaImageHeaderBytes)));
-  text.resize(file.readSomeAt(0, std::as_writable_bytes(std::span(text))));
+  const std::string text = file.readStart(kMaxMetaImageHeaderBytes);
   const auto tooLong = [&] {
     return Error("MetaImage header " + path + ": longer than the " +
                  std::to_string(kMaxMetaImageHeaderBytes) +
@@ -55,11 +53,7 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "metaimage:" + path;
-  if (header.matrixTurnsAxes)
-    info.notes.push_back(
-        path +
-        ": its TransformMatrix flips or rotates the axes; it is not applied, so the volume is "
-        "shown unflipped and axis-aligned");
+  if (header.matrixTurnsAxes) info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
   return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
                          header.bigEndian);
 }

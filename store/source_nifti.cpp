@@ -170,10 +170,7 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "nifti:" + path;
   if (header.transformTurnsAxes)
-    info.notes.push_back(
-        headerPath +
-        ": its qform or sform flips or rotates the axes; it is not applied, so the volume is "
-        "shown unflipped and axis-aligned");
+    info.notes.push_back(unappliedTransformNote(headerPath, "its qform or sform"));
   if (header.spacingUnknown && !options.spacing)
     info.notes.push_back(headerPath +
                          ": pixdim gives no spacing for some axis (zero or not a number); 1 is used there "

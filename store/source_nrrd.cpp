@@ -32,10 +32,8 @@ uint64_t skipLines(const PosixFile& file, uint64_t offset, int64_t lines) {
 }  // namespace
 
 NrrdHeader readNrrdHeaderFile(const std::string& path) {
-  std::string text;
   const PosixFile file(path);
-  text.resize(size_t(std::min<uint64_t>(file.sizeBytes(), kMaxNrrdHeaderBytes)));
-  text.resize(file.readSomeAt(0, std::as_writable_bytes(std::span(text))));
+  const std::string text = file.readStart(kMaxNrrdHeaderBytes);
   NrrdHeader header = parseNrrdHeader(text, path);
   if (!header.endsWithBlankLine && file.sizeBytes() > kMaxNrrdHeaderBytes)
     throw Error("NRRD header " + path + ": longer than the " + std::to_string(kMaxNrrdHeaderBytes) +

@@ -153,6 +153,12 @@ size_t PosixFile::readSomeAt(uint64_t offsetBytes, std::span<std::byte> out) con
   return done;
 }
 
+std::string PosixFile::readStart(size_t maxBytes) const {
+  std::string text(size_t(std::min<uint64_t>(sizeBytes_, maxBytes)), '\0');
+  text.resize(readSomeAt(0, std::as_writable_bytes(std::span(text))));
+  return text;
+}
+
 void PosixFile::readAt(uint64_t offsetBytes, std::span<std::byte> out) const {
   const size_t got = readSomeAt(offsetBytes, out);
   if (got != out.size())

@@ -50,6 +50,8 @@ class PosixFile {
   // Reads exactly out.size() bytes at `offsetBytes` (pread; no shared file offset). Throws if the file ends
   // first.
   void readAt(uint64_t offsetBytes, std::span<std::byte> out) const;
+  // The file's first bytes, at most `maxBytes` (a header read as text).
+  std::string readStart(size_t maxBytes) const;
   // Reads up to out.size() bytes; returns how many (fewer only at the end of the file).
   size_t readSomeAt(uint64_t offsetBytes, std::span<std::byte> out) const;
 

@@ -84,10 +84,7 @@ class VtiSource final : public VolumeSource {
       info_.valueMax = 255.0;
     }
     info_.description = "vti:" + path + " (" + header_.arrayName + ")";
-    if (header_.directionTurnsAxes)
-      info_.notes.push_back(path +
-                            ": its Direction flips or rotates the axes; it is not applied, so the volume is "
-                            "shown unflipped and axis-aligned");
+    if (header_.directionTurnsAxes) info_.notes.push_back(unappliedTransformNote(path, "its Direction"));
     if (header_.zlib)
       readCompressionHeader();
     else
@@ -207,9 +204,7 @@ class VtiSource final : public VolumeSource {
 
 VtiHeader readVtiHeaderFile(const std::string& path) {
   const PosixFile file(path);
-  std::string text(size_t(std::min<uint64_t>(file.sizeBytes(), kMaxVtiHeaderBytes)), '\0');
-  text.resize(file.readSomeAt(0, std::as_writable_bytes(std::span(text))));
-  return parseVtiHeader(text, path);
+  return parseVtiHeader(file.readStart(kMaxVtiHeaderBytes), path);
 }
 
 std::unique_ptr<VolumeSource> openVtiSource(const std::string& path, const SourceOptions& options) {

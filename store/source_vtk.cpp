@@ -10,9 +10,7 @@ namespace ropecast {
 
 VtkHeader readVtkHeaderFile(const std::string& path) {
   const PosixFile file(path);
-  std::string text(size_t(std::min<uint64_t>(file.sizeBytes(), kMaxVtkHeaderBytes)), '\0');
-  text.resize(file.readSomeAt(0, std::as_writable_bytes(std::span(text))));
-  return parseVtkHeader(text, path);
+  return parseVtkHeader(file.readStart(kMaxVtkHeaderBytes), path);
 }
 
 std::unique_ptr<VolumeSource> openVtkSource(const std::string& path, const SourceOptions& options) {

@@ -75,6 +75,15 @@ struct SizesText {
 };
 SizesText parseSizesText(std::string_view text);
 
+// Whether a 3x3 matrix (rows one after another: a TransformMatrix, a qform's or sform's rotation, a
+// Direction) does more than scale each axis by a positive factor, to within a millionth of its largest entry
+// (written floats carry rounding); a matrix with a non-finite entry does.
+bool matrixTurnsAxes(std::span<const double, 9> rows);
+
+// The warning a source gives when its file's `transform` ("its TransformMatrix") turns the axes: it is not
+// applied.
+std::string unappliedTransformNote(const std::string& path, const std::string& transform);
+
 // "XxYxZ", for messages.
 inline std::string formatDims(glm::u32vec3 d) {
   return std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);

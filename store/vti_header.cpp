@@ -179,11 +179,7 @@ class VtiParser {
     if (const auto directionText = attribute(attributes, "Direction")) {
       const auto m = numbers(*directionText, 9);
       if (!m) return stop("ImageData Direction: expected 9 numbers");
-      for (int row = 0; row < 3; ++row)
-        for (int column = 0; column < 3; ++column) {
-          const double v = (*m)[size_t(row * 3 + column)];
-          if (row == column ? !(v > 0.0) : v != 0.0) header_.directionTurnsAxes = true;
-        }
+      header_.directionTurnsAxes = matrixTurnsAxes(std::span<const double, 9>(m->data(), 9));
     }
   }
 
