@@ -79,15 +79,15 @@ Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double
   return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
 }
 
-bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
+bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1) {
   t0 = -std::numeric_limits<double>::infinity();
   t1 = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
     if (ray.dir[a] == 0.0) {
-      if (ray.origin[a] < 0.0 || ray.origin[a] > boxMax[a]) return false;
+      if (ray.origin[a] < box.lo[a] || ray.origin[a] > box.hi[a]) return false;
       continue;
     }
-    double tn = (0.0 - ray.origin[a]) / ray.dir[a], tf = (boxMax[a] - ray.origin[a]) / ray.dir[a];
+    double tn = (box.lo[a] - ray.origin[a]) / ray.dir[a], tf = (box.hi[a] - ray.origin[a]) / ray.dir[a];
     if (tn > tf) std::swap(tn, tf);
     t0 = std::max(t0, tn);
     t1 = std::min(t1, tf);

@@ -10,6 +10,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "core/world_box.h"
+
 namespace ropecast {
 
 struct Camera {
@@ -54,8 +56,12 @@ CameraFrame cameraFrame(const Camera& c);
 // The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
 Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
 
-// The ray's parameter interval [t0, t1] inside the box [0, boxMax] (slab test), t0 clamped to 0 (the eye
-// may be inside); false on a miss. Whatever draws the volume box [0, n s] clips its rays with it.
-bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1);
+// The ray's parameter interval [t0, t1] inside the box (slab test), t0 clamped to 0 (the eye may be inside);
+// false on a miss. Whatever draws the volume clips its rays with the box its samples lie in: the volume box
+// [0, n s] cut to --crop (sampledWorldBox, core/render_params.h).
+bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1);
+inline bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
+  return clipToBox(ray, WorldBox{glm::dvec3(0.0), boxMax}, t0, t1);
+}
 
 }  // namespace ropecast

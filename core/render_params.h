@@ -4,10 +4,14 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string_view>
 #include <utility>
 
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
+
+#include "core/world_box.h"
 
 namespace ropecast {
 
@@ -53,6 +57,17 @@ inline constexpr double kDvrShadeGradientThreshold = 1e-4;
 // Bisection steps refining an isosurface crossing.
 inline constexpr int kIsoBisectionSteps = 8;
 
+// --crop: the part of the volume the rays sample, in level-0 voxel units (voxel i of an axis spans [i, i +
+// 1), the volume [0, n)); the whole volume by default. The GL ray casters, the CPU renderers and the refiner
+// cut the volume box to it (sampledWorldBox): rays are clipped to it, and nodes wholly outside it are culled,
+// neither read nor uploaded. An isosurface is left open where the box cuts it.
+struct CropBox {
+  glm::dvec3 lo{0.0};
+  glm::dvec3 hi{std::numeric_limits<double>::infinity()};
+
+  friend bool operator==(const CropBox&, const CropBox&) = default;
+};
+
 struct RenderParams {
   RenderMode mode = RenderMode::Iso;
   double isoValue = 0.0;       // data units (mapped to stored values by the renderer)
@@ -64,9 +79,17 @@ struct RenderParams {
   // GradientPool beside the pool (FrameRendererConfig::storedGradients).
   GradientSource gradients = GradientSource::Computed;
   LightingParams lighting;
+  CropBox crop;  // --crop
 
   friend bool operator==(const RenderParams&, const RenderParams&) = default;
 };
+
+// The world box the rays sample in: the volume box [0, dims * spacing] cut to params.crop.
+inline WorldBox sampledWorldBox(const RenderParams& params, glm::u32vec3 dims, glm::dvec3 spacing) {
+  const glm::dvec3 n(dims);
+  return {glm::clamp(params.crop.lo, glm::dvec3(0.0), n) * spacing,
+          glm::clamp(params.crop.hi, glm::dvec3(0.0), n) * spacing};
+}
 
 // Whether a GL ray caster samples a GradientPool for these params.
 inline bool usesStoredGradients(const RenderParams& params) {

@@ -30,7 +30,8 @@ WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const Node
   return b;
 }
 
-NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key) {
+NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key,
+                            const WorldBox& sampled) {
   const OctreeLayout& layout = nodes.info().layout;
   const glm::dvec3 spacing = nodes.info().volume.spacing;
   NodeDataParts parts;
@@ -41,10 +42,12 @@ NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& 
       const NodeInfo info = nodes.node(child);
       if (info.kind == NodeKind::Outside || info.kind == NodeKind::Empty) continue;
       if (isEmpty && isEmpty(info.minValue, info.maxValue)) continue;
-      parts.boxes[parts.count++] = nodeWorldBox(layout, spacing, child);
+      const WorldBox part = intersection(nodeWorldBox(layout, spacing, child), sampled);
+      if (hasVolume(part)) parts.boxes[parts.count++] = part;
     }
   }
-  if (parts.count == 0) parts.boxes[parts.count++] = nodeWorldBox(layout, spacing, key);
+  if (parts.count == 0)
+    parts.boxes[parts.count++] = intersection(nodeWorldBox(layout, spacing, key), sampled);
   return parts;
 }
 
@@ -61,13 +64,16 @@ ProjectedVoxelSize::ProjectedVoxelSize(const OctreeLayout& layout, glm::dvec3 sp
     : layout_(layout),
       spacing_(spacing),
       eye_(view.camera.eye),
+      sampled_(view.sampled),
       minSpacing_(std::min({spacing.x, spacing.y, spacing.z})),
       maxSpacing_(std::max({spacing.x, spacing.y, spacing.z})),
       tanHalfFov_(std::tan(glm::radians(view.camera.fovYDeg) * 0.5)),
       viewportHeight_(double(view.viewportHeight)) {}
 
 double ProjectedVoxelSize::operator()(const NodeKey& key) const {
-  const WorldBox box = nodeWorldBox(layout_, spacing_, key);
+  const WorldBox whole = nodeWorldBox(layout_, spacing_, key);
+  const WorldBox inside = intersection(whole, sampled_);
+  const WorldBox& box = hasVolume(inside) ? inside : whole;
   const glm::dvec3 nearest = glm::clamp(eye_, box.lo, box.hi);
   const double distance = std::max(glm::length(nearest - eye_), 0.5 * minSpacing_);
   const double voxelWorld = double(uint64_t(1) << layout_.levelOfDepth(key.depth)) * maxSpacing_;
@@ -140,6 +146,7 @@ class RefineRun {
         residency_(residency),
         hints_(hints),
         frustum_(viewFrustum(view)),
+        sampled_(view.sampled),
         voxelPixels_(layout_, spacing_, view),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
 
@@ -275,7 +282,8 @@ class RefineRun {
     if (info.kind == NodeKind::Empty || (isEmpty_ && isEmpty_(info.minValue, info.maxValue))) {
       return {Class::NoBrick, LeafReason::Empty};
     }
-    if (!boxInFrustum(nodeWorldBox(layout_, spacing_, k), frustum_))
+    const WorldBox box = nodeWorldBox(layout_, spacing_, k);
+    if (!hasVolume(intersection(box, sampled_)) || !boxInFrustum(box, frustum_))
       return {Class::NoBrick, LeafReason::Culled};
     return {info.kind == NodeKind::Constant ? Class::ConstantBrick : Class::DataBrick, LeafReason::Adequate};
   }
@@ -312,6 +320,7 @@ class RefineRun {
   BrickResidency& residency_;
   const NodeHints& hints_;
   ViewFrustum frustum_;
+  WorldBox sampled_;
   ProjectedVoxelSize voxelPixels_;
   double adequatePixels_;
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;

@@ -21,6 +21,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/camera.h"
+#include "core/world_box.h"
 #include "store/brick_source.h"
 
 namespace ropecast {
@@ -32,6 +33,10 @@ struct RefineView {
   // Target density: a node is adequate when one of its voxels covers at most 1 / voxelsPerPixel pixels
   // (1 = one voxel per pixel as in Gobbetti et al. 2008; 2 = finer, 0.5 = coarser).
   double voxelsPerPixel = 1.0;
+  // The box the rays sample in (sampledWorldBox, core/render_params.h: the volume box cut to --crop): nodes
+  // wholly outside it are culled like nodes outside the frustum, and a node's projected voxel size is
+  // measured on its part inside it. Unbounded by default.
+  WorldBox sampled = unboundedBox();
 };
 
 // True when a node whose stored values span [storedMin, storedMax] cannot contribute to the image: for an
@@ -39,7 +44,7 @@ struct RefineView {
 using EmptinessPredicate = std::function<bool(uint16_t storedMin, uint16_t storedMax)>;
 
 enum class LeafContent : uint8_t {
-  Empty,    // nothing to sample (empty, outside the data, outside the frustum)
+  Empty,    // nothing to sample (empty, outside the data, outside the frustum or the crop box)
   Brick,    // sample the brick in `slot` of the GPU pool
   Missing,  // the root's brick is not in core yet (first frames of a cold start): render as empty
 };
@@ -50,7 +55,7 @@ enum class LeafReason : uint8_t {
   Finest,        // full-resolution node
   Empty,         // NodeKind::Empty or the emptiness predicate
   Outside,       // no data there (NodeKind::Outside)
-  Culled,        // outside the view frustum
+  Culled,        // outside the view frustum, or wholly outside RefineView::sampled (--crop)
   Constant,      // every sample equal: children would look the same
   NotInCore,     // its children's bricks (or the root's) were requested and are not read yet
   PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut, or a node before it
@@ -128,21 +133,20 @@ struct RefineResult {
 };
 
 // World-space box of a node, clipped to the data box [0, dims * spacing].
-struct WorldBox {
-  glm::dvec3 lo{0.0}, hi{0.0};
-};
 WorldBox nodeWorldBox(const OctreeLayout& layout, glm::dvec3 spacing, const NodeKey& key);
 // The parts of a node's box that hold its data: the boxes of its children that are neither outside the
-// volume nor empty (NodeKind::Empty or `isEmpty`); the node's own box at the finest depth or when no child
-// qualifies. What an occlusion query of the node tests: the box of an empty child would show where no ray
-// meets the node's data. Drawn part by part under one query, the samples are the sum its children's answers
-// gave, so a node collapsed because its data leaves were hidden answers hidden too (their bounding box,
-// covering the gaps between them, could answer visible, refine the node, and hide its leaves again).
+// volume nor empty (NodeKind::Empty or `isEmpty`), cut to `sampled` (the box the rays sample in, --crop), and
+// leaving out those wholly outside it; the node's own box (cut to `sampled`) at the finest depth or when no
+// child qualifies. What an occlusion query of the node tests: the box of an empty child would show where no
+// ray meets the node's data. Drawn part by part under one query, the samples are the sum its children's
+// answers gave, so a node collapsed because its data leaves were hidden answers hidden too (their bounding
+// box, covering the gaps between them, could answer visible, refine the node, and hide its leaves again).
 struct NodeDataParts {
   std::array<WorldBox, 8> boxes;
   uint32_t count = 0;
 };
-NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key);
+NodeDataParts nodeDataParts(const BrickSource& nodes, const EmptinessPredicate& isEmpty, const NodeKey& key,
+                            const WorldBox& sampled);
 // The parts' bounding box: where the node projects on the screen.
 WorldBox boundingBox(const NodeDataParts& parts);
 
@@ -160,6 +164,7 @@ class ProjectedVoxelSize {
   const OctreeLayout& layout_;
   glm::dvec3 spacing_;
   glm::dvec3 eye_;
+  WorldBox sampled_;
   double minSpacing_, maxSpacing_;
   double tanHalfFov_;
   double viewportHeight_;

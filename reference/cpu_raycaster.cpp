@@ -32,7 +32,7 @@ struct FrameConstants {
   double isoNormalized = 0.0;  // vIso = mapping.toStored(iso) / storedMax
   glm::dvec3 spacing{1.0};
   double minSpacing = 1.0;
-  glm::dvec3 volumeMax{0.0};  // n * s
+  WorldBox sampled;  // the volume box [0, n s] cut to --crop: the rays' clip
   glm::dvec3 eye{0.0};
   glm::dvec3 forward{0.0};
 
@@ -46,7 +46,7 @@ struct FrameConstants {
     isoNormalized = volume.mapping.toStored(params.isoValue) / storedMax;
     spacing = volume.volume.spacing;
     minSpacing = std::min({spacing.x, spacing.y, spacing.z});
-    volumeMax = volume.volume.worldMax();
+    sampled = sampledWorldBox(params, volume.volume.dims, spacing);
     eye = input.camera.eye;
     forward = cameraFrame(input.camera).forward;
   }
@@ -371,7 +371,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
     double t0, t1;
-    if (!clipToBox(ray, fc.volumeMax, t0, t1)) return writeMiss(fc, rgba, depth);
+    if (!clipToBox(ray, fc.sampled, t0, t1)) return writeMiss(fc, rgba, depth);
     // The GPU clips in float: anchor the sample grid where the shader does.
     t0 = double(float(t0));
     t1 = double(float(t1));
@@ -445,7 +445,7 @@ CpuImage ReferenceRenderer::render(const CpuRenderInput& input) const {
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
     double t0, t1;
-    if (!clipToBox(ray, fc.volumeMax, t0, t1)) return writeMiss(fc, rgba, depth);
+    if (!clipToBox(ray, fc.sampled, t0, t1)) return writeMiss(fc, rgba, depth);
     RayIntegrator rayLoop(fc, ray, t0, t1);
     rayLoop.march(t0, t1, 0, sampler, true);
     rayLoop.finish(rgba, depth);

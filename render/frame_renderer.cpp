@@ -22,8 +22,9 @@ bool sameView(const FrameRequest& a, const FrameRequest& b) {
   return a.camera == b.camera && a.width == b.width && a.height == b.height;
 }
 
-// What decides which nodes are empty (mode, isovalue, transfer function), as a hash: occlusion marks made
-// under another one describe another image.
+// What decides which nodes are empty or cut away (mode, isovalue, transfer function, crop box), as a hash:
+// occlusion marks made under another one describe another image (cropping an occluder away shows what it
+// hid).
 uint64_t emptinessKeyOf(const FrameRequest& request) {
   std::string_view tfBytes;
   if (request.params.mode == RenderMode::Dvr && request.tf)
@@ -33,6 +34,8 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
   h = h * 0x9E3779B97F4A7C15ull ^ uint64_t(request.params.mode);
   if (request.params.mode == RenderMode::Iso)
     h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(request.params.isoValue);
+  for (const glm::dvec3& corner : {request.params.crop.lo, request.params.crop.hi})
+    for (int axis = 0; axis < 3; ++axis) h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(corner[axis]);
   return h;
 }
 
@@ -83,6 +86,7 @@ FrameInput viewInputOf(const FrameRequest& request, const BrickSourceInfo& info)
   input.view.viewportWidth = request.width;
   input.view.viewportHeight = request.height;
   input.view.voxelsPerPixel = request.voxelsPerPixel;
+  input.view.sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing);
   input.isEmpty = emptinessFor(request.params, info, request.tf);
   return input;
 }
@@ -249,6 +253,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
                                       FrameStats& stats) {
   const auto start = SteadyClock::now();
   const BrickSourceInfo& info = source_.info();
+  const WorldBox sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing);
   std::vector<LeafToQuery> toQuery;
   dataLeaves_.clear();
   dataParts_.clear();
@@ -274,7 +279,7 @@ TileSchedule FrameRenderer::planTiles(const FrameRequest& request, const std::ve
       toQuery.push_back({leaf.key, {}, true});
       continue;
     }
-    NodeDataParts& parts = dataParts_.emplace_back(nodeDataParts(source_, isEmpty, leaf.key));
+    NodeDataParts& parts = dataParts_.emplace_back(nodeDataParts(source_, isEmpty, leaf.key, sampled));
     const WorldBox box = boundingBox(parts);
     // A node collapsed because its leaves were hidden is queried as they were, part by part; the others by
     // the parts' bounding box, which draws fewer fragments.
@@ -386,7 +391,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   const bool feedback = feedback_ && !request.synchronous && !multipass;
 
   // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for
-  // one). Marks and answers made under another isovalue or transfer function describe another image.
+  // one). Marks and answers made under another isovalue, transfer function or crop box describe another
+  // image.
   if (const uint64_t key = emptinessKeyOf(request); key != emptinessKey_) {
     emptinessKey_ = key;
     if (visibility_) {

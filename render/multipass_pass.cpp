@@ -147,6 +147,7 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
   sortFrontToBack(leaves, layout, f.volume.spacing, f.camera.eye);
   const glm::dvec3 forward = glm::normalize(f.camera.target - f.camera.eye);
   const double tanHalfFov = std::tan(glm::radians(f.camera.fovYDeg) * 0.5);
+  const WorldBox sampled = sampledWorldBox(f.params, f.volume.dims, f.volume.spacing);
 
   counts_ = {};
   timer_.begin();
@@ -182,7 +183,9 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
 
   glBeginQuery(GL_SAMPLES_PASSED, fragmentQuery_);
   for (const MultipassLeaf& leaf : leaves) {
-    WorldBox box = nodeWorldBox(layout, f.volume.spacing, leaf.key);
+    // Only the part of the leaf inside --crop holds samples (the fragments clip their rays to both).
+    WorldBox box = intersection(nodeWorldBox(layout, f.volume.spacing, leaf.key), sampled);
+    if (!hasVolume(box)) continue;
     double nearest = std::numeric_limits<double>::infinity(), farthest = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
       const glm::dvec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,

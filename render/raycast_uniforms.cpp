@@ -79,7 +79,9 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   b.aspect = float(double(width) / double(height));
   b.imageSize = {width, height};
 
-  b.volumeMax = glm::vec3(glm::dvec3(dims) * spacing);
+  const WorldBox sampled = sampledWorldBox(rp, dims, spacing);
+  b.clipMin = glm::vec3(sampled.lo);
+  b.clipMax = glm::vec3(sampled.hi);
   b.spacing = glm::vec3(spacing);
   b.minSpacing = float(std::min({spacing.x, spacing.y, spacing.z}));
 

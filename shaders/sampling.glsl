@@ -1,7 +1,7 @@
 // Rays and their samples as docs/RENDERING.md fixes them ("Rays", "Spaces"), shared by the rope ray caster
 // (shaders/raycast_common.glsl) and the brute-force pass (shaders/brute_force_common.glsl): the camera ray and
-// its clip to the volume box, the sample grid t0 + k dt, and the value texture's samples along a segment of the
-// ray. The value texture is the brick pool for the ray caster and the whole level-0 volume for brute force. The
+// its clip to the volume box (cut to --crop), the sample grid t0 + k dt, and the value texture's samples along
+// a segment of the ray. The value texture is the brick pool for the ray caster and the whole level-0 volume for brute force. The
 // CPU mirror (reference/cpu_raycaster.cpp) computes the same in double. No #version line: the entry point has it.
 
 #include "shaders/raycast_block.h"
@@ -29,7 +29,8 @@ vec3 pixelRayDir(uvec2 pixel) {
   return normalize(raycast.forward + x * raycast.right + y * raycast.up);
 }
 
-// The pixel's ray clipped to the volume box [0, n s] by the slab test, t0 clamped to 0. False on a miss.
+// The pixel's ray clipped to the box its samples lie in, [clipMin, clipMax] (the volume box cut to --crop), by
+// the slab test, t0 clamped to 0. False on a miss.
 bool cameraRay(uvec2 pixel, out Ray ray) {
   ray.origin = raycast.eye;
   ray.dir = pixelRayDir(pixel);
@@ -38,11 +39,11 @@ bool cameraRay(uvec2 pixel, out Ray ray) {
   ray.t1 = kInfinity;
   for (int a = 0; a < 3; ++a) {
     if (ray.dir[a] == 0.0) {
-      if (ray.origin[a] < 0.0 || ray.origin[a] > raycast.volumeMax[a]) return false;
+      if (ray.origin[a] < raycast.clipMin[a] || ray.origin[a] > raycast.clipMax[a]) return false;
       continue;
     }
-    float tNear = (0.0 - ray.origin[a]) / ray.dir[a];
-    float tFar = (raycast.volumeMax[a] - ray.origin[a]) / ray.dir[a];
+    float tNear = (raycast.clipMin[a] - ray.origin[a]) / ray.dir[a];
+    float tFar = (raycast.clipMax[a] - ray.origin[a]) / ray.dir[a];
     ray.t0 = max(ray.t0, min(tNear, tFar));
     ray.t1 = min(ray.t1, max(tNear, tFar));
   }

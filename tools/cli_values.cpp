@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "core/header_text.h"
+#include "core/number_text.h"
 #include "store/volume_source.h"
 #include "tools/cli_checks.h"
 
@@ -43,6 +45,50 @@ CLI::Option* addTripleOptionIn(CLI::App& app, const std::string& name, std::vect
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help) {
   return addListOption(app, name, xyz, help, ',', 3, "UINT", integerIn(1, kMaxDimsPerAxis));
+}
+
+std::optional<VoxelRange> parseVoxelRange(std::string_view text) {
+  const size_t colon = text.find(':');
+  if (colon == std::string_view::npos) return std::nullopt;
+  const auto bound = [](std::string_view digits, std::optional<uint64_t>& value) {
+    digits = trimBlanks(digits);
+    if (digits.empty()) return true;
+    if (digits.front() == '+' || digits.front() == '-') return false;
+    value = parseWholeNumber<uint64_t>(digits);
+    return value.has_value();
+  };
+  VoxelRange range;
+  if (!bound(text.substr(0, colon), range.begin) || !bound(text.substr(colon + 1), range.end))
+    return std::nullopt;
+  if (range.begin && range.end && !(*range.begin < *range.end)) return std::nullopt;
+  return range;
+}
+
+std::optional<std::vector<std::string>> splitVoxelRanges(std::string_view text) {
+  std::vector<std::string> ranges;
+  for (size_t start = 0;;) {
+    const size_t comma = text.find(',', start);
+    ranges.emplace_back(
+        trimBlanks(text.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    if (!parseVoxelRange(ranges.back()) || ranges.size() > 3) return std::nullopt;
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  if (ranges.size() != 3) return std::nullopt;
+  return ranges;
+}
+
+CLI::Option* addVoxelRangesOption(CLI::App& app, const std::string& name, std::vector<std::string>& ranges,
+                                  const std::string& help) {
+  const CLI::Validator range(
+      [](std::string& input) -> std::string {
+        return parseVoxelRange(input) ? ""
+                                      : "expected a range of voxels A:B with A < B (A: or :B to the volume's "
+                                        "edge, : for the whole axis), got '" +
+                                            input + "'";
+      },
+      "", "voxelRange");
+  return addListOption(app, name, ranges, help, ',', 3, "A:B", range);
 }
 
 CLI::Option* addImageSizeOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& wh,

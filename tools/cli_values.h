@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -31,6 +33,19 @@ CLI::Option* addImageSizeOption(CLI::App& app, const std::string& name, std::vec
 // "1073741824", "512M", "2G", "64K", "1.5G" (binary units, optional "iB"/"B", any case) -> bytes.
 CLI::Option* addByteSizeOption(CLI::App& app, const std::string& name, uint64_t& bytes,
                                const std::string& help);
+
+// "A:B", "A:", ":B" or ":": voxel indices A to B - 1 along one axis, half-open as Python's slices, a bound
+// left out being the volume's edge. nullopt for anything else, or when A >= B.
+struct VoxelRange {
+  std::optional<uint64_t> begin, end;
+};
+std::optional<VoxelRange> parseVoxelRange(std::string_view text);
+// "X0:X1,Y0:Y1,Z0:Z1" as its three ranges, each one parseVoxelRange takes; nullopt otherwise.
+std::optional<std::vector<std::string>> splitVoxelRanges(std::string_view text);
+// "X0:X1,Y0:Y1,Z0:Z1": three such ranges (--crop). Whether they lie in the volume is the caller's check,
+// once the volume is open.
+CLI::Option* addVoxelRangesOption(CLI::App& app, const std::string& name, std::vector<std::string>& ranges,
+                                  const std::string& help);
 
 // The value of a parsed triple (addTripleOption guarantees three numbers).
 inline glm::dvec3 toVec3(const std::vector<double>& xyz) {

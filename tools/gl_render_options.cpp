@@ -9,6 +9,7 @@
 #include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
 #include "store/store.h"
+#include "store/volume_source.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
@@ -56,6 +57,11 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
   addTripleOptionIn(app, "--background", o.background, "background R,G,B in [0,1] (default 0,0,0)", 0.0, 1.0);
+  addVoxelRangesOption(
+      app, "--crop", o.crop,
+      "draw only the voxels X0..X1-1, Y0..Y1-1, Z0..Z1-1 of the volume: X0:X1,Y0:Y1,Z0:Z1, as "
+      "Python slices (X0: or :X1 to the volume's edge, : the whole axis); bricks wholly "
+      "outside are neither read nor drawn (default: the whole volume)");
   std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
   if (command == SceneCommand::View)
     std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });
@@ -221,6 +227,24 @@ std::pair<double, double> valueRangeOf(const BrickSourceInfo& info) {
           info.volume.valueMax.value_or(info.mapping.toData(storedMax))};
 }
 
+CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims) {
+  CropBox crop;
+  if (ranges.empty()) return crop;
+  if (ranges.size() != 3) throw UsageError("--crop: expected three ranges X0:X1,Y0:Y1,Z0:Z1");
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::optional<VoxelRange> range = parseVoxelRange(ranges[axis]);
+    const uint64_t n = dims[axis];
+    const uint64_t begin = range ? range->begin.value_or(0) : 0, end = range ? range->end.value_or(n) : 0;
+    if (!range || !(begin < end) || end > n)
+      throw UsageError("--crop: the " + std::string(1, "xyz"[axis]) + " range " + ranges[axis] +
+                       " does not lie in the volume's voxels 0:" + std::to_string(n) + " along " +
+                       std::string(1, "xyz"[axis]) + " (" + formatDims(dims) + ")");
+    crop.lo[axis] = double(begin);
+    crop.hi[axis] = double(end);
+  }
+  return crop;
+}
+
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command) {
   const auto [lo, hi] = valueRangeOf(info);
   RenderParams params;
@@ -231,6 +255,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.background = toVec3(o.background);
   params.backend = o.backend;
   params.gradients = o.gradients;
+  params.crop = cropBoxOf(o.crop, info.volume.dims);
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
     std::fprintf(stderr,
                  "%sropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "

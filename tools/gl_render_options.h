@@ -67,6 +67,10 @@ Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);
 // The volume's value range in data units: the source's known range, else what its stored type holds.
 std::pair<double, double> valueRangeOf(const BrickSourceInfo& info);
 
+// The crop box of --crop's three ranges (RenderOptions::crop) for a volume of `dims` (empty ranges: the whole
+// volume). Throws UsageError, naming the axis and the volume's extent, when a range does not lie in it.
+CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims);
+
 // RenderParams of the options (isovalue default: the middle of the value range). Warns on stderr, as
 // `command`, when an isovalue lies outside the value range.
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command);

@@ -144,6 +144,7 @@ class Viewer {
   void checkPanelOutput(const std::string& what, const std::string& path) const;
   void reportPanelError(const std::exception& e);
   void drawPanels();
+  void drawCropControls(glm::u32vec3 dims);
 
   const ViewOptions& o_;
   // The inputs and every output of the command line and script, checked before the window opened: what the
@@ -554,6 +555,9 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetMode:
       params_.mode = e.mode;
       break;
+    case ViewEventKind::SetCrop:
+      params_.crop = cropBoxOf(e.crop, bricks().info().volume.dims);
+      break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
       break;
@@ -609,6 +613,26 @@ void Viewer::screenshot(const std::string& path, bool panels) {
     writePng(path, color_, false);
   }
   message_ = "wrote " + path;
+}
+
+// --crop's box as one range of voxels per axis; the rest of the volume is neither drawn nor read.
+void Viewer::drawCropControls(glm::u32vec3 dims) {
+  ImGui::Text("crop (voxels)");
+  for (int axis = 0; axis < 3; ++axis) {
+    const int n = int(std::min<uint32_t>(dims[axis], INT32_MAX));
+    int lo = int(std::clamp(params_.crop.lo[axis], 0.0, double(n)));
+    int hi = int(std::clamp(params_.crop.hi[axis], 0.0, double(n)));
+    const char label[] = {"xyz"[axis], '\0'};
+    if (ImGui::DragIntRange2(label, &lo, &hi, std::max(1.0f, float(n) / 256.0f), 0, n, "%d", "%d",
+                             ImGuiSliderFlags_AlwaysClamp)) {
+      // At least one voxel: an empty box would show nothing and say nothing.
+      lo = std::min(lo, n - 1);
+      hi = std::max(hi, lo + 1);
+      params_.crop.lo[axis] = lo;
+      params_.crop.hi[axis] = hi;
+    }
+  }
+  if (ImGui::Button("whole volume")) params_.crop = CropBox{};
 }
 
 void Viewer::drawPanels() {
@@ -673,6 +697,8 @@ void Viewer::drawPanels() {
         reportPanelError(e);
       }
     }
+    ImGui::Separator();
+    drawCropControls(info.volume.dims);
     ImGui::PopItemWidth();
   }
   ImGui::End();

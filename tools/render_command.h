@@ -29,6 +29,7 @@ struct RenderOptions {
   std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
   double fov = 40.0;
   std::vector<double> background{0.0, 0.0, 0.0};
+  std::vector<std::string> crop;  // --crop: three voxel ranges "A:B" (cli_values.h); empty: the whole volume
   RenderBackend backend = RenderBackend::Auto;
   // --brute-stage: the entry point of --backend brute, Auto, Fragment or Compute; unset: not given (Auto).
   std::optional<RenderBackend> bruteStage;

@@ -12,6 +12,7 @@
 #include "core/input_file.h"
 #include "core/json_keys.h"
 #include "reference/image_io.h"
+#include "tools/cli_values.h"
 
 namespace ropecast::tools {
 
@@ -192,6 +193,15 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       if (mode != "iso" && mode != "dvr") r.fail("\"mode\" must be iso or dvr, got \"" + mode + "\"");
       e.mode = mode == "iso" ? RenderMode::Iso : RenderMode::Dvr;
       add(e);
+    } else if (kind == "set_crop") {
+      e.kind = ViewEventKind::SetCrop;
+      const std::string ranges = r.text("crop");
+      const std::optional<std::vector<std::string>> split = splitVoxelRanges(ranges);
+      if (!split)
+        r.fail("\"crop\" must be three voxel ranges X0:X1,Y0:Y1,Z0:Z1 as --crop takes them, got \"" + ranges +
+               "\"");
+      e.crop = *split;
+      add(e);
     } else if (kind == "load_tf") {
       e.kind = ViewEventKind::LoadTf;
       e.tf = r.text("tf");
@@ -220,7 +230,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else {
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
-          "set_iso, set_mode, load_tf, screenshot, save_camera, reset_camera, wait_converged or quit");
+          "set_iso, set_mode, set_crop, load_tf, screenshot, save_camera, reset_camera, wait_converged or "
+          "quit");
     }
     r.refuseOtherKeys();
   }

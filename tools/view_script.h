@@ -1,8 +1,8 @@
 // ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
 // tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
-// named UI actions (set the isovalue or mode, load a transfer function, take a screenshot, save the camera,
-// wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free;
-// any thread.
+// named UI actions (set the isovalue, mode or crop box, load a transfer function, take a screenshot, save the
+// camera, wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain data;
+// GL-free; any thread.
 //
 // File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
 // "at" (seconds after the first frame; default: the event before's, 0 for the first). Events run in file
@@ -30,6 +30,7 @@ enum class ViewEventKind {
   SetIso,         // value (data units)
   SetMode,        // mode
   LoadTf,         // tf: a preset name or a JSON file
+  SetCrop,        // crop: --crop's three voxel ranges
   Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
   SaveCamera,     // file: appended to as a camera path `render --path` reads
   ResetCamera,    // back to the starting view
@@ -50,6 +51,7 @@ struct ViewEvent {
   double value = 0.0;
   RenderMode mode = RenderMode::Iso;
   std::string tf;
+  std::vector<std::string> crop;
   std::string file;
   bool panels = false;
   std::string where;  // "--script EVENTS.json: event 3 (drag)": names the event in errors while it runs

@@ -77,6 +77,14 @@ done
 expect_usage "path and fov" "excludes --path" "$vol" --path "$dir/bad_path.json" --fov 10
 expect_usage "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
 expect_usage "empty input" "the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''" ""
+expect_usage "crop not three ranges" "--crop" "$vol" --crop 0:8,0:8
+expect_usage "crop range without a colon" "--crop: expected a range of voxels A:B with A < B" "$vol" --crop 8,:,:
+expect_usage "crop range reversed" "got '9:3'" "$vol" --crop :,9:3,:
+expect_usage "crop range empty" "got '4:4'" "$vol" --crop 4:4,:,:
+expect_usage "crop range negative" "got '-2:8'" "$vol" --crop -2:8,:,:
+expect_usage "crop past the volume" "--crop: the z range 10:33 does not lie in the volume's voxels 0:32 along z (32x32x32)" \
+  "$vol" --crop :,:,10:33
+expect_usage "crop starting past the volume" "--crop: the x range 32: does not lie" "$vol" --crop 32:,:,:
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
 expect_usage "every zero" "--every" "$vol" --every 0 --frames 3
 expect_usage "every with the reference" "--every has nothing to do with --reference" "$vol" --reference --every 1 --frames 3

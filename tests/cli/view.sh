@@ -188,6 +188,20 @@ run "view --script set_iso" xview $vol --script "$dir/iso.json"
 run "render --iso 60" "$ropecast" render $vol --converge --iso 60 -o "$dir/r2.png"
 same "isovalue change = render --iso" "$dir/v2.png" "$dir/r2.png"
 differs "the isovalue changed the view" "$dir/v2.png" "$dir/v0.png"
+# set_crop, then a screenshot: render with --crop; --crop at start gives the same view.
+cat > "$dir/crop.json" << JSON
+[{"event": "set_crop", "crop": "10:,:30,4:40"}, {"event": "screenshot", "file": "$dir/v3.png"}]
+JSON
+run "view --script set_crop" xview $vol --script "$dir/crop.json"
+run "render --crop" "$ropecast" render $vol --converge --crop 10:,:30,4:40 -o "$dir/r3.png"
+same "crop change = render --crop" "$dir/v3.png" "$dir/r3.png"
+differs "the crop changed the view" "$dir/v3.png" "$dir/v0.png"
+run "view --crop" xview $vol --crop 10:,:30,4:40 --screenshot "$dir/v4.png"
+same "view --crop = render --crop" "$dir/v4.png" "$dir/r3.png"
+printf '[{"event": "set_crop", "crop": "0:60,:,:"}, {"event": "quit"}]' > "$dir/crop_out.json"
+xview $vol --script "$dir/crop_out.json" > /dev/null 2> "$dir/err.txt" && fail "set_crop past the volume: exit 0"
+grep -q "event 0 (set_crop): --crop: the x range 0:60 does not lie" "$dir/err.txt" ||
+  fail "set_crop past the volume: no message naming the event: $(cat "$dir/err.txt")"
 # An isovalue outside the data is taken, with a warning that names the event (render --iso warns alike).
 printf '[{"event": "set_iso", "value": 100000}, {"event": "quit"}]' > "$dir/iso_out.json"
 run "view set_iso outside the data" xview $vol --script "$dir/iso_out.json"

@@ -101,25 +101,28 @@ TEST(Refiner, ANodesDataPartsAreItsChildrenThatHoldDataAndTheirBoxBoundsThem) {
     EXPECT_EQ(b.hi, hi);
   };
   // Without a predicate only NodeKind::Empty is empty: the children's bounding box is the whole root.
-  expectBox(boundingBox(nodeDataParts(src, {}, NodeKey{})), glm::dvec3(0), glm::dvec3(64));
+  expectBox(boundingBox(nodeDataParts(src, {}, NodeKey{}, unboundedBox())), glm::dvec3(0), glm::dvec3(64));
   // With the isovalue the x = 1 children are empty too: the x = 0 half.
-  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{})), glm::dvec3(0), glm::dvec3(32, 64, 64));
+  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{}, unboundedBox())), glm::dvec3(0),
+            glm::dvec3(32, 64, 64));
   // One child with data: its box.
-  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{1, {0, 0, 0}})), glm::dvec3(0), glm::dvec3(16));
+  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{1, {0, 0, 0}}, unboundedBox())), glm::dvec3(0),
+            glm::dvec3(16));
   // The finest depth, and a node whose children all count empty: the node's own box.
-  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{2, {1, 0, 0}})), glm::dvec3(16, 0, 0),
-            glm::dvec3(32, 16, 16));
+  expectBox(boundingBox(nodeDataParts(src, isoEmpty, NodeKey{2, {1, 0, 0}}, unboundedBox())),
+            glm::dvec3(16, 0, 0), glm::dvec3(32, 16, 16));
   const auto allEmpty = [](uint16_t, uint16_t) { return true; };
-  expectBox(boundingBox(nodeDataParts(src, allEmpty, NodeKey{})), glm::dvec3(0), glm::dvec3(64));
+  expectBox(boundingBox(nodeDataParts(src, allEmpty, NodeKey{}, unboundedBox())), glm::dvec3(0),
+            glm::dvec3(64));
   // The parts themselves: the four x = 0 children of the root, each its own box.
-  const NodeDataParts parts = nodeDataParts(src, isoEmpty, NodeKey{});
+  const NodeDataParts parts = nodeDataParts(src, isoEmpty, NodeKey{}, unboundedBox());
   ASSERT_EQ(parts.count, 4u);
   for (uint32_t i = 0; i < parts.count; ++i) {
     EXPECT_EQ(parts.boxes[i].lo.x, 0.0);
     EXPECT_EQ(parts.boxes[i].hi - parts.boxes[i].lo, glm::dvec3(32));
   }
-  EXPECT_EQ(nodeDataParts(src, allEmpty, NodeKey{}).count, 1u);
-  expectBox(nodeDataParts(src, allEmpty, NodeKey{}).boxes[0], glm::dvec3(0), glm::dvec3(64));
+  EXPECT_EQ(nodeDataParts(src, allEmpty, NodeKey{}, unboundedBox()).count, 1u);
+  expectBox(nodeDataParts(src, allEmpty, NodeKey{}, unboundedBox()).boxes[0], glm::dvec3(0), glm::dvec3(64));
 }
 
 TEST(Refiner, FrustumCullingIsConservative) {
@@ -370,6 +373,74 @@ TEST(Refiner, NodesOutsideTheFrustumAreCulled) {
     }
   }
   EXPECT_GT(culled, 0u);
+}
+
+TEST(Refiner, NodesWhollyOutsideTheCropBoxAreCulledAndNeverAcquired) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency whole, cropped;
+  RefineView view = viewFrom({32, 32, -60}, {32, 32, 32}, 4000);  // fine enough to refine to depth 2
+  const RefineResult all = refine(src, view, {}, whole);
+  // Voxels x 20..47 and z 0..15: depth-2 nodes (16 voxels a side) with x in 1..2 and z = 0 hold them.
+  view.sampled = {glm::dvec3(20, 0, 0), glm::dvec3(48, 64, 16)};
+  const RefineResult r = refine(src, view, {}, cropped);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  const auto overlapsCrop = [&](const NodeKey& k) {
+    return hasVolume(intersection(nodeWorldBox(src.info().layout, glm::dvec3(1.0), k), view.sampled));
+  };
+  size_t bricks = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    if (l.content == LeafContent::Brick) {
+      ++bricks;
+      EXPECT_TRUE(overlapsCrop(l.key)) << "depth " << l.key.depth << " x " << l.key.coord.x;
+    } else if (!overlapsCrop(l.key)) {
+      EXPECT_EQ(l.reason, LeafReason::Culled);
+    }
+  }
+  // 2 x 4 x 1 depth-2 leaves; nodes x = 3 and z = 1 touch the box only at a face and are culled too.
+  EXPECT_EQ(bricks, 8u);
+  for (const NodeKey& k : cropped.acquired) EXPECT_TRUE(overlapsCrop(k));
+  EXPECT_LT(cropped.acquired.size(), whole.acquired.size());
+  // A crop box without volume culls everything but the root, whose brick every frame acquires.
+  FakeResidency none;
+  view.sampled = {glm::dvec3(20, 0, 0), glm::dvec3(20, 64, 64)};
+  const RefineResult empty = refine(src, view, {}, none);
+  ASSERT_EQ(empty.leaves.size(), 1u);
+  EXPECT_EQ(empty.leaves[0].reason, LeafReason::Culled);
+  EXPECT_TRUE(none.acquired.empty());
+  EXPECT_EQ(std::count_if(all.leaves.begin(), all.leaves.end(),
+                          [](const PlannedLeaf& l) { return l.content == LeafContent::Brick; }),
+            64);
+}
+
+TEST(Refiner, ANodesProjectedSizeIsMeasuredOnItsPartInsideTheCropBox) {
+  const FakeBrickSource src = makeSource();
+  RefineView view = viewFrom({32, 32, -100}, {32, 32, 32});
+  const NodeKey child{1, {0, 0, 0}};  // box [0,32]^3, nearest point (32,32,0) at distance 100
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 1.0, 1e-9);
+  // Cut to z >= 20: its nearest point inside is at z = 20, distance 120. Cut to z >= 50, it has no part
+  // inside (the refiner culls it), and its whole box counts.
+  view.sampled = {glm::dvec3(0, 0, 20), glm::dvec3(64)};
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 100.0 / 120.0, 1e-9);
+  view.sampled = {glm::dvec3(0, 0, 50), glm::dvec3(64)};
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 1.0, 1e-9);
+}
+
+TEST(Refiner, ANodesDataPartsAreCutToTheCropBox) {
+  const FakeBrickSource src = makeSource();
+  const WorldBox crop{glm::dvec3(10, 0, 0), glm::dvec3(40, 64, 30)};
+  const NodeDataParts parts = nodeDataParts(src, {}, NodeKey{}, crop);
+  // The root's four children below z = 32 reach into the box.
+  ASSERT_EQ(parts.count, 4u);
+  for (uint32_t i = 0; i < parts.count; ++i) {
+    EXPECT_TRUE(hasVolume(parts.boxes[i]));
+    EXPECT_TRUE(glm::all(glm::greaterThanEqual(parts.boxes[i].lo, crop.lo)));
+    EXPECT_TRUE(glm::all(glm::lessThanEqual(parts.boxes[i].hi, crop.hi)));
+  }
+  EXPECT_EQ(boundingBox(parts), crop);
+  // A finest node is its own part, cut to the box.
+  const NodeDataParts leaf = nodeDataParts(src, {}, NodeKey{2, {0, 0, 0}}, crop);
+  ASSERT_EQ(leaf.count, 1u);
+  EXPECT_EQ(leaf.boxes[0], (WorldBox{glm::dvec3(10, 0, 0), glm::dvec3(16, 16, 16)}));
 }
 
 TEST(Refiner, AnOccludedNodeStaysALeafAndItsChildrenAreNeverAcquired) {

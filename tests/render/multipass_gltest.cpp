@@ -31,11 +31,12 @@ struct MultipassCase {
   // The eye on the planes of brick faces (the volume's middle planes), an odd image size: the middle row's
   // and column's rays run along faces two boxes share, and only one of them may draw each.
   bool facePlanes = false;
+  bool cropped = false;  // --crop: voxels 7..39, 3..49, 9..44 (the leaves cut by it are drawn in part)
 };
 
 std::string multipassCaseName(const MultipassCase& c) {
   return c.volume + (c.mode == RenderMode::Iso ? " iso" : " dvr") + (c.inside ? " inside" : " outside") +
-         (c.facePlanes ? " face planes" : "");
+         (c.facePlanes ? " face planes" : "") + (c.cropped ? " cropped" : "");
 }
 
 class MultipassTest : public ::testing::TestWithParam<MultipassCase> {};
@@ -61,6 +62,7 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMaxOf(info.storedType)));
   request.params.isoValue = 0.5 * (lo + hi);
   request.params.background = {0.1, 0.2, 0.3};
+  if (c.cropped) request.params.crop = {glm::dvec3(7, 3, 9), glm::dvec3(40, 50, 45)};
   std::optional<TfTable> tf;
   if (c.mode == RenderMode::Dvr) {
     tf = TfTable::bake(TransferFunction::fromSpec("ct-soft", tfDataRangeFor(info)), info.mapping,
@@ -132,24 +134,25 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
               (unsigned long long)differ, (unsigned long long)both, (unsigned long long)coverageDiffers);
 }
 
-INSTANTIATE_TEST_SUITE_P(Multipass, MultipassTest,
-                         ::testing::Values(MultipassCase{"procedural:sphere:64", RenderMode::Iso, false},
-                                           MultipassCase{"procedural:sphere:64", RenderMode::Dvr, false},
-                                           MultipassCase{"procedural:menger:54", RenderMode::Iso, false},
-                                           MultipassCase{"procedural:menger:54", RenderMode::Dvr, false},
-                                           MultipassCase{"procedural:noise:48", RenderMode::Iso, false},
-                                           MultipassCase{"procedural:noise:48", RenderMode::Dvr, false},
-                                           MultipassCase{"procedural:sphere:64", RenderMode::Iso, true},
-                                           MultipassCase{"procedural:noise:48", RenderMode::Dvr, true},
-                                           MultipassCase{"procedural:noise:48", RenderMode::Dvr, false,
-                                                         true}),
-                         [](const ::testing::TestParamInfo<MultipassCase>& info) {
-                           std::string name =
-                               multipassCaseName(info.param).substr(std::string("procedural:").size());
-                           for (char& ch : name)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Multipass, MultipassTest,
+    ::testing::Values(MultipassCase{"procedural:sphere:64", RenderMode::Iso, false},
+                      MultipassCase{"procedural:sphere:64", RenderMode::Dvr, false},
+                      MultipassCase{"procedural:menger:54", RenderMode::Iso, false},
+                      MultipassCase{"procedural:menger:54", RenderMode::Dvr, false},
+                      MultipassCase{"procedural:noise:48", RenderMode::Iso, false},
+                      MultipassCase{"procedural:noise:48", RenderMode::Dvr, false},
+                      MultipassCase{"procedural:sphere:64", RenderMode::Iso, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::Dvr, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::Dvr, false, true},
+                      MultipassCase{"procedural:menger:54", RenderMode::Iso, false, false, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::Dvr, true, false, true}),
+    [](const ::testing::TestParamInfo<MultipassCase>& info) {
+      std::string name = multipassCaseName(info.param).substr(std::string("procedural:").size());
+      for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      return name;
+    });
 
 }  // namespace
 }  // namespace ropecast

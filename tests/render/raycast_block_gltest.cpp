@@ -31,7 +31,7 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(imageSize),
     FIELD(stepVoxels),
     FIELD(ert),
-    FIELD(volumeMax),
+    FIELD(clipMax),
     FIELD(minSpacing),
     FIELD(spacing),
     FIELD(isoValue),
@@ -49,6 +49,8 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(shininess),
     FIELD(feedbackRequestDistance),
     FIELD(feedbackMinDistance),
+    FIELD(clipMin),
+    FIELD(unused0),
 };
 #undef FIELD
 

@@ -137,6 +137,78 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
   }
 }
 
+// With --crop the rays sample only inside the crop box: the GL image is the mirror's, every hit lies in the
+// box, and the box cut something away.
+TEST(RaycastVsCpu, ACropBoxMatchesTheMirrorAndHitsOnlyInsideIt) {
+  SceneSpec spec;
+  spec.dims = {36, 30, 26};
+  spec.spacing = {1.0, 0.8, 1.1};
+  spec.brickSize = 8;
+  spec.storedType = SampleType::UInt16;
+  spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y + n.coord.z) % 2 == 0; };
+  spec.value = [](glm::dvec3 x) {
+    const glm::dvec3 d = x - glm::dvec3(18, 12, 14);
+    return 0.5 + 0.35 * std::sin(0.31 * d.x + 0.2 * d.z) * std::cos(0.27 * d.y) - 0.004 * glm::length(d);
+  };
+  const test::GlScene scene = test::buildScene(spec);
+  const TfTable tf = TfTable::bake(
+      TransferFunction({TfPoint{20000, {0.8, 0.2, 0.1, 0.0}}, TfPoint{36000, {0.9, 0.7, 0.2, 0.08}},
+                        TfPoint{52000, {0.3, 0.5, 1.0, 0.5}}}),
+      ValueMapping{}, 65535);
+  CropBox crop;
+  crop.lo = {7, 0, 5};  // voxels 7..29, 0..17, 5..25
+  crop.hi = {30, 18, 26};
+  const WorldBox box{crop.lo * spec.spacing, crop.hi * spec.spacing};
+  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+    for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+      RaycastFrame frame;
+      frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
+      frame.width = frame.height = 80;
+      frame.params.mode = mode;
+      frame.params.isoValue = 0.6 * 65535;
+      frame.params.backend = backend;
+      frame.tf = &tf;
+      RaycastPass pass;
+      test::renderScene(pass, scene, frame);
+      const FloatImage whole = pass.readColor();
+      frame.params.crop = crop;
+      test::renderScene(pass, scene, frame);
+      const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
+
+      CpuRenderInput input;
+      input.camera = frame.camera;
+      input.width = frame.width;
+      input.height = frame.height;
+      input.params = frame.params;
+      input.tf = &tf;
+      const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, input);
+      const std::string what = std::string(mode == RenderMode::Iso ? "iso" : "dvr") +
+                               (backend == RenderBackend::Fragment ? " fragment" : " compute");
+      EXPECT_GE(test::psnrDb(glColor, colorOf(cpu), 4), test::onHardwareGpu() ? 38.0 : 45.0) << what;
+      const DepthAgreement d = compareDepth(glDepth, depthOf(cpu), 0.05);
+      EXPECT_LE(d.farApart, 0.01) << what;
+      EXPECT_LE(d.coverageMismatch, 0.01) << what;
+      EXPECT_LT(test::psnrDb(glColor, whole, 4), 30.0) << what << ": the crop changed nothing";
+
+      // Depth is along the camera axis: the hit is at t = depth / dot(dir, forward) on the pixel's ray.
+      const glm::dvec3 forward = cameraFrame(frame.camera).forward;
+      int hits = 0, outside = 0;
+      for (uint32_t py = 0; py < frame.height; ++py)
+        for (uint32_t px = 0; px < frame.width; ++px) {
+          const float depth = glDepth.pixels[size_t(py) * frame.width + px];
+          if (!std::isfinite(depth)) continue;
+          const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
+          const glm::dvec3 hit = ray.origin + ray.dir * (double(depth) / glm::dot(ray.dir, forward));
+          ++hits;
+          outside +=
+              glm::any(glm::lessThan(hit, box.lo - 0.05)) || glm::any(glm::greaterThan(hit, box.hi + 0.05));
+        }
+      EXPECT_GT(hits, 500) << what;
+      EXPECT_EQ(outside, 0) << what;
+    }
+  }
+}
+
 // A sphere of radius r as the isosurface v = 0.5 of v = 0.5 + k (r - |x - c|): its silhouette covers exactly
 // the pixels whose ray passes within r of c. The covered pixel count must match within 1%.
 TEST(RaycastVsCpu, SphereSilhouetteArea) {

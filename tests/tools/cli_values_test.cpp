@@ -174,5 +174,23 @@ TEST(CliValues, SampleTypesIgnoreCaseAndTakeAliases) {
   }
 }
 
+TEST(VoxelRange, HalfOpenRangesWithEitherBoundLeftOut) {
+  const auto range = [](std::string_view text) { return parseVoxelRange(text); };
+  ASSERT_TRUE(range("3:10"));
+  EXPECT_EQ(range("3:10")->begin, 3u);
+  EXPECT_EQ(range("3:10")->end, 10u);
+  EXPECT_EQ(range(" 3 : 10 ")->end, 10u);
+  EXPECT_FALSE(range("3:")->end);
+  EXPECT_EQ(range("3:")->begin, 3u);
+  EXPECT_FALSE(range(":10")->begin);
+  EXPECT_TRUE(range(":"));
+  for (const char* bad :
+       {"", "3", "10:3", "4:4", "-1:3", "+1:3", "1.5:3", "a:b", "1:2:3", "0:99999999999999999999"})
+    EXPECT_FALSE(range(bad)) << bad;
+  EXPECT_EQ(splitVoxelRanges("1:2,:,3:"), (std::vector<std::string>{"1:2", ":", "3:"}));
+  for (const char* bad : {"1:2,:", "1:2,:,:,:", "1:2,,:", "1:2;:;:", ""})
+    EXPECT_FALSE(splitVoxelRanges(bad)) << bad;
+}
+
 }  // namespace
 }  // namespace ropecast::tools

@@ -48,9 +48,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
       R"([{"event": "set_iso", "value": 0.25}, {"event": "set_mode", "mode": "dvr"},
           {"event": "load_tf", "tf": "ct-bone"}, {"event": "screenshot", "file": "a.png", "panels": true},
           {"event": "save_camera", "file": "c.json"}, {"event": "wheel", "clicks": -2},
-          {"event": "reset_camera"}, {"event": "wait_converged"}])",
+          {"event": "reset_camera"}, {"event": "wait_converged"}, {"event": "set_crop", "crop": "2:9, :,4:"}])",
       "t");
-  ASSERT_EQ(s.events.size(), 8u);
+  ASSERT_EQ(s.events.size(), 9u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -60,6 +60,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[5].clicks, -2.0);
   EXPECT_EQ(s.events[6].kind, ViewEventKind::ResetCamera);
   EXPECT_EQ(s.events[7].kind, ViewEventKind::WaitConverged);
+  EXPECT_EQ(s.events[8].kind, ViewEventKind::SetCrop);
+  EXPECT_EQ(s.events[8].crop, (std::vector<std::string>{"2:9", ":", "4:"}));
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -85,6 +87,10 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "set_mode", "mode": "mip"}])", "\"mode\" must be iso or dvr");
   expectRefused(R"([{"event": "key", "key": "x"}])", "\"key\" must be one of w a s d q e r");
   expectRefused(R"([{"event": "quit", "at": -1}])", "\"at\" must not be negative");
+  expectRefused(R"([{"event": "set_crop", "crop": "0:4,:"}])",
+                "event 0 (set_crop): \"crop\" must be three voxel ranges X0:X1,Y0:Y1,Z0:Z1");
+  expectRefused(R"([{"event": "set_crop", "crop": "0:4,:,:,:"}])", "\"crop\" must be three voxel ranges");
+  expectRefused(R"([{"event": "set_crop", "crop": "5:4,:,:"}])", "got \"5:4,:,:\"");
 }
 
 TEST(ViewScript, HugeCoordinatesAndTimesAreRefusedAtLoad) {
