@@ -96,4 +96,17 @@ bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1) {
   return t0 < t1;
 }
 
+bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1) {
+  if (normal == glm::dvec3(0.0)) return t0 < t1;
+  const double along = glm::dot(normal, ray.dir);
+  const double above = glm::dot(normal, ray.origin) - offset;  // >= 0: the origin is kept
+  if (along == 0.0) return above >= 0.0 && t0 < t1;
+  const double t = -above / along;
+  if (along > 0.0)
+    t0 = std::max(t0, t);
+  else
+    t1 = std::min(t1, t);
+  return t0 < t1;
+}
+
 }  // namespace ropecast

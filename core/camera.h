@@ -63,5 +63,8 @@ bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1);
 inline bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
   return clipToBox(ray, WorldBox{glm::dvec3(0.0), boxMax}, t0, t1);
 }
+// Narrows [t0, t1] to the part of the ray where dot(normal, x) >= offset (--clip-plane); false when nothing
+// is left. A zero normal keeps everything.
+bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1);
 
 }  // namespace ropecast

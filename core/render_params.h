@@ -68,6 +68,19 @@ struct CropBox {
   friend bool operator==(const CropBox&, const CropBox&) = default;
 };
 
+// --clip-plane: a plane through `point` (world units) that cuts away the half-space its normal points away
+// from: the rays sample only where dot(normal, x - point) >= 0, and the refiner culls nodes wholly on the
+// other side. None while the normal is zero (the default). Like the crop box, it leaves an isosurface open.
+struct ClipPlane {
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0};  // unit length, or zero for none
+
+  bool enabled() const { return normal != glm::dvec3(0.0); }
+  // dot(normal, x): the points kept have at least this.
+  double offset() const { return normal.x * point.x + normal.y * point.y + normal.z * point.z; }
+  friend bool operator==(const ClipPlane&, const ClipPlane&) = default;
+};
+
 struct RenderParams {
   RenderMode mode = RenderMode::Iso;
   double isoValue = 0.0;       // data units (mapped to stored values by the renderer)
@@ -79,7 +92,8 @@ struct RenderParams {
   // GradientPool beside the pool (FrameRendererConfig::storedGradients).
   GradientSource gradients = GradientSource::Computed;
   LightingParams lighting;
-  CropBox crop;  // --crop
+  CropBox crop;         // --crop
+  ClipPlane clipPlane;  // --clip-plane
 
   friend bool operator==(const RenderParams&, const RenderParams&) = default;
 };

@@ -94,6 +94,15 @@ ViewFrustum viewFrustum(const RefineView& view) {
            f.forward * ty + f.up}};
 }
 
+bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane) {
+  if (!plane.enabled()) return true;
+  const glm::dvec3& n = plane.normal;
+  // The box corner farthest along n: if even it is on the cut side, the whole box is.
+  const glm::dvec3 corner(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
+                          n.z >= 0 ? box.hi.z : box.lo.z);
+  return glm::dot(n, corner) >= plane.offset();
+}
+
 bool boxInFrustum(const WorldBox& box, const ViewFrustum& frustum) {
   for (const glm::dvec3& n : frustum.inwardNormals) {
     // The box corner farthest along n: if even it is behind the plane, the whole box is.
@@ -147,6 +156,7 @@ class RefineRun {
         hints_(hints),
         frustum_(viewFrustum(view)),
         sampled_(view.sampled),
+        clipPlane_(view.clipPlane),
         voxelPixels_(layout_, spacing_, view),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
 
@@ -283,7 +293,8 @@ class RefineRun {
       return {Class::NoBrick, LeafReason::Empty};
     }
     const WorldBox box = nodeWorldBox(layout_, spacing_, k);
-    if (!hasVolume(intersection(box, sampled_)) || !boxInFrustum(box, frustum_))
+    if (!hasVolume(intersection(box, sampled_)) || !boxKeptByPlane(box, clipPlane_) ||
+        !boxInFrustum(box, frustum_))
       return {Class::NoBrick, LeafReason::Culled};
     return {info.kind == NodeKind::Constant ? Class::ConstantBrick : Class::DataBrick, LeafReason::Adequate};
   }
@@ -321,6 +332,7 @@ class RefineRun {
   const NodeHints& hints_;
   ViewFrustum frustum_;
   WorldBox sampled_;
+  ClipPlane clipPlane_;
   ProjectedVoxelSize voxelPixels_;
   double adequatePixels_;
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;

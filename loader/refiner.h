@@ -21,6 +21,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/camera.h"
+#include "core/render_params.h"
 #include "core/world_box.h"
 #include "store/brick_source.h"
 
@@ -37,6 +38,8 @@ struct RefineView {
   // wholly outside it are culled like nodes outside the frustum, and a node's projected voxel size is
   // measured on its part inside it. Unbounded by default.
   WorldBox sampled = unboundedBox();
+  // --clip-plane: nodes wholly on the side it cuts away are culled too. None by default.
+  ClipPlane clipPlane;
 };
 
 // True when a node whose stored values span [storedMin, storedMax] cannot contribute to the image: for an
@@ -55,7 +58,8 @@ enum class LeafReason : uint8_t {
   Finest,        // full-resolution node
   Empty,         // NodeKind::Empty or the emptiness predicate
   Outside,       // no data there (NodeKind::Outside)
-  Culled,        // outside the view frustum, or wholly outside RefineView::sampled (--crop)
+  Culled,        // outside the view frustum, wholly outside RefineView::sampled (--crop), or wholly on the
+                 // side RefineView::clipPlane cuts away
   Constant,      // every sample equal: children would look the same
   NotInCore,     // its children's bricks (or the root's) were requested and are not read yet
   PoolFull,      // the GPU pool cannot hold its children beside the rest of the cut, or a node before it
@@ -177,6 +181,9 @@ struct ViewFrustum {
   std::array<glm::dvec3, 5> inwardNormals{};
 };
 ViewFrustum viewFrustum(const RefineView& view);
+
+// False only when the box lies wholly on the side the plane cuts away (touching it counts as kept).
+bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane);
 
 // False only when the box lies entirely outside the view frustum (behind the eye or beyond a side plane);
 // conservative, so a visible box is never culled.

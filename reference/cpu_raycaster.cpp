@@ -52,6 +52,12 @@ struct FrameConstants {
   }
 };
 
+// The ray's part inside the crop box and on the kept side of the clip plane (docs/RENDERING.md "Rays").
+bool clipToSampled(const FrameConstants& fc, const Ray& ray, double& t0, double& t1) {
+  return clipToBox(ray, fc.sampled, t0, t1) &&
+         clipToHalfSpace(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1);
+}
+
 // Central differences with h_i = s_i * 2^L (docs/RENDERING.md "Isosurface").
 template <class Sampler>
 glm::dvec3 gradientAt(const Sampler& s, glm::dvec3 x, glm::dvec3 cell) {
@@ -371,7 +377,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
     double t0, t1;
-    if (!clipToBox(ray, fc.sampled, t0, t1)) return writeMiss(fc, rgba, depth);
+    if (!clipToSampled(fc, ray, t0, t1)) return writeMiss(fc, rgba, depth);
     // The GPU clips in float: anchor the sample grid where the shader does.
     t0 = double(float(t0));
     t1 = double(float(t1));
@@ -445,7 +451,7 @@ CpuImage ReferenceRenderer::render(const CpuRenderInput& input) const {
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
     double t0, t1;
-    if (!clipToBox(ray, fc.sampled, t0, t1)) return writeMiss(fc, rgba, depth);
+    if (!clipToSampled(fc, ray, t0, t1)) return writeMiss(fc, rgba, depth);
     RayIntegrator rayLoop(fc, ray, t0, t1);
     rayLoop.march(t0, t1, 0, sampler, true);
     rayLoop.finish(rgba, depth);

@@ -22,9 +22,9 @@ bool sameView(const FrameRequest& a, const FrameRequest& b) {
   return a.camera == b.camera && a.width == b.width && a.height == b.height;
 }
 
-// What decides which nodes are empty or cut away (mode, isovalue, transfer function, crop box), as a hash:
-// occlusion marks made under another one describe another image (cropping an occluder away shows what it
-// hid).
+// What decides which nodes are empty or cut away (mode, isovalue, transfer function, crop box, clip plane),
+// as a hash: occlusion marks made under another one describe another image (cutting an occluder away shows
+// what it hid).
 uint64_t emptinessKeyOf(const FrameRequest& request) {
   std::string_view tfBytes;
   if (request.params.mode == RenderMode::Dvr && request.tf)
@@ -34,8 +34,9 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
   h = h * 0x9E3779B97F4A7C15ull ^ uint64_t(request.params.mode);
   if (request.params.mode == RenderMode::Iso)
     h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(request.params.isoValue);
-  for (const glm::dvec3& corner : {request.params.crop.lo, request.params.crop.hi})
-    for (int axis = 0; axis < 3; ++axis) h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(corner[axis]);
+  const ClipPlane& plane = request.params.clipPlane;
+  for (const glm::dvec3& v : {request.params.crop.lo, request.params.crop.hi, plane.point, plane.normal})
+    for (int axis = 0; axis < 3; ++axis) h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(v[axis]);
   return h;
 }
 
@@ -87,6 +88,7 @@ FrameInput viewInputOf(const FrameRequest& request, const BrickSourceInfo& info)
   input.view.viewportHeight = request.height;
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.view.sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing);
+  input.view.clipPlane = request.params.clipPlane;
   input.isEmpty = emptinessFor(request.params, info, request.tf);
   return input;
 }
@@ -391,8 +393,8 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   const bool feedback = feedback_ && !request.synchronous && !multipass;
 
   // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for
-  // one). Marks and answers made under another isovalue, transfer function or crop box describe another
-  // image.
+  // one). Marks and answers made under another isovalue, transfer function, crop box or clip plane describe
+  // another image.
   if (const uint64_t key = emptinessKeyOf(request); key != emptinessKey_) {
     emptinessKey_ = key;
     if (visibility_) {

@@ -82,6 +82,10 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   const WorldBox sampled = sampledWorldBox(rp, dims, spacing);
   b.clipMin = glm::vec3(sampled.lo);
   b.clipMax = glm::vec3(sampled.hi);
+  if (rp.clipPlane.enabled()) {
+    b.clipPlaneNormal = glm::vec3(rp.clipPlane.normal);
+    b.clipPlaneOffset = float(rp.clipPlane.offset());
+  }
   b.spacing = glm::vec3(spacing);
   b.minSpacing = float(std::min({spacing.x, spacing.y, spacing.z}));
 

@@ -27,9 +27,7 @@ using uvec3 = glm::uvec3;
 }  // namespace glsl
 #define RAYCAST_CONST inline constexpr int
 #define RAYCAST_BLOCK_BEGIN struct alignas(16) RaycastBlock {
-#define RAYCAST_BLOCK_END \
-  }                       \
-  ;
+#define RAYCAST_BLOCK_END };
 #else
 #define RAYCAST_CONST const int
 #endif
@@ -51,56 +49,58 @@ RAYCAST_CONST kRaycastTileEndLocation = 1;     // uvec2 uTileEnd: one past the t
 
 #ifndef __cplusplus
 #define RAYCAST_BLOCK_BEGIN layout(std140, binding = kRaycastBlockBinding) uniform RaycastBlock {
-#define RAYCAST_BLOCK_END \
-  }                       \
-  raycast;
+#define RAYCAST_BLOCK_END } raycast;
 #else
 namespace glsl {
 #endif
 
 RAYCAST_BLOCK_BEGIN
-// Camera (core/camera.h pixelRay): eye, orthonormal frame, the pinhole's extent and the image.
-vec3 eye;          // offset 0
-float tanHalfFov;  // 12
-vec3 forward;      // 16
-float aspect;      // 28: width / height
-vec3 right;        // 32
-float depthNear;   // 44: the fragment entry point's window depth range (world units)
-vec3 up;           // 48
-float depthFar;    // 60
-uvec2 imageSize;   // 64: pixels
-float stepVoxels;  // 72: --step, in level-L samples
-float ert;         // 76: early ray termination opacity
-// Volume geometry in world units (docs/RENDERING.md "Spaces"). The rays are clipped to [clipMin, clipMax]:
-// the volume box [0, n s] cut to --crop (sampledWorldBox, core/render_params.h).
-vec3 clipMax;      // 80
-float minSpacing;  // 92: min(s)
-vec3 spacing;      // 96: s
-float isoValue;    // 108: normalized, mapping.toStored(V) / storedMax
-vec3 cubeWorld;    // 112: C s, the root cube's extent
-float brickSize;   // 124: B
-// The value texture and the brick pool in it.
-vec3 valueTexelSize;  // 128: 1 / the value texture's dimensions
-uint maxDepth;        // 140: depth of the full-resolution leaves
-uvec3 poolSlotGrid;   // 144: slots per axis
-float poolSlotEdge;   // 156: texels per slot per axis, B + 2 BRICK_BORDER
-// Render parameters and lighting (RenderParams, LightingParams).
-vec3 background;    // 160
-float ambient;      // 172: ka
-vec3 isoBaseColor;  // 176
-float diffuse;      // 188: kd
-float specular;     // 192: ks
-float shininess;    // 196
-// Feedback (shaders/feedback.glsl, RAYCAST_FEEDBACK): a leaf of level L > 0 is requested where the ray
-// enters it closer than 2^L feedbackRequestDistance, the distance clamped below at feedbackMinDistance.
-float feedbackRequestDistance;  // 200: voxelsPerPixel maxSpacing imageHeight / (2 tanHalfFov)
-float feedbackMinDistance;      // 204: 0.5 minSpacing
-vec3 clipMin;                   // 208
-float unused0;                  // 220: std140 padding
+  // Camera (core/camera.h pixelRay): eye, orthonormal frame, the pinhole's extent and the image.
+  vec3 eye;                  // offset 0
+  float tanHalfFov;          // 12
+  vec3 forward;              // 16
+  float aspect;              // 28: width / height
+  vec3 right;                // 32
+  float depthNear;           // 44: the fragment entry point's window depth range (world units)
+  vec3 up;                   // 48
+  float depthFar;            // 60
+  uvec2 imageSize;           // 64: pixels
+  float stepVoxels;          // 72: --step, in level-L samples
+  float ert;                 // 76: early ray termination opacity
+  // Volume geometry in world units (docs/RENDERING.md "Spaces"). The rays are clipped to [clipMin, clipMax]:
+  // the volume box [0, n s] cut to --crop (sampledWorldBox, core/render_params.h).
+  vec3 clipMax;              // 80
+  float minSpacing;          // 92: min(s)
+  vec3 spacing;              // 96: s
+  float isoValue;            // 108: normalized, mapping.toStored(V) / storedMax
+  vec3 cubeWorld;            // 112: C s, the root cube's extent
+  float brickSize;           // 124: B
+  // The value texture and the brick pool in it.
+  vec3 valueTexelSize;       // 128: 1 / the value texture's dimensions
+  uint maxDepth;             // 140: depth of the full-resolution leaves
+  uvec3 poolSlotGrid;        // 144: slots per axis
+  float poolSlotEdge;        // 156: texels per slot per axis, B + 2 BRICK_BORDER
+  // Render parameters and lighting (RenderParams, LightingParams).
+  vec3 background;           // 160
+  float ambient;             // 172: ka
+  vec3 isoBaseColor;         // 176
+  float diffuse;             // 188: kd
+  float specular;            // 192: ks
+  float shininess;           // 196
+  // Feedback (shaders/feedback.glsl, RAYCAST_FEEDBACK): a leaf of level L > 0 is requested where the ray
+  // enters it closer than 2^L feedbackRequestDistance, the distance clamped below at feedbackMinDistance.
+  float feedbackRequestDistance;  // 200: voxelsPerPixel maxSpacing imageHeight / (2 tanHalfFov)
+  float feedbackMinDistance;      // 204: 0.5 minSpacing
+  vec3 clipMin;                   // 208
+  // --clip-plane (ClipPlane): the rays sample where dot(clipPlaneNormal, x) >= clipPlaneOffset; a zero normal
+  // clips nothing.
+  float clipPlaneOffset;          // 220
+  vec3 clipPlaneNormal;           // 224
+  float unused0;                  // 236: std140 padding
 RAYCAST_BLOCK_END
 
 #ifdef __cplusplus
-static_assert(sizeof(RaycastBlock) == 224);
+static_assert(sizeof(RaycastBlock) == 240);
 static_assert(offsetof(RaycastBlock, eye) == 0 && offsetof(RaycastBlock, tanHalfFov) == 12);
 static_assert(offsetof(RaycastBlock, forward) == 16 && offsetof(RaycastBlock, aspect) == 28);
 static_assert(offsetof(RaycastBlock, right) == 32 && offsetof(RaycastBlock, depthNear) == 44);
@@ -117,7 +117,8 @@ static_assert(offsetof(RaycastBlock, isoBaseColor) == 176 && offsetof(RaycastBlo
 static_assert(offsetof(RaycastBlock, specular) == 192 && offsetof(RaycastBlock, shininess) == 196);
 static_assert(offsetof(RaycastBlock, feedbackRequestDistance) == 200 &&
               offsetof(RaycastBlock, feedbackMinDistance) == 204);
-static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, unused0) == 220);
+static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, clipPlaneOffset) == 220);
+static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 && offsetof(RaycastBlock, unused0) == 236);
 }  // namespace glsl
 using glsl::RaycastBlock;
 }  // namespace ropecast

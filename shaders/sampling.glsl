@@ -30,7 +30,7 @@ vec3 pixelRayDir(uvec2 pixel) {
 }
 
 // The pixel's ray clipped to the box its samples lie in, [clipMin, clipMax] (the volume box cut to --crop), by
-// the slab test, t0 clamped to 0. False on a miss.
+// the slab test, and to the kept side of --clip-plane; t0 clamped to 0. False on a miss.
 bool cameraRay(uvec2 pixel, out Ray ray) {
   ray.origin = raycast.eye;
   ray.dir = pixelRayDir(pixel);
@@ -46,6 +46,19 @@ bool cameraRay(uvec2 pixel, out Ray ray) {
     float tFar = (raycast.clipMax[a] - ray.origin[a]) / ray.dir[a];
     ray.t0 = max(ray.t0, min(tNear, tFar));
     ray.t1 = min(ray.t1, max(tNear, tFar));
+  }
+  // --clip-plane: the part where dot(n, x) >= offset (core/camera.h clipToHalfSpace).
+  vec3 n = raycast.clipPlaneNormal;
+  if (n != vec3(0.0)) {
+    float along = dot(n, ray.dir);
+    float above = dot(n, ray.origin) - raycast.clipPlaneOffset;
+    if (along == 0.0) {
+      if (above < 0.0) return false;
+    } else if (along > 0.0) {
+      ray.t0 = max(ray.t0, -above / along);
+    } else {
+      ray.t1 = min(ray.t1, -above / along);
+    }
   }
   ray.t0 = max(ray.t0, 0.0);
   return ray.t0 < ray.t1;

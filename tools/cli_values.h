@@ -24,6 +24,9 @@ CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector
 // The same, each number in [lo, hi].
 CLI::Option* addTripleOptionIn(CLI::App& app, const std::string& name, std::vector<double>& xyz,
                                const std::string& help, double lo, double hi);
+// "X,Y,Z,NX,NY,NZ" -> six finite numbers (a plane: a point and a normal).
+CLI::Option* addPlaneOption(CLI::App& app, const std::string& name, std::vector<double>& values,
+                            const std::string& help);
 // "301,370,316" -> three integers in [1, 2^32 - 1].
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help);

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <optional>
 
+#include <glm/geometric.hpp>
+
 #include "core/error.h"
 #include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
@@ -62,6 +64,11 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       "draw only the voxels X0..X1-1, Y0..Y1-1, Z0..Z1-1 of the volume: X0:X1,Y0:Y1,Z0:Z1, as "
       "Python slices (X0: or :X1 to the volume's edge, : the whole axis); bricks wholly "
       "outside are neither read nor drawn (default: the whole volume)");
+  addPlaneOption(
+      app, "--clip-plane", o.clipPlane,
+      "X,Y,Z,NX,NY,NZ: cut the volume with the plane through the point X,Y,Z (world units) and "
+      "draw the side its normal NX,NY,NZ points to; bricks wholly on the other side are neither read "
+      "nor drawn (default: none)");
   std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
   if (command == SceneCommand::View)
     std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });
@@ -245,6 +252,17 @@ CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims) {
   return crop;
 }
 
+ClipPlane clipPlaneOf(const std::vector<double>& values) {
+  if (values.empty()) return {};
+  if (values.size() != 6) throw UsageError("--clip-plane: expected six numbers X,Y,Z,NX,NY,NZ");
+  const glm::dvec3 point(values[0], values[1], values[2]), normal(values[3], values[4], values[5]);
+  const double length = glm::length(normal);
+  if (!(length > 0.0) || !std::isfinite(length))
+    throw UsageError("--clip-plane: the normal " + formatTriple({values[3], values[4], values[5]}) +
+                     " has no direction; give the direction of the side to draw, e.g. 0,0,1");
+  return {point, normal / length};
+}
+
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command) {
   const auto [lo, hi] = valueRangeOf(info);
   RenderParams params;
@@ -256,6 +274,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.backend = o.backend;
   params.gradients = o.gradients;
   params.crop = cropBoxOf(o.crop, info.volume.dims);
+  params.clipPlane = clipPlaneOf(o.clipPlane);
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
     std::fprintf(stderr,
                  "%sropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "

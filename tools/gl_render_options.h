@@ -71,6 +71,10 @@ std::pair<double, double> valueRangeOf(const BrickSourceInfo& info);
 // volume). Throws UsageError, naming the axis and the volume's extent, when a range does not lie in it.
 CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims);
 
+// The clip plane of --clip-plane's six numbers (RenderOptions::clipPlane; empty: none), its normal made unit.
+// Throws UsageError when the normal has no direction.
+ClipPlane clipPlaneOf(const std::vector<double>& values);
+
 // RenderParams of the options (isovalue default: the middle of the value range). Warns on stderr, as
 // `command`, when an isovalue lies outside the value range.
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command);

@@ -20,6 +20,8 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 #include <imgui_stdlib.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/camera_path.h"
@@ -145,6 +147,7 @@ class Viewer {
   void reportPanelError(const std::exception& e);
   void drawPanels();
   void drawCropControls(glm::u32vec3 dims);
+  void drawClipPlaneControls(const VolumeInfo& volume);
 
   const ViewOptions& o_;
   // The inputs and every output of the command line and script, checked before the window opened: what the
@@ -558,6 +561,9 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetCrop:
       params_.crop = cropBoxOf(e.crop, bricks().info().volume.dims);
       break;
+    case ViewEventKind::SetClipPlane:
+      params_.clipPlane = clipPlaneOf(e.plane);
+      break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
       break;
@@ -635,6 +641,31 @@ void Viewer::drawCropControls(glm::u32vec3 dims) {
   if (ImGui::Button("whole volume")) params_.crop = CropBox{};
 }
 
+// --clip-plane as the direction of its normal (azimuth about +z from +x, elevation, degrees, as --orbit's)
+// and the plane's distance from the volume's center along it; switched on, it cuts away the half nearer the
+// eye.
+void Viewer::drawClipPlaneControls(const VolumeInfo& volume) {
+  const glm::dvec3 center = 0.5 * volume.worldMax();
+  const float reach = float(0.5 * glm::length(volume.worldMax()));
+  ClipPlane& plane = params_.clipPlane;
+  bool on = plane.enabled();
+  if (ImGui::Checkbox("clip plane", &on))
+    plane = on ? ClipPlane{center, cameraFrame(controller_->camera()).forward} : ClipPlane{};
+  if (!on) return;
+  const glm::dvec3 n = plane.normal;
+  float azimuth = float(glm::degrees(std::atan2(n.y, n.x)));
+  float elevation = float(glm::degrees(std::asin(std::clamp(n.z, -1.0, 1.0))));
+  float offset = float(glm::dot(n, plane.point - center));
+  bool changed = ImGui::SliderFloat("azimuth", &azimuth, -180.0f, 180.0f, "%.0f");
+  changed |= ImGui::SliderFloat("elevation", &elevation, -90.0f, 90.0f, "%.0f");
+  changed |= ImGui::SliderFloat("offset", &offset, -reach, reach, "%.1f");
+  if (changed) {
+    const double az = glm::radians(double(azimuth)), el = glm::radians(double(elevation));
+    plane.normal = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+    plane.point = center + double(offset) * plane.normal;
+  }
+}
+
 void Viewer::drawPanels() {
   const BrickSourceInfo& info = bricks().info();
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
@@ -699,6 +730,7 @@ void Viewer::drawPanels() {
     }
     ImGui::Separator();
     drawCropControls(info.volume.dims);
+    drawClipPlaneControls(info.volume);
     ImGui::PopItemWidth();
   }
   ImGui::End();

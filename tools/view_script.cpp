@@ -1,5 +1,6 @@
 #include "tools/view_script.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -73,6 +74,19 @@ struct EventReader {
     if (!p.is_array() || p.size() != 2 || !inRange(p[0]) || !inRange(p[1]))
       fail(std::string("\"") + name + "\" must be [x, y] in window pixels, each within +-1e6");
     return {p[0].get<double>(), p[1].get<double>()};
+  }
+  // A plane as --clip-plane takes it, [x, y, z, nx, ny, nz] (finite numbers), or [] for none.
+  std::vector<double> plane(const char* name) const {
+    read.insert(name);
+    if (!j.contains(name)) fail(std::string("\"") + name + "\" is required");
+    const json& p = j[name];
+    const auto finite = [](const json& v) { return v.is_number() && std::isfinite(v.get<double>()); };
+    if (!p.is_array() || (p.size() != 6 && p.size() != 0) || !std::all_of(p.begin(), p.end(), finite))
+      fail(std::string("\"") + name +
+           "\" must be [x, y, z, nx, ny, nz] (a point and the normal of the side drawn), or [] for none");
+    std::vector<double> values;
+    for (const json& v : p) values.push_back(v.get<double>());
+    return values;
   }
   // Seconds: "at" or "seconds", in [0, kMaxScriptSeconds].
   double seconds(const char* name, double fallback) const {
@@ -202,6 +216,10 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
                "\"");
       e.crop = *split;
       add(e);
+    } else if (kind == "set_clip_plane") {
+      e.kind = ViewEventKind::SetClipPlane;
+      e.plane = r.plane("plane");
+      add(e);
     } else if (kind == "load_tf") {
       e.kind = ViewEventKind::LoadTf;
       e.tf = r.text("tf");
@@ -230,7 +248,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else {
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
-          "set_iso, set_mode, set_crop, load_tf, screenshot, save_camera, reset_camera, wait_converged or "
+          "set_iso, set_mode, set_crop, set_clip_plane, load_tf, screenshot, save_camera, reset_camera, "
+          "wait_converged or "
           "quit");
     }
     r.refuseOtherKeys();

@@ -1,8 +1,8 @@
 // ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
 // tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
-// named UI actions (set the isovalue, mode or crop box, load a transfer function, take a screenshot, save the
-// camera, wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain data;
-// GL-free; any thread.
+// named UI actions (set the isovalue, mode, crop box or clip plane, load a transfer function, take a
+// screenshot, save the camera, wait until the view has converged, quit). Parsing only: the viewer applies the
+// events. Plain data; GL-free; any thread.
 //
 // File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
 // "at" (seconds after the first frame; default: the event before's, 0 for the first). Events run in file
@@ -31,6 +31,7 @@ enum class ViewEventKind {
   SetMode,        // mode
   LoadTf,         // tf: a preset name or a JSON file
   SetCrop,        // crop: --crop's three voxel ranges
+  SetClipPlane,   // plane: --clip-plane's six numbers, or none
   Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
   SaveCamera,     // file: appended to as a camera path `render --path` reads
   ResetCamera,    // back to the starting view
@@ -52,6 +53,7 @@ struct ViewEvent {
   RenderMode mode = RenderMode::Iso;
   std::string tf;
   std::vector<std::string> crop;
+  std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
   std::string file;
   bool panels = false;
   std::string where;  // "--script EVENTS.json: event 3 (drag)": names the event in errors while it runs

@@ -84,6 +84,9 @@ expect_usage "crop range empty" "got '4:4'" "$vol" --crop 4:4,:,:
 expect_usage "crop range negative" "got '-2:8'" "$vol" --crop -2:8,:,:
 expect_usage "crop past the volume" "--crop: the z range 10:33 does not lie in the volume's voxels 0:32 along z (32x32x32)" \
   "$vol" --crop :,:,10:33
+expect_usage "clip plane of five numbers" "--clip-plane" "$vol" --clip-plane 1,2,3,0,1
+expect_usage "clip plane not numbers" "--clip-plane" "$vol" --clip-plane 1,2,3,0,1,x
+expect_usage "clip plane without a normal" "--clip-plane: the normal 0,0,0 has no direction" "$vol" --clip-plane 16,16,16,0,0,0
 expect_usage "crop starting past the volume" "--crop: the x range 32: does not lie" "$vol" --crop 32:,:,:
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
 expect_usage "every zero" "--every" "$vol" --every 0 --frames 3

@@ -7,6 +7,7 @@
 #include <set>
 
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "loader/ray_feedback.h"
 #include "tests/loader/testutil_fake_brick_source.h"
@@ -410,6 +411,33 @@ TEST(Refiner, NodesWhollyOutsideTheCropBoxAreCulledAndNeverAcquired) {
   EXPECT_EQ(std::count_if(all.leaves.begin(), all.leaves.end(),
                           [](const PlannedLeaf& l) { return l.content == LeafContent::Brick; }),
             64);
+}
+
+TEST(Refiner, NodesWhollyOnTheSideAClipPlaneCutsAwayAreCulled) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency res;
+  RefineView view = viewFrom({32, 32, -60}, {32, 32, 32}, 4000);
+  // Keeps x + z >= 64 (normal (1, 0, 1) / sqrt 2 through (32, 0, 32)).
+  view.clipPlane = {glm::dvec3(32, 0, 32), glm::normalize(glm::dvec3(1, 0, 1))};
+  const RefineResult r = refine(src, view, {}, res);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  const auto kept = [&](const NodeKey& k) {
+    const WorldBox b = nodeWorldBox(src.info().layout, glm::dvec3(1.0), k);
+    return b.hi.x + b.hi.z >= 64.0;  // its corner farthest along the normal
+  };
+  size_t bricks = 0, culled = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    EXPECT_EQ(l.content == LeafContent::Brick, kept(l.key))
+        << "depth " << l.key.depth << " x " << l.key.coord.x << " z " << l.key.coord.z;
+    bricks += l.content == LeafContent::Brick;
+    culled += l.reason == LeafReason::Culled;
+  }
+  // Depth-2 nodes (16 a side) of the 4 x 4 columns with (x + 1) + (z + 1) >= 4: all but (0, 0), (1, 0) and
+  // (0, 1), 13 columns (those with x + z = 2 touch the plane along an edge and are kept), 4 high.
+  EXPECT_EQ(bricks, 52u);
+  EXPECT_GT(culled, 0u);
+  for (const NodeKey& k : res.acquired) EXPECT_TRUE(kept(k));
+  EXPECT_TRUE(boxKeptByPlane({glm::dvec3(0), glm::dvec3(1)}, ClipPlane{}));  // no plane keeps everything
 }
 
 TEST(Refiner, ANodesProjectedSizeIsMeasuredOnItsPartInsideTheCropBox) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/error.h"
 #include "core/transfer_function.h"
@@ -62,7 +63,10 @@ TEST_P(BruteForceStageTest, MatchesTheRopeRayCasterAtFullResolution) {
       request.params.isoValue = 127.5;
       request.params.background = {0.1, 0.1, 0.2};
       request.params.backend = stage;  // both renderers in the same shader stage
-      if (azimuth == 200.0) request.params.crop = {glm::dvec3(5, 0, 12), glm::dvec3(40, 48, 36)};  // both
+      if (azimuth == 200.0) {          // both renderers cut alike
+        request.params.crop = {glm::dvec3(5, 0, 12), glm::dvec3(40, 48, 36)};
+        request.params.clipPlane = {glm::dvec3(12, 12, 24), glm::normalize(glm::dvec3(0.7, 0.7, -0.2))};
+      }
       request.tf = &tf;
       request.synchronous = true;
       request.voxelsPerPixel = 0.02;  // first a coarse cut, for contrast

@@ -7,6 +7,7 @@
 // coverage by the rasterized box and its ray's clip to the box disagree by rounding, which MultipassPass
 // prevents by rasterizing each box slightly larger.
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +32,9 @@ struct MultipassCase {
   // The eye on the planes of brick faces (the volume's middle planes), an odd image size: the middle row's
   // and column's rays run along faces two boxes share, and only one of them may draw each.
   bool facePlanes = false;
-  bool cropped = false;  // --crop: voxels 7..39, 3..49, 9..44 (the leaves cut by it are drawn in part)
+  // --crop (voxels 7..39, 3..49, 9..44) and --clip-plane (oblique, through the volume's center): the leaves
+  // they cut are drawn in part.
+  bool cropped = false;
 };
 
 std::string multipassCaseName(const MultipassCase& c) {
@@ -62,7 +65,10 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMaxOf(info.storedType)));
   request.params.isoValue = 0.5 * (lo + hi);
   request.params.background = {0.1, 0.2, 0.3};
-  if (c.cropped) request.params.crop = {glm::dvec3(7, 3, 9), glm::dvec3(40, 50, 45)};
+  if (c.cropped) {
+    request.params.crop = {glm::dvec3(7, 3, 9), glm::dvec3(40, 50, 45)};
+    request.params.clipPlane = {0.5 * info.volume.worldMax(), glm::normalize(glm::dvec3(-1.0, 0.4, -0.5))};
+  }
   std::optional<TfTable> tf;
   if (c.mode == RenderMode::Dvr) {
     tf = TfTable::bake(TransferFunction::fromSpec("ct-soft", tfDataRangeFor(info)), info.mapping,

@@ -50,6 +50,8 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(feedbackRequestDistance),
     FIELD(feedbackMinDistance),
     FIELD(clipMin),
+    FIELD(clipPlaneOffset),
+    FIELD(clipPlaneNormal),
     FIELD(unused0),
 };
 #undef FIELD

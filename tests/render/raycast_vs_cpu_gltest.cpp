@@ -137,9 +137,9 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
   }
 }
 
-// With --crop the rays sample only inside the crop box: the GL image is the mirror's, every hit lies in the
-// box, and the box cut something away.
-TEST(RaycastVsCpu, ACropBoxMatchesTheMirrorAndHitsOnlyInsideIt) {
+// With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side: the GL
+// image is the mirror's, every hit lies there, and the cut took something away.
+TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) {
   SceneSpec spec;
   spec.dims = {36, 30, 26};
   spec.spacing = {1.0, 0.8, 1.1};
@@ -158,55 +158,66 @@ TEST(RaycastVsCpu, ACropBoxMatchesTheMirrorAndHitsOnlyInsideIt) {
   CropBox crop;
   crop.lo = {7, 0, 5};  // voxels 7..29, 0..17, 5..25
   crop.hi = {30, 18, 26};
-  const WorldBox box{crop.lo * spec.spacing, crop.hi * spec.spacing};
-  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
-    for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
-      RaycastFrame frame;
-      frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
-      frame.width = frame.height = 80;
-      frame.params.mode = mode;
-      frame.params.isoValue = 0.6 * 65535;
-      frame.params.backend = backend;
-      frame.tf = &tf;
-      RaycastPass pass;
-      test::renderScene(pass, scene, frame);
-      const FloatImage whole = pass.readColor();
-      frame.params.crop = crop;
-      test::renderScene(pass, scene, frame);
-      const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
+  // Through the volume's center, oblique, keeping the side away from the camera's azimuth.
+  const ClipPlane plane{glm::dvec3(18, 12, 14.3), glm::normalize(glm::dvec3(-1.0, -0.6, 0.3))};
+  struct Cut {
+    const char* name;
+    bool crop, plane;
+  };
+  for (const Cut cut :
+       {Cut{"crop", true, false}, Cut{"plane", false, true}, Cut{"crop and plane", true, true}})
+    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+      for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+        RaycastFrame frame;
+        frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
+        frame.width = frame.height = 80;
+        frame.params.mode = mode;
+        frame.params.isoValue = 0.6 * 65535;
+        frame.params.backend = backend;
+        frame.tf = &tf;
+        RaycastPass pass;
+        test::renderScene(pass, scene, frame);
+        const FloatImage whole = pass.readColor();
+        if (cut.crop) frame.params.crop = crop;
+        if (cut.plane) frame.params.clipPlane = plane;
+        test::renderScene(pass, scene, frame);
+        const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
 
-      CpuRenderInput input;
-      input.camera = frame.camera;
-      input.width = frame.width;
-      input.height = frame.height;
-      input.params = frame.params;
-      input.tf = &tf;
-      const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, input);
-      const std::string what = std::string(mode == RenderMode::Iso ? "iso" : "dvr") +
-                               (backend == RenderBackend::Fragment ? " fragment" : " compute");
-      EXPECT_GE(test::psnrDb(glColor, colorOf(cpu), 4), test::onHardwareGpu() ? 38.0 : 45.0) << what;
-      const DepthAgreement d = compareDepth(glDepth, depthOf(cpu), 0.05);
-      EXPECT_LE(d.farApart, 0.01) << what;
-      EXPECT_LE(d.coverageMismatch, 0.01) << what;
-      EXPECT_LT(test::psnrDb(glColor, whole, 4), 30.0) << what << ": the crop changed nothing";
+        CpuRenderInput input;
+        input.camera = frame.camera;
+        input.width = frame.width;
+        input.height = frame.height;
+        input.params = frame.params;
+        input.tf = &tf;
+        const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, input);
+        const std::string what = std::string(cut.name) + (mode == RenderMode::Iso ? " iso" : " dvr") +
+                                 (backend == RenderBackend::Fragment ? " fragment" : " compute");
+        const WorldBox box = cut.crop ? WorldBox{crop.lo * spec.spacing, crop.hi * spec.spacing}
+                                      : WorldBox{glm::dvec3(0.0), glm::dvec3(spec.dims) * spec.spacing};
+        EXPECT_GE(test::psnrDb(glColor, colorOf(cpu), 4), test::onHardwareGpu() ? 38.0 : 45.0) << what;
+        const DepthAgreement d = compareDepth(glDepth, depthOf(cpu), 0.05);
+        EXPECT_LE(d.farApart, 0.01) << what;
+        EXPECT_LE(d.coverageMismatch, 0.01) << what;
+        EXPECT_LT(test::psnrDb(glColor, whole, 4), 30.0) << what << ": the crop changed nothing";
 
-      // Depth is along the camera axis: the hit is at t = depth / dot(dir, forward) on the pixel's ray.
-      const glm::dvec3 forward = cameraFrame(frame.camera).forward;
-      int hits = 0, outside = 0;
-      for (uint32_t py = 0; py < frame.height; ++py)
-        for (uint32_t px = 0; px < frame.width; ++px) {
-          const float depth = glDepth.pixels[size_t(py) * frame.width + px];
-          if (!std::isfinite(depth)) continue;
-          const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
-          const glm::dvec3 hit = ray.origin + ray.dir * (double(depth) / glm::dot(ray.dir, forward));
-          ++hits;
-          outside +=
-              glm::any(glm::lessThan(hit, box.lo - 0.05)) || glm::any(glm::greaterThan(hit, box.hi + 0.05));
-        }
-      EXPECT_GT(hits, 500) << what;
-      EXPECT_EQ(outside, 0) << what;
+        // Depth is along the camera axis: the hit is at t = depth / dot(dir, forward) on the pixel's ray.
+        const glm::dvec3 forward = cameraFrame(frame.camera).forward;
+        int hits = 0, outside = 0;
+        for (uint32_t py = 0; py < frame.height; ++py)
+          for (uint32_t px = 0; px < frame.width; ++px) {
+            const float depth = glDepth.pixels[size_t(py) * frame.width + px];
+            if (!std::isfinite(depth)) continue;
+            const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
+            const glm::dvec3 hit = ray.origin + ray.dir * (double(depth) / glm::dot(ray.dir, forward));
+            ++hits;
+            outside += glm::any(glm::lessThan(hit, box.lo - 0.05)) ||
+                       glm::any(glm::greaterThan(hit, box.hi + 0.05)) ||
+                       (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05);
+          }
+        EXPECT_GT(hits, 300) << what;
+        EXPECT_EQ(outside, 0) << what;
+      }
     }
-  }
 }
 
 // A sphere of radius r as the isosurface v = 0.5 of v = 0.5 + k (r - |x - c|): its silhouette covers exactly

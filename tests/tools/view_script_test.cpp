@@ -48,9 +48,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
       R"([{"event": "set_iso", "value": 0.25}, {"event": "set_mode", "mode": "dvr"},
           {"event": "load_tf", "tf": "ct-bone"}, {"event": "screenshot", "file": "a.png", "panels": true},
           {"event": "save_camera", "file": "c.json"}, {"event": "wheel", "clicks": -2},
-          {"event": "reset_camera"}, {"event": "wait_converged"}, {"event": "set_crop", "crop": "2:9, :,4:"}])",
+          {"event": "reset_camera"}, {"event": "wait_converged"}, {"event": "set_crop", "crop": "2:9, :,4:"},
+          {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, -1]}, {"event": "set_clip_plane", "plane": []}])",
       "t");
-  ASSERT_EQ(s.events.size(), 9u);
+  ASSERT_EQ(s.events.size(), 11u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -62,6 +63,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[7].kind, ViewEventKind::WaitConverged);
   EXPECT_EQ(s.events[8].kind, ViewEventKind::SetCrop);
   EXPECT_EQ(s.events[8].crop, (std::vector<std::string>{"2:9", ":", "4:"}));
+  EXPECT_EQ(s.events[9].kind, ViewEventKind::SetClipPlane);
+  EXPECT_EQ(s.events[9].plane, (std::vector<double>{1, 2, 3, 0, 0, -1}));
+  EXPECT_TRUE(s.events[10].plane.empty());
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -91,6 +95,10 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
                 "event 0 (set_crop): \"crop\" must be three voxel ranges X0:X1,Y0:Y1,Z0:Z1");
   expectRefused(R"([{"event": "set_crop", "crop": "0:4,:,:,:"}])", "\"crop\" must be three voxel ranges");
   expectRefused(R"([{"event": "set_crop", "crop": "5:4,:,:"}])", "got \"5:4,:,:\"");
+  expectRefused(R"([{"event": "set_clip_plane", "plane": [1, 2, 3, 0, 1]}])",
+                "event 0 (set_clip_plane): \"plane\" must be [x, y, z, nx, ny, nz]");
+  expectRefused(R"([{"event": "set_clip_plane", "plane": "0,0,0,0,0,1"}])", "\"plane\" must be");
+  expectRefused(R"([{"event": "set_clip_plane"}])", "\"plane\" is required");
 }
 
 TEST(ViewScript, HugeCoordinatesAndTimesAreRefusedAtLoad) {
