@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# What a crop box saves (docs/BENCHMARKS.md "Cropping"): the same view of the CT-like store of
-# converge_vs_sync.sh, whole and with --crop, synchronously and with --converge, each from a cold cache. Bricks
-# wholly outside the box are culled by the refiner, so a crop reads and uploads what the box holds; with a pool
-# that cannot hold the whole view, the crop also gets the detail the whole volume was refused for.
-# Crops: a slab of slices (Z 352..511, 160 of 864) and the octant nearest the camera (its half of each axis).
+# What a crop box or a clip plane saves (docs/BENCHMARKS.md "Cropping"): the same view of the CT-like store of
+# converge_vs_sync.sh, whole, with --crop and with --clip-plane, synchronously and with --converge, each from a
+# cold cache. Bricks wholly outside the box or behind the plane are culled by the refiner, so a cut reads and
+# uploads what it keeps; with a pool that cannot hold the whole view, it also gets the detail the whole volume
+# was refused for.
+# Cuts: a slab of slices (Z 352..511, 160 of 864), the octant nearest the camera (its half of each axis), and
+# the plane through the volume's center that keeps its upper half (z above the middle).
 # Prints per run: wall seconds, frames, bricks in the working set, bricks uploaded, MiB read, leaves left coarser
 # for want of pool slots, and the ratios of wall time, bricks and bytes to the whole volume's.
 # Usage: bench/crop.sh [BUILD_DIR]   (default build/perf)
@@ -23,22 +25,25 @@ MODE_ARGS=${MODE_ARGS:---mode iso}
 store=$(ct_store "$DIMS")
 IFS=x read -r nx ny nz <<<"$DIMS"
 # The orbit's camera looks from +x, +y, +z (azimuth 30, elevation 20): the octant of the upper halves faces it.
-declare -A crops=([whole]="" [slab]=":,:,352:512" [octant]="$((nx / 2)):,$((ny / 2)):,$((nz / 2)):")
+read -r sx sy sz < <("$ROPECAST" info "$store" --json | python3 -c 'import json, sys; print(*json.load(sys.stdin)["spacing"])')
+center=$(python3 -c "print(f'{$nx * $sx / 2:g},{$ny * $sy / 2:g},{$nz * $sz / 2:g}')")
+declare -A cuts=([whole]="" [slab]="--crop :,:,352:512" [octant]="--crop $((nx / 2)):,$((ny / 2)):,$((nz / 2)):"
+  [half]="--clip-plane $center,0,0,1")
 
 cold() {
   if [ "$(id -u)" = 0 ] && sync && echo 3 >/proc/sys/vm/drop_caches 2>/dev/null; then echo cold; else echo warm; fi
 }
 
-# run NAME CROP ARGS...: one render with --stats; wall seconds in WORK/NAME.s, the cache state in WORK/NAME.cache
+# run NAME CUT ARGS...: one render with --stats; wall seconds in WORK/NAME.s, the cache state in WORK/NAME.cache
 run() {
-  local name=$1 crop=$2
+  local name=$1 cut=$2
   shift 2
   local cache t0 t1
   cache=$(cold)
   t0=$(date +%s.%N)
   # shellcheck disable=SC2086
   "$ROPECAST" render "$store" $MODE_ARGS --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" --cpu-cache "$CPU" \
-    ${crop:+--crop "$crop"} --stats "$WORK/$name.jsonl" -o "$WORK/$name.png" "$@" >/dev/null 2>"$WORK/$name.err" ||
+    $cut --stats "$WORK/$name.jsonl" -o "$WORK/$name.png" "$@" >/dev/null 2>"$WORK/$name.err" ||
     { cat "$WORK/$name.err" >&2; return 1; }
   t1=$(date +%s.%N)
   awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
@@ -47,15 +52,15 @@ run() {
 
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); store $store ($(du -m "$store" | cut -f1) MiB)"
 for rep in $(seq 1 "$REPS"); do
-  for name in whole slab octant; do
-    run "sync_${name}$rep" "${crops[$name]}"
-    run "converge_${name}$rep" "${crops[$name]}" --converge
+  for name in whole slab octant half; do
+    run "sync_${name}$rep" "${cuts[$name]}"
+    run "converge_${name}$rep" "${cuts[$name]}" --converge
   done
 done
 
-python3 - "$WORK" "$REPS" "${crops[slab]}" "${crops[octant]}" <<'PY'
+python3 - "$WORK" "$REPS" "${cuts[slab]}" "${cuts[octant]}" "${cuts[half]}" <<'PY'
 import json, sys
-work, reps, slab, octant = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+work, reps, slab, octant, half = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
 MiB = 1 << 20
 def load(name):
     rows = [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
@@ -64,16 +69,16 @@ def load(name):
             "uploaded": sum(r["bricks_uploaded"] for r in rows),
             "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
             "poolFull": rows[-1]["leaves_pool_full"], "converged": rows[-1]["converged"]}
-labels = {"whole": "whole volume", "slab": f"--crop {slab}", "octant": f"--crop {octant}"}
-print(f"{'run':<34} {'cache':<5} {'wall s':>7} {'frames':>6} {'working set':>11} {'bricks up':>9} {'MiB read':>8} "
+labels = {"whole": "whole volume", "slab": slab, "octant": octant, "half": half}
+print(f"{'run':<48} {'cache':<5} {'wall s':>7} {'frames':>6} {'working set':>11} {'bricks up':>9} {'MiB read':>8} "
       f"{'pool-full leaves':>16}   against the whole volume (wall, bricks up, MiB read)")
 for rep in range(1, reps + 1):
     for kind in ("sync", "converge"):
         whole = load(f"{kind}_whole{rep}")
-        for name in ("whole", "slab", "octant"):
+        for name in ("whole", "slab", "octant", "half"):
             r = load(f"{kind}_{name}{rep}")
             ratio = "" if name == "whole" else (f"   {r['s'] / whole['s']:.2f}, {r['uploaded'] / whole['uploaded']:.2f}, "
                                                 f"{r['read'] / whole['read']:.2f}")
-            print(f"{kind + ' ' + labels[name]:<34} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['working']:11d} "
+            print(f"{kind + ' ' + labels[name]:<48} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['working']:11d} "
                   f"{r['uploaded']:9d} {r['read']:8.1f} {r['poolFull']:16d}{ratio}")
 PY
