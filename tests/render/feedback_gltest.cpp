@@ -217,12 +217,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
         const double centerDistance = std::max(glm::length(cam.camera.eye - 0.5 * volumeMax), 10.0);
         frame.voxelsPerPixel =
             1.0 / feedbackVoxelPixels(1, centerDistance, spec.spacing, cam.camera.fovYDeg, frame.height);
-        CpuRenderInput input;
-        input.camera = frame.camera;
-        input.width = frame.width;
-        input.height = frame.height;
-        input.params = frame.params;
-        input.tf = &tf;
+        const CpuRenderInput input = test::cpuInputOf(frame);
         const FeedbackBounds cpu = mirrorFeedback(scene.index, scene.bricks, scene.info, input,
                                                   frame.voxelsPerPixel, kGpuTolerance, kHitThreshold);
         const FeedbackBounds exact = mirrorFeedback(scene.index, scene.bricks, scene.info, input,
@@ -292,16 +287,6 @@ RaycastFrame frameLookingAlongX(double eyeX, double voxelsPerPixel) {
   return frame;
 }
 
-CpuRenderInput cpuInput(const RaycastFrame& frame) {
-  CpuRenderInput input;
-  input.camera = frame.camera;
-  input.width = frame.width;
-  input.height = frame.height;
-  input.params = frame.params;
-  input.tf = frame.tf;
-  return input;
-}
-
 TEST(Feedback, ACoarseLeafIsRequestedExactlyWhereTheRayWantsAFinerLevel) {
   const test::GlScene scene = test::buildScene(coarseScene());
   // pixels(1) = 2 / (2 d tan 20deg) 64 = 175.8 / d: with one voxel per pixel, wanted finer closer than 175.8.
@@ -321,7 +306,8 @@ TEST(Feedback, ACoarseLeafIsRequestedExactlyWhereTheRayWantsAFinerLevel) {
       RaycastPass pass;
       const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame);
       const FeedbackSets cpu =
-          mirrorFeedback(scene.index, scene.bricks, scene.info, cpuInput(frame), c.voxelsPerPixel).sure;
+          mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), c.voxelsPerPixel)
+              .sure;
       const std::string what = "eye x " + std::to_string(c.eyeX) + ", " + std::to_string(c.voxelsPerPixel) +
                                " voxels per pixel" +
                                (backend == RenderBackend::Fragment ? " fragment" : " compute");
@@ -385,7 +371,9 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
       for (uint32_t i = 0; i < frame.width * frame.height; ++i)
         ASSERT_GE(color.pixels[4 * i + 3], 0.99f) << what;
       expectEqualSets(
-          gpu, mirrorFeedback(scene.index, scene.bricks, scene.info, cpuInput(frame), 1.0, {}, 1).sure, what);
+          gpu,
+          mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 1).sure,
+          what);
     }
 }
 
@@ -441,7 +429,7 @@ TEST(Feedback, ReadbackNeverWaitsAndArrivesInFrameOrder) {
   glFinish();  // the test's own wait, so that the released fences are true
   released = true;
   const std::vector<uint32_t> expectedUsed =
-      mirrorFeedback(scene.index, scene.bricks, scene.info, cpuInput(frame), 1.0).sure.usedLeaves;
+      mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0).sure.usedLeaves;
   for (uint64_t f = 0; f < 3; ++f) {
     const std::optional<FeedbackReadback> r = feedback.poll();
     ASSERT_TRUE(r) << "frame " << f;

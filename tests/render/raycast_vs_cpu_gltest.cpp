@@ -104,13 +104,7 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
         EXPECT_GE(test::psnrDb(glColor, *plainWalk, 4), 90.0) << "leaf batch vs plain walk";
       }
 
-      CpuRenderInput input;
-      input.camera = frame.camera;
-      input.width = frame.width;
-      input.height = frame.height;
-      input.params = frame.params;
-      input.tf = &tf;
-      const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, input);
+      const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame));
 
       const std::string what =
           std::string(mode == RenderMode::Iso                 ? "iso"
@@ -183,13 +177,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         test::renderScene(pass, scene, frame);
         const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
 
-        CpuRenderInput input;
-        input.camera = frame.camera;
-        input.width = frame.width;
-        input.height = frame.height;
-        input.params = frame.params;
-        input.tf = &tf;
-        const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, input);
+        const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame));
         const std::string what = std::string(cut.name) + (mode == RenderMode::Iso ? " iso" : " dvr") +
                                  (backend == RenderBackend::Fragment ? " fragment" : " compute");
         const WorldBox box = cut.crop ? WorldBox{crop.lo * spec.spacing, crop.hi * spec.spacing}

@@ -142,6 +142,16 @@ GlScene buildScene(const SceneSpec& spec) {
   return scene;
 }
 
+CpuRenderInput cpuInputOf(const RaycastFrame& frame) {
+  CpuRenderInput input;
+  input.camera = frame.camera;
+  input.width = frame.width;
+  input.height = frame.height;
+  input.params = frame.params;
+  input.tf = frame.tf;
+  return input;
+}
+
 void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame, const TileSchedule& schedule) {
   frame.pool = scene.pool.get();
   frame.gradients = scene.gradients.get();

@@ -13,6 +13,7 @@
 
 #include "index/cut.h"
 #include "index/rope_index.h"
+#include "reference/cpu_raycaster.h"
 #include "reference/image_io.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
@@ -74,6 +75,10 @@ GlScene buildScene(const SceneSpec& spec);
 // Renders the scene with the pass; fills frame.pool/gradients/index/volume from the scene.
 void renderScene(RaycastPass& pass, const GlScene& scene, RaycastFrame frame,
                  const TileSchedule& schedule = {});
+
+// What the CPU mirror (reference/cpu_raycaster.h renderMirror) is asked for the frame: its camera, size,
+// parameters and transfer function.
+CpuRenderInput cpuInputOf(const RaycastFrame& frame);
 
 // Says a fence signaled only once *released is true: readbacks held back, as a GPU still busy holds them.
 class HeldBackFences final : public FenceProbe {
