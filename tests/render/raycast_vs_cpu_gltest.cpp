@@ -45,28 +45,40 @@ DepthAgreement compareDepth(const FloatImage& a, const FloatImage& b, double tol
   return {double(apart) / n, double(mismatch) / n};
 }
 
-TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
+// A non-cubic 16-bit volume of anisotropic spacing whose waves cross the isovalue 0.6 many times, in bricks
+// of 8; the caller picks the cut (SceneSpec::refine).
+SceneSpec wavyScene() {
   SceneSpec spec;
   spec.dims = {36, 30, 26};
   spec.spacing = {1.0, 0.8, 1.1};
   spec.brickSize = 8;
   spec.storedType = SampleType::UInt16;
-  spec.refine = [](const NodeKey& n) {
-    return n.depth < 2 || (n.coord.x * 3 + n.coord.y + n.coord.z * 5) % 3 != 0;
-  };
   spec.value = [](glm::dvec3 x) {
     const glm::dvec3 d = x - glm::dvec3(18, 12, 14);
     return 0.5 + 0.35 * std::sin(0.31 * d.x + 0.2 * d.z) * std::cos(0.27 * d.y) - 0.004 * glm::length(d);
+  };
+  return spec;
+}
+
+// A transfer function that shows the waves' crests half transparent.
+TfTable wavyTf() {
+  return TfTable::bake(
+      TransferFunction({TfPoint{20000, {0.8, 0.2, 0.1, 0.0}}, TfPoint{36000, {0.9, 0.7, 0.2, 0.08}},
+                        TfPoint{52000, {0.3, 0.5, 1.0, 0.5}}}),
+      ValueMapping{}, 65535);
+}
+
+TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
+  SceneSpec spec = wavyScene();
+  spec.refine = [](const NodeKey& n) {
+    return n.depth < 2 || (n.coord.x * 3 + n.coord.y + n.coord.z * 5) % 3 != 0;
   };
   // Some inside leaves empty (as refinement makes leaves the TF or isovalue cannot see): skipped, not
   // sampled.
   spec.emptyLeaf = [](const NodeKey& k) { return k.depth == 3 && (k.coord.x + k.coord.y) % 5 == 0; };
   const test::GlScene scene = test::buildScene(spec);
   ASSERT_LT(scene.minLeafDepth, scene.maxLeafDepth);
-  const TfTable tf = TfTable::bake(
-      TransferFunction({TfPoint{20000, {0.8, 0.2, 0.1, 0.0}}, TfPoint{36000, {0.9, 0.7, 0.2, 0.08}},
-                        TfPoint{52000, {0.3, 0.5, 1.0, 0.5}}}),
-      ValueMapping{}, 65535);
+  const TfTable tf = wavyTf();
 
   struct Variant {
     RenderMode mode;
@@ -134,21 +146,10 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
 // With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side: the GL
 // image is the mirror's, every hit lies there, and the cut took something away.
 TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) {
-  SceneSpec spec;
-  spec.dims = {36, 30, 26};
-  spec.spacing = {1.0, 0.8, 1.1};
-  spec.brickSize = 8;
-  spec.storedType = SampleType::UInt16;
+  SceneSpec spec = wavyScene();
   spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y + n.coord.z) % 2 == 0; };
-  spec.value = [](glm::dvec3 x) {
-    const glm::dvec3 d = x - glm::dvec3(18, 12, 14);
-    return 0.5 + 0.35 * std::sin(0.31 * d.x + 0.2 * d.z) * std::cos(0.27 * d.y) - 0.004 * glm::length(d);
-  };
   const test::GlScene scene = test::buildScene(spec);
-  const TfTable tf = TfTable::bake(
-      TransferFunction({TfPoint{20000, {0.8, 0.2, 0.1, 0.0}}, TfPoint{36000, {0.9, 0.7, 0.2, 0.08}},
-                        TfPoint{52000, {0.3, 0.5, 1.0, 0.5}}}),
-      ValueMapping{}, 65535);
+  const TfTable tf = wavyTf();
   CropBox crop;
   crop.lo = {7, 0, 5};  // voxels 7..29, 0..17, 5..25
   crop.hi = {30, 18, 26};
