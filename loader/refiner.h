@@ -47,7 +47,7 @@ struct RefineView {
 using EmptinessPredicate = std::function<bool(uint16_t storedMin, uint16_t storedMax)>;
 
 enum class LeafContent : uint8_t {
-  Empty,    // nothing to sample (empty, outside the data, outside the frustum or the crop box)
+  Empty,    // nothing to sample (empty, outside the data, the frustum or the crop box, behind the clip plane)
   Brick,    // sample the brick in `slot` of the GPU pool
   Missing,  // the root's brick is not in core yet (first frames of a cold start): render as empty
 };

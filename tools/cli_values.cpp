@@ -83,6 +83,24 @@ std::optional<std::vector<std::string>> splitVoxelRanges(std::string_view text) 
   return ranges;
 }
 
+VoxelBox voxelBoxOf(const std::string& option, const std::vector<std::string>& ranges, glm::u32vec3 dims) {
+  if (ranges.size() != 3) throw UsageError(option + ": expected three ranges X0:X1,Y0:Y1,Z0:Z1");
+  VoxelBox box;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::optional<VoxelRange> range = parseVoxelRange(ranges[axis]);
+    const uint64_t n = dims[axis];
+    const uint64_t begin = range ? range->begin.value_or(0) : 0, end = range ? range->end.value_or(n) : 0;
+    const std::string name(1, "xyz"[axis]);
+    if (!range || !(begin < end) || end > n)
+      throw UsageError(option + ": the " + name + " range " + ranges[axis] +
+                       " does not lie in the volume's voxels 0:" + std::to_string(n) + " along " + name +
+                       " (" + formatDims(dims) + ")");
+    box.begin[axis] = uint32_t(begin);
+    box.end[axis] = uint32_t(end);
+  }
+  return box;
+}
+
 CLI::Option* addVoxelRangesOption(CLI::App& app, const std::string& name, std::vector<std::string>& ranges,
                                   const std::string& help) {
   const CLI::Validator range(

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/sample_type.h"
 #include "store/converter.h"
+#include "store/cropped_source.h"
 #include "store/source_raw.h"
 #include "store/store_writer.h"
 #include "store/volume_source.h"
@@ -26,6 +27,7 @@ struct ConvertArgs {
   std::optional<ByteOrder> byteOrder;
   std::optional<uint64_t> headerBytes;
   std::vector<double> spacing;
+  std::vector<std::string> crop;  // --crop: three voxel ranges; empty: the whole volume
   uint32_t brick = kDefaultBrickSize;
   std::optional<double> discardBelow;
   int zstdLevel = 3;
@@ -62,7 +64,11 @@ int runConvert(const ConvertArgs& a) {
   guard.addOutput("-o", a.output);
   guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
-  const auto source = openVolumeSource(a.input, sourceOptions);
+  std::unique_ptr<VolumeSource> source = openVolumeSource(a.input, sourceOptions);
+  if (!a.crop.empty()) {
+    const VoxelBox box = voxelBoxOf("--crop", a.crop, source->info().dims);
+    source = cropVolumeSource(std::move(source), box.begin, box.end);
+  }
   for (const std::string& note : source->info().notes)  // said even with -q: the store keeps what was read
     std::fprintf(stderr, "ropecast convert: warning: %s\n", note.c_str());
 
@@ -123,6 +129,11 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
       ->capture_default_str();
   app.add_option("--discard-below", a->discardBelow, "mark nodes whose max is below V (data units) empty")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
+  addVoxelRangesOption(
+      app, "--crop", a->crop,
+      "convert only the voxels X0..X1-1, Y0..Y1-1, Z0..Z1-1 of the input: X0:X1,Y0:Y1,Z0:Z1, as "
+      "Python slices (X0: or :X1 to the volume's edge, : the whole axis), as render --crop "
+      "takes them (default: the whole volume)");
   addDimsOption(app, "--dims", a->dims, "X,Y,Z samples per axis of a raw file");
   addEnumOption(app, "--type", a->type, sampleTypeNames(), "sample type of a raw file", /*ignoreCase=*/true,
                 "{int8,uint8,int16,uint16,int32,uint32,float32,float64} (or an alias: u8, short, int, float, "

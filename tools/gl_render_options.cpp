@@ -235,21 +235,9 @@ std::pair<double, double> valueRangeOf(const BrickSourceInfo& info) {
 }
 
 CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims) {
-  CropBox crop;
-  if (ranges.empty()) return crop;
-  if (ranges.size() != 3) throw UsageError("--crop: expected three ranges X0:X1,Y0:Y1,Z0:Z1");
-  for (int axis = 0; axis < 3; ++axis) {
-    const std::optional<VoxelRange> range = parseVoxelRange(ranges[axis]);
-    const uint64_t n = dims[axis];
-    const uint64_t begin = range ? range->begin.value_or(0) : 0, end = range ? range->end.value_or(n) : 0;
-    if (!range || !(begin < end) || end > n)
-      throw UsageError("--crop: the " + std::string(1, "xyz"[axis]) + " range " + ranges[axis] +
-                       " does not lie in the volume's voxels 0:" + std::to_string(n) + " along " +
-                       std::string(1, "xyz"[axis]) + " (" + formatDims(dims) + ")");
-    crop.lo[axis] = double(begin);
-    crop.hi[axis] = double(end);
-  }
-  return crop;
+  if (ranges.empty()) return {};
+  const VoxelBox box = voxelBoxOf("--crop", ranges, dims);
+  return {glm::dvec3(box.begin), glm::dvec3(box.end)};
 }
 
 ClipPlane clipPlaneOf(const std::vector<double>& values) {

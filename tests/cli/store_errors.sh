@@ -81,6 +81,11 @@ expect_absent "$dir/s0.store"
 expect_usage "huge spacing" "[1e-12, 1e+12]" \
   "$ropecast" convert "$dir/v_24x20x16_uint16.raw" --spacing 1e300,1,1 -o "$dir/s300.store" --quiet
 expect_absent "$dir/s300.store"
+expect_usage "convert --crop past the volume" "--crop: the y range 3:17 does not lie in the volume's voxels 0:16 along y (16x16x16)" \
+  "$ropecast" convert procedural:sphere:16 --crop :,3:17,: -o "$dir/crop.store" --quiet
+expect_absent "$dir/crop.store"
+expect_usage "convert --crop reversed" "--crop: expected a range of voxels A:B with A < B" \
+  "$ropecast" convert procedural:sphere:16 --crop :,:,9:2 -o "$dir/crop.store" --quiet
 expect_usage "convert to an empty name" "--output: expected a file name, got ''" \
   "$ropecast" convert procedural:sphere:16 -o "" --quiet
 expect_usage "convert to standard output" "--output: expected a file name, got '-'" \

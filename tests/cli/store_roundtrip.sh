@@ -20,6 +20,20 @@ cmp "$dir/a.store" "$dir/a4threads.store"
 "$ropecast" extract "$dir/a.store" --level 1 -o "$dir/a1.raw" --quiet
 test "$(stat -c %s "$dir/a1.raw")" -eq $((16 * 9 * 12 * 2))
 
+# convert --crop: the store of a box of voxels holds exactly those samples of the raw file, and says so.
+"$ropecast" convert "$dir/noise_31x17x23_uint16.raw" --crop 4:29,:9,11: -o "$dir/crop.store" --brick 8 --quiet
+"$ropecast" verify "$dir/crop.store" --quiet
+"$ropecast" extract "$dir/crop.store" -o "$dir/crop0.raw" --quiet
+python3 - "$dir/noise_31x17x23_uint16.raw" "$dir/crop0.raw" <<'PY'
+import sys
+whole, crop = open(sys.argv[1], "rb").read(), open(sys.argv[2], "rb").read()
+expected = b"".join(whole[2 * ((z * 17 + y) * 31 + 4):2 * ((z * 17 + y) * 31 + 29)]
+                    for z in range(11, 23) for y in range(0, 9))
+sys.exit(0 if crop == expected else "convert --crop 4:29,:9,11: did not keep exactly the box's samples")
+PY
+"$ropecast" info "$dir/crop.store" | grep -q "^dims *25 x 9 x 12" || { "$ropecast" info "$dir/crop.store"; exit 1; }
+"$ropecast" info "$dir/crop.store" | grep -q "cropped to 4:29,0:9,11:23"
+
 # int16 with --dims/--type/--spacing.
 head -c $((20 * 20 * 9 * 2)) /dev/urandom > "$dir/ct.bin"
 "$ropecast" convert "$dir/ct.bin" --dims 20,20,9 --type int16 --spacing 0.5,0.5,2 -o "$dir/b.store" --quiet
