@@ -243,6 +243,13 @@ CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims) {
 ClipPlane clipPlaneOf(const std::vector<double>& values) {
   if (values.empty()) return {};
   if (values.size() != 6) throw UsageError("--clip-plane: expected six numbers X,Y,Z,NX,NY,NZ");
+  // The shaders take the plane in single precision: a point farther out would make its offset overflow.
+  constexpr double kLargest = 1e15;
+  for (double v : values)
+    if (!(std::abs(v) <= kLargest))
+      throw UsageError("--clip-plane: expected six numbers within +-1e15, got " +
+                       formatTriple({values[0], values[1], values[2]}) + "," +
+                       formatTriple({values[3], values[4], values[5]}));
   const glm::dvec3 point(values[0], values[1], values[2]), normal(values[3], values[4], values[5]);
   const double length = glm::length(normal);
   if (!(length > 0.0) || !std::isfinite(length))

@@ -86,6 +86,7 @@ expect_usage "crop past the volume" "--crop: the z range 10:33 does not lie in t
   "$vol" --crop :,:,10:33
 expect_usage "clip plane of five numbers" "--clip-plane" "$vol" --clip-plane 1,2,3,0,1
 expect_usage "clip plane not numbers" "--clip-plane" "$vol" --clip-plane 1,2,3,0,1,x
+expect_usage "clip plane too far out" "--clip-plane: expected six numbers within +-1e15, got 1e+300,0,0,1,-1,0" "$vol" --clip-plane 1e300,0,0,1,-1,0
 expect_usage "clip plane without a normal" "--clip-plane: the normal 0,0,0 has no direction" "$vol" --clip-plane 16,16,16,0,0,0
 expect_usage "crop starting past the volume" "--crop: the x range 32: does not lie" "$vol" --crop 32:,:,:
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
