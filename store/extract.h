@@ -2,7 +2,7 @@
 // little-endian, in the volume's original type (int8/uint8/int16/uint16 exactly as converted; uint32/int32
 // through ValueMapping, rounded to the nearest integer: exact where their range fit 16 bits; float32/float64
 // dequantized through ValueMapping). Empty (discarded) nodes read as stored value 0. Reads one z-row of
-// bricks at a time.
+// bricks at a time, and of a region only the bricks that overlap it.
 //
 // Threads: any thread; the BrickSource may be shared with other readers.
 #pragma once
@@ -11,20 +11,38 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "store/brick_source.h"
 
 namespace ropecast {
 
-// Calls `sink(bytes)` with consecutive pieces of the level's raw volume (whole slices, in z order).
+// The voxels [begin, end) per axis of a level (`extract --crop`); by default the whole level (an end past the
+// level's dims stands for them).
+struct LevelRegion {
+  glm::u32vec3 begin{0};
+  glm::u32vec3 end{UINT32_MAX};
+};
+
+// The dims of level `level` of the store. Throws UsageError for a level the store does not have.
+glm::u32vec3 levelDimsOf(const BrickSource& source, uint32_t level);
+
+// Calls `sink(bytes)` with consecutive pieces of the region of the level as a raw volume (whole slices of the
+// region, in z order). Reads only the bricks that overlap the region. Throws UsageError for a level the store
+// does not have, or a region that is empty or leaves the level.
 void extractLevel(const BrickSource& source, uint32_t level,
-                  const std::function<void(std::span<const std::byte>)>& sink);
+                  const std::function<void(std::span<const std::byte>)>& sink,
+                  const LevelRegion& region = {});
 
-// The whole level in memory (tests, small volumes).
-std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t level);
+// The region in memory (tests, small volumes).
+std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t level,
+                                         const LevelRegion& region = {});
 
-// Writes the level to `output` under a temporary name, renamed when complete.
-void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output);
+// Writes the region to `output` under a temporary name, renamed when complete.
+void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output,
+                        const LevelRegion& region = {});
 
 }  // namespace ropecast

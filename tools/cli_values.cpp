@@ -83,7 +83,8 @@ std::optional<std::vector<std::string>> splitVoxelRanges(std::string_view text) 
   return ranges;
 }
 
-VoxelBox voxelBoxOf(const std::string& option, const std::vector<std::string>& ranges, glm::u32vec3 dims) {
+VoxelBox voxelBoxOf(const std::string& option, const std::vector<std::string>& ranges, glm::u32vec3 dims,
+                    const std::string& whose) {
   if (ranges.size() != 3) throw UsageError(option + ": expected three ranges X0:X1,Y0:Y1,Z0:Z1");
   VoxelBox box;
   for (int axis = 0; axis < 3; ++axis) {
@@ -92,9 +93,8 @@ VoxelBox voxelBoxOf(const std::string& option, const std::vector<std::string>& r
     const uint64_t begin = range ? range->begin.value_or(0) : 0, end = range ? range->end.value_or(n) : 0;
     const std::string name(1, "xyz"[axis]);
     if (!range || !(begin < end) || end > n)
-      throw UsageError(option + ": the " + name + " range " + ranges[axis] +
-                       " does not lie in the volume's voxels 0:" + std::to_string(n) + " along " + name +
-                       " (" + formatDims(dims) + ")");
+      throw UsageError(option + ": the " + name + " range " + ranges[axis] + " does not lie in " + whose +
+                       " voxels 0:" + std::to_string(n) + " along " + name + " (" + formatDims(dims) + ")");
     box.begin[axis] = uint32_t(begin);
     box.end[axis] = uint32_t(end);
   }

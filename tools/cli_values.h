@@ -46,11 +46,13 @@ std::optional<VoxelRange> parseVoxelRange(std::string_view text);
 // "X0:X1,Y0:Y1,Z0:Z1" as its three ranges, each one parseVoxelRange takes; nullopt otherwise.
 std::optional<std::vector<std::string>> splitVoxelRanges(std::string_view text);
 // The voxels [begin, end) per axis that three such ranges name in a volume of `dims`. Throws UsageError
-// naming `option` ("--crop"), the axis and the volume's extent when a range does not lie in it.
+// naming `option` ("--crop"), the axis and the extent (`whose` voxels: "the volume's", "level 2's") when a
+// range does not lie in it.
 struct VoxelBox {
   glm::u32vec3 begin{0}, end{0};
 };
-VoxelBox voxelBoxOf(const std::string& option, const std::vector<std::string>& ranges, glm::u32vec3 dims);
+VoxelBox voxelBoxOf(const std::string& option, const std::vector<std::string>& ranges, glm::u32vec3 dims,
+                    const std::string& whose = "the volume's");
 // "X0:X1,Y0:Y1,Z0:Z1": three such ranges (--crop). Whether they lie in the volume is the caller's check,
 // once the volume is open.
 CLI::Option* addVoxelRangesOption(CLI::App& app, const std::string& name, std::vector<std::string>& ranges,

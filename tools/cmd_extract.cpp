@@ -1,12 +1,15 @@
-// `ropecast extract STORE --level L -o OUT.raw`: one resolution level as a raw volume in the original type
-// (store/extract.h). Main thread.
+// `ropecast extract STORE --level L [--crop X0:X1,Y0:Y1,Z0:Z1] -o OUT.raw`: one resolution level, or a box of
+// it, as a raw volume in the original type (store/extract.h). Main thread.
 #include <cstdio>
 #include <memory>
+
+#include <glm/common.hpp>
 
 #include "store/extract.h"
 #include "store/store.h"
 #include "store/store_writer.h"
 #include "tools/cli_checks.h"
+#include "tools/cli_values.h"
 #include "tools/command.h"
 #include "tools/output_guard.h"
 
@@ -16,6 +19,7 @@ namespace {
 struct ExtractArgs {
   std::string store, output;
   uint32_t level = 0;
+  std::vector<std::string> crop;  // --crop: three voxel ranges of the level; empty: all of it
   bool quiet = false;
 };
 
@@ -26,9 +30,15 @@ int runExtract(const ExtractArgs& a) {
   guard.check();
   removeTemporaryFilesOnSignals();  // an interrupted run leaves no temporary behind
   const auto store = Store::open(a.store);
-  extractLevelToFile(*store, a.level, a.output);
+  LevelRegion region;
+  if (!a.crop.empty()) {
+    const VoxelBox box =
+        voxelBoxOf("--crop", a.crop, levelDimsOf(*store, a.level), "level " + std::to_string(a.level) + "'s");
+    region = {box.begin, box.end};
+  }
+  extractLevelToFile(*store, a.level, a.output, region);
   if (!a.quiet) {
-    const glm::u32vec3 d = store->info().layout.levelDims(a.level);
+    const glm::u32vec3 d = glm::min(region.end, levelDimsOf(*store, a.level)) - region.begin;
     std::printf("wrote %s: level %u, %ux%ux%u %s, x fastest, little-endian\n", a.output.c_str(), a.level, d.x,
                 d.y, d.z, std::string(sampleTypeName(store->info().volume.type)).c_str());
   }
@@ -42,6 +52,11 @@ const CommandRegistration extractCommand("extract", 40, [](CLI::App& app) -> std
   app.add_option("--level", a->level, "resolution level (0 = full, L has ceil(n / 2^L) samples per axis)")
       ->capture_default_str();
   app.add_option("-o,--output", a->output, "raw file to write")->required()->check(nonEmptyPath("a file"));
+  addVoxelRangesOption(
+      app, "--crop", a->crop,
+      "write only the voxels X0..X1-1, Y0..Y1-1, Z0..Z1-1 of the level: X0:X1,Y0:Y1,Z0:Z1, as "
+      "Python slices (X0: or :X1 to the level's edge, : the whole axis); only the bricks that "
+      "hold them are read (default: the whole level)");
   app.add_flag("-q,--quiet", a->quiet, "no summary");
   return [a] { return runExtract(*a); };
 });

@@ -86,6 +86,10 @@ expect_usage "convert --crop past the volume" "--crop: the y range 3:17 does not
 expect_absent "$dir/crop.store"
 expect_usage "convert --crop reversed" "--crop: expected a range of voxels A:B with A < B" \
   "$ropecast" convert procedural:sphere:16 --crop :,:,9:2 -o "$dir/crop.store" --quiet
+"$ropecast" convert procedural:sphere:16 --brick 8 -o "$dir/sphere.store" --quiet
+expect_usage "extract --crop past the level" "--crop: the x range 0:9 does not lie in level 1's voxels 0:8 along x (8x8x8)" \
+  "$ropecast" extract "$dir/sphere.store" --level 1 --crop 0:9,:,: -o "$dir/crop.raw" --quiet
+expect_absent "$dir/crop.raw"
 expect_usage "convert to an empty name" "--output: expected a file name, got ''" \
   "$ropecast" convert procedural:sphere:16 -o "" --quiet
 expect_usage "convert to standard output" "--output: expected a file name, got '-'" \

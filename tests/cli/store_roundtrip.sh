@@ -33,6 +33,9 @@ sys.exit(0 if crop == expected else "convert --crop 4:29,:9,11: did not keep exa
 PY
 "$ropecast" info "$dir/crop.store" | grep -q "^dims *25 x 9 x 12" || { "$ropecast" info "$dir/crop.store"; exit 1; }
 "$ropecast" info "$dir/crop.store" | grep -q "cropped to 4:29,0:9,11:23"
+# extract --crop: the same box of the whole store's level 0.
+"$ropecast" extract "$dir/a.store" --crop 4:29,:9,11: -o "$dir/crop_extract.raw" --quiet
+cmp "$dir/crop0.raw" "$dir/crop_extract.raw"
 
 # int16 with --dims/--type/--spacing.
 head -c $((20 * 20 * 9 * 2)) /dev/urandom > "$dir/ct.bin"

@@ -186,6 +186,38 @@ TEST(StoreRoundTrip, EveryLevelMatchesTheDirectBoxFilter) {
   EXPECT_THROW(extractLevelBytes(*store, layout.maxDepth + 1), Error);
 }
 
+TEST(StoreRoundTrip, ARegionOfALevelIsThatLevelsSamplesInTheRegion) {
+  TempDir dir;
+  const glm::u32vec3 dims{45, 37, 29};
+  const auto samples = testing::toType<int16_t>(testing::ballField(dims, 11), -1000, 2000);
+  ArraySource source =
+      ArraySource::fromSamples<int16_t>(testing::volumeInfo(dims, SampleType::Int16), samples);
+  ConvertOptions options;
+  options.brickSize = 4;
+  convertVolume(source, dir / "v.store", options);
+  const auto store = Store::open(dir / "v.store");
+  for (uint32_t level : {0u, 1u}) {
+    const std::vector<std::byte> whole = extractLevelBytes(*store, level);
+    const glm::u32vec3 d = store->info().layout.levelDims(level);
+    // Brick borders inside and at the ends of the region, and a region of one voxel's width.
+    for (const LevelRegion region :
+         {LevelRegion{{3, 5, 2}, {d.x - 6, d.y, 11}}, LevelRegion{{7, 0, 0}, {8, 9, d.z}}}) {
+      const std::vector<std::byte> part = extractLevelBytes(*store, level, region);
+      std::vector<std::byte> expected;
+      for (uint32_t z = region.begin.z; z < region.end.z; ++z)
+        for (uint32_t y = region.begin.y; y < region.end.y; ++y) {
+          const size_t row = 2 * ((size_t(z) * d.y + y) * d.x);
+          expected.insert(expected.end(), whole.begin() + row + 2 * region.begin.x,
+                          whole.begin() + row + 2 * region.end.x);
+        }
+      EXPECT_EQ(part, expected) << "level " << level << " region from x " << region.begin.x;
+    }
+  }
+  const glm::u32vec3 d0 = store->info().layout.levelDims(0);
+  EXPECT_THROW(extractLevelBytes(*store, 0, LevelRegion{{5, 0, 0}, {5, d0.y, d0.z}}), UsageError);
+  EXPECT_THROW(extractLevelBytes(*store, 0, LevelRegion{{d0.x, 0, 0}, {d0.x + 4, d0.y, d0.z}}), UsageError);
+}
+
 TEST(StoreRoundTrip, MetadataKeepsSpacingSourceAndOptions) {
   TempDir dir;
   const glm::u32vec3 dims{20, 9, 13};
