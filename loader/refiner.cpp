@@ -65,6 +65,10 @@ ProjectedVoxelSize::ProjectedVoxelSize(const OctreeLayout& layout, glm::dvec3 sp
       spacing_(spacing),
       eye_(view.camera.eye),
       sampled_(view.sampled),
+      // An eye on the side the plane cuts away is at least this far from everything drawn.
+      planeDistance_(view.clipPlane.enabled()
+                         ? std::max(0.0, view.clipPlane.offset() - glm::dot(view.clipPlane.normal, eye_))
+                         : 0.0),
       minSpacing_(std::min({spacing.x, spacing.y, spacing.z})),
       maxSpacing_(std::max({spacing.x, spacing.y, spacing.z})),
       tanHalfFov_(std::tan(glm::radians(view.camera.fovYDeg) * 0.5)),
@@ -75,7 +79,7 @@ double ProjectedVoxelSize::operator()(const NodeKey& key) const {
   const WorldBox inside = intersection(whole, sampled_);
   const WorldBox& box = hasVolume(inside) ? inside : whole;
   const glm::dvec3 nearest = glm::clamp(eye_, box.lo, box.hi);
-  const double distance = std::max(glm::length(nearest - eye_), 0.5 * minSpacing_);
+  const double distance = std::max({glm::length(nearest - eye_), planeDistance_, 0.5 * minSpacing_});
   const double voxelWorld = double(uint64_t(1) << layout_.levelOfDepth(key.depth)) * maxSpacing_;
   return voxelWorld / (2.0 * distance * tanHalfFov_) * viewportHeight_;
 }

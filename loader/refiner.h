@@ -38,7 +38,8 @@ struct RefineView {
   // wholly outside it are culled like nodes outside the frustum, and a node's projected voxel size is
   // measured on its part inside it. Unbounded by default.
   WorldBox sampled = unboundedBox();
-  // --clip-plane: nodes wholly on the side it cuts away are culled too. None by default.
+  // --clip-plane: nodes wholly on the side it cuts away are culled too, and from an eye on that side a node's
+  // projected voxel size is measured no nearer than the plane. None by default.
   ClipPlane clipPlane;
 };
 
@@ -169,6 +170,7 @@ class ProjectedVoxelSize {
   glm::dvec3 spacing_;
   glm::dvec3 eye_;
   WorldBox sampled_;
+  double planeDistance_;
   double minSpacing_, maxSpacing_;
   double tanHalfFov_;
   double viewportHeight_;

@@ -440,6 +440,18 @@ TEST(Refiner, NodesWhollyOnTheSideAClipPlaneCutsAwayAreCulled) {
   EXPECT_TRUE(boxKeptByPlane({glm::dvec3(0), glm::dvec3(1)}, ClipPlane{}));  // no plane keeps everything
 }
 
+TEST(Refiner, FromAnEyeOnTheCutSideAProjectedSizeIsMeasuredNoNearerThanTheClipPlane) {
+  const FakeBrickSource src = makeSource();
+  RefineView view = viewFrom({32, 32, -100}, {32, 32, 32});
+  const NodeKey child{1, {0, 0, 0}};  // box [0,32]^3, nearest point (32,32,0) at distance 100
+  // The plane z = 20 keeping z >= 20: the eye is on the cut side, 120 from the plane.
+  view.clipPlane = {glm::dvec3(0, 0, 20), glm::dvec3(0, 0, 1)};
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 100.0 / 120.0, 1e-9);
+  // Keeping z <= 20 instead, the eye is on the kept side: the box's nearest point counts.
+  view.clipPlane = {glm::dvec3(0, 0, 20), glm::dvec3(0, 0, -1)};
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 1.0, 1e-9);
+}
+
 TEST(Refiner, ANodesProjectedSizeIsMeasuredOnItsPartInsideTheCropBox) {
   const FakeBrickSource src = makeSource();
   RefineView view = viewFrom({32, 32, -100}, {32, 32, 32});
