@@ -162,6 +162,7 @@ class Viewer {
   glm::dvec3 boxMax_{0.0};
 
   RenderParams params_;
+  bool unfoldCutControls_ = false;  // open the crop box and clip plane controls at the next frame
   double voxelsPerPixel_ = 1.0;
   double targetFrameMs_ = 0.0;
   std::string tfSpec_;
@@ -242,6 +243,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
     for (uint64_t c : h.counts) histogram_.push_back(top > 0.0 ? float(std::log1p(double(c)) / top) : 0.0f);
   }
   params_ = renderParamsOf(o, info, "view");
+  unfoldCutControls_ = !o.crop.empty() || !o.clipPlane.empty();
   voxelsPerPixel_ = o.voxelsPerPixel;
   targetFrameMs_ = o.targetFrameMs;
   setTransferFunction(o.tf);  // a bad --tf is an error in either mode, as in render
@@ -560,9 +562,11 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::SetCrop:
       params_.crop = cropBoxOf(e.crop, bricks().info().volume.dims);
+      unfoldCutControls_ = true;
       break;
     case ViewEventKind::SetClipPlane:
       params_.clipPlane = clipPlaneOf(e.plane);
+      unfoldCutControls_ = true;
       break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
@@ -728,9 +732,12 @@ void Viewer::drawPanels() {
         reportPanelError(e);
       }
     }
-    ImGui::Separator();
-    drawCropControls(info.volume.dims);
-    drawClipPlaneControls(info.volume);
+    // Folded unless a cut is set (the options, a script): the panel stays short in a small window.
+    if (std::exchange(unfoldCutControls_, false)) ImGui::SetNextItemOpen(true);
+    if (ImGui::CollapsingHeader("crop box and clip plane")) {
+      drawCropControls(info.volume.dims);
+      drawClipPlaneControls(info.volume);
+    }
     ImGui::PopItemWidth();
   }
   ImGui::End();
