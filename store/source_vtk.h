@@ -1,6 +1,6 @@
-// The legacy VTK VolumeSource (.vtk files of VTK and ParaView): BINARY STRUCTURED_POINTS, the volume being
-// the point data's first SCALARS (or FIELD array) of one component, big-endian as VTK writes it. Read through
-// FileSamples (store/file_samples.h). Owned by loader/.
+// The legacy VTK VolumeSource (.vtk files of VTK and ParaView): STRUCTURED_POINTS, the volume being the point
+// data's first SCALARS (or FIELD array) of one component; BINARY files big-endian as VTK writes them, read
+// through FileSamples (store/file_samples.h), ASCII ones through TextSamples (store/text_samples.h).
 //
 // Threads: as VolumeSource.
 #pragma once

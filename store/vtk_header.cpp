@@ -54,9 +54,9 @@ class VtkHeaderParser {
       fail("expected the line '# vtk DataFile Version x.x' first, got " + quotedExcerpt(magic));
     nextLine();  // the title
     const std::string format = lowerAscii(trimBlanks(nextLine()));
-    if (format == "ascii")
-      fail("line 3: ASCII files are not read; save the volume as BINARY (or as .vti, .nrrd or .mha)");
-    if (format != "binary") fail("line 3: expected ASCII or BINARY, got " + quotedExcerpt(format));
+    if (format != "binary" && format != "ascii")
+      fail("line 3: expected ASCII or BINARY, got " + quotedExcerpt(format));
+    header_.ascii = format == "ascii";
     while (!dataStarts_) {
       if (pos_ >= text_.size())
         fail("ends before the samples (expected POINT_DATA followed by SCALARS or FIELD)");
@@ -127,6 +127,7 @@ class VtkHeaderParser {
         failLine("COLOR_SCALARS of " + quotedExcerpt(words[2]) + " components; only one component is read");
       header_.arrayName = std::string(words[1]);
       header_.type = SampleType::UInt8;
+      header_.colorScalars = true;
       dataStarts_ = true;
     } else if (pointData_) {
       failLine("the first point attribute is " + quotedExcerpt(words[0]) +
@@ -196,10 +197,17 @@ class VtkHeaderParser {
       }
       // The dataset's own field: its samples, then the line end (and VTK 9's METADATA, ended by a blank
       // line).
-      const uint64_t bytes = *components * *tuples * bytesPerSample(sampleType(fields[3]));
-      if (bytes > text_.size() - pos_)
-        failLine("the FIELD array " + quotedExcerpt(fields[0]) + " ends past the header");
-      pos_ += size_t(bytes);
+      const uint64_t values = *components * *tuples;
+      const SampleType type = sampleType(fields[3]);
+      if (header_.ascii) {
+        if (!skipNumbers(values))
+          failLine("the FIELD array " + quotedExcerpt(fields[0]) + " ends past the header");
+      } else {
+        const uint64_t bytes = values * bytesPerSample(type);
+        if (bytes > text_.size() - pos_)
+          failLine("the FIELD array " + quotedExcerpt(fields[0]) + " ends past the header");
+        pos_ += size_t(bytes);
+      }
       nextLine();
       const size_t next = pos_;
       if (lowerAscii(trimBlanks(takeLine(text_, pos_))) == "metadata") {
@@ -210,6 +218,17 @@ class VtkHeaderParser {
         pos_ = next;
       }
     }
+  }
+
+  // Moves past `count` numbers of ASCII text (words between blanks and line ends), to the end of the last;
+  // false when the text ends first.
+  bool skipNumbers(uint64_t count) {
+    for (uint64_t i = 0; i < count; ++i) {
+      while (pos_ < text_.size() && isBlank(text_[pos_])) lineNumber_ += text_[pos_++] == '\n';
+      if (pos_ >= text_.size()) return false;
+      while (pos_ < text_.size() && !isBlank(text_[pos_])) ++pos_;
+    }
+    return true;
   }
 
   std::string_view text_;

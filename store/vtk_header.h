@@ -2,7 +2,8 @@
 // part of the legacy VTK source that sees untrusted text, a pure function over a string, fuzzed by
 // fuzz/volume_headers_fuzz.cpp. Used by the legacy VTK volume source (store/). Pure function; any thread.
 //
-// Supported: BINARY files (big-endian samples, as VTK writes them) of DATASET STRUCTURED_POINTS with
+// Supported: BINARY files (big-endian samples, as VTK writes them) and ASCII files (the samples as numbers
+// separated by blanks and line ends) of DATASET STRUCTURED_POINTS with
 // DIMENSIONS, SPACING (or ASPECT_RATIO) and ORIGIN in any order, then POINT_DATA whose first attribute is
 // SCALARS of one component (an optional LOOKUP_TABLE line after it), COLOR_SCALARS of one (how VTK writes
 // unsigned char scalars) or a FIELD whose first array has one component; keywords in any case. Types: char,
@@ -30,16 +31,19 @@ struct VtkHeader {
   glm::dvec3 spacing{1.0};  // SPACING (or ASPECT_RATIO): 1 where not given
   std::string arrayName;    // the SCALARS' or FIELD array's name, for the description
   size_t headerBytes = 0;   // where the samples start: after the line that ends the header
+  bool ascii = false;       // ASCII: the samples are numbers in text
+  // COLOR_SCALARS: unsigned char samples, which an ASCII file writes as fractions of 255 ("0.501961")
+  bool colorScalars = false;
 
   uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
 };
 
 // Parses the header at the start of `text` (which goes on with the samples). `fileName` is only used in
-// messages. Throws ropecast::Error naming the file and the line for: no "# vtk DataFile Version" line, ASCII
-// files, datasets other than STRUCTURED_POINTS, missing or malformed DIMENSIONS, spacings that are zero or
-// not numbers, a POINT_DATA count other than the samples of DIMENSIONS, cell data or attributes other than
-// scalars first, several components, unsupported types (bit, long, 64-bit), and a text that ends before the
-// samples.
+// messages. Throws ropecast::Error naming the file and the line for: no "# vtk DataFile Version" line, a
+// format other than ASCII or BINARY, datasets other than STRUCTURED_POINTS, missing or malformed DIMENSIONS,
+// spacings that are zero or not numbers, a POINT_DATA count other than the samples of DIMENSIONS, cell data
+// or attributes other than scalars first, several components, unsupported types (bit, long, 64-bit), and a
+// text that ends before the samples.
 VtkHeader parseVtkHeader(std::string_view text, const std::string& fileName);
 
 }  // namespace ropecast
