@@ -37,15 +37,39 @@ std::string vtkHeader(const std::string& type, const std::string& attribute = ""
          (attribute.empty() ? "SCALARS ImageFile " + type + "\nLOOKUP_TABLE default\n" : attribute);
 }
 
-TEST(SourceVtk, StructuredPointsOfEveryType) {
+// `values` as an ASCII file writes them: `perLine` numbers a line, floats with the digits that give them
+// back.
+template <typename T>
+std::string asciiNumbers(const std::vector<T>& values, size_t perLine = 9, const char* lineEnd = "\n") {
+  std::ostringstream text;
+  text.precision(std::is_same_v<T, float> ? 9 : 17);
+  for (size_t i = 0; i < values.size(); ++i) {
+    if constexpr (sizeof(T) == 1)
+      text << int(values[i]);
+    else
+      text << values[i];
+    text << ((i + 1) % perLine == 0 || i + 1 == values.size() ? lineEnd : " ");
+  }
+  return text.str();
+}
+
+std::string asciiHeader(const std::string& type, const std::string& attribute = "") {
+  std::string header = vtkHeader(type, attribute);
+  header.replace(header.find("BINARY"), 6, "ASCII");
+  return header;
+}
+
+TEST(SourceVtk, StructuredPointsOfEveryTypeInBinaryAndAscii) {
   TempDir dir;
   auto check = [&](auto tag, const std::string& vtkType, SampleType type) {
     using T = decltype(tag);
     const auto values = samplePattern<T>(kVtkSamples);
-    const std::string path = dir.file(vtkType + ".vtk");
-    writeFile(path, vtkHeader(vtkType) + fileBytes(values, /*bigEndian=*/true) + "\n");
-    expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "vtk:" + path + " (ImageFile)"},
-                 values);
+    const std::string binary = dir.file(vtkType + ".vtk"), ascii = dir.file("ascii_" + vtkType + ".vtk");
+    writeFile(binary, vtkHeader(vtkType) + fileBytes(values, /*bigEndian=*/true) + "\n");
+    writeFile(ascii, asciiHeader(vtkType) + asciiNumbers(values));
+    for (const std::string& path : {binary, ascii})
+      expectVolume(*openVolumeSource(path),
+                   {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "vtk:" + path + " (ImageFile)"}, values);
   };
   check(int8_t{}, "char", SampleType::Int8);
   check(uint8_t{}, "unsigned_char", SampleType::UInt8);
@@ -100,48 +124,6 @@ TEST(SourceVtk, LayoutsWritersLeave) {
   auto fieldSource = openVolumeSource(field);
   EXPECT_EQ(fieldSource->info().description, "vtk:" + field + " (Density)");
   EXPECT_EQ(readSlab<int16_t>(*fieldSource, 0, 5), values);
-}
-
-// `values` as an ASCII file writes them: `perLine` numbers a line, floats with the digits that give them
-// back.
-template <typename T>
-std::string asciiNumbers(const std::vector<T>& values, size_t perLine = 9, const char* lineEnd = "\n") {
-  std::ostringstream text;
-  text.precision(std::is_same_v<T, float> ? 9 : 17);
-  for (size_t i = 0; i < values.size(); ++i) {
-    if constexpr (sizeof(T) == 1)
-      text << int(values[i]);
-    else
-      text << values[i];
-    text << ((i + 1) % perLine == 0 || i + 1 == values.size() ? lineEnd : " ");
-  }
-  return text.str();
-}
-
-std::string asciiHeader(const std::string& type, const std::string& attribute = "") {
-  std::string header = vtkHeader(type, attribute);
-  header.replace(header.find("BINARY"), 6, "ASCII");
-  return header;
-}
-
-TEST(SourceVtk, AsciiFilesOfEveryType) {
-  TempDir dir;
-  auto check = [&](auto tag, const std::string& vtkType, SampleType type) {
-    using T = decltype(tag);
-    const auto values = samplePattern<T>(kVtkSamples);
-    const std::string path = dir.file("ascii_" + vtkType + ".vtk");
-    writeFile(path, asciiHeader(vtkType) + asciiNumbers(values));
-    expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "vtk:" + path + " (ImageFile)"},
-                 values);
-  };
-  check(int8_t{}, "char", SampleType::Int8);
-  check(uint8_t{}, "unsigned_char", SampleType::UInt8);
-  check(int16_t{}, "short", SampleType::Int16);
-  check(uint16_t{}, "unsigned_short", SampleType::UInt16);
-  check(int32_t{}, "int", SampleType::Int32);
-  check(uint32_t{}, "unsigned_int", SampleType::UInt32);
-  check(float{}, "float", SampleType::Float32);
-  check(double{}, "double", SampleType::Float64);
 }
 
 TEST(SourceVtk, AsciiLayoutsWritersLeave) {

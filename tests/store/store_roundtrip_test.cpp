@@ -162,16 +162,23 @@ TEST(StoreRoundTrip, Float32WhoseFiniteValuesAreOneKeepsInfinitiesInTheRange) {
   for (size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i], 5.0f) << "sample " << i;
 }
 
-TEST(StoreRoundTrip, EveryLevelMatchesTheDirectBoxFilter) {
-  TempDir dir;
-  const glm::u32vec3 dims{45, 37, 29};
-  const auto samples = testing::toType<int16_t>(testing::ballField(dims, 11), -1000, 2000);
+// An int16 ball of 45x37x29 samples converted in bricks of 4 (levels 0..4), and its samples.
+std::vector<int16_t> ballSamples() {
+  return testing::toType<int16_t>(testing::ballField({45, 37, 29}, 11), -1000, 2000);
+}
+std::unique_ptr<Store> ballStore(const TempDir& dir) {
   ArraySource source =
-      ArraySource::fromSamples<int16_t>(testing::volumeInfo(dims, SampleType::Int16), samples);
+      ArraySource::fromSamples<int16_t>(testing::volumeInfo({45, 37, 29}, SampleType::Int16), ballSamples());
   ConvertOptions options;
   options.brickSize = 4;
   convertVolume(source, dir / "v.store", options);
-  const auto store = Store::open(dir / "v.store");
+  return Store::open(dir / "v.store");
+}
+
+TEST(StoreRoundTrip, EveryLevelMatchesTheDirectBoxFilter) {
+  TempDir dir;
+  const auto samples = ballSamples();
+  const auto store = ballStore(dir);
   const OctreeLayout& layout = store->info().layout;
   const auto levels = testing::levelPyramid(testing::storedValues(samples), layout);
   ASSERT_GE(layout.maxDepth, 3u);
@@ -188,14 +195,7 @@ TEST(StoreRoundTrip, EveryLevelMatchesTheDirectBoxFilter) {
 
 TEST(StoreRoundTrip, ARegionOfALevelIsThatLevelsSamplesInTheRegion) {
   TempDir dir;
-  const glm::u32vec3 dims{45, 37, 29};
-  const auto samples = testing::toType<int16_t>(testing::ballField(dims, 11), -1000, 2000);
-  ArraySource source =
-      ArraySource::fromSamples<int16_t>(testing::volumeInfo(dims, SampleType::Int16), samples);
-  ConvertOptions options;
-  options.brickSize = 4;
-  convertVolume(source, dir / "v.store", options);
-  const auto store = Store::open(dir / "v.store");
+  const auto store = ballStore(dir);
   for (uint32_t level : {0u, 1u}) {
     const std::vector<std::byte> whole = extractLevelBytes(*store, level);
     const glm::u32vec3 d = store->info().layout.levelDims(level);
