@@ -19,9 +19,11 @@ namespace ropecast {
 namespace {
 
 using testing::errorOf;
+using testing::expectHeadersRefused;
 using testing::expectVolume;
 using testing::fileBytes;
 using testing::readSlab;
+using testing::RefusedHeader;
 using testing::samplePattern;
 using testing::TempDir;
 using testing::writeFile;
@@ -137,11 +139,8 @@ TEST(SourceMetaImage, AMatrixThatTurnsTheAxesIsNoted) {
 }
 
 TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
-  struct Case {
-    std::string what, header, expected;
-  };
   const std::string good = metaImageHeader("MET_SHORT");
-  const std::vector<Case> cases = {
+  const std::vector<RefusedHeader> cases = {
       {"no data file", "NDims = 3\nDimSize = 9 6 5\nElementType = MET_SHORT\n", "no ElementDataFile"},
       {"no sizes", "NDims = 3\nElementType = MET_SHORT\nElementDataFile = LOCAL\n", "missing key 'DimSize'"},
       {"no type", "NDims = 3\nDimSize = 9 6 5\nElementDataFile = LOCAL\n", "missing key 'ElementType'"},
@@ -168,16 +167,8 @@ TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
       {"pattern", metaImageHeader("MET_SHORT", "", "slice%03d.raw 1 5 1"), "several data files"},
       {"no equals sign", "NDims 3\n" + good, "expected 'Key = Value'"},
   };
-  for (const Case& c : cases) {
-    try {
-      parseMetaImageHeader(c.header, "/some/dir/bad.mha");
-      ADD_FAILURE() << c.what << ": parsed without error";
-    } catch (const Error& e) {
-      const std::string message = e.what();
-      EXPECT_NE(message.find("/some/dir/bad.mha"), std::string::npos) << c.what << ": " << message;
-      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
-    }
-  }
+  expectHeadersRefused(cases, "/some/dir/bad.mha",
+                       [](const std::string& h, const std::string& f) { parseMetaImageHeader(h, f); });
 }
 
 TEST(SourceMetaImage, BadDataFilesNameTheFile) {

@@ -21,9 +21,11 @@ namespace ropecast {
 namespace {
 
 using testing::errorOf;
+using testing::expectHeadersRefused;
 using testing::expectVolume;
 using testing::fileBytes;
 using testing::readSlab;
+using testing::RefusedHeader;
 using testing::samplePattern;
 using testing::TempDir;
 using testing::writeFile;
@@ -230,16 +232,13 @@ TEST(SourceVtk, AsciiSamplesThatAreNotThereOrNotOfTheTypeNameTheFileAndSample) {
 }
 
 TEST(SourceVtk, UnsupportedAndMalformedFilesNameTheFileAndLine) {
-  struct Case {
-    std::string what, header, expected;
-  };
   const std::string good = vtkHeader("short");
   const auto replaced = [&](const std::string& from, const std::string& to) {
     std::string text = good;
     text.replace(text.find(from), from.size(), to);
     return text;
   };
-  const std::vector<Case> cases = {
+  const std::vector<RefusedHeader> cases = {
       {"no magic", "vtk file\n" + good, "expected the line '# vtk DataFile Version x.x'"},
       {"neither", replaced("BINARY", "TEXT"), "expected ASCII or BINARY"},
       {"polydata", replaced("STRUCTURED_POINTS", "POLYDATA"), "line 4: only DATASET STRUCTURED_POINTS"},
@@ -261,16 +260,8 @@ TEST(SourceVtk, UnsupportedAndMalformedFilesNameTheFileAndLine) {
       {"field past the end", replaced("DIMENSIONS", "FIELD FieldData 1\nTIME 1 100000 double\nDIMENSIONS"),
        "ends past the header"},
   };
-  for (const Case& c : cases) {
-    try {
-      parseVtkHeader(c.header, "/some/dir/bad.vtk");
-      ADD_FAILURE() << c.what << ": parsed without error";
-    } catch (const Error& e) {
-      const std::string message = e.what();
-      EXPECT_NE(message.find("/some/dir/bad.vtk"), std::string::npos) << c.what << ": " << message;
-      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
-    }
-  }
+  expectHeadersRefused(cases, "/some/dir/bad.vtk",
+                       [](const std::string& h, const std::string& f) { parseVtkHeader(h, f); });
 
   TempDir dir;
   const std::string data = fileBytes(samplePattern<int16_t>(kVtkSamples), true);

@@ -141,6 +141,27 @@ void expectVolume(VolumeSource& source, const ExpectedVolume& expected, const st
       << expected.description;
 }
 
+// A header a parser must refuse: what the case is, the header's text, and words its message must hold.
+struct RefusedHeader {
+  std::string what, header, expected;
+};
+
+// Each case's header, given to `parse(header, fileName)`, throws ropecast::Error whose message names
+// `fileName` and holds the case's expected words.
+template <typename Parse>
+void expectHeadersRefused(const std::vector<RefusedHeader>& cases, const std::string& fileName, Parse parse) {
+  for (const RefusedHeader& c : cases) {
+    try {
+      parse(c.header, fileName);
+      ADD_FAILURE() << c.what << ": parsed without error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(fileName), std::string::npos) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
+    }
+  }
+}
+
 // The message opening `spec` fails with, or "" when it opens.
 inline std::string errorOf(const std::string& spec, const SourceOptions& options = {}) {
   try {
