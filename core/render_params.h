@@ -15,7 +15,22 @@
 
 namespace ropecast {
 
-enum class RenderMode { Iso, Dvr };
+// What a ray computes (docs/RENDERING.md): the first isosurface crossing, shaded; the transfer function's
+// colors composited front to back (direct volume rendering); or the largest value along the ray mapped
+// through the transfer function (maximum intensity projection).
+enum class RenderMode { Iso, Dvr, Mip };
+// The names of `--mode`, of the viewer's script events and of --stats and bench settings.
+inline constexpr std::array<std::pair<std::string_view, RenderMode>, 3> kRenderModeNames{
+    {{"iso", RenderMode::Iso}, {"dvr", RenderMode::Dvr}, {"mip", RenderMode::Mip}}};
+constexpr std::string_view renderModeName(RenderMode mode) {
+  for (const auto& [name, value] : kRenderModeNames)
+    if (value == mode) return name;
+  return "?";
+}
+// Whether the mode reads the transfer function (all but the isosurface).
+constexpr bool usesTransferFunction(RenderMode mode) {
+  return mode != RenderMode::Iso;
+}
 // How the GL renderer draws (the CPU renderers ignore it): the octree ray caster's fragment or compute entry
 // point (render/raycast_pass), brute force over level 0 in one 3D texture without an index (the benchmark
 // baseline, render/brute_force_pass), the multi-pass block renderer over the same cut (each data leaf drawn

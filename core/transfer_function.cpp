@@ -41,6 +41,13 @@ const std::vector<PresetPoint> kLinear = {
     {0.1, 0.2, 0.1, 0.05, 0.0},
     {1.0, 1.0, 0.95, 0.85, 0.1},
 };
+// A gray ramp, opaque from a fifth of the range: a maximum intensity projection shows one value per pixel.
+const std::vector<PresetPoint> kGray = {
+    {0.0, 0.0, 0.0, 0.0, 0.0},
+    {0.1, 0.0, 0.0, 0.0, 0.0},
+    {0.2, 0.111, 0.111, 0.111, 1.0},
+    {1.0, 1.0, 1.0, 1.0, 1.0},
+};
 
 // Signed 16- and 32-bit integers are taken as CT data, and floats that reach below -500; the other types
 // (unsigned, or int8's [-128, 127]) are not.
@@ -135,7 +142,7 @@ TransferFunction TransferFunction::fromFile(const std::string& path) {
 }
 
 std::vector<std::string> TransferFunction::presetNames() {
-  return {"ct-bone", "ct-soft", "mri", "linear"};
+  return {"ct-bone", "ct-soft", "mri", "linear", "gray"};
 }
 
 bool TransferFunction::isPreset(std::string_view name) {
@@ -156,12 +163,13 @@ TransferFunction TransferFunction::preset(std::string_view name, const TfDataRan
   if (name == "ct-soft") return fromPresetPoints(kCtSoft, placeHounsfield, data);
   if (name == "mri") return fromPresetPoints(kMri, placeFraction, data);
   if (name == "linear") return fromPresetPoints(kLinear, placeFraction, data);
+  if (name == "gray") return fromPresetPoints(kGray, placeFraction, data);
   throw Error("TransferFunction: unknown preset '" + std::string(name) + "' (expected one of " +
               presetList() + ")");
 }
 
 TransferFunction TransferFunction::fromSpec(const std::string& spec, const TfDataRange& data) {
-  if (spec.empty()) return preset("linear", data);
+  if (spec.empty()) return preset(kDefaultPreset, data);
   if (isPreset(spec)) return preset(spec, data);
   if (!std::filesystem::exists(spec))
     throw Error("--tf: '" + spec + "' is neither a preset (" + presetList() + ") nor an existing file");

@@ -47,7 +47,11 @@ class TransferFunction {
   static TransferFunction preset(std::string_view name, const TfDataRange& data);
   static std::vector<std::string> presetNames();
   static bool isPreset(std::string_view name);
-  // `--tf T`: a preset name, else a file path. An empty spec gives the "linear" preset.
+  // The preset `--tf` defaults to: for direct volume rendering, which composites many faint samples, and
+  // for a maximum intensity projection, which shows one value per pixel, opaque.
+  static constexpr std::string_view kDefaultPreset = "linear";
+  static constexpr std::string_view kMipDefaultPreset = "gray";
+  // `--tf T`: a preset name, else a file path. An empty spec gives kDefaultPreset.
   static TransferFunction fromSpec(const std::string& spec, const TfDataRange& data);
 
   const std::vector<TfPoint>& points() const { return points_; }

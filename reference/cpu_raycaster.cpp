@@ -38,8 +38,9 @@ struct FrameConstants {
 
   FrameConstants(const BrickSourceInfo& volume, const CpuRenderInput& input)
       : params(input.params), tf(input.tf) {
-    if (params.mode == RenderMode::Dvr && tf == nullptr)
-      throw Error("CPU ray caster: DVR mode needs a baked transfer function (CpuRenderInput::tf)");
+    if (usesTransferFunction(params.mode) && tf == nullptr)
+      throw Error("CPU ray caster: " + std::string(renderModeName(params.mode)) +
+                  " mode needs a baked transfer function (CpuRenderInput::tf)");
     if (!(params.stepVoxels > 0.0)) throw Error("CPU ray caster: --step must be positive");
     if (input.width == 0 || input.height == 0) throw Error("CPU ray caster: image size must be positive");
     const double storedMax = storedMaxOf(volume.storedType);
@@ -124,6 +125,12 @@ class RayIntegrator {
           continue;
         }
         sampled = true;
+      } else if (fc_.params.mode == RenderMode::Mip) {
+        // As shaders/compositing.glsl marchMip: the first sample of the largest value.
+        if (v > mipValue_) {
+          mipValue_ = v;
+          mipT_ = t;
+        }
       } else if (compositeDvr(sampler, x, v, dt, cell)) {
         ended_ = true;
         if (visit) endSample_ = visit->samples.size() - 1;
@@ -163,14 +170,26 @@ class RayIntegrator {
   // Traced rays: the sample of its leaf's visit at which the ray ended.
   size_t endSample() const { return endSample_; }
 
-  // Final color = C + (1 - A) * background; alpha = A; depth along the camera axis.
+  // Final color = C + (1 - A) * background; alpha = A; depth along the camera axis. A maximum intensity
+  // projection's C and A are the transfer function's at the largest value, as shaders/compositing.glsl
+  // mipResult.
   void finish(float* rgba, float* depth) const {
-    const glm::dvec3 c = color_ + (1.0 - alpha_) * fc_.params.background;
+    glm::dvec3 color = color_;
+    double alpha = alpha_, rayDepth = depth_;
+    if (fc_.params.mode == RenderMode::Mip && mipValue_ >= 0.0) {
+      const glm::dvec4 tf = fc_.tf->lookup(mipValue_);
+      if (tf.a > 0.0) {
+        color = tf.a * glm::dvec3(tf);
+        alpha = tf.a;
+        rayDepth = mipT_ * glm::dot(ray_.dir, fc_.forward);
+      }
+    }
+    const glm::dvec3 c = color + (1.0 - alpha) * fc_.params.background;
     rgba[0] = float(c.r);
     rgba[1] = float(c.g);
     rgba[2] = float(c.b);
-    rgba[3] = float(alpha_);
-    *depth = float(depth_);
+    rgba[3] = float(alpha);
+    *depth = float(rayDepth);
   }
 
  private:
@@ -308,6 +327,9 @@ class RayIntegrator {
   glm::dvec3 color_{0.0};
   double alpha_ = 0.0;
   double depth_ = kInf;
+  // Maximum intensity projection: the largest value so far (-1 before the first sample) and its t.
+  double mipValue_ = -1.0;
+  double mipT_ = 0.0;
 };
 
 // Runs pixel(x, y, rgba, depth) for every pixel, rows interleaved over the threads.

@@ -52,6 +52,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
                                 const CpuRenderInput& input, double voxelsPerPixel,
                                 const FeedbackTolerance& tol, uint32_t hitThreshold) {
   const bool iso = input.params.mode == RenderMode::Iso;
+  const bool mip = input.params.mode == RenderMode::Mip;  // rays that never end
   const double ert = input.params.ert;
   const glm::dvec3 spacing = volume.volume.spacing;
   const double cubeExtent = double(volume.layout.cubeSamples()) * std::max({spacing.x, spacing.y, spacing.z});
@@ -163,7 +164,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
             hasPrev = true;
             fPrev = s.f;
             prevUncertain = uncertain;
-          } else {
+          } else if (!mip) {
             // An uncertain sample's opacity is unknown, and so is the opacity accumulated from it on.
             opacityUnknown = opacityUnknown || uncertain;
             possible = uncertain || (s.addsOpacity && s.alpha >= ert - tol.alpha);

@@ -27,7 +27,7 @@ bool sameView(const FrameRequest& a, const FrameRequest& b) {
 // what it hid).
 uint64_t emptinessKeyOf(const FrameRequest& request) {
   std::string_view tfBytes;
-  if (request.params.mode == RenderMode::Dvr && request.tf)
+  if (usesTransferFunction(request.params.mode) && request.tf)
     tfBytes = {reinterpret_cast<const char*>(request.tf->entries().data()),
                request.tf->entries().size() * sizeof(glm::vec4)};
   uint64_t h = std::hash<std::string_view>{}(tfBytes);
@@ -74,7 +74,14 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
     const double isoStored = info.mapping.toStored(params.isoValue);
     return [isoStored](uint16_t lo, uint16_t hi) { return double(hi) < isoStored || double(lo) > isoStored; };
   }
-  if (!tf) throw Error("emptinessFor: DVR needs a transfer function");
+  if (!tf) throw Error("emptinessFor: DVR and MIP need a transfer function");
+  if (params.mode == RenderMode::Mip) {
+    // A ray's maximum m shows only where the function has opacity at m. A node whose values all lie below
+    // every such value cannot raise a maximum into sight: skipped, the ray's maximum is either the same or,
+    // like the node's, where the function is transparent. A node with values above it is not empty, even
+    // where the function is transparent there: such a maximum hides smaller visible ones.
+    return [tf](uint16_t, uint16_t hi) { return !tf->hasOpacity(0, hi); };
+  }
   return [tf](uint16_t lo, uint16_t hi) { return !tf->hasOpacity(lo, hi); };
 }
 
@@ -389,7 +396,9 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
-  const bool occlusion = visibility_ && !request.synchronous && !multipass;
+  // Rays of a maximum intensity projection go through: nothing hides anything, and no query is drawn.
+  const bool occlusion =
+      visibility_ && !request.synchronous && !multipass && request.params.mode != RenderMode::Mip;
   const bool feedback = feedback_ && !request.synchronous && !multipass;
 
   // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for

@@ -251,7 +251,7 @@ class FrameRenderer {
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the
-// transfer function gives no value of the range any opacity.
+// transfer function gives no value of the range any opacity; MIP: nor any value up to the range's maximum.
 EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInfo& info, const TfTable* tf);
 
 }  // namespace ropecast

@@ -27,7 +27,9 @@ std::string floatDefine(const char* name, double value) {
 
 std::vector<std::string> raycastDefines(const RenderParams& params) {
   std::vector<std::string> defines = {
-      params.mode == RenderMode::Iso ? "RAYCAST_MODE_ISO" : "RAYCAST_MODE_DVR",
+      params.mode == RenderMode::Iso   ? "RAYCAST_MODE_ISO"
+      : params.mode == RenderMode::Dvr ? "RAYCAST_MODE_DVR"
+                                       : "RAYCAST_MODE_MIP",
       "BRICK_BORDER " + std::to_string(kBrickBorder),
       "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
       floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
@@ -39,8 +41,9 @@ std::vector<std::string> raycastDefines(const RenderParams& params) {
 
 void checkRaycastInputs(const RenderParams& params, const TfTable* tf, const char* where) {
   if (!(params.stepVoxels > 0.0)) throw Error(std::string(where) + ": --step must be positive");
-  if (params.mode == RenderMode::Dvr && !tf)
-    throw Error(std::string(where) + ": DVR mode needs a baked transfer function");
+  if (usesTransferFunction(params.mode) && !tf)
+    throw Error(std::string(where) + ": " + std::string(renderModeName(params.mode)) +
+                " mode needs a baked transfer function");
   if (tf && tf->entryCount() != TfTable::kDefaultEntries)
     throw Error(std::string(where) + ": transfer function tables have " +
                 std::to_string(TfTable::kDefaultEntries) + " entries, got " +

@@ -27,11 +27,11 @@ class TfTable;
 std::string floatDefine(const char* name, double value);
 
 // The defines of a ray-cast program: docs/RENDERING.md's constants (BRICK_BORDER, ISO_BISECTION_STEPS,
-// DVR_SHADE_GRADIENT_THRESHOLD, TF_ENTRIES) and the variant of `params` (RAYCAST_MODE_ISO or _DVR,
+// DVR_SHADE_GRADIENT_THRESHOLD, TF_ENTRIES) and the variant of `params` (RAYCAST_MODE_ISO, _DVR or _MIP,
 // DVR_STORED_GRADIENTS).
 std::vector<std::string> raycastDefines(const RenderParams& params);
 
-// Throws ropecast::Error, prefixed by `where`, for a non-positive step, DVR without a baked transfer
+// Throws ropecast::Error, prefixed by `where`, for a non-positive step, DVR or MIP without a baked transfer
 // function, or a table of other than TfTable::kDefaultEntries entries.
 void checkRaycastInputs(const RenderParams& params, const TfTable* tf, const char* where);
 

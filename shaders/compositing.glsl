@@ -1,6 +1,6 @@
-// What a ray does with the samples of a segment (docs/RENDERING.md "Isosurface", "Direct volume rendering"):
-// the isosurface march to the first sign change and its bisection, and front-to-back DVR compositing with early
-// ray termination. Shared by the rope ray caster, which calls them once per data leaf (Gobbetti et al. 2008,
+// What a ray does with the samples of a segment (docs/RENDERING.md "Isosurface", "Direct volume rendering",
+// "Maximum intensity projection"): the isosurface march to the first sign change and its bisection,
+// front-to-back DVR compositing with early ray termination, and the largest value along the ray. Shared by the rope ray caster, which calls them once per data leaf (Gobbetti et al. 2008,
 // Sect. 5.2), and the brute-force pass, which calls them once for the whole volume. No #version line. Needs the
 // defines ISO_BISECTION_STEPS and those of shaders/shading.glsl.
 
@@ -137,4 +137,35 @@ bool compositeDvr(inout DvrAccum acc, Segment s, Ray ray, float kBegin, float kE
 RayResult dvrResult(DvrAccum acc) {
   float stopDepth = acc.alpha >= raycast.ert ? acc.depth : kInfinity;
   return RayResult(vec4(acc.color + (1.0 - acc.alpha) * raycast.background, acc.alpha), acc.depth, stopDepth);
+}
+
+// Maximum intensity projection: the largest value along the ray and the first sample that reached it (front
+// to back, so a plateau's nearest sample gives the depth). No early ray termination: a later sample may be
+// larger.
+struct MipMax {
+  float value;  // -1 before the first sample (values lie in [0, 1])
+  float t;
+};
+
+MipMax mipBegin() { return MipMax(-1.0, kInfinity); }
+
+// Takes samples k in [kBegin, kEnd) of a segment.
+void marchMip(inout MipMax m, Segment s, float t0, float kBegin, float kEnd) {
+  for (float k = kBegin; k < kEnd; k += 1.0) {
+    float t = t0 + k * s.dt;
+    float v = sampleValue(segmentCoord(s, t));
+    if (v > m.value) {
+      m.value = v;
+      m.t = t;
+    }
+  }
+}
+
+// The largest value through the transfer function, over the background by its opacity (not corrected for a
+// step: it is one value, not a stretch of the ray). A ray whose maximum the function leaves transparent
+// shows the background and has no depth. Nothing stops a ray, so none hides an occlusion query's box.
+RayResult mipResult(MipMax m, float depthPerT) {
+  vec4 tf = m.value >= 0.0 ? transferFunction(m.value) : vec4(0.0);
+  if (!(tf.a > 0.0)) return missedRay();
+  return RayResult(vec4(tf.a * tf.rgb + (1.0 - tf.a) * raycast.background, tf.a), m.t * depthPerT, kInfinity);
 }

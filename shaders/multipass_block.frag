@@ -14,6 +14,11 @@ layout(early_fragment_tests) in;
 
 layout(rgba32f, binding = 0) uniform image2D uAccum;  // premultiplied color, opacity (iso: the hit, 1)
 layout(r32f, binding = 1) uniform image2D uDepth;     // world depth (+inf: none yet)
+#ifdef RAYCAST_MODE_MIP
+// The largest value so far and whether there is one (MipMax; shaders/multipass_resolve.frag maps it to a
+// color); its depth is in uDepth.
+layout(rgba32f, binding = 2) uniform image2D uMarch;
+#endif
 #ifdef RAYCAST_MODE_ISO
 layout(rgba32f, binding = 2) uniform image2D uMarch;  // has previous sample, its t, its f, hit
 // The leaf of the previous sample, where shadeIsoHit refines a crossing that lies before this block:
@@ -105,6 +110,16 @@ void main() {
   if (!march.hit && sampled)
     imageStore(uBefore, pixel, uvec4(floatBitsToUint(uLeafBoxMin), uLeaf.x | (uLeaf.y << 8u)));
   imageStore(uMarch, pixel, vec4(march.hasPrev ? 1.0 : 0.0, march.tPrev, march.fPrev, march.hit ? 1.0 : 0.0));
+#elif defined(RAYCAST_MODE_MIP)
+  // Front to back, a later block's sample replaces the maximum only when larger, as within the single pass.
+  vec4 state = imageLoad(uMarch, pixel);
+  MipMax m = state.y != 0.0 ? MipMax(state.x, 0.0) : mipBegin();
+  float before = m.value;
+  marchMip(m, s, ray.t0, kBegin, firstSampleIndex(ray.t0, min(tExit, ray.t1), s.dt, false));
+  if (m.value > before) {
+    imageStore(uMarch, pixel, vec4(m.value, 1.0, 0.0, 0.0));
+    imageStore(uDepth, pixel, vec4(m.t * ray.depthPerT));
+  }
 #else
   vec4 accum = imageLoad(uAccum, pixel);
   if (accum.a >= raycast.ert) return;

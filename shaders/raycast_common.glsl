@@ -4,7 +4,7 @@
 // (shaders/rope_traversal.glsl); empty leaves are skipped, and each data leaf is one segment sampled at the
 // leaf's level on the step grid anchored at the volume entry. No #version line: the entry point has it.
 //
-// Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO or RAYCAST_MODE_DVR;
+// Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR or _MIP;
 // BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_STORED_GRADIENTS (DVR samples
 // a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the leaves they used and request finer
 // ones, shaders/feedback.glsl).
@@ -208,6 +208,21 @@ RayResult castRay(uvec2 pixel) {
   // The loop ends on the hit's leaf; its segment is made again rather than kept through the walk (registers).
   return shadeIsoHit(march, leafSegment(leaf, originCube, dirCube), hitEnter,
                      leafSegment(before, originCube, dirCube), min(before.tExit, ray.t1), ray);
+#elif defined(RAYCAST_MODE_MIP)
+  MipMax m = mipBegin();
+  while (ropeNextLeaf(cursor, leaf)) {
+    bool entry = firstLeaf;
+    firstLeaf = false;
+    if (leaf.kind != kRopeTagDataLeaf) continue;
+    Segment s = leafSegment(leaf, originCube, dirCube);
+    float kBegin = firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry);
+    float kEnd = firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false);
+#ifdef RAYCAST_FEEDBACK
+    if (kBegin < kEnd) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
+#endif
+    marchMip(m, s, ray.t0, kBegin, kEnd);
+  }
+  return mipResult(m, ray.depthPerT);
 #elif defined(LLVMPIPE_DVR_LEAF_BATCH)
   return dvrResult(walkDvrBatched(cursor, ray, originCube, dirCube));
 #else

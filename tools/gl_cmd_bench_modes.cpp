@@ -61,7 +61,7 @@ struct Options {
   uint32_t reps = 3;
   RenderMode mode = RenderMode::Iso;
   std::optional<double> iso;
-  std::string tf = "ct-soft";
+  std::string tf;  // empty: ct-soft, or gray for a maximum intensity projection
   std::vector<uint32_t> size{512, 512};
   double step = 0.5;
   double voxelsPerPixel = 1.0;
@@ -238,8 +238,11 @@ int runModesBench(const Options& o) {
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   request.params.isoValue = o.iso.value_or(0.5 * (lo + hi));
   std::optional<TfTable> tf;
-  const TransferFunction function = TransferFunction::fromSpec(o.tf, tfDataRangeFor(info));
-  if (o.mode == RenderMode::Dvr) {
+  const std::string tfSpec = !o.tf.empty()               ? o.tf
+                             : o.mode == RenderMode::Mip ? defaultTfSpec(o.mode)
+                                                         : "ct-soft";
+  const TransferFunction function = TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info));
+  if (usesTransferFunction(o.mode)) {
     tf = TfTable::bake(function, info.mapping, storedMax);
     request.tf = &*tf;
   }
@@ -311,7 +314,7 @@ int runModesBench(const Options& o) {
   // bench.json
   nlohmann::json settings = {
       {"input", o.input},
-      {"mode", o.mode == RenderMode::Iso ? "iso" : "dvr"},
+      {"mode", std::string(renderModeName(o.mode))},
       {"width", request.width},
       {"height", request.height},
       {"step", o.step},
@@ -325,7 +328,7 @@ int runModesBench(const Options& o) {
       {"synchronous", true},
       {"difference_scale", kDifferenceScale}};
   if (o.mode == RenderMode::Iso) settings["iso"] = request.params.isoValue;
-  if (o.mode == RenderMode::Dvr) settings["tf"] = o.tf;
+  if (usesTransferFunction(o.mode)) settings["tf"] = tfSpec;
   if (!o.path.empty())
     settings["path"] = o.path;
   else
@@ -376,7 +379,7 @@ int runModesBench(const Options& o) {
 
   // The table: frame and ray-cast times without each repetition's cold first frame (when there are others).
   std::printf("bench modes: %s, %s, %ux%u, %u frames x %u repetitions, %s\n", o.input.c_str(),
-              o.mode == RenderMode::Iso ? "iso" : "dvr", request.width, request.height, o.frames, o.reps,
+              std::string(renderModeName(o.mode)).c_str(), request.width, request.height, o.frames, o.reps,
               gl.info().renderer.c_str());
   std::printf("  times over %s; ratios: configuration / %s; PSNR of the last frame against %s\n",
               o.frames > 1 ? "frames 1.. of each repetition (frame 0 is the cold start)" : "every frame",
@@ -452,13 +455,12 @@ std::function<int()> setupModesBench(CLI::App& app) {
   app.add_option("--reps", o->reps, "repetitions of the path per configuration, interleaved")
       ->transform(integerRange(1, 1000))
       ->capture_default_str();
-  addEnumOption(app, "--mode", o->mode, kModeNames, "isosurface or direct volume rendering");
+  addEnumOption(app, "--mode", o->mode, kModeNames, kModeHelp);
   app.add_option("--iso", o->iso,
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o->tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file")
-      ->capture_default_str()
+  app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip"))
       ->check(notEmpty("a preset or a JSON file"));
   addImageSizeOption(app, "--size", o->size, "image size WxH (default 512x512)");
   app.add_option("--step", o->step, "sample distance in voxels of the level crossed")

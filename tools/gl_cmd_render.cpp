@@ -108,10 +108,10 @@ class RenderSetup {
     height = o.size.at(1);
     params = renderParamsOf(o, info, "render");
     // A --tf that names no preset and no readable file is an error in either mode (a script that switches
-    // modes should not learn of a typo only when it reaches DVR); the table is baked for DVR only.
-    if (params.mode == RenderMode::Dvr || !o.tf.empty()) {
-      const TransferFunction function = transferFunctionOf(o.tf, info);
-      if (params.mode == RenderMode::Dvr) tf_ = bakeFor(function, info);
+    // modes should not learn of a typo only when it reaches DVR); the table is baked for DVR and MIP only.
+    if (usesTransferFunction(params.mode) || !o.tf.empty()) {
+      const TransferFunction function = transferFunctionOf(o.tf, info, params.mode);
+      if (usesTransferFunction(params.mode)) tf_ = bakeFor(function, info);
     }
 
     if (!o.path.empty()) path_ = loadCameraPath(o.path);
@@ -232,6 +232,12 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
   };
   if (o.mode == RenderMode::Dvr) warn({"--iso"}, "with --mode dvr (the transfer function decides)");
   if (o.mode == RenderMode::Iso) warn({"--tf", "--ert", "--gradients"}, "with --mode iso");
+  if (o.mode == RenderMode::Mip) {
+    warn({"--iso", "--ert", "--gradients"},
+         "with --mode mip (the largest value through the transfer function)");
+    warn({"--occlusion", "--query-budget", "--visibility-threshold"},
+         "with --mode mip (no ray stops, so nothing hides anything: no occlusion queries)");
+  }
   if (o.reference || o.backend == RenderBackend::Brute)
     warn({"--voxels-per-pixel", "--gpu-budget", "--cpu-cache", "--upload-budget", "--upload-time-budget",
           "--upload-pbo", "--io-delay-ms", "--occlusion", "--feedback", "--query-budget",

@@ -19,8 +19,13 @@
 
 namespace ropecast::tools {
 
-const std::vector<std::pair<std::string, RenderMode>> kModeNames{{"iso", RenderMode::Iso},
-                                                                 {"dvr", RenderMode::Dvr}};
+const std::vector<std::pair<std::string, RenderMode>> kModeNames = [] {
+  std::vector<std::pair<std::string, RenderMode>> names;
+  for (const auto& [name, mode] : kRenderModeNames) names.emplace_back(name, mode);
+  return names;
+}();
+const char* const kModeHelp =
+    "iso: isosurface; dvr: direct volume rendering; mip: maximum intensity projection";
 const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
@@ -37,12 +42,12 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
 }
 
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
-  addEnumOption(app, "--mode", o.mode, kModeNames, "isosurface or direct volume rendering");
+  addEnumOption(app, "--mode", o.mode, kModeNames, kModeHelp);
   app.add_option("--iso", o.iso,
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o.tf, "transfer function: a preset (ct-bone, ct-soft, mri, linear) or a JSON file")
+  app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip"))
       ->check(notEmpty("a preset or a JSON file"));
   addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
   CLI::Option* orbit =
@@ -278,8 +283,20 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   return params;
 }
 
-TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info) {
-  return TransferFunction::fromSpec(spec, tfDataRangeFor(info));
+std::string tfOptionHelp(const std::string& defaultText) {
+  std::string presets;
+  for (const std::string& name : TransferFunction::presetNames())
+    presets += (presets.empty() ? "" : ", ") + name;
+  return "transfer function: a preset (" + presets + ") or a JSON file (default: " + defaultText + ")";
+}
+
+std::string defaultTfSpec(RenderMode mode) {
+  return std::string(mode == RenderMode::Mip ? TransferFunction::kMipDefaultPreset
+                                             : TransferFunction::kDefaultPreset);
+}
+
+TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode) {
+  return TransferFunction::fromSpec(spec.empty() ? defaultTfSpec(mode) : spec, tfDataRangeFor(info));
 }
 
 TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info) {

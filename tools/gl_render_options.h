@@ -29,6 +29,7 @@ namespace ropecast::tools {
 inline constexpr double kDefaultOrbit[3] = {30.0, 20.0, 3.0};
 
 extern const std::vector<std::pair<std::string, RenderMode>> kModeNames;
+extern const char* const kModeHelp;  // --mode's help: what each name draws
 extern const std::vector<std::pair<std::string, bool>> kOnOffNames;
 extern const std::vector<std::pair<std::string, GradientSource>> kGradientNames;
 std::vector<std::pair<std::string, RenderBackend>> backendNames();
@@ -80,7 +81,12 @@ ClipPlane clipPlaneOf(const std::vector<double>& values);
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command);
 
 // The transfer function of --tf (a preset or a JSON file; empty: the linear preset), placed for the data.
-TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info);
+// --tf's help: the presets, and what it defaults to.
+std::string tfOptionHelp(const std::string& defaultText);
+// The preset an absent --tf means in `mode` (gray for a maximum intensity projection, else linear).
+std::string defaultTfSpec(RenderMode mode);
+// `--tf spec` placed for the data; an empty spec is the mode's default.
+TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode);
 TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info);
 
 // The FrameRenderer's configuration of the options, for a renderer drawing `params`.

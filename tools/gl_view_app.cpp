@@ -120,6 +120,7 @@ class Viewer {
   // Scene state the panels and the script change.
   void setTransferFunction(const std::string& spec);
   void setTransferFunction(TransferFunction function, const std::string& name);
+  void setMode(RenderMode mode);
   void ensureRenderer(bool moving);
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
@@ -166,6 +167,7 @@ class Viewer {
   double voxelsPerPixel_ = 1.0;
   double targetFrameMs_ = 0.0;
   std::string tfSpec_;
+  bool tfChosen_ = false;  // by --tf, the panel or the script; until then each mode shows its default
   TransferFunction tf_;
   std::optional<TfTable> tfTable_;
   uint64_t tfVersion_ = 0;
@@ -247,6 +249,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   voxelsPerPixel_ = o.voxelsPerPixel;
   targetFrameMs_ = o.targetFrameMs;
   setTransferFunction(o.tf);  // a bad --tf is an error in either mode, as in render
+  tfChosen_ = !o.tf.empty();
 
   const Camera initial = chooseCamera(o, info);
   if (!o.eye.empty()) {
@@ -309,8 +312,15 @@ Viewer::~Viewer() {
 
 void Viewer::setTransferFunction(const std::string& spec) {
   // A file shows as its name alone: the panel's combo is narrow.
-  setTransferFunction(transferFunctionOf(spec, bricks().info()),
-                      spec.empty() ? "linear" : std::filesystem::path(spec).filename().string());
+  setTransferFunction(
+      transferFunctionOf(spec, bricks().info(), params_.mode),
+      spec.empty() ? defaultTfSpec(params_.mode) : std::filesystem::path(spec).filename().string());
+}
+
+void Viewer::setMode(RenderMode mode) {
+  const bool newDefault = !tfChosen_ && defaultTfSpec(mode) != defaultTfSpec(params_.mode);
+  params_.mode = mode;
+  if (newDefault) setTransferFunction("");
 }
 
 void Viewer::setTransferFunction(TransferFunction function, const std::string& name) {
@@ -369,7 +379,7 @@ bool Viewer::sameAsLast(const FrameRequest& r) const {
   const FrameRequest& l = *lastRequest_;
   return l.camera == r.camera && l.width == r.width && l.height == r.height && l.params == r.params &&
          l.voxelsPerPixel == r.voxelsPerPixel &&
-         (r.params.mode != RenderMode::Dvr || lastTfVersion_ == tfVersion_);
+         (!usesTransferFunction(r.params.mode) || lastTfVersion_ == tfVersion_);
 }
 
 void Viewer::renderFrame(const FrameRequest& request) {
@@ -558,7 +568,7 @@ void Viewer::runEvent(const ViewEvent& e) {
             e.where.c_str(), e.value, valueRange_.first, valueRange_.second);
       break;
     case ViewEventKind::SetMode:
-      params_.mode = e.mode;
+      setMode(e.mode);
       break;
     case ViewEventKind::SetCrop:
       params_.crop = cropBoxOf(e.crop, bricks().info().volume.dims);
@@ -570,6 +580,7 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
+      tfChosen_ = true;
       break;
     case ViewEventKind::Screenshot:
       if (e.panels)
@@ -680,11 +691,13 @@ void Viewer::drawPanels() {
     ImGui::Text("%s", o_.input.c_str());
     ImGui::Text("%u x %u x %u, values %g .. %g", info.volume.dims.x, info.volume.dims.y, info.volume.dims.z,
                 valueRange_.first, valueRange_.second);
-    int mode = params_.mode == RenderMode::Iso ? 0 : 1;
-    ImGui::RadioButton("iso", &mode, 0);
+    int mode = int(params_.mode);
+    ImGui::RadioButton("iso", &mode, int(RenderMode::Iso));
     ImGui::SameLine();
-    ImGui::RadioButton("DVR", &mode, 1);
-    params_.mode = mode == 0 ? RenderMode::Iso : RenderMode::Dvr;
+    ImGui::RadioButton("DVR", &mode, int(RenderMode::Dvr));
+    ImGui::SameLine();
+    ImGui::RadioButton("MIP", &mode, int(RenderMode::Mip));
+    if (mode != int(params_.mode)) setMode(RenderMode(mode));
     double iso = params_.isoValue;
     if (ImGui::SliderScalar("isovalue", ImGuiDataType_Double, &iso, &valueRange_.first, &valueRange_.second,
                             "%.4g"))
@@ -700,6 +713,7 @@ void Viewer::drawPanels() {
     if (tfEditor_.draw(points, valueRange_.first, valueRange_.second, histogram_)) {
       try {
         setTransferFunction(TransferFunction(std::move(points)), "edited");
+        tfChosen_ = true;
       } catch (const Error& e) {
         message_ = e.what();
       }
@@ -708,6 +722,7 @@ void Viewer::drawPanels() {
       for (const std::string& name : TransferFunction::presetNames())
         if (ImGui::Selectable(name.c_str(), name == tfSpec_)) {
           setTransferFunction(name);
+          tfChosen_ = true;
           tfEditor_.deselect();
         }
       ImGui::EndCombo();
@@ -716,6 +731,7 @@ void Viewer::drawPanels() {
     if (ImGui::Button("load")) {
       try {
         setTransferFunction(tfPath_);
+        tfChosen_ = true;
         tfEditor_.deselect();
         message_ = "loaded " + tfPath_;
       } catch (const Error& e) {

@@ -204,8 +204,10 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else if (kind == "set_mode") {
       e.kind = ViewEventKind::SetMode;
       const std::string mode = r.text("mode");
-      if (mode != "iso" && mode != "dvr") r.fail("\"mode\" must be iso or dvr, got \"" + mode + "\"");
-      e.mode = mode == "iso" ? RenderMode::Iso : RenderMode::Dvr;
+      const auto named = std::find_if(kRenderModeNames.begin(), kRenderModeNames.end(),
+                                      [&mode](const auto& entry) { return entry.first == mode; });
+      if (named == kRenderModeNames.end()) r.fail("\"mode\" must be iso, dvr or mip, got \"" + mode + "\"");
+      e.mode = named->second;
       add(e);
     } else if (kind == "set_crop") {
       e.kind = ViewEventKind::SetCrop;

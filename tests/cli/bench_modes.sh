@@ -51,15 +51,21 @@ PY
   grep -q "multipass" "$dir/out.txt" && grep -q "PSNR" "$dir/out.txt" || fail "no table printed"
 fi
 
-# --no-plot: the table, bench.json and images/, no frame_times.png (a machine without matplotlib).
+# --no-plot: the table, bench.json and images/, no frame_times.png (a machine without matplotlib); a maximum
+# intensity projection, through its default transfer function.
 if ! timeout 300 "$ropecast" bench modes procedural:sphere:32 --brick 8 --size 32x32 --frames 1 --reps 1 \
-    --configs single-fragment --out "$dir/noplot" --no-plot > "$dir/out.txt" 2> "$dir/err.txt"; then
+    --mode mip --configs single-fragment --out "$dir/noplot" --no-plot > "$dir/out.txt" 2> "$dir/err.txt"; then
   fail "bench modes --no-plot: exit $?"; cat "$dir/err.txt"
 elif [ -e "$dir/noplot/frame_times.png" ] || [ ! -s "$dir/noplot/bench.json" ] ||
     [ ! -s "$dir/noplot/images/single-fragment.png" ] || ! grep -q "PSNR" "$dir/out.txt"; then
   fail "bench modes --no-plot wrote: $(ls "$dir/noplot")"
 else
   echo "ok   --no-plot: $(ls "$dir/noplot" | tr '\n' ' ')"
+  /usr/bin/python3 -c '
+import json, sys
+s = json.load(open(sys.argv[1]))["settings"]
+assert (s["mode"], s["tf"]) == ("mip", "gray"), s' "$dir/noplot/bench.json" && echo "ok   mip settings" ||
+    fail "bench.json of --mode mip"
 fi
 
 # Into a folder of an earlier run: images/ shows this run's configurations alone, an earlier plot goes (it
@@ -94,7 +100,7 @@ expect_failure "config twice" "listed twice" $vol --configs multipass,multipass 
 expect_failure "no config named" "--configs: expected at least one of" $vol --configs "" --out "$dir/e2"
 expect_failure "bad size" "--size" $vol --size 0x10 --out "$dir/e3"
 expect_failure "zero reps" "--reps" $vol --reps 0 --out "$dir/e4"
-expect_failure "bad mode" "--mode" $vol --mode mip --out "$dir/e5"
+expect_failure "bad mode" "--mode" $vol --mode minip --out "$dir/e5"
 expect_failure "missing store" "no such store file" "$dir/none.rcast" --out "$dir/e6"
 expect_failure "path and orbit" "--path and --orbit" $vol --path x.json --orbit 1,2,3 --out "$dir/e7"
 expect_failure "path and turn" "--path excludes --turn" $vol --path x.json --turn 45 --out "$dir/e7"

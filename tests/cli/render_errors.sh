@@ -208,6 +208,10 @@ done
 warned "--iso with --mode dvr" "warning: --iso: no effect with --mode dvr" "$vol" --mode dvr --iso 100
 warned "DVR options with --mode iso" "warning: --tf, --ert: no effect with --mode iso" "$vol" --tf ct-bone --ert 0.5
 warned "--frames with --reference" "warning: --frames: no effect with --reference" "$vol" --reference --frames 3 --size 8x8
+warned "iso and DVR options with --mode mip" "warning: --iso, --ert: no effect with --mode mip" "$vol" --mode mip \
+  --iso 100 --ert 0.5
+warned "occlusion options with --mode mip" "warning: --occlusion: no effect with --mode mip" "$vol" --mode mip \
+  --occlusion on
 # With --path, --frames says which camera is the last frame's, the one --reference renders: no warning.
 printf '[{"orbit": [0, 20, 2.5]}, {"orbit": [90, 20, 2.5]}]' > "$dir/turn.json"
 printf '[{"orbit": [90, 20, 2.5]}]' > "$dir/last.json"

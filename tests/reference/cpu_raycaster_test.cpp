@@ -179,13 +179,15 @@ TEST(CpuRaycaster, MirrorOnALevel0CutMatchesTheReference) {
   const Cut cut = level0Cut(src.info().layout);
   const TfTable tf =
       TfTable::bake(TransferFunction::preset("linear", tfDataRangeFor(src.info())), src.info().mapping, 255);
+  const TfTable gray =
+      TfTable::bake(TransferFunction::preset("gray", tfDataRangeFor(src.info())), src.info().mapping, 255);
   // From the +x+y+z side rays enter the volume where the cube does not begin, so both start at the same
   // sample.
   for (const auto& [az, el] : {std::pair{40.0, 30.0}, std::pair{-130.0, -20.0}}) {
-    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip}) {
       CpuRenderInput in = isoInput(src, az, el, 2.2, 64, 100.0);
       in.params.mode = mode;
-      in.tf = &tf;
+      in.tf = mode == RenderMode::Mip ? &gray : &tf;
       const CpuImage a = renderMirrorOfCut(src, cut, in), b = reference.render(in);
       EXPECT_GE(psnr(a, b), az > 0 ? 60.0 : 45.0) << "az " << az << " mode " << int(mode);
       EXPECT_GT(hitPixels(b), 500u);
@@ -199,7 +201,7 @@ TEST(CpuRaycaster, MirrorOnAMixedCutStaysCloseToTheReference) {
                                 [](const NodeKey& k) { return (k.coord.x + k.coord.y + k.coord.z) % 3; });
   const TfTable tf =
       TfTable::bake(TransferFunction::preset("linear", tfDataRangeFor(src.info())), src.info().mapping, 255);
-  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip}) {
     CpuRenderInput in = isoInput(src, 25.0, 35.0, 2.0, 96, 127.5);
     in.params.mode = mode;
     in.tf = &tf;
@@ -293,6 +295,61 @@ TEST(CpuRaycaster, DvrOfAConstantVolumeHasTheAnalyticOpacity) {
   EXPECT_GT(checked, 3 * 1000);
   // Not a bound the contract gives, a record: about half the rays entering through a face lose that sample.
   EXPECT_LT(droppedEntrySamples, checked / 4);
+}
+
+// A Gaussian peak over a floor: along each ray the largest value is the peak's at the ray's nearest approach
+// to its center, and lies there. Through a gray ramp, opaque everywhere, the pixel is that value.
+TEST(CpuRaycaster, MipShowsEachRaysLargestValueWhereItLies) {
+  const glm::dvec3 center(20.0, 13.0, 17.0);
+  const double sigma = 7.0;
+  const auto peak = [center, sigma](glm::dvec3 p) {
+    const glm::dvec3 d = p - center;
+    return 2000.0 + 20000.0 * std::exp(-glm::dot(d, d) / (sigma * sigma));
+  };
+  const FunctionBricks src({40, 26, 34}, 8, SampleType::UInt16, glm::dvec3(1.0), peak);
+  const TfTable tf =
+      TfTable::bake(TransferFunction({{0.0, {0.0, 0.0, 0.0, 1.0}}, {25000.0, {1.0, 1.0, 1.0, 1.0}}}),
+                    src.info().mapping, 65535);
+  CpuRenderInput in;
+  in.camera = orbitCamera(35.0, 25.0, 2.0, glm::dvec3(0.0), glm::dvec3(40, 26, 34), 35.0);
+  in.width = in.height = 48;
+  in.params.mode = RenderMode::Mip;
+  in.params.background = {0.0, 0.0, 1.0};
+  in.tf = &tf;
+  const glm::dvec3 forward = cameraFrame(in.camera).forward;
+  for (const CpuImage& image :
+       {ReferenceRenderer(src).render(in), renderMirrorOfCut(src, level0Cut(src.info().layout), in)}) {
+    int checked = 0, nearCenter = 0;
+    for (uint32_t y = 0; y < in.height; ++y)
+      for (uint32_t x = 0; x < in.width; ++x) {
+        const Ray ray = pixelRay(in.camera, in.width, in.height, x, y);
+        const double tNearest = glm::dot(center - ray.origin, ray.dir);
+        const glm::dvec3 nearest = ray.origin + tNearest * ray.dir;
+        const glm::vec4 px = image.pixel(x, y);
+        if (px.a == 0.0f) {
+          EXPECT_EQ(px.b, 1.0f);  // the background: a ray that missed the volume
+          continue;
+        }
+        // Rays whose nearest approach lies well inside the volume (their maximum is not at its face).
+        if (glm::any(glm::lessThan(nearest, glm::dvec3(2.0))) ||
+            glm::any(glm::greaterThan(nearest, glm::dvec3(38, 24, 32))))
+          continue;
+        // Trilinear interpolation flattens the peak by up to h^2/8 of its second derivative per axis,
+        // 3 (2 20000 / sigma^2) / 8 = 306 at the top; the step misses it by less.
+        EXPECT_NEAR(px.r * 25000.0, peak(nearest), 400.0) << x << "," << y;
+        EXPECT_EQ(px.a, 1.0f);
+        ++checked;
+        // Far from the center the value along the ray is nearly flat, and the first sample of its largest
+        // stored (rounded) value may lie anywhere on the flat part; near it, within a voxel or two.
+        if (peak(nearest) > 12000.0) {
+          EXPECT_NEAR(image.depth[y * in.width + x], glm::dot(nearest - in.camera.eye, forward), 2.0)
+              << x << "," << y;
+          ++nearCenter;
+        }
+      }
+    EXPECT_GT(checked, 500);
+    EXPECT_GT(nearCenter, 50);
+  }
 }
 
 TEST(CpuRaycaster, LinearRampIsoPlaneHasExactDepthAcrossBricksAndLevels) {

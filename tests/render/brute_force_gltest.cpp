@@ -36,7 +36,8 @@ struct BruteForceVariant {
 constexpr BruteForceVariant kBruteForceVariants[] = {
     {RenderMode::Iso, GradientSource::Computed, "iso"},
     {RenderMode::Dvr, GradientSource::Computed, "dvr computed gradients"},
-    {RenderMode::Dvr, GradientSource::Stored, "dvr stored gradients"}};
+    {RenderMode::Dvr, GradientSource::Stored, "dvr stored gradients"},
+    {RenderMode::Mip, GradientSource::Computed, "mip"}};
 
 class BruteForceStageTest : public ::testing::TestWithParam<RenderBackend> {};
 

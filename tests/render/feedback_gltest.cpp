@@ -201,7 +201,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
     for (const CameraCase& cam : randomCameras(seed, volumeMax)) {
       // Iso at a step above a voxel too, where a leaf's end takes a sample (docs/RENDERING.md "Isosurface").
       for (auto [mode, step] : {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5},
-                                std::pair{RenderMode::Iso, 2.5}}) {
+                                std::pair{RenderMode::Iso, 2.5}, std::pair{RenderMode::Mip, 0.5}}) {
         RaycastFrame frame;
         frame.camera = cam.camera;
         frame.width = 96;
@@ -235,8 +235,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
           pass.setDvrLeafBatch(leafBatch);
           const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame, {}, kHitThreshold);
           const std::string what = "seed " + std::to_string(seed) + (crop ? " cropped " : " ") + cam.name +
-                                   (mode == RenderMode::Iso ? " iso" : " dvr") + " step " +
-                                   std::to_string(step) +
+                                   " " + std::string(renderModeName(mode)) + " step " + std::to_string(step) +
                                    (backend == RenderBackend::Fragment ? " fragment" : " compute") +
                                    (leafBatch ? " leaf batch" : "");
           expectWithinBounds(gpu, cpu, what);
@@ -356,8 +355,8 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
       RaycastPass pass;
       // Every leaf one ray stops in is a hit.
       const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame, {}, 1);
-      const std::string what = std::string(mode == RenderMode::Iso ? "iso" : "dvr") +
-                               (backend == RenderBackend::Fragment ? " fragment" : " compute");
+      const std::string what =
+          std::string(renderModeName(mode)) + (backend == RenderBackend::Fragment ? " fragment" : " compute");
       ASSERT_FALSE(gpu.usedLeaves.empty()) << what;
       EXPECT_FALSE(gpu.requestedLeaves.empty()) << what;
       EXPECT_FALSE(gpu.hitLeaves.empty()) << what;
@@ -375,6 +374,38 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
           mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 1).sure,
           what);
     }
+}
+
+// A maximum intensity projection's rays go through the same wall: they use the leaves behind it too, and
+// stop in none (no hit, whatever the threshold).
+TEST(Feedback, MipRaysUseTheLeavesBehindAWallAndStopInNone) {
+  SceneSpec spec = coarseScene();
+  spec.value = [](glm::dvec3 x) { return std::clamp(0.5 + 0.1 * (22.0 - x.x), 0.0, 1.0); };
+  const test::GlScene scene = test::buildScene(spec);
+  const TfTable tf = TfTable::bake(
+      TransferFunction({TfPoint{0, {1.0, 1.0, 1.0, 0.0}}, TfPoint{30000, {1.0, 1.0, 1.0, 0.0}},
+                        TfPoint{40000, {1.0, 1.0, 1.0, 1.0}}, TfPoint{65535, {1.0, 1.0, 1.0, 1.0}}}),
+      ValueMapping{}, 65535);
+  for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+    RaycastFrame frame = frameLookingAlongX(52.0, 1.0);
+    frame.params.mode = RenderMode::Mip;
+    frame.params.backend = backend;
+    frame.tf = &tf;
+    RaycastPass pass;
+    const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame, {}, 1);
+    const std::string what = std::string("mip ") + std::string(renderBackendName(backend));
+    std::set<uint32_t> columns;
+    for (uint32_t leaf : gpu.usedLeaves) columns.insert(scene.cut.leaves[leaf].coord.x);
+    EXPECT_EQ(columns, (std::set<uint32_t>{0u, 1u})) << what << ": the leaves before and behind the wall";
+    EXPECT_TRUE(gpu.hitLeaves.empty()) << what;
+    // Every ray's maximum is the wall's 1, through the function's opaque white.
+    const FloatImage color = pass.readColor();
+    for (uint32_t i = 0; i < frame.width * frame.height; ++i)
+      ASSERT_GE(color.pixels[4 * i + 3], 0.99f) << what;
+    expectEqualSets(
+        gpu, mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 1).sure,
+        what);
+  }
 }
 
 TEST(Feedback, ListsHoldTheirCapacityAndCountTheRestAsDropped) {
@@ -467,7 +498,7 @@ TEST(Feedback, FeedbackLeavesTheImageBitIdentical) {
   const TfTable tf = TfTable::bake(
       TransferFunction({TfPoint{20000, {0.8, 0.2, 0.1, 0.0}}, TfPoint{48000, {0.3, 0.5, 1.0, 0.6}}}),
       ValueMapping{}, 65535);
-  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr})
+  for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip})
     for (auto [backend, leafBatch] :
          {std::pair{RenderBackend::Fragment, false}, std::pair{RenderBackend::Compute, false},
           std::pair{RenderBackend::Fragment, true}, std::pair{RenderBackend::Compute, true}}) {
@@ -485,7 +516,7 @@ TEST(Feedback, FeedbackLeavesTheImageBitIdentical) {
       test::renderScene(pass, scene, frame);
       const FloatImage color = pass.readColor(), depth = pass.readDepth(), stop = pass.readStopDepth();
       renderWithFeedback(pass, scene, frame);
-      const std::string what = std::string(mode == RenderMode::Iso ? "iso" : "dvr") +
+      const std::string what = std::string(renderModeName(mode)) +
                                (backend == RenderBackend::Fragment ? " fragment" : " compute") +
                                (leafBatch ? " leaf batch" : "");
       const auto same = [](const FloatImage& a, const FloatImage& b) {

@@ -38,7 +38,7 @@ struct MultipassCase {
 };
 
 std::string multipassCaseName(const MultipassCase& c) {
-  return c.volume + (c.mode == RenderMode::Iso ? " iso" : " dvr") + (c.inside ? " inside" : " outside") +
+  return c.volume + " " + std::string(renderModeName(c.mode)) + (c.inside ? " inside" : " outside") +
          (c.facePlanes ? " face planes" : "") + (c.cropped ? " cropped" : "");
 }
 
@@ -70,8 +70,9 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
     request.params.clipPlane = {0.5 * info.volume.worldMax(), glm::normalize(glm::dvec3(-1.0, 0.4, -0.5))};
   }
   std::optional<TfTable> tf;
-  if (c.mode == RenderMode::Dvr) {
-    tf = TfTable::bake(TransferFunction::fromSpec("ct-soft", tfDataRangeFor(info)), info.mapping,
+  if (usesTransferFunction(c.mode)) {
+    const std::string preset = c.mode == RenderMode::Mip ? "gray" : "ct-soft";
+    tf = TfTable::bake(TransferFunction::fromSpec(preset, tfDataRangeFor(info)), info.mapping,
                        storedMaxOf(info.storedType));
     request.tf = &*tf;
   }
@@ -107,7 +108,9 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
   EXPECT_EQ(multi.stage, RenderBackend::Fragment);  // its blocks are drawn
   EXPECT_EQ(single.drawCalls, 1u);
   EXPECT_EQ(multi.drawCalls, dataLeaves);
-  EXPECT_EQ(multi.glDrawCalls, 2 * dataLeaves + 1);
+  // A block and the mark of the rays it ended per data leaf, and the resolve; a maximum intensity
+  // projection's rays do not end, so its blocks have no mark.
+  EXPECT_EQ(multi.glDrawCalls, (c.mode == RenderMode::Mip ? 1 : 2) * dataLeaves + 1);
   EXPECT_GT(dataLeaves, 20u);
 
   // Color (with the background under it) and coverage.
@@ -152,7 +155,10 @@ INSTANTIATE_TEST_SUITE_P(
                       MultipassCase{"procedural:noise:48", RenderMode::Dvr, true},
                       MultipassCase{"procedural:noise:48", RenderMode::Dvr, false, true},
                       MultipassCase{"procedural:menger:54", RenderMode::Iso, false, false, true},
-                      MultipassCase{"procedural:noise:48", RenderMode::Dvr, true, false, true}),
+                      MultipassCase{"procedural:noise:48", RenderMode::Dvr, true, false, true},
+                      MultipassCase{"procedural:menger:54", RenderMode::Mip, false},
+                      MultipassCase{"procedural:noise:48", RenderMode::Mip, false},
+                      MultipassCase{"procedural:sphere:64", RenderMode::Mip, false, false, true}),
     [](const ::testing::TestParamInfo<MultipassCase>& info) {
       std::string name = multipassCaseName(info.param).substr(std::string("procedural:").size());
       for (char& ch : name)

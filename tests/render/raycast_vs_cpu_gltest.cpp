@@ -1,6 +1,6 @@
 // The GL ray caster against its CPU mirror (reference/cpu_raycaster renderMirror: the same cut, the same
-// bricks, the same sampling in double) at >= 45 dB PSNR, for iso and DVR, through both entry points; and the
-// isosurface of a sphere against its analytic silhouette.
+// bricks, the same sampling in double) at >= 45 dB PSNR, for iso, DVR and MIP, through both entry points; and
+// the isosurface of a sphere against its analytic silhouette.
 #include <cmath>
 #include <limits>
 
@@ -86,10 +86,11 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
     double step = 0.5;
   };
   // Iso at a step above a voxel too, where a leaf's end takes a sample (docs/RENDERING.md "Isosurface").
-  for (Variant v : {Variant{RenderMode::Iso, GradientSource::Computed},
-                    Variant{RenderMode::Iso, GradientSource::Computed, 2.5},
-                    Variant{RenderMode::Dvr, GradientSource::Computed},
-                    Variant{RenderMode::Dvr, GradientSource::Stored}}) {
+  for (Variant v :
+       {Variant{RenderMode::Iso, GradientSource::Computed},
+        Variant{RenderMode::Iso, GradientSource::Computed, 2.5},
+        Variant{RenderMode::Dvr, GradientSource::Computed}, Variant{RenderMode::Dvr, GradientSource::Stored},
+        Variant{RenderMode::Mip, GradientSource::Computed}}) {
     const RenderMode mode = v.mode;
     std::optional<FloatImage> plainWalk;  // DVR: the image of the walk without leaf batches
     for (auto [backend, leafBatch] :
@@ -119,7 +120,7 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame));
 
       const std::string what =
-          std::string(mode == RenderMode::Iso                 ? "iso"
+          std::string(mode != RenderMode::Dvr                 ? renderModeName(mode)
                       : v.gradients == GradientSource::Stored ? "dvr stored gradients"
                                                               : "dvr computed gradients") +
           " step " + std::to_string(v.step) +
@@ -161,7 +162,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
   };
   for (const Cut cut :
        {Cut{"crop", true, false}, Cut{"plane", false, true}, Cut{"crop and plane", true, true}})
-    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr}) {
+    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip}) {
       for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
         RaycastFrame frame;
         frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
@@ -179,7 +180,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
 
         const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame));
-        const std::string what = std::string(cut.name) + (mode == RenderMode::Iso ? " iso" : " dvr") +
+        const std::string what = std::string(cut.name) + " " + std::string(renderModeName(mode)) +
                                  (backend == RenderBackend::Fragment ? " fragment" : " compute");
         const WorldBox box = cut.crop ? WorldBox{crop.lo * spec.spacing, crop.hi * spec.spacing}
                                       : WorldBox{glm::dvec3(0.0), glm::dvec3(spec.dims) * spec.spacing};

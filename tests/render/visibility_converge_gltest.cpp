@@ -83,8 +83,9 @@ Converged renderUntilConverged(const BrickSource& source, RenderMode mode, Rende
   const BrickSourceInfo& info = source.info();
   std::optional<TfTable> tf;
   FrameRequest request = viewRequest(info, mode, backend);
-  if (mode == RenderMode::Dvr) {
-    tf = TfTable::bake(TransferFunction::fromSpec("ct-soft", tfDataRangeFor(info)), info.mapping, 255);
+  if (usesTransferFunction(mode)) {
+    const std::string preset = mode == RenderMode::Mip ? "gray" : "ct-soft";
+    tf = TfTable::bake(TransferFunction::fromSpec(preset, tfDataRangeFor(info)), info.mapping, 255);
     request.tf = &*tf;
   }
   Converged out;
@@ -202,6 +203,26 @@ TEST_P(VisibilityConvergeTest, SemiTransparentDvrLooksTheSame) {
   EXPECT_EQ(on.changesAfterConvergence, 0u) << "declared converged, and then the cut changed";
   EXPECT_GE(test::psnrDb(on.color, off.color), 40.0);
   EXPECT_LE(on.dataLeaves, off.dataLeaves);
+}
+
+// A maximum intensity projection's rays go through: nothing is hidden, so no query is drawn and no node is
+// marked occluded, and the image is the one without occlusion or feedback.
+TEST_P(VisibilityConvergeTest, MipQueriesNothingAndLooksTheSame) {
+  const auto [backend, visibility] = GetParam();
+  const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
+  const Converged off = renderUntilConverged(source, RenderMode::Mip, backend, {});
+  const Converged on = renderUntilConverged(source, RenderMode::Mip, backend, visibility);
+  ASSERT_TRUE(on.last.converged) << "not converged after " << on.frames << " frames";
+  EXPECT_EQ(on.changesAfterConvergence, 0u) << "declared converged, and then the cut changed";
+  EXPECT_EQ(on.lastQueries, 0u);
+  EXPECT_EQ(on.occludedMarksSeen, 0u);
+  EXPECT_EQ(on.hitsSeen, 0u);
+  if (visibility.feedback) {
+    EXPECT_GT(on.answersSeen, 0u);
+  }
+  EXPECT_GE(test::psnrDb(on.color, off.color), 40.0);
+  EXPECT_LE(on.dataLeaves, off.dataLeaves);
+  EXPECT_GT(on.dataLeaves, 8u);
 }
 
 TEST_P(VisibilityConvergeTest, PreparingLeavesNoQueryOrFeedbackBehind) {
