@@ -242,6 +242,12 @@ run "view --script set_mode load_tf" xview $vol --script "$dir/tf.json" --screen
 run "render --mode dvr --tf" "$ropecast" render $vol --converge --mode dvr --tf "$data/tf/sphere_shells.json" \
   -o "$dir/r3.png"
 same "DVR with a loaded TF = render --tf" "$dir/v3.png" "$dir/r3.png"
+# MIP: a switch to it shows its default transfer function (gray), as render --mode mip does.
+printf '[{"event": "set_mode", "mode": "mip"}, {"event": "screenshot", "file": "%s"}]' "$dir/v6.png" > "$dir/mip.json"
+run "view --script set_mode mip" xview $vol --script "$dir/mip.json"
+run "render --mode mip" "$ropecast" render $vol --converge --mode mip -o "$dir/r6.png"
+same "MIP switch = render --mode mip" "$dir/v6.png" "$dir/r6.png"
+differs "the MIP switch changed the view" "$dir/v6.png" "$dir/v0.png"
 # A switch to DVR whose stored gradients no longer fit one brick in --gpu-budget goes on with computed ones (and
 # says so), and --stats numbers the frames of the session on, across the renderer the switch makes anew.
 cat > "$dir/tight.json" << JSON
