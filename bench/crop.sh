@@ -30,53 +30,31 @@ center=$(python3 -c "print(f'{$nx * $sx / 2:g},{$ny * $sy / 2:g},{$nz * $sz / 2:
 declare -A cuts=([whole]="" [slab]="--crop :,:,352:512" [octant]="--crop $((nx / 2)):,$((ny / 2)):,$((nz / 2)):"
   [half]="--clip-plane $center,0,0,1")
 
-cold() {
-  if [ "$(id -u)" = 0 ] && sync && echo 3 >/proc/sys/vm/drop_caches 2>/dev/null; then echo cold; else echo warm; fi
-}
-
-# run NAME CUT ARGS...: one render with --stats; wall seconds in WORK/NAME.s, the cache state in WORK/NAME.cache
-run() {
-  local name=$1 cut=$2
-  shift 2
-  local cache t0 t1
-  cache=$(cold)
-  t0=$(date +%s.%N)
-  # shellcheck disable=SC2086
-  "$ROPECAST" render "$store" $MODE_ARGS --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" --cpu-cache "$CPU" \
-    $cut --stats "$WORK/$name.jsonl" -o "$WORK/$name.png" "$@" >/dev/null 2>"$WORK/$name.err" ||
-    { cat "$WORK/$name.err" >&2; return 1; }
-  t1=$(date +%s.%N)
-  awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
-  echo "$cache" >"$WORK/$name.cache"
-}
-
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); store $store ($(du -m "$store" | cut -f1) MiB)"
 for rep in $(seq 1 "$REPS"); do
   for name in whole slab octant half; do
-    run "sync_${name}$rep" "${cuts[$name]}"
-    run "converge_${name}$rep" "${cuts[$name]}" --converge
+    # shellcheck disable=SC2086  # the cut's options are words
+    render_run "sync_${name}$rep" "$store" $MODE_ARGS --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" \
+      --cpu-cache "$CPU" ${cuts[$name]}
+    # shellcheck disable=SC2086
+    render_run "converge_${name}$rep" "$store" $MODE_ARGS --orbit "$ORBIT" --size "$IMAGE" --gpu-budget "$GPU" \
+      --cpu-cache "$CPU" ${cuts[$name]} --converge
   done
 done
 
-python3 - "$WORK" "$REPS" "${cuts[slab]}" "${cuts[octant]}" "${cuts[half]}" <<'PY'
-import json, sys
+python3 - "$WORK" "$REPS" "${cuts[slab]}" "${cuts[octant]}" "${cuts[half]}" "$here/lib" <<'PY'
+import sys
 work, reps, slab, octant, half = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
-MiB = 1 << 20
-def load(name):
-    rows = [json.loads(l) for l in open(f"{work}/{name}.jsonl")]
-    return {"s": float(open(f"{work}/{name}.s").read()), "cache": open(f"{work}/{name}.cache").read().strip(),
-            "frames": len(rows), "working": rows[-1]["working_set_bricks"],
-            "uploaded": sum(r["bricks_uploaded"] for r in rows),
-            "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
-            "poolFull": rows[-1]["leaves_pool_full"], "converged": rows[-1]["converged"]}
+sys.path.insert(0, sys.argv[6])
+from render_runs import load
 labels = {"whole": "whole volume", "slab": slab, "octant": octant, "half": half}
 print(f"{'run':<48} {'cache':<5} {'wall s':>7} {'frames':>6} {'working set':>11} {'bricks up':>9} {'MiB read':>8} "
       f"{'pool-full leaves':>16}   against the whole volume (wall, bricks up, MiB read)")
 for rep in range(1, reps + 1):
     for kind in ("sync", "converge"):
-        whole = load(f"{kind}_whole{rep}")
+        whole = load(work, f"{kind}_whole{rep}")
         for name in ("whole", "slab", "octant", "half"):
-            r = load(f"{kind}_{name}{rep}")
+            r = load(work, f"{kind}_{name}{rep}")
             ratio = "" if name == "whole" else (f"   {r['s'] / whole['s']:.2f}, {r['uploaded'] / whole['uploaded']:.2f}, "
                                                 f"{r['read'] / whole['read']:.2f}")
             print(f"{kind + ' ' + labels[name]:<48} {r['cache']:<5} {r['s']:7.2f} {r['frames']:6d} {r['working']:11d} "

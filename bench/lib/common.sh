@@ -52,3 +52,24 @@ ct_store() {
   fi
   echo "$store"
 }
+
+# cache_state: drops the page cache when run as root and prints "cold", else prints "warm".
+cache_state() {
+  if [ "$(id -u)" = 0 ] && sync && echo 3 >/proc/sys/vm/drop_caches 2>/dev/null; then echo cold; else echo warm; fi
+}
+
+# render_run NAME STORE ARGS...: one `ropecast render STORE ARGS...` with --stats WORK/NAME.jsonl, after
+# cache_state; its wall seconds in WORK/NAME.s and the cache state in WORK/NAME.cache (read back by
+# bench/lib/render_runs.py).
+render_run() {
+  local name=$1 store=$2
+  shift 2
+  local cache t0 t1
+  cache=$(cache_state)
+  t0=$(date +%s.%N)
+  "$ROPECAST" render "$store" --stats "$WORK/$name.jsonl" -o "$WORK/$name.png" "$@" >/dev/null 2>"$WORK/$name.err" ||
+    { cat "$WORK/$name.err" >&2; return 1; }
+  t1=$(date +%s.%N)
+  awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f\n", b - a }' >"$WORK/$name.s"
+  echo "$cache" >"$WORK/$name.cache"
+}
