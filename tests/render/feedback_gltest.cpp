@@ -335,17 +335,26 @@ TEST(Feedback, ACoarseLeafIsRequestedExactlyWhereTheRayWantsAFinerLevel) {
   EXPECT_TRUE(gpu.requestedLeaves.empty());
 }
 
-TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
-  // A wall: v rises from 0 at x = 27 to 1 at x = 17, through the isovalue 0.5 at x = 22. The eye at x = 52
-  // looks along -x: the surface (and, in DVR, full opacity before x = 21) lies in the front leaves (x in
-  // [16, 32)), the leaves x in [0, 16) behind it.
+// A wall: v rises from 0 at x = 27 to 1 at x = 17, through the isovalue 0.5 at x = 22. The eye at x = 52
+// looks along -x: the surface (and, in DVR, full opacity before x = 21) lies in the front leaves (x in
+// [16, 32)), the leaves x in [0, 16) behind it.
+SceneSpec wallScene() {
   SceneSpec spec = coarseScene();
   spec.value = [](glm::dvec3 x) { return std::clamp(0.5 + 0.1 * (22.0 - x.x), 0.0, 1.0); };
-  const test::GlScene scene = test::buildScene(spec);
-  const TfTable tf = TfTable::bake(
+  return spec;
+}
+
+// Transparent below 30000 of 65535, opaque white from 40000.
+TfTable wallTf() {
+  return TfTable::bake(
       TransferFunction({TfPoint{0, {1.0, 1.0, 1.0, 0.0}}, TfPoint{30000, {1.0, 1.0, 1.0, 0.0}},
                         TfPoint{40000, {1.0, 1.0, 1.0, 1.0}}, TfPoint{65535, {1.0, 1.0, 1.0, 1.0}}}),
       ValueMapping{}, 65535);
+}
+
+TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
+  const test::GlScene scene = test::buildScene(wallScene());
+  const TfTable tf = wallTf();
   for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr})
     for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
       RaycastFrame frame = frameLookingAlongX(52.0, 1.0);
@@ -379,13 +388,8 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
 // A maximum intensity projection's rays go through the same wall: they use the leaves behind it too, and
 // stop in none (no hit, whatever the threshold).
 TEST(Feedback, MipRaysUseTheLeavesBehindAWallAndStopInNone) {
-  SceneSpec spec = coarseScene();
-  spec.value = [](glm::dvec3 x) { return std::clamp(0.5 + 0.1 * (22.0 - x.x), 0.0, 1.0); };
-  const test::GlScene scene = test::buildScene(spec);
-  const TfTable tf = TfTable::bake(
-      TransferFunction({TfPoint{0, {1.0, 1.0, 1.0, 0.0}}, TfPoint{30000, {1.0, 1.0, 1.0, 0.0}},
-                        TfPoint{40000, {1.0, 1.0, 1.0, 1.0}}, TfPoint{65535, {1.0, 1.0, 1.0, 1.0}}}),
-      ValueMapping{}, 65535);
+  const test::GlScene scene = test::buildScene(wallScene());
+  const TfTable tf = wallTf();
   for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
     RaycastFrame frame = frameLookingAlongX(52.0, 1.0);
     frame.params.mode = RenderMode::Mip;
