@@ -169,6 +169,8 @@ class RayIntegrator {
 
   // Traced rays: the sample of its leaf's visit at which the ray ended.
   size_t endSample() const { return endSample_; }
+  // MIP: the largest value so far (-1 before the first sample).
+  double mipMaximum() const { return mipValue_; }
 
   // Final color = C + (1 - A) * background; alpha = A; depth along the camera axis. A maximum intensity
   // projection's C and A are the transfer function's at the largest value, as shaders/compositing.glsl
@@ -438,6 +440,13 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
           visit->tEnter = leaf.tEnter;
           visit->tExit = leaf.tExit;
           visit->firstLeaf = firstLeaf;
+        }
+        // As shaders/raycast_common.glsl leafBelowMaximum, in float: a leaf that cannot raise the maximum is
+        // not sampled (a traced ray's visit has no sample).
+        if (fc.params.mode == RenderMode::Mip && leaf.leafIndex < input.leafMaxima.size()) {
+          const float largest = input.leafMaxima[leaf.leafIndex], maximum = float(rayLoop.mipMaximum());
+          if (visit) visit->maximumMargin = double(largest) - double(maximum);
+          if (largest <= maximum) continue;
         }
         if (!rayLoop.march(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), sampler, firstLeaf,
                            visit)) {

@@ -12,7 +12,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -47,8 +49,11 @@ struct CpuRenderInput {
   uint32_t width = 0;
   uint32_t height = 0;
   RenderParams params;
-  const TfTable* tf = nullptr;  // required for RenderMode::Dvr
+  const TfTable* tf = nullptr;  // required for DVR and MIP
   unsigned threads = 2;         // rows are split over this many threads
+  // MIP, the mirror: per leaf of the cut, its largest value (render/raycast_pass.h RaycastFrame::leafMaxima);
+  // a ray skips the data leaves that cannot raise its maximum. Empty: none is skipped.
+  std::span<const float> leafMaxima;
 };
 
 // Brick bytes (storedBrickEdge()^3 samples of the stored type, border included) by GPU pool slot.
@@ -74,9 +79,11 @@ struct MirrorLeafVisit {
   uint32_t depth = 0;
   double tEnter = 0.0;  // the traversal's [tEnter, tExit), float like the shader's
   double tExit = 0.0;
-  bool firstLeaf = false;             // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
-  double dt = 0.0;                    // the leaf's step
-  double kBegin = 0.0;                // its first sample index on the grid t0 + k dt
+  bool firstLeaf = false;  // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
+  double dt = 0.0;         // the leaf's step
+  double kBegin = 0.0;     // its first sample index on the grid t0 + k dt
+  // MIP: the leaf's largest value less the ray's maximum before it (<= 0: skipped); +inf when not known.
+  double maximumMargin = std::numeric_limits<double>::infinity();
   std::vector<MirrorSample> samples;  // the grid samples, then the one at the leaf's end, if traced
   size_t gridSampleCount() const { return samples.size() - (!samples.empty() && samples.back().atLeafEnd); }
 };

@@ -104,6 +104,10 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
         tie[v] = (tie[v] || touched) && gridCount <= 2;
       }
     }
+    // MIP: a leaf whose largest value is within rounding of the ray's maximum may be skipped or sampled.
+    if (mip && tol.value > 0.0)
+      for (size_t v = 0; v < leafCount; ++v)
+        if (std::abs(trace.leaves[v].maximumMargin) <= tol.value) tie[v] = true;
     // The iso samples at leaves' ends (docs/RENDERING.md "Isosurface"), taken when the ray's previous sample
     // lies more than a texel before the end. Within the position errors' texels of one, the shader may decide
     // either way: the sample is uncertain, and so is every leaf-end decision after it up to the next grid

@@ -22,7 +22,8 @@ struct FeedbackSets {
 // otherwise: a sample's side of the isosurface, early ray termination, which leaf a sample falls in, whether
 // a leaf is coarser than wanted. Zero: the mirror's own decisions.
 struct FeedbackTolerance {
-  double value = 0.0;     // iso: |v - vIso| below which a sample's side is uncertain
+  double value = 0.0;     // iso: |v - vIso| below which a sample's side is uncertain; MIP: |leaf's largest
+                          // value - the ray's maximum| below which skipping the leaf is
   double alpha = 0.0;     // DVR: |A - ert| below which termination at a sample is uncertain
   double relative = 0.0;  // a sample within relative (t + cube extent) of a leaf border; a leaf whose
                           // pixels(L) voxelsPerPixel is within relative of 1; an iso sample at a leaf's

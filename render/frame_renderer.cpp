@@ -512,6 +512,16 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
 
   // Pass 6, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);
+  if (request.params.mode == RenderMode::Mip) {
+    // Each leaf's largest value, from the node table: the rays skip the leaves it cannot raise their
+    // maximum in.
+    const double storedMax = storedMaxOf(source_.info().storedType);
+    leafMaxima_.clear();
+    for (const PlannedLeaf& leaf : plan.leaves)
+      leafMaxima_.push_back(
+          leaf.content == LeafContent::Brick ? float(source_.node(leaf.key).maxValue / storedMax) : 0.0f);
+    frame.leafMaxima = leafMaxima_;
+  }
   if (castFeedback) {
     // With occlusion queries, the rays count the hits that spare them (planTiles).
     feedback_->begin(uint32_t(cut_.leaves.size()), occlusion ? uint32_t(visibility_->thresholdPixels()) : 0);
@@ -523,8 +533,10 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (multipass) {
     // The multi-pass renderer over the same cut: one pass per data leaf (empty leaves are not drawn).
     std::vector<MultipassLeaf> leaves;
-    for (const PlannedLeaf& leaf : plan.leaves)
-      if (leaf.content == LeafContent::Brick) leaves.push_back({leaf.key, leaf.slot});
+    for (size_t i = 0; i < plan.leaves.size(); ++i)
+      if (plan.leaves[i].content == LeafContent::Brick)
+        leaves.push_back(
+            {plan.leaves[i].key, plan.leaves[i].slot, frame.leafMaxima.empty() ? 1.0f : leafMaxima_[i]});
     multipass_.render(frame, std::move(leaves));
   } else {
     raycast_.render(frame, schedule);

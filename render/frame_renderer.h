@@ -219,6 +219,7 @@ class FrameRenderer {
   std::unique_ptr<OcclusionQueries> queries_;      // config.occlusion only
   std::unique_ptr<VisibilityTracker> visibility_;  // config.occlusion only
   std::vector<NodeKey> dataLeaves_;                // the non-empty leaves of the last asynchronous frame
+  std::vector<float> leafMaxima_;                  // MIP: RaycastFrame::leafMaxima of the frame's cut
   std::vector<QueryBox> queryBoxes_;               // this frame's queries
   std::vector<NodeDataParts> dataParts_;           // this frame's queryable leaves' data parts, as planned
   uint64_t emptinessKey_ = 0;                      // what decided emptiness when the marks were made

@@ -11,8 +11,8 @@ namespace ropecast {
 
 IndexTexture::IndexTexture(uint32_t componentsPerTexel, int maxTextureBufferTexels)
     : components_(componentsPerTexel), maxTexels_(maxTextureBufferTexels) {
-  if (components_ != 2 && components_ != 4)
-    throw Error("IndexTexture: texels have 2 or 4 components, got " + std::to_string(components_));
+  if (components_ != 1 && components_ != 2 && components_ != 4)
+    throw Error("IndexTexture: texels have 1, 2 or 4 components, got " + std::to_string(components_));
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &texture_);
 }
 
@@ -40,7 +40,11 @@ void IndexTexture::upload(std::span<const uint32_t> words) {
     capacityBytes_ = capacity;
   }
   if (!words.empty()) glNamedBufferSubData(buffer_, 0, GLsizeiptr(words.size_bytes()), words.data());
-  glTextureBuffer(texture_, components_ == 4 ? GL_RGBA32UI : GL_RG32UI, buffer_);
+  glTextureBuffer(texture_,
+                  components_ == 4   ? GL_RGBA32UI
+                  : components_ == 2 ? GL_RG32UI
+                                     : GL_R32UI,
+                  buffer_);
   texels_ = texels;
 }
 

@@ -1,6 +1,7 @@
-// IndexTexture: the rope index on the GPU, a buffer texture (glTexBuffer) of 32-bit unsigned texels with 2 or
-// 4 components (RG32UI / RGBA32UI, read by `usamplerBuffer uRopeIndex` in shaders/rope_traversal.glsl). The
-// buffer grows by doubling as the index grows and is reused frame to frame.
+// IndexTexture: the rope index on the GPU, a buffer texture (glTexBuffer) of 32-bit unsigned texels with 1, 2
+// or 4 components (R32UI / RG32UI / RGBA32UI, read by `usamplerBuffer uRopeIndex` in
+// shaders/rope_traversal.glsl); also a MIP frame's leaf maxima beside it (render/raycast_pass.h). The buffer
+// grows by doubling as its contents grow and is reused frame to frame.
 //
 // Owns GL objects: render thread only, with the GlContext current.
 #pragma once
@@ -13,7 +14,7 @@ namespace ropecast {
 
 class IndexTexture {
  public:
-  // componentsPerTexel: 2 (uvec2 texels) or 4 (uvec4 texels); throws ropecast::Error otherwise.
+  // componentsPerTexel: 1 (uint texels), 2 (uvec2) or 4 (uvec4); throws ropecast::Error otherwise.
   explicit IndexTexture(uint32_t componentsPerTexel, int maxTextureBufferTexels);
   ~IndexTexture();
   IndexTexture(const IndexTexture&) = delete;

@@ -33,6 +33,7 @@ constexpr GLint kBoxMaxLocation = 1;
 constexpr GLint kNdcZLocation = 2;
 constexpr GLint kLeafBoxMinLocation = 3;  // shaders/multipass_block.frag
 constexpr GLint kLeafLocation = 4;
+constexpr GLint kLeafMaxLocation = 5;
 // The vertices of shaders/multipass.vert: a box's faces, then the full-screen triangle.
 constexpr GLint kBoxVertices = 36;
 constexpr GLint kFullScreenFirst = 36;
@@ -217,6 +218,7 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
     }
     glProgramUniform3f(block.id(), kLeafBoxMinLocation, cubeMin.x, cubeMin.y, cubeMin.z);
     glProgramUniform2ui(block.id(), kLeafLocation, leaf.key.depth, leaf.slot);
+    if (f.params.mode == RenderMode::Mip) glProgramUniform1f(block.id(), kLeafMaxLocation, leaf.maxValue);
 
     // Block: the leaf's samples into the images, where no ray has ended (early depth test, no depth write).
     block.use();

@@ -41,6 +41,9 @@ namespace ropecast {
 struct MultipassLeaf {
   NodeKey key;
   uint32_t slot = 0;
+  // MIP: the leaf's largest value (as RaycastFrame::leafMaxima); its block leaves a pixel whose maximum is at
+  // least this alone.
+  float maxValue = 1.0f;
 };
 
 // Sorts `leaves` (disjoint nodes of one octree) front to back for an eye at `eye` (world units): octree

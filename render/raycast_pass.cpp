@@ -1,6 +1,7 @@
 #include "render/raycast_pass.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -57,6 +58,7 @@ RaycastPass::RaycastPass() {
   dvrLeafBatch_ = renderer && isSoftwareRenderer(reinterpret_cast<const char*>(renderer));
   glCreateVertexArrays(1, &emptyVertexArray_);
   tfTexture_ = createTfTexture();
+  leafMaxima_ = std::make_unique<IndexTexture>(1, 0);
 }
 
 RaycastPass::~RaycastPass() {
@@ -115,6 +117,7 @@ RaycastBlock raycastFrameBlock(const RaycastFrame& f) {
   const double tanHalfFov = std::tan(glm::radians(f.camera.fovYDeg) * 0.5);
   b.feedbackRequestDistance = float(f.voxelsPerPixel * maxSpacing * double(f.height) / (2.0 * tanHalfFov));
   b.feedbackMinDistance = float(0.5 * minSpacing);
+  b.leafMaximaCount = f.params.mode == RenderMode::Mip ? uint32_t(f.leafMaxima.size()) : 0u;
   return b;
 }
 
@@ -175,6 +178,12 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   }
   const ShaderProgram& p = program(f.params, f.feedback != nullptr);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
+  if (f.params.mode == RenderMode::Mip) {
+    leafMaximaWords_.resize(f.leafMaxima.size());
+    std::transform(f.leafMaxima.begin(), f.leafMaxima.end(), leafMaximaWords_.begin(),
+                   [](float v) { return std::bit_cast<uint32_t>(v); });
+    leafMaxima_->upload(leafMaximaWords_);
+  }
   blockBuffer_.upload(raycastFrameBlock(f));
   timer_.begin();
   if (f.params.backend == RenderBackend::Fragment && !schedule.castOnly) {
@@ -250,6 +259,7 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
   glBindTextureUnit(kRaycastTfUnit, tfTexture_);
   f.index->bind(kRaycastRopeIndexUnit);
   if (usesStoredGradients(f.params)) glBindTextureUnit(kRaycastSampleUnit, f.gradients->texture());
+  if (f.params.mode == RenderMode::Mip) leafMaxima_->bind(kRaycastLeafMaximaUnit);
   if (f.feedback) f.feedback->bind();
   blockBuffer_.bind();
   p.use();

@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -69,6 +70,11 @@ struct RaycastFrame {
   // (RAYCAST_FEEDBACK). voxelsPerPixel is the refinement target the requests are measured against.
   FeedbackBuffer* feedback = nullptr;
   double voxelsPerPixel = 1.0;
+  // MIP: per leaf of the cut (RopeLeaf.leafIndex), the largest value its node holds, normalized as the
+  // samples are (stored / storedMax; a bound on every sample of its brick, borders included). A ray skips a
+  // data leaf whose largest value cannot raise its maximum (docs/RENDERING.md "Maximum intensity
+  // projection"). Empty: no leaf is skipped. Only read in MIP mode; must outlive render().
+  std::span<const float> leafMaxima;
 };
 
 // The uniform block of a frame: camera, volume, the pool's geometry, window depth range and feedback
@@ -151,6 +157,8 @@ class RaycastPass {
   RaycastBlockBuffer blockBuffer_;
   uint32_t emptyVertexArray_ = 0;
   uint32_t tfTexture_ = 0;
+  std::unique_ptr<IndexTexture> leafMaxima_;  // MIP: RaycastFrame::leafMaxima as float bits
+  std::vector<uint32_t> leafMaximaWords_;
   uint64_t lastDrawCalls_ = 0;
   uint64_t lastPixelsCast_ = 0;
   RenderBackend lastBackend_ = RenderBackend::Auto;  // of the last render(); Auto before the first

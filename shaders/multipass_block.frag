@@ -27,6 +27,9 @@ layout(rgba32ui, binding = 3) uniform uimage2D uBefore;
 #endif
 layout(location = 3) uniform vec3 uLeafBoxMin;  // root-cube coordinates
 layout(location = 4) uniform uvec2 uLeaf;       // depth, brick slot
+#ifdef RAYCAST_MODE_MIP
+layout(location = 5) uniform float uLeafMax;    // the leaf's largest value (MultipassLeaf::maxValue)
+#endif
 
 // Where the ray leaves a box (root-cube coordinates), as the rope traversal clips a leaf: the first exit plane
 // of the moving axes.
@@ -114,6 +117,7 @@ void main() {
   // Front to back, a later block's sample replaces the maximum only when larger, as within the single pass.
   vec4 state = imageLoad(uMarch, pixel);
   MipMax m = state.y != 0.0 ? MipMax(state.x, 0.0) : mipBegin();
+  if (uLeafMax <= m.value) return;  // as the single pass's leafBelowMaximum
   float before = m.value;
   marchMip(m, s, ray.t0, kBegin, firstSampleIndex(ray.t0, min(tExit, ray.t1), s.dt, false));
   if (m.value > before) {

@@ -38,6 +38,7 @@ RAYCAST_CONST kRaycastValueUnit = 0;      // values: the brick pool, or brute fo
 RAYCAST_CONST kRaycastTfUnit = 1;         // the transfer function table (RGBA32F, 1D)
 RAYCAST_CONST kRaycastRopeIndexUnit = 2;  // the rope index (shaders/rope_traversal.glsl's uRopeIndex)
 RAYCAST_CONST kRaycastSampleUnit = 3;     // the DVR sample texture beside the values (render/gradient_pool.h)
+RAYCAST_CONST kRaycastLeafMaximaUnit = 4;  // MIP: each leaf's largest value (uLeafMaxima, R32UI float bits)
 // The compute entry points' image units (shaders/compute_tile.glsl, shaders/raycast.comp).
 RAYCAST_CONST kRaycastColorImageUnit = 0;      // RGBA32F: the pixel's color
 RAYCAST_CONST kRaycastDepthImageUnit = 1;      // R32F: the depth output
@@ -96,7 +97,8 @@ RAYCAST_BLOCK_BEGIN
   // clips nothing.
   float clipPlaneOffset;          // 220
   vec3 clipPlaneNormal;           // 224
-  float unused0;                  // 236: std140 padding
+  // MIP: the leaves [0, leafMaximaCount) of the cut have their largest value in uLeafMaxima; 0: none known.
+  uint leafMaximaCount;           // 236
 RAYCAST_BLOCK_END
 
 #ifdef __cplusplus
@@ -118,7 +120,7 @@ static_assert(offsetof(RaycastBlock, specular) == 192 && offsetof(RaycastBlock, 
 static_assert(offsetof(RaycastBlock, feedbackRequestDistance) == 200 &&
               offsetof(RaycastBlock, feedbackMinDistance) == 204);
 static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, clipPlaneOffset) == 220);
-static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 && offsetof(RaycastBlock, unused0) == 236);
+static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 && offsetof(RaycastBlock, leafMaximaCount) == 236);
 }  // namespace glsl
 using glsl::RaycastBlock;
 }  // namespace ropecast

@@ -16,6 +16,19 @@
 #include "shaders/feedback.glsl"
 #endif
 
+#ifdef RAYCAST_MODE_MIP
+// Each leaf's largest value (render/raycast_pass.h RaycastFrame::leafMaxima), as float bits.
+layout(binding = kRaycastLeafMaximaUnit) uniform usamplerBuffer uLeafMaxima;
+
+// Whether no sample of the leaf can raise the ray's maximum: its largest value is no larger. Such a leaf is
+// not sampled, so not used: the maximum found in front hides it, as an opaque surface hides what lies behind
+// it (docs/RENDERING.md "Maximum intensity projection").
+bool leafBelowMaximum(uint leafIndex, float maximum) {
+  return leafIndex < raycast.leafMaximaCount &&
+         uintBitsToFloat(texelFetch(uLeafMaxima, int(leafIndex)).r) <= maximum;
+}
+#endif
+
 // The segment of a data leaf: its brick's texels in the pool and the sampling of its level L = maxDepth - depth.
 // Root-cube coordinates u = x / (C s) keep the world t (docs/RENDERING.md "Spaces"); a leaf at depth d holds
 // B 2^d level-L samples per cube unit, the first at the leaf's boxMin, behind BRICK_BORDER texels of border.
@@ -213,7 +226,7 @@ RayResult castRay(uvec2 pixel) {
   while (ropeNextLeaf(cursor, leaf)) {
     bool entry = firstLeaf;
     firstLeaf = false;
-    if (leaf.kind != kRopeTagDataLeaf) continue;
+    if (leaf.kind != kRopeTagDataLeaf || leafBelowMaximum(leaf.leafIndex, m.value)) continue;
     Segment s = leafSegment(leaf, originCube, dirCube);
     float kBegin = firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry);
     float kEnd = firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false);

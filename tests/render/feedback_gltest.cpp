@@ -212,6 +212,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
         frame.params.ert = 0.95;
         if (crop) frame.params.crop = *crop;
         frame.tf = &tf;
+        frame.leafMaxima = scene.leafMaxima;
         // A target at which level-1 leaves are fine enough beyond the volume's center and too coarse before
         // it.
         const double centerDistance = std::max(glm::length(cam.camera.eye - 0.5 * volumeMax), 10.0);
@@ -408,6 +409,42 @@ TEST(Feedback, MipRaysUseTheLeavesBehindAWallAndStopInNone) {
       ASSERT_GE(color.pixels[4 * i + 3], 0.99f) << what;
     expectEqualSets(
         gpu, mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 1).sure,
+        what);
+  }
+}
+
+// The leaves whose largest value cannot raise a ray's maximum are skipped: the same image, and those leaves,
+// hidden by a brighter one in front, are not used (MIP's counterpart of occlusion). A wall of 1 in the front
+// leaves, values of at most 0.4 behind: with the leaves' maxima only the front column is used.
+TEST(Feedback, MipSkipsTheLeavesItsMaximumHides) {
+  SceneSpec spec = coarseScene();
+  spec.value = [](glm::dvec3 x) { return x.x >= 20.0 ? 1.0 : 0.4 * x.x / 20.0; };
+  const test::GlScene scene = test::buildScene(spec);
+  const TfTable tf =
+      TfTable::bake(TransferFunction({TfPoint{0, {1.0, 1.0, 1.0, 0.2}}, TfPoint{65535, {1, 1, 1, 1}}}),
+                    ValueMapping{}, 65535);
+  for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+    RaycastFrame frame = frameLookingAlongX(52.0, 1.0);
+    frame.params.mode = RenderMode::Mip;
+    frame.params.backend = backend;
+    frame.tf = &tf;
+    RaycastPass pass;
+    const FeedbackReadback all = renderWithFeedback(pass, scene, frame);
+    const FloatImage color = pass.readColor(), depth = pass.readDepth();
+    frame.leafMaxima = scene.leafMaxima;
+    const FeedbackReadback skipping = renderWithFeedback(pass, scene, frame);
+    const std::string what = std::string("mip ") + std::string(renderBackendName(backend));
+    EXPECT_EQ(test::maxAbsDifference(color, pass.readColor(), 4), 0.0) << what;
+    EXPECT_EQ(test::maxAbsDifference(depth, pass.readDepth(), 1), 0.0) << what;
+    std::set<uint32_t> columnsAll, columnsSkipping;
+    for (uint32_t leaf : all.usedLeaves) columnsAll.insert(scene.cut.leaves[leaf].coord.x);
+    for (uint32_t leaf : skipping.usedLeaves) columnsSkipping.insert(scene.cut.leaves[leaf].coord.x);
+    EXPECT_EQ(columnsAll, (std::set<uint32_t>{0u, 1u})) << what;
+    EXPECT_EQ(columnsSkipping, (std::set<uint32_t>{1u}))
+        << what << ": the leaves behind the wall were sampled";
+    expectEqualSets(
+        skipping,
+        mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 0).sure,
         what);
   }
 }

@@ -52,7 +52,7 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(clipMin),
     FIELD(clipPlaneOffset),
     FIELD(clipPlaneNormal),
-    FIELD(unused0),
+    FIELD(leafMaximaCount),
 };
 #undef FIELD
 

@@ -107,6 +107,7 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       frame.params.gradients = v.gradients;
       frame.params.stepVoxels = v.step;
       frame.tf = &tf;
+      frame.leafMaxima = scene.leafMaxima;  // MIP skips the leaves below its maximum
       RaycastPass pass;
       pass.setDvrLeafBatch(leafBatch);
       test::renderScene(pass, scene, frame);
@@ -171,6 +172,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         frame.params.isoValue = 0.6 * 65535;
         frame.params.backend = backend;
         frame.tf = &tf;
+        frame.leafMaxima = scene.leafMaxima;
         RaycastPass pass;
         test::renderScene(pass, scene, frame);
         const FloatImage whole = pass.readColor();

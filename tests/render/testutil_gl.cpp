@@ -115,14 +115,26 @@ GlScene buildScene(const SceneSpec& spec) {
                                                   std::max<uint64_t>(dataCount, 1) * slotBytes * 2, false},
                                   ctx.info().max3DTextureSize);
   scene.minLeafDepth = layout.maxDepth;
+  const double storedMax = storedMaxOf(spec.storedType);
   for (const NodeKey& k : leaves) {
     CutLeaf leaf{k.depth, k.coord, LeafKind::Empty, 0};
+    float leafMax = 0.0f;
     if (layout.isInside(k) && !(spec.emptyLeaf && spec.emptyLeaf(k))) {
       const uint32_t slot = uint32_t(scene.bricks.size());
       if (slot >= scene.pool->slotCount()) throw std::runtime_error("buildScene: pool too small");
       leaf.kind = LeafKind::Data;
       leaf.brickSlot = slot;
       std::vector<std::byte> brick = makeBrick(spec, layout, k);
+      uint32_t largest = 0;
+      for (size_t i = 0; i < layout.storedBrickSamples(); ++i) {
+        uint16_t v = 0;
+        if (spec.storedType == SampleType::UInt8)
+          v = uint16_t(brick[i]);
+        else
+          std::memcpy(&v, &brick[2 * i], 2);
+        largest = std::max<uint32_t>(largest, v);
+      }
+      leafMax = float(largest / storedMax);
       scene.pool->upload(slot, brick);
       scene.bricks.emplace(slot, std::move(brick));
       ++scene.dataLeaves;
@@ -130,6 +142,7 @@ GlScene buildScene(const SceneSpec& spec) {
       scene.maxLeafDepth = std::max(scene.maxLeafDepth, k.depth);
     }
     scene.cut.leaves.push_back(leaf);
+    scene.leafMaxima.push_back(leafMax);
   }
   scene.gradients = std::make_unique<GradientPool>(scene.pool->geometry().textureDims);
   std::vector<glm::u32vec3> origins;
@@ -149,6 +162,7 @@ CpuRenderInput cpuInputOf(const RaycastFrame& frame) {
   input.height = frame.height;
   input.params = frame.params;
   input.tf = frame.tf;
+  input.leafMaxima = frame.leafMaxima;
   return input;
 }
 

@@ -67,6 +67,9 @@ struct GlScene {
   std::unique_ptr<IndexTexture> indexTexture;
   size_t dataLeaves = 0;
   uint32_t minLeafDepth = 0, maxLeafDepth = 0;
+  // Per leaf of the cut, the largest sample of its brick, normalized (RaycastFrame::leafMaxima; 0 for empty
+  // leaves).
+  std::vector<float> leafMaxima;
 };
 
 // Builds the bricks, the cut and its index, and uploads pool and index (needs the shared context).
