@@ -1,9 +1,9 @@
 // What a ray does with the samples of a segment (docs/RENDERING.md "Isosurface", "Direct volume rendering",
 // "Maximum intensity projection"): the isosurface march to the first sign change and its bisection,
-// front-to-back DVR compositing with early ray termination, and the largest value along the ray. Shared by the
-// rope ray caster, which calls them once per data leaf (Gobbetti et al. 2008, Sect. 5.2), and the brute-force
-// pass, which calls them once for the whole volume. No #version line. Needs the defines ISO_BISECTION_STEPS
-// and those of shaders/shading.glsl.
+// front-to-back DVR compositing with early ray termination, and the largest value along the ray. Shared by
+// the rope ray caster, which calls them once per data leaf (Gobbetti et al. 2008, Sect. 5.2), and the
+// brute-force pass, which calls them once for the whole volume. No #version line. Needs the defines
+// ISO_BISECTION_STEPS and those of shaders/shading.glsl.
 
 #include "shaders/sampling.glsl"
 #include "shaders/shading.glsl"

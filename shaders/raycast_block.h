@@ -120,7 +120,8 @@ static_assert(offsetof(RaycastBlock, specular) == 192 && offsetof(RaycastBlock, 
 static_assert(offsetof(RaycastBlock, feedbackRequestDistance) == 200 &&
               offsetof(RaycastBlock, feedbackMinDistance) == 204);
 static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, clipPlaneOffset) == 220);
-static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 && offsetof(RaycastBlock, leafMaximaCount) == 236);
+static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 &&
+              offsetof(RaycastBlock, leafMaximaCount) == 236);
 }  // namespace glsl
 using glsl::RaycastBlock;
 }  // namespace ropecast
