@@ -396,7 +396,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
-  // Rays of a maximum intensity projection go through: nothing hides anything, and no query is drawn.
+  // A maximum intensity projection's rays do not stop, so no box lies behind where they stopped: no query.
   const bool occlusion =
       visibility_ && !request.synchronous && !multipass && request.params.mode != RenderMode::Mip;
   const bool feedback = feedback_ && !request.synchronous && !multipass;
@@ -513,8 +513,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   // Pass 6, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);
   if (request.params.mode == RenderMode::Mip) {
-    // Each leaf's largest value, from the node table: the rays skip the leaves it cannot raise their
-    // maximum in.
+    // Each leaf's largest value (its node's maximum): a ray skips the leaves that cannot raise its maximum.
     const double storedMax = storedMaxOf(source_.info().storedType);
     leafMaxima_.clear();
     for (const PlannedLeaf& leaf : plan.leaves)

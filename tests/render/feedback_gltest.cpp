@@ -386,8 +386,8 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
     }
 }
 
-// A maximum intensity projection's rays go through the same wall: they use the leaves behind it too, and
-// stop in none (no hit, whatever the threshold).
+// Without the leaves' maxima a maximum intensity projection's rays go through the same wall: they use the
+// leaves behind it too, and stop in none (no hit, whatever the threshold).
 TEST(Feedback, MipRaysUseTheLeavesBehindAWallAndStopInNone) {
   const test::GlScene scene = test::buildScene(wallScene());
   const TfTable tf = wallTf();
