@@ -396,7 +396,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
-  // A maximum intensity projection's rays do not stop, so no box lies behind where they stopped: no query.
+  // Nothing opaque stops a maximum intensity projection's rays, so no box lies hidden behind them: no query.
   const bool occlusion =
       visibility_ && !request.synchronous && !multipass && request.params.mode != RenderMode::Mip;
   const bool feedback = feedback_ && !request.synchronous && !multipass;

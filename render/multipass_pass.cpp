@@ -225,16 +225,13 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
     glDepthMask(GL_FALSE);
     glDrawArrays(GL_TRIANGLES, first, count);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    ++counts_.blocks;
-    counts_.fullScreen += fullScreen;
-    ++counts_.glDrawCalls;
-    // Mark: depth where the rays ended, so the next blocks skip those pixels. A maximum intensity
-    // projection's rays do not end.
-    if (f.params.mode == RenderMode::Mip) continue;
+    // Mark: depth where the rays ended, so the next blocks skip those pixels.
     mark.use();
     glDepthMask(GL_TRUE);
     glDrawArrays(GL_TRIANGLES, first, count);
-    ++counts_.glDrawCalls;
+    ++counts_.blocks;
+    counts_.fullScreen += fullScreen;
+    counts_.glDrawCalls += 2;
   }
 
   glEndQuery(GL_SAMPLES_PASSED);

@@ -117,7 +117,9 @@ RaycastBlock raycastFrameBlock(const RaycastFrame& f) {
   const double tanHalfFov = std::tan(glm::radians(f.camera.fovYDeg) * 0.5);
   b.feedbackRequestDistance = float(f.voxelsPerPixel * maxSpacing * double(f.height) / (2.0 * tanHalfFov));
   b.feedbackMinDistance = float(0.5 * minSpacing);
-  b.leafMaximaCount = f.params.mode == RenderMode::Mip ? uint32_t(f.leafMaxima.size()) : 0u;
+  const bool maxima = f.params.mode == RenderMode::Mip && !f.leafMaxima.empty();
+  b.leafMaximaCount = maxima ? uint32_t(f.leafMaxima.size()) : 0u;
+  if (maxima) b.leafMaximaLargest = *std::max_element(f.leafMaxima.begin(), f.leafMaxima.end());
   return b;
 }
 

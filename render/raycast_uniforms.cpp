@@ -101,6 +101,7 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   b.diffuse = float(rp.lighting.diffuse);
   b.specular = float(rp.lighting.specular);
   b.shininess = float(rp.lighting.shininess);
+  b.leafMaximaLargest = 2.0f;  // no leaf's largest value known: no MIP ray ends early (values lie in [0, 1])
   return b;
 }
 

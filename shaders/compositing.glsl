@@ -141,8 +141,8 @@ RayResult dvrResult(DvrAccum acc) {
 }
 
 // Maximum intensity projection: the largest value along the ray and the first sample that reached it (front
-// to back, so a plateau's nearest sample gives the depth). No early ray termination: a later sample may be
-// larger.
+// to back, so a plateau's nearest sample gives the depth). A later sample may be larger: the walk ends a ray
+// only when its maximum can grow no more (shaders/raycast_common.glsl).
 struct MipMax {
   float value;  // -1 before the first sample (values lie in [0, 1])
   float t;
@@ -164,7 +164,8 @@ void marchMip(inout MipMax m, Segment s, float t0, float kBegin, float kEnd) {
 
 // The largest value through the transfer function, over the background by its opacity (not corrected for a
 // step: it is one value, not a stretch of the ray). A ray whose maximum the function leaves transparent
-// shows the background and has no depth. Nothing stops a ray, so none hides an occlusion query's box.
+// shows the background and has no depth. Its stop depth is infinite: nothing opaque stopped it, so it hides no
+// occlusion query's box.
 RayResult mipResult(MipMax m, float depthPerT) {
   vec4 tf = m.value >= 0.0 ? transferFunction(m.value) : vec4(0.0);
   if (!(tf.a > 0.0)) return missedRay();

@@ -6,7 +6,7 @@
 
 #include "shaders/raycast_block.h"
 
-#ifdef RAYCAST_MODE_ISO
+#if defined(RAYCAST_MODE_ISO) || defined(RAYCAST_MODE_MIP)
 layout(rgba32f, binding = 2) uniform readonly image2D uMarch;
 #else
 layout(rgba32f, binding = 0) uniform readonly image2D uAccum;
@@ -16,6 +16,9 @@ void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
 #ifdef RAYCAST_MODE_ISO
   bool ended = imageLoad(uMarch, pixel).w != 0.0;
+#elif defined(RAYCAST_MODE_MIP)
+  vec4 state = imageLoad(uMarch, pixel);  // a maximum that reaches the cut's largest value is final
+  bool ended = state.y != 0.0 && state.x >= raycast.leafMaximaLargest;
 #else
   bool ended = imageLoad(uAccum, pixel).a >= raycast.ert;
 #endif

@@ -99,10 +99,13 @@ RAYCAST_BLOCK_BEGIN
   vec3 clipPlaneNormal;           // 224
   // MIP: the leaves [0, leafMaximaCount) of the cut have their largest value in uLeafMaxima; 0: none known.
   uint leafMaximaCount;           // 236
+  // MIP: the largest of those values (above 1 when none is known): a ray whose maximum reaches it ends.
+  float leafMaximaLargest;        // 240
+  float unused0, unused1, unused2;  // 244: std140 padding
 RAYCAST_BLOCK_END
 
 #ifdef __cplusplus
-static_assert(sizeof(RaycastBlock) == 240);
+static_assert(sizeof(RaycastBlock) == 256);
 static_assert(offsetof(RaycastBlock, eye) == 0 && offsetof(RaycastBlock, tanHalfFov) == 12);
 static_assert(offsetof(RaycastBlock, forward) == 16 && offsetof(RaycastBlock, aspect) == 28);
 static_assert(offsetof(RaycastBlock, right) == 32 && offsetof(RaycastBlock, depthNear) == 44);
@@ -122,6 +125,8 @@ static_assert(offsetof(RaycastBlock, feedbackRequestDistance) == 200 &&
 static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, clipPlaneOffset) == 220);
 static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 &&
               offsetof(RaycastBlock, leafMaximaCount) == 236);
+static_assert(offsetof(RaycastBlock, leafMaximaLargest) == 240 && offsetof(RaycastBlock, unused0) == 244 &&
+              offsetof(RaycastBlock, unused1) == 248 && offsetof(RaycastBlock, unused2) == 252);
 }  // namespace glsl
 using glsl::RaycastBlock;
 }  // namespace ropecast

@@ -223,7 +223,8 @@ RayResult castRay(uvec2 pixel) {
                      leafSegment(before, originCube, dirCube), min(before.tExit, ray.t1), ray);
 #elif defined(RAYCAST_MODE_MIP)
   MipMax m = mipBegin();
-  while (ropeNextLeaf(cursor, leaf)) {
+  // A maximum that reaches the cut's largest value is final: every leaf left would be skipped.
+  while (m.value < raycast.leafMaximaLargest && ropeNextLeaf(cursor, leaf)) {
     bool entry = firstLeaf;
     firstLeaf = false;
     if (leaf.kind != kRopeTagDataLeaf || leafBelowMaximum(leaf.leafIndex, m.value)) continue;

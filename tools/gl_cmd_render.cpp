@@ -236,7 +236,7 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
     warn({"--iso", "--ert", "--gradients"},
          "with --mode mip (the largest value through the transfer function)");
     warn({"--occlusion", "--query-budget", "--visibility-threshold"},
-         "with --mode mip (no ray stops, so no occlusion queries)");
+         "with --mode mip (nothing opaque stops its rays: no occlusion queries)");
   }
   if (o.reference || o.backend == RenderBackend::Brute)
     warn({"--voxels-per-pixel", "--gpu-budget", "--cpu-cache", "--upload-budget", "--upload-time-budget",

@@ -53,6 +53,10 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(clipPlaneOffset),
     FIELD(clipPlaneNormal),
     FIELD(leafMaximaCount),
+    FIELD(leafMaximaLargest),
+    FIELD(unused0),
+    FIELD(unused1),
+    FIELD(unused2),
 };
 #undef FIELD
 

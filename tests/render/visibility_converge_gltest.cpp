@@ -205,8 +205,8 @@ TEST_P(VisibilityConvergeTest, SemiTransparentDvrLooksTheSame) {
   EXPECT_LE(on.dataLeaves, off.dataLeaves);
 }
 
-// A maximum intensity projection's rays do not stop, so no query is drawn and no node is marked occluded,
-// and the image is the one without occlusion or feedback.
+// Nothing opaque stops a maximum intensity projection's rays, so no query is drawn and no node is marked
+// occluded, and the image is the one without occlusion or feedback.
 TEST_P(VisibilityConvergeTest, MipQueriesNothingAndLooksTheSame) {
   const auto [backend, visibility] = GetParam();
   const ProceduralBricks source({ProceduralKind::Noise, 64}, 8);
