@@ -16,12 +16,15 @@
 namespace ropecast {
 
 // What a ray computes (docs/RENDERING.md): the first isosurface crossing, shaded; the transfer function's
-// colors composited front to back (direct volume rendering); or the largest value along the ray mapped
-// through the transfer function (maximum intensity projection).
-enum class RenderMode { Iso, Dvr, Mip };
+// colors composited front to back (direct volume rendering); or the largest or the smallest value along the
+// ray mapped through the transfer function (maximum or minimum intensity projection).
+enum class RenderMode { Iso, Dvr, Mip, MinIp };
 // The names of `--mode`, of the viewer's script events and of --stats and bench settings.
-inline constexpr std::array<std::pair<std::string_view, RenderMode>, 3> kRenderModeNames{
-    {{"iso", RenderMode::Iso}, {"dvr", RenderMode::Dvr}, {"mip", RenderMode::Mip}}};
+inline constexpr std::array<std::pair<std::string_view, RenderMode>, 4> kRenderModeNames{
+    {{"iso", RenderMode::Iso},
+     {"dvr", RenderMode::Dvr},
+     {"mip", RenderMode::Mip},
+     {"minip", RenderMode::MinIp}}};
 constexpr std::string_view renderModeName(RenderMode mode) {
   for (const auto& [name, value] : kRenderModeNames)
     if (value == mode) return name;
@@ -30,6 +33,14 @@ constexpr std::string_view renderModeName(RenderMode mode) {
 // Whether the mode reads the transfer function (all but the isosurface).
 constexpr bool usesTransferFunction(RenderMode mode) {
   return mode != RenderMode::Iso;
+}
+// Whether a ray shows one value, its largest or smallest (MIP or MinIP). The renderers compute both as the
+// largest of projectionSign(mode) v: the smallest v is minus the largest -v.
+constexpr bool isIntensityProjection(RenderMode mode) {
+  return mode == RenderMode::Mip || mode == RenderMode::MinIp;
+}
+constexpr double projectionSign(RenderMode mode) {
+  return mode == RenderMode::MinIp ? -1.0 : 1.0;
 }
 // How the GL renderer draws (the CPU renderers ignore it): the octree ray caster's fragment or compute entry
 // point (render/raycast_pass), brute force over level 0 in one 3D texture without an index (the benchmark

@@ -30,6 +30,7 @@ struct FrameConstants {
   RenderParams params;
   const TfTable* tf = nullptr;
   double isoNormalized = 0.0;  // vIso = mapping.toStored(iso) / storedMax
+  double sign = 1.0;           // intensity projections: projectionSign(mode)
   glm::dvec3 spacing{1.0};
   double minSpacing = 1.0;
   WorldBox sampled;  // the volume box [0, n s] cut to --crop: the rays' clip
@@ -45,6 +46,7 @@ struct FrameConstants {
     if (input.width == 0 || input.height == 0) throw Error("CPU ray caster: image size must be positive");
     const double storedMax = storedMaxOf(volume.storedType);
     isoNormalized = volume.mapping.toStored(params.isoValue) / storedMax;
+    sign = projectionSign(params.mode);
     spacing = volume.volume.spacing;
     minSpacing = std::min({spacing.x, spacing.y, spacing.z});
     sampled = sampledWorldBox(params, volume.volume.dims, spacing);
@@ -125,10 +127,10 @@ class RayIntegrator {
           continue;
         }
         sampled = true;
-      } else if (fc_.params.mode == RenderMode::Mip) {
-        // As shaders/compositing.glsl marchMip: the first sample of the largest value.
-        if (v > mipValue_) {
-          mipValue_ = v;
+      } else if (isIntensityProjection(fc_.params.mode)) {
+        // As shaders/compositing.glsl marchMip: the first sample of the largest signed value.
+        if (fc_.sign * v > mipValue_) {
+          mipValue_ = fc_.sign * v;
           mipT_ = t;
         }
       } else if (compositeDvr(sampler, x, v, dt, cell)) {
@@ -169,7 +171,7 @@ class RayIntegrator {
 
   // Traced rays: the sample of its leaf's visit at which the ray ended.
   size_t endSample() const { return endSample_; }
-  // MIP: the largest value so far (-1 before the first sample).
+  // Intensity projections: the largest signed value so far (-2 before the first sample).
   double mipMaximum() const { return mipValue_; }
 
   // Final color = C + (1 - A) * background; alpha = A; depth along the camera axis. A maximum intensity
@@ -178,8 +180,8 @@ class RayIntegrator {
   void finish(float* rgba, float* depth) const {
     glm::dvec3 color = color_;
     double alpha = alpha_, rayDepth = depth_;
-    if (fc_.params.mode == RenderMode::Mip && mipValue_ >= 0.0) {
-      const glm::dvec4 tf = fc_.tf->lookup(mipValue_);
+    if (isIntensityProjection(fc_.params.mode) && mipValue_ >= -1.0) {
+      const glm::dvec4 tf = fc_.tf->lookup(fc_.sign * mipValue_);
       if (tf.a > 0.0) {
         color = tf.a * glm::dvec3(tf);
         alpha = tf.a;
@@ -329,8 +331,9 @@ class RayIntegrator {
   glm::dvec3 color_{0.0};
   double alpha_ = 0.0;
   double depth_ = kInf;
-  // Maximum intensity projection: the largest value so far (-1 before the first sample) and its t.
-  double mipValue_ = -1.0;
+  // Intensity projections: the largest signed value (sign v, in [-1, 1]) so far, -2 before the first sample,
+  // and its t.
+  double mipValue_ = -2.0;
   double mipT_ = 0.0;
 };
 
@@ -443,7 +446,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
         }
         // As shaders/raycast_common.glsl leafBelowMaximum, in float: a leaf that cannot raise the maximum is
         // not sampled (a traced ray's visit has no sample).
-        if (fc.params.mode == RenderMode::Mip && leaf.leafIndex < input.leafMaxima.size()) {
+        if (isIntensityProjection(fc.params.mode) && leaf.leafIndex < input.leafMaxima.size()) {
           const float largest = input.leafMaxima[leaf.leafIndex], maximum = float(rayLoop.mipMaximum());
           if (visit) visit->maximumMargin = double(largest) - double(maximum);
           if (largest <= maximum) continue;

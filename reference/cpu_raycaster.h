@@ -51,8 +51,9 @@ struct CpuRenderInput {
   RenderParams params;
   const TfTable* tf = nullptr;  // required for DVR and MIP
   unsigned threads = 2;         // rows are split over this many threads
-  // MIP, the mirror: per leaf of the cut, its largest value (render/raycast_pass.h RaycastFrame::leafMaxima);
-  // a ray skips the data leaves that cannot raise its maximum. Empty: none is skipped.
+  // MIP and MinIP, the mirror: per leaf of the cut, its bound (render/raycast_pass.h
+  // RaycastFrame::leafMaxima); a ray skips the data leaves that cannot raise its maximum. Empty: none is
+  // skipped.
   std::span<const float> leafMaxima;
 };
 
@@ -82,7 +83,7 @@ struct MirrorLeafVisit {
   bool firstLeaf = false;  // the ray's first leaf: sampled from t0 (docs/RENDERING.md "Rays")
   double dt = 0.0;         // the leaf's step
   double kBegin = 0.0;     // its first sample index on the grid t0 + k dt
-  // MIP: the leaf's largest value less the ray's maximum before it (<= 0: skipped); +inf when not known.
+  // MIP, MinIP: the leaf's bound less the ray's maximum before it (<= 0: skipped); +inf when not known.
   double maximumMargin = std::numeric_limits<double>::infinity();
   std::vector<MirrorSample> samples;  // the grid samples, then the one at the leaf's end, if traced
   size_t gridSampleCount() const { return samples.size() - (!samples.empty() && samples.back().atLeafEnd); }

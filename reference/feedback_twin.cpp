@@ -52,7 +52,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
                                 const CpuRenderInput& input, double voxelsPerPixel,
                                 const FeedbackTolerance& tol, uint32_t hitThreshold) {
   const bool iso = input.params.mode == RenderMode::Iso;
-  const bool mip = input.params.mode == RenderMode::Mip;  // rays that never end
+  const bool mip = isIntensityProjection(input.params.mode);  // rays that end only where nothing is left
   const double ert = input.params.ert;
   const glm::dvec3 spacing = volume.volume.spacing;
   const double cubeExtent = double(volume.layout.cubeSamples()) * std::max({spacing.x, spacing.y, spacing.z});

@@ -82,6 +82,11 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
     // where the function is transparent there: such a maximum hides smaller visible ones.
     return [tf](uint16_t, uint16_t hi) { return !tf->hasOpacity(0, hi); };
   }
+  if (params.mode == RenderMode::MinIp) {
+    // The same for the smallest value: a node whose values all lie above every value with opacity.
+    const uint32_t top = uint32_t(storedMaxOf(info.storedType));
+    return [tf, top](uint16_t lo, uint16_t) { return !tf->hasOpacity(lo, top); };
+  }
   return [tf](uint16_t lo, uint16_t hi) { return !tf->hasOpacity(lo, hi); };
 }
 
@@ -398,7 +403,7 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
   // Nothing opaque stops a maximum intensity projection's rays, so no box lies hidden behind them: no query.
   const bool occlusion =
-      visibility_ && !request.synchronous && !multipass && request.params.mode != RenderMode::Mip;
+      visibility_ && !request.synchronous && !multipass && !isIntensityProjection(request.params.mode);
   const bool feedback = feedback_ && !request.synchronous && !multipass;
 
   // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for
@@ -512,13 +517,20 @@ FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgress
 
   // Pass 6, ray cast, with the occlusion queries after the first tile and the rays' feedback.
   RaycastFrame frame = raycastFrame(request, request.width, request.height);
-  if (request.params.mode == RenderMode::Mip) {
-    // Each leaf's largest value (its node's maximum): a ray skips the leaves that cannot raise its maximum.
+  if (isIntensityProjection(request.params.mode)) {
+    // Each leaf's largest value (its node's maximum; MinIP: minus its minimum): a ray skips the leaves that
+    // cannot raise its maximum.
     const double storedMax = storedMaxOf(source_.info().storedType);
+    const bool minimum = request.params.mode == RenderMode::MinIp;
     leafMaxima_.clear();
-    for (const PlannedLeaf& leaf : plan.leaves)
-      leafMaxima_.push_back(
-          leaf.content == LeafContent::Brick ? float(source_.node(leaf.key).maxValue / storedMax) : 0.0f);
+    for (const PlannedLeaf& leaf : plan.leaves) {
+      if (leaf.content != LeafContent::Brick) {
+        leafMaxima_.push_back(-1.0f);
+        continue;
+      }
+      const NodeInfo node = source_.node(leaf.key);
+      leafMaxima_.push_back(minimum ? float(-node.minValue / storedMax) : float(node.maxValue / storedMax));
+    }
     frame.leafMaxima = leafMaxima_;
   }
   if (castFeedback) {

@@ -252,7 +252,8 @@ class FrameRenderer {
 };
 
 // The refinement's emptiness test for a mode: iso: the node's stored range misses the isovalue; DVR: the
-// transfer function gives no value of the range any opacity; MIP: nor any value up to the range's maximum.
+// transfer function gives no value of the range any opacity; MIP: nor any value up to the range's maximum;
+// MinIP: nor any from the range's minimum up.
 EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInfo& info, const TfTable* tf);
 
 }  // namespace ropecast

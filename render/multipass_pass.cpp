@@ -218,7 +218,7 @@ void MultipassPass::render(const RaycastFrame& f, std::vector<MultipassLeaf> lea
     }
     glProgramUniform3f(block.id(), kLeafBoxMinLocation, cubeMin.x, cubeMin.y, cubeMin.z);
     glProgramUniform2ui(block.id(), kLeafLocation, leaf.key.depth, leaf.slot);
-    if (f.params.mode == RenderMode::Mip) glProgramUniform1f(block.id(), kLeafMaxLocation, leaf.maxValue);
+    if (isIntensityProjection(f.params.mode)) glProgramUniform1f(block.id(), kLeafMaxLocation, leaf.maxValue);
 
     // Block: the leaf's samples into the images, where no ray has ended (early depth test, no depth write).
     block.use();

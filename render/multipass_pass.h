@@ -41,8 +41,8 @@ namespace ropecast {
 struct MultipassLeaf {
   NodeKey key;
   uint32_t slot = 0;
-  // MIP: the leaf's largest value (as RaycastFrame::leafMaxima); its block leaves a pixel whose maximum is at
-  // least this alone.
+  // MIP and MinIP: the leaf's bound (as RaycastFrame::leafMaxima); its block leaves a pixel whose maximum is
+  // at least this alone.
   float maxValue = 1.0f;
 };
 

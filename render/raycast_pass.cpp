@@ -117,7 +117,7 @@ RaycastBlock raycastFrameBlock(const RaycastFrame& f) {
   const double tanHalfFov = std::tan(glm::radians(f.camera.fovYDeg) * 0.5);
   b.feedbackRequestDistance = float(f.voxelsPerPixel * maxSpacing * double(f.height) / (2.0 * tanHalfFov));
   b.feedbackMinDistance = float(0.5 * minSpacing);
-  const bool maxima = f.params.mode == RenderMode::Mip && !f.leafMaxima.empty();
+  const bool maxima = isIntensityProjection(f.params.mode) && !f.leafMaxima.empty();
   b.leafMaximaCount = maxima ? uint32_t(f.leafMaxima.size()) : 0u;
   if (maxima) b.leafMaximaLargest = *std::max_element(f.leafMaxima.begin(), f.leafMaxima.end());
   return b;
@@ -180,7 +180,7 @@ void RaycastPass::render(const RaycastFrame& f, const TileSchedule& schedule) {
   }
   const ShaderProgram& p = program(f.params, f.feedback != nullptr);
   if (f.tf) uploadTf(tfTexture_, *f.tf);
-  if (f.params.mode == RenderMode::Mip) {
+  if (isIntensityProjection(f.params.mode)) {
     leafMaximaWords_.resize(f.leafMaxima.size());
     std::transform(f.leafMaxima.begin(), f.leafMaxima.end(), leafMaximaWords_.begin(),
                    [](float v) { return std::bit_cast<uint32_t>(v); });
@@ -261,7 +261,7 @@ void RaycastPass::bindForCasting(const RaycastFrame& f, const ShaderProgram& p) 
   glBindTextureUnit(kRaycastTfUnit, tfTexture_);
   f.index->bind(kRaycastRopeIndexUnit);
   if (usesStoredGradients(f.params)) glBindTextureUnit(kRaycastSampleUnit, f.gradients->texture());
-  if (f.params.mode == RenderMode::Mip) leafMaxima_->bind(kRaycastLeafMaximaUnit);
+  if (isIntensityProjection(f.params.mode)) leafMaxima_->bind(kRaycastLeafMaximaUnit);
   if (f.feedback) f.feedback->bind();
   blockBuffer_.bind();
   p.use();

@@ -71,9 +71,10 @@ struct RaycastFrame {
   FeedbackBuffer* feedback = nullptr;
   double voxelsPerPixel = 1.0;
   // MIP: per leaf of the cut (RopeLeaf.leafIndex), the largest value its node holds, normalized as the
-  // samples are (stored / storedMax; a bound on every sample of its brick, borders included). A ray skips a
-  // data leaf whose largest value cannot raise its maximum (docs/RENDERING.md "Maximum intensity
-  // projection"). Empty: no leaf is skipped. Only read in MIP mode; must outlive render().
+  // samples are (stored / storedMax; a bound on every sample of its brick, borders included); MinIP: minus
+  // its smallest value (the largest of -v). A ray skips a data leaf whose bound cannot raise its maximum
+  // (docs/RENDERING.md "Maximum intensity projection"). Empty: no leaf is skipped. Only read in the
+  // projection modes; must outlive render().
   std::span<const float> leafMaxima;
 };
 

@@ -30,6 +30,7 @@ std::vector<std::string> raycastDefines(const RenderParams& params) {
       params.mode == RenderMode::Iso   ? "RAYCAST_MODE_ISO"
       : params.mode == RenderMode::Dvr ? "RAYCAST_MODE_DVR"
                                        : "RAYCAST_MODE_MIP",
+      floatDefine("MIP_SIGN", projectionSign(params.mode)),
       "BRICK_BORDER " + std::to_string(kBrickBorder),
       "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
       floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),

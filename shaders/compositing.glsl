@@ -140,21 +140,22 @@ RayResult dvrResult(DvrAccum acc) {
   return RayResult(vec4(acc.color + (1.0 - acc.alpha) * raycast.background, acc.alpha), acc.depth, stopDepth);
 }
 
-// Maximum intensity projection: the largest value along the ray and the first sample that reached it (front
-// to back, so a plateau's nearest sample gives the depth). A later sample may be larger: the walk ends a ray
-// only when its maximum can grow no more (shaders/raycast_common.glsl).
+// Maximum intensity projection (MIP_SIGN 1) and minimum intensity projection (MIP_SIGN -1, the largest of
+// -v): the largest signed value MIP_SIGN v along the ray and the first sample that reached it (front to back,
+// so a plateau's nearest sample gives the depth). A later sample may be larger: the walk ends a ray only when
+// its maximum can grow no more (shaders/raycast_common.glsl).
 struct MipMax {
-  float value;  // -1 before the first sample (values lie in [0, 1])
+  float value;  // of MIP_SIGN v, in [-1, 1]; -2 before the first sample
   float t;
 };
 
-MipMax mipBegin() { return MipMax(-1.0, kInfinity); }
+MipMax mipBegin() { return MipMax(-2.0, kInfinity); }
 
 // Takes samples k in [kBegin, kEnd) of a segment.
 void marchMip(inout MipMax m, Segment s, float t0, float kBegin, float kEnd) {
   for (float k = kBegin; k < kEnd; k += 1.0) {
     float t = t0 + k * s.dt;
-    float v = sampleValue(segmentCoord(s, t));
+    float v = MIP_SIGN * sampleValue(segmentCoord(s, t));
     if (v > m.value) {
       m.value = v;
       m.t = t;
@@ -162,12 +163,12 @@ void marchMip(inout MipMax m, Segment s, float t0, float kBegin, float kEnd) {
   }
 }
 
-// The largest value through the transfer function, over the background by its opacity (not corrected for a
-// step: it is one value, not a stretch of the ray). A ray whose maximum the function leaves transparent
-// shows the background and has no depth. Its stop depth is infinite: nothing opaque stopped it, so it hides no
+// The projected value through the transfer function, over the background by its opacity (not corrected for
+// a step: it is one value, not a stretch of the ray). A ray whose value the function leaves transparent shows
+// the background and has no depth. Its stop depth is infinite: nothing opaque stopped it, so it hides no
 // occlusion query's box.
 RayResult mipResult(MipMax m, float depthPerT) {
-  vec4 tf = m.value >= 0.0 ? transferFunction(m.value) : vec4(0.0);
+  vec4 tf = m.value >= -1.0 ? transferFunction(MIP_SIGN * m.value) : vec4(0.0);
   if (!(tf.a > 0.0)) return missedRay();
   return RayResult(vec4(tf.a * tf.rgb + (1.0 - tf.a) * raycast.background, tf.a), m.t * depthPerT, kInfinity);
 }

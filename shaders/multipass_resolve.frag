@@ -17,7 +17,7 @@ void main() {
   vec4 state = imageLoad(uMarch, pixel);
   float depth = imageLoad(uDepth, pixel).r;
   // The depth of the maximum is stored, not its t: one unit along the camera axis per unit "t".
-  RayResult r = mipResult(MipMax(state.y != 0.0 ? state.x : -1.0, depth), 1.0);
+  RayResult r = mipResult(MipMax(state.y != 0.0 ? state.x : mipBegin().value, depth), 1.0);
   imageStore(uAccum, pixel, r.color);
   imageStore(uDepth, pixel, vec4(r.depth));
 }

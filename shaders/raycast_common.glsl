@@ -4,7 +4,8 @@
 // (shaders/rope_traversal.glsl); empty leaves are skipped, and each data leaf is one segment sampled at the
 // leaf's level on the step grid anchored at the volume entry. No #version line: the entry point has it.
 //
-// Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR or _MIP;
+// Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR or _MIP (MIP_SIGN
+// 1, or -1 for a minimum intensity projection);
 // BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_STORED_GRADIENTS (DVR samples
 // a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the leaves they used and request finer
 // ones, shaders/feedback.glsl).
@@ -17,7 +18,7 @@
 #endif
 
 #ifdef RAYCAST_MODE_MIP
-// Each leaf's largest value (render/raycast_pass.h RaycastFrame::leafMaxima), as float bits.
+// Each leaf's largest value of MIP_SIGN v (render/raycast_pass.h RaycastFrame::leafMaxima), as float bits.
 layout(binding = kRaycastLeafMaximaUnit) uniform usamplerBuffer uLeafMaxima;
 
 // Whether no sample of the leaf can raise the ray's maximum: its largest value is no larger. Such a leaf is

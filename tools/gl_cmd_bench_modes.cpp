@@ -238,9 +238,9 @@ int runModesBench(const Options& o) {
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   request.params.isoValue = o.iso.value_or(0.5 * (lo + hi));
   std::optional<TfTable> tf;
-  const std::string tfSpec = !o.tf.empty()               ? o.tf
-                             : o.mode == RenderMode::Mip ? defaultTfSpec(o.mode)
-                                                         : "ct-soft";
+  const std::string tfSpec = !o.tf.empty()                   ? o.tf
+                             : isIntensityProjection(o.mode) ? defaultTfSpec(o.mode)
+                                                             : "ct-soft";
   const TransferFunction function = TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info));
   if (usesTransferFunction(o.mode)) {
     tf = TfTable::bake(function, info.mapping, storedMax);

@@ -232,11 +232,11 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
   };
   if (o.mode == RenderMode::Dvr) warn({"--iso"}, "with --mode dvr (the transfer function decides)");
   if (o.mode == RenderMode::Iso) warn({"--tf", "--ert", "--gradients"}, "with --mode iso");
-  if (o.mode == RenderMode::Mip) {
-    warn({"--iso", "--ert", "--gradients"},
-         "with --mode mip (the largest value through the transfer function)");
+  if (isIntensityProjection(o.mode)) {
+    const std::string mode = "with --mode " + std::string(renderModeName(o.mode));
+    warn({"--iso", "--ert", "--gradients"}, mode + " (one value per ray through the transfer function)");
     warn({"--occlusion", "--query-budget", "--visibility-threshold"},
-         "with --mode mip (nothing opaque stops its rays: no occlusion queries)");
+         mode + " (nothing opaque stops its rays: no occlusion queries)");
   }
   if (o.reference || o.backend == RenderBackend::Brute)
     warn({"--voxels-per-pixel", "--gpu-budget", "--cpu-cache", "--upload-budget", "--upload-time-budget",

@@ -25,7 +25,7 @@ const std::vector<std::pair<std::string, RenderMode>> kModeNames = [] {
   return names;
 }();
 const char* const kModeHelp =
-    "iso: isosurface; dvr: direct volume rendering; mip: maximum intensity projection";
+    "iso: isosurface; dvr: direct volume rendering; mip, minip: maximum, minimum intensity projection";
 const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
@@ -291,8 +291,8 @@ std::string tfOptionHelp(const std::string& defaultText) {
 }
 
 std::string defaultTfSpec(RenderMode mode) {
-  return std::string(mode == RenderMode::Mip ? TransferFunction::kMipDefaultPreset
-                                             : TransferFunction::kDefaultPreset);
+  return std::string(isIntensityProjection(mode) ? TransferFunction::kMipDefaultPreset
+                                                 : TransferFunction::kDefaultPreset);
 }
 
 TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode) {

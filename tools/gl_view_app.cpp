@@ -697,6 +697,8 @@ void Viewer::drawPanels() {
     ImGui::RadioButton("DVR", &mode, int(RenderMode::Dvr));
     ImGui::SameLine();
     ImGui::RadioButton("MIP", &mode, int(RenderMode::Mip));
+    ImGui::SameLine();
+    ImGui::RadioButton("MinIP", &mode, int(RenderMode::MinIp));
     if (mode != int(params_.mode)) setMode(RenderMode(mode));
     double iso = params_.isoValue;
     if (ImGui::SliderScalar("isovalue", ImGuiDataType_Double, &iso, &valueRange_.first, &valueRange_.second,

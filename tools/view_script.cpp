@@ -206,7 +206,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       const std::string mode = r.text("mode");
       const auto named = std::find_if(kRenderModeNames.begin(), kRenderModeNames.end(),
                                       [&mode](const auto& entry) { return entry.first == mode; });
-      if (named == kRenderModeNames.end()) r.fail("\"mode\" must be iso, dvr or mip, got \"" + mode + "\"");
+      if (named == kRenderModeNames.end())
+        r.fail("\"mode\" must be iso, dvr, mip or minip, got \"" + mode + "\"");
       e.mode = named->second;
       add(e);
     } else if (kind == "set_crop") {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -297,58 +298,65 @@ TEST(CpuRaycaster, DvrOfAConstantVolumeHasTheAnalyticOpacity) {
   EXPECT_LT(droppedEntrySamples, checked / 4);
 }
 
-// A Gaussian peak over a floor: along each ray the largest value is the peak's at the ray's nearest approach
-// to its center, and lies there. Through a gray ramp, opaque everywhere, the pixel is that value.
-TEST(CpuRaycaster, MipShowsEachRaysLargestValueWhereItLies) {
+// A Gaussian peak over a floor (MIP), and a Gaussian dip under a ceiling (MinIP): along each ray the largest
+// (smallest) value is the peak's (dip's) at the ray's nearest approach to its center, and lies there. Through
+// a gray ramp, opaque everywhere, the pixel is that value.
+TEST(CpuRaycaster, ProjectionsShowEachRaysExtremeValueWhereItLies) {
   const glm::dvec3 center(20.0, 13.0, 17.0);
   const double sigma = 7.0;
-  const auto peak = [center, sigma](glm::dvec3 p) {
+  const auto gaussian = [center, sigma](glm::dvec3 p) {
     const glm::dvec3 d = p - center;
-    return 2000.0 + 20000.0 * std::exp(-glm::dot(d, d) / (sigma * sigma));
+    return 20000.0 * std::exp(-glm::dot(d, d) / (sigma * sigma));
   };
-  const FunctionBricks src({40, 26, 34}, 8, SampleType::UInt16, glm::dvec3(1.0), peak);
-  const TfTable tf =
-      TfTable::bake(TransferFunction({{0.0, {0.0, 0.0, 0.0, 1.0}}, {25000.0, {1.0, 1.0, 1.0, 1.0}}}),
-                    src.info().mapping, 65535);
-  CpuRenderInput in;
-  in.camera = orbitCamera(35.0, 25.0, 2.0, glm::dvec3(0.0), glm::dvec3(40, 26, 34), 35.0);
-  in.width = in.height = 48;
-  in.params.mode = RenderMode::Mip;
-  in.params.background = {0.0, 0.0, 1.0};
-  in.tf = &tf;
-  const glm::dvec3 forward = cameraFrame(in.camera).forward;
-  for (const CpuImage& image :
-       {ReferenceRenderer(src).render(in), renderMirrorOfCut(src, level0Cut(src.info().layout), in)}) {
-    int checked = 0, nearCenter = 0;
-    for (uint32_t y = 0; y < in.height; ++y)
-      for (uint32_t x = 0; x < in.width; ++x) {
-        const Ray ray = pixelRay(in.camera, in.width, in.height, x, y);
-        const double tNearest = glm::dot(center - ray.origin, ray.dir);
-        const glm::dvec3 nearest = ray.origin + tNearest * ray.dir;
-        const glm::vec4 px = image.pixel(x, y);
-        if (px.a == 0.0f) {
-          EXPECT_EQ(px.b, 1.0f);  // the background: a ray that missed the volume
-          continue;
+  for (RenderMode mode : {RenderMode::Mip, RenderMode::MinIp}) {
+    const double sign = projectionSign(mode);
+    // MIP: 2000 + g; MinIP: 23000 - g.
+    const auto value = [&gaussian, sign](glm::dvec3 p) { return 12500.0 + sign * (gaussian(p) - 10500.0); };
+    const FunctionBricks src({40, 26, 34}, 8, SampleType::UInt16, glm::dvec3(1.0), value);
+    const TfTable tf =
+        TfTable::bake(TransferFunction({{0.0, {0.0, 0.0, 0.0, 1.0}}, {25000.0, {1.0, 1.0, 1.0, 1.0}}}),
+                      src.info().mapping, 65535);
+    CpuRenderInput in;
+    in.camera = orbitCamera(35.0, 25.0, 2.0, glm::dvec3(0.0), glm::dvec3(40, 26, 34), 35.0);
+    in.width = in.height = 48;
+    in.params.mode = mode;
+    in.params.background = {0.0, 0.0, 1.0};
+    in.tf = &tf;
+    const glm::dvec3 forward = cameraFrame(in.camera).forward;
+    const std::string what(renderModeName(mode));
+    for (const CpuImage& image :
+         {ReferenceRenderer(src).render(in), renderMirrorOfCut(src, level0Cut(src.info().layout), in)}) {
+      int checked = 0, nearCenter = 0;
+      for (uint32_t y = 0; y < in.height; ++y)
+        for (uint32_t x = 0; x < in.width; ++x) {
+          const Ray ray = pixelRay(in.camera, in.width, in.height, x, y);
+          const double tNearest = glm::dot(center - ray.origin, ray.dir);
+          const glm::dvec3 nearest = ray.origin + tNearest * ray.dir;
+          const glm::vec4 px = image.pixel(x, y);
+          if (px.a == 0.0f) {
+            EXPECT_EQ(px.b, 1.0f) << what;  // the background: a ray that missed the volume
+            continue;
+          }
+          // Rays whose nearest approach lies well inside the volume (their extreme is not at its face).
+          if (glm::any(glm::lessThan(nearest, glm::dvec3(2.0))) ||
+              glm::any(glm::greaterThan(nearest, glm::dvec3(38, 24, 32))))
+            continue;
+          // Trilinear interpolation flattens the peak by up to h^2/8 of its second derivative per axis,
+          // 3 (2 20000 / sigma^2) / 8 = 306 at the top; the step misses it by less.
+          EXPECT_NEAR(px.r * 25000.0, value(nearest), 400.0) << what << " " << x << "," << y;
+          EXPECT_EQ(px.a, 1.0f) << what;
+          ++checked;
+          // Far from the center the value along the ray is nearly flat, and the first sample of its extreme
+          // stored (rounded) value may lie anywhere on the flat part; near it, within a voxel or two.
+          if (gaussian(nearest) > 10000.0) {
+            EXPECT_NEAR(image.depth[y * in.width + x], glm::dot(nearest - in.camera.eye, forward), 2.0)
+                << what << " " << x << "," << y;
+            ++nearCenter;
+          }
         }
-        // Rays whose nearest approach lies well inside the volume (their maximum is not at its face).
-        if (glm::any(glm::lessThan(nearest, glm::dvec3(2.0))) ||
-            glm::any(glm::greaterThan(nearest, glm::dvec3(38, 24, 32))))
-          continue;
-        // Trilinear interpolation flattens the peak by up to h^2/8 of its second derivative per axis,
-        // 3 (2 20000 / sigma^2) / 8 = 306 at the top; the step misses it by less.
-        EXPECT_NEAR(px.r * 25000.0, peak(nearest), 400.0) << x << "," << y;
-        EXPECT_EQ(px.a, 1.0f);
-        ++checked;
-        // Far from the center the value along the ray is nearly flat, and the first sample of its largest
-        // stored (rounded) value may lie anywhere on the flat part; near it, within a voxel or two.
-        if (peak(nearest) > 12000.0) {
-          EXPECT_NEAR(image.depth[y * in.width + x], glm::dot(nearest - in.camera.eye, forward), 2.0)
-              << x << "," << y;
-          ++nearCenter;
-        }
-      }
-    EXPECT_GT(checked, 500);
-    EXPECT_GT(nearCenter, 50);
+      EXPECT_GT(checked, 500) << what;
+      EXPECT_GT(nearCenter, 50) << what;
+    }
   }
 }
 

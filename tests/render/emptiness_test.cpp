@@ -58,8 +58,22 @@ TEST(Emptiness, MipSkipsOnlyTheRangesBelowEveryOpaqueValue) {
   EXPECT_FALSE(isEmpty(170, 250));
 }
 
-TEST(Emptiness, DvrAndMipNeedATransferFunction) {
-  for (RenderMode mode : {RenderMode::Dvr, RenderMode::Mip}) {
+// A minimum intensity projection alike, from the other end: a node whose values all lie above every opaque
+// value is empty; one whose values lie below the band is not.
+TEST(Emptiness, MinIpSkipsOnlyTheRangesAboveEveryOpaqueValue) {
+  const TfTable tf = bandTf();
+  RenderParams params;
+  params.mode = RenderMode::MinIp;
+  const EmptinessPredicate isEmpty = emptinessFor(params, uint8Info(), &tf);
+  EXPECT_TRUE(isEmpty(170, 250));
+  EXPECT_TRUE(isEmpty(200, 255));
+  EXPECT_FALSE(isEmpty(120, 200));
+  EXPECT_FALSE(isEmpty(120, 130));
+  EXPECT_FALSE(isEmpty(0, 50));
+}
+
+TEST(Emptiness, DvrAndProjectionsNeedATransferFunction) {
+  for (RenderMode mode : {RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp}) {
     RenderParams params;
     params.mode = mode;
     EXPECT_THROW(emptinessFor(params, uint8Info(), nullptr), Error) << renderModeName(mode);

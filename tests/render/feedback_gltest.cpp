@@ -200,8 +200,9 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
     const glm::dvec3 volumeMax = glm::dvec3(spec.dims) * spec.spacing;
     for (const CameraCase& cam : randomCameras(seed, volumeMax)) {
       // Iso at a step above a voxel too, where a leaf's end takes a sample (docs/RENDERING.md "Isosurface").
-      for (auto [mode, step] : {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5},
-                                std::pair{RenderMode::Iso, 2.5}, std::pair{RenderMode::Mip, 0.5}}) {
+      for (auto [mode, step] :
+           {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5}, std::pair{RenderMode::Iso, 2.5},
+            std::pair{RenderMode::Mip, 0.5}, std::pair{RenderMode::MinIp, 0.5}}) {
         RaycastFrame frame;
         frame.camera = cam.camera;
         frame.width = 96;
@@ -212,7 +213,8 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
         frame.params.ert = 0.95;
         if (crop) frame.params.crop = *crop;
         frame.tf = &tf;
-        frame.leafMaxima = scene.leafMaxima;
+        const std::vector<float> bounds = scene.leafBounds(mode);
+        frame.leafMaxima = bounds;
         // A target at which level-1 leaves are fine enough beyond the volume's center and too coarse before
         // it.
         const double centerDistance = std::max(glm::length(cam.camera.eye - 0.5 * volumeMax), 10.0);
@@ -386,36 +388,11 @@ TEST(Feedback, ALeafBehindAnOpaqueSurfaceIsNeitherUsedNorRequested) {
     }
 }
 
-// Without the leaves' maxima a maximum intensity projection's rays go through the same wall: they use the
-// leaves behind it too, and stop in none (no hit, whatever the threshold).
-TEST(Feedback, MipRaysUseTheLeavesBehindAWallAndStopInNone) {
-  const test::GlScene scene = test::buildScene(wallScene());
-  const TfTable tf = wallTf();
-  for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
-    RaycastFrame frame = frameLookingAlongX(52.0, 1.0);
-    frame.params.mode = RenderMode::Mip;
-    frame.params.backend = backend;
-    frame.tf = &tf;
-    RaycastPass pass;
-    const FeedbackReadback gpu = renderWithFeedback(pass, scene, frame, {}, 1);
-    const std::string what = std::string("mip ") + std::string(renderBackendName(backend));
-    std::set<uint32_t> columns;
-    for (uint32_t leaf : gpu.usedLeaves) columns.insert(scene.cut.leaves[leaf].coord.x);
-    EXPECT_EQ(columns, (std::set<uint32_t>{0u, 1u})) << what << ": the leaves before and behind the wall";
-    EXPECT_TRUE(gpu.hitLeaves.empty()) << what;
-    // Every ray's maximum is the wall's 1, through the function's opaque white.
-    const FloatImage color = pass.readColor();
-    for (uint32_t i = 0; i < frame.width * frame.height; ++i)
-      ASSERT_GE(color.pixels[4 * i + 3], 0.99f) << what;
-    expectEqualSets(
-        gpu, mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 1).sure,
-        what);
-  }
-}
-
-// The leaves whose largest value cannot raise a ray's maximum are skipped: the same image, and those leaves,
-// hidden by a brighter one in front, are not used (MIP's counterpart of occlusion). A wall of 1 in the front
-// leaves, values of at most 0.4 behind: with the leaves' maxima only the front column is used.
+// A maximum intensity projection's rays stop in no leaf (no hit, whatever the threshold). Without the leaves'
+// maxima they go through a wall and use the leaves behind it too; with them, the leaves whose largest value
+// cannot raise a ray's maximum are skipped: the same image, and those leaves, hidden by a brighter one in
+// front, are not used (MIP's counterpart of occlusion). A wall of 1 in the front leaves, values of at most
+// 0.4 behind.
 TEST(Feedback, MipSkipsTheLeavesItsMaximumHides) {
   SceneSpec spec = coarseScene();
   spec.value = [](glm::dvec3 x) { return x.x >= 20.0 ? 1.0 : 0.4 * x.x / 20.0; };
@@ -429,10 +406,11 @@ TEST(Feedback, MipSkipsTheLeavesItsMaximumHides) {
     frame.params.backend = backend;
     frame.tf = &tf;
     RaycastPass pass;
-    const FeedbackReadback all = renderWithFeedback(pass, scene, frame);
+    const FeedbackReadback all = renderWithFeedback(pass, scene, frame, {}, 1);
     const FloatImage color = pass.readColor(), depth = pass.readDepth();
-    frame.leafMaxima = scene.leafMaxima;
-    const FeedbackReadback skipping = renderWithFeedback(pass, scene, frame);
+    const std::vector<float> bounds = scene.leafBounds(RenderMode::Mip);
+    frame.leafMaxima = bounds;
+    const FeedbackReadback skipping = renderWithFeedback(pass, scene, frame, {}, 1);
     const std::string what = std::string("mip ") + std::string(renderBackendName(backend));
     EXPECT_EQ(test::maxAbsDifference(color, pass.readColor(), 4), 0.0) << what;
     EXPECT_EQ(test::maxAbsDifference(depth, pass.readDepth(), 1), 0.0) << what;
@@ -442,9 +420,14 @@ TEST(Feedback, MipSkipsTheLeavesItsMaximumHides) {
     EXPECT_EQ(columnsAll, (std::set<uint32_t>{0u, 1u})) << what;
     EXPECT_EQ(columnsSkipping, (std::set<uint32_t>{1u}))
         << what << ": the leaves behind the wall were sampled";
+    EXPECT_TRUE(all.hitLeaves.empty()) << what;
+    EXPECT_TRUE(skipping.hitLeaves.empty()) << what;
+    // Every ray's maximum is the wall's 1, through the function's opaque white.
+    for (uint32_t i = 0; i < frame.width * frame.height; ++i)
+      ASSERT_EQ(color.pixels[4 * i + 3], 1.0f) << what;
     expectEqualSets(
         skipping,
-        mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 0).sure,
+        mirrorFeedback(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame), 1.0, {}, 1).sure,
         what);
   }
 }

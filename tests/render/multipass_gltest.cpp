@@ -70,7 +70,13 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
     request.params.clipPlane = {0.5 * info.volume.worldMax(), glm::normalize(glm::dvec3(-1.0, 0.4, -0.5))};
   }
   std::optional<TfTable> tf;
-  if (usesTransferFunction(c.mode)) {
+  if (c.mode == RenderMode::MinIp) {
+    // Opaque over the whole range: a ray's smallest value shows wherever it lies.
+    tf = TfTable::bake(
+        TransferFunction({TfPoint{lo, {0.0, 0.0, 0.0, 1.0}}, TfPoint{hi, {1.0, 1.0, 1.0, 1.0}}}),
+        info.mapping, storedMaxOf(info.storedType));
+    request.tf = &*tf;
+  } else if (usesTransferFunction(c.mode)) {
     const std::string preset = c.mode == RenderMode::Mip ? "gray" : "ct-soft";
     tf = TfTable::bake(TransferFunction::fromSpec(preset, tfDataRangeFor(info)), info.mapping,
                        storedMaxOf(info.storedType));
@@ -156,7 +162,9 @@ INSTANTIATE_TEST_SUITE_P(
                       MultipassCase{"procedural:noise:48", RenderMode::Dvr, true, false, true},
                       MultipassCase{"procedural:menger:54", RenderMode::Mip, false},
                       MultipassCase{"procedural:noise:48", RenderMode::Mip, false},
-                      MultipassCase{"procedural:sphere:64", RenderMode::Mip, false, false, true}),
+                      MultipassCase{"procedural:sphere:64", RenderMode::Mip, false, false, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::MinIp, false},
+                      MultipassCase{"procedural:sphere:64", RenderMode::MinIp, false, false, true}),
     [](const ::testing::TestParamInfo<MultipassCase>& info) {
       std::string name = multipassCaseName(info.param).substr(std::string("procedural:").size());
       for (char& ch : name)

@@ -60,6 +60,14 @@ SceneSpec wavyScene() {
   return spec;
 }
 
+// For a minimum intensity projection: opaque where the waves are low, fading out at their crests.
+TfTable wavyMinTf() {
+  return TfTable::bake(
+      TransferFunction({TfPoint{0, {0.1, 0.2, 0.9, 1.0}}, TfPoint{30000, {0.9, 0.7, 0.2, 0.6}},
+                        TfPoint{60000, {1.0, 1.0, 1.0, 0.0}}}),
+      ValueMapping{}, 65535);
+}
+
 // A transfer function that shows the waves' crests half transparent.
 TfTable wavyTf() {
   return TfTable::bake(
@@ -78,7 +86,7 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
   spec.emptyLeaf = [](const NodeKey& k) { return k.depth == 3 && (k.coord.x + k.coord.y) % 5 == 0; };
   const test::GlScene scene = test::buildScene(spec);
   ASSERT_LT(scene.minLeafDepth, scene.maxLeafDepth);
-  const TfTable tf = wavyTf();
+  const TfTable tf = wavyTf(), minTf = wavyMinTf();
 
   struct Variant {
     RenderMode mode;
@@ -90,7 +98,8 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
        {Variant{RenderMode::Iso, GradientSource::Computed},
         Variant{RenderMode::Iso, GradientSource::Computed, 2.5},
         Variant{RenderMode::Dvr, GradientSource::Computed}, Variant{RenderMode::Dvr, GradientSource::Stored},
-        Variant{RenderMode::Mip, GradientSource::Computed}}) {
+        Variant{RenderMode::Mip, GradientSource::Computed},
+        Variant{RenderMode::MinIp, GradientSource::Computed}}) {
     const RenderMode mode = v.mode;
     std::optional<FloatImage> plainWalk;  // DVR: the image of the walk without leaf batches
     for (auto [backend, leafBatch] :
@@ -106,8 +115,10 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       frame.params.backend = backend;
       frame.params.gradients = v.gradients;
       frame.params.stepVoxels = v.step;
-      frame.tf = &tf;
-      frame.leafMaxima = scene.leafMaxima;  // MIP skips the leaves below its maximum
+      frame.tf = mode == RenderMode::MinIp ? &minTf : &tf;
+      // The projections skip the leaves that cannot change them.
+      const std::vector<float> bounds = scene.leafBounds(mode);
+      frame.leafMaxima = bounds;
       RaycastPass pass;
       pass.setDvrLeafBatch(leafBatch);
       test::renderScene(pass, scene, frame);
@@ -151,7 +162,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
   SceneSpec spec = wavyScene();
   spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y + n.coord.z) % 2 == 0; };
   const test::GlScene scene = test::buildScene(spec);
-  const TfTable tf = wavyTf();
+  const TfTable tf = wavyTf(), minTf = wavyMinTf();
   CropBox crop;
   crop.lo = {7, 0, 5};  // voxels 7..29, 0..17, 5..25
   crop.hi = {30, 18, 26};
@@ -163,7 +174,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
   };
   for (const Cut cut :
        {Cut{"crop", true, false}, Cut{"plane", false, true}, Cut{"crop and plane", true, true}})
-    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip}) {
+    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp}) {
       for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
         RaycastFrame frame;
         frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
@@ -171,8 +182,9 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         frame.params.mode = mode;
         frame.params.isoValue = 0.6 * 65535;
         frame.params.backend = backend;
-        frame.tf = &tf;
-        frame.leafMaxima = scene.leafMaxima;
+        frame.tf = mode == RenderMode::MinIp ? &minTf : &tf;
+        const std::vector<float> bounds = scene.leafBounds(mode);
+        frame.leafMaxima = bounds;
         RaycastPass pass;
         test::renderScene(pass, scene, frame);
         const FloatImage whole = pass.readColor();

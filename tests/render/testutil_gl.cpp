@@ -118,14 +118,14 @@ GlScene buildScene(const SceneSpec& spec) {
   const double storedMax = storedMaxOf(spec.storedType);
   for (const NodeKey& k : leaves) {
     CutLeaf leaf{k.depth, k.coord, LeafKind::Empty, 0};
-    float leafMax = 0.0f;
+    float leafMax = -1.0f, leafMin = 2.0f;
     if (layout.isInside(k) && !(spec.emptyLeaf && spec.emptyLeaf(k))) {
       const uint32_t slot = uint32_t(scene.bricks.size());
       if (slot >= scene.pool->slotCount()) throw std::runtime_error("buildScene: pool too small");
       leaf.kind = LeafKind::Data;
       leaf.brickSlot = slot;
       std::vector<std::byte> brick = makeBrick(spec, layout, k);
-      uint32_t largest = 0;
+      uint32_t largest = 0, smallest = UINT32_MAX;
       for (size_t i = 0; i < layout.storedBrickSamples(); ++i) {
         uint16_t v = 0;
         if (spec.storedType == SampleType::UInt8)
@@ -133,8 +133,10 @@ GlScene buildScene(const SceneSpec& spec) {
         else
           std::memcpy(&v, &brick[2 * i], 2);
         largest = std::max<uint32_t>(largest, v);
+        smallest = std::min<uint32_t>(smallest, v);
       }
       leafMax = float(largest / storedMax);
+      leafMin = float(smallest / storedMax);
       scene.pool->upload(slot, brick);
       scene.bricks.emplace(slot, std::move(brick));
       ++scene.dataLeaves;
@@ -143,6 +145,7 @@ GlScene buildScene(const SceneSpec& spec) {
     }
     scene.cut.leaves.push_back(leaf);
     scene.leafMaxima.push_back(leafMax);
+    scene.leafMinima.push_back(leafMin);
   }
   scene.gradients = std::make_unique<GradientPool>(scene.pool->geometry().textureDims);
   std::vector<glm::u32vec3> origins;
@@ -153,6 +156,14 @@ GlScene buildScene(const SceneSpec& spec) {
   scene.indexTexture->upload(std::span<const uint32_t>(
       reinterpret_cast<const uint32_t*>(scene.index.texels.data()), scene.index.texels.size() * 4));
   return scene;
+}
+
+std::vector<float> GlScene::leafBounds(RenderMode mode) const {
+  if (mode == RenderMode::Mip) return leafMaxima;
+  std::vector<float> bounds;
+  if (mode == RenderMode::MinIp)
+    for (float v : leafMinima) bounds.push_back(-v);
+  return bounds;
 }
 
 CpuRenderInput cpuInputOf(const RaycastFrame& frame) {

@@ -67,9 +67,11 @@ struct GlScene {
   std::unique_ptr<IndexTexture> indexTexture;
   size_t dataLeaves = 0;
   uint32_t minLeafDepth = 0, maxLeafDepth = 0;
-  // Per leaf of the cut, the largest sample of its brick, normalized (RaycastFrame::leafMaxima; 0 for empty
+  // Per leaf of the cut, the largest and the smallest sample of its brick, normalized (-1 and 2 for empty
   // leaves).
-  std::vector<float> leafMaxima;
+  std::vector<float> leafMaxima, leafMinima;
+  // RaycastFrame::leafMaxima for `mode`: the maxima (MIP), minus the minima (MinIP); none for the others.
+  std::vector<float> leafBounds(RenderMode mode) const;
 };
 
 // Builds the bricks, the cut and its index, and uploads pool and index (needs the shared context).

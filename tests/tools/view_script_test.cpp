@@ -50,9 +50,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "save_camera", "file": "c.json"}, {"event": "wheel", "clicks": -2},
           {"event": "reset_camera"}, {"event": "wait_converged"}, {"event": "set_crop", "crop": "2:9, :,4:"},
           {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, -1]}, {"event": "set_clip_plane", "plane": []},
-          {"event": "set_mode", "mode": "mip"}])",
+          {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"}])",
       "t");
-  ASSERT_EQ(s.events.size(), 12u);
+  ASSERT_EQ(s.events.size(), 13u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -68,6 +68,7 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[9].plane, (std::vector<double>{1, 2, 3, 0, 0, -1}));
   EXPECT_TRUE(s.events[10].plane.empty());
   EXPECT_EQ(s.events[11].mode, RenderMode::Mip);
+  EXPECT_EQ(s.events[12].mode, RenderMode::MinIp);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -90,7 +91,7 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "spin"}])", "s.json: event 0 (spin): unknown event");
   expectRefused(R"([{"event": "quit"}, {"event": "set_iso"}])", "event 1 (set_iso): \"value\" is required");
   expectRefused(R"([{"event": "drag", "from": [0, 0], "to": [1]}])", "\"to\" must be [x, y]");
-  expectRefused(R"([{"event": "set_mode", "mode": "minip"}])", "\"mode\" must be iso, dvr or mip");
+  expectRefused(R"([{"event": "set_mode", "mode": "aip"}])", "\"mode\" must be iso, dvr, mip or minip");
   expectRefused(R"([{"event": "key", "key": "x"}])", "\"key\" must be one of w a s d q e r");
   expectRefused(R"([{"event": "quit", "at": -1}])", "\"at\" must not be negative");
   expectRefused(R"([{"event": "set_crop", "crop": "0:4,:"}])",
