@@ -61,7 +61,7 @@ struct Options {
   uint32_t reps = 3;
   RenderMode mode = RenderMode::Iso;
   std::optional<double> iso;
-  std::string tf;  // empty: ct-soft, or gray for a maximum intensity projection
+  std::string tf;  // empty: ct-soft, or gray for an intensity projection
   std::vector<uint32_t> size{512, 512};
   double step = 0.5;
   double voxelsPerPixel = 1.0;
@@ -460,7 +460,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip"))
+  app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip or minip"))
       ->check(notEmpty("a preset or a JSON file"));
   addImageSizeOption(app, "--size", o->size, "image size WxH (default 512x512)");
   app.add_option("--step", o->step, "sample distance in voxels of the level crossed")

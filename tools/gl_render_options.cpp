@@ -47,7 +47,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip"))
+  app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip or minip"))
       ->check(notEmpty("a preset or a JSON file"));
   addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
   CLI::Option* orbit =

@@ -83,7 +83,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
 // The transfer function of --tf (a preset or a JSON file; empty: the linear preset), placed for the data.
 // --tf's help: the presets, and what it defaults to.
 std::string tfOptionHelp(const std::string& defaultText);
-// The preset an absent --tf means in `mode` (gray for a maximum intensity projection, else linear).
+// The preset an absent --tf means in `mode` (gray for an intensity projection, else linear).
 std::string defaultTfSpec(RenderMode mode);
 // `--tf spec` placed for the data; an empty spec is the mode's default.
 TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode);
