@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <limits>
 #include <string_view>
 #include <utility>
@@ -14,6 +15,14 @@
 #include "core/world_box.h"
 
 namespace ropecast {
+
+// The name an enum value has in a table of (name, value) pairs; "?" for none.
+template <class Enum, size_t N>
+constexpr std::string_view nameIn(const std::array<std::pair<std::string_view, Enum>, N>& names, Enum value) {
+  for (const auto& [name, entry] : names)
+    if (entry == value) return name;
+  return "?";
+}
 
 // What a ray computes (docs/RENDERING.md): the first isosurface crossing, shaded; the transfer function's
 // colors composited front to back (direct volume rendering); or the largest or the smallest value along the
@@ -26,9 +35,7 @@ inline constexpr std::array<std::pair<std::string_view, RenderMode>, 4> kRenderM
      {"mip", RenderMode::Mip},
      {"minip", RenderMode::MinIp}}};
 constexpr std::string_view renderModeName(RenderMode mode) {
-  for (const auto& [name, value] : kRenderModeNames)
-    if (value == mode) return name;
-  return "?";
+  return nameIn(kRenderModeNames, mode);
 }
 // Whether the mode reads the transfer function (all but the isosurface).
 constexpr bool usesTransferFunction(RenderMode mode) {
@@ -57,9 +64,7 @@ inline constexpr std::array<std::pair<std::string_view, RenderBackend>, 5> kRend
      {"brute", RenderBackend::Brute},
      {"multipass", RenderBackend::Multipass}}};
 constexpr std::string_view renderBackendName(RenderBackend backend) {
-  for (const auto& [name, value] : kRenderBackendNames)
-    if (value == backend) return name;
-  return "?";
+  return nameIn(kRenderBackendNames, backend);
 }
 // Where a DVR sample's central-difference gradient comes from on the GPU: a texture of value and differences
 // derived at upload (render/gradient_pool.h: one lookup per sample, 8 more bytes per texel of GPU memory) or
