@@ -1,6 +1,6 @@
 // The GL ray caster against its CPU mirror (reference/cpu_raycaster renderMirror: the same cut, the same
-// bricks, the same sampling in double) at >= 45 dB PSNR, for iso, DVR and MIP, through both entry points; and
-// the isosurface of a sphere against its analytic silhouette.
+// bricks, the same sampling in double) at >= 45 dB PSNR, for iso, DVR, MIP and MinIP, through both entry
+// points; and the isosurface of a sphere against its analytic silhouette.
 #include <cmath>
 #include <limits>
 
