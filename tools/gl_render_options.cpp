@@ -19,11 +19,18 @@
 
 namespace ropecast::tools {
 
-const std::vector<std::pair<std::string, RenderMode>> kModeNames = [] {
-  std::vector<std::pair<std::string, RenderMode>> names;
-  for (const auto& [name, mode] : kRenderModeNames) names.emplace_back(name, mode);
+namespace {
+// A core name table as addEnumOption takes it.
+template <class Enum, size_t N>
+std::vector<std::pair<std::string, Enum>> optionNames(
+    const std::array<std::pair<std::string_view, Enum>, N>& table) {
+  std::vector<std::pair<std::string, Enum>> names;
+  for (const auto& [name, value] : table) names.emplace_back(name, value);
   return names;
-}();
+}
+}  // namespace
+
+const std::vector<std::pair<std::string, RenderMode>> kModeNames = optionNames(kRenderModeNames);
 const char* const kModeHelp =
     "iso: isosurface; dvr: direct volume rendering; mip, minip: maximum, minimum intensity projection";
 const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
@@ -36,9 +43,7 @@ const std::vector<std::pair<std::string, RenderBackend>> kBruteStageNames{
     {"compute", RenderBackend::Compute}};
 
 std::vector<std::pair<std::string, RenderBackend>> backendNames() {
-  std::vector<std::pair<std::string, RenderBackend>> names;
-  for (const auto& [name, backend] : kRenderBackendNames) names.emplace_back(name, backend);
-  return names;
+  return optionNames(kRenderBackendNames);
 }
 
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {

@@ -118,6 +118,7 @@ class Viewer {
 
  private:
   // Scene state the panels and the script change.
+  // A preset or file chosen by --tf, the panel or a script; empty: the mode's default, not a choice.
   void setTransferFunction(const std::string& spec);
   void setTransferFunction(TransferFunction function, const std::string& name);
   void setMode(RenderMode mode);
@@ -249,7 +250,6 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   voxelsPerPixel_ = o.voxelsPerPixel;
   targetFrameMs_ = o.targetFrameMs;
   setTransferFunction(o.tf);  // a bad --tf is an error in either mode, as in render
-  tfChosen_ = !o.tf.empty();
 
   const Camera initial = chooseCamera(o, info);
   if (!o.eye.empty()) {
@@ -315,6 +315,7 @@ void Viewer::setTransferFunction(const std::string& spec) {
   setTransferFunction(
       transferFunctionOf(spec, bricks().info(), params_.mode),
       spec.empty() ? defaultTfSpec(params_.mode) : std::filesystem::path(spec).filename().string());
+  tfChosen_ = !spec.empty();
 }
 
 void Viewer::setMode(RenderMode mode) {
@@ -580,7 +581,6 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
-      tfChosen_ = true;
       break;
     case ViewEventKind::Screenshot:
       if (e.panels)
@@ -724,7 +724,6 @@ void Viewer::drawPanels() {
       for (const std::string& name : TransferFunction::presetNames())
         if (ImGui::Selectable(name.c_str(), name == tfSpec_)) {
           setTransferFunction(name);
-          tfChosen_ = true;
           tfEditor_.deselect();
         }
       ImGui::EndCombo();
@@ -733,7 +732,6 @@ void Viewer::drawPanels() {
     if (ImGui::Button("load")) {
       try {
         setTransferFunction(tfPath_);
-        tfChosen_ = true;
         tfEditor_.deselect();
         message_ = "loaded " + tfPath_;
       } catch (const Error& e) {

@@ -204,11 +204,13 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else if (kind == "set_mode") {
       e.kind = ViewEventKind::SetMode;
       const std::string mode = r.text("mode");
-      const auto named = std::find_if(kRenderModeNames.begin(), kRenderModeNames.end(),
-                                      [&mode](const auto& entry) { return entry.first == mode; });
-      if (named == kRenderModeNames.end())
-        r.fail("\"mode\" must be iso, dvr, mip or minip, got \"" + mode + "\"");
-      e.mode = named->second;
+      std::vector<std::string> names;
+      for (const auto& [name, value] : kRenderModeNames) {
+        names.emplace_back(name);
+        if (name == mode) e.mode = value;
+      }
+      if (std::find(names.begin(), names.end(), mode) == names.end())
+        r.fail("\"mode\" must be " + alternatives(names) + ", got \"" + mode + "\"");
       add(e);
     } else if (kind == "set_crop") {
       e.kind = ViewEventKind::SetCrop;
