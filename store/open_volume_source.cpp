@@ -3,8 +3,8 @@
 //   .nii/.nii.gz/.hdr/.hdr.gz, or an .img(.gz) beside a .hdr(.gz) -> NIfTI; .vtk -> legacy VTK; .vti -> VTK
 //   image data; a pattern with * or ? -> image stack; a directory -> DICOM series if it holds DICOM files, or
 //   no slices and DICOM files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff ->
-//   multi-page TIFF (a single page alone is an error); a single .png or a store is an error; anything else ->
-//   raw.
+//   multi-page TIFF (a single page alone is an error); an HDF5 file (.h5, .hdf5, .ims, ... or its signature),
+//   alone or as FILE:/DATASET -> HDF5; a single .png or a store is an error; anything else -> raw.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -13,7 +13,9 @@
 
 #include "core/error.h"
 #include "core/file_names.h"
+#include "store/hdf5_spec.h"
 #include "store/source_dicom.h"
+#include "store/source_hdf5.h"
 #include "store/source_images.h"
 #include "store/source_metaimage.h"
 #include "store/source_nifti.h"
@@ -75,6 +77,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   if (isSlicePattern(spec)) {
     rejectRawOptions(spec, options, "a stack of image slices");
     return openImageStackSource(spec, options);
+  }
+  if (hdf5SpecOf(spec)) {
+    rejectRawOptions(spec, options, "an HDF5 dataset");
+    return openHdf5Source(spec, options);
   }
   std::error_code ec;
   const fs::file_status status = fs::status(spec, ec);
@@ -143,7 +149,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     throw Error(
         "openVolumeSource: " + spec +
         " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, VTK (.vtk, "
-        ".vti), image stacks, TIFF, DICOM); render, view "
+        ".vti), image stacks, TIFF, DICOM, HDF5); render, view "
         "and info read it as it is, and `ropecast extract` writes a level of it as a raw volume");
   return openRawSource(spec, options);
 }

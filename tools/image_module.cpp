@@ -2,6 +2,7 @@
 #include "tools/image_module.h"
 
 #include "store/source_dicom.h"
+#include "store/source_hdf5.h"
 #include "store/source_images.h"
 
 namespace {
@@ -14,6 +15,7 @@ const ropecast::tools::ImageModule kModule{
     .openImageStackSource = &ropecast::openImageStackSource,
     .openMultiPageTiffSource = &ropecast::openMultiPageTiffSource,
     .openDicomSource = &ropecast::openDicomSource,
+    .openHdf5Source = &ropecast::openHdf5Source,
     .checkRenderImage = &ropecast::tools::checkRenderImage,
     .compareWithGolden = &ropecast::tools::compareWithGolden,
 };

@@ -1,14 +1,14 @@
 // The image module: the parts of ropecast that read or write image files through OpenImageIO (image codecs,
-// image-stack sources, golden-image comparison) and GDCM (DICOM series), built as a shared module,
-// ropecast_images.so, that the ropecast executable loads the first time a command needs one. OpenImageIO
-// loads a few hundred shared libraries, which took the larger part of every start; commands that touch no
-// image (info, verify, convert from raw or NRRD, view without a screenshot) no longer load them
+// image-stack sources, golden-image comparison), GDCM (DICOM series) and HDF5 files, built as a shared
+// module, ropecast_images.so, that the ropecast executable loads the first time a command needs one.
+// OpenImageIO loads a few hundred shared libraries, which took the larger part of every start; commands that
+// touch no image (info, verify, convert from raw or NRRD, view without a screenshot) no longer load them
 // (docs/BENCHMARKS.md, "Start-up"). Test executables link those parts directly.
 //
 // The module links its own copy of core/ and store/, so it keeps no state of ropecast's: it makes no
 // TemporaryFile (whose removal on a signal lives in the executable's copy) and returns bytes and images for
 // the executable to write. Its sources do not change when it is reached this way: the executable defines the
-// functions of reference/image_codec.h, store/source_images.h, store/source_dicom.h and
+// functions of reference/image_codec.h, store/source_images.h, store/source_dicom.h, store/source_hdf5.h and
 // tools/regress_images.h that it uses as calls into this table (tools/image_module_client.cpp).
 //
 // Threads: imageModule() from any thread (the first call loads the module).
@@ -29,7 +29,7 @@ namespace ropecast::tools {
 // The module's functions, with the signatures of the declarations they implement.
 struct ImageModule {
   // This build's layout of the table: a module of another build is refused, not called.
-  static constexpr uint32_t kLayout = 2;
+  static constexpr uint32_t kLayout = 3;
   uint32_t layout = kLayout;
   uint32_t size = sizeof(ImageModule);
 
@@ -43,6 +43,7 @@ struct ImageModule {
   std::unique_ptr<VolumeSource> (*openMultiPageTiffSource)(const std::string& path,
                                                            const SourceOptions& options);
   std::unique_ptr<VolumeSource> (*openDicomSource)(const std::string& spec, const SourceOptions& options);
+  std::unique_ptr<VolumeSource> (*openHdf5Source)(const std::string& spec, const SourceOptions& options);
   void (*checkRenderImage)(const std::string& render);
   GoldenDifference (*compareWithGolden)(const std::string& golden, const std::string& render,
                                         double failingPixelError, FloatImage* difference);

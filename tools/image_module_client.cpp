@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "store/source_dicom.h"
+#include "store/source_hdf5.h"
 #include "store/source_images.h"
 #include "tools/image_module.h"
 
@@ -27,7 +28,7 @@ const ImageModule& loadImageModule() {
   for (const fs::path& candidate : candidates)
     if (!found && fs::is_regular_file(candidate, ec)) found = &candidate;
   const std::string need =
-      "image files (PNG, EXR, TIFF), image stacks and DICOM need ropecast's image module ";
+      "image files (PNG, EXR, TIFF), image stacks, DICOM and HDF5 need ropecast's image module ";
   if (!found)
     throw Error(need + kImageModuleFile + ", which is neither at " + candidates[0].string() + " nor at " +
                 candidates[1].string() + " (install it with ropecast, or rebuild)");
@@ -95,6 +96,10 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
 
 std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const SourceOptions& options) {
   return tools::imageModule().openDicomSource(spec, options);
+}
+
+std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const SourceOptions& options) {
+  return tools::imageModule().openHdf5Source(spec, options);
 }
 
 }  // namespace ropecast

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/file_names.h"
 #include "core/temporary_file.h"
+#include "store/hdf5_spec.h"
 #include "store/procedural.h"
 #include "store/source_dicom.h"
 #include "store/source_metaimage.h"
@@ -159,6 +160,7 @@ void OutputGuard::check() const {
 
 std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   if (isProceduralSpec(spec)) return {};
+  if (const std::optional<Hdf5Spec> hdf5 = hdf5SpecOf(spec)) return {hdf5->file};
   std::vector<std::string> files{spec};
   std::error_code ec;
   const bool folderGiven = fs::is_directory(spec, ec);

@@ -1,0 +1,463 @@
+#include "store/source_hdf5.h"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/error.h"
+#include "core/file_names.h"
+#include "store/hdf5_spec.h"
+
+namespace ropecast {
+namespace {
+
+// Where Imaris keeps the full resolution's first time point and channel, and the image's true size and
+// extents (its datasets are padded to whole chunks).
+constexpr const char* kImarisDataset = "/DataSet/ResolutionLevel 0/TimePoint 0/Channel 0/Data";
+constexpr const char* kImarisImageInfo = "/DataSetInfo/Image";
+
+// The chunk cache of a dataset read slab by slab holds one layer of its chunks (a slab thinner than a chunk
+// would otherwise decompress each chunk again for every slab it crosses), up to this much.
+constexpr size_t kMaxChunkCacheBytes = size_t(512) << 20;
+
+// The library prints its error stack to stderr unless told not to; ropecast says what failed itself. Per
+// thread in the thread-safe library, so every entry point calls it.
+void silenceHdf5Errors() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+// The innermost description on this thread's error stack (the most specific: "file signature not found"),
+// which it clears.
+std::string hdf5Problem() {
+  std::string text;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
+        if (n == 0 && error->desc) *static_cast<std::string*>(data) = error->desc;
+        return 0;
+      },
+      &text);
+  H5Eclear2(H5E_DEFAULT);
+  return text.empty() ? "the HDF5 library gives no reason" : text;
+}
+
+// An HDF5 identifier, closed with its kind's close function.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, -1)), close_(other.close_) {}
+  Handle& operator=(Handle&& other) noexcept {
+    std::swap(id_, other.id_);
+    std::swap(close_, other.close_);
+    return *this;
+  }
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  hid_t get() const { return id_; }
+  explicit operator bool() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = -1;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+// The sample type of an HDF5 datatype, or why it has none.
+struct TypeMatch {
+  std::optional<SampleType> type;
+  std::string problem;
+};
+
+TypeMatch sampleTypeOf(hid_t datatype) {
+  const H5T_class_t kind = H5Tget_class(datatype);
+  const size_t size = H5Tget_size(datatype);
+  if (kind == H5T_INTEGER) {
+    const bool isSigned = H5Tget_sign(datatype) == H5T_SGN_2;
+    switch (size) {
+      case 1:
+        return {isSigned ? SampleType::Int8 : SampleType::UInt8, ""};
+      case 2:
+        return {isSigned ? SampleType::Int16 : SampleType::UInt16, ""};
+      case 4:
+        return {isSigned ? SampleType::Int32 : SampleType::UInt32, ""};
+      default:
+        return {std::nullopt, std::to_string(size * 8) + "-bit integers (8, 16 and 32 bits are read)"};
+    }
+  }
+  if (kind == H5T_FLOAT) {
+    if (size == 4) return {SampleType::Float32, ""};
+    if (size == 8) return {SampleType::Float64, ""};
+    return {std::nullopt, std::to_string(size * 8) + "-bit floats (32 and 64 bits are read)"};
+  }
+  const char* name = kind == H5T_STRING      ? "strings"
+                     : kind == H5T_COMPOUND  ? "compound records"
+                     : kind == H5T_ENUM      ? "enumerations"
+                     : kind == H5T_ARRAY     ? "arrays per element"
+                     : kind == H5T_REFERENCE ? "references"
+                                             : "values that are not numbers";
+  return {std::nullopt, name};
+}
+
+hid_t memoryTypeOf(SampleType type) {
+  switch (type) {
+    case SampleType::UInt8:
+      return H5T_NATIVE_UINT8;
+    case SampleType::Int8:
+      return H5T_NATIVE_INT8;
+    case SampleType::UInt16:
+      return H5T_NATIVE_UINT16;
+    case SampleType::Int16:
+      return H5T_NATIVE_INT16;
+    case SampleType::UInt32:
+      return H5T_NATIVE_UINT32;
+    case SampleType::Int32:
+      return H5T_NATIVE_INT32;
+    case SampleType::Float32:
+      return H5T_NATIVE_FLOAT;
+    case SampleType::Float64:
+      return H5T_NATIVE_DOUBLE;
+  }
+  return H5T_NATIVE_UINT8;
+}
+
+std::string formatExtent(const std::vector<hsize_t>& extent) {
+  std::string text;
+  for (hsize_t n : extent) text += (text.empty() ? "" : "x") + std::to_string(n);
+  return text.empty() ? "a scalar" : text;
+}
+
+// A dataset's shape as a volume: which three of its axes are z, y and x, or why it is not one.
+struct VolumeShape {
+  std::vector<hsize_t> extent;  // every axis, in HDF5's order
+  std::array<int, 3> axes{};    // z, y, x
+  std::optional<SampleType> type;
+  std::string problem;  // empty when it is a volume
+};
+
+VolumeShape volumeShapeOf(hid_t dataset) {
+  VolumeShape shape;
+  const Handle datatype(H5Dget_type(dataset), H5Tclose);
+  const TypeMatch match = datatype ? sampleTypeOf(datatype.get()) : TypeMatch{std::nullopt, hdf5Problem()};
+  if (!match.type) {
+    shape.problem = "its elements are " + match.problem;
+    return shape;
+  }
+  shape.type = match.type;
+  const Handle space(H5Dget_space(dataset), H5Sclose);
+  const int rank = space ? H5Sget_simple_extent_ndims(space.get()) : -1;
+  if (rank < 0) {
+    shape.problem = "its dataspace cannot be read: " + hdf5Problem();
+    return shape;
+  }
+  shape.extent.resize(size_t(rank));
+  if (rank > 0) H5Sget_simple_extent_dims(space.get(), shape.extent.data(), nullptr);
+  if (rank < 3) {
+    shape.problem = "it has " + std::to_string(rank) + (rank == 1 ? " axis" : " axes") + " (" +
+                    formatExtent(shape.extent) + "); a volume has three";
+    return shape;
+  }
+  // The axes longer than 1, padded with the length-1 axes nearest before the first of them (else the first
+  // length-1 axes): a time point and a channel around z, y, x.
+  std::vector<int> chosen;
+  for (int a = 0; a < rank; ++a)
+    if (shape.extent[size_t(a)] != 1) chosen.push_back(a);
+  if (chosen.size() > 3) {
+    shape.problem = "it has " + std::to_string(chosen.size()) + " axes longer than 1 (" +
+                    formatExtent(shape.extent) +
+                    "); a volume has three (a time series or several channels are not read)";
+    return shape;
+  }
+  if (rank == 3) chosen = {0, 1, 2};
+  while (chosen.size() < 3) {
+    const int first = chosen.empty() ? rank : chosen.front();
+    int pad = first - 1;
+    if (pad < 0)
+      for (pad = 0; std::find(chosen.begin(), chosen.end(), pad) != chosen.end();) ++pad;
+    chosen.push_back(pad);
+    std::sort(chosen.begin(), chosen.end());
+  }
+  for (int i = 0; i < 3; ++i) {
+    shape.axes[size_t(i)] = chosen[size_t(i)];
+    if (shape.extent[size_t(chosen[size_t(i)])] == 0) {
+      shape.problem = "it is empty (" + formatExtent(shape.extent) + ")";
+      return shape;
+    }
+  }
+  return shape;
+}
+
+// The object at `path` opened, or an empty handle when there is none (or it cannot be opened).
+Handle openObject(hid_t file, const std::string& path) {
+  const hid_t id = H5Oopen(file, path.c_str(), H5P_DEFAULT);
+  if (id < 0) H5Eclear2(H5E_DEFAULT);
+  return Handle(id, H5Oclose);
+}
+
+struct DatasetList {
+  std::vector<std::string> volumes;  // "/path" of each dataset that is a volume
+  std::vector<std::string> others;   // "/path (why not)" of the rest
+};
+
+DatasetList listDatasets(hid_t file) {
+  DatasetList list;
+  struct Visit {
+    hid_t file;
+    DatasetList* list;
+  } visit{file, &list};
+  // The link-info argument's type differs between HDF5 1.10 and 1.12; it is not used.
+  const auto onLink = [](hid_t, const char* name, const auto*, void* data) -> herr_t {
+    auto& v = *static_cast<Visit*>(data);
+    const std::string path = std::string("/") + name;
+    const Handle object = openObject(v.file, path);
+    if (!object || H5Iget_type(object.get()) != H5I_DATASET) return 0;
+    const VolumeShape shape = volumeShapeOf(object.get());
+    if (shape.problem.empty())
+      v.list->volumes.push_back(path);
+    else
+      v.list->others.push_back(path + " (" + shape.problem + ")");
+    return 0;
+  };
+  H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, onLink, &visit);
+  H5Eclear2(H5E_DEFAULT);
+  return list;
+}
+
+std::string listed(const std::vector<std::string>& paths) {
+  constexpr size_t kShown = 8;
+  std::string text;
+  for (size_t i = 0; i < std::min(paths.size(), kShown); ++i) text += (i ? ", " : "") + paths[i];
+  if (paths.size() > kShown) text += " and " + std::to_string(paths.size() - kShown) + " more";
+  return text;
+}
+
+// An attribute's values as numbers: numeric elements, or a string of one (Imaris writes its numbers as
+// arrays of characters). Empty when the attribute is missing or neither.
+std::vector<double> attributeNumbers(hid_t object, const char* name) {
+  if (H5Aexists(object, name) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    return {};
+  }
+  const Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose);
+  const Handle type(attribute ? H5Aget_type(attribute.get()) : -1, H5Tclose);
+  const Handle space(attribute ? H5Aget_space(attribute.get()) : -1, H5Sclose);
+  if (!type || !space) {
+    H5Eclear2(H5E_DEFAULT);
+    return {};
+  }
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  const H5T_class_t kind = H5Tget_class(type.get());
+  if (count <= 0 || count > 64) return {};
+  if (kind == H5T_INTEGER || kind == H5T_FLOAT) {
+    std::vector<double> values(static_cast<size_t>(count));
+    if (H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, values.data()) < 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return {};
+    }
+    return values;
+  }
+  if (kind == H5T_STRING && H5Tis_variable_str(type.get()) == 0) {
+    std::string text(size_t(count) * H5Tget_size(type.get()), '\0');
+    if (H5Aread(attribute.get(), type.get(), text.data()) < 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return {};
+    }
+    text = text.c_str();  // up to the first NUL
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) return {};
+    return {value};
+  }
+  return {};
+}
+
+// The filters of a chunked dataset that this HDF5 library cannot apply ("32001 (blosc)"), which it would
+// only name once a read fails.
+std::vector<std::string> missingFilters(hid_t dataset) {
+  std::vector<std::string> missing;
+  const Handle create(H5Dget_create_plist(dataset), H5Pclose);
+  if (!create) return missing;
+  const int filters = H5Pget_nfilters(create.get());
+  for (int i = 0; i < filters; ++i) {
+    unsigned flags = 0, config = 0;
+    size_t values = 0;
+    char name[256] = {};
+    const H5Z_filter_t id =
+        H5Pget_filter2(create.get(), unsigned(i), &flags, &values, nullptr, sizeof name, name, &config);
+    if (id >= 0 && H5Zfilter_avail(id) <= 0)
+      missing.push_back(std::to_string(id) + (name[0] ? std::string(" (") + name + ")" : ""));
+  }
+  H5Eclear2(H5E_DEFAULT);
+  return missing;
+}
+
+bool isPrime(size_t n) {
+  if (n < 2) return false;
+  for (size_t d = 2; d * d <= n; ++d)
+    if (n % d == 0) return false;
+  return true;
+}
+
+// A dataset access list whose chunk cache holds a layer of the chunks of `dataset` (see kMaxChunkCacheBytes).
+Handle chunkCacheFor(hid_t dataset, const VolumeShape& shape, size_t sampleBytes) {
+  Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
+  const Handle create(H5Dget_create_plist(dataset), H5Pclose);
+  if (!access || !create || H5Pget_layout(create.get()) != H5D_CHUNKED) return access;
+  std::vector<hsize_t> chunk(shape.extent.size());
+  if (H5Pget_chunk(create.get(), int(chunk.size()), chunk.data()) != int(chunk.size())) {
+    H5Eclear2(H5E_DEFAULT);
+    return access;
+  }
+  size_t chunkBytes = sampleBytes, layerChunks = 1;
+  for (hsize_t n : chunk) chunkBytes *= size_t(n);
+  for (int i = 1; i < 3; ++i) {
+    const size_t a = size_t(shape.axes[size_t(i)]);
+    layerChunks *= size_t((shape.extent[a] + chunk[a] - 1) / chunk[a]);
+  }
+  const size_t bytes = std::min(kMaxChunkCacheBytes, std::max(chunkBytes, layerChunks * chunkBytes));
+  size_t slots = std::max<size_t>(521, 100 * (bytes / std::max<size_t>(chunkBytes, 1)));
+  while (!isPrime(slots)) ++slots;  // the library's advice: a prime, about 100 times the chunks cached
+  H5Pset_chunk_cache(access.get(), slots, bytes, 1.0);
+  return access;
+}
+
+class Hdf5Source final : public VolumeSource {
+ public:
+  Hdf5Source(VolumeInfo info, Handle file, Handle dataset, VolumeShape shape, std::string where)
+      : info_(std::move(info)),
+        file_(std::move(file)),
+        dataset_(std::move(dataset)),
+        shape_(std::move(shape)),
+        where_(std::move(where)) {}
+
+  const VolumeInfo& info() const override { return info_; }
+
+ protected:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    silenceHdf5Errors();
+    std::vector<hsize_t> start(shape_.extent.size(), 0), extent(shape_.extent.size(), 1);
+    start[size_t(shape_.axes[0])] = z0;
+    extent[size_t(shape_.axes[0])] = count;
+    extent[size_t(shape_.axes[1])] = info_.dims.y;
+    extent[size_t(shape_.axes[2])] = info_.dims.x;
+    const Handle fileSpace(H5Dget_space(dataset_.get()), H5Sclose);
+    const hsize_t samples = hsize_t(count) * info_.dims.y * info_.dims.x;
+    const Handle memorySpace(H5Screate_simple(1, &samples, nullptr), H5Sclose);
+    if (!fileSpace || !memorySpace ||
+        H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start.data(), nullptr, extent.data(), nullptr) <
+            0 ||
+        H5Dread(dataset_.get(), memoryTypeOf(info_.type), memorySpace.get(), fileSpace.get(), H5P_DEFAULT,
+                out.data()) < 0)
+      throw Error(where_ + ": reading slices " + std::to_string(z0) + " to " +
+                  std::to_string(z0 + count - 1) + " failed: " + hdf5Problem());
+  }
+
+ private:
+  VolumeInfo info_;
+  Handle file_, dataset_;
+  VolumeShape shape_;
+  std::string where_;  // "HDF5 file F, dataset /D", for messages
+};
+
+}  // namespace
+
+std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const SourceOptions& options) {
+  silenceHdf5Errors();
+  const std::optional<Hdf5Spec> parts = hdf5SpecOf(spec);
+  if (!parts) throw Error(spec + ": not an HDF5 file (nor FILE:/DATASET of one)");
+  const std::string& path = parts->file;
+  const std::string inFile = "HDF5 file " + path;
+  if (!startsWithHdf5Signature(path) && H5Fis_hdf5(path.c_str()) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    throw Error(inFile + ": not an HDF5 file (no HDF5 signature" +
+                (lowerExtension(path) == ".hdf" ? "; HDF4 files are not read)" : ")"));
+  }
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file) throw Error(inFile + ": cannot be opened: " + hdf5Problem());
+
+  std::string datasetPath = parts->dataset;
+  if (!datasetPath.empty() && datasetPath.front() != '/') datasetPath.insert(0, "/");
+  if (datasetPath.empty()) {
+    if (openObject(file.get(), kImarisDataset)) {
+      datasetPath = kImarisDataset;
+    } else {
+      const DatasetList list = listDatasets(file.get());
+      if (list.volumes.size() > 1)
+        throw Error(inFile + ": holds " + std::to_string(list.volumes.size()) +
+                    " datasets that are volumes: " + listed(list.volumes) + "; name one, as in " + path +
+                    ":" + list.volumes.front());
+      if (list.volumes.empty())
+        throw Error(inFile + ": holds no dataset that is a volume (a 3D array of numbers)" +
+                    (list.others.empty() ? std::string(", and no dataset at all")
+                                         : "; its datasets: " + listed(list.others)));
+      datasetPath = list.volumes.front();
+    }
+  }
+  const std::string where = inFile + ", dataset " + datasetPath;
+  const Handle object = openObject(file.get(), datasetPath);
+  if (!object) throw Error(inFile + ": has no object " + datasetPath);
+  if (const H5I_type_t kind = H5Iget_type(object.get()); kind != H5I_DATASET)
+    throw Error(where + (kind == H5I_GROUP ? ": is a group, not a dataset (name a dataset inside it)"
+                                           : ": is not a dataset"));
+  VolumeShape shape = volumeShapeOf(object.get());
+  if (!shape.problem.empty()) throw Error(where + ": not a volume: " + shape.problem);
+  if (const std::vector<std::string> missing = missingFilters(object.get()); !missing.empty())
+    throw Error(where + ": compressed with HDF5 filter " + listed(missing) +
+                ", which this HDF5 library lacks (filter plugins are found through HDF5_PLUGIN_PATH)");
+
+  VolumeInfo info;
+  info.type = *shape.type;
+  const auto extentOf = [&](int i) { return shape.extent[size_t(shape.axes[size_t(i)])]; };
+  const glm::u64vec3 extent(extentOf(2), extentOf(1), extentOf(0));
+  glm::dvec3 spacing(1.0);
+  const Handle access = chunkCacheFor(object.get(), shape, bytesPerSample(info.type));
+  Handle dataset(H5Dopen2(file.get(), datasetPath.c_str(), access ? access.get() : H5P_DEFAULT), H5Dclose);
+  if (!dataset) throw Error(where + ": cannot be opened: " + hdf5Problem());
+
+  glm::u64vec3 dims = extent;
+  if (datasetPath == kImarisDataset) {
+    // Imaris pads its datasets to whole chunks: the image is the box its info group states, whose extents
+    // give the spacing.
+    if (const Handle image = openObject(file.get(), kImarisImageInfo)) {
+      const char* names[] = {"X", "Y", "Z"};
+      for (int a = 0; a < 3; ++a) {
+        const std::vector<double> n = attributeNumbers(image.get(), names[a]);
+        if (n.size() == 1 && n[0] >= 1 && n[0] <= double(extent[a])) dims[a] = uint64_t(n[0]);
+      }
+      for (int a = 0; a < 3; ++a) {
+        const std::string axis = std::to_string(a);
+        const std::vector<double> lo = attributeNumbers(image.get(), ("ExtMin" + axis).c_str());
+        const std::vector<double> hi = attributeNumbers(image.get(), ("ExtMax" + axis).c_str());
+        if (lo.size() == 1 && hi.size() == 1 && std::isfinite(hi[0] - lo[0]) && hi[0] > lo[0])
+          spacing[a] = (hi[0] - lo[0]) / double(dims[a]);
+      }
+    }
+  } else if (const std::vector<double> size = attributeNumbers(dataset.get(), "element_size_um");
+             size.size() == 3 || size.size() == shape.extent.size()) {
+    const auto along = [&](int i) {
+      return size.size() == 3 ? size[size_t(i)] : size[size_t(shape.axes[size_t(i)])];
+    };
+    spacing = {along(2), along(1), along(0)};
+  }
+  if (dims.x > kMaxDimsPerAxis || dims.y > kMaxDimsPerAxis || dims.z > kMaxDimsPerAxis)
+    throw Error(where + ": " + formatExtent(shape.extent) + " samples; a store holds at most " +
+                std::to_string(kMaxDimsPerAxis) + " per axis");
+  info.dims = glm::u32vec3(dims);
+  if (!isValidSpacing(spacing)) {
+    info.notes.push_back(where + ": its voxel size (" + formatSpacing(spacing) +
+                         ") is not a valid spacing; 1,1,1 is used");
+    spacing = glm::dvec3(1.0);
+  }
+  info.spacing = options.spacing.value_or(spacing);
+  info.description = "hdf5:" + path + ":" + datasetPath;
+  return std::make_unique<Hdf5Source>(std::move(info), std::move(file), std::move(dataset), std::move(shape),
+                                      where);
+}
+
+}  // namespace ropecast

@@ -1,0 +1,300 @@
+// Tests of the HDF5 VolumeSource and of how inputs name HDF5 datasets: every sample type, big-endian and
+// chunked, compressed datasets read in slabs thinner than a chunk and out of order, a dataset chosen by path
+// or alone, the axes of ilastik's and BigDataViewer's layouts, spacings from element_size_um and from
+// Imaris's extents (with its padded datasets cut to the image), and each refusal naming the file, the dataset
+// and why.
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "store/hdf5_spec.h"
+#include "store/source_hdf5.h"
+#include "store/volume_source.h"
+#include "tests/store/store_test_util.h"
+#include "tests/store/testutil_hdf5.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::errorOf;
+using testing::expectVolume;
+using testing::Hdf5Writer;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
+using testing::writeFile;
+
+// One dataset at `dataset` of the file `path`, z, y, x = 5, 6, 9.
+template <typename T>
+std::vector<T> writeVolume(const std::string& path, const std::string& dataset, hid_t fileType,
+                           hid_t memoryType, std::vector<hsize_t> chunk = {}, bool compressed = false) {
+  const auto values = samplePattern<T>(9 * 6 * 5);
+  Hdf5Writer writer(path);
+  writer.write({dataset, {5, 6, 9}, fileType, memoryType, values.data(), std::move(chunk), compressed});
+  return values;
+}
+
+TEST(SourceHdf5, EverySampleTypeReadsAsWritten) {
+  TempDir dir;
+  auto check = [&](auto tag, const std::string& name, hid_t fileType, hid_t memoryType, SampleType type) {
+    using T = decltype(tag);
+    const std::string path = dir.file(name + ".h5");
+    const auto values = writeVolume<T>(path, "/volume", fileType, memoryType);
+    expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {1.0, 1.0, 1.0}, "hdf5:" + path + ":/volume"},
+                 values);
+  };
+  check(uint8_t{}, "u8", H5T_STD_U8LE, H5T_NATIVE_UINT8, SampleType::UInt8);
+  check(int8_t{}, "i8", H5T_STD_I8LE, H5T_NATIVE_INT8, SampleType::Int8);
+  check(uint16_t{}, "u16", H5T_STD_U16LE, H5T_NATIVE_UINT16, SampleType::UInt16);
+  check(int16_t{}, "i16", H5T_STD_I16LE, H5T_NATIVE_INT16, SampleType::Int16);
+  check(uint32_t{}, "u32", H5T_STD_U32LE, H5T_NATIVE_UINT32, SampleType::UInt32);
+  check(int32_t{}, "i32", H5T_STD_I32LE, H5T_NATIVE_INT32, SampleType::Int32);
+  check(float{}, "f32", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, SampleType::Float32);
+  check(double{}, "f64", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, SampleType::Float64);
+}
+
+TEST(SourceHdf5, BigEndianChunkedCompressedSlabsInAnyOrder) {
+  TempDir dir;
+  const std::string path = dir.file("chunked.hdf5");
+  // Chunks 3 slices deep: slabs of one and two slices end inside them.
+  const auto values = writeVolume<int16_t>(path, "/scan", H5T_STD_I16BE, H5T_NATIVE_INT16, {3, 4, 4}, true);
+  const auto source = openVolumeSource(path);
+  ASSERT_EQ(source->info().type, SampleType::Int16);
+  const size_t slice = 9 * 6;
+  for (uint32_t z : {4u, 0u, 2u, 1u, 3u}) {
+    const auto got = readSlab<int16_t>(*source, z, 1);
+    EXPECT_TRUE(std::equal(got.begin(), got.end(), values.begin() + z * slice)) << "slice " << z;
+  }
+  const auto pair = readSlab<int16_t>(*source, 2, 2);
+  EXPECT_TRUE(std::equal(pair.begin(), pair.end(), values.begin() + 2 * slice));
+  expectVolume(*source, {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "hdf5:" + path + ":/scan"}, values);
+}
+
+TEST(SourceHdf5, ADatasetIsNamedByPathOrChosenWhenItIsTheOnlyVolume) {
+  TempDir dir;
+  const std::string path = dir.file("two.h5");
+  const auto a = samplePattern<uint8_t>(9 * 6 * 5);
+  std::vector<uint16_t> b(4 * 3 * 2);
+  for (size_t i = 0; i < b.size(); ++i) b[i] = uint16_t(1000 + 7 * i);
+  {
+    Hdf5Writer writer(path);
+    writer.write({"/raw/a", {5, 6, 9}, H5T_STD_U8LE, H5T_NATIVE_UINT8, a.data(), {}, false});
+    writer.write({"/processed/deep/b", {2, 3, 4}, H5T_STD_U16LE, H5T_NATIVE_UINT16, b.data(), {}, false});
+    writer.writeText("/notes", "not a volume");
+  }
+  const std::string many = errorOf(path);
+  for (const std::string& word : std::vector<std::string>{
+           "HDF5 file", "2 datasets that are volumes", "/raw/a", "/processed/deep/b", "as in " + path + ":/"})
+    EXPECT_NE(many.find(word), std::string::npos) << word << " in: " << many;
+  expectVolume(*openVolumeSource(path + ":/processed/deep/b"),
+               {{4, 3, 2}, SampleType::UInt16, {1.0, 1.0, 1.0}, "hdf5:" + path + ":/processed/deep/b"}, b);
+  // Without the leading slash too.
+  EXPECT_EQ(openVolumeSource(path + ":raw/a")->info().description, "hdf5:" + path + ":/raw/a");
+
+  const std::string one = dir.file("one.h5");
+  {
+    Hdf5Writer writer(one);
+    writer.write({"/only/volume", {2, 3, 4}, H5T_STD_U16LE, H5T_NATIVE_UINT16, b.data(), {}, false});
+    writer.writeText("/label", "text");
+  }
+  expectVolume(*openVolumeSource(one),
+               {{4, 3, 2}, SampleType::UInt16, {1.0, 1.0, 1.0}, "hdf5:" + one + ":/only/volume"}, b);
+}
+
+TEST(SourceHdf5, LengthOneAxesAroundZyxAreTimePointsAndChannels) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
+  const auto check = [&](const std::string& name, std::vector<hsize_t> extent) {
+    const std::string path = dir.file(name + ".h5");
+    {
+      Hdf5Writer writer(path);
+      writer.write({"/data", extent, H5T_STD_U16LE, H5T_NATIVE_UINT16, values.data(), {}, false});
+    }
+    expectVolume(*openVolumeSource(path),
+                 {{9, 6, 5}, SampleType::UInt16, {1.0, 1.0, 1.0}, "hdf5:" + path + ":/data"}, values);
+  };
+  check("tczyx", {1, 1, 5, 6, 9});  // BigDataViewer, OME
+  check("zyxc", {5, 6, 9, 1});      // ilastik's export
+  check("tzcyx", {1, 5, 1, 6, 9});
+
+  // A single slice in five axes keeps z as the length-1 axis before y.
+  const std::string flat = dir.file("flat.h5");
+  {
+    Hdf5Writer writer(flat);
+    writer.write({"/data", {1, 1, 1, 6, 9}, H5T_STD_U16LE, H5T_NATIVE_UINT16, values.data(), {}, false});
+  }
+  EXPECT_EQ(openVolumeSource(flat)->info().dims, glm::u32vec3(9, 6, 1));
+
+  // Two channels (or time points) are not one volume.
+  const std::string channels = dir.file("channels.h5");
+  {
+    std::vector<uint16_t> twice(values);
+    twice.insert(twice.end(), values.begin(), values.end());
+    Hdf5Writer writer(channels);
+    writer.write({"/data", {2, 5, 6, 9}, H5T_STD_U16LE, H5T_NATIVE_UINT16, twice.data(), {}, false});
+  }
+  const std::string refused = errorOf(channels + ":/data");
+  for (const char* word : {"/data", "4 axes longer than 1", "2x5x6x9", "several channels"})
+    EXPECT_NE(refused.find(word), std::string::npos) << word << " in: " << refused;
+}
+
+TEST(SourceHdf5, SpacingFromElementSizeOrOptions) {
+  TempDir dir;
+  const std::string path = dir.file("sized.h5");
+  const auto values = samplePattern<uint8_t>(9 * 6 * 5);
+  {
+    Hdf5Writer writer(path);
+    const hid_t d =
+        writer.write({"/volume", {5, 6, 9}, H5T_STD_U8LE, H5T_NATIVE_UINT8, values.data(), {}, false});
+    testing::writeNumbersAttribute(d, "element_size_um", {2.0, 0.5, 0.25});  // z, y, x
+  }
+  EXPECT_EQ(openVolumeSource(path)->info().spacing, glm::dvec3(0.25, 0.5, 2.0));
+  SourceOptions options;
+  options.spacing = glm::dvec3(3.0, 4.0, 5.0);
+  EXPECT_EQ(openVolumeSource(path, options)->info().spacing, glm::dvec3(3.0, 4.0, 5.0));
+  options = {};
+  options.dims = glm::u32vec3(9, 6, 5);
+  const std::string refused = errorOf(path, options);
+  EXPECT_NE(refused.find("--dims applies to raw files only"), std::string::npos) << refused;
+}
+
+TEST(SourceHdf5, ImarisFilesReadTheFullResolutionCutToTheImage) {
+  TempDir dir;
+  const std::string path = dir.file("cells.ims");
+  // The image is 13 x 7 x 3 samples, stored padded to 16 x 8 x 4; a coarser level beside it.
+  std::vector<uint16_t> padded(16 * 8 * 4, 9999), expected;
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t y = 0; y < 8; ++y)
+      for (uint32_t x = 0; x < 16; ++x)
+        if (x < 13 && y < 7 && z < 3) {
+          padded[(z * 8 + y) * 16 + x] = uint16_t(x + 20 * y + 200 * z);
+          expected.push_back(padded[(z * 8 + y) * 16 + x]);
+        }
+  const std::vector<uint16_t> coarse(8 * 4 * 2, 1);
+  {
+    Hdf5Writer writer(path);
+    writer.write({"/DataSet/ResolutionLevel 0/TimePoint 0/Channel 0/Data",
+                  {4, 8, 16},
+                  H5T_STD_U16LE,
+                  H5T_NATIVE_UINT16,
+                  padded.data(),
+                  {4, 8, 16},
+                  true});
+    writer.write({"/DataSet/ResolutionLevel 1/TimePoint 0/Channel 0/Data",
+                  {2, 4, 8},
+                  H5T_STD_U16LE,
+                  H5T_NATIVE_UINT16,
+                  coarse.data(),
+                  {},
+                  false});
+    const hid_t image = writer.group("/DataSetInfo/Image");
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{{"X", "13"},
+                                                                                     {"Y", "7"},
+                                                                                     {"Z", "3"},
+                                                                                     {"ExtMin0", "-6.5"},
+                                                                                     {"ExtMax0", "6.5"},
+                                                                                     {"ExtMin1", "0"},
+                                                                                     {"ExtMax1", "3.5"},
+                                                                                     {"ExtMin2", "10"},
+                                                                                     {"ExtMax2", "16"}})
+      testing::writeCharsAttribute(image, name, text);
+  }
+  expectVolume(*openVolumeSource(path),
+               {{13, 7, 3},
+                SampleType::UInt16,
+                {1.0, 0.5, 2.0},
+                "hdf5:" + path + ":/DataSet/ResolutionLevel 0/TimePoint 0/Channel 0/Data"},
+               expected);
+  // A coarser level named by path is read as it is stored.
+  EXPECT_EQ(openVolumeSource(path + ":/DataSet/ResolutionLevel 1/TimePoint 0/Channel 0/Data")->info().dims,
+            glm::u32vec3(8, 4, 2));
+}
+
+TEST(SourceHdf5, RefusalsNameTheFileTheDatasetAndWhy) {
+  TempDir dir;
+  const std::string path = dir.file("mixed.h5");
+  const std::vector<int64_t> wide(2 * 3 * 4, 5);
+  const std::vector<float> plane(3 * 4, 1.0f);
+  {
+    Hdf5Writer writer(path);
+    writer.write({"/wide", {2, 3, 4}, H5T_STD_I64LE, H5T_NATIVE_INT64, wide.data(), {}, false});
+    writer.write({"/plane", {3, 4}, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, plane.data(), {}, false});
+    writer.writeText("/text", "words");
+    writer.group("/empty_group");
+  }
+  const auto expectRefused = [&](const std::string& spec, std::vector<std::string> words) {
+    const std::string message = errorOf(spec);
+    EXPECT_FALSE(message.empty()) << spec;
+    for (const std::string& word : words)
+      EXPECT_NE(message.find(word), std::string::npos) << word << " in: " << message;
+  };
+  expectRefused(
+      path, {"HDF5 file " + path, "no dataset that is a volume", "/wide (its elements are 64-bit integers",
+             "/plane (it has 2 axes", "/text (its elements are strings)"});
+  expectRefused(path + ":/wide", {path, "dataset /wide", "not a volume", "64-bit integers"});
+  expectRefused(path + ":/nothing/here", {path, "has no object /nothing/here"});
+  expectRefused(path + ":/empty_group", {"dataset /empty_group", "is a group"});
+
+  const std::string bare = dir.file("bare.h5");
+  { Hdf5Writer writer(bare); }
+  expectRefused(bare, {"HDF5 file " + bare, "no dataset that is a volume", "no dataset at all"});
+
+  const std::string text = dir.file("notes.h5");
+  writeFile(text, "not HDF5 at all\n");
+  expectRefused(text, {"HDF5 file " + text, "not an HDF5 file"});
+  const std::string hdf4 = dir.file("old.hdf");
+  writeFile(hdf4, std::string("\x0e\x03\x13\x01", 4) + std::string(100, '\0'));
+  expectRefused(hdf4, {"not an HDF5 file", "HDF4 files are not read"});
+
+  // A file cut short: refused when opened or when its samples are read, never read as other values.
+  const std::string whole = dir.file("whole.h5");
+  writeVolume<uint16_t>(whole, "/volume", H5T_STD_U16LE, H5T_NATIVE_UINT16);
+  const std::string cut = dir.file("cut.h5");
+  fs::copy_file(whole, cut);
+  fs::resize_file(cut, fs::file_size(whole) / 2);
+  try {
+    const auto source = openVolumeSource(cut);
+    readSlab<uint16_t>(*source, 0, source->info().dims.z);
+    ADD_FAILURE() << "a file cut short read without error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(cut), std::string::npos) << e.what();
+  }
+}
+
+TEST(Hdf5Spec, AFileOrAFileAndADatasetPath) {
+  TempDir dir;
+  const std::string h5 = dir.file("a.h5");
+  writeFile(h5, "x");  // named HDF5: whether it is one the source says
+  const std::string signed5 = dir.file("volume.bin");
+  writeFile(signed5, std::string("\x89HDF\r\n\x1a\n", 8) + "rest");
+  const std::string raw = dir.file("scan_4x4x4_uint8.raw");
+  writeFile(raw, std::string(64, '\0'));
+
+  const auto parts = [](const std::string& spec) {
+    const auto p = hdf5SpecOf(spec);
+    return p ? p->file + "|" + p->dataset : std::string("none");
+  };
+  EXPECT_EQ(parts(h5), h5 + "|");
+  EXPECT_EQ(parts(h5 + ":/group/data"), h5 + "|/group/data");
+  EXPECT_EQ(parts(h5 + ":/a:b"), h5 + "|/a:b");
+  EXPECT_EQ(parts(signed5), signed5 + "|");
+  EXPECT_EQ(parts(signed5 + ":/d"), signed5 + "|/d");
+  EXPECT_EQ(parts(raw), "none");
+  EXPECT_EQ(parts(raw + ":/d"), "none");
+  EXPECT_EQ(parts(dir.file("missing.h5")), "none");
+  EXPECT_EQ(parts(dir.file("missing.h5") + ":/d"), "none");
+  EXPECT_EQ(parts("procedural:sphere:32"), "none");
+
+  // A folder whose name holds a colon.
+  fs::create_directory(dir.file("run:3"));
+  const std::string inColonFolder = dir.file("run:3/out.h5");
+  writeFile(inColonFolder, "x");
+  EXPECT_EQ(parts(inColonFolder + ":/d"), inColonFolder + "|/d");
+}
+
+}  // namespace
+}  // namespace ropecast
