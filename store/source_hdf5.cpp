@@ -129,7 +129,10 @@ hid_t memoryTypeOf(SampleType type) {
 
 std::string formatExtent(const std::vector<hsize_t>& extent) {
   std::string text;
-  for (hsize_t n : extent) text += (text.empty() ? "" : "x") + std::to_string(n);
+  for (hsize_t n : extent) {
+    if (!text.empty()) text += 'x';
+    text += std::to_string(n);
+  }
   return text.empty() ? "a scalar" : text;
 }
 
@@ -347,8 +350,8 @@ class Hdf5Source final : public VolumeSource {
     extent[size_t(shape_.axes[1])] = info_.dims.y;
     extent[size_t(shape_.axes[2])] = info_.dims.x;
     const Handle fileSpace(H5Dget_space(dataset_.get()), H5Sclose);
-    const hsize_t samples = hsize_t(count) * info_.dims.y * info_.dims.x;
-    const Handle memorySpace(H5Screate_simple(1, &samples, nullptr), H5Sclose);
+    // The memory space has the selection's shape: a flat one makes the library copy sample by sample.
+    const Handle memorySpace(H5Screate_simple(int(extent.size()), extent.data(), nullptr), H5Sclose);
     if (!fileSpace || !memorySpace ||
         H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start.data(), nullptr, extent.data(), nullptr) <
             0 ||
@@ -382,7 +385,7 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
   if (!file) throw Error(inFile + ": cannot be opened: " + hdf5Problem());
 
   std::string datasetPath = parts->dataset;
-  if (!datasetPath.empty() && datasetPath.front() != '/') datasetPath.insert(0, "/");
+  if (!datasetPath.empty() && datasetPath.front() != '/') datasetPath = "/" + datasetPath;
   if (datasetPath.empty()) {
     if (openObject(file.get(), kImarisDataset)) {
       datasetPath = kImarisDataset;
@@ -400,7 +403,7 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
     }
   }
   const std::string where = inFile + ", dataset " + datasetPath;
-  const Handle object = openObject(file.get(), datasetPath);
+  Handle object = openObject(file.get(), datasetPath);
   if (!object) throw Error(inFile + ": has no object " + datasetPath);
   if (const H5I_type_t kind = H5Iget_type(object.get()); kind != H5I_DATASET)
     throw Error(where + (kind == H5I_GROUP ? ": is a group, not a dataset (name a dataset inside it)"
@@ -417,6 +420,7 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
   const glm::u64vec3 extent(extentOf(2), extentOf(1), extentOf(0));
   glm::dvec3 spacing(1.0);
   const Handle access = chunkCacheFor(object.get(), shape, bytesPerSample(info.type));
+  object = Handle();  // a dataset opened twice shares its first opening's chunk cache
   Handle dataset(H5Dopen2(file.get(), datasetPath.c_str(), access ? access.get() : H5P_DEFAULT), H5Dclose);
   if (!dataset) throw Error(where + ": cannot be opened: " + hdf5Problem());
 
