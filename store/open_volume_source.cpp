@@ -1,7 +1,8 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
 //   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; .mha/.mhd -> MetaImage;
 //   .nii/.nii.gz/.hdr/.hdr.gz, or an .img(.gz) beside a .hdr(.gz) -> NIfTI; .vtk -> legacy VTK; .vti -> VTK
-//   image data; a pattern with * or ? -> image stack; a directory -> DICOM series if it holds DICOM files, or
+//   image data; a pattern with * or ? -> image stack; a directory -> Zarr if it holds Zarr metadata, else a
+//   DICOM series if it holds DICOM files, or
 //   no slices and DICOM files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff ->
 //   multi-page TIFF (a single page alone is an error); an HDF5 file (.h5, .hdf5, .ims, ... or its signature),
 //   alone or as FILE:/DATASET -> HDF5; a single .png or a store is an error; anything else -> raw.
@@ -24,6 +25,7 @@
 #include "store/source_raw.h"
 #include "store/source_vti.h"
 #include "store/source_vtk.h"
+#include "store/source_zarr.h"
 #include "store/store_format.h"
 #include "store/volume_source.h"
 
@@ -86,6 +88,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   const fs::file_status status = fs::status(spec, ec);
   if (!fs::exists(status)) throw Error(spec + ": no such file or directory");
   if (fs::is_directory(status)) {
+    if (isZarrFolder(spec)) {
+      rejectRawOptions(spec, options, "a Zarr array");
+      return openZarrSource(spec, options);
+    }
     if (!listDicomFiles(spec).empty()) {
       if (holdsSliceImages(spec))
         throw Error(
@@ -149,7 +155,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     throw Error(
         "openVolumeSource: " + spec +
         " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, VTK (.vtk, "
-        ".vti), image stacks, TIFF, DICOM, HDF5); render, view "
+        ".vti), image stacks, TIFF, DICOM, HDF5, Zarr); render, view "
         "and info read it as it is, and `ropecast extract` writes a level of it as a raw volume");
   return openRawSource(spec, options);
 }

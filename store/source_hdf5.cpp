@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/file_names.h"
+#include "store/array_axes.h"
 #include "store/hdf5_spec.h"
 
 namespace ropecast {
@@ -127,19 +128,10 @@ hid_t memoryTypeOf(SampleType type) {
   return H5T_NATIVE_UINT8;
 }
 
-std::string formatExtent(const std::vector<hsize_t>& extent) {
-  std::string text;
-  for (hsize_t n : extent) {
-    if (!text.empty()) text += 'x';
-    text += std::to_string(n);
-  }
-  return text.empty() ? "a scalar" : text;
-}
-
 // A dataset's shape as a volume: which three of its axes are z, y and x, or why it is not one.
 struct VolumeShape {
-  std::vector<hsize_t> extent;  // every axis, in HDF5's order
-  std::array<int, 3> axes{};    // z, y, x
+  std::vector<uint64_t> extent;  // every axis, in HDF5's order
+  std::array<int, 3> axes{};     // z, y, x
   std::optional<SampleType> type;
   std::string problem;  // empty when it is a volume
 };
@@ -159,40 +151,12 @@ VolumeShape volumeShapeOf(hid_t dataset) {
     shape.problem = "its dataspace cannot be read: " + hdf5Problem();
     return shape;
   }
-  shape.extent.resize(size_t(rank));
-  if (rank > 0) H5Sget_simple_extent_dims(space.get(), shape.extent.data(), nullptr);
-  if (rank < 3) {
-    shape.problem = "it has " + std::to_string(rank) + (rank == 1 ? " axis" : " axes") + " (" +
-                    formatExtent(shape.extent) + "); a volume has three";
-    return shape;
-  }
-  // The axes longer than 1, padded with the length-1 axes nearest before the first of them (else the first
-  // length-1 axes): a time point and a channel around z, y, x.
-  std::vector<int> chosen;
-  for (int a = 0; a < rank; ++a)
-    if (shape.extent[size_t(a)] != 1) chosen.push_back(a);
-  if (chosen.size() > 3) {
-    shape.problem = "it has " + std::to_string(chosen.size()) + " axes longer than 1 (" +
-                    formatExtent(shape.extent) +
-                    "); a volume has three (a time series or several channels are not read)";
-    return shape;
-  }
-  if (rank == 3) chosen = {0, 1, 2};
-  while (chosen.size() < 3) {
-    const int first = chosen.empty() ? rank : chosen.front();
-    int pad = first - 1;
-    if (pad < 0)
-      for (pad = 0; std::find(chosen.begin(), chosen.end(), pad) != chosen.end();) ++pad;
-    chosen.push_back(pad);
-    std::sort(chosen.begin(), chosen.end());
-  }
-  for (int i = 0; i < 3; ++i) {
-    shape.axes[size_t(i)] = chosen[size_t(i)];
-    if (shape.extent[size_t(chosen[size_t(i)])] == 0) {
-      shape.problem = "it is empty (" + formatExtent(shape.extent) + ")";
-      return shape;
-    }
-  }
+  std::vector<hsize_t> extent(static_cast<size_t>(rank));
+  if (rank > 0) H5Sget_simple_extent_dims(space.get(), extent.data(), nullptr);
+  shape.extent.assign(extent.begin(), extent.end());
+  const ArrayAxes axes = volumeAxes(shape.extent);
+  shape.axes = axes.zyx;
+  shape.problem = axes.problem;
   return shape;
 }
 

@@ -15,6 +15,7 @@
 #include "store/source_metaimage.h"
 #include "store/source_nifti.h"
 #include "store/source_nrrd.h"
+#include "store/source_zarr.h"
 #include "store/volume_source.h"
 
 namespace ropecast::tools {
@@ -161,6 +162,14 @@ void OutputGuard::check() const {
 std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   if (isProceduralSpec(spec)) return {};
   if (const std::optional<Hdf5Spec> hdf5 = hdf5SpecOf(spec)) return {hdf5->file};
+  if (isZarrFolder(spec)) {  // its metadata and chunk files, at any depth ("/"-separated keys nest them)
+    std::vector<std::string> files{spec};
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(spec, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+      if (it->is_regular_file(ec)) files.push_back(it->path().string());
+    return files;
+  }
   std::vector<std::string> files{spec};
   std::error_code ec;
   const bool folderGiven = fs::is_directory(spec, ec);

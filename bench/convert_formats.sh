@@ -1,21 +1,24 @@
 #!/usr/bin/env bash
-# `ropecast convert` from HDF5 against the same volume as a raw file (docs/BENCHMARKS.md, "Converting HDF5
-# files"): a CT-like uint16 field plus noise, written raw and as HDF5 datasets contiguous, chunked CHUNK^3
-# and chunked with shuffle and deflate, each converted in turn from the page cache (ROUNDS rounds). Prints per
-# input its size, the median wall time and peak RSS and their ratios to the raw file's, and checks that every
-# store holds the raw store's level 1 (extracted and compared).
-# Usage: bench/convert_hdf5.sh [BUILD_DIR]   (default build/perf)
+# `ropecast convert` from HDF5 and Zarr against the same volume as a raw file (docs/BENCHMARKS.md, "Converting
+# HDF5 and Zarr"): a CT-like uint16 field plus noise, written raw, as HDF5 datasets contiguous, chunked CHUNK^3
+# and chunked with shuffle and deflate, and as a Zarr array of CHUNK^3 blosc (lz4, shuffle) chunks, each
+# converted in turn from the page cache (ROUNDS rounds). Prints per input its size, the median wall time and
+# peak RSS and their ratios to the raw file's, and checks that every store holds the raw store's level 1
+# (extracted and compared).
+# Usage: bench/convert_formats.sh [BUILD_DIR]   (default build/perf)
 # Environment: NX NY NZ (1024 1024 256: 512 MiB), CHUNK (64), ROUNDS (3), SCRATCH (a temporary directory).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ropecast=$(realpath "${1:-build/perf}/tools/ropecast")
 nx=${NX:-1024}; ny=${NY:-1024}; nz=${NZ:-256}; chunk=${CHUNK:-64}; rounds=${ROUNDS:-3}
-scratch=${SCRATCH:-$(mktemp -d /tmp/ropecast-convert-hdf5-XXXXXX)}
+scratch=${SCRATCH:-$(mktemp -d /tmp/ropecast-convert-formats-XXXXXX)}
 mkdir -p "$scratch"
 trap 'rm -rf "$scratch"' EXIT
 
-# The writer: the field of bench/convert_bench.sh (waves over a ball, +-48 noise, 12 bits), raw and as HDF5.
+# The writer: the field of bench/convert_bench.sh (waves over a ball, +-48 noise, 12 bits), raw, as HDF5 and
+# as Zarr.
 cat > "$scratch/gen.cpp" <<'CPP'
+#include <blosc.h>
 #include <hdf5.h>
 #include <cmath>
 #include <cstdint>
@@ -53,20 +56,47 @@ int main(int argc, char** argv) {
     if (d < 0 || H5Dwrite(d, H5T_NATIVE_UINT16, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) return 1;
     H5Dclose(d), H5Pclose(create), H5Sclose(space), H5Fclose(file);
   }
+  const std::string zarr = base + ".zarr";
+  std::system(("mkdir -p " + zarr).c_str());
+  FILE* meta = fopen((zarr + "/.zarray").c_str(), "w");
+  fprintf(meta, "{\"zarr_format\": 2, \"shape\": [%llu, %llu, %llu], \"chunks\": [%llu, %llu, %llu], "
+          "\"dtype\": \"<u2\", \"compressor\": {\"id\": \"blosc\", \"cname\": \"lz4\", \"clevel\": 5, "
+          "\"shuffle\": 1, \"blocksize\": 0}, \"fill_value\": 0, \"order\": \"C\", \"filters\": null}",
+          nz, ny, nx, c, c, c);
+  fclose(meta);
+  std::vector<uint16_t> block(c * c * c);
+  std::vector<char> packed(block.size() * 2 + BLOSC_MAX_OVERHEAD);
+  for (hsize_t kz = 0; kz * c < nz; ++kz)
+    for (hsize_t ky = 0; ky * c < ny; ++ky)
+      for (hsize_t kx = 0; kx * c < nx; ++kx) {
+        for (hsize_t z = 0; z < c; ++z)
+          for (hsize_t y = 0; y < c; ++y)
+            for (hsize_t x = 0; x < c; ++x) {
+              const hsize_t gz = kz * c + z, gy = ky * c + y, gx = kx * c + x;
+              block[(z * c + y) * c + x] = gz < nz && gy < ny && gx < nx ? v[(gz * ny + gy) * nx + gx] : 0;
+            }
+        const int n = blosc_compress_ctx(5, BLOSC_SHUFFLE, 2, block.size() * 2, block.data(), packed.data(),
+                                         packed.size(), "lz4", 0, 1);
+        const std::string key = zarr + "/" + std::to_string(kz) + "." + std::to_string(ky) + "." + std::to_string(kx);
+        FILE* chunk = fopen(key.c_str(), "wb");
+        if (!chunk || fwrite(packed.data(), 1, size_t(n), chunk) != size_t(n) || fclose(chunk) != 0) return 1;
+      }
   return 0;
 }
 CPP
 # shellcheck disable=SC2046
-c++ -O2 -o "$scratch/gen" "$scratch/gen.cpp" $(pkg-config --cflags --libs hdf5)
+c++ -O2 -o "$scratch/gen" "$scratch/gen.cpp" $(pkg-config --cflags --libs hdf5 blosc)
 "$scratch/gen" "$nx" "$ny" "$nz" "$chunk" "$scratch/volume"
 raw="$scratch/volume_${nx}x${ny}x${nz}_uint16.raw"
-inputs=("$raw" "$scratch/volume_contiguous.h5" "$scratch/volume_chunked.h5" "$scratch/volume_deflated.h5")
-names=(raw "HDF5 contiguous" "HDF5 chunked ${chunk}^3" "HDF5 chunked ${chunk}^3, shuffle+deflate")
+inputs=("$raw" "$scratch/volume_contiguous.h5" "$scratch/volume_chunked.h5" "$scratch/volume_deflated.h5"
+  "$scratch/volume.zarr")
+names=(raw "HDF5 contiguous" "HDF5 chunked ${chunk}^3" "HDF5 chunked ${chunk}^3, shuffle+deflate"
+  "Zarr ${chunk}^3, blosc lz4+shuffle")
 
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); ${nx}x${ny}x${nz} uint16, $rounds rounds"
 for round in $(seq "$rounds"); do
   for i in "${!inputs[@]}"; do
-    cat "${inputs[$i]}" > /dev/null  # every input from the page cache
+    find "${inputs[$i]}" -type f -exec cat {} + > /dev/null  # every input from the page cache
     /usr/bin/time -f "%e %M" -o "$scratch/time_${i}_$round.txt" \
       "$ropecast" convert "${inputs[$i]}" -o "$scratch/store_$i.rcast" --quiet
   done
@@ -79,7 +109,7 @@ for i in "${!inputs[@]}"; do
   [ "$i" = 0 ] && rawSeconds=$seconds && rawRss=$rss
   "$ropecast" extract "$scratch/store_$i.rcast" --level 1 -o "$scratch/level1_$i.raw" --quiet
   same=$(cmp -s "$scratch/level1_0.raw" "$scratch/level1_$i.raw" && echo same || echo DIFFERENT)
-  awk -v n="${names[$i]}" -v b="$(stat -c %s "${inputs[$i]}")" -v s="$seconds" -v rs="$rawSeconds" -v m="$rss" \
+  awk -v n="${names[$i]}" -v b="$(du -sb "${inputs[$i]}" | cut -f1)" -v s="$seconds" -v rs="$rawSeconds" -v m="$rss" \
     -v rm="$rawRss" -v same="$same" \
     'BEGIN { printf "%-40s %10.1f %10.2f %8.2f %10.0f %8.2f  %s\n", n, b / 2^20, s, s / rs, m / 1024, m / rm, same }'
 done

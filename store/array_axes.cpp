@@ -1,0 +1,80 @@
+#include "store/array_axes.h"
+
+#include <algorithm>
+
+namespace ropecast {
+namespace {
+
+std::string emptyProblem(std::span<const uint64_t> extent, const std::array<int, 3>& zyx) {
+  for (int a : zyx)
+    if (extent[size_t(a)] == 0) return "it is empty (" + formatExtent(extent) + ")";
+  return "";
+}
+
+}  // namespace
+
+std::string formatExtent(std::span<const uint64_t> extent) {
+  std::string text;
+  for (uint64_t n : extent) {
+    if (!text.empty()) text += 'x';
+    text += std::to_string(n);
+  }
+  return text.empty() ? "a scalar" : text;
+}
+
+ArrayAxes volumeAxes(std::span<const uint64_t> extent) {
+  ArrayAxes axes;
+  const int rank = int(extent.size());
+  if (rank < 3) {
+    axes.problem = "it has " + std::to_string(rank) + (rank == 1 ? " axis" : " axes") + " (" +
+                   formatExtent(extent) + "); a volume has three";
+    return axes;
+  }
+  std::vector<int> chosen;
+  for (int a = 0; a < rank; ++a)
+    if (extent[size_t(a)] != 1) chosen.push_back(a);
+  if (chosen.size() > 3) {
+    axes.problem = "it has " + std::to_string(chosen.size()) + " axes longer than 1 (" +
+                   formatExtent(extent) +
+                   "); a volume has three (a time series or several channels are not read)";
+    return axes;
+  }
+  if (rank == 3) chosen = {0, 1, 2};
+  while (chosen.size() < 3) {
+    int pad = (chosen.empty() ? rank : chosen.front()) - 1;
+    if (pad < 0)
+      for (pad = 0; std::find(chosen.begin(), chosen.end(), pad) != chosen.end();) ++pad;
+    chosen.push_back(pad);
+    std::sort(chosen.begin(), chosen.end());
+  }
+  axes.zyx = {chosen[0], chosen[1], chosen[2]};
+  axes.problem = emptyProblem(extent, axes.zyx);
+  return axes;
+}
+
+ArrayAxes volumeAxesNamed(std::span<const uint64_t> extent, const std::vector<std::string>& names) {
+  ArrayAxes axes;
+  if (names.size() != extent.size()) {
+    axes.problem = "it names " + std::to_string(names.size()) + " axes for " + std::to_string(extent.size());
+    return axes;
+  }
+  const char* wanted[] = {"z", "y", "x"};
+  for (int i = 0; i < 3; ++i) {
+    const auto at = std::find(names.begin(), names.end(), wanted[i]);
+    if (at == names.end()) {
+      axes.problem = std::string("it has no axis named ") + wanted[i];
+      return axes;
+    }
+    axes.zyx[size_t(i)] = int(at - names.begin());
+  }
+  for (size_t a = 0; a < names.size(); ++a)
+    if (names[a] != "z" && names[a] != "y" && names[a] != "x" && extent[a] != 1) {
+      axes.problem = "its axis " + names[a] + " has " + std::to_string(extent[a]) + " entries (" +
+                     formatExtent(extent) + "); one is read (a time series or several channels are not)";
+      return axes;
+    }
+  axes.problem = emptyProblem(extent, axes.zyx);
+  return axes;
+}
+
+}  // namespace ropecast

@@ -1,0 +1,278 @@
+// Tests of the Zarr VolumeSource, its metadata parser and the array-axes rule it shares with HDF5: every
+// sample type and compressor, edge chunks, chunks not stored, F order, big-endian samples and nested chunk
+// keys, slabs across chunk layers and out of order, OME-Zarr images (named axes, scales), groups, and each
+// refusal naming the folder or chunk file and why.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "store/array_axes.h"
+#include "store/source_zarr.h"
+#include "store/volume_source.h"
+#include "store/zarr_metadata.h"
+#include "tests/store/store_test_util.h"
+#include "tests/store/testutil_zarr.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::errorOf;
+using testing::expectVolume;
+using testing::readSlab;
+using testing::samplePattern;
+using testing::TempDir;
+using testing::writeFile;
+using testing::writeZarrArray;
+using testing::ZarrArraySpec;
+
+// z, y, x = 5, 6, 9 in chunks of 2 x 4 x 4: edge chunks along every axis.
+ZarrArraySpec smallSpec(const std::string& dtype, const std::string& compressor) {
+  ZarrArraySpec spec;
+  spec.shape = {5, 6, 9};
+  spec.chunks = {2, 4, 4};
+  spec.dtype = dtype;
+  spec.compressor = compressor;
+  return spec;
+}
+
+TEST(SourceZarr, EveryCompressorAndSampleType) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
+  for (const std::string compressor : {"none", "blosc", "zlib", "gzip", "zstd"}) {
+    const fs::path folder = dir / (compressor + ".zarr");
+    writeZarrArray(folder, smallSpec("<u2", compressor), values.data(), 2);
+    expectVolume(*openVolumeSource(folder.string()),
+                 {{9, 6, 5}, SampleType::UInt16, {1.0, 1.0, 1.0}, "zarr:" + folder.string()}, values);
+  }
+  auto check = [&](auto tag, const std::string& dtype, SampleType type) {
+    using T = decltype(tag);
+    const auto typed = samplePattern<T>(9 * 6 * 5);
+    const fs::path folder = dir / ("type" + dtype.substr(1) + ".zarr");
+    writeZarrArray(folder, smallSpec(dtype, "blosc"), typed.data(), sizeof(T));
+    expectVolume(*openVolumeSource(folder.string()),
+                 {{9, 6, 5}, type, {1.0, 1.0, 1.0}, "zarr:" + folder.string()}, typed);
+  };
+  check(uint8_t{}, "|u1", SampleType::UInt8);
+  check(int8_t{}, "|i1", SampleType::Int8);
+  check(int16_t{}, "<i2", SampleType::Int16);
+  check(uint32_t{}, "<u4", SampleType::UInt32);
+  check(int32_t{}, "<i4", SampleType::Int32);
+  check(float{}, "<f4", SampleType::Float32);
+  check(double{}, "<f8", SampleType::Float64);
+}
+
+TEST(SourceZarr, BigEndianFortranOrderNestedKeysAndChunksNotStored) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(9 * 6 * 5);
+  ZarrArraySpec spec = smallSpec(">i2", "zlib");
+  spec.fortranOrder = true;
+  spec.separator = '/';
+  spec.fill = -7;
+  spec.unwritten = {{1, 0, 1}, {2, 1, 2}};  // z 2..3, y 0..3, x 4..7; and z 4, y 4..5, x 8
+  const fs::path folder = dir / "nested.zarr";
+  writeZarrArray(folder, spec, values.data(), 2);
+  ASSERT_TRUE(fs::exists(folder / "0" / "1" / "2"));
+  std::vector<int16_t> expected = values;
+  for (uint32_t z = 0; z < 5; ++z)
+    for (uint32_t y = 0; y < 6; ++y)
+      for (uint32_t x = 0; x < 9; ++x)
+        if ((z / 2 == 1 && y / 4 == 0 && x / 4 == 1) || (z / 2 == 2 && y / 4 == 1 && x / 4 == 2))
+          expected[(z * 6 + y) * 9 + x] = -7;
+  const auto source = openVolumeSource(folder.string());
+  expectVolume(*source, {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "zarr:" + folder.string()}, expected);
+  // Slabs within a layer, across two, and out of order; and the same with room for one slice at a time (each
+  // chunk decoded again per slice).
+  const size_t slice = 9 * 6;
+  const auto banded = openZarrSource(folder.string(), {}, slice * 2);
+  expectVolume(*banded, {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "zarr:" + folder.string()}, expected);
+  for (const auto& [z0, count] :
+       std::vector<std::pair<uint32_t, uint32_t>>{{3, 1}, {1, 3}, {0, 1}, {4, 1}, {2, 2}}) {
+    for (VolumeSource* s : {source.get(), banded.get()}) {
+      const auto got = readSlab<int16_t>(*s, z0, count);
+      EXPECT_TRUE(std::equal(got.begin(), got.end(), expected.begin() + z0 * slice)) << z0 << "+" << count;
+    }
+  }
+}
+
+TEST(SourceZarr, OmeZarrImagesReadTheirFirstDatasetWithNamedAxesAndScale) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
+  const fs::path image = dir / "image.ome.zarr";
+  ZarrArraySpec spec;
+  spec.shape = {1, 1, 5, 6, 9};
+  spec.chunks = {1, 1, 3, 3, 3};
+  spec.compressor = "blosc";
+  writeZarrArray(image / "0", spec, values.data(), 2);
+  ZarrArraySpec coarse = spec;
+  coarse.shape = {1, 1, 3, 3, 5};
+  const std::vector<uint16_t> ones(3 * 3 * 5, 1);
+  writeZarrArray(image / "1", coarse, ones.data(), 2);
+  writeFile(image / ".zgroup", R"({"zarr_format": 2})");
+  writeFile(image / ".zattrs", R"({"multiscales": [{"version": "0.4", "name": "cells",
+    "axes": [{"name": "t", "type": "time"}, {"name": "c", "type": "channel"},
+             {"name": "z", "type": "space", "unit": "micrometer"}, {"name": "y", "type": "space"},
+             {"name": "x", "type": "space"}],
+    "datasets": [{"path": "0", "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 1, 0.25, 0.125]}]},
+                 {"path": "1", "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 2, 0.5, 0.25]}]}],
+    "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 2, 2, 2]}]}]})");
+  expectVolume(*openVolumeSource(image.string()),
+               {{9, 6, 5}, SampleType::UInt16, {0.25, 0.5, 2.0}, "zarr:" + (image / "0").string()}, values);
+  // A level named by its folder reads as a plain array.
+  EXPECT_EQ(openVolumeSource((image / "1").string())->info().dims, glm::u32vec3(5, 3, 3));
+
+  // Axes named in another order than t, c, z, y, x: x, y, z by name, wherever they lie.
+  const fs::path swapped = dir / "czyx.zarr";
+  ZarrArraySpec two = spec;
+  two.shape = {2, 5, 6, 9};
+  two.chunks = {1, 5, 6, 9};
+  std::vector<uint16_t> channels(values);
+  channels.insert(channels.end(), values.begin(), values.end());
+  writeZarrArray(swapped / "0", two, channels.data(), 2);
+  writeFile(swapped / ".zattrs",
+            R"({"multiscales": [{"axes": ["c", "z", "y", "x"], "datasets": [{"path": "0"}]}]})");
+  const std::string refused = errorOf(swapped.string());
+  for (const char* word : {"czyx.zarr/0", "not a volume", "axis c has 2 entries", "several channels"})
+    EXPECT_NE(refused.find(word), std::string::npos) << word << " in: " << refused;
+}
+
+TEST(SourceZarr, RefusalsNameTheFolderOrChunkAndWhy) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
+  const auto expectRefused = [&](const std::string& spec, std::vector<std::string> words) {
+    const std::string message = errorOf(spec);
+    EXPECT_FALSE(message.empty()) << spec;
+    for (const std::string& word : words)
+      EXPECT_NE(message.find(word), std::string::npos) << word << " in: " << message;
+  };
+  // A group of arrays without multiscales lists them.
+  const fs::path group = dir / "group.zarr";
+  writeZarrArray(group / "raw", smallSpec("<u2", "none"), values.data(), 2);
+  writeZarrArray(group / "labels" / "cells", smallSpec("<u2", "none"), values.data(), 2);
+  writeFile(group / ".zgroup", R"({"zarr_format": 2})");
+  expectRefused(group.string(), {group.string(), "no OME-Zarr image", "labels/cells, raw"});
+
+  const fs::path v3 = dir / "v3.zarr";
+  fs::create_directories(v3);
+  writeFile(v3 / "zarr.json", R"({"zarr_format": 3, "node_type": "array"})");
+  expectRefused(v3.string(), {v3.string(), "Zarr v3", "Zarr v2"});
+
+  const auto metadataRefused = [&](const std::string& name, const std::string& zarray, std::string word) {
+    const fs::path folder = dir / name;
+    fs::create_directories(folder);
+    writeFile(folder / ".zarray", zarray);
+    expectRefused(
+        folder.string(),
+        {word.starts_with("it has") ? "Zarr array " + folder.string() : (folder / ".zarray").string(), word});
+  };
+  const std::string head = R"({"zarr_format": 2, "shape": [5, 6, 9], "chunks": [2, 4, 4], )";
+  metadataRefused(
+      "i64", head + R"("dtype": "<i8", "compressor": null, "fill_value": 0, "order": "C", "filters": null})",
+      "64-bit integers");
+  metadataRefused(
+      "bool", head + R"("dtype": "|b1", "compressor": null, "fill_value": 0, "order": "C", "filters": null})",
+      "booleans");
+  metadataRefused(
+      "lz4",
+      head +
+          R"("dtype": "<u2", "compressor": {"id": "lz4"}, "fill_value": 0, "order": "C", "filters": null})",
+      "compressor 'lz4' is not read");
+  metadataRefused(
+      "filters",
+      head +
+          R"("dtype": "<u2", "compressor": null, "fill_value": 0, "order": "C", "filters": [{"id": "delta"}]})",
+      "'filters'");
+  metadataRefused("v1", R"({"zarr_format": 1, "shape": [5, 6, 9]})", "'zarr_format' is 1, expected 2");
+  metadataRefused("text", "not json", "not JSON");
+  metadataRefused(
+      "flat", R"({"zarr_format": 2, "shape": [6, 9], "chunks": [4, 4], "dtype": "<u2", "compressor": null})",
+      "it has 2 axes (6x9)");
+
+  // A damaged chunk and a chunk of the wrong size: refused when read, naming the chunk file.
+  const auto readRefused = [&](const fs::path& folder, const std::string& word) {
+    try {
+      const auto source = openVolumeSource(folder.string());
+      readSlab<uint16_t>(*source, 0, source->info().dims.z);
+      ADD_FAILURE() << folder << " read without error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find((folder / "0.0.0").string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+    }
+  };
+  const fs::path damaged = dir / "damaged.zarr";
+  writeZarrArray(damaged, smallSpec("<u2", "blosc"), values.data(), 2);
+  fs::resize_file(damaged / "0.0.0", 20);
+  readRefused(damaged, "blosc");
+  const fs::path cut = dir / "cut.zarr";
+  writeZarrArray(cut, smallSpec("<u2", "none"), values.data(), 2);
+  fs::resize_file(cut / "0.0.0", 10);
+  readRefused(cut, "holds 10 bytes; expected 64 bytes");
+  const fs::path inflated = dir / "inflated.zarr";
+  writeZarrArray(inflated, smallSpec("<u2", "gzip"), values.data(), 2);
+  writeFile(inflated / "0.0.0", testing::gzipOf(std::string(10, 'x')));
+  readRefused(inflated, "gzip");
+}
+
+TEST(ZarrMetadata, FillValuesOrdersAndOmeVersions) {
+  const std::string head = R"({"zarr_format": 2, "shape": [2, 3, 4], "chunks": [1, 3, 4], "dtype": ">f4", )";
+  const ZarrArray a = parseZarrArray(head + R"("compressor": null, "fill_value": "NaN", "order": "F"})", "a");
+  EXPECT_TRUE(std::isnan(a.fillValue));
+  EXPECT_TRUE(a.fortranOrder);
+  EXPECT_TRUE(a.bigEndian);
+  EXPECT_EQ(a.type, SampleType::Float32);
+  EXPECT_EQ(a.separator, '.');
+  EXPECT_EQ(a.chunkSamples(), 12u);
+  EXPECT_EQ(parseZarrArray(head + R"("compressor": null, "fill_value": null})", "b").fillValue, 0.0);
+  EXPECT_EQ(
+      parseZarrArray(head + R"("compressor": {"id": "zstd", "level": 3}, "fill_value": 5})", "c").compressor,
+      ZarrCompressor::Zstd);
+
+  EXPECT_FALSE(parseOmeMultiscale(R"({"name": "no image"})", "x"));
+  // 0.3: axes as names; 0.1: no axes.
+  const auto v3 = parseOmeMultiscale(
+      R"({"multiscales": [{"axes": ["T", "Z", "Y", "X"], "datasets": [{"path": "s0"}]}]})", "x");
+  ASSERT_TRUE(v3);
+  EXPECT_EQ(v3->datasetPath, "s0");
+  EXPECT_EQ(v3->axisNames, (std::vector<std::string>{"t", "z", "y", "x"}));
+  EXPECT_FALSE(v3->scale);
+  const auto v1 =
+      parseOmeMultiscale(R"({"multiscales": [{"datasets": [{"path": "0"}, {"path": "1"}]}]})", "x");
+  ASSERT_TRUE(v1);
+  EXPECT_TRUE(v1->axisNames.empty());
+  try {
+    parseOmeMultiscale(R"({"multiscales": [{"datasets": []}]})", "img/.zattrs");
+    ADD_FAILURE() << "no datasets accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("img/.zattrs"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ArrayAxes, LengthOneAxesFallAwayAroundZyx) {
+  const auto zyx = [](std::vector<uint64_t> extent) {
+    const ArrayAxes axes = volumeAxes(extent);
+    return axes.problem.empty()
+               ? std::to_string(axes.zyx[0]) + std::to_string(axes.zyx[1]) + std::to_string(axes.zyx[2])
+               : axes.problem;
+  };
+  EXPECT_EQ(zyx({5, 6, 9}), "012");
+  EXPECT_EQ(zyx({1, 6, 9}), "012");
+  EXPECT_EQ(zyx({1, 1, 5, 6, 9}), "234");
+  EXPECT_EQ(zyx({5, 6, 9, 1}), "012");
+  EXPECT_EQ(zyx({1, 5, 1, 6, 9}), "134");
+  EXPECT_EQ(zyx({1, 1, 1, 6, 9}), "234");
+  EXPECT_EQ(zyx({9, 1, 1, 1}), "012");
+  EXPECT_EQ(zyx({6, 9}), "it has 2 axes (6x9); a volume has three");
+  EXPECT_NE(zyx({2, 5, 6, 9}).find("4 axes longer than 1"), std::string::npos);
+  EXPECT_NE(zyx({0, 6, 9}).find("empty"), std::string::npos);
+
+  EXPECT_EQ(volumeAxesNamed(std::vector<uint64_t>{9, 6, 5}, {"x", "y", "z"}).zyx,
+            (std::array<int, 3>{2, 1, 0}));
+  EXPECT_NE(volumeAxesNamed(std::vector<uint64_t>{9, 6}, {"x", "y"}).problem.find("no axis named z"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace ropecast
