@@ -1,5 +1,5 @@
-// Text fields of file headers (NRRD, MetaImage): blanks trimmed, words split, and a bad value quoted in a
-// message. Pure functions; any thread.
+// Text fields of file headers (NRRD, MetaImage): blanks trimmed, words split, a bad value quoted in a
+// message, and names listed in one. Pure functions; any thread.
 #pragma once
 
 #include <string>
@@ -58,6 +58,14 @@ inline std::string quotedExcerpt(std::string_view s) {
   for (char& c : out)
     if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
   return "'" + out + (s.size() > kQuoteChars ? "...'" : "'");
+}
+
+// The first `shown` of `names`, comma-separated, and how many more there are: a list in a message.
+inline std::string listedNames(const std::vector<std::string>& names, size_t shown = 8) {
+  std::string text;
+  for (size_t i = 0; i < names.size() && i < shown; ++i) text += (i ? ", " : "") + names[i];
+  if (names.size() > shown) text += " and " + std::to_string(names.size() - shown) + " more";
+  return text;
 }
 
 }  // namespace ropecast

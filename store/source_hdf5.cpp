@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/file_names.h"
+#include "core/header_text.h"
 #include "store/array_axes.h"
 #include "store/hdf5_spec.h"
 
@@ -196,14 +197,6 @@ DatasetList listDatasets(hid_t file) {
   return list;
 }
 
-std::string listed(const std::vector<std::string>& paths) {
-  constexpr size_t kShown = 8;
-  std::string text;
-  for (size_t i = 0; i < std::min(paths.size(), kShown); ++i) text += (i ? ", " : "") + paths[i];
-  if (paths.size() > kShown) text += " and " + std::to_string(paths.size() - kShown) + " more";
-  return text;
-}
-
 // An attribute's values as numbers: numeric elements, or a string of one (Imaris writes its numbers as
 // arrays of characters). Empty when the attribute is missing or neither.
 std::vector<double> attributeNumbers(hid_t object, const char* name) {
@@ -288,8 +281,9 @@ Handle chunkCacheFor(hid_t dataset, const VolumeShape& shape, size_t sampleBytes
     layerChunks *= size_t((shape.extent[a] + chunk[a] - 1) / chunk[a]);
   }
   const size_t bytes = std::min(kMaxChunkCacheBytes, std::max(chunkBytes, layerChunks * chunkBytes));
-  size_t slots = std::max<size_t>(521, 100 * (bytes / std::max<size_t>(chunkBytes, 1)));
-  while (!isPrime(slots)) ++slots;  // the library's advice: a prime, about 100 times the chunks cached
+  // The library's advice: a prime, about 100 times the chunks cached (a million slots, 8 MiB, at most).
+  size_t slots = std::clamp<size_t>(100 * (bytes / std::max<size_t>(chunkBytes, 1)), 521, size_t(1) << 20);
+  while (!isPrime(slots)) ++slots;
   H5Pset_chunk_cache(access.get(), slots, bytes, 1.0);
   return access;
 }
@@ -357,12 +351,12 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
       const DatasetList list = listDatasets(file.get());
       if (list.volumes.size() > 1)
         throw Error(inFile + ": holds " + std::to_string(list.volumes.size()) +
-                    " datasets that are volumes: " + listed(list.volumes) + "; name one, as in " + path +
+                    " datasets that are volumes: " + listedNames(list.volumes) + "; name one, as in " + path +
                     ":" + list.volumes.front());
       if (list.volumes.empty())
         throw Error(inFile + ": holds no dataset that is a volume (a 3D array of numbers)" +
                     (list.others.empty() ? std::string(", and no dataset at all")
-                                         : "; its datasets: " + listed(list.others)));
+                                         : "; its datasets: " + listedNames(list.others)));
       datasetPath = list.volumes.front();
     }
   }
@@ -375,7 +369,7 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
   VolumeShape shape = volumeShapeOf(object.get());
   if (!shape.problem.empty()) throw Error(where + ": not a volume: " + shape.problem);
   if (const std::vector<std::string> missing = missingFilters(object.get()); !missing.empty())
-    throw Error(where + ": compressed with HDF5 filter " + listed(missing) +
+    throw Error(where + ": compressed with HDF5 filter " + listedNames(missing) +
                 ", which this HDF5 library lacks (filter plugins are found through HDF5_PLUGIN_PATH)");
 
   VolumeInfo info;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/header_text.h"
 #include "core/input_file.h"
 #include "store/array_axes.h"
 #include "store/source_raw.h"
@@ -40,13 +41,22 @@ std::string readMetadata(const fs::path& file) {
 }
 
 // The folders holding a `.zarray` below `group` (relative to it), not looking inside arrays.
+// The metadata file of the array in `folder` (v2's `.zarray`, or a v3 `zarr.json` of an array), or an empty
+// path when the folder holds none.
+fs::path arrayMetadata(const fs::path& folder) {
+  if (present(folder / ".zarray")) return folder / ".zarray";
+  const fs::path v3 = folder / "zarr.json";
+  if (present(v3) && zarrV3NodeType(readMetadata(v3), v3.string()) == "array") return v3;
+  return {};
+}
+
 std::vector<std::string> arraysBelow(const fs::path& group) {
   std::vector<std::string> arrays;
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(group, fs::directory_options::skip_permission_denied, ec);
        !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (!it->is_directory(ec)) continue;
-    if (present(it->path() / ".zarray")) {
+    if (!arrayMetadata(it->path()).empty()) {
       arrays.push_back(fs::relative(it->path(), group, ec).string());
       it.disable_recursion_pending();
     } else if (it.depth() + 1 >= kArraySearchDepth) {
@@ -55,14 +65,6 @@ std::vector<std::string> arraysBelow(const fs::path& group) {
   }
   std::sort(arrays.begin(), arrays.end());
   return arrays;
-}
-
-std::string listed(const std::vector<std::string>& names) {
-  constexpr size_t kShown = 8;
-  std::string text;
-  for (size_t i = 0; i < std::min(names.size(), kShown); ++i) text += (i ? ", " : "") + names[i];
-  if (names.size() > kShown) text += " and " + std::to_string(names.size() - kShown) + " more";
-  return text;
 }
 
 // Inflates a zlib (or, with `gzip`, a gzip) stream into exactly out.size() bytes; false otherwise.
@@ -79,15 +81,11 @@ bool inflateExactly(std::span<const std::byte> in, std::span<std::byte> out, boo
   return whole;
 }
 
-// Decodes a stored chunk into `out` (one whole chunk's bytes), or says why it cannot.
-std::string decodeChunk(ZarrCompressor compressor, std::span<const std::byte> in, std::span<std::byte> out) {
-  const std::string expected = "; expected " + std::to_string(out.size()) + " bytes of samples";
-  switch (compressor) {
-    case ZarrCompressor::None:
-      if (in.size() != out.size()) return "holds " + std::to_string(in.size()) + " bytes" + expected;
-      std::memcpy(out.data(), in.data(), out.size());
-      return "";
-    case ZarrCompressor::Blosc: {
+// Decompresses `in` with one compressor into exactly out.size() bytes, or says why it cannot.
+std::string decompress(ZarrCodec codec, std::span<const std::byte> in, std::span<std::byte> out) {
+  const std::string expected = "; expected " + std::to_string(out.size()) + " bytes";
+  switch (codec) {
+    case ZarrCodec::Blosc: {
       size_t bytes = 0;
       if (blosc_cbuffer_validate(in.data(), in.size(), &bytes) != 0) return "is not blosc data" + expected;
       if (bytes != out.size()) return "decompresses to " + std::to_string(bytes) + " bytes" + expected;
@@ -95,20 +93,50 @@ std::string decodeChunk(ZarrCompressor compressor, std::span<const std::byte> in
         return "is damaged (blosc)";
       return "";
     }
-    case ZarrCompressor::Zlib:
-    case ZarrCompressor::Gzip:
-      if (!inflateExactly(in, out, compressor == ZarrCompressor::Gzip))
-        return std::string("is damaged or of another size (") +
-               (compressor == ZarrCompressor::Gzip ? "gzip" : "zlib") + ")" + expected;
+    case ZarrCodec::Zlib:
+    case ZarrCodec::Gzip:
+      if (!inflateExactly(in, out, codec == ZarrCodec::Gzip))
+        return std::string("is damaged or of another size (") + (codec == ZarrCodec::Gzip ? "gzip" : "zlib") +
+               ")" + expected;
       return "";
-    case ZarrCompressor::Zstd: {
+    case ZarrCodec::Zstd: {
       const size_t n = ZSTD_decompress(out.data(), out.size(), in.data(), in.size());
       if (ZSTD_isError(n)) return std::string("is damaged (zstd: ") + ZSTD_getErrorName(n) + ")";
       if (n != out.size()) return "decompresses to " + std::to_string(n) + " bytes" + expected;
       return "";
     }
+    case ZarrCodec::Crc32c:
+      break;
   }
   return "has an unknown compressor";
+}
+
+// Decodes stored bytes through `codecs` (in encoding order: undone in reverse) into exactly out.size() bytes,
+// or says why it cannot. A CRC-32C codec's 4 bytes are dropped, not checked; the metadata parser allows one
+// compressor at most.
+std::string decodeBytes(const std::vector<ZarrCodec>& codecs, std::span<const std::byte> in,
+                        std::span<std::byte> out, std::vector<std::byte>& scratch) {
+  constexpr size_t kChecksumBytes = 4;
+  for (size_t i = codecs.size(); i-- > 0;) {
+    if (codecs[i] == ZarrCodec::Crc32c) {
+      if (in.size() < kChecksumBytes) return "is shorter than its checksum";
+      in = in.first(in.size() - kChecksumBytes);
+      continue;
+    }
+    // CRC-32C codecs applied before the compressor: their bytes end its output.
+    const size_t checksumsBefore =
+        size_t(std::count(codecs.begin(), codecs.begin() + long(i), ZarrCodec::Crc32c));
+    if (checksumsBefore == 0) return decompress(codecs[i], in, out);
+    scratch.resize(out.size() + kChecksumBytes * checksumsBefore);
+    if (const std::string problem = decompress(codecs[i], in, scratch); !problem.empty()) return problem;
+    in = std::span<const std::byte>(scratch).first(out.size());
+    break;
+  }
+  if (in.size() != out.size())
+    return "holds " + std::to_string(in.size()) + " bytes; expected " + std::to_string(out.size()) +
+           " bytes of samples";
+  std::memcpy(out.data(), in.data(), out.size());
+  return "";
 }
 
 // Every sample of `chunk` set to `value` in `type` (an integer type's NaN or out-of-range fill saturates).
@@ -161,8 +189,14 @@ class ZarrSource final : public VolumeSource {
   }
 
  private:
+  // A worker's buffers, kept from chunk to chunk.
+  struct ChunkBuffers {
+    std::vector<std::byte> stored, decoded, scratch, inner;
+  };
+
+  // The file holding chunk (or shard) `index`, per axis of the array.
   fs::path chunkFile(const std::vector<uint64_t>& index) const {
-    std::string key;
+    std::string key = array_.keyPrefix;
     for (size_t a = 0; a < index.size(); ++a) {
       if (a) key += array_.separator;
       key += std::to_string(index[a]);
@@ -170,15 +204,67 @@ class ZarrSource final : public VolumeSource {
     return folder_ / key;
   }
 
+  // Decodes a shard (v3's sharding_indexed) into `out`, the shard's samples in C order: each inner chunk
+  // its index lists decoded and placed, the others the fill value. Returns the problem, if any.
+  std::string decodeShard(std::span<const std::byte> shard, std::span<std::byte> out, ChunkBuffers& b) const {
+    const ZarrSharding& sharding = *array_.sharding;
+    const size_t rank = array_.chunks.size(), width = bytesPerSample(info_.type);
+    std::vector<uint64_t> grid(rank), at(rank), within(rank);
+    uint64_t count = 1, innerSamples = 1;
+    for (size_t a = 0; a < rank; ++a) {
+      grid[a] = array_.chunks[a] / sharding.chunks[a];
+      count *= grid[a];
+      innerSamples *= sharding.chunks[a];
+    }
+    const uint64_t indexBytes = count * 16 + (sharding.indexChecksum ? 4 : 0);
+    if (shard.size() < indexBytes)
+      return "is shorter (" + std::to_string(shard.size()) + " bytes) than its index of " +
+             std::to_string(count) + " inner chunks";
+    const std::byte* index = sharding.indexAtEnd ? shard.data() + shard.size() - indexBytes : shard.data();
+    const auto littleEndian = [](const std::byte* p) {
+      uint64_t v = 0;
+      for (int i = 7; i >= 0; --i) v = v << 8 | uint64_t(p[i]);
+      return v;
+    };
+    b.inner.resize(innerSamples * width);
+    const uint64_t row = sharding.chunks[rank - 1];
+    for (uint64_t i = 0; i < count; ++i) {
+      for (uint64_t a = rank, rest = i; a-- > 0;) at[a] = rest % grid[a], rest /= grid[a];
+      const uint64_t offset = littleEndian(index + 16 * i), bytes = littleEndian(index + 16 * i + 8);
+      if (offset == ~uint64_t(0) && bytes == ~uint64_t(0)) {
+        fillChunk(b.inner, info_.type, array_.fillValue);
+      } else {
+        if (offset > shard.size() || bytes > shard.size() - offset)
+          return "inner chunk " + std::to_string(i) + " lies past the shard's end";
+        if (const std::string problem =
+                decodeBytes(sharding.codecs, shard.subspan(offset, bytes), b.inner, b.scratch);
+            !problem.empty())
+          return "inner chunk " + std::to_string(i) + " " + problem;
+        samplesToNative(b.inner, info_.type, sharding.bigEndian);
+      }
+      // Rows along the last axis, from the inner chunk into the shard.
+      for (uint64_t r = 0; r < innerSamples / row; ++r) {
+        uint64_t target = 0;
+        for (uint64_t a = rank - 1, rest = r; a-- > 0;) {
+          within[a] = rest % sharding.chunks[a], rest /= sharding.chunks[a];
+          target += (at[a] * sharding.chunks[a] + within[a]) * strides_[a];
+        }
+        target += at[rank - 1] * row;
+        std::memcpy(out.data() + target * width, b.inner.data() + r * row * width, row * width);
+      }
+    }
+    return "";
+  }
+
   // Decodes chunk (layer, cy, cx) and copies its samples inside the array and the buffered slices into the
   // buffer (each chunk's samples are their own part of it: workers call this for different chunks at once).
   // Returns the problem, if any, naming the chunk file.
-  std::string copyChunk(uint64_t layer, uint64_t cy, uint64_t cx, std::vector<std::byte>& stored,
-                        std::vector<std::byte>& decoded) {
+  std::string copyChunk(uint64_t layer, uint64_t cy, uint64_t cx, ChunkBuffers& b) {
     std::vector<uint64_t> index(array_.shape.size(), 0);
     index[size_t(zyx_[0])] = layer, index[size_t(zyx_[1])] = cy, index[size_t(zyx_[2])] = cx;
     const fs::path file = chunkFile(index);
     const size_t width = bytesPerSample(info_.type);
+    std::vector<std::byte>& decoded = b.decoded;
     decoded.resize(array_.chunkSamples() * width);
     std::error_code ec;
     if (!fs::exists(file, ec)) {
@@ -186,14 +272,16 @@ class ZarrSource final : public VolumeSource {
     } else {
       try {
         const PosixFile input(file.string());
-        stored.resize(input.sizeBytes());
-        input.readAt(0, stored);
+        b.stored.resize(input.sizeBytes());
+        input.readAt(0, b.stored);
       } catch (const Error& e) {
         return e.what();
       }
-      if (const std::string problem = decodeChunk(array_.compressor, stored, decoded); !problem.empty())
-        return "Zarr chunk " + file.string() + ": " + problem;
-      samplesToNative(decoded, info_.type, array_.bigEndian);
+      const std::string problem = array_.sharding ? decodeShard(b.stored, decoded, b)
+                                                  : decodeBytes(array_.codecs, b.stored, decoded, b.scratch);
+      if (!problem.empty())
+        return "Zarr " + std::string(array_.sharding ? "shard " : "chunk ") + file.string() + ": " + problem;
+      if (!array_.sharding) samplesToNative(decoded, info_.type, array_.bigEndian);
     }
     // The chunk's box inside the array: edge chunks are stored whole, past the array's end.
     const glm::u64vec3 chunk(array_.chunks[size_t(zyx_[2])], array_.chunks[size_t(zyx_[1])],
@@ -242,10 +330,10 @@ class ZarrSource final : public VolumeSource {
       std::vector<std::jthread> threads;
       for (unsigned w = 0; w < workers; ++w)
         threads.emplace_back([&, w] {
-          std::vector<std::byte> stored, decoded;
+          ChunkBuffers buffers;
           try {
             for (uint64_t i = w; i < chunks && problems[w].empty(); i += workers)
-              problems[w] = copyChunk(layer, i / across, i % across, stored, decoded);
+              problems[w] = copyChunk(layer, i / across, i % across, buffers);
           } catch (const std::exception& e) {  // out of memory: the reading thread hears of it
             problems[w] = e.what();
           }
@@ -281,28 +369,30 @@ bool isZarrFolder(const std::string& path) {
 std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const SourceOptions& options,
                                              uint64_t maxBufferedBytes) {
   const fs::path folder(path);
-  if (present(folder / "zarr.json"))
-    throw Error(path + ": a Zarr v3 array or group (zarr.json); ropecast reads Zarr v2 (.zarray)");
   std::optional<OmeMultiscale> ome;
-  fs::path arrayFolder = folder;
-  if (!present(folder / ".zarray")) {
-    if (present(folder / ".zattrs"))
-      ome = parseOmeMultiscale(readMetadata(folder / ".zattrs"), (folder / ".zattrs").string());
+  fs::path arrayFolder = folder, metadata = arrayMetadata(folder);
+  if (metadata.empty()) {  // a group: an OME-Zarr image's metadata is in .zattrs (v2) or zarr.json (v3)
+    for (const char* name : {".zattrs", "zarr.json"})
+      if (!ome && present(folder / name))
+        ome = parseOmeMultiscale(readMetadata(folder / name), (folder / name).string());
     if (!ome) {
       const std::vector<std::string> arrays = arraysBelow(folder);
-      throw Error(path + ": a Zarr group that is no OME-Zarr image (no 'multiscales' in its .zattrs); " +
+      throw Error(path + ": a Zarr group that is no OME-Zarr image (no 'multiscales' in its metadata); " +
                   (arrays.empty() ? std::string("no array lies below it")
-                                  : "give one of its arrays' folders: " + listed(arrays)));
+                                  : "give one of its arrays' folders: " + listedNames(arrays)));
     }
     arrayFolder = folder / ome->datasetPath;
-    if (!present(arrayFolder / ".zarray"))
+    metadata = arrayMetadata(arrayFolder);
+    if (metadata.empty())
       throw Error(path + ": its OME-Zarr image's first dataset, " + arrayFolder.string() +
-                  ", holds no .zarray");
+                  ", holds no Zarr array (.zarray or zarr.json)");
   }
-  const fs::path metadata = arrayFolder / ".zarray";
-  ZarrArray array = parseZarrArray(readMetadata(metadata), metadata.string());
-  const ArrayAxes axes =
-      ome && !ome->axisNames.empty() ? volumeAxesNamed(array.shape, ome->axisNames) : volumeAxes(array.shape);
+  ZarrArray array = metadata.filename() == ".zarray"
+                        ? parseZarrArray(readMetadata(metadata), metadata.string())
+                        : parseZarrV3Array(readMetadata(metadata), metadata.string());
+  const std::vector<std::string>& names =
+      ome && !ome->axisNames.empty() ? ome->axisNames : array.dimensionNames;
+  const ArrayAxes axes = names.empty() ? volumeAxes(array.shape) : volumeAxesNamed(array.shape, names);
   if (!axes.problem.empty())
     throw Error("Zarr array " + arrayFolder.string() + ": not a volume: " + axes.problem);
   const auto along = [&](int i) { return array.shape[size_t(axes.zyx[size_t(i)])]; };

@@ -1,11 +1,13 @@
-// The Zarr VolumeSource: a Zarr v2 array (a folder holding `.zarray` and its chunk files), or an OME-Zarr
-// image (a folder whose `.zattrs` holds `multiscales`: its first, full-resolution dataset), as microscopy
-// (OME-NGFF, napari, webKnossos exports) and simulation pipelines write them. Chunks are read and
-// decompressed (blosc, zlib, gzip, zstd, or none) a layer of chunks at a time (up to kZarrMaxBufferedBytes),
-// on worker threads; a chunk that is not stored holds the array's fill value. Owned by loader/.
+// The Zarr VolumeSource: a Zarr array, v2 (a folder holding `.zarray` and its chunk files) or v3
+// (`zarr.json`, sharded or not), or an OME-Zarr image (a folder whose `.zattrs`, or v3 `zarr.json`, holds
+// `multiscales`: its first, full-resolution dataset), as microscopy (OME-NGFF 0.1 to 0.5, napari, webKnossos
+// exports) and simulation pipelines write them. Chunks (or shards) are read and decompressed (blosc, zlib,
+// gzip, zstd, or none) a layer at a time (up to kZarrMaxBufferedBytes), on worker threads; a chunk that is
+// not stored holds the array's fill value. Owned by loader/.
 //
-// Axes: an OME-Zarr image's named z, y, x (its other axes, time and channel, of length 1), else as
-// store/array_axes.h chooses. Spacing: --spacing, else the OME-Zarr scale of z, y, x, else 1.
+// Axes: an OME-Zarr image's named z, y, x (its other axes, time and channel, of length 1), else a v3 array's
+// dimension names, else as store/array_axes.h chooses. Spacing: --spacing, else the OME-Zarr scale of z, y,
+// x, else 1.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time: the decoded layer is per-source state).
 #pragma once
@@ -18,8 +20,7 @@
 
 namespace ropecast {
 
-// Whether `path` is a folder of Zarr metadata: `.zarray`, `.zgroup` or `.zattrs` (v2), or `zarr.json` (v3,
-// which openZarrSource refuses by name).
+// Whether `path` is a folder of Zarr metadata: `.zarray`, `.zgroup` or `.zattrs` (v2), or `zarr.json` (v3).
 bool isZarrFolder(const std::string& path);
 
 // The decoded slices a source keeps: a whole layer of chunks when it fits (each chunk decoded once), else as

@@ -1,11 +1,13 @@
 #include "store/zarr_metadata.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/header_text.h"
 
 namespace ropecast {
 namespace {
@@ -81,15 +83,114 @@ void readCompressor(const json& j, const std::string& where, ZarrArray& a) {
     throw Error(where + ": 'compressor' " + c.dump() + " has no 'id'");
   const std::string id = c.at("id").get<std::string>();
   if (id == "blosc")
-    a.compressor = ZarrCompressor::Blosc;
+    a.codecs = {ZarrCodec::Blosc};
   else if (id == "zlib")
-    a.compressor = ZarrCompressor::Zlib;
+    a.codecs = {ZarrCodec::Zlib};
   else if (id == "gzip")
-    a.compressor = ZarrCompressor::Gzip;
+    a.codecs = {ZarrCodec::Gzip};
   else if (id == "zstd")
-    a.compressor = ZarrCompressor::Zstd;
+    a.codecs = {ZarrCodec::Zstd};
   else
     throw Error(where + ": compressor '" + id + "' is not read (blosc, zlib, gzip and zstd are)");
+}
+
+// v3's data type names.
+SampleType readDataType(const json& j, const std::string& where) {
+  const json d = j.value("data_type", json());
+  const std::string name = d.is_string() ? d.get<std::string>() : d.dump();
+  const std::pair<const char*, SampleType> known[] = {
+      {"uint8", SampleType::UInt8},     {"int8", SampleType::Int8},      {"uint16", SampleType::UInt16},
+      {"int16", SampleType::Int16},     {"uint32", SampleType::UInt32},  {"int32", SampleType::Int32},
+      {"float32", SampleType::Float32}, {"float64", SampleType::Float64}};
+  for (const auto& [n, type] : known)
+    if (name == n) return type;
+  throw Error(where + ": 'data_type' " + d.dump() +
+              " is not read; read are 8-, 16- and 32-bit integers and 32- and 64-bit floats");
+}
+
+// The name of a v3 codec, and its configuration (an empty object when it has none).
+std::pair<std::string, json> codecOf(const json& c, const std::string& where) {
+  if (c.is_string()) return {c.get<std::string>(), json::object()};
+  if (!c.is_object() || !c.contains("name") || !c.at("name").is_string())
+    throw Error(where + ": a codec without a name: " + c.dump());
+  return {c.at("name").get<std::string>(), c.value("configuration", json::object())};
+}
+
+bool bigEndianOf(const json& configuration, const std::string& where) {
+  const json endian = configuration.value("endian", json("little"));
+  if (endian != json("little") && endian != json("big"))
+    throw Error(where + ": the 'bytes' codec's 'endian' " + endian.dump() + " is neither little nor big");
+  return endian == json("big");
+}
+
+void readSharding(const json& configuration, const std::string& where, ZarrArray& a);
+
+// A v3 codec chain: one array-to-bytes codec (bytes, or sharding_indexed outside a shard; no array-to-array
+// codec is read), then bytes-to-bytes codecs. Sets the codecs and byte order of `a`, or of its shards' inner
+// chunks.
+void readCodecs(const json& chain, const std::string& where, ZarrArray& a, bool inner) {
+  if (!chain.is_array() || chain.empty()) throw Error(where + ": 'codecs' must be a list of codecs");
+  std::vector<ZarrCodec>& codecs = inner ? a.sharding->codecs : a.codecs;
+  for (size_t i = 0; i < chain.size(); ++i) {
+    const auto [name, configuration] = codecOf(chain.at(i), where);
+    if (i == 0) {
+      if (name == "bytes")
+        (inner ? a.sharding->bigEndian : a.bigEndian) = bigEndianOf(configuration, where);
+      else if (name == "sharding_indexed" && !inner)
+        readSharding(configuration, where, a);
+      else
+        throw Error(where + ": codec '" + name + "' is not read" +
+                    (name == "transpose"          ? " (a transposed array)"
+                     : name == "sharding_indexed" ? " (shards in shards)"
+                                                  : " first (bytes and sharding_indexed are)"));
+    } else if (name == "blosc") {
+      codecs.push_back(ZarrCodec::Blosc);
+    } else if (name == "gzip") {
+      codecs.push_back(ZarrCodec::Gzip);
+    } else if (name == "zstd") {
+      codecs.push_back(ZarrCodec::Zstd);
+    } else if (name == "crc32c") {
+      codecs.push_back(ZarrCodec::Crc32c);
+    } else {
+      throw Error(where + ": codec '" + name + "' is not read (blosc, gzip, zstd and crc32c are)");
+    }
+  }
+  if (std::count_if(codecs.begin(), codecs.end(), [](ZarrCodec c) { return c != ZarrCodec::Crc32c; }) > 1)
+    throw Error(where + ": more than one compressor in a chain of codecs is not read");
+}
+
+void readSharding(const json& configuration, const std::string& where, ZarrArray& a) {
+  a.sharding.emplace();
+  a.sharding->chunks = readSizes(configuration, "chunk_shape", where);
+  if (a.sharding->chunks.size() != a.chunks.size())
+    throw Error(where + ": the shards' 'chunk_shape' has " + std::to_string(a.sharding->chunks.size()) +
+                " axes and the array " + std::to_string(a.chunks.size()));
+  for (size_t i = 0; i < a.chunks.size(); ++i)
+    if (a.sharding->chunks[i] == 0 || a.chunks[i] % a.sharding->chunks[i] != 0)
+      throw Error(where + ": the shards' inner chunks do not divide the shards");
+  readCodecs(configuration.value("codecs", json()), where, a, true);
+  for (const json& c : configuration.value("index_codecs", json::array())) {
+    const auto [name, indexConfiguration] = codecOf(c, where);
+    if (name == "crc32c")
+      a.sharding->indexChecksum = true;
+    else if (name != "bytes" || bigEndianOf(indexConfiguration, where))
+      throw Error(where + ": shard index codec '" + name +
+                  "' is not read (little-endian bytes and crc32c are)");
+  }
+  const json location = configuration.value("index_location", json("end"));
+  if (location != json("end") && location != json("start"))
+    throw Error(where + ": 'index_location' " + location.dump() + " is neither start nor end");
+  a.sharding->indexAtEnd = location == json("end");
+}
+
+// A chunk is read whole into memory: 2 GiB keeps one far from exhausting it and its sizes in int.
+void checkChunkSizes(const std::vector<uint64_t>& chunks, SampleType type, const std::string& where) {
+  uint64_t bytes = bytesPerSample(type);
+  for (uint64_t c : chunks) {
+    if (c == 0) throw Error(where + ": a chunk shape holds 0");
+    if (c > (uint64_t(1) << 31) || (bytes *= c) > (uint64_t(1) << 31))
+      throw Error(where + ": chunks of more than 2 GiB are not read");
+  }
 }
 
 double readFill(const json& j, const std::string& where) {
@@ -124,16 +225,8 @@ ZarrArray parseZarrArray(std::string_view text, const std::string& where) {
   if (a.chunks.size() != a.shape.size())
     throw Error(where + ": 'chunks' has " + std::to_string(a.chunks.size()) + " axes and 'shape' " +
                 std::to_string(a.shape.size()));
-  // A chunk is read whole into memory: 2 GiB keeps one far from exhausting it and its sizes in int.
-  uint64_t chunkBytes = 1;
-  for (uint64_t c : a.chunks) {
-    if (c == 0) throw Error(where + ": 'chunks' holds 0");
-    if (c > (uint64_t(1) << 31) || (chunkBytes *= c) > (uint64_t(1) << 31))
-      throw Error(where + ": chunks of more than 2 GiB are not read");
-  }
   readDtype(j, where, a);
-  if (chunkBytes * bytesPerSample(a.type) > (uint64_t(1) << 31))
-    throw Error(where + ": chunks of more than 2 GiB are not read");
+  checkChunkSizes(a.chunks, a.type, where);
   readCompressor(j, where, a);
   a.fillValue = readFill(j, where);
   const json order = j.value("order", json("C"));
@@ -150,9 +243,59 @@ ZarrArray parseZarrArray(std::string_view text, const std::string& where) {
   return a;
 }
 
-std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std::string& where) {
+std::string zarrV3NodeType(std::string_view text, const std::string& where) {
   const json j = parseJson(text, where);
+  const json type = j.is_object() ? j.value("node_type", json()) : json();
+  return type.is_string() ? type.get<std::string>() : "";
+}
+
+ZarrArray parseZarrV3Array(std::string_view text, const std::string& where) {
+  const json j = parseJson(text, where);
+  if (!j.is_object()) throw Error(where + ": not a JSON object");
+  if (j.value("zarr_format", json()) != json(3))
+    throw Error(where + ": 'zarr_format' is " + j.value("zarr_format", json()).dump() + ", expected 3");
+  if (j.value("node_type", json()) != json("array"))
+    throw Error(where + ": 'node_type' is " + j.value("node_type", json()).dump() + ", expected \"array\"");
+  ZarrArray a;
+  a.shape = readSizes(j, "shape", where);
+  const json grid = j.value("chunk_grid", json());
+  if (!grid.is_object() || grid.value("name", json()) != json("regular"))
+    throw Error(where + ": 'chunk_grid' " + grid.dump() + " is not a regular grid");
+  a.chunks = readSizes(grid.value("configuration", json::object()), "chunk_shape", where);
+  if (a.chunks.size() != a.shape.size())
+    throw Error(where + ": 'chunk_shape' has " + std::to_string(a.chunks.size()) + " axes and 'shape' " +
+                std::to_string(a.shape.size()));
+  a.type = readDataType(j, where);
+  checkChunkSizes(a.chunks, a.type, where);
+  readCodecs(j.value("codecs", json()), where, a, false);
+  a.fillValue = readFill(j, where);
+  const json encoding = j.value("chunk_key_encoding", json{{"name", "default"}});
+  const json name = encoding.value("name", json());
+  const json separator = encoding.value("configuration", json::object()).value("separator", json());
+  if (name != json("default") && name != json("v2"))
+    throw Error(where + ": 'chunk_key_encoding' " + encoding.dump() + " is not read (default and v2 are)");
+  if (separator.is_null())
+    a.separator = name == json("default") ? '/' : '.';
+  else if (separator == json(".") || separator == json("/"))
+    a.separator = separator.get<std::string>()[0];
+  else
+    throw Error(where + ": the chunk key separator " + separator.dump() + " is neither . nor /");
+  if (name == json("default")) a.keyPrefix = std::string("c") + a.separator;
+  const json names = j.value("dimension_names", json());
+  if (names.is_array() && names.size() == a.shape.size() &&
+      std::all_of(names.begin(), names.end(), [](const json& n) { return n.is_string(); }))
+    for (const json& n : names) a.dimensionNames.push_back(lowerAscii(n.get<std::string>()));
+  return a;
+}
+
+std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std::string& where) {
+  json j = parseJson(text, where);
+  // OME-NGFF 0.5 keeps its metadata in a v3 group's attributes, under "ome".
+  if (j.is_object() && j.contains("attributes") && j.at("attributes").is_object() &&
+      j.at("attributes").contains("ome"))
+    j = json(j.at("attributes").at("ome"));
   if (!j.is_object() || !j.contains("multiscales")) return std::nullopt;
+
   const json& all = j.at("multiscales");
   if (!all.is_array() || all.empty() || !all.at(0).is_object())
     throw Error(where + ": 'multiscales' is not a list of images");
@@ -164,12 +307,12 @@ std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std
   OmeMultiscale ome;
   ome.datasetPath = datasets.at(0).at("path").get<std::string>();
   for (const json& axis : m.value("axes", json::array())) {
-    std::string name = axis.is_string() ? axis.get<std::string>()
-                       : axis.is_object() && axis.contains("name") && axis.at("name").is_string()
-                           ? axis.at("name").get<std::string>()
-                           : throw Error(where + ": an axis of 'multiscales' has no name: " + axis.dump());
-    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
-    ome.axisNames.push_back(name);
+    const std::string name =
+        axis.is_string() ? axis.get<std::string>()
+        : axis.is_object() && axis.contains("name") && axis.at("name").is_string()
+            ? axis.at("name").get<std::string>()
+            : throw Error(where + ": an axis of 'multiscales' has no name: " + axis.dump());
+    ome.axisNames.push_back(lowerAscii(name));
   }
   // Scales: the dataset's, times the image's own (OME-NGFF 0.4 allows both).
   const auto scaleOf = [&](const json& owner) -> std::optional<std::vector<double>> {

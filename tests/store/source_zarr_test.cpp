@@ -27,6 +27,7 @@ using testing::samplePattern;
 using testing::TempDir;
 using testing::writeFile;
 using testing::writeZarrArray;
+using testing::writeZarrV3Array;
 using testing::ZarrArraySpec;
 
 // z, y, x = 5, 6, 9 in chunks of 2 x 4 x 4: edge chunks along every axis.
@@ -155,10 +156,38 @@ TEST(SourceZarr, RefusalsNameTheFolderOrChunkAndWhy) {
   writeFile(group / ".zgroup", R"({"zarr_format": 2})");
   expectRefused(group.string(), {group.string(), "no OME-Zarr image", "labels/cells, raw"});
 
-  const fs::path v3 = dir / "v3.zarr";
-  fs::create_directories(v3);
-  writeFile(v3 / "zarr.json", R"({"zarr_format": 3, "node_type": "array"})");
-  expectRefused(v3.string(), {v3.string(), "Zarr v3", "Zarr v2"});
+  const auto v3Refused = [&](const std::string& name, const std::string& extra, std::string word) {
+    const fs::path folder = dir / name;
+    fs::create_directories(folder);
+    writeFile(folder / "zarr.json",
+              R"({"zarr_format": 3, "node_type": "array", "shape": [5, 6, 9], )"
+              R"("chunk_grid": {"name": "regular", "configuration": {"chunk_shape": [2, 4, 4]}}, )" +
+                  extra + "}");
+    expectRefused(folder.string(), {(folder / "zarr.json").string(), word});
+  };
+  const std::string bytes = R"({"name": "bytes", "configuration": {"endian": "little"}})";
+  v3Refused("v3_i64", R"("data_type": "int64", "fill_value": 0, "codecs": [)" + bytes + "]",
+            "'data_type' \"int64\"");
+  v3Refused("v3_transpose",
+            R"("data_type": "uint16", "fill_value": 0, "codecs": [{"name": "transpose", )"
+            R"("configuration": {"order": [2, 1, 0]}}, )" +
+                bytes + "]",
+            "codec 'transpose' is not read (a transposed array)");
+  v3Refused(
+      "v3_nested",
+      R"("data_type": "uint16", "fill_value": 0, "codecs": [{"name": "sharding_indexed", "configuration": )"
+      R"({"chunk_shape": [1, 2, 2], "codecs": [{"name": "sharding_indexed", "configuration": )"
+      R"({"chunk_shape": [1, 1, 1], "codecs": [)" +
+          bytes + R"(]}}]}}])",
+      "shards in shards");
+  v3Refused("v3_two_compressors",
+            R"("data_type": "uint16", "fill_value": 0, "codecs": [)" + bytes +
+                R"(, {"name": "gzip"}, {"name": "zstd"}])",
+            "more than one compressor");
+  v3Refused("v3_keys",
+            R"("data_type": "uint16", "fill_value": 0, "codecs": [)" + bytes +
+                R"(], "chunk_key_encoding": {"name": "fancy"})",
+            "'chunk_key_encoding'");
 
   const auto metadataRefused = [&](const std::string& name, const std::string& zarray, std::string word) {
     const fs::path folder = dir / name;
@@ -216,6 +245,74 @@ TEST(SourceZarr, RefusalsNameTheFolderOrChunkAndWhy) {
   readRefused(inflated, "gzip");
 }
 
+TEST(SourceZarr, V3ArraysShardedOrNotAndOmeZarr05Images) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(9 * 6 * 5);
+  ZarrArraySpec spec = smallSpec("int16", "zstd");
+  testing::ZarrV3Options options;
+  options.bigEndian = true;
+  options.dimensionNames = {"z", "y", "x"};
+  const fs::path plain = dir / "plain.zarr";
+  writeZarrV3Array(plain, spec, options, values.data(), 2);
+  ASSERT_TRUE(fs::exists(plain / "c" / "2" / "1" / "2"));
+  expectVolume(*openVolumeSource(plain.string()),
+               {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "zarr:" + plain.string()}, values);
+
+  // Shards of 4 x 4 x 8 holding inner chunks of 2 x 2 x 4 (edge shards past the array's end), two inner
+  // chunks not stored.
+  spec.compressor = "blosc";
+  spec.chunks = {4, 4, 8};
+  spec.fill = -3;
+  spec.unwritten = {{1, 0, 1}, {2, 2, 2}};  // z 2..3, y 0..1, x 4..7; z 4, y 4..5, x 8
+  testing::ZarrV3Options sharded;
+  sharded.innerChunks = {2, 2, 4};
+  const fs::path shards = dir / "sharded.zarr";
+  writeZarrV3Array(shards, spec, sharded, values.data(), 2);
+  std::vector<int16_t> expected = values;
+  for (uint32_t z = 0; z < 5; ++z)
+    for (uint32_t y = 0; y < 6; ++y)
+      for (uint32_t x = 0; x < 9; ++x)
+        if ((z / 2 == 1 && y / 2 == 0 && x / 4 == 1) || (z / 2 == 2 && y / 2 == 2 && x / 4 == 2))
+          expected[(z * 6 + y) * 9 + x] = -3;
+  expectVolume(*openVolumeSource(shards.string()),
+               {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "zarr:" + shards.string()}, expected);
+  const auto banded = openZarrSource(shards.string(), {}, 9 * 6 * 2);
+  expectVolume(*banded, {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "zarr:" + shards.string()}, expected);
+
+  // A damaged shard: refused, naming it.
+  fs::resize_file(shards / "c" / "0" / "0" / "0", 30);
+  try {
+    const auto source = openVolumeSource(shards.string());
+    readSlab<int16_t>(*source, 0, 1);
+    ADD_FAILURE() << "a damaged shard read without error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("Zarr shard " + (shards / "c/0/0/0").string()), std::string::npos)
+        << e.what();
+  }
+
+  // OME-NGFF 0.5: the image's metadata in its group's zarr.json.
+  const fs::path image = dir / "image.ome.zarr";
+  ZarrArraySpec five = smallSpec("int16", "gzip");
+  five.shape = {1, 1, 5, 6, 9};
+  five.chunks = {1, 1, 2, 4, 4};
+  writeZarrV3Array(image / "s0", five, {}, values.data(), 2);
+  writeFile(image / "zarr.json",
+            R"({"zarr_format": 3, "node_type": "group", "attributes": {"ome": {"version": "0.5",
+    "multiscales": [{"axes": [{"name": "t", "type": "time"}, {"name": "c", "type": "channel"},
+      {"name": "z", "type": "space"}, {"name": "y", "type": "space"}, {"name": "x", "type": "space"}],
+      "datasets": [{"path": "s0", "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 3, 2, 0.5]}]}]}]}}})");
+  expectVolume(*openVolumeSource(image.string()),
+               {{9, 6, 5}, SampleType::Int16, {0.5, 2.0, 3.0}, "zarr:" + (image / "s0").string()}, values);
+
+  // A v3 group without an image lists its arrays.
+  const fs::path group = dir / "group3.zarr";
+  fs::create_directories(group);
+  writeFile(group / "zarr.json", R"({"zarr_format": 3, "node_type": "group", "attributes": {}})");
+  writeZarrV3Array(group / "labels", smallSpec("uint16", "none"), {}, values.data(), 2);
+  const std::string refused = errorOf(group.string());
+  EXPECT_NE(refused.find("give one of its arrays' folders: labels"), std::string::npos) << refused;
+}
+
 TEST(ZarrMetadata, FillValuesOrdersAndOmeVersions) {
   const std::string head = R"({"zarr_format": 2, "shape": [2, 3, 4], "chunks": [1, 3, 4], "dtype": ">f4", )";
   const ZarrArray a = parseZarrArray(head + R"("compressor": null, "fill_value": "NaN", "order": "F"})", "a");
@@ -227,8 +324,8 @@ TEST(ZarrMetadata, FillValuesOrdersAndOmeVersions) {
   EXPECT_EQ(a.chunkSamples(), 12u);
   EXPECT_EQ(parseZarrArray(head + R"("compressor": null, "fill_value": null})", "b").fillValue, 0.0);
   EXPECT_EQ(
-      parseZarrArray(head + R"("compressor": {"id": "zstd", "level": 3}, "fill_value": 5})", "c").compressor,
-      ZarrCompressor::Zstd);
+      parseZarrArray(head + R"("compressor": {"id": "zstd", "level": 3}, "fill_value": 5})", "c").codecs,
+      std::vector<ZarrCodec>{ZarrCodec::Zstd});
 
   EXPECT_FALSE(parseOmeMultiscale(R"({"name": "no image"})", "x"));
   // 0.3: axes as names; 0.1: no axes.
