@@ -11,6 +11,8 @@
 namespace ropecast {
 
 bool startsWithDicomMagic(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the read
   std::array<char, 132> head{};
   std::ifstream file(path, std::ios::binary);
   return file.read(head.data(), head.size()) && std::equal(head.end() - 4, head.end(), "DICM");

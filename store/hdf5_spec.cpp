@@ -26,6 +26,8 @@ bool hasHdf5Extension(const std::string& path) {
 }
 
 bool startsWithHdf5Signature(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the read
   std::array<char, kHdf5Signature.size()> start{};
   std::ifstream file(path, std::ios::binary);
   return file.read(start.data(), start.size()) && start == kHdf5Signature;

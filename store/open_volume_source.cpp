@@ -8,12 +8,12 @@
 //   alone or as FILE:/DATASET -> HDF5; a single .png or a store is an error; anything else -> raw.
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
 #include "core/file_names.h"
+#include "core/input_file.h"
 #include "store/hdf5_spec.h"
 #include "store/source_dicom.h"
 #include "store/source_hdf5.h"
@@ -26,7 +26,7 @@
 #include "store/source_vti.h"
 #include "store/source_vtk.h"
 #include "store/source_zarr.h"
-#include "store/store_format.h"
+#include "store/store.h"
 #include "store/volume_source.h"
 
 namespace ropecast {
@@ -47,13 +47,6 @@ void rejectRawOptions(const std::string& spec, const SourceOptions& options, con
   for (size_t i = 1; i < given.size(); ++i) names += (i + 1 == given.size() ? " and " : ", ") + given[i];
   throw UsageError("openVolumeSource: " + spec + ": " + names + (given.size() == 1 ? " applies" : " apply") +
                    " to raw files only; " + kind + " states its own dimensions, type and layout");
-}
-
-// A store given where a volume is expected would be read as a raw file of unknown dimensions.
-bool startsWithStoreMagic(const std::string& path) {
-  char magic[sizeof kStoreMagic] = {};
-  std::ifstream file(path, std::ios::binary);
-  return file.read(magic, sizeof magic) && std::equal(magic, magic + sizeof magic, kStoreMagic);
 }
 
 // Whether a folder holds image slices: a DICOM folder with them too is ambiguous.
@@ -109,6 +102,8 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     rejectRawOptions(spec, options, "a stack of image slices");
     return openImageStackSource(spec, options);
   }
+  // A FIFO or a device would block or never end the reads below (their magic numbers first).
+  requireRegularFile(spec, "openVolumeSource: " + spec);
   if (startsWithDicomMagic(spec)) {
     rejectRawOptions(spec, options, "a DICOM series");
     return openDicomSource(spec, options);
@@ -151,7 +146,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     throw Error(
         "openVolumeSource: " + spec +
         " is a single image; give its folder or a pattern (e.g. dir/slice_*.png) to read a stack of slices");
-  if (startsWithStoreMagic(spec))
+  if (isStoreFile(spec))  // else read as a raw file of unknown dimensions
     throw Error(
         "openVolumeSource: " + spec +
         " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, VTK (.vtk, "

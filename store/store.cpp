@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -135,6 +136,14 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
 }
 
 }  // namespace
+
+bool isStoreFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the read
+  char magic[sizeof kStoreMagic] = {};
+  std::ifstream file(path, std::ios::binary);
+  return file.read(magic, sizeof magic) && std::equal(magic, magic + sizeof magic, kStoreMagic);
+}
 
 std::string Store::describeNode(const NodeKey& k) {
   return "depth " + std::to_string(k.depth) + " (" + std::to_string(k.coord.x) + ", " +

@@ -19,6 +19,10 @@
 
 namespace ropecast {
 
+// Whether `path` is a regular file that begins as a store does (its magic): a store, perhaps damaged, not a
+// volume.
+bool isStoreFile(const std::string& path);
+
 class Store final : public BrickSource {
  public:
   static std::unique_ptr<Store> open(const std::filesystem::path& path);

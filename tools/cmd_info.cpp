@@ -1,13 +1,18 @@
-// `ropecast info STORE [--json]`: what a store holds (store/store.h summarizeStore). Main thread.
+// `ropecast info INPUT [--json]`: what a store holds (store/store.h summarizeStore), or what `convert` would
+// read of a volume (its VolumeInfo: size, type, spacing, which file or dataset, notes), without reading its
+// samples. Main thread.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "core/file_names.h"
 #include "store/store.h"
 #include "store/store_writer.h"
+#include "store/volume_source.h"
 #include "tools/command.h"
 #include "tools/progress_bar.h"
 
@@ -33,7 +38,41 @@ std::string mappingFormula(const ValueMapping& m) {
   return text;
 }
 
+// A volume input: what openVolumeSource makes of it.
+int runVolumeInfo(const std::string& spec, bool json) {
+  const std::unique_ptr<VolumeSource> source = openVolumeSource(spec);
+  const VolumeInfo& v = source->info();
+  const uint64_t rawBytes = v.sampleCount() * bytesPerSample(v.type);
+  if (json) {
+    nlohmann::json j = {{"input", spec},
+                        {"kind", "volume"},
+                        {"dims", {v.dims.x, v.dims.y, v.dims.z}},
+                        {"spacing", {v.spacing.x, v.spacing.y, v.spacing.z}},
+                        {"type", std::string(sampleTypeName(v.type))},
+                        {"source", v.description},
+                        {"notes", v.notes},
+                        {"rawBytes", rawBytes}};
+    if (v.valueMin) j["valueMin"] = *v.valueMin;
+    if (v.valueMax) j["valueMax"] = *v.valueMax;
+    std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    return 0;
+  }
+  std::printf("volume     %s (not a store: `ropecast convert` makes one of it)\n", spec.c_str());
+  std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
+              v.spacing.x, v.spacing.y, v.spacing.z);
+  std::printf("type       %s\n", std::string(sampleTypeName(v.type)).c_str());
+  if (v.valueMin && v.valueMax) std::printf("values     [%g, %g]\n", *v.valueMin, *v.valueMax);
+  std::printf("source     %s\n", v.description.c_str());
+  std::printf("size       raw volume %.2f MiB\n", mebibytes(rawBytes));
+  for (const std::string& note : v.notes) std::printf("note       %s\n", note.c_str());
+  return 0;
+}
+
 int runInfo(const std::string& path, bool json) {
+  // A store, or a file named as one (a damaged store is refused as such); anything else is a volume.
+  std::error_code ec;
+  if (!isStoreFile(path) && !(lowerExtension(path) == ".rcast" && std::filesystem::is_regular_file(path, ec)))
+    return runVolumeInfo(path, json);
   const auto store = Store::open(path);
   const StoreMetadata& m = store->metadata();
   const StoreSummary s = summarizeStore(*store);
@@ -92,10 +131,13 @@ int runInfo(const std::string& path, bool json) {
 }
 
 const CommandRegistration infoCommand("info", 20, [](CLI::App& app) -> std::function<int()> {
-  app.description("print what a store holds: dims, type, value range, levels, node counts, sizes");
+  app.description(
+      "print what a store holds: dims, type, value range, levels, node counts, sizes; or what convert reads "
+      "of a "
+      "volume");
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  app.add_option("store", *path, "store file")->required();
+  app.add_option("input", *path, "store file, or a volume as convert takes it")->required();
   app.add_flag("--json", *json, "print JSON");
   return [path, json] { return runInfo(*path, *json); };
 });

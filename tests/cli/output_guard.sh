@@ -111,7 +111,8 @@ refused "render --stats onto a FIFO" "--stats fifo" "not a regular file" \
 refused "render --stats onto a link to /dev/null" "--stats to_null.json" "under /dev" \
   timeout 20 "$ropecast" render procedural:sphere:16 --size 16x16 -o a.png --stats to_null.json
 for args in "render fifo -o a.png" "render procedural:sphere:16 --tf fifo -o a.png" \
-  "render procedural:sphere:16 --path fifo -o a.png" "info fifo" "compare fifo fifo" "regress fifo"; do
+  "render procedural:sphere:16 --path fifo -o a.png" "info fifo" "convert fifo -o fifo.rcast" "compare fifo fifo" \
+  "regress fifo"; do
   # shellcheck disable=SC2086  # $args is a command line
   refused "$args: a FIFO input" "fifo" "not a regular file" timeout 20 "$ropecast" $args
 done

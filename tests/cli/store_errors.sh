@@ -157,10 +157,18 @@ printf '\x55' | dd of="$dir/header.store" bs=1 seek=20 conv=notrunc status=none
 expect_failure "damaged header (info)" "$dir/header.store" "$ropecast" info "$dir/header.store"
 expect_failure "damaged header (verify)" "$dir/header.store" "$ropecast" verify "$dir/header.store" --quiet
 
-# Not a store at all.
-expect_failure "not a store" "bad magic" "$ropecast" info "$dir/v_24x20x16_uint16.raw"
-# A procedural spec where a store file is wanted: what to do instead.
-expect_usage "procedural spec to info" "convert procedural:sphere:16 -o FILE" "$ropecast" info procedural:sphere:16
+# Not a store at all, though named as one.
+head -c 4096 "$dir/v_24x20x16_uint16.raw" > "$dir/fake.rcast"
+expect_failure "not a store" "bad magic" "$ropecast" info "$dir/fake.rcast"
+# A volume given to info: what convert would read of it, without converting.
+for input in "$dir/v_24x20x16_uint16.raw" procedural:sphere:16; do
+  if "$ropecast" info "$input" > "$dir/info.txt" 2>&1 && grep -qF "not a store" "$dir/info.txt" &&
+    grep -qE "^dims +(24 x 20 x 16|16 x 16 x 16) samples" "$dir/info.txt"; then
+    echo "ok   info of the volume $input"
+  else
+    echo "FAIL: info of the volume $input:"; cat "$dir/info.txt"; failures=$((failures + 1))
+  fi
+done
 expect_usage "procedural spec to verify" "is a procedural volume" "$ropecast" verify procedural:menger:27
 
 # Truncated store.
