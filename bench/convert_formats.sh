@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # `ropecast convert` from HDF5 and Zarr against the same volume as a raw file (docs/BENCHMARKS.md, "Converting
 # HDF5 and Zarr"): a CT-like uint16 field plus noise, written raw, as HDF5 datasets contiguous, chunked CHUNK^3
-# and chunked with shuffle and deflate, and as a Zarr array of CHUNK^3 blosc (lz4, shuffle) chunks, each
-# converted in turn from the page cache (ROUNDS rounds). Prints per input its size, the median wall time and
-# peak RSS and their ratios to the raw file's, and checks that every store holds the raw store's level 1
-# (extracted and compared).
+# and chunked with shuffle and deflate, and as Zarr arrays of CHUNK^3 blosc (lz4, shuffle) chunks (v2, and v3
+# in shards of 1 x 8 x 8 chunks), each converted in turn from the page cache (ROUNDS rounds). Prints per input
+# its size, the median wall time and peak RSS and their ratios to the raw file's, and checks that every store
+# holds the raw store's level 1 (extracted and compared).
 # Usage: bench/convert_formats.sh [BUILD_DIR]   (default build/perf)
 # Environment: NX NY NZ (1024 1024 256: 512 MiB), CHUNK (64), ROUNDS (3), SCRATCH (a temporary directory).
 set -euo pipefail
@@ -24,6 +24,7 @@ cat > "$scratch/gen.cpp" <<'CPP'
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 int main(int argc, char** argv) {
@@ -64,22 +65,66 @@ int main(int argc, char** argv) {
           "\"shuffle\": 1, \"blocksize\": 0}, \"fill_value\": 0, \"order\": \"C\", \"filters\": null}",
           nz, ny, nx, c, c, c);
   fclose(meta);
+  // Every chunk packed once, for the v2 array and the v3 array's shards of 1 x 8 x 8 chunks.
+  const hsize_t gz = (nz + c - 1) / c, gy = (ny + c - 1) / c, gx = (nx + c - 1) / c, per = 8;
+  std::vector<std::string> packed(gz * gy * gx);
   std::vector<uint16_t> block(c * c * c);
-  std::vector<char> packed(block.size() * 2 + BLOSC_MAX_OVERHEAD);
-  for (hsize_t kz = 0; kz * c < nz; ++kz)
-    for (hsize_t ky = 0; ky * c < ny; ++ky)
-      for (hsize_t kx = 0; kx * c < nx; ++kx) {
+  for (hsize_t kz = 0; kz < gz; ++kz)
+    for (hsize_t ky = 0; ky < gy; ++ky)
+      for (hsize_t kx = 0; kx < gx; ++kx) {
         for (hsize_t z = 0; z < c; ++z)
           for (hsize_t y = 0; y < c; ++y)
             for (hsize_t x = 0; x < c; ++x) {
-              const hsize_t gz = kz * c + z, gy = ky * c + y, gx = kx * c + x;
-              block[(z * c + y) * c + x] = gz < nz && gy < ny && gx < nx ? v[(gz * ny + gy) * nx + gx] : 0;
+              const hsize_t az = kz * c + z, ay = ky * c + y, ax = kx * c + x;
+              block[(z * c + y) * c + x] = az < nz && ay < ny && ax < nx ? v[(az * ny + ay) * nx + ax] : 0;
             }
-        const int n = blosc_compress_ctx(5, BLOSC_SHUFFLE, 2, block.size() * 2, block.data(), packed.data(),
-                                         packed.size(), "lz4", 0, 1);
-        const std::string key = zarr + "/" + std::to_string(kz) + "." + std::to_string(ky) + "." + std::to_string(kx);
-        FILE* chunk = fopen(key.c_str(), "wb");
-        if (!chunk || fwrite(packed.data(), 1, size_t(n), chunk) != size_t(n) || fclose(chunk) != 0) return 1;
+        std::string& out = packed[(kz * gy + ky) * gx + kx];
+        out.resize(block.size() * 2 + BLOSC_MAX_OVERHEAD);
+        out.resize(size_t(blosc_compress_ctx(5, BLOSC_SHUFFLE, 2, block.size() * 2, block.data(), out.data(),
+                                             out.size(), "lz4", 0, 1)));
+      }
+  const auto write = [](const std::string& path, const std::string& bytes) {
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+    FILE* f = fopen(path.c_str(), "wb");
+    return f && fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && fclose(f) == 0;
+  };
+  for (hsize_t kz = 0; kz < gz; ++kz)
+    for (hsize_t ky = 0; ky < gy; ++ky)
+      for (hsize_t kx = 0; kx < gx; ++kx)
+        if (!write(zarr + "/" + std::to_string(kz) + "." + std::to_string(ky) + "." + std::to_string(kx),
+                   packed[(kz * gy + ky) * gx + kx]))
+          return 1;
+  const std::string zarr3 = base + "_sharded.zarr";
+  char json[1024];
+  snprintf(json, sizeof json,
+           "{\"zarr_format\": 3, \"node_type\": \"array\", \"shape\": [%llu, %llu, %llu], \"data_type\": \"uint16\", "
+           "\"chunk_grid\": {\"name\": \"regular\", \"configuration\": {\"chunk_shape\": [%llu, %llu, %llu]}}, "
+           "\"chunk_key_encoding\": {\"name\": \"default\"}, \"fill_value\": 0, \"codecs\": [{\"name\": "
+           "\"sharding_indexed\", \"configuration\": {\"chunk_shape\": [%llu, %llu, %llu], \"codecs\": [{\"name\": "
+           "\"bytes\", \"configuration\": {\"endian\": \"little\"}}, {\"name\": \"blosc\", \"configuration\": "
+           "{\"cname\": \"lz4\", \"clevel\": 5, \"shuffle\": \"shuffle\", \"typesize\": 2}}], \"index_codecs\": "
+           "[{\"name\": \"bytes\", \"configuration\": {\"endian\": \"little\"}}]}}]}",
+           nz, ny, nx, c, per * c, per * c, c, c, c);
+  if (!write(zarr3 + "/zarr.json", json)) return 1;
+  for (hsize_t kz = 0; kz < gz; ++kz)
+    for (hsize_t sy = 0; sy * per < gy; ++sy)
+      for (hsize_t sx = 0; sx * per < gx; ++sx) {
+        std::string shard, index;
+        const auto entry = [&](uint64_t value) { index.append(reinterpret_cast<const char*>(&value), 8); };
+        for (hsize_t iy = 0; iy < per; ++iy)
+          for (hsize_t ix = 0; ix < per; ++ix) {
+            const hsize_t ky = sy * per + iy, kx = sx * per + ix;
+            if (ky >= gy || kx >= gx) {
+              entry(~uint64_t(0)), entry(~uint64_t(0));
+              continue;
+            }
+            const std::string& bytes = packed[(kz * gy + ky) * gx + kx];
+            entry(shard.size()), entry(bytes.size());
+            shard += bytes;
+          }
+        if (!write(zarr3 + "/c/" + std::to_string(kz) + "/" + std::to_string(sy) + "/" + std::to_string(sx),
+                   shard + index))
+          return 1;
       }
   return 0;
 }
@@ -89,9 +134,9 @@ c++ -O2 -o "$scratch/gen" "$scratch/gen.cpp" $(pkg-config --cflags --libs hdf5 b
 "$scratch/gen" "$nx" "$ny" "$nz" "$chunk" "$scratch/volume"
 raw="$scratch/volume_${nx}x${ny}x${nz}_uint16.raw"
 inputs=("$raw" "$scratch/volume_contiguous.h5" "$scratch/volume_chunked.h5" "$scratch/volume_deflated.h5"
-  "$scratch/volume.zarr")
+  "$scratch/volume.zarr" "$scratch/volume_sharded.zarr")
 names=(raw "HDF5 contiguous" "HDF5 chunked ${chunk}^3" "HDF5 chunked ${chunk}^3, shuffle+deflate"
-  "Zarr ${chunk}^3, blosc lz4+shuffle")
+  "Zarr ${chunk}^3, blosc lz4+shuffle" "Zarr v3, shards of 8x8 such chunks")
 
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); ${nx}x${ny}x${nz} uint16, $rounds rounds"
 for round in $(seq "$rounds"); do

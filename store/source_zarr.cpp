@@ -204,33 +204,71 @@ class ZarrSource final : public VolumeSource {
     return folder_ / key;
   }
 
-  // Decodes a shard (v3's sharding_indexed) into `out`, the shard's samples in C order: each inner chunk
-  // its index lists decoded and placed, the others the fill value. Returns the problem, if any.
-  std::string decodeShard(std::span<const std::byte> shard, std::span<std::byte> out, ChunkBuffers& b) const {
+  // Copies a decoded box of samples (`stride`: samples between neighbors along x, y, z) whose first sample
+  // lies at `origin` of the array into the buffer: its part inside the array and the buffered slices. Workers
+  // call this for different boxes at once, each writing its own part of the buffer.
+  void place(const std::byte* samples, glm::u64vec3 stride, glm::u64vec3 origin, glm::u64vec3 box) {
+    const glm::u64vec3 dims(info_.dims);
+    if (origin.x >= dims.x || origin.y >= dims.y || origin.z >= dims.z) return;  // an edge chunk's padding
+    const glm::u64vec3 extent = glm::min(box, dims - origin);
+    const size_t width = bytesPerSample(info_.type);
+    const uint64_t zBegin = std::max(origin.z, bufferBegin_),
+                   zEnd = std::min(origin.z + extent.z, bufferEnd_);
+    for (uint64_t slice = zBegin; slice < zEnd; ++slice)
+      for (uint64_t y = 0; y < extent.y; ++y) {
+        std::byte* target =
+            buffer_.data() + (((slice - bufferBegin_) * dims.y + origin.y + y) * dims.x + origin.x) * width;
+        const std::byte* source = samples + ((slice - origin.z) * stride.z + y * stride.y) * width;
+        if (stride.x == 1) {
+          std::memcpy(target, source, extent.x * width);
+        } else {
+          for (uint64_t x = 0; x < extent.x; ++x)
+            std::memcpy(target + x * width, source + x * stride.x * width, width);
+        }
+      }
+  }
+
+  // Whether a box starting at slice `z`, `depth` slices deep, reaches into the buffered slices.
+  bool buffered(uint64_t z, uint64_t depth) const { return z < bufferEnd_ && z + depth > bufferBegin_; }
+
+  glm::u64vec3 zyxOf(const std::vector<uint64_t>& perAxis) const {
+    return {perAxis[size_t(zyx_[2])], perAxis[size_t(zyx_[1])], perAxis[size_t(zyx_[0])]};
+  }
+
+  // Decodes a shard (v3's sharding_indexed; empty when it is not stored) whose first sample lies at `origin`,
+  // inner chunk by inner chunk (those its index lists, the others the fill value), each placed in the buffer
+  // if it reaches the buffered slices. Returns the problem, if any.
+  std::string placeShard(std::span<const std::byte> shard, glm::u64vec3 origin, ChunkBuffers& b) {
     const ZarrSharding& sharding = *array_.sharding;
-    const size_t rank = array_.chunks.size(), width = bytesPerSample(info_.type);
-    std::vector<uint64_t> grid(rank), at(rank), within(rank);
+    const size_t rank = array_.chunks.size();
+    std::vector<uint64_t> grid(rank), at(rank), strides(rank, 1);
     uint64_t count = 1, innerSamples = 1;
     for (size_t a = 0; a < rank; ++a) {
       grid[a] = array_.chunks[a] / sharding.chunks[a];
       count *= grid[a];
       innerSamples *= sharding.chunks[a];
     }
+    for (size_t a = rank - 1; a-- > 0;) strides[a] = strides[a + 1] * sharding.chunks[a + 1];
     const uint64_t indexBytes = count * 16 + (sharding.indexChecksum ? 4 : 0);
-    if (shard.size() < indexBytes)
+    if (!shard.empty() && shard.size() < indexBytes)
       return "is shorter (" + std::to_string(shard.size()) + " bytes) than its index of " +
              std::to_string(count) + " inner chunks";
-    const std::byte* index = sharding.indexAtEnd ? shard.data() + shard.size() - indexBytes : shard.data();
+    const std::byte* index = shard.empty()         ? nullptr
+                             : sharding.indexAtEnd ? shard.data() + shard.size() - indexBytes
+                                                   : shard.data();
     const auto littleEndian = [](const std::byte* p) {
       uint64_t v = 0;
       for (int i = 7; i >= 0; --i) v = v << 8 | uint64_t(p[i]);
       return v;
     };
-    b.inner.resize(innerSamples * width);
-    const uint64_t row = sharding.chunks[rank - 1];
+    const glm::u64vec3 inner = zyxOf(sharding.chunks);
+    b.inner.resize(innerSamples * bytesPerSample(info_.type));
     for (uint64_t i = 0; i < count; ++i) {
       for (uint64_t a = rank, rest = i; a-- > 0;) at[a] = rest % grid[a], rest /= grid[a];
-      const uint64_t offset = littleEndian(index + 16 * i), bytes = littleEndian(index + 16 * i + 8);
+      const glm::u64vec3 innerOrigin = origin + zyxOf(at) * inner;
+      if (!buffered(innerOrigin.z, inner.z)) continue;
+      const uint64_t offset = index ? littleEndian(index + 16 * i) : ~uint64_t(0);
+      const uint64_t bytes = index ? littleEndian(index + 16 * i + 8) : ~uint64_t(0);
       if (offset == ~uint64_t(0) && bytes == ~uint64_t(0)) {
         fillChunk(b.inner, info_.type, array_.fillValue);
       } else {
@@ -242,34 +280,22 @@ class ZarrSource final : public VolumeSource {
           return "inner chunk " + std::to_string(i) + " " + problem;
         samplesToNative(b.inner, info_.type, sharding.bigEndian);
       }
-      // Rows along the last axis, from the inner chunk into the shard.
-      for (uint64_t r = 0; r < innerSamples / row; ++r) {
-        uint64_t target = 0;
-        for (uint64_t a = rank - 1, rest = r; a-- > 0;) {
-          within[a] = rest % sharding.chunks[a], rest /= sharding.chunks[a];
-          target += (at[a] * sharding.chunks[a] + within[a]) * strides_[a];
-        }
-        target += at[rank - 1] * row;
-        std::memcpy(out.data() + target * width, b.inner.data() + r * row * width, row * width);
-      }
+      place(b.inner.data(), zyxOf(strides), innerOrigin, inner);
     }
     return "";
   }
 
-  // Decodes chunk (layer, cy, cx) and copies its samples inside the array and the buffered slices into the
-  // buffer (each chunk's samples are their own part of it: workers call this for different chunks at once).
-  // Returns the problem, if any, naming the chunk file.
+  // Reads and decodes chunk (or shard) (layer, cy, cx) and places its samples in the buffer. Returns the
+  // problem, if any, naming the file.
   std::string copyChunk(uint64_t layer, uint64_t cy, uint64_t cx, ChunkBuffers& b) {
     std::vector<uint64_t> index(array_.shape.size(), 0);
     index[size_t(zyx_[0])] = layer, index[size_t(zyx_[1])] = cy, index[size_t(zyx_[2])] = cx;
     const fs::path file = chunkFile(index);
-    const size_t width = bytesPerSample(info_.type);
-    std::vector<std::byte>& decoded = b.decoded;
-    decoded.resize(array_.chunkSamples() * width);
+    const glm::u64vec3 chunk = zyxOf(array_.chunks), origin = glm::u64vec3(cx, cy, layer) * chunk;
     std::error_code ec;
-    if (!fs::exists(file, ec)) {
-      fillChunk(decoded, info_.type, array_.fillValue);
-    } else {
+    const bool stored = fs::exists(file, ec);
+    b.stored.clear();
+    if (stored) {
       try {
         const PosixFile input(file.string());
         b.stored.resize(input.sizeBytes());
@@ -277,35 +303,21 @@ class ZarrSource final : public VolumeSource {
       } catch (const Error& e) {
         return e.what();
       }
-      const std::string problem = array_.sharding ? decodeShard(b.stored, decoded, b)
-                                                  : decodeBytes(array_.codecs, b.stored, decoded, b.scratch);
-      if (!problem.empty())
-        return "Zarr " + std::string(array_.sharding ? "shard " : "chunk ") + file.string() + ": " + problem;
-      if (!array_.sharding) samplesToNative(decoded, info_.type, array_.bigEndian);
     }
-    // The chunk's box inside the array: edge chunks are stored whole, past the array's end.
-    const glm::u64vec3 chunk(array_.chunks[size_t(zyx_[2])], array_.chunks[size_t(zyx_[1])],
-                             array_.chunks[size_t(zyx_[0])]);
-    const glm::u64vec3 origin(cx * chunk.x, cy * chunk.y, layer * chunk.z);
-    const glm::u64vec3 extent = glm::min(chunk, glm::u64vec3(info_.dims) - origin);
-    const uint64_t sx = strides_[size_t(zyx_[2])], sy = strides_[size_t(zyx_[1])],
-                   sz = strides_[size_t(zyx_[0])];
-    const uint64_t zBegin = std::max(origin.z, bufferBegin_),
-                   zEnd = std::min(origin.z + extent.z, bufferEnd_);
-    for (uint64_t slice = zBegin; slice < zEnd; ++slice)
-      for (uint64_t y = 0; y < extent.y; ++y) {
-        const uint64_t z = slice - origin.z;
-        std::byte* target =
-            buffer_.data() +
-            (((slice - bufferBegin_) * info_.dims.y + origin.y + y) * info_.dims.x + origin.x) * width;
-        const std::byte* source = decoded.data() + (z * sz + y * sy) * width;
-        if (sx == 1) {
-          std::memcpy(target, source, extent.x * width);
-        } else {
-          for (uint64_t x = 0; x < extent.x; ++x)
-            std::memcpy(target + x * width, source + x * sx * width, width);
-        }
-      }
+    if (array_.sharding) {
+      const std::string problem = placeShard(b.stored, origin, b);
+      return problem.empty() ? "" : "Zarr shard " + file.string() + ": " + problem;
+    }
+    b.decoded.resize(array_.chunkSamples() * bytesPerSample(info_.type));
+    if (!stored) {
+      fillChunk(b.decoded, info_.type, array_.fillValue);
+    } else {
+      if (const std::string problem = decodeBytes(array_.codecs, b.stored, b.decoded, b.scratch);
+          !problem.empty())
+        return "Zarr chunk " + file.string() + ": " + problem;
+      samplesToNative(b.decoded, info_.type, array_.bigEndian);
+    }
+    place(b.decoded.data(), zyxOf(strides_), origin, chunk);
     return "";
   }
 

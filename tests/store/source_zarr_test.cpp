@@ -258,16 +258,20 @@ TEST(SourceZarr, V3ArraysShardedOrNotAndOmeZarr05Images) {
   expectVolume(*openVolumeSource(plain.string()),
                {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "zarr:" + plain.string()}, values);
 
-  // Shards of 4 x 4 x 8 holding inner chunks of 2 x 2 x 4 (edge shards past the array's end), two inner
-  // chunks not stored.
+  // Shards of 4 x 4 x 8 holding inner chunks of 2 x 2 x 4 (edge shards past the array's end), an inner chunk
+  // and a shard not stored.
   spec.compressor = "blosc";
   spec.chunks = {4, 4, 8};
   spec.fill = -3;
-  spec.unwritten = {{1, 0, 1}, {2, 2, 2}};  // z 2..3, y 0..1, x 4..7; z 4, y 4..5, x 8
+  // Inner chunk (1, 0, 1): z 2..3, y 0..1, x 4..7; and the whole shard (1, 1, 1), whose part inside the
+  // array is z 4, y 4..5, x 8.
+  spec.unwritten = {{1, 0, 1}, {2, 2, 2}, {2, 2, 3}, {2, 3, 2}, {2, 3, 3},
+                    {3, 2, 2}, {3, 2, 3}, {3, 3, 2}, {3, 3, 3}};
   testing::ZarrV3Options sharded;
   sharded.innerChunks = {2, 2, 4};
   const fs::path shards = dir / "sharded.zarr";
   writeZarrV3Array(shards, spec, sharded, values.data(), 2);
+  ASSERT_FALSE(fs::exists(shards / "c" / "1" / "1" / "1"));
   std::vector<int16_t> expected = values;
   for (uint32_t z = 0; z < 5; ++z)
     for (uint32_t y = 0; y < 6; ++y)

@@ -137,7 +137,8 @@ inline void writeZarrArray(const std::filesystem::path& folder, const ZarrArrayS
 
 // A v3 array: spec.dtype is a v3 data type ("uint16"); spec.compressor one of none, blosc, gzip, zstd, with a
 // crc32c codec after it; keys "c/0/1/2". With `innerChunks`, spec.chunks are shards of such inner chunks
-// (index at the end, with a checksum), and spec.unwritten names inner chunks (global indices) left out.
+// (index at the end, with a checksum), and spec.unwritten names inner chunks (global indices) left out (a
+// shard all of whose inner chunks are left out is not written).
 struct ZarrV3Options {
   bool bigEndian = false;
   std::vector<uint64_t> innerChunks;  // empty: not sharded
@@ -208,6 +209,7 @@ inline void writeZarrV3Array(const std::filesystem::path& folder, const ZarrArra
         appendLittleEndian(inner.size());
         stored += inner;
       });
+      if (stored.empty()) return;  // every inner chunk left out: no shard
       stored += indexBytes + "CRC!";
     }
     std::string key = "c";
