@@ -211,7 +211,7 @@ int runModesBench(const Options& o) {
   if (!o.configs.empty()) chooseConfigs(o.configs, "");  // names checked before anything is read
   // No output may be an input (the store, --tf, --path); checked before anything is written.
   OutputGuard guard("bench modes");
-  guard.addInput("the input", o.input);
+  guard.addVolumeInput("the input", o.input);
   if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
   guard.addInput("--path", o.path);
   guard.addOutput("--out", (out / "bench.json").string());
@@ -221,7 +221,7 @@ int runModesBench(const Options& o) {
   }
   guard.addOutputSeries("--out", (out / "images").string(), "*", [](const std::string&) { return true; });
   guard.check();
-  const std::unique_ptr<BrickSource> source = openBrickSource(o.input, o.brick);
+  const std::unique_ptr<BrickSource> source = openBrickSource(o.input, o.brick, o.quiet, "bench modes");
   const BrickSourceInfo& info = source->info();
   const glm::dvec3 boxMax = info.volume.worldMax();
 
@@ -439,7 +439,10 @@ int runModesBench(const Options& o) {
 
 std::function<int()> setupModesBench(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
+  app.add_option("input", o->input,
+                 "store file (.rcast), a volume as convert reads it (converted to a temporary store first), "
+                 "or procedural:NAME:SIZE")
+      ->required();
   app.add_option("--path", o->path, "camera path: JSON list of cameras or keyframes (see `render --path`)")
       ->check(notEmpty("a camera path file"));
   addTripleOption(app, "--orbit", o->orbit,
@@ -472,7 +475,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
   addByteSizeOption(app, "--gpu-budget", o->gpuBudget, "GPU brick pool bytes (default from the driver)")
       ->check(nonZeroSize("leave --gpu-budget out for the driver's default"));
   addByteSizeOption(app, "--cpu-cache", o->cpuCache, "CPU brick cache bytes")->default_str("1G");
-  app.add_option("--brick", o->brick, "brick size for procedural inputs")
+  app.add_option("--brick", o->brick, "brick size for procedural inputs and volumes")
       ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
   app.add_option(
          "--configs", o->configs,

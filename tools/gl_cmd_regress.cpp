@@ -347,7 +347,7 @@ int runRegress(const RegressArgs& a) {
   guard.addInput("the suite", suite.path);
   for (size_t i = 0; i < suite.cases.size(); ++i) {
     const RegressCase& c = suite.cases[i];
-    guard.addInput("the input of case '" + c.name + "'", c.input);
+    guard.addVolumeInput("the input of case '" + c.name + "'", c.input);
     if (fs::is_regular_file(options[i].tf)) guard.addInput("--tf of case '" + c.name + "'", options[i].tf);
     guard.addInput("--path of case '" + c.name + "'", options[i].path);
     if (updating)

@@ -71,7 +71,7 @@ void checkImageOutputs(const RenderOptions& o) {
 // No output may be an input (the store, --tf, --path) or another output; checked before anything is written.
 void checkOutputsAreNew(const RenderOptions& o) {
   OutputGuard guard("render");
-  guard.addInput("the input", o.input);
+  guard.addVolumeInput("the input", o.input);
   if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
   guard.addInput("--path", o.path);
   guard.addOutput("-o", o.output);
@@ -101,7 +101,7 @@ class RenderSetup {
   std::optional<CameraPath> path_;
 
  public:
-  explicit RenderSetup(const RenderOptions& o) : o_(o), source_(openBrickSource(o)) {
+  explicit RenderSetup(const RenderOptions& o) : o_(o), source_(openBrickSource(o, "render")) {
     if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
     const BrickSourceInfo& info = bricks().info();
     width = o.size.at(0);
@@ -404,8 +404,12 @@ namespace {
 
 const CommandRegistration renderCommand("render", 50, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<RenderOptions>();
-  app.description("render a store or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
-  app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
+  app.description(
+      "render a store, a volume or procedural:NAME:SIZE headless to PNG (and EXR, depth, per-frame stats)");
+  app.add_option("input", o->input,
+                 "store file (.rcast), a volume as convert reads it (converted to a temporary store first), "
+                 "or procedural:NAME:SIZE")
+      ->required();
   app.add_option("-o,--output", o->output, "output PNG")->required()->check(nonEmptyPath("a file"));
   addRenderOptions(app, *o);
   return [o, &app] { return runRender(app, *o); };

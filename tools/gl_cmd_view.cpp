@@ -53,7 +53,7 @@ int runView(const ViewOptions& o) {
   // No file the viewer writes, from its command line or its script's events, may be one it reads, or
   // another of its outputs: checked before the window opens, the command line's before the script is read.
   OutputGuard guard("view");
-  guard.addInput("the input", o.input);
+  guard.addVolumeInput("the input", o.input);
   if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
   guard.addInput("--script", o.script);
   if (!o.screenshot.empty()) addImageOutput(guard, "--screenshot", o.screenshot);
@@ -96,9 +96,13 @@ int runView(const ViewOptions& o) {
 const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<ViewOptions>();
   app.description(
-      "view a store or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; panels for "
+      "view a store, a volume or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; "
+      "panels for "
       "mode, isovalue, transfer function, rendering settings, stats");
-  app.add_option("input", o->input, "store file (.rcast) or procedural:NAME:SIZE")->required();
+  app.add_option("input", o->input,
+                 "store file (.rcast), a volume as convert reads it (converted to a temporary store first), "
+                 "or procedural:NAME:SIZE")
+      ->required();
   addSceneOptions(app, *o, SceneCommand::View);
   app.add_option("--script", o->script,
                  "timed input events and UI actions (JSON, docs/VIEWER.md); the viewer exits after the last")

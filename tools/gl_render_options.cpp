@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
 #include "store/store.h"
@@ -16,6 +17,7 @@
 #include "tools/cli_values.h"
 #include "tools/command.h"
 #include "tools/progress_bar.h"
+#include "tools/temporary_store.h"
 
 namespace ropecast::tools {
 
@@ -151,16 +153,17 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
                  "visible pixels below which a queried node counts as occluded")
       ->transform(integerRange(0, 4294967295.0))
       ->capture_default_str();
-  app.add_option("--brick", o.brick, "brick size for procedural inputs")
+  app.add_option("--brick", o.brick, "brick size for procedural inputs and volumes")
       ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
 }
 
 namespace {
 
 void checkBrickOption(const std::string& input, std::optional<uint32_t> brick) {
-  if (brick && !isProceduralSpec(input))
-    throw UsageError("--brick " + std::to_string(*brick) + " applies to procedural inputs; the store " +
-                     input + " has the brick size it was converted with");
+  if (brick && (isStoreFile(input) || lowerExtension(input) == ".rcast"))
+    throw UsageError("--brick " + std::to_string(*brick) +
+                     " applies to procedural inputs and volumes; the store " + input +
+                     " has the brick size it was converted with");
 }
 
 // The camera of --eye and --target (and --up), or none with an orbit.
@@ -219,17 +222,22 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const cha
       static_cast<unsigned long long>(last.bricksResident), mebibytes(last.gpuPoolUsedBytes));
 }
 
-std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick) {
+std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
+                                             bool quiet, const std::string& who) {
   if (isProceduralSpec(input)) return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
-  checkBrickOption(input, brick);
   if (input.empty())
-    throw UsageError("the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''");
-  if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
-  return Store::open(input);
+    throw UsageError("the input: expected a store file (.rcast), a volume or procedural:NAME:SIZE, got ''");
+  // A store, or a file named as one (a damaged store is refused as such); anything else is a volume.
+  if (isStoreFile(input) || lowerExtension(input) == ".rcast") {
+    checkBrickOption(input, brick);
+    if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
+    return Store::open(input);
+  }
+  return openVolumeAsStore(input, brick, quiet, who);
 }
 
-std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o) {
-  return openBrickSource(o.input, o.brick);
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who) {
+  return openBrickSource(o.input, o.brick, o.quiet, who);
 }
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {

@@ -55,11 +55,14 @@ void checkSceneOptions(const RenderOptions& o);
 // image or a screenshot should not look finished.
 void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const char* who);
 
-// The store file or procedural:NAME:SIZE, with --io-delay-ms applied by the caller (DelayedBrickSource).
-std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o);
-// A store file or procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); a store keeps its
-// own brick size, so `brick` with a store is a UsageError.
-std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick);
+// The input of --input's kinds, with --io-delay-ms applied by the caller (DelayedBrickSource); `who` names
+// the command ("render").
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who);
+// A store file; procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); or a volume as convert
+// reads it, converted to a temporary store bricked by `brick` (tools/temporary_store.h; `quiet` as there). A
+// store keeps its own brick size, so `brick` with a store is a UsageError.
+std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
+                                             bool quiet, const std::string& who);
 
 // The camera of --eye/--target/--up/--fov, else of --orbit (default kDefaultOrbit) around the volume box.
 // Throws UsageError as checkSceneOptions.

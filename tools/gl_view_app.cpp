@@ -233,7 +233,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
     throw Error(
         "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
         "(auto, fragment, compute or multipass)");
-  source_ = openBrickSource(o);
+  source_ = openBrickSource(o, "view");
   if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
   const BrickSourceInfo& info = bricks().info();
   valueRange_ = valueRangeOf(info);

@@ -76,7 +76,7 @@ for option in --exr --depth --stats --tf --path; do
 done
 expect_usage "path and fov" "excludes --path" "$vol" --path "$dir/bad_path.json" --fov 10
 expect_usage "frame cap without --converge" "--max-frames requires --converge" "$vol" --max-frames 3
-expect_usage "empty input" "the input: expected a store file (.rcast) or procedural:NAME:SIZE, got ''" ""
+expect_usage "empty input" "the input: expected a store file (.rcast), a volume or procedural:NAME:SIZE, got ''" ""
 expect_usage "crop not three ranges" "--crop" "$vol" --crop 0:8,0:8
 expect_usage "crop range without a colon" "--crop: expected a range of voxels A:B with A < B" "$vol" --crop 8,:,:
 expect_usage "crop range reversed" "got '9:3'" "$vol" --crop :,9:3,:

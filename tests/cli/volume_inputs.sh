@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# render (and so view, bench modes and regress, through the same opening) given a volume instead of a store:
+# converted to a temporary store under $TMPDIR that is gone when the run ends, drawn as the store `convert`
+# makes of it is drawn; --brick sets its brick size; a raw file without its dimensions in its name is refused,
+# pointing at convert; the volume is an input no output may overwrite.
+# Usage: bash volume_inputs.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+export TMPDIR="$dir/tmp"
+mkdir -p "$TMPDIR"
+
+# A 24x20x16 uint16 ball, values rising towards its centre.
+python3 - "$dir/ball_24x20x16_uint16.raw" <<'PY' || exit 1
+import struct, sys
+values = [max(0, int(4000 - 300 * ((x - 12) ** 2 + (y - 10) ** 2 + (z - 8) ** 2) ** 0.5))
+          for z in range(16) for y in range(20) for x in range(24)]
+open(sys.argv[1], "wb").write(struct.pack("<%dH" % len(values), *values))
+PY
+cp "$dir/ball_24x20x16_uint16.raw" "$dir/unnamed.raw"
+render=(render --size 48x40 --iso 2000 -q)
+
+"$ropecast" "${render[@]}" "$dir/ball_24x20x16_uint16.raw" -o "$dir/direct.png" 2> "$dir/err.txt" ||
+  { fail "render of a volume"; cat "$dir/err.txt"; }
+"$ropecast" convert "$dir/ball_24x20x16_uint16.raw" -o "$dir/ball.rcast" --quiet || fail "convert"
+"$ropecast" "${render[@]}" "$dir/ball.rcast" -o "$dir/store.png" || fail "render of the store"
+cmp -s "$dir/direct.png" "$dir/store.png" || fail "the volume rendered directly differs from its store's image"
+[ -z "$(ls -A "$TMPDIR")" ] || { fail "the temporary store stayed:"; ls -la "$TMPDIR"; }
+
+# Not quiet: it says what it does.
+"$ropecast" render --size 48x40 --iso 2000 "$dir/ball_24x20x16_uint16.raw" -o "$dir/said.png" 2> "$dir/err.txt" ||
+  fail "render of a volume, not quiet"
+grep -qF "is a volume: converting it to a temporary store" "$dir/err.txt" || { fail "no word of the conversion:"; cat "$dir/err.txt"; }
+
+# --brick: the volume's bricks; refused for a store.
+"$ropecast" "${render[@]}" --brick 8 --stats "$dir/stats.jsonl" "$dir/ball_24x20x16_uint16.raw" -o "$dir/b8.png" ||
+  fail "render of a volume with --brick 8"
+grep -qE '"leaves": *([2-9]|[1-9][0-9]+)' "$dir/stats.jsonl" || { fail "--brick 8 made no finer cut:"; cat "$dir/stats.jsonl"; }
+"$ropecast" "${render[@]}" --brick 8 "$dir/ball.rcast" -o "$dir/x.png" 2> "$dir/err.txt" && fail "--brick with a store"
+grep -qF "the brick size it was converted with" "$dir/err.txt" || { fail "no --brick refusal:"; cat "$dir/err.txt"; }
+
+# A raw file that does not name its dimensions: convert's options are convert's.
+"$ropecast" "${render[@]}" "$dir/unnamed.raw" -o "$dir/x.png" 2> "$dir/err.txt"
+rc=$?
+[ "$rc" -ge 1 ] && [ "$rc" -le 127 ] || fail "an unnamed raw file: exit $rc"
+grep -qF "give them to \`ropecast convert\`" "$dir/err.txt" || { fail "no pointer to convert:"; cat "$dir/err.txt"; }
+[ ! -e "$dir/x.png" ] || fail "a refused render left $dir/x.png"
+
+# The volume is an input.
+sum=$(md5sum < "$dir/ball_24x20x16_uint16.raw")
+ln "$dir/ball_24x20x16_uint16.raw" "$dir/hard.png"
+"$ropecast" "${render[@]}" "$dir/ball_24x20x16_uint16.raw" -o "$dir/hard.png" 2> "$dir/err.txt" &&
+  fail "render wrote onto the volume it read"
+grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal:"; cat "$dir/err.txt"; }
+[ "$(md5sum < "$dir/ball_24x20x16_uint16.raw")" = "$sum" ] || fail "the volume was changed"
+
+if [ "$failures" -ne 0 ]; then
+  echo "volume_inputs.sh: $failures failure(s)"
+  exit 1
+fi
+echo "volume_inputs.sh: all passed"

@@ -1,0 +1,68 @@
+#include "tools/temporary_store.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.h"
+#include "store/converter.h"
+#include "store/volume_source.h"
+#include "tools/progress_bar.h"
+
+namespace ropecast::tools {
+
+std::unique_ptr<Store> openVolumeAsStore(const std::string& input, std::optional<uint32_t> brick, bool quiet,
+                                         const std::string& who) {
+  std::unique_ptr<VolumeSource> source;
+  try {
+    source = openVolumeSource(input);
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find("--dims") == std::string::npos) throw;
+    throw Error(what + " (`ropecast " + who + "` reads volumes without convert's options: give them to " +
+                "`ropecast convert` and " + who + " its store)");
+  }
+  for (const std::string& note : source->info().notes)
+    std::fprintf(stderr, "ropecast %s: warning: %s\n", who.c_str(), note.c_str());
+  ConvertOptions options;
+  options.brickSize = brick.value_or(kDefaultBrickSize);
+  options.creationTool = "ropecast " + who;
+  if (const std::string problem = convertOptionsProblem(options); !problem.empty()) throw UsageError(problem);
+
+  static std::atomic<uint32_t> made{0};
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("ropecast-" + std::to_string(::getpid()) + "-" + std::to_string(made++) + ".rcast");
+  if (!quiet)
+    std::fprintf(
+        stderr,
+        "ropecast %s: %s is a volume: converting it to a temporary store (`ropecast convert` makes one "
+        "to keep)\n",
+        who.c_str(), input.c_str());
+  ProgressBar scan("scanning range", "B", quiet), bricks("converting", "B", quiet);
+  options.progress = [&](const ConvertProgress& p) {
+    if (p.phase == ConvertProgress::Phase::ValueRange) {
+      scan.update(p.bytesDone, p.bytesTotal);
+    } else {
+      scan.finish();
+      bricks.update(p.bytesDone, p.bytesTotal);
+    }
+  };
+  convertVolume(*source, path, options);
+  bricks.finish();
+  std::unique_ptr<Store> store;
+  try {
+    store = Store::open(path);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::remove(path, ec);  // the open store keeps its bytes to the end of the process
+  return store;
+}
+
+}  // namespace ropecast::tools
