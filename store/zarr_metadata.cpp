@@ -113,7 +113,10 @@ std::pair<std::string, json> codecOf(const json& c, const std::string& where) {
   if (c.is_string()) return {c.get<std::string>(), json::object()};
   if (!c.is_object() || !c.contains("name") || !c.at("name").is_string())
     throw Error(where + ": a codec without a name: " + c.dump());
-  return {c.at("name").get<std::string>(), c.value("configuration", json::object())};
+  json configuration = c.value("configuration", json::object());
+  if (!configuration.is_object())
+    throw Error(where + ": codec " + c.at("name").dump() + " has a 'configuration' that is not an object");
+  return {c.at("name").get<std::string>(), std::move(configuration)};
 }
 
 bool bigEndianOf(const json& configuration, const std::string& where) {
@@ -270,8 +273,12 @@ ZarrArray parseZarrV3Array(std::string_view text, const std::string& where) {
   readCodecs(j.value("codecs", json()), where, a, false);
   a.fillValue = readFill(j, where);
   const json encoding = j.value("chunk_key_encoding", json{{"name", "default"}});
+  const json configuration = encoding.is_object() ? encoding.value("configuration", json::object()) : json();
+  if (!configuration.is_object())
+    throw Error(where + ": 'chunk_key_encoding' " + encoding.dump() +
+                " is not an object with a configuration");
   const json name = encoding.value("name", json());
-  const json separator = encoding.value("configuration", json::object()).value("separator", json());
+  const json separator = configuration.value("separator", json());
   if (name != json("default") && name != json("v2"))
     throw Error(where + ": 'chunk_key_encoding' " + encoding.dump() + " is not read (default and v2 are)");
   if (separator.is_null())

@@ -184,6 +184,13 @@ TEST(SourceZarr, RefusalsNameTheFolderOrChunkAndWhy) {
             R"("data_type": "uint16", "fill_value": 0, "codecs": [)" + bytes +
                 R"(, {"name": "gzip"}, {"name": "zstd"}])",
             "more than one compressor");
+  v3Refused("v3_configuration",
+            R"("data_type": "uint16", "fill_value": 0, "codecs": [{"name": "bytes", "configuration": 5}])",
+            "'configuration' that is not an object");
+  v3Refused(
+      "v3_key_encoding",
+      R"("data_type": "uint16", "fill_value": 0, "codecs": [)" + bytes + R"(], "chunk_key_encoding": 7)",
+      "'chunk_key_encoding' 7");
   v3Refused("v3_keys",
             R"("data_type": "uint16", "fill_value": 0, "codecs": [)" + bytes +
                 R"(], "chunk_key_encoding": {"name": "fancy"})",

@@ -1,0 +1,52 @@
+// libFuzzer target for the Zarr metadata parsers (store/zarr_metadata.h): the first byte picks a v2
+// `.zarray`, a v3 `zarr.json` or an OME-Zarr `multiscales`, the rest is its text. Any input must either parse
+// into metadata that keeps the parser's promises or throw ropecast::Error; never crash, hang or throw
+// anything else (a JSON library exception escaping would be a finding).
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string_view>
+
+#include "core/error.h"
+#include "store/zarr_metadata.h"
+
+namespace {
+
+// Shapes and chunks of one length, chunks positive and at most 2 GiB, shards' inner chunks dividing them:
+// what the Zarr source relies on.
+void checkArray(const ropecast::ZarrArray& a) {
+  if (a.shape.empty() || a.chunks.size() != a.shape.size()) std::abort();
+  uint64_t bytes = ropecast::bytesPerSample(a.type);
+  for (uint64_t c : a.chunks) {
+    if (c == 0) std::abort();
+    bytes *= c;
+    if (bytes > (uint64_t(1) << 31)) std::abort();
+  }
+  if (a.separator != '.' && a.separator != '/') std::abort();
+  if (a.sharding) {
+    if (a.sharding->chunks.size() != a.chunks.size()) std::abort();
+    for (size_t i = 0; i < a.chunks.size(); ++i)
+      if (a.sharding->chunks[i] == 0 || a.chunks[i] % a.sharding->chunks[i] != 0) std::abort();
+  }
+  if (!a.dimensionNames.empty() && a.dimensionNames.size() != a.shape.size()) std::abort();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  const int parser = data[0] % 3;
+  const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
+  try {
+    if (parser == 0) {
+      checkArray(ropecast::parseZarrArray(text, "fuzz/.zarray"));
+    } else if (parser == 1) {
+      ropecast::zarrV3NodeType(text, "fuzz/zarr.json");
+      checkArray(ropecast::parseZarrV3Array(text, "fuzz/zarr.json"));
+    } else if (const auto ome = ropecast::parseOmeMultiscale(text, "fuzz/.zattrs")) {
+      if (ome->scale && !ome->axisNames.empty() && ome->scale->size() != ome->axisNames.size()) std::abort();
+    }
+  } catch (const ropecast::Error&) {
+  }
+  return 0;
+}
