@@ -14,6 +14,7 @@
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
+#include "tools/convert_progress.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
 
@@ -72,17 +73,10 @@ int runConvert(const ConvertArgs& a) {
   for (const std::string& note : source->info().notes)  // said even with -q: the store keeps what was read
     std::fprintf(stderr, "ropecast convert: warning: %s\n", note.c_str());
 
-  ProgressBar scan("scanning range", "B", a.quiet), bricks("converting", "B", a.quiet);
-  options.progress = [&](const ConvertProgress& p) {
-    if (p.phase == ConvertProgress::Phase::ValueRange) {
-      scan.update(p.bytesDone, p.bytesTotal);
-    } else {
-      scan.finish();
-      bricks.update(p.bytesDone, p.bytesTotal);
-    }
-  };
+  ConvertProgressBars progress(a.quiet);
+  options.progress = [&progress](const ConvertProgress& p) { progress.update(p); };
   const ConvertStats stats = convertVolume(*source, a.output, options);
-  bricks.finish();
+  progress.finish();
   if (a.discardBelow && stats.emptyNodes == stats.nodes)  // said even with -q: the store shows nothing
     std::fprintf(stderr,
                  "ropecast convert: warning: every sample lies below --discard-below %s: %s holds no data\n",

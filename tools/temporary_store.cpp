@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "store/converter.h"
 #include "store/volume_source.h"
-#include "tools/progress_bar.h"
+#include "tools/convert_progress.h"
 
 namespace ropecast::tools {
 
@@ -41,17 +41,10 @@ std::unique_ptr<Store> openVolumeAsStore(const std::string& input, std::optional
         "ropecast %s: %s is a volume: converting it to a temporary store (`ropecast convert` makes one "
         "to keep)\n",
         who.c_str(), input.c_str());
-  ProgressBar scan("scanning range", "B", quiet), bricks("converting", "B", quiet);
-  options.progress = [&](const ConvertProgress& p) {
-    if (p.phase == ConvertProgress::Phase::ValueRange) {
-      scan.update(p.bytesDone, p.bytesTotal);
-    } else {
-      scan.finish();
-      bricks.update(p.bytesDone, p.bytesTotal);
-    }
-  };
+  ConvertProgressBars progress(quiet);
+  options.progress = [&progress](const ConvertProgress& p) { progress.update(p); };
   convertVolume(*source, path, options);
-  bricks.finish();
+  progress.finish();
   std::unique_ptr<Store> store;
   try {
     store = Store::open(path);

@@ -2,7 +2,7 @@
 # Sourced by tests/cli/*_interrupt.sh (this folder is not globbed as tests).
 #
 # expect_interrupted_leaves_nothing SIGNAL DIR COMMAND...: starts COMMAND in the background, waits (up to 20 s)
-# until something appears in DIR (its temporary: the work is under way) and SETTLE seconds more (default 0),
+# until something stays in DIR (its temporary: the work is under way) and SETTLE seconds more (default 0),
 # sends SIGNAL, and requires the command to die of the signal within 20 s and leave DIR empty. Prints an ok or
 # FAIL line; returns 0 or 1.
 expect_interrupted_leaves_nothing() {
@@ -10,8 +10,16 @@ expect_interrupted_leaves_nothing() {
   shift 2
   "$@" > /dev/null 2>&1 &
   local pid=$!
+  # Seen twice, 50 ms apart: render checks each image output's folder with a temporary it removes at once
+  # (checkImageOutputs), which one look may catch and the next not find.
+  local seen=0
   for _ in $(seq 1 400); do
-    [ -n "$(ls -A "$dir")" ] && break
+    if [ -n "$(ls -A "$dir")" ]; then
+      seen=$((seen + 1))
+      [ "$seen" -ge 2 ] && break
+    else
+      seen=0
+    fi
     sleep 0.05
   done
   if [ -z "$(ls -A "$dir")" ]; then
