@@ -40,7 +40,6 @@ std::string readMetadata(const fs::path& file) {
   return readTextInput(file.string(), file.string(), kMaxMetadataBytes);
 }
 
-// The folders holding a `.zarray` below `group` (relative to it), not looking inside arrays.
 // The metadata file of the array in `folder` (v2's `.zarray`, or a v3 `zarr.json` of an array), or an empty
 // path when the folder holds none.
 fs::path arrayMetadata(const fs::path& folder) {
@@ -50,6 +49,7 @@ fs::path arrayMetadata(const fs::path& folder) {
   return {};
 }
 
+// The folders holding an array below `group` (relative to it), not looking inside arrays.
 std::vector<std::string> arraysBelow(const fs::path& group) {
   std::vector<std::string> arrays;
   std::error_code ec;
@@ -402,8 +402,15 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
   ZarrArray array = metadata.filename() == ".zarray"
                         ? parseZarrArray(readMetadata(metadata), metadata.string())
                         : parseZarrV3Array(readMetadata(metadata), metadata.string());
-  const std::vector<std::string>& names =
-      ome && !ome->axisNames.empty() ? ome->axisNames : array.dimensionNames;
+  // Axes by name: an OME-Zarr image's, else a v3 array's dimension names when they name z, y and x (others,
+  // "lat" or "dim_0", say nothing of which axis is which).
+  const auto namesZyx = [](const std::vector<std::string>& n) {
+    return std::ranges::count(n, "z") == 1 && std::ranges::count(n, "y") == 1 &&
+           std::ranges::count(n, "x") == 1;
+  };
+  const std::vector<std::string> names = ome && !ome->axisNames.empty()   ? ome->axisNames
+                                         : namesZyx(array.dimensionNames) ? array.dimensionNames
+                                                                          : std::vector<std::string>{};
   const ArrayAxes axes = names.empty() ? volumeAxes(array.shape) : volumeAxesNamed(array.shape, names);
   if (!axes.problem.empty())
     throw Error("Zarr array " + arrayFolder.string() + ": not a volume: " + axes.problem);

@@ -6,8 +6,8 @@
 // not stored holds the array's fill value. Owned by loader/.
 //
 // Axes: an OME-Zarr image's named z, y, x (its other axes, time and channel, of length 1), else a v3 array's
-// dimension names, else as store/array_axes.h chooses. Spacing: --spacing, else the OME-Zarr scale of z, y,
-// x, else 1.
+// dimension names when they name z, y and x, else as store/array_axes.h chooses. Spacing: --spacing, else the
+// OME-Zarr scale of z, y, x, else 1.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time: the decoded layer is per-source state).
 #pragma once

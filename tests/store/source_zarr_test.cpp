@@ -315,6 +315,13 @@ TEST(SourceZarr, V3ArraysShardedOrNotAndOmeZarr05Images) {
   expectVolume(*openVolumeSource(image.string()),
                {{9, 6, 5}, SampleType::Int16, {0.5, 2.0, 3.0}, "zarr:" + (image / "s0").string()}, values);
 
+  // Dimension names that do not name z, y and x say nothing of the axes: chosen by length.
+  const fs::path unnamed = dir / "unnamed.zarr";
+  testing::ZarrV3Options other;
+  other.dimensionNames = {"dim_0", "dim_1", "dim_2"};
+  writeZarrV3Array(unnamed, smallSpec("int16", "none"), other, values.data(), 2);
+  EXPECT_EQ(openVolumeSource(unnamed.string())->info().dims, glm::u32vec3(9, 6, 5));
+
   // A v3 group without an image lists its arrays.
   const fs::path group = dir / "group3.zarr";
   fs::create_directories(group);
