@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/file_names.h"
 #include "core/input_file.h"
 #include "store/procedural.h"
 
@@ -143,6 +144,10 @@ bool isStoreFile(const std::string& path) {
   char magic[sizeof kStoreMagic] = {};
   std::ifstream file(path, std::ios::binary);
   return file.read(magic, sizeof magic) && std::equal(magic, magic + sizeof magic, kStoreMagic);
+}
+
+bool isStoreInput(const std::string& path) {
+  return isStoreFile(path) || lowerExtension(path) == ".rcast";
 }
 
 std::string Store::describeNode(const NodeKey& k) {

@@ -22,6 +22,9 @@ namespace ropecast {
 // Whether `path` is a regular file that begins as a store does (its magic): a store, perhaps damaged, not a
 // volume.
 bool isStoreFile(const std::string& path);
+// Whether a command that takes a store or a volume reads `path` as a store: a store file, or a name a store
+// has (.rcast), so that a damaged or missing store is refused as a store, not read as a volume.
+bool isStoreInput(const std::string& path);
 
 class Store final : public BrickSource {
  public:

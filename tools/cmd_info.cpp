@@ -3,13 +3,11 @@
 // samples. Main thread.
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "core/file_names.h"
 #include "store/store.h"
 #include "store/store_writer.h"
 #include "store/volume_source.h"
@@ -69,10 +67,7 @@ int runVolumeInfo(const std::string& spec, bool json) {
 }
 
 int runInfo(const std::string& path, bool json) {
-  // A store, or a file named as one (a damaged store is refused as such); anything else is a volume.
-  std::error_code ec;
-  if (!isStoreFile(path) && !(lowerExtension(path) == ".rcast" && std::filesystem::is_regular_file(path, ec)))
-    return runVolumeInfo(path, json);
+  if (!isStoreInput(path)) return runVolumeInfo(path, json);
   const auto store = Store::open(path);
   const StoreMetadata& m = store->metadata();
   const StoreSummary s = summarizeStore(*store);

@@ -8,7 +8,6 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
-#include "core/file_names.h"
 #include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
 #include "store/store.h"
@@ -160,7 +159,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
 namespace {
 
 void checkBrickOption(const std::string& input, std::optional<uint32_t> brick) {
-  if (brick && (isStoreFile(input) || lowerExtension(input) == ".rcast"))
+  if (brick && isStoreInput(input))
     throw UsageError("--brick " + std::to_string(*brick) +
                      " applies to procedural inputs and volumes; the store " + input +
                      " has the brick size it was converted with");
@@ -227,8 +226,7 @@ std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::opti
   if (isProceduralSpec(input)) return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
   if (input.empty())
     throw UsageError("the input: expected a store file (.rcast), a volume or procedural:NAME:SIZE, got ''");
-  // A store, or a file named as one (a damaged store is refused as such); anything else is a volume.
-  if (isStoreFile(input) || lowerExtension(input) == ".rcast") {
+  if (isStoreInput(input)) {
     checkBrickOption(input, brick);
     if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
     return Store::open(input);
