@@ -479,7 +479,10 @@ size_t ReferenceRenderer::bricksRead() const {
   return cache_->bricksRead();
 }
 
-CpuImage ReferenceRenderer::render(const CpuRenderInput& input) const {
+CpuImage ReferenceRenderer::render(const CpuRenderInput& worldInput) const {
+  CpuRenderInput input = worldInput;  // as the volume's own axes see it (store/volume_source.h)
+  input.camera = cameraInVolume(worldInput.camera, source_.info().volume);
+  input.params.clipPlane = clipPlaneInVolume(worldInput.params.clipPlane, source_.info().volume);
   const FrameConstants fc(source_.info(), input);
   const Level0Sampler sampler(*cache_);
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {

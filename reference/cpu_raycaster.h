@@ -106,7 +106,9 @@ BricksBySlot readCutBricks(const Cut& cut, const BrickSource& source);
 CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const BrickSourceInfo& volume,
                       const CpuRenderInput& input, std::vector<MirrorRayTrace>* traces = nullptr);
 
-// The brute-force reference. Keeps the level-0 bricks it has read for later frames.
+// The brute-force reference. Keeps the level-0 bricks it has read for later frames. Its input's camera and
+// clip plane are in the world, turned into the volume's axes as FrameRenderer does (store/volume_source.h
+// cameraInVolume); the mirror above takes them in the volume's axes, as RaycastPass does.
 class ReferenceRenderer {
  public:
   explicit ReferenceRenderer(const BrickSource& source);

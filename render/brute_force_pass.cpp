@@ -86,7 +86,10 @@ const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
   return *p;
 }
 
-void BruteForcePass::render(const BruteForceFrame& f) {
+void BruteForcePass::render(const BruteForceFrame& worldFrame) {
+  BruteForceFrame f = worldFrame;  // as the volume's own axes see it (store/volume_source.h)
+  f.camera = cameraInVolume(worldFrame.camera, info_.volume);
+  f.params.clipPlane = clipPlaneInVolume(worldFrame.params.clipPlane, info_.volume);
   if (f.width == 0 || f.height == 0) throw Error("BruteForcePass::render: image size must be positive");
   const RenderBackend stage = f.params.backend;
   if (stage != RenderBackend::Fragment && stage != RenderBackend::Compute)

@@ -33,7 +33,7 @@ class ShaderProgram;
 class TfTable;
 
 struct BruteForceFrame {
-  Camera camera;
+  Camera camera;                // in the world: turned into the volume's axes as FrameRenderer does
   RenderParams params;          // params.backend picks the entry point: Fragment or Compute
   const TfTable* tf = nullptr;  // required in DVR mode
   uint32_t width = 0, height = 0;

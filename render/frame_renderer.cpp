@@ -92,6 +92,15 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
 
 namespace {
 
+// The request as the volume's own axes see it: its camera and clip plane turned (store/volume_source.h).
+// Everything past a renderer's entry works in those axes.
+FrameRequest inVolume(const FrameRequest& world, const VolumeInfo& volume) {
+  FrameRequest request = world;
+  request.camera = cameraInVolume(world.camera, volume);
+  request.params.clipPlane = clipPlaneInVolume(world.params.clipPlane, volume);
+  return request;
+}
+
 // What the loader needs of a request before any hint: the view and the emptiness.
 FrameInput viewInputOf(const FrameRequest& request, const BrickSourceInfo& info) {
   FrameInput input;
@@ -130,7 +139,8 @@ FrameRenderer::FrameRenderer(const GlContextInfo& gl, const BrickSource& source,
   wsConfig.uploadBudgetBytes = config.uploadBudgetBytes;
   wsConfig.ioThreads = config.ioThreads;
   workingSet_ = std::make_unique<WorkingSet>(source, wsConfig);
-  if (firstRequest && firstRequest->synchronous) workingSet_->prefetch(viewInputOf(*firstRequest, info));
+  if (firstRequest && firstRequest->synchronous)
+    workingSet_->prefetch(viewInputOf(inVolume(*firstRequest, info.volume), info));
 
   pool_ = std::make_unique<BrickPool>(poolConfig, gl.max3DTextureSize);
   if (pool_->slotCount() != poolGeometry.slotCount())
@@ -183,7 +193,8 @@ RaycastFrame FrameRenderer::raycastFrame(const FrameRequest& request, uint32_t w
   return frame;
 }
 
-void FrameRenderer::prepare(const FrameRequest& request) {
+void FrameRenderer::prepare(const FrameRequest& worldRequest) {
+  const FrameRequest request = inVolume(worldRequest, source_.info().volume);
   if (backendFor(request.params) == RenderBackend::Multipass) {
     // One block of the root over pool slot 0, whatever it holds: the draw that makes the driver compile.
     multipass_.render(raycastFrame(request, 1, 1), {MultipassLeaf{}});
@@ -396,8 +407,9 @@ void FrameRenderer::finishStats(const FrameRequest& request, const WorkingSetFra
   stats.stage = stats.backend == RenderBackend::Compute ? RenderBackend::Compute : RenderBackend::Fragment;
 }
 
-FrameStats FrameRenderer::render(const FrameRequest& request, const LoadProgressFn& onLoadProgress) {
+FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadProgressFn& onLoadProgress) {
   const auto frameStart = SteadyClock::now();
+  const FrameRequest request = inVolume(worldRequest, source_.info().volume);
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;

@@ -73,6 +73,8 @@ struct FrameRendererConfig {
 };
 
 struct FrameRequest {
+  // In the world, as the clip plane in params: render() turns both into the volume's own axes (its
+  // orientation, store/volume_source.h cameraInVolume) before anything uses them.
   Camera camera;
   uint32_t width = 0, height = 0;
   RenderParams params;

@@ -445,6 +445,7 @@ void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueM
                   double storedHigh, const ConvertOptions& options, std::vector<StoreNodeEntry>& entries,
                   CompressPool& pool, uint64_t queuedBytes, ConvertStats& stats) {
   const VolumeInfo& info = source.info();
+  const bool reverseRows = mirrors(info.axes);  // see convertVolume
   Cascade<T> cascade(layout, mapping, options.discardBelow, entries, pool);
   const uint32_t slab = slabSlicesFor(info);
   const size_t sliceBytes = info.sliceBytes(), sliceSamples = size_t(info.dims.x) * info.dims.y;
@@ -458,6 +459,9 @@ void streamSlices(VolumeSource& source, const OctreeLayout& layout, const ValueM
       std::vector<T> slice = cascade.newSlice(0);
       toStored(buffer.data() + i * sliceBytes, sliceSamples, info.type, mapping, storedHigh, slice.data(),
                stats);
+      if (reverseRows)
+        for (size_t row = 0; row < sliceSamples; row += info.dims.x)
+          std::reverse(slice.begin() + ptrdiff_t(row), slice.begin() + ptrdiff_t(row + info.dims.x));
       cascade.push(0, std::move(slice));
     }
     progress.slicesDone = z + count;
@@ -500,6 +504,9 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
 
   StoreMetadata metadata;
   metadata.volume = info;
+  // A mirroring orientation (a left-handed frame, as radiological NIfTI files have) is stored with its x axis
+  // reversed, so that a store's axes are always a rotation: the renderers turn cameras, never mirror images.
+  if (mirrors(info.axes)) metadata.volume.axes[0] = -info.axes[0];
   metadata.brickSize = options.brickSize;
   metadata.levels = layout.maxDepth + 1;
   metadata.storedType = storedTypeFor(info.type);

@@ -142,8 +142,10 @@ class MetaImageHeaderParser {
         failKey(key, std::to_string(n) + " channels; only single-channel (scalar) volumes are supported");
     } else if (name == "transformmatrix" || name == "rotation" || name == "orientation") {
       const std::vector<double> m = numbers(key, value, 9);
-      header_.matrixTurnsAxes =
-          header_.matrixTurnsAxes || matrixTurnsAxes(std::span<const double, 9>(m.data(), 9));
+      const std::optional<AxisDirections> axes =
+          axisDirectionsOf({m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]});
+      header_.axes = axes.value_or(AxisDirections(1.0));
+      header_.matrixNotApplied = !axes;
     } else if (name == "elementdatafile") {
       parseDataFile(key, value);
     }

@@ -17,6 +17,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/orientation.h"
 #include "core/sample_type.h"
 
 namespace ropecast {
@@ -26,14 +27,17 @@ constexpr size_t kMaxMetaImageHeaderBytes = size_t(1) << 20;
 
 struct MetaImageHeader {
   SampleType type = SampleType::UInt8;
-  glm::u32vec3 sizes{0};         // samples per axis, axis 0 fastest
-  glm::dvec3 spacing{1.0};       // ElementSpacing, else ElementSize (1 where neither is given)
-  bool matrixTurnsAxes = false;  // TransformMatrix flips, rotates or shears the axes
-  bool compressed = false;       // CompressedData: the data is one zlib stream
-  bool bigEndian = false;        // the data's byte order (irrelevant for 1-byte types)
-  int64_t headerSize = 0;        // bytes of the data file skipped before the data; -1: data at the end
-  std::string dataFile;          // ElementDataFile as written (relative to the header's folder); empty: LOCAL
-  size_t headerBytes = 0;        // bytes of the header, the ElementDataFile line and its line end included
+  glm::u32vec3 sizes{0};    // samples per axis, axis 0 fastest
+  glm::dvec3 spacing{1.0};  // ElementSpacing, else ElementSize (1 where neither is given)
+  // Where the axes point (core/orientation.h), LPS as ITK writes it: TransformMatrix's three rows, the
+  // directions of x, y and z. Identity without one.
+  AxisDirections axes{1.0};
+  bool matrixNotApplied = false;  // a TransformMatrix whose rows are not at right angles (a sheared grid)
+  bool compressed = false;        // CompressedData: the data is one zlib stream
+  bool bigEndian = false;         // the data's byte order (irrelevant for 1-byte types)
+  int64_t headerSize = 0;         // bytes of the data file skipped before the data; -1: data at the end
+  std::string dataFile;    // ElementDataFile as written (relative to the header's folder); empty: LOCAL
+  size_t headerBytes = 0;  // bytes of the header, the ElementDataFile line and its line end included
 
   uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
 };

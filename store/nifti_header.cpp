@@ -201,21 +201,34 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
   }
 
   // The sform where its code is set (NIfTI's method 3), else the qform (method 2); neither: axes as stored.
-  std::array<double, 9> m{};
   const size_t real = layout.wide ? 8 : 4;
   if (field.code(layout.sformCode, layout.wide) > 0) {
+    std::array<double, 9> m{};  // rows srow_x, srow_y, srow_z; column a is axis a's vector
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c)
         m[size_t(r * 3 + c)] = field.real(layout.srowX + size_t(r * 4 + c) * real, layout.wide);
-    header.transformTurnsAxes = matrixTurnsAxes(m);
+    const std::optional<AxisDirections> axes =
+        axisDirectionsOf({m[0], m[3], m[6]}, {m[1], m[4], m[7]}, {m[2], m[5], m[8]});
+    if (axes)
+      header.axes = rasToLps(*axes);
+    else
+      header.transformNotApplied = true;
   } else if (field.code(layout.qformCode, layout.wide) > 0) {
+    // The rotation of the unit quaternion (a, b, c, d), a = sqrt(1 - b^2 - c^2 - d^2), as the NIfTI-1
+    // header's comments give it; pixdim[0] = -1 (qfac) turns the third axis around.
     const double b = field.real(layout.quaternB, layout.wide),
                  c = field.real(layout.quaternB + real, layout.wide),
                  d = field.real(layout.quaternB + 2 * real, layout.wide);
-    const double qfac = field.real(layout.pixdim, layout.wide);  // pixdim[0]: -1 flips the third axis
-    constexpr double kTolerance = 1e-6;
-    header.transformTurnsAxes =
-        !(std::abs(b) <= kTolerance && std::abs(c) <= kTolerance && std::abs(d) <= kTolerance) || qfac < 0.0;
+    const double a = std::sqrt(std::max(0.0, 1.0 - (b * b + c * c + d * d)));
+    const double qfac = field.real(layout.pixdim, layout.wide) < 0.0 ? -1.0 : 1.0;
+    const glm::dvec3 x(a * a + b * b - c * c - d * d, 2 * (b * c + a * d), 2 * (b * d - a * c));
+    const glm::dvec3 y(2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b));
+    const glm::dvec3 z(2 * (b * d + a * c), 2 * (c * d - a * b), a * a + d * d - c * c - b * b);
+    const std::optional<AxisDirections> axes = axisDirectionsOf(x, y, qfac * z);
+    if (axes)
+      header.axes = rasToLps(*axes);
+    else
+      header.transformNotApplied = true;  // b, c, d not finite
   }
   return header;
 }

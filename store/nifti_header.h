@@ -15,6 +15,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/orientation.h"
 #include "core/sample_type.h"
 
 namespace ropecast {
@@ -35,7 +36,10 @@ struct NiftiHeader {
   // intercept 0).
   bool scaled = false;
   double slope = 1.0, intercept = 0.0;
-  bool transformTurnsAxes = false;  // the qform or sform (whichever the file says to use) flips or rotates
+  // Where the axes point (core/orientation.h): the sform's or qform's (whichever the file says to use)
+  // directions, turned from NIfTI's RAS into LPS. Identity where the file sets neither.
+  AxisDirections axes{1.0};
+  bool transformNotApplied = false;  // an sform whose columns are not at right angles (a sheared grid)
 
   uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
 };

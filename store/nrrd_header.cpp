@@ -1,5 +1,6 @@
 #include "store/nrrd_header.h"
 
+#include <cctype>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -143,6 +144,8 @@ class HeaderParser {
       parseSpacings(name, value);
     } else if (name == "space directions") {
       parseSpaceDirections(name, value);
+    } else if (name == "space") {
+      space_ = std::string(value);
     } else if (name == "byte skip") {
       const auto skip = parseInteger(value);
       if (!skip || *skip < -1 || *skip > kMaxSkip)
@@ -158,8 +161,8 @@ class HeaderParser {
     } else if (name == "data file" || name == "datafile") {
       parseDataFile(name, value);
     }
-    // Anything else (kinds, space, space origin, centerings, content, ...) does not change how samples are
-    // read.
+    // Anything else (kinds, space origin, centerings, content, ...) does not change how samples are read
+    // or placed.
   }
 
   void parseSizes(std::string_view name, std::string_view value) {
@@ -207,6 +210,7 @@ class HeaderParser {
       if (value.substr(i, 4) == "none") {
         i += 4;
         ++axis;
+        vectorsUsable_ = false;
         continue;
       }
       if (value[i] != '(') failField(name, "expected '(x,y,z)' or 'none', got " + quotedExcerpt(value));
@@ -215,14 +219,13 @@ class HeaderParser {
       const std::string_view inner = value.substr(i + 1, close - i - 1);
       double squared = 0.0;
       size_t count = 0;
-      bool alongAxis = true;  // (x,0,0) for axis 0 with x > 0, and so on
       for (size_t start = 0;;) {
         const size_t comma = inner.find(',', start);
         const auto c = parseNumber(
             inner.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
         if (!c || std::isnan(*c)) failField(name, "expected numbers in " + quotedExcerpt(value));
         squared += *c * *c;
-        alongAxis = alongAxis && (count == size_t(axis) ? *c > 0.0 : *c == 0.0);
+        if (count < 3) vectors_[axis][int(count)] = *c;
         ++count;
         if (comma == std::string_view::npos) break;
         start = comma + 1;
@@ -233,7 +236,7 @@ class HeaderParser {
       const double length = std::sqrt(squared);
       if (!(length > 0.0) || std::isinf(length))
         failField(name, "direction of axis " + std::to_string(axis) + " has zero or infinite length");
-      if (!alongAxis || count != 3) header_.directionsTurnAxes = true;
+      if (count != 3) vectorsUsable_ = false;
       lengths[axis++] = length;
       i = close + 1;
     }
@@ -262,11 +265,34 @@ class HeaderParser {
       fail("missing field 'endian' (required for " + std::string(sampleTypeName(header_.type)) + " data)");
     if (header_.byteSkip == -1 && header_.encoding != NrrdEncoding::Raw)
       fail("field 'byte skip': -1 is only allowed with raw encoding");
-    if (hasDirections_)
+    if (hasDirections_) {
       header_.spacing = directions_;
-    else if (hasSpacings_)
+      const std::optional<AxisDirections> axes =
+          vectorsUsable_ ? axisDirectionsOf(vectors_[0], vectors_[1], vectors_[2]) : std::nullopt;
+      if (axes)
+        header_.axes = inLps(*axes);
+      else
+        header_.directionsNotApplied = true;
+    } else if (hasSpacings_) {
       header_.spacing = spacings_;
+    }
     return header_;
+  }
+
+  // The space directions in LPS, from the anatomical frame the "space" field names (NRRD's long and short
+  // names); a space that is not anatomical (scanner-xyz, 3D-right-handed, none given) as it is.
+  AxisDirections inLps(const AxisDirections& axes) const {
+    std::string space;
+    for (const char c : space_) space += char(std::tolower(static_cast<unsigned char>(c)));
+    const bool right = space.starts_with("right-") || space.starts_with("ra");
+    const bool anterior = space.starts_with("right-anterior") || space.starts_with("left-anterior") ||
+                          space.starts_with("ra") || space.starts_with("la");
+    AxisDirections lps = axes;
+    for (int a = 0; a < 3; ++a) {
+      if (right) lps[a].x = -lps[a].x;
+      if (anterior) lps[a].y = -lps[a].y;
+    }
+    return lps;
   }
 
   static constexpr int64_t kMaxSkip = int64_t(1) << 40;
@@ -281,6 +307,9 @@ class HeaderParser {
   bool hasSpacings_ = false, hasDirections_ = false;
   glm::dvec3 spacings_{1.0};
   glm::dvec3 directions_{1.0};
+  glm::dvec3 vectors_[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // the space directions
+  bool vectorsUsable_ = true;                                                    // three 3-vectors, no "none"
+  std::string space_;
 };
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/orientation.h"
 #include "core/sample_type.h"
 
 namespace ropecast {
@@ -30,8 +31,12 @@ struct NrrdHeader {
   SampleType type = SampleType::UInt8;
   glm::u32vec3 sizes{0};    // samples per axis, axis 0 fastest
   glm::dvec3 spacing{1.0};  // from spacings or the lengths of space directions (1 where unknown)
-  // Space directions that flip, rotate or shear the axes: only their lengths are used (as spacing).
-  bool directionsTurnAxes = false;
+  // Where the axes point (core/orientation.h): the space directions' directions, turned from the "space"
+  // field's anatomical frame (RAS, LAS, ...) into LPS; other spaces as they are. Identity without them.
+  AxisDirections axes{1.0};
+  // Space directions that are not three orthogonal 3-vectors (a sheared grid, a "none"): only their lengths
+  // are used (as spacing), and axes stays the identity.
+  bool directionsNotApplied = false;
   NrrdEncoding encoding = NrrdEncoding::Raw;
   bool bigEndian = false;  // the data's byte order (irrelevant for 1-byte types)
   int64_t byteSkip = 0;  // bytes to skip before the data (after decompression for gzip); -1: data at the end

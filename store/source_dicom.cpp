@@ -485,6 +485,14 @@ glm::dvec3 normalOf(const std::vector<double>& o, const std::string& what) {
   return normal;
 }
 
+// The axes of images stacked along their normal: x along the rows, y down the columns, z along the normal
+// (core/orientation.h; DICOM's patient frame is LPS). The identity for directions that are not at right
+// angles (normalOf has refused the parallel ones).
+AxisDirections axesOf(const std::vector<double>& o) {
+  const glm::dvec3 row(o[0], o[1], o[2]), column(o[3], o[4], o[5]);
+  return axisDirectionsOf(row, column, glm::cross(row, column)).value_or(AxisDirections(1.0));
+}
+
 // Where images lie along their normal: their order (stable) and the average gap between neighbours.
 struct StackOrder {
   std::vector<size_t> order;      // order[k]: the image stacked k-th
@@ -674,6 +682,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
           },
           notes);
       reorderFrames(decoded, stack.order, size_t(sliceDims.x) * sliceDims.y);
+      info.axes = axesOf(*decoded.frameOrientation);
       if (stack.spacing) decoded.spacing.z = *stack.spacing;
       if (const auto& pixel = decoded.framePixelSpacing; pixel && (*pixel)[0] > 0 && (*pixel)[1] > 0)
         decoded.spacing.x = (*pixel)[1], decoded.spacing.y = (*pixel)[0];  // row spacing first
@@ -720,6 +729,9 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
       throw Error("DICOM series of " + bottom.path + " has spacing " + formatSpacing(info.spacing) +
                   "; expected " + validSpacingText() + " (--spacing sets it)");
   }
+  if (std::all_of(slices.begin(), slices.end(),
+                  [](const DicomImage& s) { return s.position && s.orientation; }))
+    info.axes = axesOf(*bottom.orientation);  // stacked along their normal
   info.type = sampleTypeFor(layout, slices);
   info.description =
       "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) + " images)";

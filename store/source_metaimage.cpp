@@ -53,7 +53,8 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "metaimage:" + path;
-  if (header.matrixTurnsAxes) info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
+  info.axes = header.axes;
+  if (header.matrixNotApplied) info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
   return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
                          header.bigEndian);
 }

@@ -169,7 +169,8 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "nifti:" + path;
-  if (header.transformTurnsAxes)
+  info.axes = header.axes;
+  if (header.transformNotApplied)
     info.notes.push_back(unappliedTransformNote(headerPath, "its qform or sform"));
   if (header.spacingUnknown && !options.spacing)
     info.notes.push_back(headerPath +

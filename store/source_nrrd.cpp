@@ -70,10 +70,11 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "nrrd:" + path;
-  if (header.directionsTurnAxes)
+  info.axes = header.axes;
+  if (header.directionsNotApplied)
     info.notes.push_back(path +
-                         ": its space directions flip or rotate the axes; only their lengths are used, as "
-                         "spacings, so the volume is shown unflipped and axis-aligned");
+                         ": its space directions are not three vectors at right angles; only their lengths "
+                         "are used, as spacings, so the volume is shown unsheared and axis-aligned");
   return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
                          header.bigEndian);
 }

@@ -84,7 +84,8 @@ class VtiSource final : public VolumeSource {
       info_.valueMax = 255.0;
     }
     info_.description = "vti:" + path + " (" + header_.arrayName + ")";
-    if (header_.directionTurnsAxes) info_.notes.push_back(unappliedTransformNote(path, "its Direction"));
+    info_.axes = header_.axes;
+    if (header_.directionNotApplied) info_.notes.push_back(unappliedTransformNote(path, "its Direction"));
     if (header_.zlib)
       readCompressionHeader();
     else

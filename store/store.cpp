@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -63,6 +64,21 @@ glm::dvec3 readVec3d(const nlohmann::json& j, const std::string& what) {
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
 
+// "axes": the unit world directions of x, y and z, at right angles and not mirroring (the converter turns
+// a mirroring volume's x around).
+AxisDirections readAxes(const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error("axes: expected 3 arrays of 3 numbers");
+  const glm::dvec3 x = readVec3d(j.at(0), "axes"), y = readVec3d(j.at(1), "axes"),
+                   z = readVec3d(j.at(2), "axes");
+  const std::optional<AxisDirections> axes = axisDirectionsOf(x, y, z);
+  constexpr double kUnit = 1e-6;
+  for (const glm::dvec3& v : {x, y, z})
+    if (!(std::abs(glm::length(v) - 1.0) <= kUnit)) throw std::runtime_error("axes: expected unit vectors");
+  if (!axes || mirrors(*axes))
+    throw std::runtime_error("axes: expected a rotation (at right angles, not mirroring)");
+  return *axes;
+}
+
 // The metadata's key, or an error naming it.
 const nlohmann::json& field(const nlohmann::json& j, const std::string& key) {
   if (!j.is_object() || !j.contains(key)) throw std::runtime_error("missing \"" + key + "\"");
@@ -85,6 +101,7 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     const nlohmann::json j = nlohmann::json::parse(text);
     m.volume.dims = readVec3u(field(j, "dims"), "dims");
     m.volume.spacing = readVec3d(field(j, "spacing"), "spacing");
+    if (j.contains("axes")) m.volume.axes = readAxes(j["axes"]);  // absent in stores written before
     const auto type = parseSampleType(textField(j, "originalType"));
     const auto stored = parseSampleType(textField(j, "storedType"));
     if (!type || !stored) throw std::runtime_error("unknown sample type");

@@ -39,21 +39,11 @@ SizesText parseSizesText(std::string_view text) {
   return parsed;
 }
 
-bool matrixTurnsAxes(std::span<const double, 9> rows) {
-  constexpr double kTolerance = 1e-6;
-  double largest = 0.0;
-  for (const double v : rows) largest = std::max(largest, std::abs(v));
-  for (size_t i = 0; i < 9; ++i) {
-    if (!std::isfinite(rows[i])) return true;
-    const bool diagonal = i % 4 == 0;
-    if (diagonal ? rows[i] <= kTolerance * largest : std::abs(rows[i]) > kTolerance * largest) return true;
-  }
-  return false;
-}
-
 std::string unappliedTransformNote(const std::string& path, const std::string& transform) {
   return path + ": " + transform +
-         " flips or rotates the axes; it is not applied, so the volume is shown unflipped and axis-aligned";
+         " does not keep the axes at right angles (a sheared grid); it is not applied, so the volume is "
+         "shown "
+         "unsheared and axis-aligned";
 }
 
 }  // namespace ropecast

@@ -19,6 +19,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/error.h"
+#include "core/orientation.h"
 #include "core/sample_type.h"
 
 namespace ropecast {
@@ -29,7 +30,11 @@ struct VolumeInfo {
   SampleType type = SampleType::UInt8;
   std::optional<double> valueMin;  // known value range in data units, if the source knows it cheaply
   std::optional<double>
-      valueMax;             // (mapsOverValueRange types without it get a range pre-pass in the converter)
+      valueMax;  // (mapsOverValueRange types without it get a range pre-pass in the converter)
+  // Where the index axes point in the world (core/orientation.h); the identity where the file says nothing.
+  // Sources give what their file says, a mirroring frame included; a store's never mirrors (the converter
+  // stores such a volume's x axis reversed).
+  AxisDirections axes{1.0};
   std::string description;  // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
   // What the source noticed about its input that a person should hear, though the samples are read as
   // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.
@@ -40,6 +45,15 @@ struct VolumeInfo {
   // The far corner of the volume's world box [0, n s].
   glm::dvec3 worldMax() const { return glm::dvec3(dims) * spacing; }
 };
+
+// A camera or a clip plane given in the world, seen from the volume's own axes (core/orientation.h): what
+// every renderer draws, at its entry, so that a turned volume is drawn turned.
+inline Camera cameraInVolume(const Camera& world, const VolumeInfo& v) {
+  return cameraInVolume(world, v.axes, 0.5 * v.worldMax());
+}
+inline ClipPlane clipPlaneInVolume(const ClipPlane& world, const VolumeInfo& v) {
+  return clipPlaneInVolume(world, v.axes, 0.5 * v.worldMax());
+}
 
 // The most samples a store holds per axis: keeps every node count far from overflow.
 inline constexpr uint32_t kMaxDimsPerAxis = 1u << 20;
@@ -75,13 +89,8 @@ struct SizesText {
 };
 SizesText parseSizesText(std::string_view text);
 
-// Whether a 3x3 matrix (rows one after another: a TransformMatrix, a qform's or sform's rotation, a
-// Direction) does more than scale each axis by a positive factor, to within a millionth of its largest entry
-// (written floats carry rounding); a matrix with a non-finite entry does.
-bool matrixTurnsAxes(std::span<const double, 9> rows);
-
-// The warning a source gives when its file's `transform` ("its TransformMatrix") turns the axes: it is not
-// applied.
+// The warning a source gives when its file's `transform` ("its TransformMatrix") does not keep the axes at
+// right angles: it is not applied.
 std::string unappliedTransformNote(const std::string& path, const std::string& transform);
 
 // "XxYxZ", for messages.

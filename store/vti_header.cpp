@@ -179,7 +179,11 @@ class VtiParser {
     if (const auto directionText = attribute(attributes, "Direction")) {
       const auto m = numbers(*directionText, 9);
       if (!m) return stop("ImageData Direction: expected 9 numbers");
-      header_.directionTurnsAxes = matrixTurnsAxes(std::span<const double, 9>(m->data(), 9));
+      const std::vector<double>& d = *m;
+      const std::optional<AxisDirections> axes =
+          axisDirectionsOf({d[0], d[3], d[6]}, {d[1], d[4], d[7]}, {d[2], d[5], d[8]});
+      header_.axes = axes.value_or(AxisDirections(1.0));
+      header_.directionNotApplied = !axes;
     }
   }
 

@@ -16,6 +16,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/orientation.h"
 #include "core/sample_type.h"
 
 namespace ropecast {
@@ -25,13 +26,16 @@ constexpr size_t kMaxVtiHeaderBytes = size_t(1) << 20;
 
 struct VtiHeader {
   SampleType type = SampleType::UInt8;
-  glm::u32vec3 sizes{0};            // from WholeExtent: samples per axis, axis 0 fastest
-  glm::dvec3 spacing{1.0};          // Spacing (1 where not given)
-  bool directionTurnsAxes = false;  // Direction flips, rotates or shears the axes
-  bool bigEndian = false;           // byte_order: of the samples and of the data's header words
-  size_t headerWordBytes = 4;       // header_type UInt32 (4) or UInt64 (8)
-  bool zlib = false;                // compressor vtkZLibDataCompressor: the data is in zlib blocks
-  bool base64 = false;              // the data is base64 text (inline, or appended with encoding base64)
+  glm::u32vec3 sizes{0};    // from WholeExtent: samples per axis, axis 0 fastest
+  glm::dvec3 spacing{1.0};  // Spacing (1 where not given)
+  // Where the axes point (core/orientation.h): Direction's columns (VTK's row-major matrix). Identity
+  // without one.
+  AxisDirections axes{1.0};
+  bool directionNotApplied = false;  // a Direction whose columns are not at right angles
+  bool bigEndian = false;            // byte_order: of the samples and of the data's header words
+  size_t headerWordBytes = 4;        // header_type UInt32 (4) or UInt64 (8)
+  bool zlib = false;                 // compressor vtkZLibDataCompressor: the data is in zlib blocks
+  bool base64 = false;               // the data is base64 text (inline, or appended with encoding base64)
   // File offset of the array's data: its header words first (the byte count, or the compression header).
   uint64_t dataStart = 0;
   std::string arrayName;

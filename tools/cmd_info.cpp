@@ -36,6 +36,22 @@ std::string mappingFormula(const ValueMapping& m) {
   return text;
 }
 
+// Where the axes point, as a person reads it: "LPS", "LPS (oblique)", and for a volume whose axes mirror,
+// what its store will hold.
+std::string axesText(const AxisDirections& axes) {
+  std::string text = orientationCode(axes);
+  if (mirrors(axes)) {
+    AxisDirections stored = axes;
+    stored[0] = -axes[0];
+    text += ", mirroring: a store keeps x reversed, as " + orientationCode(stored);
+  }
+  return text;
+}
+
+nlohmann::json axesJson(const AxisDirections& a) {
+  return {{a[0].x, a[0].y, a[0].z}, {a[1].x, a[1].y, a[1].z}, {a[2].x, a[2].y, a[2].z}};
+}
+
 // A volume input: what openVolumeSource makes of it.
 int runVolumeInfo(const std::string& spec, bool json) {
   const std::unique_ptr<VolumeSource> source = openVolumeSource(spec);
@@ -46,6 +62,8 @@ int runVolumeInfo(const std::string& spec, bool json) {
                         {"kind", "volume"},
                         {"dims", {v.dims.x, v.dims.y, v.dims.z}},
                         {"spacing", {v.spacing.x, v.spacing.y, v.spacing.z}},
+                        {"axes", axesJson(v.axes)},
+                        {"orientation", orientationCode(v.axes)},
                         {"type", std::string(sampleTypeName(v.type))},
                         {"source", v.description},
                         {"notes", v.notes},
@@ -58,6 +76,7 @@ int runVolumeInfo(const std::string& spec, bool json) {
   std::printf("volume     %s (not a store: `ropecast convert` makes one of it)\n", spec.c_str());
   std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
               v.spacing.x, v.spacing.y, v.spacing.z);
+  std::printf("axes       %s\n", axesText(v.axes).c_str());
   std::printf("type       %s\n", std::string(sampleTypeName(v.type)).c_str());
   if (v.valueMin && v.valueMax) std::printf("values     [%g, %g]\n", *v.valueMin, *v.valueMax);
   std::printf("source     %s\n", v.description.c_str());
@@ -86,6 +105,7 @@ int runInfo(const std::string& path, bool json) {
                         {"payloadBytes", l.payloadBytes}});
     nlohmann::json j = nlohmann::json::parse(storeMetadataToJson(m));
     j["file"] = path;
+    j["orientation"] = orientationCode(v.axes);
     j["nodes"] = {{"total", s.total}, {"empty", s.empty}, {"constant", s.constant}, {"data", s.data}};
     j["levelsDetail"] = levels;
     j["bytes"] = {{"file", s.fileBytes},
@@ -102,6 +122,7 @@ int runInfo(const std::string& path, bool json) {
   std::printf("store      %s\n", path.c_str());
   std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
               v.spacing.x, v.spacing.y, v.spacing.z);
+  std::printf("axes       %s\n", axesText(v.axes).c_str());
   std::printf("type       %s (stored as %s, data = %s)\n", std::string(sampleTypeName(v.type)).c_str(),
               std::string(sampleTypeName(m.storedType)).c_str(), mappingFormula(m.mapping).c_str());
   std::printf("values     [%g, %g]%s\n", v.valueMin.value_or(0), v.valueMax.value_or(0),

@@ -691,6 +691,8 @@ void Viewer::drawPanels() {
     ImGui::Text("%s", o_.input.c_str());
     ImGui::Text("%u x %u x %u, values %g .. %g", info.volume.dims.x, info.volume.dims.y, info.volume.dims.z,
                 valueRange_.first, valueRange_.second);
+    if (info.volume.axes != AxisDirections(1.0))  // where a turned volume's axes point (core/orientation.h)
+      ImGui::Text("axes %s", orientationCode(info.volume.axes).c_str());
     int mode = int(params_.mode);
     ImGui::RadioButton("iso", &mode, int(RenderMode::Iso));
     ImGui::SameLine();

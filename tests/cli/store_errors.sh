@@ -214,15 +214,15 @@ else
   echo "FAIL NaN and infinite samples: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
 
-# A NRRD whose space directions flip an axis converts, and the warning says only lengths were used.
-printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\nspace directions: (-1,0,0) (0,1,0) (0,0,1)\n\n' \
-  > "$dir/flip.nrrd"
-head -c 64 /dev/zero >> "$dir/flip.nrrd"
-if "$ropecast" convert "$dir/flip.nrrd" -o "$dir/flip.store" --quiet 2> "$dir/err.txt" &&
-  grep -qF "warning: $dir/flip.nrrd: its space directions flip or rotate the axes" "$dir/err.txt"; then
-  echo "ok   NRRD space directions that flip an axis: warned"
+# A NRRD whose space directions are not at right angles converts, and the warning says only lengths were used.
+printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\nspace directions: (1,0,0) (0.5,1,0) (0,0,1)\n\n' \
+  > "$dir/shear.nrrd"
+head -c 64 /dev/zero >> "$dir/shear.nrrd"
+if "$ropecast" convert "$dir/shear.nrrd" -o "$dir/shear.store" --quiet 2> "$dir/err.txt" &&
+  grep -qF "warning: $dir/shear.nrrd: its space directions are not three vectors at right angles; only their lengths" "$dir/err.txt"; then
+  echo "ok   NRRD space directions not at right angles: warned"
 else
-  echo "FAIL NRRD space directions that flip an axis: $(cat "$dir/err.txt")"; failures=$((failures + 1))
+  echo "FAIL NRRD space directions not at right angles: $(cat "$dir/err.txt")"; failures=$((failures + 1))
 fi
 
 # The good store is still fine.

@@ -120,6 +120,20 @@ TEST(SourceDicom, SlicesGoAlongTheNormalOfTheirOrientation) {
   for (uint32_t k = 4; k-- > 0;)
     for (const int64_t stored : storedValues(k)) expected.push_back(int16_t(stored - 1024));
   EXPECT_EQ(readSlab<int16_t>(*source, 0, 4), expected);
+  // The axes: x along the rows (patient y, posterior), y down the columns (x, left), z along the normal.
+  EXPECT_EQ(source->info().axes,
+            AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1)));
+  EXPECT_EQ(orientationCode(source->info().axes), "PLI");
+
+  // A sagittal series (rows along y, columns down -z): slices go along -x, to the patient's right.
+  const TempDir sagittal;
+  for (uint32_t k = 0; k < 3; ++k) {
+    DicomSliceSpec spec = ctSlice(k);
+    spec.orientation = std::array<double, 6>{0, 1, 0, 0, 0, -1};
+    spec.position = glm::dvec3(-10.0 - 2.5 * k, 20.0, 30.0);
+    writeDicomSlice(sagittal.file(numbered("s", k)), spec);
+  }
+  EXPECT_EQ(orientationCode(openVolumeSource(sagittal.path().string())->info().axes), "PIR");
 }
 
 TEST(SourceDicom, AMultiFrameImageIsAVolumeOfItsFrames) {
@@ -171,6 +185,7 @@ TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
   EXPECT_EQ(info.spacing, glm::dvec3(0.5, 0.75, 2.0));
   EXPECT_TRUE(info.notes.empty()) << info.notes.front();
   EXPECT_EQ(readSlab<int16_t>(*source, 0, 4), expectedCt<int16_t>(4));
+  EXPECT_EQ(info.axes, AxisDirections(1.0));  // an axial image
 
   // A missing frame is noted; two frames at one position (two stacks in one image) are refused.
   spec.framePositions[2].z += 2.0;

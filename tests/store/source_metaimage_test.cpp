@@ -122,20 +122,35 @@ TEST(SourceMetaImage, DetachedBigEndianCompressedAndSkipped) {
   EXPECT_EQ(readSlab<float>(*source, 0, 5), floats);
 }
 
-TEST(SourceMetaImage, AMatrixThatTurnsTheAxesIsNoted) {
+TEST(SourceMetaImage, TheTransformMatrixGivesTheAxes) {
   TempDir dir;
   const auto values = samplePattern<uint8_t>(kMetaImageSamples);
   const std::string path = dir.file("flip.mha");
   writeFile(path, withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", "-1 0 0 0 1 0 0 0 1") +
                       fileBytes(values));
   auto source = openVolumeSource(path);
-  ASSERT_EQ(source->info().notes.size(), 1u);
-  EXPECT_NE(source->info().notes[0].find("TransformMatrix flips or rotates the axes"), std::string::npos);
-  EXPECT_EQ(readSlab<uint8_t>(*source, 0, 5), values);
-  EXPECT_TRUE(parseMetaImageHeader(
-                  withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", "0 1 0 1 0 0 0 0 1"), "t.mha")
-                  .matrixTurnsAxes);
-  EXPECT_FALSE(parseMetaImageHeader(metaImageHeader("MET_UCHAR"), "t.mha").matrixTurnsAxes);
+  EXPECT_TRUE(source->info().notes.empty());
+  EXPECT_EQ(orientationCode(source->info().axes), "RPS");
+  EXPECT_TRUE(mirrors(source->info().axes));
+  EXPECT_EQ(readSlab<uint8_t>(*source, 0, 5), values);  // read as stored: the converter turns x around
+  const auto axesOf = [](const std::string& matrix) {
+    return parseMetaImageHeader(withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", matrix), "t.mha");
+  };
+  // Rows are the axes' directions (as ITK writes them): x along y, y along -x, z along z.
+  EXPECT_EQ(axesOf("0 2 0 -1 0 0 0 0 1").axes,
+            AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1)));
+  EXPECT_EQ(parseMetaImageHeader(metaImageHeader("MET_UCHAR"), "t.mha").axes, AxisDirections(1.0));
+  // Axes not at right angles: not applied, and said.
+  const MetaImageHeader sheared = axesOf("1 0 0 0.5 1 0 0 0 1");
+  EXPECT_TRUE(sheared.matrixNotApplied);
+  EXPECT_EQ(sheared.axes, AxisDirections(1.0));
+  const std::string shearPath = dir.file("shear.mha");
+  writeFile(shearPath, withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", "1 0 0 0.5 1 0 0 0 1") +
+                           fileBytes(values));
+  const auto shear = openVolumeSource(shearPath);
+  ASSERT_EQ(shear->info().notes.size(), 1u);
+  EXPECT_NE(shear->info().notes[0].find("TransformMatrix does not keep the axes at right angles"),
+            std::string::npos);
 }
 
 TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {

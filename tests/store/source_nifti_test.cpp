@@ -205,30 +205,47 @@ TEST(SourceNifti, ScaledValuesAreDeliveredInATypeThatHoldsThem) {
   EXPECT_FALSE(parsed(identity.header()).scaled);
 }
 
-TEST(SourceNifti, ATransformThatTurnsTheAxesIsNoted) {
+TEST(SourceNifti, TheSformOrQformGivesTheAxesInLps) {
   NiftiWriter writer(1, 2, 8);
-  EXPECT_FALSE(parsed(writer.header()).transformTurnsAxes);
-  writer.qform(0.0, 0.0, 0.0);
-  EXPECT_FALSE(parsed(writer.header()).transformTurnsAxes);
+  EXPECT_EQ(parsed(writer.header()).axes, AxisDirections(1.0));  // neither set: as stored
+  writer.qform(0.0, 0.0, 0.0);  // RAS as stored: i to the right, j to the front
+  EXPECT_EQ(orientationCode(parsed(writer.header()).axes), "RAS");
   writer.pixdim(0, -1.0);  // qfac -1: the third axis flipped
-  EXPECT_TRUE(parsed(writer.header()).transformTurnsAxes);
+  EXPECT_EQ(orientationCode(parsed(writer.header()).axes), "RAI");
+  EXPECT_TRUE(mirrors(parsed(writer.header()).axes));
   writer.pixdim(0, 1.0);
-  writer.qform(0.0, 0.0, 1.0);  // 180 degrees about z
-  EXPECT_TRUE(parsed(writer.header()).transformTurnsAxes);
+  writer.qform(0.0, 0.0, 1.0);  // 180 degrees about z: i to the left, j to the back
+  EXPECT_EQ(parsed(writer.header()).axes, AxisDirections(1.0));
+  writer.qform(0.0, 0.0, std::sqrt(0.5));  // 90 degrees about z: i to the front, j to the left
+  EXPECT_EQ(orientationCode(parsed(writer.header()).axes), "ALS");
   // The sform, where set, is the one used.
   const double scaling[3][4] = {{0.5, 0, 0, 10}, {0, 1, 0, 20}, {0, 0, 1.5, 30}};
   writer.sform(scaling);
-  EXPECT_FALSE(parsed(writer.header()).transformTurnsAxes);
+  EXPECT_EQ(orientationCode(parsed(writer.header()).axes), "RAS");
   const double radiological[3][4] = {{-0.5, 0, 0, 10}, {0, 1, 0, 20}, {0, 0, 1.5, 30}};
   writer.sform(radiological);
-  EXPECT_TRUE(parsed(writer.header()).transformTurnsAxes);
+  EXPECT_EQ(orientationCode(parsed(writer.header()).axes), "LAS");
+  // Columns, not rows: i along y, j along -x.
+  const double turned[3][4] = {{0, -2, 0, 0}, {2, 0, 0, 0}, {0, 0, 1, 0}};
+  writer.sform(turned);
+  EXPECT_EQ(orientationCode(parsed(writer.header()).axes), "ALS");
+  EXPECT_FALSE(parsed(writer.header()).transformNotApplied);
 
   TempDir dir;
   const std::string path = dir.file("flip.nii");
+  writer.sform(radiological);
   writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
   auto source = openVolumeSource(path);
+  EXPECT_TRUE(source->info().notes.empty());
+  EXPECT_EQ(orientationCode(source->info().axes), "LAS");
+  const double sheared[3][4] = {{1, 0.5, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+  writer.sform(sheared);
+  writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
+  source = openVolumeSource(path);
   ASSERT_EQ(source->info().notes.size(), 1u);
-  EXPECT_NE(source->info().notes[0].find("qform or sform flips or rotates the axes"), std::string::npos);
+  EXPECT_NE(source->info().notes[0].find("qform or sform does not keep the axes at right angles"),
+            std::string::npos);
+  EXPECT_EQ(source->info().axes, AxisDirections(1.0));
 }
 
 TEST(SourceNifti, MalformedHeadersAndDataNameTheFile) {

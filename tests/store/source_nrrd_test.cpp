@@ -167,14 +167,27 @@ TEST(SourceNrrd, SpacingFromSpaceDirections) {
                 "space: RAS\nspace directions: (0,0.5,0) (3,4,0) (0, 0, -2.5)\nspacings: 7 7 7\n"),
       "t.nhdr");
   EXPECT_EQ(h.spacing, glm::dvec3(0.5, 5.0, 2.5));
-  EXPECT_TRUE(h.directionsTurnAxes);
-  const auto directions = [](const std::string& value) {
-    return parseNrrdHeader(headerFor("uchar", "raw", "space directions: " + value + "\n"), "t.nhdr");
+  EXPECT_TRUE(h.directionsNotApplied);  // x and y not at right angles
+  EXPECT_EQ(h.axes, AxisDirections(1.0));
+  const auto directions = [](const std::string& value, const std::string& space = "") {
+    return parseNrrdHeader(headerFor("uchar", "raw", space + "space directions: " + value + "\n"), "t.nhdr");
   };
-  EXPECT_FALSE(directions("(0.5,0,0) (0,1,-0) (0,0,2)").directionsTurnAxes);
-  EXPECT_TRUE(directions("(-0.5,0,0) (0,1,0) (0,0,2)").directionsTurnAxes);        // flipped
-  EXPECT_TRUE(directions("(0.3,0.4,0) (-0.4,0.3,0) (0,0,2)").directionsTurnAxes);  // rotated
-  EXPECT_EQ(directions("(0.3,0.4,0) (-0.4,0.3,0) (0,0,2)").spacing, glm::dvec3(0.5, 0.5, 2.0));
+  EXPECT_EQ(directions("(0.5,0,0) (0,1,-0) (0,0,2)").axes, AxisDirections(1.0));
+  EXPECT_EQ(orientationCode(directions("(-0.5,0,0) (0,1,0) (0,0,2)").axes), "RPS");  // flipped
+  const NrrdHeader turned = directions("(0.3,0.4,0) (-0.4,0.3,0) (0,0,2)");
+  EXPECT_FALSE(turned.directionsNotApplied);
+  EXPECT_EQ(turned.spacing, glm::dvec3(0.5, 0.5, 2.0));
+  EXPECT_NEAR(turned.axes[0].x, 0.6, 1e-12);
+  EXPECT_NEAR(turned.axes[1].x, -0.8, 1e-12);
+  EXPECT_EQ(orientationCode(turned.axes), "PRS (oblique)");
+  // An anatomical space: its directions turned into LPS (RAS and LAS negate x and y, or y).
+  EXPECT_EQ(directions("(-1,0,0) (0,-1,0) (0,0,1)", "space: RAS\n").axes, AxisDirections(1.0));
+  EXPECT_EQ(orientationCode(directions("(1,0,0) (0,1,0) (0,0,1)", "space: right-anterior-superior\n").axes),
+            "RAS");
+  EXPECT_EQ(orientationCode(directions("(1,0,0) (0,1,0) (0,0,1)", "space: LAS\n").axes), "LAS");
+  EXPECT_EQ(orientationCode(directions("(0,1,0) (0,0,-1) (-1,0,0)", "space: left-posterior-superior\n").axes),
+            "PIR");
+  EXPECT_TRUE(directions("none (1,0,0) (0,1,0)").directionsNotApplied);
   const NrrdHeader n = parseNrrdHeader(headerFor("uchar", "raw", "spacings: nan 2 -3\n"), "t.nhdr");
   EXPECT_EQ(n.spacing, glm::dvec3(1.0, 2.0, 3.0));
   const NrrdHeader none =

@@ -155,6 +155,30 @@ TEST(SourceVti, EveryType) {
   check(double{}, "Float64", SampleType::Float64);
 }
 
+// Direction (VTK's row-major matrix): its columns are where x, y and z point; columns not at right angles are
+// not applied, and said.
+TEST(SourceVti, DirectionGivesTheAxes) {
+  const auto values = samplePattern<int16_t>(kVtiSamples);
+  const std::string good = vtiFile("Int16", values, {});
+  const auto withDirection = [&](const std::string& matrix) {
+    std::string text = good;
+    const std::string spacing = "Spacing=\"0.5 0.75 2\"";
+    return text.replace(text.find(spacing), spacing.size(), spacing + " Direction=\"" + matrix + "\"");
+  };
+  TempDir dir;
+  writeFile(dir.file("turned.vti"), withDirection("0 -1 0 1 0 0 0 0 1"));
+  const auto turned = openVolumeSource(dir.file("turned.vti"));
+  EXPECT_EQ(turned->info().axes,
+            AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1)));
+  EXPECT_TRUE(turned->info().notes.empty());
+  writeFile(dir.file("sheared.vti"), withDirection("1 0.5 0 0 1 0 0 0 1"));
+  const auto sheared = openVolumeSource(dir.file("sheared.vti"));
+  EXPECT_EQ(sheared->info().axes, AxisDirections(1.0));
+  ASSERT_EQ(sheared->info().notes.size(), 1u);
+  EXPECT_NE(sheared->info().notes[0].find("its Direction does not keep the axes at right angles"),
+            std::string::npos);
+}
+
 TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
   const auto values = samplePattern<int16_t>(kVtiSamples);
   const std::string good = vtiFile("Int16", values, {});

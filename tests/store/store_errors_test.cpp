@@ -184,6 +184,36 @@ TEST_F(StoreErrors, MetadataFieldsOfTheWrongKindAreNamed) {
       << message;
 }
 
+// The axes are a rotation: unit vectors at right angles that do not mirror (the converter turns a mirroring
+// volume's x around). A store written before axes were kept has none: the identity.
+TEST_F(StoreErrors, MetadataAxesMustBeARotation) {
+  const std::unique_ptr<Store> good = Store::open(dir / "good.store");
+  EXPECT_EQ(good->info().volume.axes, AxisDirections(1.0));
+  StoreMetadata metadata = good->metadata();
+  metadata.volume.axes = AxisDirections(glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0));
+  writeWithMetadata("turned.store", *good, metadata);
+  EXPECT_EQ(Store::open(dir / "turned.store")->info().volume.axes, metadata.volume.axes);
+  const std::pair<AxisDirections, const char*> bad[] = {
+      {AxisDirections(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)), "a rotation"},
+      {AxisDirections(glm::dvec3(1, 0, 0), glm::dvec3(0.5, 1, 0), glm::dvec3(0, 0, 1)), "unit vectors"},
+      {AxisDirections(glm::dvec3(1, 0, 0), glm::dvec3(0.6, 0.8, 0), glm::dvec3(0, 0, 1)), "a rotation"},
+      {AxisDirections(2.0), "unit vectors"}};
+  for (const auto& [axes, expected] : bad) {
+    metadata.volume.axes = axes;
+    writeWithMetadata("axes.store", *good, metadata);
+    const std::string message = openError(dir / "axes.store");
+    EXPECT_NE(message.find("axes.store': damaged metadata: axes: expected " + std::string(expected)),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_TRUE(openWithEditedMetadata("old.store", [](std::string& m) {
+                const size_t at = m.find("\"axes\"");
+                ASSERT_NE(at, std::string::npos);
+                m[at + 1] = 'b';  // "bxes": an unknown key, and no axes
+              }).empty());
+  EXPECT_EQ(Store::open(dir / "old.store")->info().volume.axes, AxisDirections(1.0));
+}
+
 // A value range whose max lies below its min (the default isovalue and transfer function come from it),
 // written by StoreWriter with the good store's payloads: only the reader's check can catch it.
 TEST_F(StoreErrors, MetadataValueRangeMustBeOrdered) {

@@ -72,6 +72,37 @@ TEST(StoreRoundTrip, LargeOddUInt16VolumeIsByteIdentical) {
   expectLevel0ByteIdentical<uint16_t>(SampleType::UInt16, 0, 40000, {301, 370, 316}, 32);
 }
 
+// A volume whose axes mirror (a left-handed frame) is stored with each row reversed and its x axis turned
+// around, so that the store's axes are a rotation placing every sample where the source's axes put it; one
+// whose axes are a rotation is stored as it is.
+TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
+  const glm::u32vec3 dims{13, 7, 5};
+  const std::vector<uint8_t> samples = testing::toType<uint8_t>(testing::ballField(dims, 3), 0, 255);
+  VolumeInfo info = testing::volumeInfo(dims, SampleType::UInt8);
+  const AxisDirections turned(glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0));
+  for (const bool mirrored : {false, true}) {
+    TempDir dir;
+    info.axes = turned;
+    if (mirrored) info.axes[0] = -turned[0];
+    ArraySource source = ArraySource::fromSamples<uint8_t>(info, samples);
+    ConvertOptions options;
+    options.brickSize = 4;
+    convertVolume(source, dir / "m.store", options);
+    const auto store = Store::open(dir / "m.store");
+    EXPECT_EQ(store->info().volume.axes, turned) << "mirrored " << mirrored;
+    const std::vector<std::byte> level0 = extractLevelBytes(*store, 0);
+    ASSERT_EQ(level0.size(), samples.size());
+    for (uint32_t z = 0; z < dims.z; ++z)
+      for (uint32_t y = 0; y < dims.y; ++y)
+        for (uint32_t x = 0; x < dims.x; ++x) {
+          const size_t row = (size_t(z) * dims.y + y) * dims.x;
+          ASSERT_EQ(uint8_t(level0[row + x]), samples[row + (mirrored ? dims.x - 1 - x : x)])
+              << "mirrored " << mirrored << " at " << x << "," << y << "," << z;
+        }
+    EXPECT_TRUE(verifyStore(*store).ok());
+  }
+}
+
 TEST(StoreRoundTrip, Float32IsQuantizedWithinHalfAStepOverItsRange) {
   TempDir dir;
   const glm::u32vec3 dims{45, 37, 29};

@@ -1,0 +1,53 @@
+// Orientation: where a volume's index axes point in the world, as its file says (DICOM's Image Orientation
+// (Patient), a NRRD's space directions, a NIfTI's sform or qform, a MetaImage's TransformMatrix, a .vti's
+// Direction), and how a camera or a clip plane given in the world is seen from the volume's own axes. Plain
+// data and pure functions; any thread.
+//
+// The world is the patient's LPS frame for medical formats (+x left, +y posterior, +z superior: DICOM's and
+// ITK's), the file's own frame otherwise. The volume is turned about the center of its extent [0, n s]: the
+// center stays where it was, and the file's origin is not used, so that a volume whose axes already point
+// along the world's is placed exactly as before (docs/RENDERING.md "Spaces").
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/camera.h"
+#include "core/render_params.h"
+
+namespace ropecast {
+
+// The columns are the unit world directions of the index axes x, y and z. Identity: the axes are the
+// world's.
+using AxisDirections = glm::dmat3;
+
+// Three axis vectors of any length (a NRRD's space directions, a sform's columns) as unit directions, or
+// nullopt where they are not orthogonal to within a thousandth (a sheared grid) or have a zero or non-finite
+// length.
+std::optional<AxisDirections> axisDirectionsOf(glm::dvec3 x, glm::dvec3 y, glm::dvec3 z);
+
+// RAS (+x right, +y anterior: NIfTI's, and a NRRD's "right-anterior-superior") to LPS.
+AxisDirections rasToLps(const AxisDirections& ras);
+
+// Whether the directions mirror (a left-handed frame: determinant -1).
+bool mirrors(const AxisDirections& d);
+
+// Whether every axis lies along a world axis (to within a millionth).
+bool isAxisAligned(const AxisDirections& d);
+
+// Three letters, the world direction each index axis points to, x first, in the LPS frame (L or R, P or A,
+// S or I): "LPS" for the identity, "RAS" for x and y reversed; each letter the axis's largest component.
+// Followed by " (oblique)" where an axis is not along a world axis.
+std::string orientationCode(const AxisDirections& d);
+
+// A camera given in the world, as seen in the volume's unturned frame (world = center + d (p - center)):
+// eye and target moved, up turned. Exact for the identity.
+Camera cameraInVolume(const Camera& world, const AxisDirections& d, glm::dvec3 center);
+
+// The same for a clip plane (its point moved, its normal turned).
+ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm::dvec3 center);
+
+}  // namespace ropecast

@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# A volume is drawn as its file places it: one whose axes are turned (a sagittal stack: x toward the back, y
+# down, z to the right) or mirrored (x to the right) draws the image of the same volume resampled into the
+# world's axes, from the same orbit, and --eye/--target and --clip-plane are world points; `info` says where
+# the axes point, for the file and for its store (whose x a mirroring volume keeps reversed).
+# Usage: bash orientation.sh /path/to/ropecast
+set -uo pipefail
+ropecast="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+same() {  # same NAME A.png B.png: at least 40 dB apart
+  if "$ropecast" compare "$2" "$3" --min-psnr 40 > "$dir/cmp.txt" 2>&1; then echo "ok   $1"
+  else fail "$1: $(cat "$dir/cmp.txt")"; fi
+}
+
+# W: 20x16x12 in the world's axes (LPS), an off-centre ball and a bar along +x, so that a turn or a mirror
+# shows. T: the same samples on sagittal axes, T[i,j,k] = W[19-k, i, 11-j]; M: mirrored, M[i,j,k] = W[19-i, j, k].
+python3 - "$dir" <<'PY' || exit 1
+import struct, sys
+W = (20, 16, 12)
+def w(x, y, z):
+    ball = max(0.0, 200.0 - 40.0 * ((x - 6) ** 2 + (y - 9) ** 2 + (z - 5) ** 2) ** 0.5)
+    bar = 180.0 if x >= 8 and 6 <= y <= 8 and 3 <= z <= 5 else 0.0
+    return int(max(ball, bar))
+def save(name, dims, value, space_directions):
+    samples = bytes(value(i, j, k) for k in range(dims[2]) for j in range(dims[1]) for i in range(dims[0]))
+    header = ("NRRD0004\ntype: uchar\ndimension: 3\nspace: left-posterior-superior\nsizes: %d %d %d\n"
+              "space directions: %s\nencoding: raw\n\n" % (dims + (space_directions,)))
+    open(sys.argv[1] + "/" + name, "wb").write(header.encode() + samples)
+save("w.nrrd", W, w, "(1,0,0) (0,1,0) (0,0,1)")
+save("t.nrrd", (16, 12, 20), lambda i, j, k: w(19 - k, i, 11 - j), "(0,1,0) (0,0,-1) (-1,0,0)")
+save("m.nrrd", W, lambda i, j, k: w(19 - i, j, k), "(-1,0,0) (0,1,0) (0,0,1)")
+PY
+
+# Bricks of 8 over axes of different lengths: the trees differ, so full detail (--voxels-per-pixel) for both.
+render=(render --size 64x56 --iso 100 --voxels-per-pixel 16 -q)
+for v in w t m; do "$ropecast" convert "$dir/$v.nrrd" -o "$dir/$v.rcast" --brick 8 --quiet || fail "convert $v"; done
+for view in "--orbit 30,20,3" "--orbit 200,-35,2.5" "--orbit 115,70,2"; do
+  for v in w t m; do
+    "$ropecast" "${render[@]}" "$dir/$v.rcast" $view -o "$dir/$v.png" 2> "$dir/err.txt" || fail "render $v $view: $(cat "$dir/err.txt")"
+  done
+  same "turned axes = the world's ($view)" "$dir/w.png" "$dir/t.png"
+  same "mirrored axes = the world's ($view)" "$dir/w.png" "$dir/m.png"
+done
+# The turn is not a no-op: the sagittal samples drawn as if on the world's axes look otherwise.
+sed -i 's/space directions: (0,1,0) (0,0,-1) (-1,0,0)/space directions: (1,0,0) (0,1,0) (0,0,1)/' "$dir/t.nrrd"
+"$ropecast" "${render[@]}" "$dir/t.nrrd" --orbit 30,20,3 -o "$dir/t_unturned.png" || fail "render t unturned"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --orbit 30,20,3 -o "$dir/w.png" || fail "render w"
+if "$ropecast" compare "$dir/w.png" "$dir/t_unturned.png" --min-psnr 40 > /dev/null 2>&1; then
+  fail "the sagittal samples on the world's axes draw the world's image: the test shows nothing"
+else echo "ok   the turn matters"; fi
+
+# World points: an eye and target, and a clip plane, given in the world draw the same on either volume. The
+# turned volume's centre is its own extent's (8,6,10), the world one's (10,8,6): the same world offsets.
+"$ropecast" "${render[@]}" "$dir/w.rcast" --eye 40,-20,30 --target 10,8,6 --clip-plane 10,8,6,1,0.3,0 -o "$dir/wp.png" || fail "render w with a plane"
+"$ropecast" "${render[@]}" "$dir/t.rcast" --eye 38,-22,34 --target 8,6,10 --clip-plane 8,6,10,1,0.3,0 -o "$dir/tp.png" || fail "render t with a plane"
+same "eye, target and clip plane in the world" "$dir/wp.png" "$dir/tp.png"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --eye 40,-20,30 --target 10,8,6 -o "$dir/wn.png" || fail "render w without a plane"
+if "$ropecast" compare "$dir/wp.png" "$dir/wn.png" --min-psnr 40 > /dev/null 2>&1; then
+  fail "the clip plane cut nothing: the test shows nothing"
+fi
+# --reference (the CPU ray marcher) turns the camera as the GL renderer does.
+"$ropecast" render --size 64x56 --iso 100 -q "$dir/t.rcast" --orbit 200,-35,2.5 --reference -o "$dir/tr.png" || fail "render t --reference"
+"$ropecast" render --size 64x56 --iso 100 -q "$dir/w.rcast" --orbit 200,-35,2.5 --reference -o "$dir/wr.png" || fail "render w --reference"
+same "--reference on turned axes = the world's" "$dir/wr.png" "$dir/tr.png"
+
+# info: where the axes point, the file's and its store's.
+"$ropecast" info "$dir/m.nrrd" > "$dir/info.txt" || fail "info m.nrrd"
+grep -q "^axes       RPS, mirroring: a store keeps x reversed, as LPS$" "$dir/info.txt" || fail "info of the mirrored file: $(grep axes "$dir/info.txt")"
+"$ropecast" info "$dir/m.rcast" > "$dir/info.txt" || fail "info m.rcast"
+grep -q "^axes       LPS$" "$dir/info.txt" || fail "info of the mirrored file's store: $(grep axes "$dir/info.txt")"
+"$ropecast" info "$dir/t.rcast" --json > "$dir/info.json" || fail "info t.rcast --json"
+python3 - "$dir/info.json" <<'PY' || fail "info --json of the turned store: $(cat "$dir/info.json")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["orientation"] == "PIR", j["orientation"]
+assert j["axes"] == [[0, 1, 0], [0, 0, -1], [-1, 0, 0]], j["axes"]
+PY
+
+echo "$failures failure(s)"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,83 @@
+// Orientation (core/orientation.h): axis vectors made directions, sheared ones refused; RAS to LPS; the
+// letters; and a world camera and clip plane seen from a turned volume's axes: the same rays, turned.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "core/orientation.h"
+
+namespace ropecast {
+namespace {
+
+void expectNear(glm::dvec3 a, glm::dvec3 b, const char* what) {
+  EXPECT_NEAR(glm::length(a - b), 0.0, 1e-12) << what << ": (" << a.x << "," << a.y << "," << a.z
+                                              << ") against (" << b.x << "," << b.y << "," << b.z << ")";
+}
+
+TEST(Orientation, AxisVectorsBecomeDirectionsWhenAtRightAngles) {
+  const auto d = axisDirectionsOf({0, 2, 0}, {-0.5, 0, 0}, {0, 0, 3});
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(*d, AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1)));
+  EXPECT_FALSE(mirrors(*d));
+  EXPECT_TRUE(isAxisAligned(*d));
+  EXPECT_FALSE(axisDirectionsOf({1, 0, 0}, {0.5, 1, 0}, {0, 0, 1}).has_value());  // sheared
+  EXPECT_FALSE(axisDirectionsOf({1, 0, 0}, {0, 0, 0}, {0, 0, 1}).has_value());
+  EXPECT_FALSE(axisDirectionsOf({1, 0, 0}, {0, 1, 0}, {0, 0, std::nan("")}).has_value());
+  const auto mirrored = axisDirectionsOf({-1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+  ASSERT_TRUE(mirrored.has_value());
+  EXPECT_TRUE(mirrors(*mirrored));
+}
+
+TEST(Orientation, LettersNameWhereEachAxisPoints) {
+  EXPECT_EQ(orientationCode(AxisDirections(1.0)), "LPS");
+  EXPECT_EQ(orientationCode(rasToLps(AxisDirections(1.0))), "RAS");
+  EXPECT_EQ(orientationCode(AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1), glm::dvec3(-1, 0, 0))),
+            "PIR");
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  EXPECT_EQ(orientationCode(AxisDirections(glm::dvec3(c, s, 0), glm::dvec3(-s, c, 0), glm::dvec3(0, 0, 1))),
+            "LPS (oblique)");
+}
+
+TEST(Orientation, AWorldCameraSeesTheTurnedVolumeAsTheVolumesAxesSeeIt) {
+  // A volume turned 90 degrees about x then 30 about z, centered at c: world = c + d (p - c).
+  const double a = glm::radians(30.0);
+  const glm::dmat3 aboutZ(glm::dvec3(std::cos(a), std::sin(a), 0), glm::dvec3(-std::sin(a), std::cos(a), 0),
+                          glm::dvec3(0, 0, 1));
+  const glm::dmat3 aboutX(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+  const AxisDirections d = aboutZ * aboutX;
+  const glm::dvec3 center(10, 20, 5);
+  const auto toWorld = [&](glm::dvec3 p) { return center + d * (p - center); };
+
+  Camera world;
+  world.eye = {40, -30, 25};
+  world.target = {12, 18, 7};
+  world.up = {0, 0, 1};
+  world.fovYDeg = 35;
+  const Camera volume = cameraInVolume(world, d, center);
+  expectNear(toWorld(volume.eye), world.eye, "eye");
+  expectNear(toWorld(volume.target), world.target, "target");
+  EXPECT_EQ(volume.fovYDeg, world.fovYDeg);
+  // Every pixel's ray, turned back into the world, is the world camera's.
+  for (const auto& [px, py] : {std::pair{0.0, 0.0}, std::pair{63.0, 10.0}, std::pair{20.0, 47.0}}) {
+    const Ray inVolume = pixelRay(volume, 64, 48, px, py), inWorld = pixelRay(world, 64, 48, px, py);
+    expectNear(toWorld(inVolume.origin), inWorld.origin, "ray origin");
+    expectNear(d * inVolume.dir, inWorld.dir, "ray direction");
+  }
+  // A clip plane keeps the same points.
+  const ClipPlane worldPlane{{11, 19, 6}, glm::normalize(glm::dvec3(1, -2, 0.5))};
+  const ClipPlane volumePlane = clipPlaneInVolume(worldPlane, d, center);
+  for (const glm::dvec3 p : {glm::dvec3(0, 0, 0), glm::dvec3(15, 25, 3), glm::dvec3(5, 30, 12)}) {
+    const double side = glm::dot(volumePlane.normal, p) - volumePlane.offset();
+    const double worldSide = glm::dot(worldPlane.normal, toWorld(p)) - worldPlane.offset();
+    EXPECT_NEAR(side, worldSide, 1e-12);
+  }
+  // No plane stays none; the identity changes nothing, bit for bit.
+  EXPECT_FALSE(clipPlaneInVolume(ClipPlane{}, d, center).enabled());
+  EXPECT_EQ(cameraInVolume(world, AxisDirections(1.0), center), world);
+  EXPECT_EQ(clipPlaneInVolume(worldPlane, AxisDirections(1.0), center), worldPlane);
+}
+
+}  // namespace
+}  // namespace ropecast
