@@ -178,6 +178,22 @@ TransferFunction TransferFunction::fromSpec(const std::string& spec, const TfDat
   return fromFile(spec);
 }
 
+TransferFunction TransferFunction::stretchedOver(double lo, double hi) const {
+  if (!(lo < hi) || !std::isfinite(lo) || !std::isfinite(hi))
+    throw Error("--tf-range " + formatNumber(lo) + "," + formatNumber(hi) +
+                ": expected LO,HI with LO < HI, both finite (data units)");
+  const double first = points_.front().value, last = points_.back().value;
+  std::vector<TfPoint> points = points_;
+  double previous = lo;
+  for (TfPoint& p : points) {
+    // Halved, as in evaluate, and mixed rather than added to: nothing overflows. Rounding may not reorder.
+    const double f = last > first ? (0.5 * p.value - 0.5 * first) / (0.5 * last - 0.5 * first) : 0.5;
+    p.value = std::clamp(std::max(previous, (1.0 - f) * lo + f * hi), lo, hi);
+    previous = p.value;
+  }
+  return TransferFunction(std::move(points));
+}
+
 glm::dvec4 TransferFunction::evaluate(double x) const {
   if (x < points_.front().value) return points_.front().rgba;
   if (x >= points_.back().value) return points_.back().rgba;

@@ -54,6 +54,11 @@ class TransferFunction {
   // `--tf T`: a preset name, else a file path. An empty spec gives kDefaultPreset.
   static TransferFunction fromSpec(const std::string& spec, const TfDataRange& data);
 
+  // `--tf-range LO,HI`, a window: the points moved linearly so that the first lies at lo and the last at hi
+  // (a preset placed by fractions of the data range is then placed over [lo, hi] instead); points that all
+  // lie at one value move to the middle. Throws ropecast::Error unless lo < hi, both finite.
+  TransferFunction stretchedOver(double lo, double hi) const;
+
   const std::vector<TfPoint>& points() const { return points_; }
   // Piecewise linear; constant beyond the first and last points. At a step (equal values), the later point
   // wins.

@@ -42,6 +42,11 @@ CLI::Option* addTripleOptionIn(CLI::App& app, const std::string& name, std::vect
   return addListOption(app, name, xyz, help, ',', 3, "FLOAT", finiteIn(lo, hi));
 }
 
+CLI::Option* addRangeOption(CLI::App& app, const std::string& name, std::vector<double>& values,
+                            const std::string& help) {
+  return addListOption(app, name, values, help, ',', 2, "FLOAT", finiteIn(-HUGE_VAL, HUGE_VAL));
+}
+
 CLI::Option* addPlaneOption(CLI::App& app, const std::string& name, std::vector<double>& values,
                             const std::string& help) {
   return addListOption(app, name, values, help, ',', 6, "FLOAT", finiteIn(-HUGE_VAL, HUGE_VAL));

@@ -24,6 +24,9 @@ CLI::Option* addTripleOption(CLI::App& app, const std::string& name, std::vector
 // The same, each number in [lo, hi].
 CLI::Option* addTripleOptionIn(CLI::App& app, const std::string& name, std::vector<double>& xyz,
                                const std::string& help, double lo, double hi);
+// "LO,HI" -> two finite numbers (their order is the caller's to check).
+CLI::Option* addRangeOption(CLI::App& app, const std::string& name, std::vector<double>& values,
+                            const std::string& help);
 // "X,Y,Z,NX,NY,NZ" -> six finite numbers (a plane: a point and a normal).
 CLI::Option* addPlaneOption(CLI::App& app, const std::string& name, std::vector<double>& values,
                             const std::string& help);

@@ -110,7 +110,7 @@ class RenderSetup {
     // A --tf that names no preset and no readable file is an error in either mode (a script that switches
     // modes should not learn of a typo only when it reaches DVR); the table is baked for DVR and MIP only.
     if (usesTransferFunction(params.mode) || !o.tf.empty()) {
-      const TransferFunction function = transferFunctionOf(o.tf, info, params.mode);
+      const TransferFunction function = transferFunctionOf(o.tf, info, params.mode, o.tfRange);
       if (usesTransferFunction(params.mode)) tf_ = bakeFor(function, info);
     }
 
@@ -231,7 +231,7 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
                    given.c_str(), context.c_str());
   };
   if (o.mode == RenderMode::Dvr) warn({"--iso"}, "with --mode dvr (the transfer function decides)");
-  if (o.mode == RenderMode::Iso) warn({"--tf", "--ert", "--gradients"}, "with --mode iso");
+  if (o.mode == RenderMode::Iso) warn({"--tf", "--tf-range", "--ert", "--gradients"}, "with --mode iso");
   if (isIntensityProjection(o.mode)) {
     const std::string mode = "with --mode " + std::string(renderModeName(o.mode));
     warn({"--iso", "--ert", "--gradients"}, mode + " (one value per ray through the transfer function)");

@@ -55,6 +55,11 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip or minip"))
       ->check(notEmpty("a preset or a JSON file"));
+  addRangeOption(
+      app, "--tf-range", o.tfRange,
+      "LO,HI: a window in data units: the transfer function stretched so that its first point lies at "
+      "LO and its last at HI (a preset placed over LO..HI instead of the value range; CT window "
+      "width 400 at level 40: -160,240)");
   addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
   CLI::Option* orbit =
       addTripleOption(app, "--orbit", o.orbit,
@@ -192,6 +197,9 @@ glm::dvec3 orbitOf(const RenderOptions& o) {
 
 void checkSceneOptions(const RenderOptions& o) {
   checkBrickOption(o.input, o.brick);
+  if (o.tfRange.size() == 2 && !(o.tfRange[0] < o.tfRange[1]))
+    throw UsageError("--tf-range " + formatNumber(o.tfRange[0]) + "," + formatNumber(o.tfRange[1]) +
+                     ": expected LO,HI with LO < HI (data units)");
   if (o.bruteStage && o.backend != RenderBackend::Brute)
     throw UsageError("--brute-stage " + std::string(renderBackendName(*o.bruteStage)) +
                      " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
@@ -306,8 +314,11 @@ std::string defaultTfSpec(RenderMode mode) {
                                                  : TransferFunction::kDefaultPreset);
 }
 
-TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode) {
-  return TransferFunction::fromSpec(spec.empty() ? defaultTfSpec(mode) : spec, tfDataRangeFor(info));
+TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode,
+                                    const std::vector<double>& tfRange) {
+  const TransferFunction placed =
+      TransferFunction::fromSpec(spec.empty() ? defaultTfSpec(mode) : spec, tfDataRangeFor(info));
+  return tfRange.size() == 2 ? placed.stretchedOver(tfRange[0], tfRange[1]) : placed;
 }
 
 TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info) {

@@ -88,8 +88,10 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
 std::string tfOptionHelp(const std::string& defaultText);
 // The preset an absent --tf means in `mode` (gray for an intensity projection, else linear).
 std::string defaultTfSpec(RenderMode mode);
-// `--tf spec` placed for the data; an empty spec is the mode's default.
-TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode);
+// `--tf spec` placed for the data; an empty spec is the mode's default; stretched over --tf-range's LO,HI
+// where given (two numbers; empty: not given).
+TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode,
+                                    const std::vector<double>& tfRange);
 TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info);
 
 // The FrameRenderer's configuration of the options, for a renderer drawing `params`.

@@ -313,7 +313,7 @@ Viewer::~Viewer() {
 void Viewer::setTransferFunction(const std::string& spec) {
   // A file shows as its name alone: the panel's combo is narrow.
   setTransferFunction(
-      transferFunctionOf(spec, bricks().info(), params_.mode),
+      transferFunctionOf(spec, bricks().info(), params_.mode, o_.tfRange),
       spec.empty() ? defaultTfSpec(params_.mode) : std::filesystem::path(spec).filename().string());
   tfChosen_ = !spec.empty();
 }

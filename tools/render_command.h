@@ -25,6 +25,7 @@ struct RenderOptions {
   RenderMode mode = RenderMode::Iso;
   std::optional<double> iso;
   std::string tf;
+  std::vector<double> tfRange;  // --tf-range: LO,HI in data units; empty: the transfer function as placed
   std::vector<uint32_t> size{512, 512};
   std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
   double fov = 40.0;

@@ -52,6 +52,8 @@ expect_failure "not a store" "$dir/bogus.rcast" "$dir/bogus.rcast"
 expect_usage "unknown procedural" "bogus" procedural:bogus:32
 expect_usage "procedural size out of range" "bad SIZE '0'" procedural:sphere:0
 expect_usage "bad size" "--size" "$vol" --size 0x4
+expect_usage "--tf-range LO = HI" "--tf-range 100,100: expected LO,HI with LO < HI" "$vol" --mode mip --tf-range 100,100
+expect_usage "--tf-range of one number" "--tf-range" "$vol" --mode mip --tf-range 100
 expect_usage "size not WxH" "--size" "$vol" --size 512
 expect_usage "bad mode" "--mode" "$vol" --mode foo
 expect_usage "bad backend" "--backend: expected auto, fragment, compute, brute or multipass, got 'vulkan'" "$vol" --backend vulkan

@@ -211,5 +211,16 @@ on_terminal "$dir/t3.log" $small -o "$dir/t3.png" --converge -q
 "$ropecast" render $small -o "$dir/t4.png" --converge 2> "$dir/t4.err"
 [ ! -s "$dir/t4.err" ] && echo "ok   no terminal: no progress" || fail "progress without a terminal: $(cat "$dir/t4.err")"
 
+# --tf-range: the gray preset of a MIP over 50..150 is the function of those points (its fractions 0, 0.1,
+# 0.2 and 1 of the range); with --mode iso it has no effect, and says so.
+printf '{"points": [[50,0,0,0,0],[60,0,0,0,0],[70,0.111,0.111,0.111,1],[150,1,1,1,1]]}' > "$dir/window.json"
+run "--tf-range" "$ropecast" render $small --mode mip --tf-range 50,150 -o "$dir/range.png"
+run "--tf of the window's points" "$ropecast" render $small --mode mip --tf "$dir/window.json" -o "$dir/window.png"
+run "--mode mip" "$ropecast" render $small --mode mip -o "$dir/mip.png"
+d=$("$ropecast" compare "$dir/range.png" "$dir/window.png" --min-psnr 60) || fail "--tf-range 50,150 is not the window's function: $d"
+"$ropecast" compare "$dir/range.png" "$dir/mip.png" --min-psnr 40 > /dev/null && fail "--tf-range changed nothing"
+run "--tf-range with --mode iso" "$ropecast" render $small --tf-range 50,150 -o "$dir/iso_range.png"
+grep -qF "warning: --tf-range: no effect with --mode iso" "$dir/err.txt" || fail "--tf-range with --mode iso: $(cat "$dir/err.txt")"
+
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]

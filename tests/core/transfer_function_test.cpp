@@ -2,6 +2,7 @@
 // conservative O(1) opacity test against brute force.
 #include "core/transfer_function.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -46,6 +47,42 @@ TEST(TransferFunction, EqualValuesMakeAStep) {
       TransferFunction::fromJson(R"({"points": [[0,0,0,0,0],[5,0,0,0,0],[5,1,1,1,1],[9,1,1,1,1]]})", "t");
   EXPECT_EQ(tf.evaluate(4.999).a, 0.0);
   EXPECT_EQ(tf.evaluate(5.0).a, 1.0);
+}
+
+// --tf-range: the first point to LO, the last to HI, the others in proportion; a preset placed by fractions
+// of the data range is then placed over [LO, HI].
+TEST(TransferFunction, StretchedOverARangeMovesTheFirstPointToLoAndTheLastToHi) {
+  const TfDataRange uint8{SampleType::UInt8, 0.0, 255.0};
+  const TransferFunction gray = TransferFunction::preset("gray", uint8).stretchedOver(50.0, 150.0);
+  const TransferFunction placed =
+      TransferFunction::preset("gray", TfDataRange{SampleType::UInt8, 50.0, 150.0});
+  ASSERT_EQ(gray.points().size(), placed.points().size());
+  for (size_t i = 0; i < gray.points().size(); ++i) {
+    EXPECT_NEAR(gray.points()[i].value, placed.points()[i].value, 1e-12) << i;
+    EXPECT_EQ(gray.points()[i].rgba, placed.points()[i].rgba) << i;
+  }
+  const auto file =
+      TransferFunction::fromJson(R"({"points": [[100,0,0,0,0],[150,1,0,0,0.5],[300,1,1,1,1]]})", "t");
+  const TransferFunction window = file.stretchedOver(-160.0, 240.0);
+  EXPECT_EQ(window.points()[0].value, -160.0);
+  EXPECT_NEAR(window.points()[1].value, -60.0, 1e-12);
+  EXPECT_EQ(window.points()[2].value, 240.0);
+  EXPECT_EQ(window.evaluate(-60.0), glm::dvec4(1, 0, 0, 0.5));
+  // A step at one value moves to the middle; ranges at the ends of the doubles neither overflow nor reorder.
+  const auto step = TransferFunction::fromJson(R"({"points": [[5,0,0,0,0],[5,1,1,1,1]]})", "t");
+  EXPECT_EQ(step.stretchedOver(0.0, 10.0).points()[0].value, 5.0);
+  EXPECT_EQ(step.stretchedOver(0.0, 10.0).evaluate(5.0).a, 1.0);
+  const TransferFunction wide = file.stretchedOver(-1.7e308, 1.7e308);
+  EXPECT_EQ(wide.points().front().value, -1.7e308);
+  EXPECT_EQ(wide.points().back().value, 1.7e308);
+  for (const auto& [lo, hi] : {std::pair{1.0, 1.0}, std::pair{2.0, 1.0}, std::pair{0.0, HUGE_VAL}}) {
+    try {
+      file.stretchedOver(lo, hi);
+      ADD_FAILURE() << lo << "," << hi << " was taken";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("expected LO,HI with LO < HI"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(TransferFunction, ParsingErrorsNameTheFileAndTheProblem) {
