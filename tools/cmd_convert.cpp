@@ -8,7 +8,6 @@
 #include "core/sample_type.h"
 #include "store/converter.h"
 #include "store/cropped_source.h"
-#include "store/source_raw.h"
 #include "store/store_writer.h"
 #include "store/volume_source.h"
 #include "tools/cli_checks.h"
@@ -17,17 +16,14 @@
 #include "tools/convert_progress.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
+#include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
 namespace {
 
 struct ConvertArgs {
   std::string input, output;
-  std::vector<uint32_t> dims;
-  std::optional<SampleType> type;
-  std::optional<ByteOrder> byteOrder;
-  std::optional<uint64_t> headerBytes;
-  std::vector<double> spacing;
+  VolumeReadArgs read;
   std::vector<std::string> crop;  // --crop: three voxel ranges; empty: the whole volume
   uint32_t brick = kDefaultBrickSize;
   std::optional<double> discardBelow;
@@ -36,24 +32,8 @@ struct ConvertArgs {
   bool quiet = false;
 };
 
-// --type: the names of parseSampleType (core/sample_type.h), aliases included.
-std::vector<std::pair<std::string, SampleType>> sampleTypeNames() {
-  std::vector<std::pair<std::string, SampleType>> names;
-  for (const auto& [name, type] : kSampleTypeNames) names.emplace_back(name, type);
-  return names;
-}
-
 int runConvert(const ConvertArgs& a) {
-  SourceOptions sourceOptions;
-  if (!a.dims.empty()) sourceOptions.dims = glm::u32vec3(a.dims.at(0), a.dims.at(1), a.dims.at(2));
-  if (!a.spacing.empty()) {
-    sourceOptions.spacing = toVec3(a.spacing);
-    if (!isValidSpacing(*sourceOptions.spacing))
-      throw UsageError("convert: --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
-  }
-  sourceOptions.type = a.type;
-  sourceOptions.byteOrder = a.byteOrder;
-  sourceOptions.headerBytes = a.headerBytes;
+  const SourceOptions sourceOptions = sourceOptionsOf(a.read, "convert");
   ConvertOptions options;
   options.brickSize = a.brick;
   options.discardBelow = a.discardBelow;
@@ -130,19 +110,7 @@ const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std
       "convert only the voxels X0..X1-1, Y0..Y1-1, Z0..Z1-1 of the input: X0:X1,Y0:Y1,Z0:Z1, as "
       "Python slices (X0: or :X1 to the volume's edge, : the whole axis), as render --crop "
       "takes them (default: the whole volume)");
-  addDimsOption(app, "--dims", a->dims, "X,Y,Z samples per axis of a raw file");
-  addEnumOption(app, "--type", a->type, sampleTypeNames(), "sample type of a raw file", /*ignoreCase=*/true,
-                "{int8,uint8,int16,uint16,int32,uint32,float32,float64} (or an alias: u8, short, int, float, "
-                "double, ...)");
-  addEnumOption(
-      app, "--byte-order", a->byteOrder,
-      std::vector<std::pair<std::string, ByteOrder>>{{"little", ByteOrder::Little}, {"big", ByteOrder::Big}},
-      "byte order of a raw file's samples (default little)");
-  app.add_option("--header-bytes", a->headerBytes, "bytes to skip at the start of a raw file (default 0)")
-      ->type_name("N")
-      ->transform(integerRange(0, double(kMaxRawHeaderBytes)));
-  addTripleOption(app, "--spacing", a->spacing,
-                  "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
+  addVolumeReadOptions(app, a->read);
   app.add_option("--zstd-level", a->zstdLevel, "zstd compression level")->capture_default_str();
   app.add_option("--threads", a->threads, "compression threads (0: one per core), at most 1024")
       ->capture_default_str()

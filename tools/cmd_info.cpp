@@ -13,6 +13,7 @@
 #include "store/volume_source.h"
 #include "tools/command.h"
 #include "tools/progress_bar.h"
+#include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
 namespace {
@@ -53,8 +54,8 @@ nlohmann::json axesJson(const AxisDirections& a) {
 }
 
 // A volume input: what openVolumeSource makes of it.
-int runVolumeInfo(const std::string& spec, bool json) {
-  const std::unique_ptr<VolumeSource> source = openVolumeSource(spec);
+int runVolumeInfo(const std::string& spec, const SourceOptions& options, bool json) {
+  const std::unique_ptr<VolumeSource> source = openVolumeSource(spec, options);
   const VolumeInfo& v = source->info();
   const uint64_t rawBytes = v.sampleCount() * bytesPerSample(v.type);
   if (json) {
@@ -85,8 +86,9 @@ int runVolumeInfo(const std::string& spec, bool json) {
   return 0;
 }
 
-int runInfo(const std::string& path, bool json) {
-  if (!isStoreInput(path)) return runVolumeInfo(path, json);
+int runInfo(const std::string& path, const VolumeReadArgs& read, bool json) {
+  if (!isStoreInput(path)) return runVolumeInfo(path, sourceOptionsOf(read, "info"), json);
+  refuseVolumeReadOptions(read, "the store " + path + " keeps what it was converted with");
   const auto store = Store::open(path);
   const StoreMetadata& m = store->metadata();
   const StoreSummary s = summarizeStore(*store);
@@ -155,7 +157,9 @@ const CommandRegistration infoCommand("info", 20, [](CLI::App& app) -> std::func
   auto json = std::make_shared<bool>(false);
   app.add_option("input", *path, "store file, or a volume as convert takes it")->required();
   app.add_flag("--json", *json, "print JSON");
-  return [path, json] { return runInfo(*path, *json); };
+  auto read = std::make_shared<VolumeReadArgs>();
+  addVolumeReadOptions(app, *read);
+  return [path, json, read] { return runInfo(*path, *read, *json); };
 });
 
 }  // namespace

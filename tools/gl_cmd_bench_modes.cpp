@@ -38,6 +38,7 @@
 #include "tools/gl_render_options.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
+#include "tools/volume_read_options.h"
 
 extern char** environ;
 
@@ -68,6 +69,7 @@ struct Options {
   uint64_t gpuBudget = 0;
   uint64_t cpuCache = uint64_t(1) << 30;
   std::optional<uint32_t> brick;  // procedural inputs only
+  VolumeReadArgs read;            // for a volume read from its file
   std::string configs;
   std::string out = "bench_modes";
   bool quiet = false;
@@ -221,7 +223,8 @@ int runModesBench(const Options& o) {
   }
   guard.addOutputSeries("--out", (out / "images").string(), "*", [](const std::string&) { return true; });
   guard.check();
-  const std::unique_ptr<BrickSource> source = openBrickSource(o.input, o.brick, o.quiet, "bench modes");
+  const std::unique_ptr<BrickSource> source =
+      openBrickSource(o.input, o.brick, o.read, o.quiet, "bench modes");
   const BrickSourceInfo& info = source->info();
   const glm::dvec3 boxMax = info.volume.worldMax();
 
@@ -477,6 +480,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
   addByteSizeOption(app, "--cpu-cache", o->cpuCache, "CPU brick cache bytes")->default_str("1G");
   app.add_option("--brick", o->brick, "brick size for procedural inputs and volumes")
       ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
+  addVolumeReadOptions(app, o->read);
   app.add_option(
          "--configs", o->configs,
          "comma-separated configurations: single-fragment, single-compute, multipass (default: the single "

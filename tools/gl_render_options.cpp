@@ -17,6 +17,7 @@
 #include "tools/command.h"
 #include "tools/progress_bar.h"
 #include "tools/temporary_store.h"
+#include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
 
@@ -159,6 +160,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       ->capture_default_str();
   app.add_option("--brick", o.brick, "brick size for procedural inputs and volumes")
       ->check(oneOf(std::vector<uint32_t>{8, 16, 32, 64}));
+  addVolumeReadOptions(app, o.read);
 }
 
 namespace {
@@ -230,20 +232,24 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const cha
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
-                                             bool quiet, const std::string& who) {
-  if (isProceduralSpec(input)) return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
+                                             const VolumeReadArgs& read, bool quiet, const std::string& who) {
+  if (isProceduralSpec(input)) {
+    refuseVolumeReadOptions(read, input + " is generated");
+    return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
+  }
   if (input.empty())
     throw UsageError("the input: expected a store file (.rcast), a volume or procedural:NAME:SIZE, got ''");
   if (isStoreInput(input)) {
     checkBrickOption(input, brick);
+    refuseVolumeReadOptions(read, "the store " + input + " keeps what it was converted with");
     if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
     return Store::open(input);
   }
-  return openVolumeAsStore(input, brick, quiet, who);
+  return openVolumeAsStore(input, sourceOptionsOf(read, who), brick, quiet, who);
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who) {
-  return openBrickSource(o.input, o.brick, o.quiet, who);
+  return openBrickSource(o.input, o.brick, o.read, o.quiet, who);
 }
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {

@@ -59,10 +59,11 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const cha
 // the command ("render").
 std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who);
 // A store file; procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); or a volume as convert
-// reads it, converted to a temporary store bricked by `brick` (tools/temporary_store.h; `quiet` as there). A
-// store keeps its own brick size, so `brick` with a store is a UsageError.
+// reads it with `read`'s options, converted to a temporary store bricked by `brick` (tools/temporary_store.h;
+// `quiet` as there). A store keeps its own brick size and everything it was read with, so `brick` or a `read`
+// option with a store is a UsageError, and a `read` option with a procedural input too.
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
-                                             bool quiet, const std::string& who);
+                                             const VolumeReadArgs& read, bool quiet, const std::string& who);
 
 // The camera of --eye/--target/--up/--fov, else of --orbit (default kDefaultOrbit) around the volume box.
 // Throws UsageError as checkSceneOptions.

@@ -16,6 +16,7 @@
 #include "occlusion/visibility_tracker.h"
 #include "reference/image_io.h"
 #include "store/octree_layout.h"
+#include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
 
@@ -55,6 +56,7 @@ struct RenderOptions {
   double ioDelayMs = 0.0;
   uint32_t ioThreads = 0;         // 0: FrameRendererConfig's default
   std::optional<uint32_t> brick;  // procedural inputs only (default kDefaultBrickSize)
+  VolumeReadArgs read;            // --dims, --type, ..., --spacing: for a volume read from its file
   bool occlusion = true;
   bool feedback = true;
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;

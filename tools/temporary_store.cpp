@@ -13,17 +13,9 @@
 
 namespace ropecast::tools {
 
-std::unique_ptr<Store> openVolumeAsStore(const std::string& input, std::optional<uint32_t> brick, bool quiet,
-                                         const std::string& who) {
-  std::unique_ptr<VolumeSource> source;
-  try {
-    source = openVolumeSource(input);
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    if (what.find("--dims") == std::string::npos) throw;
-    throw Error(what + " (`ropecast " + who + "` reads volumes without convert's options: give them to " +
-                "`ropecast convert` and " + who + " its store)");
-  }
+std::unique_ptr<Store> openVolumeAsStore(const std::string& input, const SourceOptions& sourceOptions,
+                                         std::optional<uint32_t> brick, bool quiet, const std::string& who) {
+  const std::unique_ptr<VolumeSource> source = openVolumeSource(input, sourceOptions);
   for (const std::string& note : source->info().notes)
     std::fprintf(stderr, "ropecast %s: warning: %s\n", who.c_str(), note.c_str());
   ConvertOptions options;

@@ -42,11 +42,27 @@ grep -qE '"leaves": *([2-9]|[1-9][0-9]+)' "$dir/stats.jsonl" || { fail "--brick 
 "$ropecast" "${render[@]}" --brick 8 "$dir/ball.rcast" -o "$dir/x.png" 2> "$dir/err.txt" && fail "--brick with a store"
 grep -qF "the brick size it was converted with" "$dir/err.txt" || { fail "no --brick refusal:"; cat "$dir/err.txt"; }
 
-# A raw file that does not name its dimensions: convert's options are convert's.
+# A raw file that does not name its dimensions: read with convert's options (and info's), refused without
+# them, naming them; they are refused for a store and a procedural volume, which they cannot describe.
 "$ropecast" "${render[@]}" "$dir/unnamed.raw" -o "$dir/x.png" 2> "$dir/err.txt"
 rc=$?
 [ "$rc" -ge 1 ] && [ "$rc" -le 127 ] || fail "an unnamed raw file: exit $rc"
-grep -qF "give them to \`ropecast convert\`" "$dir/err.txt" || { fail "no pointer to convert:"; cat "$dir/err.txt"; }
+grep -qF -- "--dims" "$dir/err.txt" || { fail "no word of --dims:"; cat "$dir/err.txt"; }
+[ ! -e "$dir/x.png" ] || fail "a refused render left $dir/x.png"
+"$ropecast" "${render[@]}" "$dir/unnamed.raw" --dims 24,20,16 --type uint16 -o "$dir/unnamed.png" 2> "$dir/err.txt" ||
+  { fail "render of a raw file with --dims and --type"; cat "$dir/err.txt"; }
+cmp -s "$dir/unnamed.png" "$dir/store.png" || fail "the raw file with --dims and --type differs from its named twin's image"
+"$ropecast" "${render[@]}" "$dir/unnamed.raw" --dims 24,20,16 --type uint16 --spacing 1,1,2 -o "$dir/spaced.png" ||
+  fail "render with --spacing"
+cmp -s "$dir/spaced.png" "$dir/store.png" && fail "--spacing changed nothing"
+"$ropecast" info "$dir/unnamed.raw" --dims 24,20,16 --type u16 --byte-order big > "$dir/info.txt" || fail "info with --dims"
+grep -q "^dims       24 x 20 x 16 samples" "$dir/info.txt" || fail "info with --dims: $(cat "$dir/info.txt")"
+for input in "$dir/ball.rcast" procedural:sphere:16; do
+  "$ropecast" "${render[@]}" "$input" --type uint8 -o "$dir/x.png" 2> "$dir/err.txt" && fail "--type with $input"
+  grep -qF -- "--type applies to a volume read from its file" "$dir/err.txt" || { fail "no --type refusal for $input:"; cat "$dir/err.txt"; }
+done
+"$ropecast" info "$dir/ball.rcast" --spacing 1,1,1 > /dev/null 2> "$dir/err.txt" && fail "info of a store with --spacing"
+grep -qF -- "--spacing applies to a volume read from its file; the store" "$dir/err.txt" || { fail "no --spacing refusal:"; cat "$dir/err.txt"; }
 [ ! -e "$dir/x.png" ] || fail "a refused render left $dir/x.png"
 
 # The volume is an input.

@@ -1,0 +1,65 @@
+#include "tools/volume_read_options.h"
+
+#include "core/error.h"
+#include "store/source_raw.h"
+#include "tools/cli_checks.h"
+#include "tools/cli_values.h"
+
+namespace ropecast::tools {
+
+namespace {
+
+// --type: the names of parseSampleType (core/sample_type.h), aliases included.
+std::vector<std::pair<std::string, SampleType>> sampleTypeNames() {
+  std::vector<std::pair<std::string, SampleType>> names;
+  for (const auto& [name, type] : kSampleTypeNames) names.emplace_back(name, type);
+  return names;
+}
+
+}  // namespace
+
+std::string VolumeReadArgs::firstGiven() const {
+  if (!dims.empty()) return "--dims";
+  if (type) return "--type";
+  if (byteOrder) return "--byte-order";
+  if (headerBytes) return "--header-bytes";
+  if (!spacing.empty()) return "--spacing";
+  return "";
+}
+
+void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
+  addDimsOption(app, "--dims", a.dims, "X,Y,Z samples per axis of a raw file");
+  addEnumOption(app, "--type", a.type, sampleTypeNames(), "sample type of a raw file", /*ignoreCase=*/true,
+                "{int8,uint8,int16,uint16,int32,uint32,float32,float64} (or an alias: u8, short, int, float, "
+                "double, ...)");
+  addEnumOption(
+      app, "--byte-order", a.byteOrder,
+      std::vector<std::pair<std::string, ByteOrder>>{{"little", ByteOrder::Little}, {"big", ByteOrder::Big}},
+      "byte order of a raw file's samples (default little)");
+  app.add_option("--header-bytes", a.headerBytes, "bytes to skip at the start of a raw file (default 0)")
+      ->type_name("N")
+      ->transform(integerRange(0, double(kMaxRawHeaderBytes)));
+  addTripleOption(app, "--spacing", a.spacing,
+                  "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
+}
+
+SourceOptions sourceOptionsOf(const VolumeReadArgs& a, const std::string& who) {
+  SourceOptions options;
+  if (!a.dims.empty()) options.dims = glm::u32vec3(a.dims.at(0), a.dims.at(1), a.dims.at(2));
+  if (!a.spacing.empty()) {
+    options.spacing = toVec3(a.spacing);
+    if (!isValidSpacing(*options.spacing))
+      throw UsageError(who + ": --spacing " + formatTriple(a.spacing) + ": expected " + validSpacingText());
+  }
+  options.type = a.type;
+  options.byteOrder = a.byteOrder;
+  options.headerBytes = a.headerBytes;
+  return options;
+}
+
+void refuseVolumeReadOptions(const VolumeReadArgs& a, const std::string& why) {
+  if (const std::string given = a.firstGiven(); !given.empty())
+    throw UsageError(given + " applies to a volume read from its file; " + why);
+}
+
+}  // namespace ropecast::tools
