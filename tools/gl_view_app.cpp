@@ -121,6 +121,9 @@ class Viewer {
   // A preset or file chosen by --tf, the panel or a script; empty: the mode's default, not a choice.
   void setTransferFunction(const std::string& spec);
   void setTransferFunction(TransferFunction function, const std::string& name);
+  // A window (--tf-range, the panel, a script): the current function stretched over [lo, hi], and every
+  // one chosen later.
+  void setTfRange(double lo, double hi);
   void setMode(RenderMode mode);
   void ensureRenderer(bool moving);
   FrameRequest currentRequest(bool moving);
@@ -168,7 +171,8 @@ class Viewer {
   double voxelsPerPixel_ = 1.0;
   double targetFrameMs_ = 0.0;
   std::string tfSpec_;
-  bool tfChosen_ = false;  // by --tf, the panel or the script; until then each mode shows its default
+  std::vector<double> tfRange_;  // LO,HI of the window; empty: none
+  bool tfChosen_ = false;        // by --tf, the panel or the script; until then each mode shows its default
   TransferFunction tf_;
   std::optional<TfTable> tfTable_;
   uint64_t tfVersion_ = 0;
@@ -249,6 +253,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   unfoldCutControls_ = !o.crop.empty() || !o.clipPlane.empty();
   voxelsPerPixel_ = o.voxelsPerPixel;
   targetFrameMs_ = o.targetFrameMs;
+  tfRange_ = o.tfRange;
   setTransferFunction(o.tf);  // a bad --tf is an error in either mode, as in render
 
   const Camera initial = chooseCamera(o, info);
@@ -313,9 +318,14 @@ Viewer::~Viewer() {
 void Viewer::setTransferFunction(const std::string& spec) {
   // A file shows as its name alone: the panel's combo is narrow.
   setTransferFunction(
-      transferFunctionOf(spec, bricks().info(), params_.mode, o_.tfRange),
+      transferFunctionOf(spec, bricks().info(), params_.mode, tfRange_),
       spec.empty() ? defaultTfSpec(params_.mode) : std::filesystem::path(spec).filename().string());
   tfChosen_ = !spec.empty();
+}
+
+void Viewer::setTfRange(double lo, double hi) {
+  tfRange_ = {lo, hi};
+  setTransferFunction(tf_.stretchedOver(lo, hi), tfSpec_);
 }
 
 void Viewer::setMode(RenderMode mode) {
@@ -582,6 +592,9 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
       break;
+    case ViewEventKind::SetTfRange:
+      setTfRange(e.range.x, e.range.y);
+      break;
     case ViewEventKind::Screenshot:
       if (e.panels)
         panelShot_ = e;  // read back once this frame's panels are drawn
@@ -730,6 +743,14 @@ void Viewer::drawPanels() {
         }
       ImGui::EndCombo();
     }
+    // The window: where the function's first and last points lie (--tf-range); dragging it stretches the
+    // function.
+    float window[2] = {float(tf_.points().front().value), float(tf_.points().back().value)};
+    const float windowSpeed = float(std::max(valueRange_.second - valueRange_.first, 1e-6) / 500.0);
+    if (ImGui::DragFloatRange2("window", &window[0], &window[1], windowSpeed, float(valueRange_.first),
+                               float(valueRange_.second), "%g", "%g") &&
+        window[0] < window[1])
+      setTfRange(window[0], window[1]);
     ImGui::InputText("file##tf", &tfPath_);
     if (ImGui::Button("load")) {
       try {

@@ -75,6 +75,17 @@ struct EventReader {
       fail(std::string("\"") + name + "\" must be [x, y] in window pixels, each within +-1e6");
     return {p[0].get<double>(), p[1].get<double>()};
   }
+  // A window as --tf-range takes it: [lo, hi], finite, lo < hi.
+  glm::dvec2 range(const char* name) const {
+    read.insert(name);
+    if (!j.contains(name)) fail(std::string("\"") + name + "\" is required");
+    const json& p = j[name];
+    const auto finite = [](const json& v) { return v.is_number() && std::isfinite(v.get<double>()); };
+    if (!p.is_array() || p.size() != 2 || !finite(p[0]) || !finite(p[1]) ||
+        !(p[0].get<double>() < p[1].get<double>()))
+      fail(std::string("\"") + name + "\" must be [lo, hi] in data units, lo < hi, as --tf-range takes them");
+    return {p[0].get<double>(), p[1].get<double>()};
+  }
   // A plane as --clip-plane takes it, [x, y, z, nx, ny, nz] (finite numbers), or [] for none.
   std::vector<double> plane(const char* name) const {
     read.insert(name);
@@ -229,6 +240,10 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.kind = ViewEventKind::LoadTf;
       e.tf = r.text("tf");
       add(e);
+    } else if (kind == "set_tf_range") {
+      e.kind = ViewEventKind::SetTfRange;
+      e.range = r.range("range");
+      add(e);
     } else if (kind == "screenshot") {
       e.kind = ViewEventKind::Screenshot;
       e.file = r.text("file");
@@ -253,7 +268,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else {
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
-          "set_iso, set_mode, set_crop, set_clip_plane, load_tf, screenshot, save_camera, reset_camera, "
+          "set_iso, set_mode, set_crop, set_clip_plane, load_tf, set_tf_range, screenshot, save_camera, "
+          "reset_camera, "
           "wait_converged or "
           "quit");
     }

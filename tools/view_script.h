@@ -30,6 +30,7 @@ enum class ViewEventKind {
   SetIso,         // value (data units)
   SetMode,        // mode
   LoadTf,         // tf: a preset name or a JSON file
+  SetTfRange,     // range: LO,HI, a window as --tf-range sets it
   SetCrop,        // crop: --crop's three voxel ranges
   SetClipPlane,   // plane: --clip-plane's six numbers, or none
   Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
@@ -54,6 +55,7 @@ struct ViewEvent {
   std::string tf;
   std::vector<std::string> crop;
   std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
+  glm::dvec2 range{0.0};      // LO < HI, data units
   std::string file;
   bool panels = false;
   std::string where;  // "--script EVENTS.json: event 3 (drag)": names the event in errors while it runs

@@ -243,11 +243,16 @@ run "render --mode dvr --tf" "$ropecast" render $vol --converge --mode dvr --tf 
   -o "$dir/r3.png"
 same "DVR with a loaded TF = render --tf" "$dir/v3.png" "$dir/r3.png"
 # MIP: a switch to it shows its default transfer function (gray), as render --mode mip does.
-printf '[{"event": "set_mode", "mode": "mip"}, {"event": "screenshot", "file": "%s"}]' "$dir/v6.png" > "$dir/mip.json"
-run "view --script set_mode mip" xview $vol --script "$dir/mip.json"
+# Then a window: the gray preset stretched over it, as render --tf-range draws it.
+printf '[{"event": "set_mode", "mode": "mip"}, {"event": "screenshot", "file": "%s"}, {"event": "set_tf_range", "range": [60, 200]}, {"event": "screenshot", "file": "%s"}]' \
+  "$dir/v6.png" "$dir/v7.png" > "$dir/mip.json"
+run "view --script set_mode mip, set_tf_range" xview $vol --script "$dir/mip.json"
 run "render --mode mip" "$ropecast" render $vol --converge --mode mip -o "$dir/r6.png"
 same "MIP switch = render --mode mip" "$dir/v6.png" "$dir/r6.png"
 differs "the MIP switch changed the view" "$dir/v6.png" "$dir/v0.png"
+run "render --mode mip --tf-range" "$ropecast" render $vol --converge --mode mip --tf-range 60,200 -o "$dir/r7.png"
+same "set_tf_range = render --tf-range" "$dir/v7.png" "$dir/r7.png"
+differs "the window changed the view" "$dir/v7.png" "$dir/v6.png"
 # A switch to DVR whose stored gradients no longer fit one brick in --gpu-budget goes on with computed ones (and
 # says so), and --stats numbers the frames of the session on, across the renderer the switch makes anew.
 cat > "$dir/tight.json" << JSON
@@ -449,7 +454,7 @@ if python3 -c 'import ctypes; ctypes.cdll.LoadLibrary("libXtst.so.6")' 2> /dev/n
   xrun -s "-screen 0 800x600x24" bash -c '
     "$1" view view.png --tf tf.json --mode dvr --size 760x560 --script cameras.json 2> err.txt & viewer=$!
     for i in $(seq 200); do [ -e ready.png ] && break; sleep 0.3; done
-    python3 "$2" 77,381 470,274 468,320
+    python3 "$2" 77,404 470,274 468,320
     wait $viewer' _ "$ropecast" "$dir/xclick.py" > /dev/null 2>&1
   rc=$?
   [ "$rc" = 0 ] || fail "the panel's buttons: exit $rc: $(cat err.txt)"

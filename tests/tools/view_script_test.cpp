@@ -50,9 +50,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "save_camera", "file": "c.json"}, {"event": "wheel", "clicks": -2},
           {"event": "reset_camera"}, {"event": "wait_converged"}, {"event": "set_crop", "crop": "2:9, :,4:"},
           {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, -1]}, {"event": "set_clip_plane", "plane": []},
-          {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"}])",
+          {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"},
+          {"event": "set_tf_range", "range": [-160, 240]}])",
       "t");
-  ASSERT_EQ(s.events.size(), 13u);
+  ASSERT_EQ(s.events.size(), 14u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -69,6 +70,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_TRUE(s.events[10].plane.empty());
   EXPECT_EQ(s.events[11].mode, RenderMode::Mip);
   EXPECT_EQ(s.events[12].mode, RenderMode::MinIp);
+  EXPECT_EQ(s.events[13].kind, ViewEventKind::SetTfRange);
+  EXPECT_EQ(s.events[13].range, glm::dvec2(-160, 240));
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -101,6 +104,9 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "set_clip_plane", "plane": [1, 2, 3, 0, 1]}])",
                 "event 0 (set_clip_plane): \"plane\" must be [x, y, z, nx, ny, nz]");
   expectRefused(R"([{"event": "set_clip_plane", "plane": "0,0,0,0,0,1"}])", "\"plane\" must be");
+  for (const char* range : {"[5, 5]", "[6, 5]", "[1]", "\"1,2\"", "[0, null]"})
+    expectRefused(std::string(R"([{"event": "set_tf_range", "range": )") + range + "}]",
+                  "event 0 (set_tf_range): \"range\" must be [lo, hi] in data units, lo < hi");
   expectRefused(R"([{"event": "set_clip_plane"}])", "\"plane\" is required");
 }
 
