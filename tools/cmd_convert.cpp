@@ -82,6 +82,11 @@ int runConvert(const ConvertArgs& a) {
         (unsigned long long)stats.dataNodes, (unsigned long long)stats.constantNodes,
         (unsigned long long)stats.emptyNodes, formatBytes(stats.payloadBytes).c_str(),
         double(stats.payloadBytes) / rawBytes);
+    // Where a file turns its axes, say so: it changes what the default view shows, and a mirroring volume's
+    // store holds x reversed (store/converter.h).
+    if (info.axes != AxisDirections(1.0))
+      std::printf("axes %s%s\n", orientationCode(info.axes).c_str(),
+                  mirrors(info.axes) ? " (mirroring: the store keeps x reversed)" : "");
   }
   return 0;
 }

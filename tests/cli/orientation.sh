@@ -36,7 +36,10 @@ PY
 
 # Bricks of 8 over axes of different lengths: the trees differ, so full detail (--voxels-per-pixel) for both.
 render=(render --size 64x56 --iso 100 --voxels-per-pixel 16 -q)
-for v in w t m; do "$ropecast" convert "$dir/$v.nrrd" -o "$dir/$v.rcast" --brick 8 --quiet || fail "convert $v"; done
+for v in w t m; do "$ropecast" convert "$dir/$v.nrrd" -o "$dir/$v.rcast" --brick 8 > "$dir/$v.txt" 2>&1 || fail "convert $v"; done
+grep -q "^axes" "$dir/w.txt" && fail "convert of an unturned volume speaks of its axes: $(cat "$dir/w.txt")"
+grep -qx "axes PIR" "$dir/t.txt" || fail "convert of the turned volume: $(cat "$dir/t.txt")"
+grep -qx "axes RPS (mirroring: the store keeps x reversed)" "$dir/m.txt" || fail "convert of the mirrored volume: $(cat "$dir/m.txt")"
 for view in "--orbit 30,20,3" "--orbit 200,-35,2.5" "--orbit 115,70,2"; do
   for v in w t m; do
     "$ropecast" "${render[@]}" "$dir/$v.rcast" $view -o "$dir/$v.png" 2> "$dir/err.txt" || fail "render $v $view: $(cat "$dir/err.txt")"
