@@ -41,6 +41,7 @@
 #include "tools/gl_view_tf_editor.h"
 #include "tools/output_guard.h"
 #include "tools/stats_writer.h"
+#include "tools/view_outline.h"
 
 namespace ropecast::tools {
 
@@ -152,6 +153,7 @@ class Viewer {
   void reportPanelError(const std::exception& e);
   void drawPanels();
   void drawCropControls(glm::u32vec3 dims);
+  void drawCutOutlines(const VolumeInfo& volume);
   void drawClipPlaneControls(const VolumeInfo& volume);
 
   const ViewOptions& o_;
@@ -694,6 +696,25 @@ void Viewer::drawClipPlaneControls(const VolumeInfo& volume) {
   }
 }
 
+// While the crop box and clip plane are edited, their outlines over the 3D view (behind the panels; the 3D
+// view's screenshots do not show them): the crop box where it is not the whole volume, and where the plane
+// cuts what is drawn.
+void Viewer::drawCutOutlines(const VolumeInfo& volume) {
+  const PlacedBox drawn{sampledWorldBox(params_, volume.dims, volume.spacing), volume.axes,
+                        0.5 * volume.worldMax()};
+  const Camera camera = controller_->camera();
+  // In the panels' coordinates: window points, which a high-density display's framebuffer scales.
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const uint32_t width = uint32_t(std::max(1.0f, display.x)), height = uint32_t(std::max(1.0f, display.y));
+  ImDrawList* list = ImGui::GetBackgroundDrawList();
+  const auto draw = [list](const std::vector<ScreenSegment>& segments, ImU32 color) {
+    for (const ScreenSegment& s : segments)
+      list->AddLine(ImVec2(float(s.a.x), float(s.a.y)), ImVec2(float(s.b.x), float(s.b.y)), color, 1.5f);
+  };
+  if (params_.crop != CropBox{}) draw(boxOutline(camera, width, height, drawn), IM_COL32(255, 200, 60, 220));
+  draw(planeOutline(camera, width, height, drawn, params_.clipPlane), IM_COL32(90, 200, 255, 220));
+}
+
 void Viewer::drawPanels() {
   const BrickSourceInfo& info = bricks().info();
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
@@ -776,6 +797,7 @@ void Viewer::drawPanels() {
     if (ImGui::CollapsingHeader("crop box and clip plane")) {
       drawCropControls(info.volume.dims);
       drawClipPlaneControls(info.volume);
+      drawCutOutlines(info.volume);
     }
     ImGui::PopItemWidth();
   }

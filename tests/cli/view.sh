@@ -355,6 +355,32 @@ for shot in pa pb; do
     fail "$shot.png with panels is not the state at its event: $(cat "$dir/cmp.txt")"
 done
 
+# While the crop controls are open (a script's set_crop opens them), the crop box is outlined over the view,
+# in the window's panel screenshot, never in the 3D view's.
+printf '[{"event": "set_crop", "crop": "2:40,:,3:"}, {"event": "screenshot", "file": "%s", "panels": true}, {"event": "screenshot", "file": "%s"}]' \
+  "$dir/outline.png" "$dir/outline_view.png" > "$dir/outline.json"
+run "view a crop box's outline" xrun -s "-screen 0 800x600x24" "$ropecast" view procedural:marschner-lobb:48 --brick 16 \
+  --size 700x500 --script "$dir/outline.json"
+outline_pixels() {  # pixels of the outline's amber (255, 200, 60 at 86 %) in a PNG
+  oiiotool "$1" --ch R,G,B -d uint8 -o "$dir/outline.ppm" 2> /dev/null || { echo -1; return; }
+  python3 - "$dir/outline.ppm" <<'PY'
+import sys
+data = open(sys.argv[1], "rb").read()
+fields, pos = [], 0
+while len(fields) < 4:  # P6, width, height, maxval, each after whitespace
+    while data[pos:pos + 1].isspace(): pos += 1
+    start = pos
+    while not data[pos:pos + 1].isspace(): pos += 1
+    fields.append(data[start:pos])
+pixels = data[pos + 1:]
+print(sum(1 for i in range(0, len(pixels), 3)
+          if pixels[i] > 200 and 150 < pixels[i + 1] < 215 and pixels[i + 2] < 110))
+PY
+}
+n=$(outline_pixels "$dir/outline.png"); m=$(outline_pixels "$dir/outline_view.png")
+{ [ "$n" -ge 50 ] && [ "$m" = 0 ]; } && echo "ok   the crop box outlined: $n pixels with panels, $m in the view" ||
+  fail "the crop box's outline: $n pixels with panels (at least 50), $m in the 3D view (none)"
+
 # save_camera appends to a path with timed keyframes a timed one (a second after the last): render reads it.
 echo '[{"orbit": [30, 20, 3], "time": 0}, {"orbit": [60, 20, 3], "time": 0.5}]' > "$dir/timed.json"
 echo "[{\"event\": \"save_camera\", \"file\": \"$dir/timed.json\"}]" > "$dir/save_timed.json"
