@@ -62,7 +62,8 @@ struct Options {
   uint32_t reps = 3;
   RenderMode mode = RenderMode::Iso;
   std::optional<double> iso;
-  std::string tf;  // empty: ct-soft, or gray for an intensity projection
+  std::string tf;               // empty: ct-soft, or gray for an intensity projection
+  std::vector<double> tfRange;  // --tf-range LO,HI; empty: none
   std::vector<uint32_t> size{512, 512};
   double step = 0.5;
   double voxelsPerPixel = 1.0;
@@ -209,6 +210,9 @@ int runModesBench(const Options& o) {
   if (o.reps == 0) throw UsageError("--reps must be at least 1");
   if (o.frames == 0) throw UsageError("--frames must be at least 1");
   if (!o.path.empty() && !o.orbit.empty()) throw UsageError("--path and --orbit exclude each other");
+  if (o.tfRange.size() == 2 && !(o.tfRange[0] < o.tfRange[1]))
+    throw UsageError("--tf-range " + formatNumber(o.tfRange[0]) + "," + formatNumber(o.tfRange[1]) +
+                     ": expected LO,HI with LO < HI (data units)");
   const std::filesystem::path out(o.out);
   if (!o.configs.empty()) chooseConfigs(o.configs, "");  // names checked before anything is read
   // No output may be an input (the store, --tf, --path); checked before anything is written.
@@ -244,7 +248,9 @@ int runModesBench(const Options& o) {
   const std::string tfSpec = !o.tf.empty()                   ? o.tf
                              : isIntensityProjection(o.mode) ? defaultTfSpec(o.mode)
                                                              : "ct-soft";
-  const TransferFunction function = TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info));
+  const TransferFunction placed = TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info));
+  const TransferFunction function =
+      o.tfRange.size() == 2 ? placed.stretchedOver(o.tfRange[0], o.tfRange[1]) : placed;
   if (usesTransferFunction(o.mode)) {
     tf = TfTable::bake(function, info.mapping, storedMax);
     request.tf = &*tf;
@@ -332,6 +338,7 @@ int runModesBench(const Options& o) {
       {"difference_scale", kDifferenceScale}};
   if (o.mode == RenderMode::Iso) settings["iso"] = request.params.isoValue;
   if (usesTransferFunction(o.mode)) settings["tf"] = tfSpec;
+  if (usesTransferFunction(o.mode) && o.tfRange.size() == 2) settings["tf_range"] = o.tfRange;
   if (!o.path.empty())
     settings["path"] = o.path;
   else
@@ -468,6 +475,10 @@ std::function<int()> setupModesBench(CLI::App& app) {
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
   app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip or minip"))
       ->check(notEmpty("a preset or a JSON file"));
+  addRangeOption(
+      app, "--tf-range", o->tfRange,
+      "LO,HI: the transfer function stretched so its first point lies at LO and its last at HI, as "
+      "render --tf-range");
   addImageSizeOption(app, "--size", o->size, "image size WxH (default 512x512)");
   app.add_option("--step", o->step, "sample distance in voxels of the level crossed")
       ->check(finiteIn(0.01, 8.0))

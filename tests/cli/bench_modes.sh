@@ -68,6 +68,21 @@ assert (s["mode"], s["tf"]) == ("mip", "gray"), s' "$dir/noplot/bench.json" && e
     fail "bench.json of --mode mip"
 fi
 
+# --tf-range: recorded, and the windowed MIP is another image than the plain one.
+if timeout 300 "$ropecast" bench modes procedural:sphere:32 --brick 8 --mode mip --tf-range 80,200 --size 32x32 \
+    --frames 1 --reps 1 --configs single-fragment --out "$dir/window" --no-plot > "$dir/out.txt" 2> "$dir/err.txt"; then
+  /usr/bin/python3 -c '
+import json, sys
+s = json.load(open(sys.argv[1]))["settings"]
+assert s["tf_range"] == [80, 200], s' "$dir/window/bench.json" || fail "bench.json of --tf-range"
+  d=$("$ropecast" compare "$dir/window/images/single-fragment.png" "$dir/noplot/images/single-fragment.png") ||
+    fail "compare of the windowed and the plain MIP: $d"
+  /usr/bin/python3 -c 'import json, sys; p = json.loads(sys.argv[1])["psnr_db"]; sys.exit(p == "inf" or p >= 40)' "$d" &&
+    echo "ok   --tf-range" || fail "--tf-range changed nothing: $d"
+else
+  fail "bench modes --tf-range: exit $?"; cat "$dir/err.txt"
+fi
+
 # Into a folder of an earlier run: images/ shows this run's configurations alone, an earlier plot goes (it
 # would pass for this run's); other files stay.
 mkdir -p "$dir/noplot/images" && echo stale > "$dir/noplot/frame_times.png" && touch "$dir/noplot/images/multipass.png" "$dir/noplot/images/diff_multipass_vs_single-fragment.png" "$dir/noplot/images/notes.txt"
@@ -106,6 +121,7 @@ expect_failure "path and orbit" "--path and --orbit" $vol --path x.json --orbit 
 expect_failure "path and turn" "--path excludes --turn" $vol --path x.json --turn 45 --out "$dir/e7"
 expect_failure "missing path" "nope.json" $vol --path "$dir/nope.json" --out "$dir/e8"
 expect_failure "bad tf" "--tf" $vol --mode dvr --tf no-such-preset --out "$dir/e9"
+expect_failure "empty --tf-range" "--tf-range 5,5: expected LO,HI with LO < HI" $vol --mode mip --tf-range 5,5 --out "$dir/e9"
 printf 'x' > "$dir/file"
 expect_failure "out is a file" "--out" $vol --out "$dir/file"
 # Failures found after the folder is made (a pool with no slot; a damaged store is alike) take it away again.
