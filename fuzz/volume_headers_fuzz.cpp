@@ -9,6 +9,8 @@
 #include <span>
 #include <string_view>
 
+#include <glm/geometric.hpp>
+
 #include "core/error.h"
 #include "store/metaimage_header.h"
 #include "store/nifti_header.h"
@@ -28,6 +30,14 @@ void checkVolume(const Header& header) {
     if (!(header.spacing[axis] > 0.0 && std::isfinite(header.spacing[axis]))) std::abort();
 }
 
+// Axes: unit directions at right angles (core/orientation.h), which a store then keeps.
+void checkAxes(const ropecast::AxisDirections& axes) {
+  for (int a = 0; a < 3; ++a) {
+    if (!(std::abs(glm::length(axes[a]) - 1.0) <= 1e-9)) std::abort();
+    if (!(std::abs(glm::dot(axes[a], axes[(a + 1) % 3])) <= 1e-3)) std::abort();
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -40,6 +50,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (parser == 3) {
       const ropecast::VtiHeader header = ropecast::parseVtiHeader(text, "fuzz.vti");
       checkVolume(header);
+      checkAxes(header.axes);
       if (header.headerWordBytes != 4 && header.headerWordBytes != 8) std::abort();
     } else if (parser == 2) {
       const ropecast::VtkHeader header = ropecast::parseVtkHeader(text, "fuzz.vtk");
@@ -49,6 +60,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const ropecast::NiftiHeader header =
           ropecast::parseNiftiHeader(std::as_bytes(std::span(data, size)), "fuzz.nii");
       checkVolume(header);
+      checkAxes(header.axes);
       const size_t headerBytes =
           header.version == 2 ? ropecast::kNifti2HeaderBytes : ropecast::kNifti1HeaderBytes;
       if (!header.pairedFile && header.voxOffset < headerBytes) std::abort();
@@ -58,6 +70,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     } else {
       const ropecast::MetaImageHeader header = ropecast::parseMetaImageHeader(text, "fuzz.mha");
       checkVolume(header);
+      checkAxes(header.axes);
       if (header.headerBytes > size || header.headerSize < -1) std::abort();
     }
   } catch (const ropecast::Error&) {
