@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -132,9 +133,10 @@ std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t lev
 }
 
 void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output,
-                        const LevelRegion& region) {
+                        const LevelRegion& region, std::string_view header) {
   TemporaryFile file(output, "extract");
-  uint64_t offset = 0;
+  file.writeAt(0, std::as_bytes(std::span(header.data(), header.size())));
+  uint64_t offset = header.size();
   extractLevel(
       source, level,
       [&](std::span<const std::byte> piece) {
@@ -143,6 +145,70 @@ void extractLevelToFile(const BrickSource& source, uint32_t level, const std::fi
       },
       region);
   file.commit();
+}
+
+namespace {
+
+// Every digit a double needs to read back the same.
+std::string exactNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+std::string vectorText(glm::dvec3 v) {
+  return "(" + exactNumber(v.x) + "," + exactNumber(v.y) + "," + exactNumber(v.z) + ")";
+}
+
+std::string nrrdTypeName(SampleType type) {
+  switch (type) {
+    case SampleType::Int8:
+      return "int8";
+    case SampleType::UInt8:
+      return "uint8";
+    case SampleType::Int16:
+      return "int16";
+    case SampleType::UInt16:
+      return "uint16";
+    case SampleType::Int32:
+      return "int32";
+    case SampleType::UInt32:
+      return "uint32";
+    case SampleType::Float32:
+      return "float";
+    case SampleType::Float64:
+      return "double";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region) {
+  const VolumeInfo& volume = source.info().volume;
+  const glm::u32vec3 dims = levelDimsOf(source, level);
+  const glm::u32vec3 end = glm::min(region.end, dims);
+  if (!(region.begin.x < end.x && region.begin.y < end.y && region.begin.z < end.z))
+    throw UsageError("extract: the region is empty or leaves level " + std::to_string(level));
+  const glm::u32vec3 size = end - region.begin;
+  // Level L's sample i sits at (i + 0.5) 2^L s in the volume's own axes, turned about the extent's center.
+  const glm::dvec3 spacing = volume.spacing * std::ldexp(1.0, int(level));
+  const glm::dvec3 center = 0.5 * volume.worldMax();
+  const glm::dvec3 first = (glm::dvec3(region.begin) + 0.5) * spacing;
+  const glm::dvec3 origin = center + volume.axes * (first - center);
+  std::string described = volume.description;
+  for (char& c : described) c = (c >= ' ' && c != 127) || (c & 0x80) ? c : '?';  // the comment stays one line
+  std::string text =
+      "NRRD0004\n# ropecast extract: level " + std::to_string(level) + " of " + described + "\n";
+  text +=
+      "type: " + nrrdTypeName(volume.type) +
+      "\ndimension: 3\nspace: left-posterior-superior\nsizes: " + std::to_string(size.x) + " " +
+      std::to_string(size.y) + " " + std::to_string(size.z) +
+      "\nspace directions: " + vectorText(volume.axes[0] * spacing.x) + " " +
+      vectorText(volume.axes[1] * spacing.y) + " " + vectorText(volume.axes[2] * spacing.z) +
+      "\nkinds: domain domain domain\nendian: little\nencoding: raw\nspace origin: " + vectorText(origin) +
+      "\n\n";
+  return text;
 }
 
 }  // namespace ropecast

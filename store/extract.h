@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <functional>
 #include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -41,8 +43,14 @@ void extractLevel(const BrickSource& source, uint32_t level,
 std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t level,
                                          const LevelRegion& region = {});
 
-// Writes the region to `output` under a temporary name, renamed when complete.
+// Writes `header` (may be empty) and the region to `output` under a temporary name, renamed when complete.
 void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output,
-                        const LevelRegion& region = {});
+                        const LevelRegion& region = {}, std::string_view header = {});
+
+// The header of a NRRD file whose attached data is the region of the level as extractLevel writes it (raw,
+// little-endian, the original type): its sizes, and where it lies in the world (docs/RENDERING.md "Spaces"),
+// in the LPS frame: space directions (the store's axes times the level's spacing, 2^level s) and the space
+// origin of its first sample. Throws UsageError as extractLevel.
+std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region = {});
 
 }  // namespace ropecast

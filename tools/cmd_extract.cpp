@@ -5,6 +5,7 @@
 
 #include <glm/common.hpp>
 
+#include "core/file_names.h"
 #include "store/extract.h"
 #include "store/store.h"
 #include "store/store_writer.h"
@@ -36,11 +37,14 @@ int runExtract(const ExtractArgs& a) {
         voxelBoxOf("--crop", a.crop, levelDimsOf(*store, a.level), "level " + std::to_string(a.level) + "'s");
     region = {box.begin, box.end};
   }
-  extractLevelToFile(*store, a.level, a.output, region);
+  // A .nrrd output says what it holds: its type and size, and where it lies (spacing and axes).
+  const bool nrrd = hasExtension(a.output, ".nrrd");
+  extractLevelToFile(*store, a.level, a.output, region, nrrd ? nrrdHeaderOf(*store, a.level, region) : "");
   if (!a.quiet) {
     const glm::u32vec3 d = glm::min(region.end, levelDimsOf(*store, a.level)) - region.begin;
-    std::printf("wrote %s: level %u, %ux%ux%u %s, x fastest, little-endian\n", a.output.c_str(), a.level, d.x,
-                d.y, d.z, std::string(sampleTypeName(store->info().volume.type)).c_str());
+    std::printf("wrote %s: level %u, %ux%ux%u %s, x fastest, little-endian%s\n", a.output.c_str(), a.level,
+                d.x, d.y, d.z, std::string(sampleTypeName(store->info().volume.type)).c_str(),
+                nrrd ? ", after a NRRD header" : "");
   }
   return 0;
 }
@@ -51,7 +55,12 @@ const CommandRegistration extractCommand("extract", 40, [](CLI::App& app) -> std
   app.add_option("store", a->store, "store file")->required();
   app.add_option("--level", a->level, "resolution level (0 = full, L has ceil(n / 2^L) samples per axis)")
       ->capture_default_str();
-  app.add_option("-o,--output", a->output, "raw file to write")->required()->check(nonEmptyPath("a file"));
+  app.add_option(
+         "-o,--output", a->output,
+         "raw file to write; a .nrrd name writes a NRRD file (the raw samples after a header that says "
+         "their type, size, spacing and axes)")
+      ->required()
+      ->check(nonEmptyPath("a file"));
   addVoxelRangesOption(
       app, "--crop", a->crop,
       "write only the voxels X0..X1-1, Y0..Y1-1, Z0..Z1-1 of the level: X0:X1,Y0:Y1,Z0:Z1, as "

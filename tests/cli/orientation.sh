@@ -82,5 +82,22 @@ assert j["orientation"] == "PIR", j["orientation"]
 assert j["axes"] == [[0, 1, 0], [0, 0, -1], [-1, 0, 0]], j["axes"]
 PY
 
+# extract -o X.nrrd: a NRRD that says where its samples lie; converted again, it is the store it came from.
+"$ropecast" extract "$dir/t.rcast" -o "$dir/t0.nrrd" -q || fail "extract t.rcast to NRRD"
+"$ropecast" info "$dir/t0.nrrd" > "$dir/info.txt" || fail "info t0.nrrd"
+grep -q "^axes       PIR$" "$dir/info.txt" && grep -q "^dims       16 x 12 x 20 samples, spacing 1 x 1 x 1$" "$dir/info.txt" ||
+  fail "info of the extracted NRRD: $(cat "$dir/info.txt")"
+"$ropecast" convert "$dir/t0.nrrd" -o "$dir/t0.rcast" --brick 8 --quiet || fail "convert the extracted NRRD"
+"$ropecast" extract "$dir/t0.rcast" -o "$dir/t0_again.raw" -q && "$ropecast" extract "$dir/t.rcast" -o "$dir/t_level0.raw" -q &&
+  cmp -s "$dir/t0_again.raw" "$dir/t_level0.raw" || fail "the extracted NRRD's samples are not the store's"
+"$ropecast" "${render[@]}" "$dir/t0.rcast" --orbit 30,20,3 -o "$dir/t0.png" || fail "render t0.rcast"
+"$ropecast" "${render[@]}" "$dir/t.rcast" --orbit 30,20,3 -o "$dir/t.png" || fail "render t.rcast"
+cmp -s "$dir/t0.png" "$dir/t.png" || fail "the extracted NRRD's store draws otherwise than the store it came from"
+# Level 1 of the world-axes volume, a box of it: its first sample's centre and its spacing, 2.
+"$ropecast" extract "$dir/w.rcast" --level 1 --crop 1:,2:,: -o "$dir/w1.nrrd" -q || fail "extract --level 1 --crop to NRRD"
+grep -qx "sizes: 9 6 6" "$dir/w1.nrrd" --text && grep -qx "space directions: (2,0,0) (0,2,0) (0,0,2)" "$dir/w1.nrrd" --text &&
+  grep -qx "space origin: (3,5,1)" "$dir/w1.nrrd" --text ||
+  fail "the level-1 NRRD's header: $(head -c 400 "$dir/w1.nrrd" | tr -c '[:print:]\n' '?')"
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
