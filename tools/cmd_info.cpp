@@ -53,6 +53,18 @@ nlohmann::json axesJson(const AxisDirections& a) {
   return {{a[0].x, a[0].y, a[0].z}, {a[1].x, a[1].y, a[1].z}, {a[2].x, a[2].y, a[2].z}};
 }
 
+// The lines that place the volume, a store's or a file's: its size, spacing and axes.
+void printPlacement(const VolumeInfo& v) {
+  std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
+              v.spacing.x, v.spacing.y, v.spacing.z);
+  std::printf("axes       %s\n", axesText(v.axes).c_str());
+}
+
+// File names need not be UTF-8: bytes that are not become U+FFFD, as in the store's metadata.
+void printJson(const nlohmann::json& j) {
+  std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+}
+
 // A volume input: what openVolumeSource makes of it.
 int runVolumeInfo(const std::string& spec, const SourceOptions& options, bool json) {
   const std::unique_ptr<VolumeSource> source = openVolumeSource(spec, options);
@@ -71,13 +83,11 @@ int runVolumeInfo(const std::string& spec, const SourceOptions& options, bool js
                         {"rawBytes", rawBytes}};
     if (v.valueMin) j["valueMin"] = *v.valueMin;
     if (v.valueMax) j["valueMax"] = *v.valueMax;
-    std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    printJson(j);
     return 0;
   }
   std::printf("volume     %s (not a store: `ropecast convert` makes one of it)\n", spec.c_str());
-  std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
-              v.spacing.x, v.spacing.y, v.spacing.z);
-  std::printf("axes       %s\n", axesText(v.axes).c_str());
+  printPlacement(v);
   std::printf("type       %s\n", std::string(sampleTypeName(v.type)).c_str());
   if (v.valueMin && v.valueMax) std::printf("values     [%g, %g]\n", *v.valueMin, *v.valueMax);
   std::printf("source     %s\n", v.description.c_str());
@@ -117,14 +127,11 @@ int runInfo(const std::string& path, const VolumeReadArgs& read, bool json) {
                   {"raw", s.rawBytes}};
     j["compressionRatio"] = ratio(s.uncompressedBytes, s.payloadBytes);
     j["fileToRawRatio"] = ratio(s.fileBytes, s.rawBytes);
-    // File names need not be UTF-8: bytes that are not become U+FFFD, as in the store's metadata.
-    std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    printJson(j);
     return 0;
   }
   std::printf("store      %s\n", path.c_str());
-  std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
-              v.spacing.x, v.spacing.y, v.spacing.z);
-  std::printf("axes       %s\n", axesText(v.axes).c_str());
+  printPlacement(v);
   std::printf("type       %s (stored as %s, data = %s)\n", std::string(sampleTypeName(v.type)).c_str(),
               std::string(sampleTypeName(m.storedType)).c_str(), mappingFormula(m.mapping).c_str());
   std::printf("values     [%g, %g]%s\n", v.valueMin.value_or(0), v.valueMax.value_or(0),

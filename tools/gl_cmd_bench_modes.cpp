@@ -210,9 +210,7 @@ int runModesBench(const Options& o) {
   if (o.reps == 0) throw UsageError("--reps must be at least 1");
   if (o.frames == 0) throw UsageError("--frames must be at least 1");
   if (!o.path.empty() && !o.orbit.empty()) throw UsageError("--path and --orbit exclude each other");
-  if (o.tfRange.size() == 2 && !(o.tfRange[0] < o.tfRange[1]))
-    throw UsageError("--tf-range " + formatNumber(o.tfRange[0]) + "," + formatNumber(o.tfRange[1]) +
-                     ": expected LO,HI with LO < HI (data units)");
+  checkTfRange(o.tfRange);
   const std::filesystem::path out(o.out);
   if (!o.configs.empty()) chooseConfigs(o.configs, "");  // names checked before anything is read
   // No output may be an input (the store, --tf, --path); checked before anything is written.
@@ -248,9 +246,8 @@ int runModesBench(const Options& o) {
   const std::string tfSpec = !o.tf.empty()                   ? o.tf
                              : isIntensityProjection(o.mode) ? defaultTfSpec(o.mode)
                                                              : "ct-soft";
-  const TransferFunction placed = TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info));
   const TransferFunction function =
-      o.tfRange.size() == 2 ? placed.stretchedOver(o.tfRange[0], o.tfRange[1]) : placed;
+      windowed(TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info)), o.tfRange);
   if (usesTransferFunction(o.mode)) {
     tf = TfTable::bake(function, info.mapping, storedMax);
     request.tf = &*tf;

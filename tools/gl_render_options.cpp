@@ -199,9 +199,7 @@ glm::dvec3 orbitOf(const RenderOptions& o) {
 
 void checkSceneOptions(const RenderOptions& o) {
   checkBrickOption(o.input, o.brick);
-  if (o.tfRange.size() == 2 && !(o.tfRange[0] < o.tfRange[1]))
-    throw UsageError("--tf-range " + formatNumber(o.tfRange[0]) + "," + formatNumber(o.tfRange[1]) +
-                     ": expected LO,HI with LO < HI (data units)");
+  checkTfRange(o.tfRange);
   if (o.bruteStage && o.backend != RenderBackend::Brute)
     throw UsageError("--brute-stage " + std::string(renderBackendName(*o.bruteStage)) +
                      " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
@@ -320,11 +318,20 @@ std::string defaultTfSpec(RenderMode mode) {
                                                  : TransferFunction::kDefaultPreset);
 }
 
+void checkTfRange(const std::vector<double>& tfRange) {
+  if (tfRange.size() == 2 && !(tfRange[0] < tfRange[1]))
+    throw UsageError("--tf-range " + formatNumber(tfRange[0]) + "," + formatNumber(tfRange[1]) +
+                     ": expected LO,HI with LO < HI (data units)");
+}
+
+TransferFunction windowed(const TransferFunction& function, const std::vector<double>& tfRange) {
+  return tfRange.size() == 2 ? function.stretchedOver(tfRange[0], tfRange[1]) : function;
+}
+
 TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode,
                                     const std::vector<double>& tfRange) {
-  const TransferFunction placed =
-      TransferFunction::fromSpec(spec.empty() ? defaultTfSpec(mode) : spec, tfDataRangeFor(info));
-  return tfRange.size() == 2 ? placed.stretchedOver(tfRange[0], tfRange[1]) : placed;
+  return windowed(TransferFunction::fromSpec(spec.empty() ? defaultTfSpec(mode) : spec, tfDataRangeFor(info)),
+                  tfRange);
 }
 
 TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info) {

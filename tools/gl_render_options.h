@@ -89,8 +89,11 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
 std::string tfOptionHelp(const std::string& defaultText);
 // The preset an absent --tf means in `mode` (gray for an intensity projection, else linear).
 std::string defaultTfSpec(RenderMode mode);
-// `--tf spec` placed for the data; an empty spec is the mode's default; stretched over --tf-range's LO,HI
-// where given (two numbers; empty: not given).
+// --tf-range's two numbers (empty: not given): a UsageError unless LO < HI.
+void checkTfRange(const std::vector<double>& tfRange);
+// `function` stretched over --tf-range's LO,HI where given (empty: as it is).
+TransferFunction windowed(const TransferFunction& function, const std::vector<double>& tfRange);
+// `--tf spec` placed for the data; an empty spec is the mode's default; windowed by --tf-range.
 TransferFunction transferFunctionOf(const std::string& spec, const BrickSourceInfo& info, RenderMode mode,
                                     const std::vector<double>& tfRange);
 TfTable bakeFor(const TransferFunction& function, const BrickSourceInfo& info);
