@@ -109,4 +109,42 @@ bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t
   return t0 < t1;
 }
 
+int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double offset) {
+  double t0 = -std::numeric_limits<double>::infinity(), t1 = std::numeric_limits<double>::infinity();
+  int bound = kEntryNone;
+  for (int a = 0; a < 3; ++a) {
+    if (ray.dir[a] == 0.0) {
+      if (ray.origin[a] < box.lo[a] || ray.origin[a] > box.hi[a]) return kEntryNone;
+      continue;
+    }
+    const double tLo = (box.lo[a] - ray.origin[a]) / ray.dir[a],
+                 tHi = (box.hi[a] - ray.origin[a]) / ray.dir[a];
+    const double tNear = std::min(tLo, tHi);
+    if (tNear > t0) {
+      t0 = tNear;
+      bound = ray.dir[a] > 0.0 ? a : 3 + a;
+    }
+    t1 = std::min(t1, std::max(tLo, tHi));
+  }
+  if (normal != glm::dvec3(0.0)) {
+    const double along = glm::dot(normal, ray.dir);
+    const double above = glm::dot(normal, ray.origin) - offset;
+    if (along == 0.0 && above < 0.0) return kEntryNone;
+    if (along > 0.0 && -above / along > t0) {
+      t0 = -above / along;
+      bound = kEntryPlane;
+    } else if (along < 0.0) {
+      t1 = std::min(t1, -above / along);
+    }
+  }
+  return t0 > 0.0 && t0 < t1 ? bound : kEntryNone;
+}
+
+glm::dvec3 boundInwardNormal(int bound, glm::dvec3 planeNormal) {
+  if (bound == kEntryPlane) return planeNormal;
+  glm::dvec3 n(0.0);
+  n[bound % 3] = bound < 3 ? 1.0 : -1.0;
+  return n;
+}
+
 }  // namespace ropecast

@@ -67,4 +67,15 @@ inline bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1)
 // is left. A zero normal keeps everything.
 bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1);
 
+// The bound of the region clipToBox and clipToHalfSpace keep that a ray enters it through: 0, 1, 2 the box's
+// lower face on that axis, 3, 4, 5 its upper face, kEntryPlane the half-space's plane; kEntryNone when the
+// ray starts inside the region (t0 clamped to 0) or misses it. A tie goes to the box, and among its faces to
+// the lower axis, as shaders/sampling.glsl cameraRay decides.
+inline constexpr int kEntryPlane = 6;
+inline constexpr int kEntryNone = -1;
+int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double offset);
+// The unit normal of bound `bound` (not kEntryNone) pointing into the region; `planeNormal` is the
+// half-space's.
+glm::dvec3 boundInwardNormal(int bound, glm::dvec3 planeNormal);
+
 }  // namespace ropecast

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string_view>
 #include <utility>
@@ -12,6 +13,7 @@
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
+#include "core/camera.h"
 #include "core/world_box.h"
 
 namespace ropecast {
@@ -91,7 +93,7 @@ inline constexpr int kIsoBisectionSteps = 8;
 // --crop: the part of the volume the rays sample, in level-0 voxel units (voxel i of an axis spans [i, i +
 // 1), the volume [0, n)); the whole volume by default. The GL ray casters, the CPU renderers and the refiner
 // cut the volume box to it (sampledWorldBox): rays are clipped to it, and nodes wholly outside it are culled,
-// neither read nor uploaded. An isosurface is left open where the box cuts it.
+// neither read nor uploaded. Where the box cuts an isosurface, a cap closes it (RenderParams::isoCaps).
 struct CropBox {
   glm::dvec3 lo{0.0};
   glm::dvec3 hi{std::numeric_limits<double>::infinity()};
@@ -101,7 +103,7 @@ struct CropBox {
 
 // --clip-plane: a plane through `point` (world units) that cuts away the half-space its normal points away
 // from: the rays sample only where dot(normal, x - point) >= 0, and the refiner culls nodes wholly on the
-// other side. None while the normal is zero (the default). Like the crop box, it leaves an isosurface open.
+// other side. None while the normal is zero (the default). Like the crop box, it caps an isosurface it cuts.
 struct ClipPlane {
   glm::dvec3 point{0.0};
   glm::dvec3 normal{0.0};  // unit length, or zero for none
@@ -125,6 +127,11 @@ struct RenderParams {
   LightingParams lighting;
   CropBox crop;         // --crop
   ClipPlane clipPlane;  // --clip-plane
+  // --caps (isosurface): a ray that enters the drawn part through a cut (capBoundsOf) and whose first sample
+  // lies inside the surface (v >= vIso) stops there, shaded with the cut's normal: the surface looks solid
+  // where the crop box or the clip plane cuts it (docs/RENDERING.md "Caps"). Off: the ray goes on and meets
+  // the surface from within.
+  bool isoCaps = true;
 
   friend bool operator==(const RenderParams&, const RenderParams&) = default;
 };
@@ -134,6 +141,19 @@ inline WorldBox sampledWorldBox(const RenderParams& params, glm::u32vec3 dims, g
   const glm::dvec3 n(dims);
   return {glm::clamp(params.crop.lo, glm::dvec3(0.0), n) * spacing,
           glm::clamp(params.crop.hi, glm::dvec3(0.0), n) * spacing};
+}
+
+// The bounds of the drawn part that cap an isosurface (core/camera.h entryBound numbers them): bit b for the
+// crop box's face b where it lies inside the volume (a face on the volume's own boundary is no cut), bit
+// kEntryPlane for the clip plane. Zero unless an isosurface is drawn with caps.
+inline uint32_t capBoundsOf(const RenderParams& params, glm::u32vec3 dims) {
+  if (params.mode != RenderMode::Iso || !params.isoCaps) return 0;
+  uint32_t bits = params.clipPlane.enabled() ? 1u << kEntryPlane : 0u;
+  for (int a = 0; a < 3; ++a) {
+    if (params.crop.lo[a] > 0.0) bits |= 1u << a;
+    if (params.crop.hi[a] < double(dims[a])) bits |= 1u << (3 + a);
+  }
+  return bits;
 }
 
 // Whether a GL ray caster samples a GradientPool for these params.

@@ -18,7 +18,9 @@ namespace ropecast {
 // box spans at least 16 float ulps anywhere in [0,1].
 inline constexpr uint32_t kCutMaxDepth = 20;
 
-enum class LeafKind : uint8_t { Empty, Data };
+// Solid: an Empty leaf whose values all lie above the isovalue, which caps a ray entering it through a cut
+// (docs/RENDERING.md "Caps").
+enum class LeafKind : uint8_t { Empty, Data, Solid };
 
 struct CutLeaf {
   uint32_t depth = 0;     // 0 = root cube [0,1]^3

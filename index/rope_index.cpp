@@ -66,8 +66,10 @@ void RopeIndexBuilder::build(const Cut& cut, RopeIndex& out) {
     } else {
       const CutLeaf& leaf = cut.leaves[node.leaf];
       const bool data = leaf.kind == LeafKind::Data;
-      texel = RopeTexel(data ? kRopeTagDataLeaf : kRopeTagEmptyLeaf, nextRopeBlock,
-                        data ? leaf.brickSlot : kRopeNoBrick, node.leaf);
+      const uint32_t tag = data                           ? kRopeTagDataLeaf
+                           : leaf.kind == LeafKind::Solid ? kRopeTagSolidLeaf
+                                                          : kRopeTagEmptyLeaf;
+      texel = RopeTexel(tag, nextRopeBlock, data ? leaf.brickSlot : kRopeNoBrick, node.leaf);
       out.texels[nextRopeBlock] = RopeTexel(ropes[0], ropes[1], ropes[2], ropes[3]);
       out.texels[nextRopeBlock + 1] = RopeTexel(ropes[4], ropes[5], kRopeNull, kRopeNull);
       nextRopeBlock += kRopeBlockTexels;

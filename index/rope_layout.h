@@ -8,7 +8,7 @@
 //
 // Node texel, one per octree node. Texel 0 is the root. The 8 children of an inner node are consecutive,
 // child (x, y, z) in {0,1}^3 at firstChild + x + 2y + 4z (x fastest).
-//   .x  tag: kRopeTagInner, kRopeTagDataLeaf or kRopeTagEmptyLeaf
+//   .x  tag: kRopeTagInner, kRopeTagDataLeaf, kRopeTagEmptyLeaf or kRopeTagSolidLeaf
 //   .y  inner: texel of the first child.   leaf: texel of the leaf's rope block
 //   .z  data leaf: brick slot in the GPU pool.   otherwise kRopeNoBrick
 //   .w  leaf: index of the leaf in Cut::leaves (for feedback).   inner: the node's depth (informational)
@@ -46,6 +46,9 @@ ROPE_CONST kRopeNodeLeafIndex = 3u;  // inner nodes: depth
 ROPE_CONST kRopeTagInner = 1u;
 ROPE_CONST kRopeTagDataLeaf = 2u;
 ROPE_CONST kRopeTagEmptyLeaf = 3u;
+// An empty leaf whose values all lie above the isovalue: skipped like an empty one, but a ray whose first
+// sample it holds is capped there (docs/RENDERING.md "Caps").
+ROPE_CONST kRopeTagSolidLeaf = 4u;
 
 ROPE_CONST kRopeNoBrick = 0xFFFFFFFFu;  // brick slot field of empty leaves and inner nodes
 
@@ -93,9 +96,11 @@ ROPE_FN uint ropeFaceComponent(uint face) {
 static_assert(kRopeTexelComponents == 4u);
 static_assert(kRopeNodeTag < kRopeTexelComponents && kRopeNodePointer < kRopeTexelComponents &&
               kRopeNodeBrickSlot < kRopeTexelComponents && kRopeNodeLeafIndex < kRopeTexelComponents);
-static_assert(kRopeTagInner != 0u && kRopeTagDataLeaf != 0u && kRopeTagEmptyLeaf != 0u);
+static_assert(kRopeTagInner != 0u && kRopeTagDataLeaf != 0u && kRopeTagEmptyLeaf != 0u &&
+              kRopeTagSolidLeaf != 0u);
 static_assert(kRopeTagInner != kRopeTagDataLeaf && kRopeTagDataLeaf != kRopeTagEmptyLeaf &&
-              kRopeTagInner != kRopeTagEmptyLeaf);
+              kRopeTagInner != kRopeTagEmptyLeaf && kRopeTagSolidLeaf != kRopeTagInner &&
+              kRopeTagSolidLeaf != kRopeTagDataLeaf && kRopeTagSolidLeaf != kRopeTagEmptyLeaf);
 static_assert(kRopeBlockTexels * kRopeTexelComponents >= kRopeFaceCount + 1u,
               "room for the faces and a NULL");
 static_assert(kRopeMaxDepth <= kRopeDepthMask, "depth fits its bits");

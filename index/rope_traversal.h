@@ -38,7 +38,7 @@ struct RopeCursor {
 };
 
 struct RopeLeaf {
-  uint32_t kind = kRopeTagEmptyLeaf;  // kRopeTagDataLeaf or kRopeTagEmptyLeaf
+  uint32_t kind = kRopeTagEmptyLeaf;  // kRopeTagDataLeaf, kRopeTagEmptyLeaf or kRopeTagSolidLeaf
   uint32_t brickSlot = kRopeNoBrick;  // data leaves only
   uint32_t leafIndex = 0;             // index in the Cut's leaves
   uint32_t depth = 0;

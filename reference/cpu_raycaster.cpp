@@ -33,7 +33,8 @@ struct FrameConstants {
   double sign = 1.0;           // intensity projections: projectionSign(mode)
   glm::dvec3 spacing{1.0};
   double minSpacing = 1.0;
-  WorldBox sampled;  // the volume box [0, n s] cut to --crop: the rays' clip
+  WorldBox sampled;        // the volume box [0, n s] cut to --crop: the rays' clip
+  uint32_t capBounds = 0;  // capBoundsOf: the cuts that cap an isosurface
   glm::dvec3 eye{0.0};
   glm::dvec3 forward{0.0};
 
@@ -50,6 +51,7 @@ struct FrameConstants {
     spacing = volume.volume.spacing;
     minSpacing = std::min({spacing.x, spacing.y, spacing.z});
     sampled = sampledWorldBox(params, volume.volume.dims, spacing);
+    capBounds = capBoundsOf(params, volume.volume.dims);
     eye = input.camera.eye;
     forward = cameraFrame(input.camera).forward;
   }
@@ -77,7 +79,34 @@ glm::dvec3 gradientAt(const Sampler& s, glm::dvec3 x, glm::dvec3 cell) {
 class RayIntegrator {
  public:
   RayIntegrator(const FrameConstants& fc, const Ray& ray, double t0, double t1)
-      : fc_(fc), ray_(ray), t0_(t0), t1_(t1) {}
+      : fc_(fc), ray_(ray), t0_(t0), t1_(t1) {
+    if (fc.capBounds != 0) {
+      const ClipPlane& plane = fc.params.clipPlane;
+      const int bound = entryBound(ray, fc.sampled, plane.normal, plane.offset());
+      if (bound != kEntryNone && (fc.capBounds & (1u << bound)) != 0)
+        capNormal_ = boundInwardNormal(bound, plane.normal);
+    }
+  }
+
+  // Isosurface caps: whether the ray entered through a capped cut, and has taken no sample yet.
+  bool capsNextSample() const { return capNormal_ != glm::dvec3(0.0) && !hasPrev_ && !ended_; }
+  bool capped() const { return capNormal_ != glm::dvec3(0.0); }
+
+  // A solid leaf (LeafKind::Solid) of level `level` over [tEnter, tExit): its first sample on the ray's grid,
+  // if it holds one, is the ray's first and caps it, as shaders/raycast_common.glsl castRay. False once the
+  // ray is finished.
+  bool solidLeaf(double tEnter, double tExit, uint32_t level, bool fromEntry) {
+    if (!capsNextSample()) return !ended_;
+    const double dt = fc_.params.stepVoxels * std::ldexp(1.0, int(level)) * fc_.minSpacing;
+    double k = 0.0;
+    if (!fromEntry) {
+      k = std::ceil((tEnter - t0_) / dt);
+      if (t0_ + k * dt < tEnter) k += 1.0;
+    }
+    const double t = t0_ + k * dt;
+    if (t < std::min(tExit, t1_)) shadeCap(t);
+    return !ended_;
+  }
 
   // Samples [tEnter, tExit) at level `level` with `sampler`; false once the ray is finished (iso hit, ERT).
   // `fromEntry`: the segment is the first the traversal reports, so it starts at t0 and its first sample is
@@ -209,6 +238,11 @@ class RayIntegrator {
   template <class Sampler>
   bool takeIsoSample(const Sampler& sampler, double tBegin, double t, double f, glm::dvec3 cell,
                      const MirrorLeafVisit* visit) {
+    if (capsNextSample() && f >= 0.0) {
+      shadeCap(t);
+      if (visit) endSample_ = visit->samples.size() - 1;
+      return true;
+    }
     if (hasPrev_ && (f >= 0.0) != (fPrev_ >= 0.0)) {
       hitIso(sampler, tBegin, t, cell);
       ended_ = true;
@@ -259,7 +293,17 @@ class RayIntegrator {
     }
     const double tHit = 0.5 * (ta + tb);
     const glm::dvec3 x = ray_.origin + tHit * ray_.dir;
-    const glm::dvec3 g = gradientAt(sampler, x, cell);
+    shadeIso(x, gradientAt(sampler, x, cell));
+  }
+
+  // A cap at the ray's first sample t: the cut's normal for the gradient (docs/RENDERING.md "Caps").
+  void shadeCap(double t) {
+    shadeIso(ray_.origin + t * ray_.dir, capNormal_);
+    ended_ = true;
+  }
+
+  // The surface at x with gradient g: normal -g / |g| (-dir where g vanishes), facing the viewer.
+  void shadeIso(glm::dvec3 x, glm::dvec3 g) {
     const double len = glm::length(g);
     glm::dvec3 n = len > 0.0 ? -g / len : -ray_.dir;
     if (glm::dot(n, -ray_.dir) < 0.0) n = -n;
@@ -313,7 +357,8 @@ class RayIntegrator {
   const FrameConstants& fc_;
   const Ray& ray_;
   double t0_, t1_;
-  bool ended_ = false;  // by an iso hit or early ray termination
+  glm::dvec3 capNormal_{0.0};  // the capped cut the ray entered through, pointing in; zero: none
+  bool ended_ = false;         // by an iso hit or early ray termination
   size_t endSample_ = 0;
   double traceAlpha_ = 0.0;  // traced rays: the opacity accumulated on past the end
   bool hasPrev_ = false;
@@ -414,9 +459,10 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
       trace->t0 = t0;
       trace->t1 = t1;
     }
+    RayIntegrator rayLoop(fc, ray, t0, t1);
+    if (trace) trace->capped = rayLoop.capped();
     size_t endLeaf = 0, endSample = 0;
     bool ended = false;
-    RayIntegrator rayLoop(fc, ray, t0, t1);
     RopeCursor cursor;
     RopeLeaf leaf;
     if (ropeBegin(cursor, index, glm::vec3(ray.origin / cubeWorld), glm::vec3(ray.dir / cubeWorld), float(t0),
@@ -425,6 +471,13 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
       while (ropeNextLeaf(cursor, index, leaf)) {
         const bool firstLeaf = entryLeaf;
         entryLeaf = false;
+        if (leaf.kind == kRopeTagSolidLeaf && rayLoop.capsNextSample()) {
+          if (!rayLoop.solidLeaf(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), firstLeaf)) {
+            if (trace) trace->solidCap = true;
+            break;
+          }
+          continue;
+        }
         if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
         if (leaf.depth > layout.maxDepth)
           throw Error("renderMirror: a leaf at depth " + std::to_string(leaf.depth) +

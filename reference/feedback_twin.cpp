@@ -62,7 +62,8 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
   FeedbackBounds out;
 
   for (const MirrorRayTrace& trace : traces) {
-    if (!trace.entered || trace.leaves.empty()) continue;
+    // A ray capped at a solid leaf sampled nothing: no leaf used, none requested, no hit in a data leaf.
+    if (!trace.entered || trace.leaves.empty() || trace.solidCap) continue;
     const RayLeaves rl = indexSamples(trace);
     const size_t leafCount = trace.leaves.size();
 
@@ -164,6 +165,12 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
                   std::abs(s.f) < tol.value || std::abs(fPrev) < tol.value || uncertain || prevUncertain;
               possible = crosses || close;
               sure = crosses && !close;
+            } else if (trace.capped) {
+              // The first sample of a ray that entered through a capped cut ends it inside the surface.
+              const bool inside = s.f >= 0.0;
+              const bool close = std::abs(s.f) < tol.value || uncertain;
+              possible = inside || close;
+              sure = inside && !close;
             }
             hasPrev = true;
             fPrev = s.f;

@@ -7,6 +7,7 @@
 
 #include "core/elapsed.h"
 #include "core/error.h"
+#include "index/rope_layout.h"
 #include "render/backend_choice.h"
 #include "render/brick_pool.h"
 #include "render/gl_context.h"
@@ -22,9 +23,9 @@ bool sameView(const FrameRequest& a, const FrameRequest& b) {
   return a.camera == b.camera && a.width == b.width && a.height == b.height;
 }
 
-// What decides which nodes are empty or cut away (mode, isovalue, transfer function, crop box, clip plane),
-// as a hash: occlusion marks made under another one describe another image (cutting an occluder away shows
-// what it hid).
+// What decides which nodes are empty or cut away (mode, isovalue, transfer function, crop box, clip plane)
+// and where an isosurface's rays stop (caps), as a hash: occlusion marks made under another one describe
+// another image (cutting an occluder away shows what it hid).
 uint64_t emptinessKeyOf(const FrameRequest& request) {
   std::string_view tfBytes;
   if (usesTransferFunction(request.params.mode) && request.tf)
@@ -32,23 +33,42 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
                request.tf->entries().size() * sizeof(glm::vec4)};
   uint64_t h = std::hash<std::string_view>{}(tfBytes);
   h = h * 0x9E3779B97F4A7C15ull ^ uint64_t(request.params.mode);
-  if (request.params.mode == RenderMode::Iso)
+  if (request.params.mode == RenderMode::Iso) {
     h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(request.params.isoValue);
+    h = h * 0x9E3779B97F4A7C15ull ^
+        uint64_t(request.params.isoCaps);  // caps stop rays the open surface lets by
+  }
   const ClipPlane& plane = request.params.clipPlane;
   for (const glm::dvec3& v : {request.params.crop.lo, request.params.crop.hi, plane.point, plane.normal})
     for (int axis = 0; axis < 3; ++axis) h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(v[axis]);
   return h;
 }
 
-// The index's cut of the planned leaves, in their order.
-Cut cutOf(const std::vector<PlannedLeaf>& leaves) {
+// While caps are drawn: whether an empty leaf is Solid, wholly inside the isosurface (its stored values all
+// above isoStored) and inside the box the rays sample. A ray entering it through a cut is capped there
+// without its brick.
+bool isSolidLeaf(const PlannedLeaf& leaf, const BrickSource& source, double isoStored,
+                 const WorldBox& sampled) {
+  if (leaf.content != LeafContent::Empty || leaf.reason != LeafReason::Empty) return false;
+  const NodeInfo node = source.node(leaf.key);
+  if (!(node.kind == NodeKind::Data || node.kind == NodeKind::Constant) ||
+      !(double(node.minValue) > isoStored))
+    return false;
+  const BrickSourceInfo& info = source.info();
+  return hasVolume(intersection(nodeWorldBox(info.layout, info.volume.spacing, leaf.key), sampled));
+}
+
+// The index's cut of the planned leaves, in their order; `isSolid` (null: none) picks the Solid leaves.
+Cut cutOf(const std::vector<PlannedLeaf>& leaves, const std::function<bool(const PlannedLeaf&)>& isSolid) {
   Cut cut;
   cut.leaves.reserve(leaves.size());
   for (const PlannedLeaf& leaf : leaves) {
     CutLeaf cutLeaf;
     cutLeaf.depth = leaf.key.depth;
     cutLeaf.coord = leaf.key.coord;
-    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data : LeafKind::Empty;
+    cutLeaf.kind = leaf.content == LeafContent::Brick ? LeafKind::Data
+                   : isSolid && isSolid(leaf)         ? LeafKind::Solid
+                                                      : LeafKind::Empty;
     cutLeaf.brickSlot = leaf.content == LeafContent::Brick ? leaf.slot : 0;
     cut.leaves.push_back(cutLeaf);
   }
@@ -508,7 +528,16 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
 
   // Pass 3, build index: the rope octree over the cut, into the index texture.
   const auto indexStart = SteadyClock::now();
-  cut_ = cutOf(plan.leaves);
+  std::function<bool(const PlannedLeaf&)> isSolid;
+  if (const BrickSourceInfo& info = source_.info(); capBoundsOf(request.params, info.volume.dims) != 0) {
+    isSolid = [this, isoStored = info.mapping.toStored(request.params.isoValue),
+               sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing)](
+                  const PlannedLeaf& leaf) { return isSolidLeaf(leaf, source_, isoStored, sampled); };
+  }
+  cut_ = cutOf(plan.leaves, isSolid);
+  stats.leavesSolid = uint64_t(std::count_if(cut_.leaves.begin(), cut_.leaves.end(), [](const CutLeaf& leaf) {
+    return leaf.kind == LeafKind::Solid;
+  }));
   uploadIndex(cut_, index_);
   const double indexMs = millisecondsSince(indexStart);
 
@@ -519,10 +548,11 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
   // answers say, which are renewed instead.
   const bool castFeedback = feedback && !redraw;
   // Pass 5, plan recast: on the last drawn view, only the pixels whose rays meet a leaf that changed; none
-  // when the cut holds no brick to sample (a cold start's first frame), whose rays would all miss.
-  schedule.nothingToSample =
-      std::none_of(plan.leaves.begin(), plan.leaves.end(),
-                   [](const PlannedLeaf& leaf) { return leaf.content == LeafContent::Brick; });
+  // when the cut holds neither a brick to sample nor a solid leaf to cap (a cold start's first frame), whose
+  // rays would all miss.
+  schedule.nothingToSample = std::none_of(cut_.leaves.begin(), cut_.leaves.end(), [](const CutLeaf& leaf) {
+    return leaf.kind == LeafKind::Data || leaf.kind == LeafKind::Solid;
+  });
   if (!multipass && !schedule.nothingToSample)
     if (const std::optional<RecastPlan> recast = planRecastOf(request, plan.leaves, castFeedback))
       schedule.castOnly = recast->rects;
@@ -554,12 +584,16 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
     rayFeedback_.renew(frame_);
   }
   if (multipass) {
-    // The multi-pass renderer over the same cut: one pass per data leaf (empty leaves are not drawn).
+    // The multi-pass renderer over the same cut: one pass per data leaf and per solid leaf, which caps (empty
+    // leaves are not drawn).
     std::vector<MultipassLeaf> leaves;
-    for (size_t i = 0; i < plan.leaves.size(); ++i)
+    for (size_t i = 0; i < plan.leaves.size(); ++i) {
       if (plan.leaves[i].content == LeafContent::Brick)
         leaves.push_back(
             {plan.leaves[i].key, plan.leaves[i].slot, frame.leafMaxima.empty() ? 1.0f : leafMaxima_[i]});
+      else if (cut_.leaves[i].kind == LeafKind::Solid)
+        leaves.push_back({plan.leaves[i].key, kRopeNoBrick});
+    }
     multipass_.render(frame, std::move(leaves));
   } else {
     raycast_.render(frame, schedule);

@@ -31,8 +31,11 @@ struct FrameStats : LoaderStats {
   // multi-pass Fragment, brute force the entry point of --brute-stage (resolved as --backend auto is).
   RenderBackend stage = RenderBackend::Fragment;
   uint64_t workingSetBricks = 0;  // bricks of this frame's refined tree (the cut and the nodes above it)
+  // Empty leaves wholly inside the isosurface, which cap the rays entering them through a cut without a
+  // brick (LeafKind::Solid); 0 without caps.
+  uint64_t leavesSolid = 0;
   // Passes that cast rays over (part of) the image: the single pass casts each screen tile in one pass (1
-  // without occlusion queries); the multi-pass backend one per data leaf drawn; brute force 1.
+  // without occlusion queries); the multi-pass backend one per data (or solid) leaf drawn; brute force 1.
   uint64_t drawCalls = 0;
   // The GL draws and dispatches behind them: the fragment entry point's triangles of RaycastPass::kTileSize
   // pixels square, the compute entry point's dispatches; multi-pass: each block, its early-ray-termination
@@ -89,6 +92,7 @@ inline nlohmann::json toJson(const FrameStats& s) {
                         {"gpu_pool_used", s.gpuPoolUsedBytes},
                         {"used_evictions", s.usedBricksEvicted},
                         {"leaves_pool_full", s.leavesPoolFull},
+                        {"leaves_solid", s.leavesSolid},
                         {"occlusion_queries", s.occlusionQueries},
                         {"occlusion_answered", s.occlusionAnswered},
                         {"nodes_visible", s.nodesVisible},

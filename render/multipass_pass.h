@@ -1,8 +1,8 @@
 // MultipassPass: the multi-pass block renderer, the strategy the single-pass rope ray caster replaces
 // (Gobbetti et al. 2008, Sect. 2: "separate rendering of blocks and frame buffer composition"), over the same
 // working set: the same pool, cut, transfer function and sample grid as RaycastPass, so the two images can be
-// compared pixel for pixel (docs/RENDERING.md "Multi-pass"). The data leaves of the cut are sorted front to
-// back in the octree's visibility order for the eye, and each is drawn as its own pass:
+// compared pixel for pixel (docs/RENDERING.md "Multi-pass"). The data (and solid) leaves of the cut are
+// sorted front to back in the octree's visibility order for the eye, and each is drawn as its own pass:
 //   block:   the leaf's box (clipped to the volume) is rasterized, its front faces, or one full-screen
 //            triangle when the box reaches behind the eye; each fragment clips its camera ray to the box and
 //            samples the ray's global grid t0 + k dt there (the first k from the ray's entry into the volume,
@@ -37,7 +37,8 @@
 
 namespace ropecast {
 
-// A data leaf of the cut to draw: its node and the pool slot of its brick.
+// A data leaf of the cut to draw: its node and the pool slot of its brick; or, slot kRopeNoBrick, a solid
+// leaf (LeafKind::Solid), whose block only caps the rays that enter it through a cut.
 struct MultipassLeaf {
   NodeKey key;
   uint32_t slot = 0;
@@ -54,7 +55,7 @@ void sortFrontToBack(std::vector<MultipassLeaf>& leaves, const OctreeLayout& lay
 
 // What one multi-pass frame did.
 struct MultipassCounts {
-  uint64_t blocks = 0;       // data leaves drawn, one pass each
+  uint64_t blocks = 0;       // data (and solid) leaves drawn, one pass each
   uint64_t fullScreen = 0;   // of those, drawn as a full-screen triangle (the box reaches behind the eye)
   uint64_t glDrawCalls = 0;  // every draw: the blocks, their marks and the resolve
   // Fragments that passed the depth test in the blocks and marks (GL_SAMPLES_PASSED): each block fragment
@@ -70,9 +71,9 @@ class MultipassPass {
   MultipassPass(const MultipassPass&) = delete;
   MultipassPass& operator=(const MultipassPass&) = delete;
 
-  // Renders the frame from `leaves` (the data leaves of the cut behind frame.index, in any order; sorted
-  // here). frame.params.backend, frame.index and frame.feedback are not used. Throws ropecast::Error on bad
-  // inputs, shader or GL errors.
+  // Renders the frame from `leaves` (the data and solid leaves of the cut behind frame.index, in any order;
+  // sorted here). frame.params.backend, frame.index and frame.feedback are not used. Throws ropecast::Error
+  // on bad inputs, shader or GL errors.
   void render(const RaycastFrame& frame, std::vector<MultipassLeaf> leaves);
 
   // Wall or GPU time of the last render's passes (GpuTimer), waiting for the result.

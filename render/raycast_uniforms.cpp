@@ -90,6 +90,7 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
     b.clipPlaneNormal = glm::vec3(rp.clipPlane.normal);
     b.clipPlaneOffset = float(rp.clipPlane.offset());
   }
+  b.capBounds = capBoundsOf(rp, dims);
   b.spacing = glm::vec3(spacing);
   b.minSpacing = float(std::min({spacing.x, spacing.y, spacing.z}));
 

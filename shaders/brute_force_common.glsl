@@ -31,8 +31,9 @@ RayResult castBrute(uvec2 pixel) {
   if (!cameraRay(pixel, ray)) return missedRay();
   Segment s = volumeSegment(ray);
 #ifdef RAYCAST_MODE_ISO
-  IsoMarch march = isoMarchBegin();
+  IsoMarch march = isoMarchBegin(ray);
   marchIso(march, s, ray.t0, 0.0, ray.t1);
+  if (march.cap) return shadeIsoCap(march, ray);
   // One segment: the previous sample is always in it.
   return march.hit ? shadeIsoHit(march, s, ray.t0, s, ray.t1, ray) : missedRay();
 #elif defined(RAYCAST_MODE_MIP)

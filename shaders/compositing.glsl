@@ -25,15 +25,28 @@ struct IsoMarch {
   float tPrev, fPrev;  // the last sample
   bool hit;
   float tHit;          // the first sample whose sign of f differs from tPrev's (f >= 0 counts as positive)
+  bool capsFirst;      // the ray entered through a capped cut (Ray.capNormal): a first sample with f >= 0 hits
+  bool cap;            // the hit is such a first sample
 };
 
-IsoMarch isoMarchBegin() { return IsoMarch(false, 0.0, 0.0, false, 0.0); }
+IsoMarch isoMarchBegin(Ray ray) {
+  return IsoMarch(false, 0.0, 0.0, false, 0.0, ray.capNormal != vec3(0.0), false);
+}
 
-// Takes the sample at t: a crossing when its sign of f differs from the previous sample's, else the new
-// previous sample.
+// The cap at the ray's first sample, at t (docs/RENDERING.md "Caps").
+void isoMarchCap(inout IsoMarch m, float t) {
+  m.hit = true;
+  m.tHit = t;
+  m.cap = true;
+}
+
+// Takes the sample at t: a crossing when its sign of f differs from the previous sample's (or a cap, when it
+// is the first and inside the surface), else the new previous sample.
 void isoMarchSample(inout IsoMarch m, Segment s, float t) {
   float f = sampleValue(segmentCoord(s, t)) - raycast.isoValue;
-  if (m.hasPrev && (f >= 0.0) != (m.fPrev >= 0.0)) {
+  if (!m.hasPrev && m.capsFirst && f >= 0.0) {
+    isoMarchCap(m, t);
+  } else if (m.hasPrev && (f >= 0.0) != (m.fPrev >= 0.0)) {
     m.hit = true;
     m.tHit = t;
   } else {
@@ -102,6 +115,12 @@ RayResult shadeIsoHit(IsoMarch m, Segment s, float tEnter, Segment before, float
   // exactly is seen.
   return RayResult(vec4(shadeIso(gradientExact(s, tHit), ray.dir), 1.0), tHit * ray.depthPerT,
                    m.tHit * ray.depthPerT);
+}
+
+// A cap (IsoMarch.cap): the headlight on the cut's plane at the first sample, where the ray stops.
+RayResult shadeIsoCap(IsoMarch m, Ray ray) {
+  float depth = m.tHit * ray.depthPerT;
+  return RayResult(vec4(shadeIso(ray.capNormal, ray.dir), 1.0), depth, depth);
 }
 
 // Front-to-back DVR compositing, premultiplied.

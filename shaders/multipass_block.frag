@@ -26,7 +26,7 @@ layout(rgba32f, binding = 2) uniform image2D uMarch;  // has previous sample, it
 layout(rgba32ui, binding = 3) uniform uimage2D uBefore;
 #endif
 layout(location = 3) uniform vec3 uLeafBoxMin;  // root-cube coordinates
-layout(location = 4) uniform uvec2 uLeaf;       // depth, brick slot
+layout(location = 4) uniform uvec2 uLeaf;       // depth, brick slot (kRopeNoBrick: a solid leaf, which caps)
 #ifdef RAYCAST_MODE_MIP
 layout(location = 5) uniform float uLeafMax;    // the leaf's largest value (MultipassLeaf::maxValue)
 #endif
@@ -82,6 +82,23 @@ void main() {
   tExit = min(tExit, tEnd);
   if (!(tExit > tEnter)) return;
 
+#ifdef RAYCAST_MODE_ISO
+  vec4 state = imageLoad(uMarch, pixel);
+  if (state.w != 0.0) return;
+  IsoMarch march = IsoMarch(state.x != 0.0, state.y, state.z, false, 0.0, ray.capNormal != vec3(0.0), false);
+  if (uLeaf.y == kRopeNoBrick) {
+    // A solid leaf, as the single pass's walk takes it: the ray's first sample, if the leaf holds it, is a cap.
+    float dt = leafStep(uLeaf.x);
+    float t = ray.t0 + firstSampleIndex(ray.t0, tEnter, dt, entry) * dt;
+    if (!march.capsFirst || march.hasPrev || !(t < tExit)) return;
+    isoMarchCap(march, t);
+    RayResult r = shadeIsoCap(march, ray);
+    imageStore(uAccum, pixel, r.color);
+    imageStore(uDepth, pixel, vec4(r.depth));
+    imageStore(uMarch, pixel, vec4(0.0, 0.0, 0.0, 1.0));
+    return;
+  }
+#endif
   RopeLeaf leaf;
   leaf.depth = uLeaf.x;
   leaf.brickSlot = uLeaf.y;
@@ -90,11 +107,12 @@ void main() {
   float kBegin = firstSampleIndex(ray.t0, tEnter, s.dt, entry);
 
 #ifdef RAYCAST_MODE_ISO
-  vec4 state = imageLoad(uMarch, pixel);
-  if (state.w != 0.0) return;
-  IsoMarch march = IsoMarch(state.x != 0.0, state.y, state.z, false, 0.0);
   bool sampled = marchIso(march, s, ray.t0, kBegin, min(tExit, ray.t1));
-  if (march.hit) {
+  if (march.cap) {
+    RayResult r = shadeIsoCap(march, ray);
+    imageStore(uAccum, pixel, r.color);
+    imageStore(uDepth, pixel, vec4(r.depth));
+  } else if (march.hit) {
     uvec4 beforeBits = imageLoad(uBefore, pixel);
     RopeLeaf before;
     before.boxMin = uintBitsToFloat(beforeBits.xyz);

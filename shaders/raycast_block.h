@@ -101,7 +101,10 @@ RAYCAST_BLOCK_BEGIN
   uint leafMaximaCount;           // 236
   // MIP: the largest of those values (above 1 when none is known): a ray whose maximum reaches it ends.
   float leafMaximaLargest;        // 240
-  float unused0, unused1, unused2;  // 244: std140 padding
+  // Isosurface caps (core/render_params.h capBoundsOf): bit b when a ray entering through bound b of the
+  // drawn part (0-2 the crop box's lower faces, 3-5 its upper faces, 6 the clip plane) is capped; 0: none.
+  uint capBounds;                 // 244
+  float unused1, unused2;         // 248: std140 padding
 RAYCAST_BLOCK_END
 
 #ifdef __cplusplus
@@ -125,7 +128,7 @@ static_assert(offsetof(RaycastBlock, feedbackRequestDistance) == 200 &&
 static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, clipPlaneOffset) == 220);
 static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 &&
               offsetof(RaycastBlock, leafMaximaCount) == 236);
-static_assert(offsetof(RaycastBlock, leafMaximaLargest) == 240 && offsetof(RaycastBlock, unused0) == 244 &&
+static_assert(offsetof(RaycastBlock, leafMaximaLargest) == 240 && offsetof(RaycastBlock, capBounds) == 244 &&
               offsetof(RaycastBlock, unused1) == 248 && offsetof(RaycastBlock, unused2) == 252);
 }  // namespace glsl
 using glsl::RaycastBlock;

@@ -33,6 +33,11 @@ bool leafBelowMaximum(uint leafIndex, float maximum) {
 // The segment of a data leaf: its brick's texels in the pool and the sampling of its level L = maxDepth - depth.
 // Root-cube coordinates u = x / (C s) keep the world t (docs/RENDERING.md "Spaces"); a leaf at depth d holds
 // B 2^d level-L samples per cube unit, the first at the leaf's boxMin, behind BRICK_BORDER texels of border.
+// The sample step of a leaf at depth `depth`: dt = step 2^L min(s).
+float leafStep(uint depth) {
+  return raycast.stepVoxels * ldexp(1.0, int(raycast.maxDepth - depth)) * raycast.minSpacing;
+}
+
 Segment leafSegment(RopeLeaf leaf, vec3 originCube, vec3 dirCube) {
   float levelScale = ldexp(1.0, int(raycast.maxDepth - leaf.depth));  // 2^L
   float texelsPerCube = raycast.brickSize * ldexp(1.0, int(leaf.depth));
@@ -45,7 +50,7 @@ Segment leafSegment(RopeLeaf leaf, vec3 originCube, vec3 dirCube) {
   s.coordAtZero = (slotOrigin + s.texelAtZero) * raycast.valueTexelSize;
   s.coordPerT = s.texelPerT * raycast.valueTexelSize;
   s.gradientScale = 1.0 / (2.0 * raycast.spacing * levelScale);
-  s.dt = raycast.stepVoxels * levelScale * raycast.minSpacing;
+  s.dt = leafStep(leaf.depth);
   s.opacityExponent = raycast.stepVoxels * levelScale;
   return s;
 }
@@ -191,13 +196,21 @@ RayResult castRay(uvec2 pixel) {
   RayFeedback fb = rayFeedbackBegin();
 #endif
 #ifdef RAYCAST_MODE_ISO
-  IsoMarch march = isoMarchBegin();
+  IsoMarch march = isoMarchBegin(ray);
   float hitEnter = ray.t0;
   // The data leaf of the march's previous sample (shadeIsoHit refines a crossing before the hit's leaf there).
   RopeLeaf before = RopeLeaf(kRopeTagDataLeaf, 0u, 0u, 0u, vec3(0.0), 1.0, ray.t0, ray.t1);
   while (!march.hit && ropeNextLeaf(cursor, leaf)) {
     bool entry = firstLeaf;
     firstLeaf = false;
+    if (leaf.kind == kRopeTagSolidLeaf && march.capsFirst && !march.hasPrev) {
+      // Every value of a solid leaf lies above the isovalue: the ray's first sample, if the leaf holds it,
+      // is a cap, found without a brick.
+      float dt = leafStep(leaf.depth);
+      float t = ray.t0 + firstSampleIndex(ray.t0, leaf.tEnter, dt, entry) * dt;
+      if (t < min(leaf.tExit, ray.t1)) isoMarchCap(march, t);
+      continue;
+    }
     if (leaf.kind != kRopeTagDataLeaf) continue;
     Segment s = leafSegment(leaf, originCube, dirCube);
     bool sampled = marchIso(march, s, ray.t0, firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry),
@@ -214,6 +227,12 @@ RayResult castRay(uvec2 pixel) {
     }
   }
   if (!march.hit) return missedRay();
+  if (march.cap) {
+#ifdef RAYCAST_FEEDBACK
+    if (leaf.kind == kRopeTagDataLeaf) feedbackHit(leaf.leafIndex);
+#endif
+    return shadeIsoCap(march, ray);
+  }
 #ifdef RAYCAST_FEEDBACK
   // The ray's stop (RayResult.stopDepth, the sample past the crossing) lies in this leaf, behind its box's
   // front: the pixel an occlusion query of the leaf would count.

@@ -28,7 +28,7 @@ struct RopeCursor {
 };
 
 struct RopeLeaf {
-  uint kind;       // kRopeTagDataLeaf or kRopeTagEmptyLeaf
+  uint kind;       // kRopeTagDataLeaf, kRopeTagEmptyLeaf or kRopeTagSolidLeaf
   uint brickSlot;  // data leaves only
   uint leafIndex;  // index in the Cut's leaves
   uint depth;

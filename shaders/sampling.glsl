@@ -19,6 +19,9 @@ struct Ray {
   vec3 dir;          // unit direction
   float t0, t1;      // the part inside the volume box; t is a world distance along dir
   float depthPerT;   // dot(dir, forward): camera-axis depth per unit t
+  // Isosurface caps: the normal of the cut the ray enters the drawn part through, pointing into it, where
+  // raycast.capBounds caps that cut; zero otherwise (core/camera.h entryBound, boundInwardNormal).
+  vec3 capNormal;
 };
 
 // core/camera.h pixelRay: the ray through the center of pixel (px, py), row 0 at the top.
@@ -30,13 +33,16 @@ vec3 pixelRayDir(uvec2 pixel) {
 }
 
 // The pixel's ray clipped to the box its samples lie in, [clipMin, clipMax] (the volume box cut to --crop), by
-// the slab test, and to the kept side of --clip-plane; t0 clamped to 0. False on a miss.
+// the slab test, and to the kept side of --clip-plane; t0 clamped to 0. False on a miss. Notes the bound it
+// enters through, as core/camera.h entryBound (ties to the box, then to the lower axis).
 bool cameraRay(uvec2 pixel, out Ray ray) {
   ray.origin = raycast.eye;
   ray.dir = pixelRayDir(pixel);
   ray.depthPerT = dot(ray.dir, raycast.forward);
   ray.t0 = -kInfinity;
   ray.t1 = kInfinity;
+  ray.capNormal = vec3(0.0);
+  int bound = -1;
   for (int a = 0; a < 3; ++a) {
     if (ray.dir[a] == 0.0) {
       if (ray.origin[a] < raycast.clipMin[a] || ray.origin[a] > raycast.clipMax[a]) return false;
@@ -44,7 +50,10 @@ bool cameraRay(uvec2 pixel, out Ray ray) {
     }
     float tNear = (raycast.clipMin[a] - ray.origin[a]) / ray.dir[a];
     float tFar = (raycast.clipMax[a] - ray.origin[a]) / ray.dir[a];
-    ray.t0 = max(ray.t0, min(tNear, tFar));
+    if (min(tNear, tFar) > ray.t0) {
+      ray.t0 = min(tNear, tFar);
+      bound = ray.dir[a] > 0.0 ? a : 3 + a;
+    }
     ray.t1 = min(ray.t1, max(tNear, tFar));
   }
   // --clip-plane: the part where dot(n, x) >= offset (core/camera.h clipToHalfSpace).
@@ -55,9 +64,19 @@ bool cameraRay(uvec2 pixel, out Ray ray) {
     if (along == 0.0) {
       if (above < 0.0) return false;
     } else if (along > 0.0) {
-      ray.t0 = max(ray.t0, -above / along);
+      if (-above / along > ray.t0) {
+        ray.t0 = -above / along;
+        bound = 6;
+      }
     } else {
       ray.t1 = min(ray.t1, -above / along);
+    }
+  }
+  if (ray.t0 > 0.0 && bound >= 0 && (raycast.capBounds & (1u << uint(bound))) != 0u) {
+    if (bound == 6) {
+      ray.capNormal = n;
+    } else {
+      ray.capNormal[bound % 3] = bound < 3 ? 1.0 : -1.0;
     }
   }
   ray.t0 = max(ray.t0, 0.0);

@@ -86,6 +86,9 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       "X,Y,Z,NX,NY,NZ: cut the volume with the plane through the point X,Y,Z (world units) and "
       "draw the side its normal NX,NY,NZ points to; bricks wholly on the other side are neither read "
       "nor drawn (default: none)");
+  addEnumOption(app, "--caps", o.caps, kOnOffNames,
+                "isosurface: where --crop or --clip-plane cuts the surface, close it with the cut's face "
+                "(on), or leave it open to show it from within (off)");
   std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
   if (command == SceneCommand::View)
     std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });
@@ -298,6 +301,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.gradients = o.gradients;
   params.crop = cropBoxOf(o.crop, info.volume.dims);
   params.clipPlane = clipPlaneOf(o.clipPlane);
+  params.isoCaps = o.caps;
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
     std::fprintf(stderr,
                  "%sropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "

@@ -591,6 +591,10 @@ void Viewer::runEvent(const ViewEvent& e) {
       params_.clipPlane = clipPlaneOf(e.plane);
       unfoldCutControls_ = true;
       break;
+    case ViewEventKind::SetCaps:
+      params_.isoCaps = e.caps;
+      unfoldCutControls_ = true;
+      break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
       break;
@@ -797,6 +801,8 @@ void Viewer::drawPanels() {
     if (ImGui::CollapsingHeader("crop box and clip plane")) {
       drawCropControls(info.volume.dims);
       drawClipPlaneControls(info.volume);
+      // --caps: an isosurface closed where the cuts cut it, or left open to show it from within.
+      if (params_.mode == RenderMode::Iso) ImGui::Checkbox("caps on the cuts", &params_.isoCaps);
       drawCutOutlines(info.volume);
     }
     ImGui::PopItemWidth();

@@ -33,6 +33,7 @@ struct RenderOptions {
   std::vector<double> background{0.0, 0.0, 0.0};
   std::vector<std::string> crop;  // --crop: three voxel ranges "A:B" (cli_values.h); empty: the whole volume
   std::vector<double> clipPlane;  // --clip-plane: X,Y,Z,NX,NY,NZ; empty: none
+  bool caps = true;               // --caps: isosurface caps at the cuts (RenderParams::isoCaps)
   RenderBackend backend = RenderBackend::Auto;
   // --brute-stage: the entry point of --backend brute, Auto, Fragment or Compute; unset: not given (Auto).
   std::optional<RenderBackend> bruteStage;

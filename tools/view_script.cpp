@@ -236,6 +236,11 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.kind = ViewEventKind::SetClipPlane;
       e.plane = r.plane("plane");
       add(e);
+    } else if (kind == "set_caps") {
+      e.kind = ViewEventKind::SetCaps;
+      if (!r.j.contains("caps")) r.fail("\"caps\" is required");
+      e.caps = r.flag("caps");
+      add(e);
     } else if (kind == "load_tf") {
       e.kind = ViewEventKind::LoadTf;
       e.tf = r.text("tf");
@@ -268,7 +273,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else {
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
-          "set_iso, set_mode, set_crop, set_clip_plane, load_tf, set_tf_range, screenshot, save_camera, "
+          "set_iso, set_mode, set_crop, set_clip_plane, set_caps, load_tf, set_tf_range, screenshot, "
+          "save_camera, "
           "reset_camera, "
           "wait_converged or "
           "quit");

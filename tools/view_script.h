@@ -33,6 +33,7 @@ enum class ViewEventKind {
   SetTfRange,     // range: LO,HI, a window as --tf-range sets it
   SetCrop,        // crop: --crop's three voxel ranges
   SetClipPlane,   // plane: --clip-plane's six numbers, or none
+  SetCaps,        // caps: isosurface caps at the cuts on or off, as --caps
   Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
   SaveCamera,     // file: appended to as a camera path `render --path` reads
   ResetCamera,    // back to the starting view
@@ -55,7 +56,8 @@ struct ViewEvent {
   std::string tf;
   std::vector<std::string> crop;
   std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
-  glm::dvec2 range{0.0};      // LO < HI, data units
+  bool caps = true;
+  glm::dvec2 range{0.0};  // LO < HI, data units
   std::string file;
   bool panels = false;
   std::string where;  // "--script EVENTS.json: event 3 (drag)": names the event in errors while it runs

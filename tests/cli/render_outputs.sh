@@ -43,7 +43,7 @@ alpha=$(channel_avg "$dir/a.exr" 3)
 at_least "$alpha" 0.05 && ! at_least "$alpha" 0.95 || fail "a.exr mean alpha $alpha: expected a partly covered image"
 [ "$(wc -l < "$dir/a.jsonl")" -eq 1 ] || fail "one frame should give one stats line"
 for field in frame frame_ms raycast_ms index_ms leaves bricks_resident bricks_uploaded bytes_uploaded refine_ms \
-    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used leaves_pool_full converged step_voxels backend; do
+    requests_pending cache_hits cache_misses cpu_cache_bytes gpu_pool_used leaves_pool_full leaves_solid converged step_voxels backend; do
   grep -q "\"$field\":" "$dir/a.jsonl" || fail "stats line lacks $field: $(cat "$dir/a.jsonl")"
 done
 grep -q '"converged":true' "$dir/a.jsonl" || fail "a synchronous frame should be converged"

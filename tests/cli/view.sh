@@ -198,14 +198,19 @@ same "crop change = render --crop" "$dir/v3.png" "$dir/r3.png"
 differs "the crop changed the view" "$dir/v3.png" "$dir/v0.png"
 run "view --crop" xview $vol --crop 10:,:30,4:40 --screenshot "$dir/v4.png"
 same "view --crop = render --crop" "$dir/v4.png" "$dir/r3.png"
-# set_clip_plane, then a screenshot: render with --clip-plane.
+# set_clip_plane, then a screenshot: render with --clip-plane; then without caps: render --caps off.
 cat > "$dir/plane.json" << JSON
-[{"event": "set_clip_plane", "plane": [24, 24, 24, -1, -0.5, 0.2]}, {"event": "screenshot", "file": "$dir/v5.png"}]
+[{"event": "set_clip_plane", "plane": [24, 24, 24, -1, -0.5, 0.2]}, {"event": "screenshot", "file": "$dir/v5.png"},
+ {"event": "set_caps", "caps": false}, {"event": "screenshot", "file": "$dir/v5o.png"}]
 JSON
-run "view --script set_clip_plane" xview $vol --script "$dir/plane.json"
+run "view --script set_clip_plane, set_caps" xview $vol --script "$dir/plane.json"
 run "render --clip-plane" "$ropecast" render $vol --converge --clip-plane 24,24,24,-1,-0.5,0.2 -o "$dir/r5.png"
 same "clip plane = render --clip-plane" "$dir/v5.png" "$dir/r5.png"
 differs "the clip plane changed the view" "$dir/v5.png" "$dir/v0.png"
+run "render --clip-plane --caps off" "$ropecast" render $vol --converge --clip-plane 24,24,24,-1,-0.5,0.2 --caps off \
+  -o "$dir/r5o.png"
+same "set_caps false = render --caps off" "$dir/v5o.png" "$dir/r5o.png"
+differs "the caps changed the view" "$dir/v5o.png" "$dir/v5.png"
 printf '[{"event": "set_crop", "crop": "0:60,:,:"}, {"event": "quit"}]' > "$dir/crop_out.json"
 xview $vol --script "$dir/crop_out.json" > /dev/null 2> "$dir/err.txt" && fail "set_crop past the volume: exit 0"
 grep -q "event 0 (set_crop): --crop: the x range 0:60 does not lie" "$dir/err.txt" ||

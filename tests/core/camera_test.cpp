@@ -9,6 +9,7 @@
 #include "core/camera.h"
 #include "core/camera_path.h"
 #include "core/error.h"
+#include "core/render_params.h"
 
 namespace ropecast {
 namespace {
@@ -175,6 +176,65 @@ TEST(ClipToBox, GivesTheIntervalInsideTheBox) {
   EXPECT_FALSE(clipToBox(Ray{{-1, 3, 0.5}, {1, 0, 0}}, {4, 2, 1}, t0, t1));
   EXPECT_FALSE(clipToBox(Ray{{-1, 1, 0.5}, {-1, 0, 0}}, {4, 2, 1}, t0, t1));
   EXPECT_FALSE(clipToBox(Ray{{-3, 0, 0.5}, glm::normalize(glm::dvec3(1, 1, 0))}, {4, 2, 1}, t0, t1));
+}
+
+// The bound a ray enters the kept region through, which isosurface caps shade with its inward normal.
+TEST(EntryBound, NamesTheFaceOrThePlaneTheRayEntersThrough) {
+  const WorldBox box{{0, 0, 0}, {4, 2, 1}};
+  const glm::dvec3 none(0.0);
+  // Each face of the box, from outside along its inward normal.
+  EXPECT_EQ(entryBound(Ray{{-1, 1, 0.5}, {1, 0, 0}}, box, none, 0.0), 0);
+  EXPECT_EQ(entryBound(Ray{{2, -1, 0.5}, {0, 1, 0}}, box, none, 0.0), 1);
+  EXPECT_EQ(entryBound(Ray{{2, 1, -1}, {0, 0, 1}}, box, none, 0.0), 2);
+  EXPECT_EQ(entryBound(Ray{{5, 1, 0.5}, {-1, 0, 0}}, box, none, 0.0), 3);
+  EXPECT_EQ(entryBound(Ray{{2, 3, 0.5}, {0, -1, 0}}, box, none, 0.0), 4);
+  EXPECT_EQ(entryBound(Ray{{2, 1, 2}, {0, 0, -1}}, box, none, 0.0), 5);
+  // Obliquely: the face whose slab is entered last.
+  EXPECT_EQ(entryBound(Ray{{-1, -4, 0.5}, glm::normalize(glm::dvec3(1, 2, 0))}, box, none, 0.0), 1);
+  // The plane x >= 3 cuts the box: entering from -x, the plane is crossed after the box's face; from +x the
+  // box's upper face comes first and the plane is where the ray leaves.
+  EXPECT_EQ(entryBound(Ray{{-1, 1, 0.5}, {1, 0, 0}}, box, {1, 0, 0}, 3.0), kEntryPlane);
+  EXPECT_EQ(entryBound(Ray{{5, 1, 0.5}, {-1, 0, 0}}, box, {1, 0, 0}, 3.0), 3);
+  // A tie between the plane and a face goes to the face; between two faces, to the lower axis.
+  EXPECT_EQ(entryBound(Ray{{-1, 1, 0.5}, {1, 0, 0}}, box, {1, 0, 0}, 0.0), 0);
+  EXPECT_EQ(entryBound(Ray{{-1, -1, 0.5}, glm::normalize(glm::dvec3(1, 1, 0))}, box, none, 0.0), 0);
+  // None from inside (the eye in the region), on a miss, or when the plane leaves nothing.
+  EXPECT_EQ(entryBound(Ray{{2, 1, 0.5}, {1, 0, 0}}, box, none, 0.0), kEntryNone);
+  EXPECT_EQ(entryBound(Ray{{-1, 3, 0.5}, {1, 0, 0}}, box, none, 0.0), kEntryNone);
+  EXPECT_EQ(entryBound(Ray{{-1, 1, 0.5}, {1, 0, 0}}, box, {1, 0, 0}, 5.0), kEntryNone);
+  EXPECT_EQ(entryBound(Ray{{-1, 1, 0.5}, {1, 0, 0}}, box, {0, 1, 0}, 1.5), kEntryNone);
+  // A still axis along the plane, on its kept side: the box's face.
+  EXPECT_EQ(entryBound(Ray{{-1, 1, 0.5}, {1, 0, 0}}, box, {0, 1, 0}, 0.5), 0);
+}
+
+TEST(EntryBound, InwardNormalsPointIntoTheRegion) {
+  const glm::dvec3 planeNormal = glm::normalize(glm::dvec3(1, -2, 3));
+  EXPECT_EQ(boundInwardNormal(0, planeNormal), glm::dvec3(1, 0, 0));
+  EXPECT_EQ(boundInwardNormal(1, planeNormal), glm::dvec3(0, 1, 0));
+  EXPECT_EQ(boundInwardNormal(2, planeNormal), glm::dvec3(0, 0, 1));
+  EXPECT_EQ(boundInwardNormal(3, planeNormal), glm::dvec3(-1, 0, 0));
+  EXPECT_EQ(boundInwardNormal(4, planeNormal), glm::dvec3(0, -1, 0));
+  EXPECT_EQ(boundInwardNormal(5, planeNormal), glm::dvec3(0, 0, -1));
+  EXPECT_EQ(boundInwardNormal(kEntryPlane, planeNormal), planeNormal);
+}
+
+// The cuts that cap: crop faces inside the volume and the clip plane, only for an isosurface with caps.
+TEST(CapBounds, AreTheCropFacesInsideTheVolumeAndTheClipPlane) {
+  const glm::u32vec3 dims{40, 30, 20};
+  RenderParams params;
+  EXPECT_EQ(capBoundsOf(params, dims), 0u);  // the whole volume: no cut
+  params.crop.lo = {0, 5, 0};
+  params.crop.hi = {40, 30, 12};
+  EXPECT_EQ(capBoundsOf(params, dims), (1u << 1) | (1u << 5));
+  params.crop.hi = {40, 31, 12};  // beyond the volume: its own face, no cut
+  EXPECT_EQ(capBoundsOf(params, dims), (1u << 1) | (1u << 5));
+  params.clipPlane = {glm::dvec3(10), glm::dvec3(0, 0, 1)};
+  EXPECT_EQ(capBoundsOf(params, dims), (1u << 1) | (1u << 5) | (1u << kEntryPlane));
+  params.isoCaps = false;
+  EXPECT_EQ(capBoundsOf(params, dims), 0u);
+  params.isoCaps = true;
+  params.mode = RenderMode::Dvr;
+  EXPECT_EQ(capBoundsOf(params, dims), 0u);
 }
 
 TEST(CameraPathKeyframes, InterpolatedOppositeUpsGiveAFiniteFrame) {

@@ -68,7 +68,7 @@ void checkIndex(const Cut& cut) {
       EXPECT_EQ(t[kRopeNodeTag], kRopeTagDataLeaf);
       EXPECT_EQ(t[kRopeNodeBrickSlot], leaf.brickSlot);
     } else {
-      EXPECT_EQ(t[kRopeNodeTag], kRopeTagEmptyLeaf);
+      EXPECT_EQ(t[kRopeNodeTag], leaf.kind == LeafKind::Solid ? kRopeTagSolidLeaf : kRopeTagEmptyLeaf);
       EXPECT_EQ(t[kRopeNodeBrickSlot], kRopeNoBrick);
     }
     const uint32_t block = t[kRopeNodePointer];
@@ -100,6 +100,25 @@ void checkIndex(const Cut& cut) {
   }
   for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "leaf " << i;
   EXPECT_EQ(index.maxDepth, maxDepth);
+}
+
+// A Solid leaf (an empty leaf inside a capped isosurface) keeps its kind in the tag, and no brick.
+TEST(RopeIndex, SolidLeavesAreTaggedApart) {
+  std::vector<CutLeaf> leaves;
+  for (uint32_t o = 0; o < 8; ++o) {
+    const LeafKind kind = o % 3 == 0 ? LeafKind::Data : o % 3 == 1 ? LeafKind::Solid : LeafKind::Empty;
+    leaves.push_back(CutLeaf{1, glm::u32vec3(o & 1, (o >> 1) & 1, (o >> 2) & 1), kind, o});
+  }
+  const Cut cut{leaves};
+  const RopeIndex index = buildRopeIndex(cut);
+  for (uint32_t i = 0; i < 8; ++i) {
+    const RopeTexel& t = index.texels[index.leafNodeTexel[i]];
+    EXPECT_EQ(t[kRopeNodeTag], i % 3 == 0   ? kRopeTagDataLeaf
+                               : i % 3 == 1 ? kRopeTagSolidLeaf
+                                            : kRopeTagEmptyLeaf);
+    EXPECT_EQ(t[kRopeNodeBrickSlot], i % 3 == 0 ? i : kRopeNoBrick);
+  }
+  checkIndex(cut);
 }
 
 TEST(RopeIndex, SingleRootLeaf) {

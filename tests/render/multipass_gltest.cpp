@@ -35,6 +35,9 @@ struct MultipassCase {
   // --crop (voxels 7..39, 3..49, 9..44) and --clip-plane (oblique, through the volume's center): the leaves
   // they cut are drawn in part.
   bool cropped = false;
+  // The cuts pass through the isosurface's inside, where leaves wholly inside it are Solid: caps drawn
+  // without bricks, each such leaf a pass of its own. The test asks that there are some.
+  bool solid = false;
 };
 
 std::string multipassCaseName(const MultipassCase& c) {
@@ -102,20 +105,24 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
   const FloatImage multiColor = renderer.readColor();
   const FloatImage multiDepth = renderer.readDepth();
 
-  // The same cut, drawn one data leaf per pass.
+  // The same cut, drawn one data or solid leaf per pass.
   ASSERT_EQ(renderer.lastCut().leaves.size(), singleCut.size());
-  uint64_t dataLeaves = 0;
+  uint64_t dataLeaves = 0, solidLeaves = 0;
   for (size_t i = 0; i < singleCut.size(); ++i) {
     EXPECT_EQ(renderer.lastCut().leaves[i].coord, singleCut[i].coord);
+    EXPECT_EQ(renderer.lastCut().leaves[i].kind, singleCut[i].kind);
     dataLeaves += singleCut[i].kind == LeafKind::Data;
+    solidLeaves += singleCut[i].kind == LeafKind::Solid;
   }
   EXPECT_EQ(single.backend, RenderBackend::Fragment);
   EXPECT_EQ(multi.backend, RenderBackend::Multipass);
   EXPECT_EQ(multi.stage, RenderBackend::Fragment);  // its blocks are drawn
   EXPECT_EQ(single.drawCalls, 1u);
-  EXPECT_EQ(multi.drawCalls, dataLeaves);
-  EXPECT_EQ(multi.glDrawCalls, 2 * dataLeaves + 1);
+  EXPECT_EQ(multi.drawCalls, dataLeaves + solidLeaves);
+  EXPECT_EQ(multi.glDrawCalls, 2 * (dataLeaves + solidLeaves) + 1);
+  EXPECT_EQ(single.leavesSolid, solidLeaves);
   EXPECT_GT(dataLeaves, 20u);
+  if (c.solid) EXPECT_GT(solidLeaves, 0u) << multipassCaseName(c);
 
   // Color (with the background under it) and coverage.
   const double colorDb = psnrDb(singleColor, multiColor, 4);
@@ -142,9 +149,11 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
     EXPECT_LE(worst, 2.0f / 255.0f) << multipassCaseName(c);
   }
   EXPECT_LE(differ + coverageDiffers, singleDepth.pixels.size() / 100) << multipassCaseName(c);
-  std::printf("  %s: %llu data leaves, color %.1f dB, depth: %llu of %llu differ, %llu differ in coverage\n",
-              multipassCaseName(c).c_str(), (unsigned long long)dataLeaves, colorDb,
-              (unsigned long long)differ, (unsigned long long)both, (unsigned long long)coverageDiffers);
+  std::printf(
+      "  %s: %llu data leaves, %llu solid, color %.1f dB, depth: %llu of %llu differ, %llu differ in "
+      "coverage\n",
+      multipassCaseName(c).c_str(), (unsigned long long)dataLeaves, (unsigned long long)solidLeaves, colorDb,
+      (unsigned long long)differ, (unsigned long long)both, (unsigned long long)coverageDiffers);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -159,6 +168,7 @@ INSTANTIATE_TEST_SUITE_P(
                       MultipassCase{"procedural:noise:48", RenderMode::Dvr, true},
                       MultipassCase{"procedural:noise:48", RenderMode::Dvr, false, true},
                       MultipassCase{"procedural:menger:54", RenderMode::Iso, false, false, true},
+                      MultipassCase{"procedural:sphere:64", RenderMode::Iso, false, false, true, true},
                       MultipassCase{"procedural:noise:48", RenderMode::Dvr, true, false, true},
                       MultipassCase{"procedural:menger:54", RenderMode::Mip, false},
                       MultipassCase{"procedural:noise:48", RenderMode::Mip, false},

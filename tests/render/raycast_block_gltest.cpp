@@ -54,7 +54,7 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(clipPlaneNormal),
     FIELD(leafMaximaCount),
     FIELD(leafMaximaLargest),
-    FIELD(unused0),
+    FIELD(capBounds),
     FIELD(unused1),
     FIELD(unused2),
 };

@@ -224,6 +224,79 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
     }
 }
 
+// Isosurface caps (docs/RENDERING.md "Caps"): where the crop box or the clip plane cuts a ball, the rays that
+// enter inside it stop on the cut, shaded with its normal; in the ball's middle from Solid leaves, which have
+// no brick. Fragment and compute images are the mirror's; the caps lie on the cuts; the image equals the one
+// of the same cut with bricks in place of the Solid leaves; and without caps the ball is open.
+TEST(RaycastVsCpu, CapsCloseTheSurfaceOnTheCutsAsTheMirrorDoes) {
+  SceneSpec spec;
+  spec.dims = {40, 36, 32};
+  spec.spacing = {1.0, 0.9, 1.1};
+  spec.brickSize = 8;
+  const glm::dvec3 center = glm::dvec3(20, 18, 16) * spec.spacing;
+  spec.value = [center](glm::dvec3 x) { return 0.9 - 0.3 * glm::length(x - center) / 16.0; };
+  const double iso = 0.6;
+  spec.solidAbove = iso;
+  const test::GlScene scene = test::buildScene(spec);
+  spec.solidAbove.reset();
+  const test::GlScene bricksOnly = test::buildScene(spec);
+  ASSERT_GT(scene.solidLeaves, 2u);
+  ASSERT_EQ(bricksOnly.solidLeaves, 0u);
+
+  CropBox crop;
+  crop.lo = {4, 0, 3};
+  crop.hi = {40, 18, 26};  // the upper y face through the middle, facing the camera
+  const ClipPlane plane{center, glm::normalize(glm::dvec3(-1.0, -0.6, 0.3))};
+  for (const bool usePlane : {false, true})
+    for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
+      const std::string what = std::string(usePlane ? "plane" : "crop") +
+                               (backend == RenderBackend::Fragment ? " fragment" : " compute");
+      RaycastFrame frame;
+      frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(spec.dims) * spec.spacing);
+      frame.width = frame.height = 80;
+      frame.params.isoValue = iso * 65535;
+      frame.params.backend = backend;
+      if (usePlane)
+        frame.params.clipPlane = plane;
+      else
+        frame.params.crop = crop;
+      RaycastPass pass;
+      test::renderScene(pass, scene, frame);
+      const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
+      test::renderScene(pass, bricksOnly, frame);
+      const FloatImage bricksColor = pass.readColor();
+      frame.params.isoCaps = false;
+      test::renderScene(pass, scene, frame);
+      const FloatImage openColor = pass.readColor();
+      frame.params.isoCaps = true;
+
+      const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame));
+      EXPECT_GE(test::psnrDb(glColor, colorOf(cpu), 4), test::onHardwareGpu() ? 38.0 : 45.0) << what;
+      const DepthAgreement d = compareDepth(glDepth, depthOf(cpu), 0.05);
+      EXPECT_LE(d.farApart, 0.01) << what;
+      EXPECT_LE(d.coverageMismatch, 0.01) << what;
+      EXPECT_GE(test::psnrDb(glColor, bricksColor, 4), 45.0) << what << ": Solid leaves against their bricks";
+      EXPECT_LT(test::psnrDb(glColor, openColor, 4), 30.0) << what << ": the caps changed nothing";
+
+      // The caps: many hits on the cut, none of them outside the ball.
+      const glm::dvec3 forward = cameraFrame(frame.camera).forward;
+      int onCut = 0;
+      for (uint32_t py = 0; py < frame.height; ++py)
+        for (uint32_t px = 0; px < frame.width; ++px) {
+          const float depth = glDepth.pixels[size_t(py) * frame.width + px];
+          if (!std::isfinite(depth)) continue;
+          const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
+          const glm::dvec3 hit = ray.origin + ray.dir * (double(depth) / glm::dot(ray.dir, forward));
+          const double offCut = usePlane ? std::abs(glm::dot(plane.normal, hit - plane.point))
+                                         : std::abs(hit.y - crop.hi.y * spec.spacing.y);
+          if (offCut > 0.05) continue;
+          ++onCut;
+          EXPECT_LE(glm::length(hit - center), 16.0 * 1.05) << what << " pixel " << px << "," << py;
+        }
+      EXPECT_GT(onCut, 300) << what;
+    }
+}
+
 // A sphere of radius r as the isosurface v = 0.5 of v = 0.5 + k (r - |x - c|): its silhouette covers exactly
 // the pixels whose ray passes within r of c. The covered pixel count must match within 1%.
 TEST(RaycastVsCpu, SphereSilhouetteArea) {

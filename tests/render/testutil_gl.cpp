@@ -122,8 +122,6 @@ GlScene buildScene(const SceneSpec& spec) {
     if (layout.isInside(k) && !(spec.emptyLeaf && spec.emptyLeaf(k))) {
       const uint32_t slot = uint32_t(scene.bricks.size());
       if (slot >= scene.pool->slotCount()) throw std::runtime_error("buildScene: pool too small");
-      leaf.kind = LeafKind::Data;
-      leaf.brickSlot = slot;
       std::vector<std::byte> brick = makeBrick(spec, layout, k);
       uint32_t largest = 0, smallest = UINT32_MAX;
       for (size_t i = 0; i < layout.storedBrickSamples(); ++i) {
@@ -135,6 +133,16 @@ GlScene buildScene(const SceneSpec& spec) {
         largest = std::max<uint32_t>(largest, v);
         smallest = std::min<uint32_t>(smallest, v);
       }
+      if (spec.solidAbove && double(smallest) / storedMax > *spec.solidAbove) {
+        leaf.kind = LeafKind::Solid;
+        ++scene.solidLeaves;
+        scene.cut.leaves.push_back(leaf);
+        scene.leafMaxima.push_back(leafMax);
+        scene.leafMinima.push_back(leafMin);
+        continue;
+      }
+      leaf.kind = LeafKind::Data;
+      leaf.brickSlot = slot;
       leafMax = float(largest / storedMax);
       leafMin = float(smallest / storedMax);
       scene.pool->upload(slot, brick);

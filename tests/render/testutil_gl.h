@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -53,6 +54,9 @@ struct SceneSpec {
   std::function<double(glm::dvec3 world)> value;       // normalized to [0, 1]
   std::function<bool(const NodeKey& node)> refine;     // default: split everything (full resolution)
   std::function<bool(const NodeKey& leaf)> emptyLeaf;  // inside leaves to mark Empty (default: none)
+  // Isosurface caps: an inside leaf whose samples (borders included) all lie above this normalized value is
+  // Solid, without a brick, as FrameRenderer marks the empty leaves inside a capped isosurface. Unset: none.
+  std::optional<double> solidAbove;
 };
 
 struct GlScene {
@@ -66,6 +70,7 @@ struct GlScene {
   std::unique_ptr<GradientPool> gradients;  // derived from every uploaded slot, for stored DVR gradients
   std::unique_ptr<IndexTexture> indexTexture;
   size_t dataLeaves = 0;
+  size_t solidLeaves = 0;
   uint32_t minLeafDepth = 0, maxLeafDepth = 0;
   // Per leaf of the cut, the largest and the smallest sample of its brick, normalized (-1 and 2 for empty
   // leaves).

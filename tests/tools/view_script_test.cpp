@@ -51,9 +51,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "reset_camera"}, {"event": "wait_converged"}, {"event": "set_crop", "crop": "2:9, :,4:"},
           {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, -1]}, {"event": "set_clip_plane", "plane": []},
           {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"},
-          {"event": "set_tf_range", "range": [-160, 240]}])",
+          {"event": "set_tf_range", "range": [-160, 240]}, {"event": "set_caps", "caps": false},
+          {"event": "set_caps", "caps": true}])",
       "t");
-  ASSERT_EQ(s.events.size(), 14u);
+  ASSERT_EQ(s.events.size(), 16u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -72,6 +73,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[12].mode, RenderMode::MinIp);
   EXPECT_EQ(s.events[13].kind, ViewEventKind::SetTfRange);
   EXPECT_EQ(s.events[13].range, glm::dvec2(-160, 240));
+  EXPECT_EQ(s.events[14].kind, ViewEventKind::SetCaps);
+  EXPECT_FALSE(s.events[14].caps);
+  EXPECT_TRUE(s.events[15].caps);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -108,6 +112,8 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
     expectRefused(std::string(R"([{"event": "set_tf_range", "range": )") + range + "}]",
                   "event 0 (set_tf_range): \"range\" must be [lo, hi] in data units, lo < hi");
   expectRefused(R"([{"event": "set_clip_plane"}])", "\"plane\" is required");
+  expectRefused(R"([{"event": "set_caps"}])", "event 0 (set_caps): \"caps\" is required");
+  expectRefused(R"([{"event": "set_caps", "caps": "off"}])", "\"caps\" must be true or false");
 }
 
 TEST(ViewScript, HugeCoordinatesAndTimesAreRefusedAtLoad) {
