@@ -472,10 +472,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
         const bool firstLeaf = entryLeaf;
         entryLeaf = false;
         if (leaf.kind == kRopeTagSolidLeaf && rayLoop.capsNextSample()) {
-          if (!rayLoop.solidLeaf(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), firstLeaf)) {
-            if (trace) trace->solidCap = true;
-            break;
-          }
+          if (!rayLoop.solidLeaf(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), firstLeaf)) break;
           continue;
         }
         if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling

@@ -95,11 +95,9 @@ struct MirrorRayTrace {
   // Where the mirror ended the ray (iso hit or early ray termination): leaves[endLeaf].samples[endSample];
   // endLeaf == leaves.size() when it left the volume.
   size_t endLeaf = 0, endSample = 0;
-  // Isosurface caps: the ray entered through a capped cut, so a first sample inside the surface ends it; and
-  // it ended at a solid leaf (LeafKind::Solid), before every leaf in `leaves` (a traced ray is not followed
-  // further).
+  // Isosurface caps: the ray entered through a capped cut, so a first sample inside the surface ends it. A
+  // ray capped in a solid leaf (LeafKind::Solid) is traced no further: its `leaves` end there, none sampled.
   bool capped = false;
-  bool solidCap = false;
 };
 
 // Reads the brick of every Data leaf of `cut` from `source`, keyed by the leaf's brickSlot.

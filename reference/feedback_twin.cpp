@@ -62,8 +62,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
   FeedbackBounds out;
 
   for (const MirrorRayTrace& trace : traces) {
-    // A ray capped at a solid leaf sampled nothing: no leaf used, none requested, no hit in a data leaf.
-    if (!trace.entered || trace.leaves.empty() || trace.solidCap) continue;
+    if (!trace.entered || trace.leaves.empty()) continue;
     const RayLeaves rl = indexSamples(trace);
     const size_t leafCount = trace.leaves.size();
 

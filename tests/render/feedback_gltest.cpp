@@ -181,13 +181,17 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
       ValueMapping{}, 65535);
   // Rays that make a leaf a hit: a few, so that small leaves reach it and large ones pass it.
   constexpr uint32_t kHitThreshold = 3;
-  size_t stops = 0;
+  size_t stops = 0, solidLeaves = 0;
   for (uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
     SceneSpec spec = randomScene(seed);
     // Even seeds crop the volume: rays that start and end at the crop box's faces, inside leaves and on their
-    // borders. The leaves wholly outside the box are empty, as the refiner culls them.
+    // borders. The leaves wholly outside the box are empty, as the refiner culls them. The isosurface is
+    // capped on the box's faces, in data leaves and in Solid ones (leaves wholly above the isovalue, as
+    // FrameRenderer marks them; in the other modes they are empty leaves, the same for the GPU and the twin).
     std::optional<CropBox> crop;
+    const double isoNormalized = seed % 2 == 0 ? 0.35 : 0.55;  // cropped: lower, for leaves wholly above it
     if (seed % 2 == 0) {
+      spec.solidAbove = isoNormalized;
       crop = CropBox{glm::floor(0.2 * glm::dvec3(spec.dims)), glm::ceil(0.85 * glm::dvec3(spec.dims))};
       const OctreeLayout layout = OctreeLayout::forVolume(spec.dims, spec.brickSize);
       const WorldBox box{crop->lo * spec.spacing, crop->hi * spec.spacing};
@@ -197,6 +201,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
     }
     const test::GlScene scene = test::buildScene(spec);
     ASSERT_LT(scene.minLeafDepth, scene.maxLeafDepth);
+    solidLeaves += scene.solidLeaves;
     const glm::dvec3 volumeMax = glm::dvec3(spec.dims) * spec.spacing;
     for (const CameraCase& cam : randomCameras(seed, volumeMax)) {
       // Iso at a step above a voxel too, where a leaf's end takes a sample (docs/RENDERING.md "Isosurface").
@@ -209,7 +214,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
         frame.height = 80;
         frame.params.mode = mode;
         frame.params.stepVoxels = step;
-        frame.params.isoValue = 0.55 * 65535;
+        frame.params.isoValue = isoNormalized * 65535;
         frame.params.ert = 0.95;
         if (crop) frame.params.crop = *crop;
         frame.tf = &tf;
@@ -263,6 +268,7 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
     }
   }
   EXPECT_GT(stops, 0u) << "no leaf reached the hit threshold in any frame: the hits went untested";
+  EXPECT_GT(solidLeaves, 0u) << "no Solid leaf: caps without a brick went untested";
 }
 
 // Eight leaves of level 1 (a 32^3 volume of brick size 8 cut at depth 1) of a constant value no isosurface
