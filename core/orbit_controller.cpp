@@ -27,17 +27,23 @@ OrbitState OrbitController::orbitAroundBox(glm::dvec3 boxMin, glm::dvec3 boxMax,
 
 OrbitController OrbitController::fromCamera(glm::dvec3 boxMin, glm::dvec3 boxMax, const Camera& camera) {
   OrbitController c(boxMin, boxMax, OrbitState{});
+  c.lookFrom(camera);
+  c.home_ = c.state_;
+  c.exactHome_ = c.exact_;
+  return c;
+}
+
+void OrbitController::lookFrom(const Camera& camera) {
   const glm::dvec3 offset = camera.eye - camera.target;
   const double length = glm::length(offset);
   OrbitState s;
   s.center = camera.target;
-  s.distance = c.radius_ > 0.0 ? length / c.radius_ : length;
+  s.distance = radius_ > 0.0 ? length / radius_ : length;
   s.elevationDeg = glm::degrees(std::asin(std::clamp(offset.z / length, -1.0, 1.0)));
   s.azimuthDeg = glm::degrees(std::atan2(offset.y, offset.x));
   s.fovYDeg = camera.fovYDeg;
-  c.home_ = c.state_ = s;
-  c.exactHome_ = c.exact_ = camera;
-  return c;
+  state_ = s;
+  exact_ = camera;
 }
 
 Camera OrbitController::camera() const {

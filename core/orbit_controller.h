@@ -41,6 +41,9 @@ class OrbitController {
   // A controller starting at an arbitrary camera (`render --eye --target --up`): its orbit is the eye's
   // position around the target. The camera is returned unchanged (its own up) until the first movement.
   static OrbitController fromCamera(glm::dvec3 boxMin, glm::dvec3 boxMax, const Camera& camera);
+  // Moves to `camera` (eye and target distinct) as fromCamera starts at one, keeping the home that reset()
+  // returns to: the viewer's named views.
+  void lookFrom(const Camera& camera);
 
   // The home orbit around the box center with the given azimuth, elevation and distance.
   static OrbitState orbitAroundBox(glm::dvec3 boxMin, glm::dvec3 boxMax, double azimuthDeg,

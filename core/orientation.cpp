@@ -82,4 +82,37 @@ ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm
   return {center + toVolume * (world.point - center), toVolume * world.normal};
 }
 
+Camera anatomicalViewCamera(AnatomicalView view, double distance, glm::dvec3 boxMin, glm::dvec3 boxMax,
+                            double fovYDeg) {
+  // Where the eye lies from the center, and the up vector.
+  glm::dvec3 side(0.0), up(0.0, 0.0, 1.0);
+  switch (view) {
+    case AnatomicalView::Anterior:
+      side = {0.0, -1.0, 0.0};
+      break;
+    case AnatomicalView::Posterior:
+      side = {0.0, 1.0, 0.0};
+      break;
+    case AnatomicalView::Left:
+      side = {1.0, 0.0, 0.0};
+      break;
+    case AnatomicalView::Right:
+      side = {-1.0, 0.0, 0.0};
+      break;
+    case AnatomicalView::Superior:
+      side = {0.0, 0.0, 1.0}, up = {0.0, -1.0, 0.0};
+      break;
+    case AnatomicalView::Inferior:
+      side = {0.0, 0.0, -1.0}, up = {0.0, -1.0, 0.0};
+      break;
+  }
+  const glm::dvec3 center = 0.5 * (boxMin + boxMax);
+  Camera c;
+  c.target = center;
+  c.eye = center + distance * 0.5 * glm::length(boxMax - boxMin) * side;
+  c.up = up;
+  c.fovYDeg = fovYDeg;
+  return c;
+}
+
 }  // namespace ropecast

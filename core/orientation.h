@@ -11,6 +11,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
@@ -49,5 +50,18 @@ Camera cameraInVolume(const Camera& world, const AxisDirections& d, glm::dvec3 c
 
 // The same for a clip plane (its point moved, its normal turned).
 ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm::dvec3 center);
+
+// The six views radiology viewers name (3D Slicer's A, P, L, R, S and I): the eye on that side of the
+// patient in the world's LPS frame (anterior: toward -y; left: toward +x; superior: toward +z), looking at
+// the center of the box [boxMin, boxMax] from `distance` bounding-sphere radii (as orbitCamera's). Superior
+// is up, and anterior in the views from above and below. For a volume whose file gives no orientation the
+// names stand for those world axes all the same.
+enum class AnatomicalView { Anterior, Posterior, Left, Right, Superior, Inferior };
+inline constexpr std::pair<const char*, AnatomicalView> kAnatomicalViewNames[] = {
+    {"anterior", AnatomicalView::Anterior}, {"posterior", AnatomicalView::Posterior},
+    {"left", AnatomicalView::Left},         {"right", AnatomicalView::Right},
+    {"superior", AnatomicalView::Superior}, {"inferior", AnatomicalView::Inferior}};
+Camera anatomicalViewCamera(AnatomicalView view, double distance, glm::dvec3 boxMin, glm::dvec3 boxMax,
+                            double fovYDeg);
 
 }  // namespace ropecast

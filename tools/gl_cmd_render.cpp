@@ -388,7 +388,7 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
       ->transform(integerRange(1, 1000000));
   CLI::Option* path = app.add_option("--path", o.path, "camera path: JSON list of cameras or keyframes")
                           ->check(notEmpty("a camera path file"));
-  for (const char* camera : {"--orbit", "--eye", "--target", "--up", "--fov"})
+  for (const char* camera : {"--orbit", "--view", "--eye", "--target", "--up", "--fov"})
     path->excludes(app.get_option(camera));
   CLI::Option* converge = app.add_flag("--converge", o.converge,
                                        "render until the working set is complete and nothing is pending");

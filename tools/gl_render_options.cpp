@@ -65,13 +65,24 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   CLI::Option* orbit =
       addTripleOption(app, "--orbit", o.orbit,
                       "AZ,EL,DIST: degrees, degrees, bounding-sphere radii about z (default 30,20,3)");
-  // One way to place the camera: an orbit or eye and target (and up); a camera ignored would be a surprise.
+  std::vector<std::pair<std::string, AnatomicalView>> views;
+  for (const auto& [name, view] : kAnatomicalViewNames) views.emplace_back(name, view);
+  CLI::Option* view = addEnumOption(
+      app, "--view", o.view, views,
+      "the eye on that side of the patient (LPS world: anterior toward -y, left toward +x, superior toward "
+      "+z), looking at the volume's center from 3 bounding-sphere radii; superior up, anterior up from above "
+      "and below (instead of --orbit)");
+  orbit->excludes(view);
+  // One way to place the camera: an orbit, a named view, or eye and target (and up); a camera ignored would
+  // be a surprise.
   for (CLI::Option* camera : {addTripleOption(app, "--eye", o.eye, "camera position X,Y,Z (world units)"),
                               addTripleOption(app, "--target", o.target, "point looked at X,Y,Z"),
                               addTripleOption(app, "--up", o.up,
                                               "up vector X,Y,Z with --eye and --target (default 0,0,1; 0,1,0 "
-                                              "when looking along z)")})
+                                              "when looking along z)")}) {
     orbit->excludes(camera);
+    view->excludes(camera);
+  }
   app.add_option("--fov", o.fov, "vertical field of view, degrees")
       ->check(finiteIn(1.0, 179.0))
       ->capture_default_str();
@@ -255,6 +266,8 @@ std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
   if (const std::optional<Camera> camera = eyeTargetCamera(o)) return *camera;
+  if (o.view)
+    return anatomicalViewCamera(*o.view, kDefaultOrbit[2], glm::dvec3(0.0), info.volume.worldMax(), o.fov);
   const glm::dvec3 orbit = orbitOf(o);
   return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), info.volume.worldMax(), o.fov);
 }

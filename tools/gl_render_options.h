@@ -65,7 +65,8 @@ std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
                                              const VolumeReadArgs& read, bool quiet, const std::string& who);
 
-// The camera of --eye/--target/--up/--fov, else of --orbit (default kDefaultOrbit) around the volume box.
+// The camera of --eye/--target/--up/--fov, else of --view, else of --orbit (default kDefaultOrbit) around the
+// volume box.
 // Throws UsageError as checkSceneOptions.
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);
 

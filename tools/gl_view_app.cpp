@@ -1,6 +1,7 @@
 #include "tools/gl_view_app.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -155,6 +156,8 @@ class Viewer {
   void drawCropControls(glm::u32vec3 dims);
   void drawCutOutlines(const VolumeInfo& volume);
   void drawClipPlaneControls(const VolumeInfo& volume);
+  // --view's camera at the current distance and field of view; "reset camera" still returns to the start.
+  void showAnatomicalView(AnatomicalView view);
 
   const ViewOptions& o_;
   // The inputs and every output of the command line and script, checked before the window opened: what the
@@ -259,7 +262,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   setTransferFunction(o.tf);  // a bad --tf is an error in either mode, as in render
 
   const Camera initial = chooseCamera(o, info);
-  if (!o.eye.empty()) {
+  if (!o.eye.empty() || o.view) {
     controller_ = OrbitController::fromCamera(glm::dvec3(0.0), boxMax_, initial);
   } else {
     const glm::dvec3 orbit =
@@ -613,6 +616,9 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::ResetCamera:
       controller_->reset();
       break;
+    case ViewEventKind::SetView:
+      showAnatomicalView(e.view);
+      break;
     case ViewEventKind::WaitConverged:
     case ViewEventKind::Quit:  // the script ends: runScript skips the rest
       break;
@@ -673,6 +679,11 @@ void Viewer::drawCropControls(glm::u32vec3 dims) {
     }
   }
   if (ImGui::Button("whole volume")) params_.crop = CropBox{};
+}
+
+void Viewer::showAnatomicalView(AnatomicalView view) {
+  const OrbitState& s = controller_->state();
+  controller_->lookFrom(anatomicalViewCamera(view, s.distance, glm::dvec3(0.0), boxMax_, s.fovYDeg));
 }
 
 // --clip-plane as the direction of its normal (azimuth about +z from +x, elevation, degrees, as --orbit's)
@@ -843,6 +854,13 @@ void Viewer::drawPanels() {
     const OrbitState& s = controller_->state();
     ImGui::Text("orbit %.1f, %.1f, %.2f", s.azimuthDeg, s.elevationDeg, s.distance);
     if (ImGui::Button("reset camera")) controller_->reset();
+    // --view's sides of the patient, at the current distance.
+    for (const auto& [name, view] : kAnatomicalViewNames) {
+      ImGui::SameLine();
+      const char label[] = {char(std::toupper(static_cast<unsigned char>(name[0]))), '\0'};
+      if (ImGui::Button(label)) showAnatomicalView(view);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s view (--view %s)", name, name);
+    }
     ImGui::InputText("path##camera", &cameraPath_);
     if (ImGui::Button("save camera")) {
       try {

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/float_image.h"
+#include "core/orientation.h"
 #include "core/render_params.h"
 #include "occlusion/visibility_tracker.h"
 #include "reference/image_io.h"
@@ -29,6 +30,7 @@ struct RenderOptions {
   std::vector<double> tfRange;  // --tf-range: LO,HI in data units; empty: the transfer function as placed
   std::vector<uint32_t> size{512, 512};
   std::vector<double> orbit, eye, target, up;  // up: empty for defaultUp
+  std::optional<AnatomicalView> view;          // --view: a named side of the patient, instead of an orbit
   double fov = 40.0;
   std::vector<double> background{0.0, 0.0, 0.0};
   std::vector<std::string> crop;  // --crop: three voxel ranges "A:B" (cli_values.h); empty: the whole volume

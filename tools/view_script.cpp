@@ -261,6 +261,20 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.kind = ViewEventKind::SaveCamera;
       e.file = r.text("file");
       add(e);
+    } else if (kind == "set_view") {
+      e.kind = ViewEventKind::SetView;
+      const std::string view = r.text("view");
+      std::vector<std::string> names;
+      bool known = false;
+      for (const auto& [name, value] : kAnatomicalViewNames) {
+        names.emplace_back(name);
+        if (name == view) {
+          e.view = value;
+          known = true;
+        }
+      }
+      if (!known) r.fail("\"view\" must be " + alternatives(names) + ", got \"" + view + "\"");
+      add(e);
     } else if (kind == "reset_camera") {
       e.kind = ViewEventKind::ResetCamera;
       add(e);
@@ -274,7 +288,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
           "set_iso, set_mode, set_crop, set_clip_plane, set_caps, load_tf, set_tf_range, screenshot, "
-          "save_camera, "
+          "save_camera, set_view, "
           "reset_camera, "
           "wait_converged or "
           "quit");

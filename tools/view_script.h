@@ -16,6 +16,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "core/orientation.h"
 #include "core/render_params.h"
 
 namespace ropecast::tools {
@@ -37,6 +38,7 @@ enum class ViewEventKind {
   Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
   SaveCamera,     // file: appended to as a camera path `render --path` reads
   ResetCamera,    // back to the starting view
+  SetView,        // view: a named side of the patient, as --view (at the current distance)
   WaitConverged,  // nothing but waiting
   Quit,
 };
@@ -57,6 +59,7 @@ struct ViewEvent {
   std::vector<std::string> crop;
   std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
   bool caps = true;
+  AnatomicalView view = AnatomicalView::Anterior;
   glm::dvec2 range{0.0};  // LO < HI, data units
   std::string file;
   bool panels = false;

@@ -69,6 +69,30 @@ fi
 "$ropecast" render --size 64x56 --iso 100 -q "$dir/w.rcast" --orbit 200,-35,2.5 --reference -o "$dir/wr.png" || fail "render w --reference"
 same "--reference on turned axes = the world's" "$dir/wr.png" "$dir/tr.png"
 
+# Named views: the sides of the patient in the world (LPS), whatever the file's axes. Left and anterior are
+# orbits about +z (eye toward +x; toward -y); superior looks down with anterior (-y) up; a turned volume's
+# named view is the world one's.
+for v in w t; do
+  for view in left anterior superior; do
+    "$ropecast" "${render[@]}" "$dir/$v.rcast" --view $view -o "$dir/${v}_$view.png" 2> "$dir/err.txt" ||
+      fail "render $v --view $view: $(cat "$dir/err.txt")"
+  done
+done
+"$ropecast" "${render[@]}" "$dir/w.rcast" --orbit 0,0,3 -o "$dir/w_orbit_left.png" || fail "render w --orbit 0,0,3"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --orbit -90,0,3 -o "$dir/w_orbit_anterior.png" || fail "render w --orbit -90,0,3"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --eye 10,8,$(python3 -c 'print(6 + 3 * 0.5 * (20**2 + 16**2 + 12**2) ** 0.5)') \
+  --target 10,8,6 --up 0,-1,0 -o "$dir/w_eye_superior.png" || fail "render w from above"
+same "--view left = --orbit 0,0,3" "$dir/w_left.png" "$dir/w_orbit_left.png"
+same "--view anterior = --orbit -90,0,3" "$dir/w_anterior.png" "$dir/w_orbit_anterior.png"
+same "--view superior = from above, anterior up" "$dir/w_superior.png" "$dir/w_eye_superior.png"
+for view in left anterior superior; do same "--view $view of turned axes = the world's" "$dir/w_$view.png" "$dir/t_$view.png"; done
+if "$ropecast" compare "$dir/w_left.png" "$dir/w_anterior.png" --min-psnr 40 > /dev/null 2>&1; then
+  fail "left and anterior views draw the same image: the test shows nothing"
+fi
+"$ropecast" "${render[@]}" "$dir/w.rcast" --view anterior --orbit 0,0,3 -o "$dir/x.png" 2> "$dir/err.txt" &&
+  fail "--view with --orbit accepted"
+grep -q -- "--orbit excludes --view" "$dir/err.txt" || fail "--view with --orbit: $(cat "$dir/err.txt")"
+
 # info: where the axes point, the file's and its store's.
 "$ropecast" info "$dir/m.nrrd" > "$dir/info.txt" || fail "info m.nrrd"
 grep -q "^axes       RPS, mirroring: a store keeps x reversed, as LPS$" "$dir/info.txt" || fail "info of the mirrored file: $(grep axes "$dir/info.txt")"

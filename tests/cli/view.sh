@@ -211,6 +211,20 @@ run "render --clip-plane --caps off" "$ropecast" render $vol --converge --clip-p
   -o "$dir/r5o.png"
 same "set_caps false = render --caps off" "$dir/v5o.png" "$dir/r5o.png"
 differs "the caps changed the view" "$dir/v5o.png" "$dir/v5.png"
+# set_view: the named side of the patient at the current distance, as render --view draws it; reset_camera
+# returns to the starting view.
+cat > "$dir/named.json" << JSON
+[{"event": "set_view", "view": "superior"}, {"event": "screenshot", "file": "$dir/v8.png"},
+ {"event": "reset_camera"}, {"event": "screenshot", "file": "$dir/v9.png"}]
+JSON
+run "view --script set_view" xview $vol --script "$dir/named.json"
+run "render --view superior" "$ropecast" render $vol --converge --view superior -o "$dir/r8.png"
+same "set_view superior = render --view superior" "$dir/v8.png" "$dir/r8.png"
+differs "the named view changed the view" "$dir/v8.png" "$dir/v0.png"
+same "reset_camera after set_view = the starting view" "$dir/v9.png" "$dir/v0.png"
+run "view --view left" xview $vol --view left --screenshot "$dir/v10.png"
+run "render --view left" "$ropecast" render $vol --converge --view left -o "$dir/r10.png"
+same "view --view left = render --view left" "$dir/v10.png" "$dir/r10.png"
 printf '[{"event": "set_crop", "crop": "0:60,:,:"}, {"event": "quit"}]' > "$dir/crop_out.json"
 xview $vol --script "$dir/crop_out.json" > /dev/null 2> "$dir/err.txt" && fail "set_crop past the volume: exit 0"
 grep -q "event 0 (set_crop): --crop: the x range 0:60 does not lie" "$dir/err.txt" ||

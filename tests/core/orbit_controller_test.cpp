@@ -128,5 +128,24 @@ TEST(OrbitController, AGivenCameraStaysExactUntilItMoves) {
   expectSameCamera(c.camera(), given);
 }
 
+// The viewer's named views: the controller moves to the camera exactly, orbits on from it, and reset still
+// returns to the starting view.
+TEST(OrbitController, LookingFromACameraKeepsTheHome) {
+  OrbitController c = defaultController();
+  Camera view;
+  view.eye = {32.0, 24.0, 120.0};
+  view.target = {32.0, 24.0, 16.0};
+  view.up = {0.0, -1.0, 0.0};
+  view.fovYDeg = 40.0;
+  c.lookFrom(view);
+  expectSameCamera(c.camera(), view);
+  EXPECT_FALSE(c.renderOrbit());  // no orbit of render's says this camera's up
+  EXPECT_NEAR(c.state().distance * c.radius(), 104.0, 1e-9);
+  c.rotate(4.0, 0.0);
+  EXPECT_EQ(c.camera().target, view.target);
+  c.reset();
+  expectSameCamera(c.camera(), defaultController().camera());
+}
+
 }  // namespace
 }  // namespace ropecast

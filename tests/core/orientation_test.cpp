@@ -79,5 +79,36 @@ TEST(Orientation, AWorldCameraSeesTheTurnedVolumeAsTheVolumesAxesSeeIt) {
   EXPECT_EQ(clipPlaneInVolume(worldPlane, AxisDirections(1.0), center), worldPlane);
 }
 
+// The named views: the eye on that side of the patient (LPS), superior up, anterior up from above and below;
+// seen from the front and from below, the patient's right lies on the image's left, as radiology shows it.
+TEST(Orientation, NamedViewsLookFromTheirSideOfThePatient) {
+  const glm::dvec3 boxMin(0.0), boxMax(40.0, 30.0, 20.0), center = 0.5 * boxMax;
+  const double radius = 0.5 * glm::length(boxMax);
+  struct Expected {
+    AnatomicalView view;
+    glm::dvec3 side, up, imageRight;
+  };
+  for (const Expected& e : {Expected{AnatomicalView::Anterior, {0, -1, 0}, {0, 0, 1}, {1, 0, 0}},
+                            Expected{AnatomicalView::Posterior, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}},
+                            Expected{AnatomicalView::Left, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+                            Expected{AnatomicalView::Right, {-1, 0, 0}, {0, 0, 1}, {0, -1, 0}},
+                            Expected{AnatomicalView::Superior, {0, 0, 1}, {0, -1, 0}, {-1, 0, 0}},
+                            Expected{AnatomicalView::Inferior, {0, 0, -1}, {0, -1, 0}, {1, 0, 0}}}) {
+    const Camera c = anatomicalViewCamera(e.view, 2.5, boxMin, boxMax, 35.0);
+    const std::string what = "view " + std::to_string(int(e.view));
+    EXPECT_EQ(cameraProblem(c), "") << what;
+    EXPECT_EQ(c.target, center) << what;
+    EXPECT_NEAR(glm::length(c.eye - center - 2.5 * radius * e.side), 0.0, 1e-12) << what;
+    EXPECT_EQ(c.fovYDeg, 35.0) << what;
+    const CameraFrame f = cameraFrame(c);
+    EXPECT_NEAR(glm::length(f.up - e.up), 0.0, 1e-12) << what;
+    EXPECT_NEAR(glm::length(f.right - e.imageRight), 0.0, 1e-12) << what;
+  }
+  // The names, in the order the options list them.
+  ASSERT_EQ(std::size(kAnatomicalViewNames), 6u);
+  EXPECT_STREQ(kAnatomicalViewNames[0].first, "anterior");
+  EXPECT_EQ(kAnatomicalViewNames[5].second, AnatomicalView::Inferior);
+}
+
 }  // namespace
 }  // namespace ropecast

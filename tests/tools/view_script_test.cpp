@@ -52,9 +52,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, -1]}, {"event": "set_clip_plane", "plane": []},
           {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"},
           {"event": "set_tf_range", "range": [-160, 240]}, {"event": "set_caps", "caps": false},
-          {"event": "set_caps", "caps": true}])",
+          {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"}])",
       "t");
-  ASSERT_EQ(s.events.size(), 16u);
+  ASSERT_EQ(s.events.size(), 17u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -76,6 +76,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[14].kind, ViewEventKind::SetCaps);
   EXPECT_FALSE(s.events[14].caps);
   EXPECT_TRUE(s.events[15].caps);
+  EXPECT_EQ(s.events[16].kind, ViewEventKind::SetView);
+  EXPECT_EQ(s.events[16].view, AnatomicalView::Superior);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -113,6 +115,11 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
                   "event 0 (set_tf_range): \"range\" must be [lo, hi] in data units, lo < hi");
   expectRefused(R"([{"event": "set_clip_plane"}])", "\"plane\" is required");
   expectRefused(R"([{"event": "set_caps"}])", "event 0 (set_caps): \"caps\" is required");
+  expectRefused(
+      R"([{"event": "set_view", "view": "front"}])",
+      "event 0 (set_view): \"view\" must be anterior, posterior, left, right, superior or inferior, got "
+      "\"front\"");
+  expectRefused(R"([{"event": "set_view"}])", "event 0 (set_view): \"view\" is required");
   expectRefused(R"([{"event": "set_caps", "caps": "off"}])", "\"caps\" must be true or false");
 }
 
