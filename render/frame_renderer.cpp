@@ -35,8 +35,8 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
   h = h * 0x9E3779B97F4A7C15ull ^ uint64_t(request.params.mode);
   if (request.params.mode == RenderMode::Iso) {
     h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(request.params.isoValue);
-    h = h * 0x9E3779B97F4A7C15ull ^
-        uint64_t(request.params.isoCaps);  // caps stop rays the open surface lets by
+    // Caps stop rays that the open surface lets by.
+    h = h * 0x9E3779B97F4A7C15ull ^ uint64_t(request.params.isoCaps);
   }
   const ClipPlane& plane = request.params.clipPlane;
   for (const glm::dvec3& v : {request.params.crop.lo, request.params.crop.hi, plane.point, plane.normal})
@@ -498,6 +498,15 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
   // nothing and casts no feedback (the answers could only repeat what is held).
   const bool redraw = redrawsConvergedImage(request, plan, cutHash, occlusion, feedback);
   const bool keep = keepsLastImage(request, plan, redraw);
+  // With caps, the cut's empty leaves wholly inside the isosurface (LeafKind::Solid), counted for a kept
+  // frame too, as the rest of its cut.
+  std::function<bool(const PlannedLeaf&)> isSolid;
+  if (const BrickSourceInfo& info = source_.info(); capBoundsOf(request.params, info.volume.dims) != 0) {
+    isSolid = [this, isoStored = info.mapping.toStored(request.params.isoValue),
+               sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing)](
+                  const PlannedLeaf& leaf) { return isSolidLeaf(leaf, source_, isoStored, sampled); };
+    stats.leavesSolid = uint64_t(std::count_if(plan.leaves.begin(), plan.leaves.end(), isSolid));
+  }
   keptConvergedImage_ = keep && redraw;
   framesKeptWhileReading_ = keep && !redraw ? framesKeptWhileReading_ + 1 : 0;
   if (keep) {
@@ -528,16 +537,7 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
 
   // Pass 3, build index: the rope octree over the cut, into the index texture.
   const auto indexStart = SteadyClock::now();
-  std::function<bool(const PlannedLeaf&)> isSolid;
-  if (const BrickSourceInfo& info = source_.info(); capBoundsOf(request.params, info.volume.dims) != 0) {
-    isSolid = [this, isoStored = info.mapping.toStored(request.params.isoValue),
-               sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing)](
-                  const PlannedLeaf& leaf) { return isSolidLeaf(leaf, source_, isoStored, sampled); };
-  }
   cut_ = cutOf(plan.leaves, isSolid);
-  stats.leavesSolid = uint64_t(std::count_if(cut_.leaves.begin(), cut_.leaves.end(), [](const CutLeaf& leaf) {
-    return leaf.kind == LeafKind::Solid;
-  }));
   uploadIndex(cut_, index_);
   const double indexMs = millisecondsSince(indexStart);
 

@@ -11,5 +11,6 @@ def load(work, name):
             "frames": len(rows), "working": rows[-1]["working_set_bricks"],
             "uploaded": sum(r["bricks_uploaded"] for r in rows),
             "read": sum(r.get("bytes_read", 0) for r in rows) / MiB,
-            "poolFull": rows[-1]["leaves_pool_full"], "converged": rows[-1]["converged"],
+            "poolFull": rows[-1]["leaves_pool_full"], "solid": rows[-1].get("leaves_solid", 0),
+            "converged": rows[-1]["converged"],
             "queries": sum(r.get("occlusion_queries", 0) for r in rows)}

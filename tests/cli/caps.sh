@@ -32,7 +32,7 @@ render "${sphere[@]}" "${cube[@]}" --caps off --reference -o "$dir/cube_open_ref
 render "${sphere[@]}" "${cube[@]}" --backend multipass -o "$dir/cube_multipass.png"
 render "${sphere[@]}" "${cube[@]}" --backend compute -o "$dir/cube_compute.png"
 render "${sphere[@]}" "${cube[@]}" --backend brute -o "$dir/cube_brute.png"
-render "${sphere[@]}" "${cube[@]}" --converge -o "$dir/cube_converge.png"
+render "${sphere[@]}" "${cube[@]}" --converge -o "$dir/cube_converge.png" --stats "$dir/converge.jsonl"
 same "caps: the octree's image is the reference's" "$dir/cube.png" "$dir/cube_ref.png"
 same "caps off: the octree's image is the reference's" "$dir/cube_open.png" "$dir/cube_open_ref.png"
 same "caps: multi-pass" "$dir/cube.png" "$dir/cube_multipass.png"
@@ -42,6 +42,9 @@ same "caps: --converge" "$dir/cube.png" "$dir/cube_converge.png"
 differ "caps off opens the surface" "$dir/cube.png" "$dir/cube_open.png"
 solid=$(grep -o '"leaves_solid":[0-9]*' "$dir/cube.jsonl" | cut -d: -f2)
 [ "${solid:-0}" -gt 0 ] && echo "ok   leaves_solid $solid" || fail "no solid leaves: $(cat "$dir/cube.jsonl")"
+# The converged frame, kept rather than drawn again, counts its cut's solid leaves too.
+tail -n 1 "$dir/converge.jsonl" | grep -q "\"leaves_solid\":$solid," && echo "ok   leaves_solid of the converged frame" ||
+  fail "leaves_solid of the converged frame: $(tail -n 1 "$dir/converge.jsonl")"
 render "${sphere[@]}" "${cube[@]}" --caps off --stats "$dir/open.jsonl" -o "$dir/x.png"
 grep -q '"leaves_solid":0' "$dir/open.jsonl" && echo "ok   no solid leaves without caps" ||
   fail "solid leaves without caps: $(cat "$dir/open.jsonl")"
