@@ -1,6 +1,7 @@
 // The GL ray caster against its CPU mirror (reference/cpu_raycaster renderMirror: the same cut, the same
 // bricks, the same sampling in double) at >= 45 dB PSNR, for iso, DVR, MIP and MinIP, through both entry
-// points; and the isosurface of a sphere against its analytic silhouette.
+// points, whole, cut by a crop box and a clip plane, and with the isosurface's caps on the cuts; and the
+// isosurface of a sphere against its analytic silhouette.
 #include <cmath>
 #include <limits>
 
@@ -9,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "core/transfer_function.h"
 #include "reference/cpu_raycaster.h"
@@ -43,6 +45,21 @@ DepthAgreement compareDepth(const FloatImage& a, const FloatImage& b, double tol
   }
   const double n = double(a.pixels.size());
   return {double(apart) / n, double(mismatch) / n};
+}
+
+// The world points the pixels of a depth image hit, where it is finite. Depth is along the camera axis: the
+// hit lies at t = depth / dot(dir, forward) on the pixel's ray.
+std::vector<glm::dvec3> hitPoints(const FloatImage& depth, const RaycastFrame& frame) {
+  const glm::dvec3 forward = cameraFrame(frame.camera).forward;
+  std::vector<glm::dvec3> hits;
+  for (uint32_t py = 0; py < frame.height; ++py)
+    for (uint32_t px = 0; px < frame.width; ++px) {
+      const float d = depth.pixels[size_t(py) * frame.width + px];
+      if (!std::isfinite(d)) continue;
+      const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
+      hits.push_back(ray.origin + ray.dir * (double(d) / glm::dot(ray.dir, forward)));
+    }
+  return hits;
 }
 
 // A non-cubic 16-bit volume of anisotropic spacing whose waves cross the isovalue 0.6 many times, in bricks
@@ -204,21 +221,13 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         EXPECT_LE(d.coverageMismatch, 0.01) << what;
         EXPECT_LT(test::psnrDb(glColor, whole, 4), 30.0) << what << ": the crop changed nothing";
 
-        // Depth is along the camera axis: the hit is at t = depth / dot(dir, forward) on the pixel's ray.
-        const glm::dvec3 forward = cameraFrame(frame.camera).forward;
-        int hits = 0, outside = 0;
-        for (uint32_t py = 0; py < frame.height; ++py)
-          for (uint32_t px = 0; px < frame.width; ++px) {
-            const float depth = glDepth.pixels[size_t(py) * frame.width + px];
-            if (!std::isfinite(depth)) continue;
-            const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
-            const glm::dvec3 hit = ray.origin + ray.dir * (double(depth) / glm::dot(ray.dir, forward));
-            ++hits;
-            outside += glm::any(glm::lessThan(hit, box.lo - 0.05)) ||
-                       glm::any(glm::greaterThan(hit, box.hi + 0.05)) ||
-                       (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05);
-          }
-        EXPECT_GT(hits, 300) << what;
+        const std::vector<glm::dvec3> hits = hitPoints(glDepth, frame);
+        int outside = 0;
+        for (const glm::dvec3& hit : hits)
+          outside += glm::any(glm::lessThan(hit, box.lo - 0.05)) ||
+                     glm::any(glm::greaterThan(hit, box.hi + 0.05)) ||
+                     (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05);
+        EXPECT_GT(hits.size(), 300u) << what;
         EXPECT_EQ(outside, 0) << what;
       }
     }
@@ -279,20 +288,15 @@ TEST(RaycastVsCpu, CapsCloseTheSurfaceOnTheCutsAsTheMirrorDoes) {
       EXPECT_LT(test::psnrDb(glColor, openColor, 4), 30.0) << what << ": the caps changed nothing";
 
       // The caps: many hits on the cut, none of them outside the ball.
-      const glm::dvec3 forward = cameraFrame(frame.camera).forward;
       int onCut = 0;
-      for (uint32_t py = 0; py < frame.height; ++py)
-        for (uint32_t px = 0; px < frame.width; ++px) {
-          const float depth = glDepth.pixels[size_t(py) * frame.width + px];
-          if (!std::isfinite(depth)) continue;
-          const Ray ray = pixelRay(frame.camera, frame.width, frame.height, px, py);
-          const glm::dvec3 hit = ray.origin + ray.dir * (double(depth) / glm::dot(ray.dir, forward));
-          const double offCut = usePlane ? std::abs(glm::dot(plane.normal, hit - plane.point))
-                                         : std::abs(hit.y - crop.hi.y * spec.spacing.y);
-          if (offCut > 0.05) continue;
-          ++onCut;
-          EXPECT_LE(glm::length(hit - center), 16.0 * 1.05) << what << " pixel " << px << "," << py;
-        }
+      for (const glm::dvec3& hit : hitPoints(glDepth, frame)) {
+        const double offCut = usePlane ? std::abs(glm::dot(plane.normal, hit - plane.point))
+                                       : std::abs(hit.y - crop.hi.y * spec.spacing.y);
+        if (offCut > 0.05) continue;
+        ++onCut;
+        EXPECT_LE(glm::length(hit - center), 16.0 * 1.05)
+            << what << " at " << hit.x << "," << hit.y << "," << hit.z;
+      }
       EXPECT_GT(onCut, 300) << what;
     }
 }
