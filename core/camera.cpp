@@ -79,9 +79,10 @@ Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double
   return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
 }
 
-bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1) {
+bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1, int* entry) {
   t0 = -std::numeric_limits<double>::infinity();
   t1 = std::numeric_limits<double>::infinity();
+  int bound = kEntryNone;
   for (int a = 0; a < 3; ++a) {
     if (ray.dir[a] == 0.0) {
       if (ray.origin[a] < box.lo[a] || ray.origin[a] > box.hi[a]) return false;
@@ -89,55 +90,38 @@ bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1) {
     }
     double tn = (box.lo[a] - ray.origin[a]) / ray.dir[a], tf = (box.hi[a] - ray.origin[a]) / ray.dir[a];
     if (tn > tf) std::swap(tn, tf);
-    t0 = std::max(t0, tn);
+    if (tn > t0) {
+      t0 = tn;
+      bound = ray.dir[a] > 0.0 ? a : 3 + a;
+    }
     t1 = std::min(t1, tf);
   }
+  if (entry) *entry = t0 > 0.0 ? bound : kEntryNone;
   t0 = std::max(t0, 0.0);
   return t0 < t1;
 }
 
-bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1) {
+bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1, int* entry) {
   if (normal == glm::dvec3(0.0)) return t0 < t1;
   const double along = glm::dot(normal, ray.dir);
   const double above = glm::dot(normal, ray.origin) - offset;  // >= 0: the origin is kept
   if (along == 0.0) return above >= 0.0 && t0 < t1;
   const double t = -above / along;
-  if (along > 0.0)
-    t0 = std::max(t0, t);
-  else
+  if (along > 0.0 && t > t0) {
+    t0 = t;
+    if (entry) *entry = kEntryPlane;
+  } else if (along < 0.0) {
     t1 = std::min(t1, t);
+  }
   return t0 < t1;
 }
 
 int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double offset) {
-  double t0 = -std::numeric_limits<double>::infinity(), t1 = std::numeric_limits<double>::infinity();
+  double t0 = 0.0, t1 = 0.0;
   int bound = kEntryNone;
-  for (int a = 0; a < 3; ++a) {
-    if (ray.dir[a] == 0.0) {
-      if (ray.origin[a] < box.lo[a] || ray.origin[a] > box.hi[a]) return kEntryNone;
-      continue;
-    }
-    const double tLo = (box.lo[a] - ray.origin[a]) / ray.dir[a],
-                 tHi = (box.hi[a] - ray.origin[a]) / ray.dir[a];
-    const double tNear = std::min(tLo, tHi);
-    if (tNear > t0) {
-      t0 = tNear;
-      bound = ray.dir[a] > 0.0 ? a : 3 + a;
-    }
-    t1 = std::min(t1, std::max(tLo, tHi));
-  }
-  if (normal != glm::dvec3(0.0)) {
-    const double along = glm::dot(normal, ray.dir);
-    const double above = glm::dot(normal, ray.origin) - offset;
-    if (along == 0.0 && above < 0.0) return kEntryNone;
-    if (along > 0.0 && -above / along > t0) {
-      t0 = -above / along;
-      bound = kEntryPlane;
-    } else if (along < 0.0) {
-      t1 = std::min(t1, -above / along);
-    }
-  }
-  return t0 > 0.0 && t0 < t1 ? bound : kEntryNone;
+  return clipToBox(ray, box, t0, t1, &bound) && clipToHalfSpace(ray, normal, offset, t0, t1, &bound)
+             ? bound
+             : kEntryNone;
 }
 
 glm::dvec3 boundInwardNormal(int bound, glm::dvec3 planeNormal) {

@@ -56,23 +56,27 @@ CameraFrame cameraFrame(const Camera& c);
 // The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
 Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
 
+// The bounds of a box and a half-space a ray may enter their common part through (entryBound).
+inline constexpr int kEntryPlane = 6;
+inline constexpr int kEntryNone = -1;
+
 // The ray's parameter interval [t0, t1] inside the box (slab test), t0 clamped to 0 (the eye may be inside);
 // false on a miss. Whatever draws the volume clips its rays with the box its samples lie in: the volume box
 // [0, n s] cut to --crop (sampledWorldBox, core/render_params.h).
-bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1);
+// With `entry`, notes the bound the ray enters through (entryBound's numbers; kEntryNone from inside).
+bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1, int* entry = nullptr);
 inline bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1) {
   return clipToBox(ray, WorldBox{glm::dvec3(0.0), boxMax}, t0, t1);
 }
 // Narrows [t0, t1] to the part of the ray where dot(normal, x) >= offset (--clip-plane); false when nothing
-// is left. A zero normal keeps everything.
-bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1);
+// is left. A zero normal keeps everything. With `entry`, notes kEntryPlane where the plane moves t0 up.
+bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1,
+                     int* entry = nullptr);
 
 // The bound of the region clipToBox and clipToHalfSpace keep that a ray enters it through: 0, 1, 2 the box's
 // lower face on that axis, 3, 4, 5 its upper face, kEntryPlane the half-space's plane; kEntryNone when the
 // ray starts inside the region (t0 clamped to 0) or misses it. A tie goes to the box, and among its faces to
 // the lower axis, as shaders/sampling.glsl cameraRay decides.
-inline constexpr int kEntryPlane = 6;
-inline constexpr int kEntryNone = -1;
 int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double offset);
 // The unit normal of bound `bound` (not kEntryNone) pointing into the region; `planeNormal` is the
 // half-space's.

@@ -58,9 +58,10 @@ struct FrameConstants {
 };
 
 // The ray's part inside the crop box and on the kept side of the clip plane (docs/RENDERING.md "Rays").
-bool clipToSampled(const FrameConstants& fc, const Ray& ray, double& t0, double& t1) {
-  return clipToBox(ray, fc.sampled, t0, t1) &&
-         clipToHalfSpace(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1);
+// `entry`: the bound it enters through (core/camera.h entryBound).
+bool clipToSampled(const FrameConstants& fc, const Ray& ray, double& t0, double& t1, int& entry) {
+  return clipToBox(ray, fc.sampled, t0, t1, &entry) &&
+         clipToHalfSpace(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1, &entry);
 }
 
 // Central differences with h_i = s_i * 2^L (docs/RENDERING.md "Isosurface").
@@ -78,14 +79,11 @@ glm::dvec3 gradientAt(const Sampler& s, glm::dvec3 x, glm::dvec3 cell) {
 // The front-to-back ray loop shared by the mirror and the reference: fed the ray's data segments in order.
 class RayIntegrator {
  public:
-  RayIntegrator(const FrameConstants& fc, const Ray& ray, double t0, double t1)
+  // `entry`: the bound the ray entered the drawn part through (clipToSampled).
+  RayIntegrator(const FrameConstants& fc, const Ray& ray, double t0, double t1, int entry)
       : fc_(fc), ray_(ray), t0_(t0), t1_(t1) {
-    if (fc.capBounds != 0) {
-      const ClipPlane& plane = fc.params.clipPlane;
-      const int bound = entryBound(ray, fc.sampled, plane.normal, plane.offset());
-      if (bound != kEntryNone && (fc.capBounds & (1u << bound)) != 0)
-        capNormal_ = boundInwardNormal(bound, plane.normal);
-    }
+    if (entry != kEntryNone && (fc.capBounds & (1u << entry)) != 0)
+      capNormal_ = boundInwardNormal(entry, fc.params.clipPlane.normal);
   }
 
   // Isosurface caps: whether the ray entered through a capped cut, and has taken no sample yet.
@@ -97,13 +95,8 @@ class RayIntegrator {
   // ray is finished.
   bool solidLeaf(double tEnter, double tExit, uint32_t level, bool fromEntry) {
     if (!capsNextSample()) return !ended_;
-    const double dt = fc_.params.stepVoxels * std::ldexp(1.0, int(level)) * fc_.minSpacing;
-    double k = 0.0;
-    if (!fromEntry) {
-      k = std::ceil((tEnter - t0_) / dt);
-      if (t0_ + k * dt < tEnter) k += 1.0;
-    }
-    const double t = t0_ + k * dt;
+    const double dt = levelStep(level);
+    const double t = t0_ + firstSampleIndex(tEnter, dt, fromEntry) * dt;
     if (t < std::min(tExit, t1_)) shadeCap(t);
     return !ended_;
   }
@@ -116,15 +109,10 @@ class RayIntegrator {
   bool march(double tEnter, double tExit, uint32_t level, const Sampler& sampler, bool fromEntry,
              MirrorLeafVisit* visit = nullptr) {
     const double levelScale = std::ldexp(1.0, int(level));
-    const double dt = fc_.params.stepVoxels * levelScale * fc_.minSpacing;
+    const double dt = levelStep(level);
     const glm::dvec3 cell = fc_.spacing * levelScale;
     const double tStop = std::min(tExit, t1_);
-    // Samples t = t0 + k dt with tEnter <= t: the grid is anchored at the volume entry.
-    double k = 0.0;
-    if (!fromEntry) {
-      k = std::ceil((tEnter - t0_) / dt);
-      if (t0_ + k * dt < tEnter) k += 1.0;
-    }
+    double k = firstSampleIndex(tEnter, dt, fromEntry);
     if (visit) {
       visit->dt = dt;
       visit->kBegin = k;
@@ -196,6 +184,20 @@ class RayIntegrator {
       if constexpr (std::is_same_v<Sampler, BrickSampler>) before_ = Before{sampler, tStop, cell};
     }
     return !ended_;
+  }
+
+  // The sample step at level L: dt = step 2^L min(s).
+  double levelStep(uint32_t level) const {
+    return fc_.params.stepVoxels * std::ldexp(1.0, int(level)) * fc_.minSpacing;
+  }
+
+  // The first k of a leaf entered at tEnter with t = t0 + k dt >= tEnter: the grid is anchored at the volume
+  // entry (shaders/sampling.glsl firstSampleIndex). The ray's first leaf starts at k = 0.
+  double firstSampleIndex(double tEnter, double dt, bool fromEntry) const {
+    if (fromEntry) return 0.0;
+    double k = std::ceil((tEnter - t0_) / dt);
+    if (t0_ + k * dt < tEnter) k += 1.0;
+    return k;
   }
 
   // Traced rays: the sample of its leaf's visit at which the ray ended.
@@ -449,7 +451,8 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
     double t0, t1;
-    if (!clipToSampled(fc, ray, t0, t1)) return writeMiss(fc, rgba, depth);
+    int entry = kEntryNone;
+    if (!clipToSampled(fc, ray, t0, t1, entry)) return writeMiss(fc, rgba, depth);
     // The GPU clips in float: anchor the sample grid where the shader does.
     t0 = double(float(t0));
     t1 = double(float(t1));
@@ -459,7 +462,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
       trace->t0 = t0;
       trace->t1 = t1;
     }
-    RayIntegrator rayLoop(fc, ray, t0, t1);
+    RayIntegrator rayLoop(fc, ray, t0, t1, entry);
     if (trace) trace->capped = rayLoop.capped();
     size_t endLeaf = 0, endSample = 0;
     bool ended = false;
@@ -538,8 +541,9 @@ CpuImage ReferenceRenderer::render(const CpuRenderInput& worldInput) const {
   return renderRows(input, [&](uint32_t px, uint32_t py, float* rgba, float* depth) {
     const Ray ray = pixelRay(input.camera, input.width, input.height, px, py);
     double t0, t1;
-    if (!clipToSampled(fc, ray, t0, t1)) return writeMiss(fc, rgba, depth);
-    RayIntegrator rayLoop(fc, ray, t0, t1);
+    int entry = kEntryNone;
+    if (!clipToSampled(fc, ray, t0, t1, entry)) return writeMiss(fc, rgba, depth);
+    RayIntegrator rayLoop(fc, ray, t0, t1, entry);
     rayLoop.march(t0, t1, 0, sampler, true);
     rayLoop.finish(rgba, depth);
   });
