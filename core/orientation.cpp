@@ -1,6 +1,8 @@
 #include "core/orientation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -63,6 +65,20 @@ std::string orientationCode(const AxisDirections& d) {
   }
   if (!isAxisAligned(d)) code += " (oblique)";
   return code;
+}
+
+std::string directionLetters(glm::dvec3 worldDirection) {
+  static constexpr char kPositive[3] = {'L', 'P', 'S'}, kNegative[3] = {'R', 'A', 'I'};
+  const double length = glm::length(worldDirection);
+  if (!(length > 0.0) || !std::isfinite(length)) return "";
+  int order[3] = {0, 1, 2};
+  std::stable_sort(std::begin(order), std::end(order),
+                   [&](int a, int b) { return std::abs(worldDirection[a]) > std::abs(worldDirection[b]); });
+  std::string letters;
+  for (int axis : order)
+    if (std::abs(worldDirection[axis]) >= kDirectionLetterShare * length)
+      letters += worldDirection[axis] > 0.0 ? kPositive[axis] : kNegative[axis];
+  return letters;
 }
 
 Camera cameraInVolume(const Camera& world, const AxisDirections& d, glm::dvec3 center) {

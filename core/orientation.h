@@ -44,6 +44,12 @@ bool isAxisAligned(const AxisDirections& d);
 // Followed by " (oblique)" where an axis is not along a world axis.
 std::string orientationCode(const AxisDirections& d);
 
+// The side of the patient a world direction points to, as radiology viewers letter the edges of an image:
+// the LPS letter of each component whose size is at least kDirectionLetterShare of the direction's length,
+// the largest first (ties: x before y before z). "L" for +x, "RA" for (-1, -0.5, 0), "" for a zero vector.
+inline constexpr double kDirectionLetterShare = 0.3;
+std::string directionLetters(glm::dvec3 worldDirection);
+
 // A camera given in the world, as seen in the volume's unturned frame (world = center + d (p - center)):
 // eye and target moved, up turned. Exact for the identity.
 Camera cameraInVolume(const Camera& world, const AxisDirections& d, glm::dvec3 center);

@@ -142,6 +142,9 @@ class FrameRenderer {
   // The last frame's targets (row 0 at the top): RGBA and depth.
   FloatImage readColor() const { return lastMultipass_ ? multipass_.readColor() : raycast_.readColor(); }
   FloatImage readDepth() const { return lastMultipass_ ? multipass_.readDepth() : raycast_.readDepth(); }
+  float readDepthAt(uint32_t x, uint32_t y) const {
+    return lastMultipass_ ? multipass_.readDepthAt(x, y) : raycast_.readDepthAt(x, y);
+  }
 
   // The last frame's cut, as handed to the index (tests and the CPU mirror).
   const Cut& lastCut() const { return cut_; }

@@ -83,6 +83,7 @@ class MultipassPass {
   // As RaycastPass: RGBA (alpha = coverage) and world depth (+inf = miss), row 0 at the top.
   FloatImage readColor() const { return target_.readColor(); }
   FloatImage readDepth() const { return target_.readDepth(); }
+  float readDepthAt(uint32_t x, uint32_t y) const { return target_.readDepthAt(x, y); }
 
  private:
   enum class Stage { Block, Mark, Resolve };

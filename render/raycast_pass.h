@@ -128,6 +128,7 @@ class RaycastPass {
   // units along the camera axis, +inf = miss). Synchronous readback.
   FloatImage readColor() const { return target_.readColor(); }
   FloatImage readDepth() const { return target_.readDepth(); }
+  float readDepthAt(uint32_t x, uint32_t y) const { return target_.readDepthAt(x, y); }
   // The window depth (shaders/window_depth.glsl) where each ray stopped, over the tiles cast before the
   // schedule's callback (after the fragment entry point: all of them). Synchronous readback.
   FloatImage readStopDepth() const { return target_.readDepthBuffer(); }

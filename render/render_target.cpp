@@ -74,6 +74,18 @@ FloatImage RenderTarget::readDepth() const {
   return read(worldDepthTexture_, 1, "::readDepth");
 }
 
+float RenderTarget::readDepthAt(uint32_t x, uint32_t y) const {
+  if (x >= width_ || y >= height_)
+    throw Error(owner_ + "::readDepthAt: pixel " + std::to_string(x) + ", " + std::to_string(y) +
+                " lies outside the " + std::to_string(width_) + "x" + std::to_string(height_) + " target");
+  float depth = 0.0f;
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureSubImage(worldDepthTexture_, 0, GLint(x), GLint(y), 0, 1, 1, 1, GL_RED, GL_FLOAT, sizeof depth,
+                       &depth);
+  checkGlError((owner_ + "::readDepthAt").c_str());
+  return depth;
+}
+
 FloatImage RenderTarget::readDepthBuffer() const {
   if (!withDepthBuffer_) throw Error(owner_ + "::readDepthBuffer: this target has no depth buffer");
   FloatImage img{width_, height_, 1, std::vector<float>(size_t(width_) * height_)};

@@ -34,6 +34,8 @@ class RenderTarget {
   // The targets, row 0 as GL stores it (the passes draw image row r into framebuffer row r). Synchronous.
   FloatImage readColor() const;
   FloatImage readDepth() const;
+  // One pixel of readDepth's image (x, y < width, height), without reading the rest.
+  float readDepthAt(uint32_t x, uint32_t y) const;
   // The depth buffer's window depths in [0, 1]. Throws ropecast::Error for a target without one.
   FloatImage readDepthBuffer() const;
 

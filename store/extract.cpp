@@ -132,6 +132,16 @@ std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t lev
   return all;
 }
 
+double voxelValue(const BrickSource& source, uint32_t level, glm::u32vec3 voxel) {
+  const std::vector<std::byte> bytes = extractLevelBytes(source, level, {voxel, voxel + 1u});
+  double value = 0.0;
+  forSampleType(source.info().volume.type, [&](auto sample) {
+    std::memcpy(&sample, bytes.data(), sizeof(sample));
+    value = double(sample);
+  });
+  return value;
+}
+
 void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output,
                         const LevelRegion& region, std::string_view header) {
   TemporaryFile file(output, "extract");

@@ -43,6 +43,11 @@ void extractLevel(const BrickSource& source, uint32_t level,
 std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t level,
                                          const LevelRegion& region = {});
 
+// The value of one voxel of a level in data units, as extractLevel writes it (an integer type's exactly; a
+// float's as the store keeps it: quantized to 16 bits over its value range). Reads the one brick that holds
+// it. Throws UsageError as extractLevel, for a voxel outside the level.
+double voxelValue(const BrickSource& source, uint32_t level, glm::u32vec3 voxel);
+
 // Writes `header` (may be empty) and the region to `output` under a temporary name, renamed when complete.
 void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output,
                         const LevelRegion& region = {}, std::string_view header = {});

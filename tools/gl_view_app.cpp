@@ -37,12 +37,14 @@
 #include "render/frame_renderer.h"
 #include "render/step_pacer.h"
 #include "render/window_context.h"
+#include "store/extract.h"
 #include "store/value_histogram.h"
 #include "tools/cli_values.h"
 #include "tools/gl_view_tf_editor.h"
 #include "tools/output_guard.h"
 #include "tools/stats_writer.h"
 #include "tools/view_outline.h"
+#include "tools/view_probe.h"
 
 namespace ropecast::tools {
 
@@ -155,6 +157,11 @@ class Viewer {
   void drawPanels();
   void drawCropControls(glm::u32vec3 dims);
   void drawCutOutlines(const VolumeInfo& volume);
+  // The sides of the patient at the 3D view's edges and the world's axes in its lower left corner.
+  void drawOrientationMarks();
+  // The probe's line for the window point `pos` over the 3D view (view_probe.h), of the drawn frame; empty
+  // before the first frame and outside the view.
+  std::string probe(glm::dvec2 pos);
   void drawClipPlaneControls(const VolumeInfo& volume);
   // --view's camera at the current distance and field of view; "reset camera" still returns to the start.
   void showAnatomicalView(AnatomicalView view);
@@ -173,6 +180,14 @@ class Viewer {
 
   RenderParams params_;
   bool unfoldCutControls_ = false;  // open the crop box and clip plane controls at the next frame
+  bool orientationMarks_ = true;
+  // The probe's last answer, kept while the pointer stays on its pixel and no frame is drawn.
+  struct ProbeAnswer {
+    glm::u32vec2 pixel{0};
+    uint64_t frame = 0;
+    std::string text;
+  };
+  std::optional<ProbeAnswer> probeAnswer_;
   double voxelsPerPixel_ = 1.0;
   double targetFrameMs_ = 0.0;
   std::string tfSpec_;
@@ -509,7 +524,8 @@ void Viewer::runScript(bool converged) {
   while (nextEvent_ < script_->events.size()) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
-    const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged;
+    const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
+                       e.kind == ViewEventKind::Probe;
     if (waits && (!converged || changedHere)) {
       if (changedHere || ++waitedFrames_ <= o_.maxFrames) break;
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
@@ -525,7 +541,7 @@ void Viewer::runScript(bool converged) {
     if (e.kind == ViewEventKind::Quit) nextEvent_ = script_->events.size();
     // What the shown frame converged to may have changed: a wait after this event waits for a new frame.
     if (e.kind != ViewEventKind::Screenshot && e.kind != ViewEventKind::SaveCamera &&
-        e.kind != ViewEventKind::WaitConverged)
+        e.kind != ViewEventKind::WaitConverged && e.kind != ViewEventKind::Probe)
       changedHere = true;
     // One mouse move per frame, so that a scripted drag is seen moving as a hand-made one is; nothing after a
     // screenshot with panels until its frame is read back.
@@ -619,6 +635,13 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetView:
       showAnatomicalView(e.view);
       break;
+    case ViewEventKind::Probe: {
+      const std::string text = probe(e.pos);
+      std::printf("ropecast view: probe at %g, %g: %s\n", e.pos.x, e.pos.y,
+                  text.empty() ? "outside the 3D view" : text.c_str());
+      std::fflush(stdout);
+      break;
+    }
     case ViewEventKind::WaitConverged:
     case ViewEventKind::Quit:  // the script ends: runScript skips the rest
       break;
@@ -730,6 +753,72 @@ void Viewer::drawCutOutlines(const VolumeInfo& volume) {
   draw(planeOutline(camera, width, height, drawn, params_.clipPlane), IM_COL32(90, 200, 255, 220));
 }
 
+void Viewer::drawOrientationMarks() {
+  const Camera camera = controller_->camera();
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  ImDrawList* list = ImGui::GetBackgroundDrawList();
+  constexpr float kMargin = 8.0f;
+  // Text placed by its anchor: align 0 puts the point at the text's left (top), 1 at its right (bottom).
+  const auto text = [list](const std::string& s, ImVec2 at, ImVec2 align, ImU32 color) {
+    const ImVec2 size = ImGui::CalcTextSize(s.c_str());
+    list->AddText(ImVec2(at.x - align.x * size.x, at.y - align.y * size.y), color, s.c_str());
+  };
+  const ImU32 letterColor = IM_COL32(235, 235, 235, 230);
+  const EdgeLetters letters = edgeLetters(camera);
+  text(letters.left, ImVec2(kMargin, 0.5f * display.y), ImVec2(0.0f, 0.5f), letterColor);
+  text(letters.right, ImVec2(display.x - kMargin, 0.5f * display.y), ImVec2(1.0f, 0.5f), letterColor);
+  text(letters.top, ImVec2(0.5f * display.x, kMargin), ImVec2(0.5f, 0.0f), letterColor);
+  text(letters.bottom, ImVec2(0.5f * display.x, display.y - kMargin), ImVec2(0.5f, 1.0f), letterColor);
+
+  // The volume's axes, x red, y green, z blue, the farthest drawn first.
+  constexpr float kLength = 36.0f;
+  const ImVec2 origin(kMargin + kLength + 12.0f, display.y - kMargin - kLength - 12.0f);
+  const std::array<TriadAxis, 3> triad = axesTriad(camera, bricks().info().volume.axes);
+  std::array<int, 3> order = {0, 1, 2};
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return triad[a].towardEye < triad[b].towardEye; });
+  constexpr ImU32 kAxisColors[3] = {IM_COL32(235, 90, 80, 255), IM_COL32(90, 210, 90, 255),
+                                    IM_COL32(100, 150, 255, 255)};
+  for (int a : order) {
+    const ImVec2 tip(origin.x + kLength * float(triad[a].screen.x),
+                     origin.y + kLength * float(triad[a].screen.y));
+    list->AddLine(origin, tip, kAxisColors[a], 2.0f);
+    const ImVec2 beyond(origin.x + (kLength + 8.0f) * float(triad[a].screen.x),
+                        origin.y + (kLength + 8.0f) * float(triad[a].screen.y));
+    text(std::string(1, "xyz"[a]), beyond, ImVec2(0.5f, 0.5f), kAxisColors[a]);
+  }
+}
+
+std::string Viewer::probe(glm::dvec2 pos) {
+  if (!lastRequest_ || !renderer_) return "";
+  // Window points to framebuffer pixels, which a high-density display scales.
+  int windowWidth = 0, windowHeight = 0;
+  glfwGetWindowSize(window_->window(), &windowWidth, &windowHeight);
+  if (windowWidth <= 0 || windowHeight <= 0) return "";
+  const FrameRequest& drawn = *lastRequest_;
+  const glm::dvec2 p =
+      glm::floor(pos * glm::dvec2(double(drawn.width) / windowWidth, double(drawn.height) / windowHeight));
+  if (!(p.x >= 0.0 && p.y >= 0.0 && p.x < drawn.width && p.y < drawn.height)) return "";
+  const glm::u32vec2 pixel(p);
+  if (probeAnswer_ && probeAnswer_->pixel == pixel && probeAnswer_->frame == framesRendered_)
+    return probeAnswer_->text;
+  std::string text;
+  const std::optional<ProbedVoxel> probed =
+      probedVoxel(drawn.camera, drawn.width, drawn.height, pixel, renderer_->readDepthAt(pixel.x, pixel.y),
+                  bricks().info().volume);
+  if (!probed) {
+    text = "nothing under the pointer";
+  } else {
+    try {
+      text = probeText(*probed, voxelValue(bricks(), 0, probed->voxel));
+    } catch (const Error& e) {
+      text = e.what();
+    }
+  }
+  probeAnswer_ = ProbeAnswer{pixel, framesRendered_, text};
+  return text;
+}
+
 void Viewer::drawPanels() {
   const BrickSourceInfo& info = bricks().info();
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
@@ -819,6 +908,7 @@ void Viewer::drawPanels() {
     ImGui::PopItemWidth();
   }
   ImGui::End();
+  if (orientationMarks_) drawOrientationMarks();
 
   const ImGuiViewport* viewport = ImGui::GetMainViewport();
   ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
@@ -882,6 +972,9 @@ void Viewer::drawPanels() {
         reportPanelError(e);
       }
     }
+    ImGui::Checkbox("orientation marks", &orientationMarks_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("the sides of the patient at the view's edges, the volume's axes in its corner");
     if (!message_.empty()) {
       ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
       ImGui::TextUnformatted(message_.c_str());
@@ -917,6 +1010,10 @@ void Viewer::drawPanels() {
     ImGui::Text("feedback: used %llu  requests %llu", (unsigned long long)st.bricksUsed,
                 (unsigned long long)st.feedbackRequests);
     ImGui::Text("%s", st.converged ? "converged" : "streaming...");
+    // What the pointer points at in the 3D view (not over a panel).
+    if (!ImGui::GetIO().WantCaptureMouse)
+      if (const std::string probed = probe(windowPointer_.pos); !probed.empty())
+        ImGui::Text("probe: %s", probed.c_str());
     if (st.leavesPoolFull > 0)
       ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "pool full: %llu leaves coarser (--gpu-budget)",
                          (unsigned long long)st.leavesPoolFull);
@@ -1024,7 +1121,8 @@ bool Viewer::waitingForConvergence() const {
   if (!script_) return false;
   if (scriptDone()) return !o_.screenshot.empty();
   const ViewEvent& e = script_->events[nextEvent_];
-  return (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged) &&
+  return (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
+          e.kind == ViewEventKind::Probe) &&
          e.atSeconds <= secondsSince(start_);
 }
 

@@ -113,4 +113,18 @@ std::vector<ScreenSegment> planeOutline(const Camera& camera, uint32_t width, ui
   return segments;
 }
 
+EdgeLetters edgeLetters(const Camera& camera) {
+  const CameraFrame f = cameraFrame(camera);
+  return {directionLetters(-f.right), directionLetters(f.right), directionLetters(f.up),
+          directionLetters(-f.up)};
+}
+
+std::array<TriadAxis, 3> axesTriad(const Camera& camera, const AxisDirections& axes) {
+  const CameraFrame f = cameraFrame(camera);
+  std::array<TriadAxis, 3> triad;
+  for (int a = 0; a < 3; ++a)
+    triad[a] = {{glm::dot(axes[a], f.right), -glm::dot(axes[a], f.up)}, -glm::dot(axes[a], f.forward)};
+  return triad;
+}
+
 }  // namespace ropecast::tools

@@ -1,9 +1,12 @@
-// What the viewer draws over its 3D view while the crop box and clip plane are edited: the crop box's
+// What the viewer draws over its 3D view: while the crop box and clip plane are edited, the crop box's
 // edges and the polygon where the clip plane cuts the drawn box, projected as the camera's rays see them
-// (core/camera.h pixelRay). GL-free; main thread.
+// (core/camera.h pixelRay); and its orientation marks, the sides of the patient the view's edges face and the
+// world's axes as a triad. GL-free; main thread.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -37,5 +40,22 @@ std::vector<ScreenSegment> boxOutline(const Camera& camera, uint32_t width, uint
 // plane misses the box or is off.
 std::vector<ScreenSegment> planeOutline(const Camera& camera, uint32_t width, uint32_t height,
                                         const PlacedBox& box, const ClipPlane& plane);
+
+// The sides of the patient (core/orientation.h directionLetters) that the edges of a view of `camera`
+// face: where the camera's right, up and their opposites point in the world.
+struct EdgeLetters {
+  std::string left, right, top, bottom;
+};
+EdgeLetters edgeLetters(const Camera& camera);
+
+// The volume's x, y and z axes (their world directions: `axes`, core/orientation.h) as a view of `camera`
+// turns them, for an orientation triad drawn without perspective: each axis's unit vector on the screen (x
+// right, y down; length 1 where the axis lies in the image plane, 0 where it points along the view) and how
+// far it points toward the eye (the triad draws the farthest first).
+struct TriadAxis {
+  glm::dvec2 screen{0.0};
+  double towardEye = 0.0;
+};
+std::array<TriadAxis, 3> axesTriad(const Camera& camera, const AxisDirections& axes);
 
 }  // namespace ropecast::tools

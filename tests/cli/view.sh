@@ -5,7 +5,7 @@
 # function load draw what `render` draws with them; without a display, or without OpenGL 4.5 on it, the viewer
 # refuses cleanly, says which, and names `ropecast render`; --max-frames ends every wait; what the script and the
 # panels write never replaces an input; a converged view idles; closing the window before a script's screenshot
-# is an error.
+# is an error; the probe names the voxel under a pixel and the value extract reads there.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
 ropecast=$(realpath "$1")  # the panel check runs in its own folder
@@ -225,6 +225,50 @@ same "reset_camera after set_view = the starting view" "$dir/v9.png" "$dir/v0.pn
 run "view --view left" xview $vol --view left --screenshot "$dir/v10.png"
 run "render --view left" "$ropecast" render $vol --converge --view left -o "$dir/r10.png"
 same "view --view left = render --view left" "$dir/v10.png" "$dir/r10.png"
+# probe: the voxel under a pixel of the converged view and its value. A ball (64 voxels) seen from +x, above the
+# middle of a 96x96 view (40 degrees; the camera looks below its center, so that a pixel's depth read from
+# another row would miss it): the voxels where the rays through two pixels meet its surface, each within a voxel
+# of that pixel's ray and at the surface's distance from the center; the value what extract reads there; with
+# MIP a larger value on the same ray; in a corner nothing, and past the window's edge no pixel.
+"$ropecast" convert procedural:sphere:64 --brick 16 -q -o "$dir/ball.rcast" || fail "convert the ball"
+cat > "$dir/probe.json" << JSON
+[{"event": "probe", "pos": [48, 30]}, {"event": "probe", "pos": [40, 22]}, {"event": "probe", "pos": [2, 2]},
+ {"event": "probe", "pos": [500, 3]}, {"event": "set_mode", "mode": "mip"}, {"event": "probe", "pos": [48, 30]}]
+JSON
+run "view --script probe" xview "$dir/ball.rcast" --size 96x96 --eye 182,32,32 --target 32,32,12 --up 0,0,1 \
+  --script "$dir/probe.json"
+mapfile -t probes < <(grep "^ropecast view: probe at" "$dir/out.txt")
+probe_voxel() { sed -n 's/.*: voxel \([0-9]*\), \([0-9]*\), \([0-9]*\)  value \(.*\)$/\1 \2 \3 \4/p' <<< "$1"; }
+on_pixel_ray() {  # on_pixel_ray PX PY X Y Z: the voxel's center within a voxel of the ray through pixel PX, PY
+  awk -v px="$1" -v py="$2" -v x="$3" -v y="$4" -v z="$5" 'BEGIN {
+    t = sin(atan2(0, -1) / 9) / cos(atan2(0, -1) / 9)                        # tan(20 degrees)
+    ex = 182; ey = 32; ez = 32; fx = -150; fy = 0; fz = -20                   # forward: the target 32,32,12
+    n = sqrt(fx * fx + fy * fy + fz * fz); fx /= n; fy /= n; fz /= n
+    rx = fy; ry = -fx; n = sqrt(rx * rx + ry * ry); rx /= n; ry /= n          # right = forward x z
+    ux = ry * fz; uy = -rx * fz; uz = rx * fy - ry * fx                       # up = right x forward
+    sx = (2 * (px + 0.5) / 96 - 1) * t; sy = (1 - 2 * (py + 0.5) / 96) * t
+    dx = fx + sx * rx + sy * ux; dy = fy + sx * ry + sy * uy; dz = fz + sy * uz
+    n = sqrt(dx * dx + dy * dy + dz * dz); dx /= n; dy /= n; dz /= n
+    vx = x + 0.5 - ex; vy = y + 0.5 - ey; vz = z + 0.5 - ez; along = vx * dx + vy * dy + vz * dz
+    ox = vx - along * dx; oy = vy - along * dy; oz = vz - along * dz
+    cx = x + 0.5 - 32; cy = y + 0.5 - 32; cz = z + 0.5 - 32; r = sqrt(cx * cx + cy * cy + cz * cz)
+    exit !(sqrt(ox * ox + oy * oy + oz * oz) < 1 && r > 16 && r < 30) }'
+}
+for k in 0 1; do
+  pixel=$(sed -n 's/.*probe at \([0-9]*\), \([0-9]*\):.*/\1 \2/p' <<< "${probes[$k]:-}")
+  read -r px py pz pvalue <<< "$(probe_voxel "${probes[$k]:-}")"
+  if [ -z "${pvalue:-}" ] || [ -z "$pixel" ]; then fail "probe: no voxel on the ball: ${probes[$k]:-none}"; continue; fi
+  # shellcheck disable=SC2086
+  on_pixel_ray $pixel "$px" "$py" "$pz" || fail "probe: ${probes[$k]} is not on the ball's surface under that pixel"
+  "$ropecast" extract "$dir/ball.rcast" --crop "$px:$((px + 1)),$py:$((py + 1)),$pz:$((pz + 1))" -o "$dir/voxel.raw" > /dev/null
+  [ "$(od -An -tu1 "$dir/voxel.raw" | tr -d ' ')" = "$pvalue" ] ||
+    fail "probe: value $pvalue, extract reads $(od -An -tu1 "$dir/voxel.raw") at $px, $py, $pz"
+done
+read -r _ _ _ surface <<< "$(probe_voxel "${probes[0]:-}")"
+read -r _ _ _ largest <<< "$(probe_voxel "${probes[4]:-}")"
+[ "${largest:-0}" -gt "${surface:-255}" ] || fail "probe: the MIP's value ${largest:-none} is not above the surface's"
+grep -q "probe at 2, 2: nothing under the pointer" <<< "${probes[2]:-}" || fail "probe in a corner: ${probes[2]:-none}"
+grep -q "probe at 500, 3: outside the 3D view" <<< "${probes[3]:-}" || fail "probe past the edge: ${probes[3]:-none}"
 printf '[{"event": "set_crop", "crop": "0:60,:,:"}, {"event": "quit"}]' > "$dir/crop_out.json"
 xview $vol --script "$dir/crop_out.json" > /dev/null 2> "$dir/err.txt" && fail "set_crop past the volume: exit 0"
 grep -q "event 0 (set_crop): --crop: the x range 0:60 does not lie" "$dir/err.txt" ||

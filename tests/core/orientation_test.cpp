@@ -40,6 +40,18 @@ TEST(Orientation, LettersNameWhereEachAxisPoints) {
             "LPS (oblique)");
 }
 
+TEST(Orientation, DirectionLettersNameTheSidesADirectionPointsTo) {
+  EXPECT_EQ(directionLetters({1, 0, 0}), "L");
+  EXPECT_EQ(directionLetters({0, -2, 0}), "A");
+  EXPECT_EQ(directionLetters({0, 0, -0.1}), "I");
+  EXPECT_EQ(directionLetters({-1, -0.5, 0}), "RA");  // the largest first
+  EXPECT_EQ(directionLetters({0.5, 0, 1}), "SL");    // 0.45 of the length
+  EXPECT_EQ(directionLetters({0.25, 0, 1}), "S");    // 0.24: too little to name
+  EXPECT_EQ(directionLetters({1, -1, 1}), "LAS");    // ties: x, y, z
+  EXPECT_EQ(directionLetters({0, 0, 0}), "");
+  EXPECT_EQ(directionLetters({std::nan(""), 0, 1}), "");
+}
+
 TEST(Orientation, AWorldCameraSeesTheTurnedVolumeAsTheVolumesAxesSeeIt) {
   // A volume turned 90 degrees about x then 30 about z, centered at c: world = c + d (p - c).
   const double a = glm::radians(30.0);

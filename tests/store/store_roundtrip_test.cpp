@@ -249,6 +249,26 @@ TEST(StoreRoundTrip, ARegionOfALevelIsThatLevelsSamplesInTheRegion) {
   EXPECT_THROW(extractLevelBytes(*store, 0, LevelRegion{{d0.x, 0, 0}, {d0.x + 4, d0.y, d0.z}}), UsageError);
 }
 
+TEST(StoreRoundTrip, AVoxelsValueIsItsSampleInDataUnits) {
+  TempDir dir;
+  const auto samples = ballSamples();
+  const auto store = ballStore(dir);
+  const glm::u32vec3 d = store->info().layout.levelDims(0);
+  // Corners, a brick's borders (bricks of 4) and the middle.
+  for (const glm::u32vec3 v : {glm::u32vec3(0, 0, 0), glm::u32vec3(d.x - 1, d.y - 1, d.z - 1),
+                               glm::u32vec3(3, 4, 7), glm::u32vec3(4, 3, 8), glm::u32vec3(22, 18, 14)}) {
+    const size_t index = (size_t(v.z) * d.y + v.y) * d.x + v.x;
+    EXPECT_EQ(voxelValue(*store, 0, v), double(samples[index])) << v.x << "," << v.y << "," << v.z;
+  }
+  const std::vector<std::byte> level1 = extractLevelBytes(*store, 1);
+  const glm::u32vec3 d1 = store->info().layout.levelDims(1), v1(9, 5, 6);
+  int16_t expected = 0;
+  std::memcpy(&expected, level1.data() + 2 * ((size_t(v1.z) * d1.y + v1.y) * d1.x + v1.x), 2);
+  EXPECT_EQ(voxelValue(*store, 1, v1), double(expected));
+  EXPECT_THROW(voxelValue(*store, 0, {d.x, 0, 0}), UsageError);
+  EXPECT_THROW(voxelValue(*store, 0, {0, 0, UINT32_MAX}), UsageError);
+}
+
 TEST(StoreRoundTrip, MetadataKeepsSpacingSourceAndOptions) {
   TempDir dir;
   const glm::u32vec3 dims{20, 9, 13};

@@ -1,5 +1,7 @@
 // The viewer's outlines (tools/view_outline.h): a box's corners land where the camera's rays through them
 // leave the eye, for a turned box too; edges behind the eye are cut away; the clip plane's polygon closes.
+// Its orientation marks: the sides of the patient at the edges of the named views and an oblique one, and the
+// triad of a volume's axes, turned with it.
 #include "tools/view_outline.h"
 
 #include <cmath>
@@ -99,6 +101,48 @@ TEST(ViewOutline, TheClipPlanesPolygonClosesOnTheBoxsFaces) {
   // Through a corner and an edge only: it touches, nothing to outline.
   EXPECT_TRUE(
       planeOutline(c, kWidth, kHeight, box, {{0, 0, 0}, glm::normalize(glm::dvec3(1, 1, 1))}).empty());
+}
+
+TEST(ViewOrientationMarks, TheEdgesOfTheNamedViewsFaceTheirSidesOfThePatient) {
+  const glm::dvec3 lo(0.0), hi(40, 30, 20);
+  // left, right, top, bottom: from the front and from below the patient's right lies on the image's left.
+  const struct {
+    AnatomicalView view;
+    EdgeLetters letters;
+  } cases[] = {
+      {AnatomicalView::Anterior, {"R", "L", "S", "I"}}, {AnatomicalView::Posterior, {"L", "R", "S", "I"}},
+      {AnatomicalView::Left, {"A", "P", "S", "I"}},     {AnatomicalView::Right, {"P", "A", "S", "I"}},
+      {AnatomicalView::Superior, {"L", "R", "A", "P"}}, {AnatomicalView::Inferior, {"R", "L", "A", "P"}}};
+  for (const auto& c : cases) {
+    const EdgeLetters got = edgeLetters(anatomicalViewCamera(c.view, 3.0, lo, hi, 40.0));
+    EXPECT_EQ(got.left, c.letters.left) << int(c.view);
+    EXPECT_EQ(got.right, c.letters.right) << int(c.view);
+    EXPECT_EQ(got.top, c.letters.top) << int(c.view);
+    EXPECT_EQ(got.bottom, c.letters.bottom) << int(c.view);
+  }
+  // From the left-anterior diagonal: the right edge faces right-posterior (equal parts: x first).
+  const EdgeLetters oblique = edgeLetters(lookingAt({10, -10, 0}, {0, 0, 0}));
+  EXPECT_EQ(oblique.right, "LP");
+  EXPECT_EQ(oblique.left, "RA");
+  EXPECT_EQ(oblique.top, "S");
+}
+
+TEST(ViewOrientationMarks, TheTriadTurnsWithTheVolumesAxes) {
+  const Camera fromFront = lookingAt({0, -10, 0}, {0, 0, 0});  // forward +y, right +x, up +z
+  const auto expectAxis = [](const TriadAxis& got, glm::dvec2 screen, double towardEye, const char* what) {
+    EXPECT_TRUE(near(got.screen, screen)) << what << ": " << got.screen.x << "," << got.screen.y;
+    EXPECT_NEAR(got.towardEye, towardEye, 1e-12) << what;
+  };
+  const std::array<TriadAxis, 3> world = axesTriad(fromFront, AxisDirections(1.0));
+  expectAxis(world[0], {1, 0}, 0, "x");
+  expectAxis(world[1], {0, 0}, -1, "y");  // away from the eye
+  expectAxis(world[2], {0, -1}, 0, "z");  // up: y down on the screen
+  // x turned to +y, y to -x: x now points away, y left.
+  const AxisDirections turned(glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1));
+  const std::array<TriadAxis, 3> t = axesTriad(fromFront, turned);
+  expectAxis(t[0], {0, 0}, -1, "turned x");
+  expectAxis(t[1], {-1, 0}, 0, "turned y");
+  expectAxis(t[2], {0, -1}, 0, "turned z");
 }
 
 }  // namespace

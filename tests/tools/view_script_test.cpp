@@ -52,9 +52,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, -1]}, {"event": "set_clip_plane", "plane": []},
           {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"},
           {"event": "set_tf_range", "range": [-160, 240]}, {"event": "set_caps", "caps": false},
-          {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"}])",
+          {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"},
+          {"event": "probe", "pos": [120, 80.5]}])",
       "t");
-  ASSERT_EQ(s.events.size(), 17u);
+  ASSERT_EQ(s.events.size(), 18u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -78,6 +79,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_TRUE(s.events[15].caps);
   EXPECT_EQ(s.events[16].kind, ViewEventKind::SetView);
   EXPECT_EQ(s.events[16].view, AnatomicalView::Superior);
+  EXPECT_EQ(s.events[17].kind, ViewEventKind::Probe);
+  EXPECT_EQ(s.events[17].pos, glm::dvec2(120, 80.5));
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -120,6 +123,9 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
       "event 0 (set_view): \"view\" must be anterior, posterior, left, right, superior or inferior, got "
       "\"front\"");
   expectRefused(R"([{"event": "set_view"}])", "event 0 (set_view): \"view\" is required");
+  expectRefused(R"([{"event": "probe"}])", "event 0 (probe): \"pos\" is required");
+  expectRefused(R"([{"event": "probe", "pos": [1, 2], "file": "p.txt"}])",
+                "event 0 (probe): unknown key \"file\"");
   expectRefused(R"([{"event": "set_caps", "caps": "off"}])", "\"caps\" must be true or false");
 }
 

@@ -1,0 +1,36 @@
+#include "tools/view_probe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "core/orientation.h"
+
+namespace ropecast::tools {
+
+std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width, uint32_t height,
+                                       glm::u32vec2 pixel, double depth, const VolumeInfo& volume) {
+  if (!std::isfinite(depth) || width == 0 || height == 0) return std::nullopt;
+  const Camera camera = cameraInVolume(worldCamera, volume.axes, 0.5 * volume.worldMax());
+  const Ray ray = pixelRay(camera, width, height, pixel.x, pixel.y);
+  const double alongView = glm::dot(ray.dir, cameraFrame(camera).forward);
+  if (!(alongView > 0.0)) return std::nullopt;
+  ProbedVoxel probed;
+  probed.point = ray.origin + ray.dir * (depth / alongView);
+  // The ray stops inside the volume's box, but a point on its faces may round to just outside it.
+  const glm::dvec3 index = glm::floor(probed.point / volume.spacing);
+  probed.voxel = glm::u32vec3(glm::clamp(index, glm::dvec3(0.0), glm::dvec3(volume.dims) - 1.0));
+  return probed;
+}
+
+std::string probeText(const ProbedVoxel& probed, double value) {
+  char text[128];
+  std::snprintf(text, sizeof text, "voxel %u, %u, %u  value %.7g", probed.voxel.x, probed.voxel.y,
+                probed.voxel.z, value);
+  return text;
+}
+
+}  // namespace ropecast::tools

@@ -1,0 +1,34 @@
+// The viewer's probe (docs/VIEWER.md "Probe"): what lies under a pixel of the 3D view. The point where the
+// pixel's ray stopped in the drawn frame, as its depth image holds it (an isosurface's hit, a DVR's last
+// sample that added opacity, a MIP's or MinIP's extreme), and the full-resolution voxel nearest that point,
+// whose value the viewer reads from the store (store/extract.h voxelValue). GL-free; main thread.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/camera.h"
+#include "store/volume_source.h"
+
+namespace ropecast::tools {
+
+struct ProbedVoxel {
+  glm::dvec3 point{0.0};  // in the volume's own axes, world units from its corner [0, n s]
+  glm::u32vec3 voxel{0};  // the level-0 sample nearest the point (sample i lies at (i + 0.5) s)
+};
+
+// Where the ray through pixel `pixel` (x right, y down) of a width x height view of `worldCamera` stopped,
+// `depth` world units along the view axis (docs/RENDERING.md: depth = dot(x - eye, forward)). The camera is
+// in the world, where the volume is turned by volume.axes about its center (core/orientation.h), as the
+// renderers take it. nullopt where the ray met nothing (depth +inf, or not finite).
+std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width, uint32_t height,
+                                       glm::u32vec2 pixel, double depth, const VolumeInfo& volume);
+
+// The probe's line, as the stats panel and the script's probe event show it: "voxel 12, 40, 7  value 187".
+std::string probeText(const ProbedVoxel& probed, double value);
+
+}  // namespace ropecast::tools
