@@ -79,6 +79,15 @@ Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double
   return {c.eye, glm::normalize(f.forward + x * f.right + y * f.up)};
 }
 
+Camera centeredOn(const Camera& c, glm::dvec3 point) {
+  const double distance = glm::length(point - c.eye);
+  if (!(distance > 0.0) || !std::isfinite(distance)) return c;
+  Camera moved = c;
+  moved.target = point;
+  moved.eye = point - cameraFrame(c).forward * distance;
+  return moved;
+}
+
 bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1, int* entry) {
   t0 = -std::numeric_limits<double>::infinity();
   t1 = std::numeric_limits<double>::infinity();

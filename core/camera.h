@@ -56,6 +56,11 @@ CameraFrame cameraFrame(const Camera& c);
 // The ray through the center of pixel (px, py) of a width x height image (row 0 at the top).
 Ray pixelRay(const Camera& c, uint32_t width, uint32_t height, double px, double py);
 
+// The camera moved, not turned, to look at `point` from as far as its eye was: the point comes to the image's
+// center at the size it had, and an orbit about the new target turns about it. Up and field of view stay. A
+// point at the eye, or not finite, leaves the camera as it was.
+Camera centeredOn(const Camera& c, glm::dvec3 point);
+
 // The bounds of a box and a half-space a ray may enter their common part through (entryBound).
 inline constexpr int kEntryPlane = 6;
 inline constexpr int kEntryNone = -1;

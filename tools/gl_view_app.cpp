@@ -159,9 +159,17 @@ class Viewer {
   void drawCutOutlines(const VolumeInfo& volume);
   // The sides of the patient at the 3D view's edges and the world's axes in its lower left corner.
   void drawOrientationMarks();
-  // The probe's line for the window point `pos` over the 3D view (view_probe.h), of the drawn frame; empty
-  // before the first frame and outside the view.
+  // The drawn frame's pixel under the window point `pos`; nullopt before the first frame and outside the
+  // view.
+  std::optional<glm::u32vec2> pixelAt(glm::dvec2 pos) const;
+  // Where that pixel's ray stopped in the drawn frame (view_probe.h); nullopt where it met nothing.
+  std::optional<ProbedVoxel> probedAt(glm::u32vec2 pixel) const;
+  // The probe's line for the window point `pos` (view_probe.h); empty before the first frame and outside the
+  // view.
   std::string probe(glm::dvec2 pos);
+  // A double click, or the script's center_at: the point under `pos` becomes the orbit's center, the camera
+  // moved to it (core/camera.h centeredOn). Returns what it did, or why it did nothing.
+  std::string centerAt(glm::dvec2 pos);
   void drawClipPlaneControls(const VolumeInfo& volume);
   // --view's camera at the current distance and field of view; "reset camera" still returns to the start.
   void showAnatomicalView(AnatomicalView view);
@@ -500,6 +508,8 @@ void Viewer::readWindowInput(double dtSeconds) {
   if (!now.left && !now.middle) windowDragOwned_ = false;
   windowPointer_ = now;
   if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) controller_->zoom(wheelClicks_);
+  if (!io.WantCaptureMouse && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
+    message_ = centerAt(now.pos);
   wheelClicks_ = 0.0;
   if (!io.WantCaptureKeyboard) {
     std::set<char> keys;
@@ -525,7 +535,7 @@ void Viewer::runScript(bool converged) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
     const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
-                       e.kind == ViewEventKind::Probe;
+                       e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt;
     if (waits && (!converged || changedHere)) {
       if (changedHere || ++waitedFrames_ <= o_.maxFrames) break;
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
@@ -642,6 +652,11 @@ void Viewer::runEvent(const ViewEvent& e) {
       std::fflush(stdout);
       break;
     }
+    case ViewEventKind::CenterAt:
+      if (const std::string what = centerAt(e.pos); what.rfind("centered", 0) != 0)
+        std::fprintf(stderr, "ropecast view: warning: %s: %s; the camera stays\n", e.where.c_str(),
+                     what.c_str());
+      break;
     case ViewEventKind::WaitConverged:
     case ViewEventKind::Quit:  // the script ends: runScript skips the rest
       break;
@@ -789,24 +804,32 @@ void Viewer::drawOrientationMarks() {
   }
 }
 
-std::string Viewer::probe(glm::dvec2 pos) {
-  if (!lastRequest_ || !renderer_) return "";
+std::optional<glm::u32vec2> Viewer::pixelAt(glm::dvec2 pos) const {
+  if (!lastRequest_ || !renderer_) return std::nullopt;
   // Window points to framebuffer pixels, which a high-density display scales.
   int windowWidth = 0, windowHeight = 0;
   glfwGetWindowSize(window_->window(), &windowWidth, &windowHeight);
-  if (windowWidth <= 0 || windowHeight <= 0) return "";
+  if (windowWidth <= 0 || windowHeight <= 0) return std::nullopt;
   const FrameRequest& drawn = *lastRequest_;
   const glm::dvec2 p =
       glm::floor(pos * glm::dvec2(double(drawn.width) / windowWidth, double(drawn.height) / windowHeight));
-  if (!(p.x >= 0.0 && p.y >= 0.0 && p.x < drawn.width && p.y < drawn.height)) return "";
-  const glm::u32vec2 pixel(p);
-  if (probeAnswer_ && probeAnswer_->pixel == pixel && probeAnswer_->frame == framesRendered_)
+  if (!(p.x >= 0.0 && p.y >= 0.0 && p.x < drawn.width && p.y < drawn.height)) return std::nullopt;
+  return glm::u32vec2(p);
+}
+
+std::optional<ProbedVoxel> Viewer::probedAt(glm::u32vec2 pixel) const {
+  const FrameRequest& drawn = *lastRequest_;
+  return probedVoxel(drawn.camera, drawn.width, drawn.height, pixel, renderer_->readDepthAt(pixel.x, pixel.y),
+                     bricks().info().volume);
+}
+
+std::string Viewer::probe(glm::dvec2 pos) {
+  const std::optional<glm::u32vec2> pixel = pixelAt(pos);
+  if (!pixel) return "";
+  if (probeAnswer_ && probeAnswer_->pixel == *pixel && probeAnswer_->frame == framesRendered_)
     return probeAnswer_->text;
   std::string text;
-  const std::optional<ProbedVoxel> probed =
-      probedVoxel(drawn.camera, drawn.width, drawn.height, pixel, renderer_->readDepthAt(pixel.x, pixel.y),
-                  bricks().info().volume);
-  if (!probed) {
+  if (const std::optional<ProbedVoxel> probed = probedAt(*pixel); !probed) {
     text = "nothing under the pointer";
   } else {
     try {
@@ -815,8 +838,18 @@ std::string Viewer::probe(glm::dvec2 pos) {
       text = e.what();
     }
   }
-  probeAnswer_ = ProbeAnswer{pixel, framesRendered_, text};
+  probeAnswer_ = ProbeAnswer{*pixel, framesRendered_, text};
   return text;
+}
+
+std::string Viewer::centerAt(glm::dvec2 pos) {
+  const std::optional<glm::u32vec2> pixel = pixelAt(pos);
+  if (!pixel) return "nothing to center on outside the 3D view";
+  const std::optional<ProbedVoxel> probed = probedAt(*pixel);
+  if (!probed) return "nothing under the pointer to center on";
+  controller_->lookFrom(centeredOn(controller_->camera(), probed->world));
+  const glm::u32vec3 v = probed->voxel;
+  return "centered on voxel " + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z);
 }
 
 void Viewer::drawPanels() {
@@ -1122,7 +1155,7 @@ bool Viewer::waitingForConvergence() const {
   if (scriptDone()) return !o_.screenshot.empty();
   const ViewEvent& e = script_->events[nextEvent_];
   return (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
-          e.kind == ViewEventKind::Probe) &&
+          e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt) &&
          e.atSeconds <= secondsSince(start_);
 }
 

@@ -6,20 +6,21 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-
-#include "core/orientation.h"
+#include <glm/matrix.hpp>
 
 namespace ropecast::tools {
 
 std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width, uint32_t height,
                                        glm::u32vec2 pixel, double depth, const VolumeInfo& volume) {
   if (!std::isfinite(depth) || width == 0 || height == 0) return std::nullopt;
-  const Camera camera = cameraInVolume(worldCamera, volume.axes, 0.5 * volume.worldMax());
-  const Ray ray = pixelRay(camera, width, height, pixel.x, pixel.y);
-  const double alongView = glm::dot(ray.dir, cameraFrame(camera).forward);
+  const Ray ray = pixelRay(worldCamera, width, height, pixel.x, pixel.y);
+  const double alongView = glm::dot(ray.dir, cameraFrame(worldCamera).forward);
   if (!(alongView > 0.0)) return std::nullopt;
   ProbedVoxel probed;
-  probed.point = ray.origin + ray.dir * (depth / alongView);
+  probed.world = ray.origin + ray.dir * (depth / alongView);
+  // The volume is turned about its center (core/orientation.h); its directions' inverse is their transpose.
+  const glm::dvec3 center = 0.5 * volume.worldMax();
+  probed.point = center + glm::transpose(volume.axes) * (probed.world - center);
   // The ray stops inside the volume's box, but a point on its faces may round to just outside it.
   const glm::dvec3 index = glm::floor(probed.point / volume.spacing);
   probed.voxel = glm::u32vec3(glm::clamp(index, glm::dvec3(0.0), glm::dvec3(volume.dims) - 1.0));

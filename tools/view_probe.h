@@ -17,7 +17,8 @@
 namespace ropecast::tools {
 
 struct ProbedVoxel {
-  glm::dvec3 point{0.0};  // in the volume's own axes, world units from its corner [0, n s]
+  glm::dvec3 world{0.0};  // the point in the world, where the camera is
+  glm::dvec3 point{0.0};  // the same point in the volume's own axes, world units from its corner [0, n s]
   glm::u32vec3 voxel{0};  // the level-0 sample nearest the point (sample i lies at (i + 0.5) s)
 };
 

@@ -275,8 +275,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       }
       if (!known) r.fail("\"view\" must be " + alternatives(names) + ", got \"" + view + "\"");
       add(e);
-    } else if (kind == "probe") {
-      e.kind = ViewEventKind::Probe;
+    } else if (kind == "probe" || kind == "center_at") {
+      e.kind = kind == "probe" ? ViewEventKind::Probe : ViewEventKind::CenterAt;
       e.pos = r.point("pos");
       add(e);
     } else if (kind == "reset_camera") {
@@ -292,7 +292,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
           "set_iso, set_mode, set_crop, set_clip_plane, set_caps, load_tf, set_tf_range, screenshot, "
-          "save_camera, set_view, probe, reset_camera, wait_converged or quit");
+          "save_camera, set_view, probe, center_at, reset_camera, wait_converged or quit");
     }
     r.refuseOtherKeys();
   }

@@ -229,11 +229,16 @@ same "view --view left = render --view left" "$dir/v10.png" "$dir/r10.png"
 # middle of a 96x96 view (40 degrees; the camera looks below its center, so that a pixel's depth read from
 # another row would miss it): the voxels where the rays through two pixels meet its surface, each within a voxel
 # of that pixel's ray and at the surface's distance from the center; the value what extract reads there; with
-# MIP a larger value on the same ray; in a corner nothing, and past the window's edge no pixel.
+# MIP a larger value on the same ray; in a corner nothing, and past the window's edge no pixel. center_at (a double
+# click) on the second pixel brings its voxel to the middle of the view, and a drag turns the view about it; on
+# nothing it warns and the camera stays.
 "$ropecast" convert procedural:sphere:64 --brick 16 -q -o "$dir/ball.rcast" || fail "convert the ball"
 cat > "$dir/probe.json" << JSON
 [{"event": "probe", "pos": [48, 30]}, {"event": "probe", "pos": [40, 22]}, {"event": "probe", "pos": [2, 2]},
- {"event": "probe", "pos": [500, 3]}, {"event": "set_mode", "mode": "mip"}, {"event": "probe", "pos": [48, 30]}]
+ {"event": "probe", "pos": [500, 3]}, {"event": "set_mode", "mode": "mip"}, {"event": "probe", "pos": [48, 30]},
+ {"event": "set_mode", "mode": "iso"}, {"event": "center_at", "pos": [40, 22]}, {"event": "probe", "pos": [47, 47]},
+ {"event": "drag", "from": [48, 48], "to": [68, 58], "steps": 4}, {"event": "probe", "pos": [47, 47]},
+ {"event": "center_at", "pos": [2, 2]}]
 JSON
 run "view --script probe" xview "$dir/ball.rcast" --size 96x96 --eye 182,32,32 --target 32,32,12 --up 0,0,1 \
   --script "$dir/probe.json"
@@ -269,6 +274,15 @@ read -r _ _ _ largest <<< "$(probe_voxel "${probes[4]:-}")"
 [ "${largest:-0}" -gt "${surface:-255}" ] || fail "probe: the MIP's value ${largest:-none} is not above the surface's"
 grep -q "probe at 2, 2: nothing under the pointer" <<< "${probes[2]:-}" || fail "probe in a corner: ${probes[2]:-none}"
 grep -q "probe at 500, 3: outside the 3D view" <<< "${probes[3]:-}" || fail "probe past the edge: ${probes[3]:-none}"
+read -r cx cy cz _ <<< "$(probe_voxel "${probes[1]:-}")"
+for k in 5 6; do
+  read -r x y z _ <<< "$(probe_voxel "${probes[$k]:-}")"
+  awk -v a="${cx:-0} ${cy:-0} ${cz:-0}" -v b="${x:--9} ${y:--9} ${z:--9}" 'BEGIN { split(a, p); split(b, q)
+    for (i = 1; i <= 3; ++i) if ((p[i] - q[i]) ^ 2 > 1) exit 1 }' ||
+    fail "center_at: the middle of the view shows ${probes[$k]:-none}, not the voxel centered on (${probes[1]:-none})"
+done
+grep -q "event 11 (center_at): nothing under the pointer to center on; the camera stays" "$dir/err.txt" ||
+  fail "center_at on nothing: no warning naming the event: $(cat "$dir/err.txt")"
 printf '[{"event": "set_crop", "crop": "0:60,:,:"}, {"event": "quit"}]' > "$dir/crop_out.json"
 xview $vol --script "$dir/crop_out.json" > /dev/null 2> "$dir/err.txt" && fail "set_crop past the volume: exit 0"
 grep -q "event 0 (set_crop): --crop: the x range 0:60 does not lie" "$dir/err.txt" ||

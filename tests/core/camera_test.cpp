@@ -80,6 +80,29 @@ TEST(CameraFrame, UsableUpIsKept) {
   EXPECT_NEAR(f.right.x, 1.0, 1e-12);
 }
 
+TEST(CenteredOn, MovesTheCameraToLookAtThePointFromItsEyesDistance) {
+  Camera c;
+  c.eye = {10, -4, 3};
+  c.target = {0, 1, 2};
+  c.up = {0, 0.2, 1};
+  c.fovYDeg = 33;
+  const glm::dvec3 point(2, 3, -1);
+  const Camera moved = centeredOn(c, point);
+  EXPECT_EQ(moved.target, point);
+  EXPECT_NEAR(glm::length(moved.eye - point), glm::length(c.eye - point), 1e-12);
+  const CameraFrame before = cameraFrame(c), after = cameraFrame(moved);
+  EXPECT_NEAR(glm::length(after.forward - before.forward), 0.0, 1e-12);
+  EXPECT_NEAR(glm::length(after.up - before.up), 0.0, 1e-12);
+  EXPECT_EQ(moved.up, c.up);
+  EXPECT_EQ(moved.fovYDeg, c.fovYDeg);
+  // The point lies on the middle pixel's ray of an odd-sized image.
+  const Ray middle = pixelRay(moved, 101, 81, 50, 40);
+  EXPECT_NEAR(glm::dot(middle.dir, glm::normalize(point - moved.eye)), 1.0, 1e-12);
+  EXPECT_EQ(centeredOn(c, c.eye).eye, c.eye);
+  EXPECT_EQ(centeredOn(c, c.eye).target, c.target);
+  EXPECT_EQ(centeredOn(c, {std::nan(""), 0, 0}).target, c.target);
+}
+
 TEST(DefaultUp, IsZUnlessLookingAlongZ) {
   EXPECT_EQ(defaultUp({1, 2, 3}), glm::dvec3(0, 0, 1));
   EXPECT_EQ(defaultUp({0, 0, -4}), glm::dvec3(0, 1, 0));

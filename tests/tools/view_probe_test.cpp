@@ -47,6 +47,7 @@ TEST(ViewProbe, TheStopDepthNamesThePointAndItsVoxel) {
     const auto probed = probedVoxel(camera, kViewWidth, kViewHeight, {50, 40}, depth, volume);
     ASSERT_TRUE(probed.has_value());
     EXPECT_NEAR(glm::length(probed->point - inside), 0.0, 1e-9);
+    EXPECT_NEAR(glm::length(probed->world - world), 0.0, 1e-9);
     EXPECT_EQ(probed->voxel, glm::u32vec3(14, 21, 6));  // floor(inside / spacing)
 
     // Another pixel: the depth is along the view axis, not along its ray.
@@ -57,6 +58,7 @@ TEST(ViewProbe, TheStopDepthNamesThePointAndItsVoxel) {
     ASSERT_TRUE(other.has_value());
     const glm::dvec3 expected = center + glm::transpose(axes) * (worldHit - center);
     EXPECT_NEAR(glm::length(other->point - expected), 0.0, 1e-9);
+    EXPECT_NEAR(glm::length(other->world - worldHit), 0.0, 1e-9);
   }
 }
 
