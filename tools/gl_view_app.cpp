@@ -170,6 +170,10 @@ class Viewer {
   // A double click, or the script's center_at: the point under `pos` becomes the orbit's center, the camera
   // moved to it (core/camera.h centeredOn). Returns what it did, or why it did nothing.
   std::string centerAt(glm::dvec2 pos);
+  // A right click, or an end of the script's measure: the point under `pos` ends the ruler; after two ends,
+  // the next starts a new ruler. Returns what it did, or why it did nothing.
+  std::string placeRulerEnd(glm::dvec2 pos);
+  void drawRuler(const VolumeInfo& volume);
   void drawClipPlaneControls(const VolumeInfo& volume);
   // --view's camera at the current distance and field of view; "reset camera" still returns to the start.
   void showAnatomicalView(AnatomicalView view);
@@ -196,6 +200,8 @@ class Viewer {
     std::string text;
   };
   std::optional<ProbeAnswer> probeAnswer_;
+  // The ruler's ends (right clicks on the 3D view, the script's measure); one while it waits for its second.
+  std::vector<ProbedVoxel> ruler_;
   double voxelsPerPixel_ = 1.0;
   double targetFrameMs_ = 0.0;
   std::string tfSpec_;
@@ -510,6 +516,8 @@ void Viewer::readWindowInput(double dtSeconds) {
   if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) controller_->zoom(wheelClicks_);
   if (!io.WantCaptureMouse && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
     message_ = centerAt(now.pos);
+  if (!io.WantCaptureMouse && ImGui::IsMouseClicked(ImGuiMouseButton_Right))
+    message_ = placeRulerEnd(now.pos);
   wheelClicks_ = 0.0;
   if (!io.WantCaptureKeyboard) {
     std::set<char> keys;
@@ -535,7 +543,8 @@ void Viewer::runScript(bool converged) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
     const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
-                       e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt;
+                       e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt ||
+                       e.kind == ViewEventKind::Measure;
     if (waits && (!converged || changedHere)) {
       if (changedHere || ++waitedFrames_ <= o_.maxFrames) break;
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
@@ -551,7 +560,8 @@ void Viewer::runScript(bool converged) {
     if (e.kind == ViewEventKind::Quit) nextEvent_ = script_->events.size();
     // What the shown frame converged to may have changed: a wait after this event waits for a new frame.
     if (e.kind != ViewEventKind::Screenshot && e.kind != ViewEventKind::SaveCamera &&
-        e.kind != ViewEventKind::WaitConverged && e.kind != ViewEventKind::Probe)
+        e.kind != ViewEventKind::WaitConverged && e.kind != ViewEventKind::Probe &&
+        e.kind != ViewEventKind::Measure)
       changedHere = true;
     // One mouse move per frame, so that a scripted drag is seen moving as a hand-made one is; nothing after a
     // screenshot with panels until its frame is read back.
@@ -650,6 +660,19 @@ void Viewer::runEvent(const ViewEvent& e) {
       std::printf("ropecast view: probe at %g, %g: %s\n", e.pos.x, e.pos.y,
                   text.empty() ? "outside the 3D view" : text.c_str());
       std::fflush(stdout);
+      break;
+    }
+    case ViewEventKind::Measure: {
+      ruler_.clear();
+      std::string what = placeRulerEnd(e.pos);
+      if (ruler_.size() == 1) what = placeRulerEnd(e.to);
+      if (ruler_.size() == 2) {
+        std::printf("ropecast view: ruler: %s\n", what.c_str());
+        std::fflush(stdout);
+      } else {
+        ruler_.clear();
+        std::fprintf(stderr, "ropecast view: warning: %s: %s; no ruler\n", e.where.c_str(), what.c_str());
+      }
       break;
     }
     case ViewEventKind::CenterAt:
@@ -848,8 +871,40 @@ std::string Viewer::centerAt(glm::dvec2 pos) {
   const std::optional<ProbedVoxel> probed = probedAt(*pixel);
   if (!probed) return "nothing under the pointer to center on";
   controller_->lookFrom(centeredOn(controller_->camera(), probed->world));
-  const glm::u32vec3 v = probed->voxel;
-  return "centered on voxel " + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z);
+  return "centered on " + voxelText(probed->voxel);
+}
+
+std::string Viewer::placeRulerEnd(glm::dvec2 pos) {
+  const std::optional<glm::u32vec2> pixel = pixelAt(pos);
+  if (!pixel) return "no ruler end outside the 3D view";
+  const std::optional<ProbedVoxel> probed = probedAt(*pixel);
+  if (!probed) return "nothing under the pointer for an end of the ruler";
+  if (ruler_.size() == 2) ruler_.clear();
+  ruler_.push_back(*probed);
+  return ruler_.size() == 2 ? rulerText(ruler_[0], ruler_[1]) : "ruler from " + voxelText(probed->voxel);
+}
+
+// The ruler over the 3D view, behind the panels (never in a screenshot of the view): its ends, the segment
+// between them and its length beside the middle.
+void Viewer::drawRuler(const VolumeInfo& volume) {
+  if (ruler_.empty()) return;
+  const PlacedBox placed{WorldBox{glm::dvec3(0.0), volume.worldMax()}, volume.axes, 0.5 * volume.worldMax()};
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const uint32_t width = uint32_t(std::max(1.0f, display.x)), height = uint32_t(std::max(1.0f, display.y));
+  ImDrawList* list = ImGui::GetBackgroundDrawList();
+  constexpr ImU32 kColor = IM_COL32(255, 230, 60, 255);
+  const glm::dvec3 a = ruler_.front().point, b = ruler_.back().point;
+  const std::optional<ScreenSegment> s = segmentOutline(controller_->camera(), width, height, placed, a, b);
+  if (!s) return;
+  const ImVec2 pa(float(s->a.x), float(s->a.y)), pb(float(s->b.x), float(s->b.y));
+  list->AddLine(pa, pb, kColor, 2.0f);
+  list->AddCircleFilled(pa, 3.5f, kColor);
+  list->AddCircleFilled(pb, 3.5f, kColor);
+  if (ruler_.size() == 2) {
+    char label[32];
+    std::snprintf(label, sizeof label, "%.4g", glm::length(b - a));
+    list->AddText(ImVec2(0.5f * (pa.x + pb.x) + 6.0f, 0.5f * (pa.y + pb.y) + 4.0f), kColor, label);
+  }
 }
 
 void Viewer::drawPanels() {
@@ -942,6 +997,7 @@ void Viewer::drawPanels() {
   }
   ImGui::End();
   if (orientationMarks_) drawOrientationMarks();
+  drawRuler(info.volume);
 
   const ImGuiViewport* viewport = ImGui::GetMainViewport();
   ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
@@ -1006,6 +1062,10 @@ void Viewer::drawPanels() {
       }
     }
     ImGui::Checkbox("orientation marks", &orientationMarks_);
+    if (!ruler_.empty()) {
+      ImGui::SameLine();
+      if (ImGui::Button("clear ruler")) ruler_.clear();
+    }
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("the sides of the patient at the view's edges, the volume's axes in its corner");
     if (!message_.empty()) {
@@ -1155,7 +1215,8 @@ bool Viewer::waitingForConvergence() const {
   if (scriptDone()) return !o_.screenshot.empty();
   const ViewEvent& e = script_->events[nextEvent_];
   return (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
-          e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt) &&
+          e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt ||
+          e.kind == ViewEventKind::Measure) &&
          e.atSeconds <= secondsSince(start_);
 }
 

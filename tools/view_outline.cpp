@@ -113,6 +113,11 @@ std::vector<ScreenSegment> planeOutline(const Camera& camera, uint32_t width, ui
   return segments;
 }
 
+std::optional<ScreenSegment> segmentOutline(const Camera& camera, uint32_t width, uint32_t height,
+                                            const PlacedBox& box, glm::dvec3 a, glm::dvec3 b) {
+  return Projector(camera, width, height, box).segment(a, b);
+}
+
 EdgeLetters edgeLetters(const Camera& camera) {
   const CameraFrame f = cameraFrame(camera);
   return {directionLetters(-f.right), directionLetters(f.right), directionLetters(f.up),

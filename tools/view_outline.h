@@ -1,11 +1,12 @@
 // What the viewer draws over its 3D view: while the crop box and clip plane are edited, the crop box's
 // edges and the polygon where the clip plane cuts the drawn box, projected as the camera's rays see them
-// (core/camera.h pixelRay); and its orientation marks, the sides of the patient the view's edges face and the
-// world's axes as a triad. GL-free; main thread.
+// (core/camera.h pixelRay); its ruler; and its orientation marks, the sides of the patient the view's edges
+// face and the volume's axes as a triad. GL-free; main thread.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,11 @@ std::vector<ScreenSegment> boxOutline(const Camera& camera, uint32_t width, uint
 // plane misses the box or is off.
 std::vector<ScreenSegment> planeOutline(const Camera& camera, uint32_t width, uint32_t height,
                                         const PlacedBox& box, const ClipPlane& plane);
+
+// The segment between two points given in the volume's own axes (the viewer's ruler), as a view of `camera`
+// shows it; nullopt where it lies wholly behind the eye.
+std::optional<ScreenSegment> segmentOutline(const Camera& camera, uint32_t width, uint32_t height,
+                                            const PlacedBox& box, glm::dvec3 a, glm::dvec3 b);
 
 // The sides of the patient (core/orientation.h directionLetters) that the edges of a view of `camera`
 // face: where the camera's right, up and their opposites point in the world.

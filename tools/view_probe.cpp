@@ -27,11 +27,22 @@ std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width
   return probed;
 }
 
-std::string probeText(const ProbedVoxel& probed, double value) {
-  char text[128];
-  std::snprintf(text, sizeof text, "voxel %u, %u, %u  value %.7g", probed.voxel.x, probed.voxel.y,
-                probed.voxel.z, value);
+std::string voxelText(glm::u32vec3 voxel) {
+  char text[64];
+  std::snprintf(text, sizeof text, "voxel %u, %u, %u", voxel.x, voxel.y, voxel.z);
   return text;
+}
+
+std::string probeText(const ProbedVoxel& probed, double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "  value %.7g", value);
+  return voxelText(probed.voxel) + text;
+}
+
+std::string rulerText(const ProbedVoxel& a, const ProbedVoxel& b) {
+  char text[32];
+  std::snprintf(text, sizeof text, "length %.4g from ", glm::length(b.point - a.point));
+  return text + voxelText(a.voxel) + " to " + voxelText(b.voxel);
 }
 
 }  // namespace ropecast::tools

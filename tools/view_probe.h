@@ -1,4 +1,5 @@
-// The viewer's probe (docs/VIEWER.md "Probe"): what lies under a pixel of the 3D view. The point where the
+// The viewer's probe (docs/VIEWER.md "Probe"), which its ruler and centering use too: what lies under a pixel
+// of the 3D view. The point where the
 // pixel's ray stopped in the drawn frame, as its depth image holds it (an isosurface's hit, a DVR's last
 // sample that added opacity, a MIP's or MinIP's extreme), and the full-resolution voxel nearest that point,
 // whose value the viewer reads from the store (store/extract.h voxelValue). GL-free; main thread.
@@ -29,7 +30,14 @@ struct ProbedVoxel {
 std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width, uint32_t height,
                                        glm::u32vec2 pixel, double depth, const VolumeInfo& volume);
 
+// "voxel 12, 40, 7".
+std::string voxelText(glm::u32vec3 voxel);
+
 // The probe's line, as the stats panel and the script's probe event show it: "voxel 12, 40, 7  value 187".
 std::string probeText(const ProbedVoxel& probed, double value);
+
+// The ruler's line between two probed points: "length 23.41 from voxel 12, 40, 7 to voxel 30, 41, 9". The
+// length is the points' distance in world units (the spacing's: mm for medical data).
+std::string rulerText(const ProbedVoxel& a, const ProbedVoxel& b);
 
 }  // namespace ropecast::tools

@@ -279,6 +279,11 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       e.kind = kind == "probe" ? ViewEventKind::Probe : ViewEventKind::CenterAt;
       e.pos = r.point("pos");
       add(e);
+    } else if (kind == "measure") {
+      e.kind = ViewEventKind::Measure;
+      e.pos = r.point("from");
+      e.to = r.point("to");
+      add(e);
     } else if (kind == "reset_camera") {
       e.kind = ViewEventKind::ResetCamera;
       add(e);
@@ -292,7 +297,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
           "set_iso, set_mode, set_crop, set_clip_plane, set_caps, load_tf, set_tf_range, screenshot, "
-          "save_camera, set_view, probe, center_at, reset_camera, wait_converged or quit");
+          "save_camera, set_view, probe, center_at, measure, reset_camera, wait_converged or quit");
     }
     r.refuseOtherKeys();
   }

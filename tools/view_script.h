@@ -1,13 +1,13 @@
 // ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
 // tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
 // named UI actions (set the isovalue, mode, crop box or clip plane, load a transfer function, take a
-// screenshot, save the camera, probe a point, center on one, wait until the view has converged, quit).
-// Parsing only: the viewer applies the events. Plain data; GL-free; any thread.
+// screenshot, save the camera, probe a point, center on one, measure between two, wait until the view has
+// converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free; any thread.
 //
 // File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
 // "at" (seconds after the first frame; default: the event before's, 0 for the first). Events run in file
-// order; an event never runs before its time, and "screenshot", "probe", "center_at" and "wait_converged"
-// hold back the ones after them until the view has converged.
+// order; an event never runs before its time, and "screenshot", "probe", "center_at", "measure" and
+// "wait_converged" hold back the ones after them until the view has converged.
 #pragma once
 
 #include <cstdint>
@@ -41,6 +41,7 @@ enum class ViewEventKind {
   SetView,        // view: a named side of the patient, as --view (at the current distance)
   Probe,          // pos: prints what the probe finds there (voxel and value) to stdout, once converged
   CenterAt,       // pos: the point there becomes the orbit's center (a double click), once converged
+  Measure,        // pos, to: the ruler between the points there (two right clicks), printed; once converged
   WaitConverged,  // nothing but waiting
   Quit,
 };
@@ -52,6 +53,7 @@ struct ViewEvent {
   ViewEventKind kind = ViewEventKind::WaitConverged;
   MouseButton button = MouseButton::Left;
   glm::dvec2 pos{0.0};  // window pixels, y down
+  glm::dvec2 to{0.0};   // measure: the ruler's second end, as pos
   bool shift = false;
   double clicks = 0.0;
   char key = 0;  // lower case: w a s d q e r

@@ -231,12 +231,15 @@ same "view --view left = render --view left" "$dir/v10.png" "$dir/r10.png"
 # of that pixel's ray and at the surface's distance from the center; the value what extract reads there; with
 # MIP a larger value on the same ray; in a corner nothing, and past the window's edge no pixel. center_at (a double
 # click) on the second pixel brings its voxel to the middle of the view, and a drag turns the view about it; on
-# nothing it warns and the camera stays.
+# nothing it warns and the camera stays. measure (two right clicks) between the two pixels: the ruler ends on
+# their voxels, its length their distance; to nothing it warns.
 "$ropecast" convert procedural:sphere:64 --brick 16 -q -o "$dir/ball.rcast" || fail "convert the ball"
 cat > "$dir/probe.json" << JSON
 [{"event": "probe", "pos": [48, 30]}, {"event": "probe", "pos": [40, 22]}, {"event": "probe", "pos": [2, 2]},
  {"event": "probe", "pos": [500, 3]}, {"event": "set_mode", "mode": "mip"}, {"event": "probe", "pos": [48, 30]},
- {"event": "set_mode", "mode": "iso"}, {"event": "center_at", "pos": [40, 22]}, {"event": "probe", "pos": [47, 47]},
+ {"event": "set_mode", "mode": "iso"}, {"event": "measure", "from": [48, 30], "to": [40, 22]},
+ {"event": "measure", "from": [48, 30], "to": [2, 2]},
+ {"event": "center_at", "pos": [40, 22]}, {"event": "probe", "pos": [47, 47]},
  {"event": "drag", "from": [48, 48], "to": [68, 58], "steps": 4}, {"event": "probe", "pos": [47, 47]},
  {"event": "center_at", "pos": [2, 2]}]
 JSON
@@ -281,7 +284,20 @@ for k in 5 6; do
     for (i = 1; i <= 3; ++i) if ((p[i] - q[i]) ^ 2 > 1) exit 1 }' ||
     fail "center_at: the middle of the view shows ${probes[$k]:-none}, not the voxel centered on (${probes[1]:-none})"
 done
-grep -q "event 11 (center_at): nothing under the pointer to center on; the camera stays" "$dir/err.txt" ||
+read -r ax ay az _ <<< "$(probe_voxel "${probes[0]:-}")"
+expected="from voxel ${ax:-}, ${ay:-}, ${az:-} to voxel ${cx:-}, ${cy:-}, ${cz:-}"
+ruler=$(grep "^ropecast view: ruler: " "$dir/out.txt")
+length=$(sed -n "s/^ropecast view: ruler: length \([0-9.]*\) $expected\$/\1/p" <<< "$ruler")
+if [ -z "$length" ]; then
+  fail "measure: the ruler is not $expected: ${ruler:-none}"
+else
+  awk -v l="$length" -v a="$ax $ay $az" -v b="$cx $cy $cz" 'BEGIN { split(a, p); split(b, q)
+    d = sqrt((p[1] - q[1]) ^ 2 + (p[2] - q[2]) ^ 2 + (p[3] - q[3]) ^ 2); exit !(l > d - 1.8 && l < d + 1.8) }' ||
+    fail "measure: length $length, the voxels lie $ax,$ay,$az and $cx,$cy,$cz"
+fi
+grep -q "event 8 (measure): nothing under the pointer for an end of the ruler; no ruler" "$dir/err.txt" ||
+  fail "measure to nothing: no warning naming the event: $(cat "$dir/err.txt")"
+grep -q "event 13 (center_at): nothing under the pointer to center on; the camera stays" "$dir/err.txt" ||
   fail "center_at on nothing: no warning naming the event: $(cat "$dir/err.txt")"
 printf '[{"event": "set_crop", "crop": "0:60,:,:"}, {"event": "quit"}]' > "$dir/crop_out.json"
 xview $vol --script "$dir/crop_out.json" > /dev/null 2> "$dir/err.txt" && fail "set_crop past the volume: exit 0"

@@ -103,6 +103,22 @@ TEST(ViewOutline, TheClipPlanesPolygonClosesOnTheBoxsFaces) {
       planeOutline(c, kWidth, kHeight, box, {{0, 0, 0}, glm::normalize(glm::dvec3(1, 1, 1))}).empty());
 }
 
+TEST(ViewOutline, TheRulersEndsLieOnTheRaysToItsPoints) {
+  const double a = glm::radians(25.0);
+  const AxisDirections turned(glm::dvec3(1, 0, 0), glm::dvec3(0, std::cos(a), std::sin(a)),
+                              glm::dvec3(0, -std::sin(a), std::cos(a)));
+  const PlacedBox box{{glm::dvec3(0), glm::dvec3(8, 6, 4)}, turned, glm::dvec3(4, 3, 2)};
+  const Camera c = lookingAt({20, -15, 12}, {4, 3, 2});
+  const glm::dvec3 p(1, 2, 3), q(7, 5, 0.5);  // in the volume's own axes
+  const auto s = segmentOutline(c, kWidth, kHeight, box, p, q);
+  ASSERT_TRUE(s.has_value());
+  expectOnRayTo(c, s->a, box.center + turned * (p - box.center));
+  expectOnRayTo(c, s->b, box.center + turned * (q - box.center));
+  // Behind the eye: nothing to draw.
+  const Camera away = lookingAt({20, -15, 12}, {40, -30, 24});
+  EXPECT_FALSE(segmentOutline(away, kWidth, kHeight, box, p, q).has_value());
+}
+
 TEST(ViewOrientationMarks, TheEdgesOfTheNamedViewsFaceTheirSidesOfThePatient) {
   const glm::dvec3 lo(0.0), hi(40, 30, 20);
   // left, right, top, bottom: from the front and from below the patient's right lies on the image's left.

@@ -87,5 +87,16 @@ TEST(ViewProbe, TheLineNamesTheVoxelAndItsValue) {
   EXPECT_EQ(probeText(p, 0.123456789), "voxel 12, 40, 7  value 0.1234568");
 }
 
+TEST(ViewProbe, TheRulerIsTheDistanceBetweenItsPoints) {
+  ProbedVoxel a, b;
+  a.point = {1.5, 2, 3};
+  a.voxel = {1, 2, 3};
+  b.point = {4.5, 6, 3};  // 3, 4, 0 away
+  b.voxel = {4, 6, 3};
+  EXPECT_EQ(rulerText(a, b), "length 5 from voxel 1, 2, 3 to voxel 4, 6, 3");
+  b.point.z = 4;
+  EXPECT_EQ(rulerText(a, b), "length 5.099 from voxel 1, 2, 3 to voxel 4, 6, 3");
+}
+
 }  // namespace
 }  // namespace ropecast::tools

@@ -53,9 +53,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_mode", "mode": "mip"}, {"event": "set_mode", "mode": "minip"},
           {"event": "set_tf_range", "range": [-160, 240]}, {"event": "set_caps", "caps": false},
           {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"},
-          {"event": "probe", "pos": [120, 80.5]}, {"event": "center_at", "pos": [3, 4]}])",
+          {"event": "probe", "pos": [120, 80.5]}, {"event": "center_at", "pos": [3, 4]},
+          {"event": "measure", "from": [1, 2], "to": [30, 40]}])",
       "t");
-  ASSERT_EQ(s.events.size(), 19u);
+  ASSERT_EQ(s.events.size(), 20u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -83,6 +84,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[17].pos, glm::dvec2(120, 80.5));
   EXPECT_EQ(s.events[18].kind, ViewEventKind::CenterAt);
   EXPECT_EQ(s.events[18].pos, glm::dvec2(3, 4));
+  EXPECT_EQ(s.events[19].kind, ViewEventKind::Measure);
+  EXPECT_EQ(s.events[19].pos, glm::dvec2(1, 2));
+  EXPECT_EQ(s.events[19].to, glm::dvec2(30, 40));
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -127,6 +131,7 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "set_view"}])", "event 0 (set_view): \"view\" is required");
   expectRefused(R"([{"event": "probe"}])", "event 0 (probe): \"pos\" is required");
   expectRefused(R"([{"event": "center_at"}])", "event 0 (center_at): \"pos\" is required");
+  expectRefused(R"([{"event": "measure", "from": [1, 2]}])", "event 0 (measure): \"to\" is required");
   expectRefused(R"([{"event": "probe", "pos": [1, 2], "file": "p.txt"}])",
                 "event 0 (probe): unknown key \"file\"");
   expectRefused(R"([{"event": "set_caps", "caps": "off"}])", "\"caps\" must be true or false");
