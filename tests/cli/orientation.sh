@@ -2,7 +2,8 @@
 # A volume is drawn as its file places it: one whose axes are turned (a sagittal stack: x toward the back, y
 # down, z to the right) or mirrored (x to the right) draws the image of the same volume resampled into the
 # world's axes, from the same orbit, and --eye/--target and --clip-plane are world points; `info` says where
-# the axes point, for the file and for its store (whose x a mirroring volume keeps reversed).
+# the axes point, for the file and for its store (whose x a mirroring volume keeps reversed); the viewer's probe
+# names the same world point's sample in each.
 # Usage: bash orientation.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -122,6 +123,26 @@ cmp -s "$dir/t0.png" "$dir/t.png" || fail "the extracted NRRD's store draws othe
 grep -qx "sizes: 9 6 6" "$dir/w1.nrrd" --text && grep -qx "space directions: (2,0,0) (0,2,0) (0,0,2)" "$dir/w1.nrrd" --text &&
   grep -qx "space origin: (3,5,1)" "$dir/w1.nrrd" --text ||
   fail "the level-1 NRRD's header: $(head -c 400 "$dir/w1.nrrd" | tr -c '[:print:]\n' '?')"
+
+# The viewer's probe under the same pixels names the same world point in each volume's own samples: the turned
+# volume's T[i,j,k] = W[19-k, i, 11-j], the mirrored volume's store W's own (its x kept reversed), each value W's.
+if command -v xvfb-run > /dev/null; then
+  echo '[{"event": "probe", "pos": [20, 100]}, {"event": "probe", "pos": [40, 80]},
+         {"event": "probe", "pos": [80, 60]}, {"event": "probe", "pos": [100, 60]}]' > "$dir/probe.json"
+  for v in w t m; do
+    xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view "$dir/$v.rcast" --size 160x128 --iso 100 \
+      --voxels-per-pixel 16 --orbit 30,20,1.6 --script "$dir/probe.json" > "$dir/probe_$v.txt" 2> "$dir/err.txt" ||
+      fail "view $v with probes: $(cat "$dir/err.txt")"
+  done
+  voxels() { sed -n 's/.*: voxel \([0-9]*\), \([0-9]*\), \([0-9]*\)  value \(.*\)$/\1 \2 \3 \4/p' "$1"; }
+  [ "$(voxels "$dir/probe_w.txt" | wc -l)" = 4 ] || fail "probes of w: $(cat "$dir/probe_w.txt")"
+  [ "$(voxels "$dir/probe_t.txt" | awk '{ print 19 - $3, $1, 11 - $2, $4 }')" = "$(voxels "$dir/probe_w.txt")" ] ||
+    fail "the turned volume's probes are not the world one's samples: $(paste "$dir/probe_t.txt" "$dir/probe_w.txt")"
+  [ "$(voxels "$dir/probe_m.txt")" = "$(voxels "$dir/probe_w.txt")" ] ||
+    fail "the mirrored store's probes are not the world one's samples: $(paste "$dir/probe_m.txt" "$dir/probe_w.txt")"
+else
+  echo "skip: the viewer's probe (xvfb-run is not installed)"
+fi
 
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
