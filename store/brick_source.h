@@ -36,7 +36,17 @@ struct BrickSourceInfo {
   VolumeInfo volume;                          // dims, spacing, original type and value range in data units
   SampleType storedType = SampleType::UInt8;  // UInt8 or UInt16
   ValueMapping mapping;                       // stored -> data units
+  // The volume's file counts x the other way (its frame mirrors; a store keeps a turn, store/converter.h):
+  // the file's sample i along x is this source's dims.x - 1 - i, at level L of dims n_L: n_L - 1 - i.
+  // What the command line and the viewer show and take are the file's indices (fileVoxelX).
+  bool xReversed = false;
 };
+
+// A voxel's x index along a level of `size` samples, the file's for the source's or the source's for the
+// file's (the same map both ways).
+inline uint32_t fileVoxelX(const BrickSourceInfo& info, uint32_t x, uint32_t size) {
+  return info.xReversed ? size - 1 - x : x;
+}
 
 class BrickSource {
  public:

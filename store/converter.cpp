@@ -506,7 +506,10 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   metadata.volume = info;
   // A mirroring orientation (a left-handed frame, as radiological NIfTI files have) is stored with its x axis
   // reversed, so that a store's axes are always a rotation: the renderers turn cameras, never mirror images.
-  if (mirrors(info.axes)) metadata.volume.axes[0] = -info.axes[0];
+  if (mirrors(info.axes)) {
+    metadata.volume.axes[0] = -info.axes[0];
+    metadata.xReversed = true;
+  }
   metadata.brickSize = options.brickSize;
   metadata.levels = layout.maxDepth + 1;
   metadata.storedType = storedTypeFor(info.type);

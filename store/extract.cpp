@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include <glm/common.hpp>
 
@@ -80,12 +82,15 @@ void extractLevel(const BrickSource& source, uint32_t level,
   const OctreeLayout& layout = info.layout;
   const glm::u32vec3 levelDims = levelDimsOf(source, level);
   const uint32_t depth = layout.maxDepth - level, b = layout.brickSize, edge = layout.storedBrickEdge();
-  const glm::u32vec3 begin = region.begin, end = glm::min(region.end, levelDims);
+  glm::u32vec3 begin = region.begin, end = glm::min(region.end, levelDims);
   for (int axis = 0; axis < 3; ++axis)
     if (!(begin[axis] < end[axis]))
       throw UsageError("extract: the region from voxel " + formatDims(begin) + " to " + formatDims(end) +
                        " holds no voxel of level " + std::to_string(level) + " (" + formatDims(levelDims) +
                        ")");
+  // The region is in the file's indices: where the store keeps x reversed, its x range is the mirror one, and
+  // each row is written back to front.
+  if (info.xReversed) std::tie(begin.x, end.x) = std::pair(levelDims.x - end.x, levelDims.x - begin.x);
   const glm::u32vec3 dims = end - begin;  // of the output
   const SampleType type = info.volume.type;
   const size_t outBytes = bytesPerSample(type), sliceBytes = size_t(dims.x) * dims.y * outBytes;
@@ -119,6 +124,12 @@ void extractLevel(const BrickSource& source, uint32_t level,
           }
       }
     }
+    if (info.xReversed)
+      for (size_t rowStart = 0; rowStart < slab.size(); rowStart += size_t(dims.x) * outBytes)
+        for (size_t i = 0, j = dims.x - 1; i < j; ++i, --j)
+          std::swap_ranges(slab.begin() + ptrdiff_t(rowStart + i * outBytes),
+                           slab.begin() + ptrdiff_t(rowStart + (i + 1) * outBytes),
+                           slab.begin() + ptrdiff_t(rowStart + j * outBytes));
     sink(slab);
   }
 }
@@ -204,7 +215,15 @@ std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelR
   // Level L's sample i sits at (i + 0.5) 2^L s in the volume's own axes, turned about the extent's center.
   const glm::dvec3 spacing = volume.spacing * std::ldexp(1.0, int(level));
   const glm::dvec3 center = 0.5 * volume.worldMax();
-  const glm::dvec3 first = (glm::dvec3(region.begin) + 0.5) * spacing;
+  // The first sample written: the file's index along x, which a store that keeps x reversed holds at the
+  // other end, and whose x then points the file's way.
+  glm::dvec3 firstIndex(region.begin);
+  AxisDirections directions = volume.axes;
+  if (source.info().xReversed) {
+    firstIndex.x = double(dims.x - 1 - region.begin.x);
+    directions[0] = -volume.axes[0];
+  }
+  const glm::dvec3 first = (firstIndex + 0.5) * spacing;
   const glm::dvec3 origin = center + volume.axes * (first - center);
   std::string described = volume.description;
   for (char& c : described) c = (c >= ' ' && c != 127) || (c & 0x80) ? c : '?';  // the comment stays one line
@@ -214,8 +233,8 @@ std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelR
       "type: " + nrrdTypeName(volume.type) +
       "\ndimension: 3\nspace: left-posterior-superior\nsizes: " + std::to_string(size.x) + " " +
       std::to_string(size.y) + " " + std::to_string(size.z) +
-      "\nspace directions: " + vectorText(volume.axes[0] * spacing.x) + " " +
-      vectorText(volume.axes[1] * spacing.y) + " " + vectorText(volume.axes[2] * spacing.z) +
+      "\nspace directions: " + vectorText(directions[0] * spacing.x) + " " +
+      vectorText(directions[1] * spacing.y) + " " + vectorText(directions[2] * spacing.z) +
       "\nkinds: domain domain domain\nendian: little\nencoding: raw\nspace origin: " + vectorText(origin) +
       "\n\n";
   return text;

@@ -2,7 +2,9 @@
 // little-endian, in the volume's original type (int8/uint8/int16/uint16 exactly as converted; uint32/int32
 // through ValueMapping, rounded to the nearest integer: exact where their range fit 16 bits; float32/float64
 // dequantized through ValueMapping). Empty (discarded) nodes read as stored value 0. Reads one z-row of
-// bricks at a time, and of a region only the bricks that overlap it.
+// bricks at a time, and of a region only the bricks that overlap it. In the file's order: regions and voxels
+// are the file's indices, and where a store keeps x reversed (BrickSourceInfo::xReversed) its rows are
+// written back to front, so that the volume comes out as the file held it.
 //
 // Threads: any thread; the BrickSource may be shared with other readers.
 #pragma once
@@ -43,9 +45,9 @@ void extractLevel(const BrickSource& source, uint32_t level,
 std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t level,
                                          const LevelRegion& region = {});
 
-// The value of one voxel of a level in data units, as extractLevel writes it (an integer type's exactly; a
-// float's as the store keeps it: quantized to 16 bits over its value range). Reads the one brick that holds
-// it. Throws UsageError as extractLevel, for a voxel outside the level.
+// The value of one voxel (the file's indices) of a level in data units, as extractLevel writes it (an integer
+// type's exactly; a float's as the store keeps it: quantized to 16 bits over its value range). Reads the one
+// brick that holds it. Throws UsageError as extractLevel, for a voxel outside the level.
 double voxelValue(const BrickSource& source, uint32_t level, glm::u32vec3 voxel);
 
 // Writes `header` (may be empty) and the region to `output` under a temporary name, renamed when complete.
@@ -54,8 +56,9 @@ void extractLevelToFile(const BrickSource& source, uint32_t level, const std::fi
 
 // The header of a NRRD file whose attached data is the region of the level as extractLevel writes it (raw,
 // little-endian, the original type): its sizes, and where it lies in the world (docs/RENDERING.md "Spaces"),
-// in the LPS frame: space directions (the store's axes times the level's spacing, 2^level s) and the space
-// origin of its first sample. Throws UsageError as extractLevel.
+// in the LPS frame: space directions (the file's axes, those of the store with x turned back where it keeps x
+// reversed, times the level's spacing, 2^level s) and the space origin of its first sample. Throws UsageError
+// as extractLevel.
 std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region = {});
 
 }  // namespace ropecast

@@ -102,6 +102,10 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     m.volume.dims = readVec3u(field(j, "dims"), "dims");
     m.volume.spacing = readVec3d(field(j, "spacing"), "spacing");
     if (j.contains("axes")) m.volume.axes = readAxes(j["axes"]);  // absent in stores written before
+    if (j.contains("xReversed")) {
+      if (!j["xReversed"].is_boolean()) throw std::runtime_error("\"xReversed\": expected true or false");
+      m.xReversed = j["xReversed"].get<bool>();
+    }
     const auto type = parseSampleType(textField(j, "originalType"));
     const auto stored = parseSampleType(textField(j, "storedType"));
     if (!type || !stored) throw std::runtime_error("unknown sample type");
@@ -276,6 +280,7 @@ void Store::load() {
   info_.volume = metadata_.volume;
   info_.storedType = metadata_.storedType;
   info_.mapping = metadata_.mapping;
+  info_.xReversed = metadata_.xReversed;
 
   const uint64_t maxPayload = ZSTD_compressBound(brickBytes());
   const uint16_t maxValue = metadata_.storedType == SampleType::UInt8 ? 255 : 65535;

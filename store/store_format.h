@@ -92,6 +92,9 @@ inline void joinBytePlanes(const std::byte* planes, size_t n, uint16_t* samples)
 // What the metadata JSON holds (field names in docs/FORMAT.md).
 struct StoreMetadata {
   VolumeInfo volume;  // dims, spacing, original type, value range (data units), source description
+  // The source's x axis runs the other way: its frame mirrors, and the store keeps a turn
+  // (store/converter.h); the source's sample i along x is the store's dims.x - 1 - i.
+  bool xReversed = false;
   uint32_t brickSize = kDefaultBrickSize;
   uint32_t border = kBrickBorder;
   uint32_t levels = 0;  // maxDepth + 1

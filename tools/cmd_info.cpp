@@ -132,6 +132,15 @@ int runInfo(const std::string& path, const VolumeReadArgs& read, bool json) {
   }
   std::printf("store      %s\n", path.c_str());
   printPlacement(v);
+  if (m.xReversed) {
+    AxisDirections file = v.axes;
+    file[0] = -v.axes[0];
+    std::printf(
+        "           x kept reversed: its file's axes mirror (%s); voxel indices (--crop, extract, the "
+        "viewer's "
+        "probe) are the file's\n",
+        orientationCode(file).c_str());
+  }
   std::printf("type       %s (stored as %s, data = %s)\n", std::string(sampleTypeName(v.type)).c_str(),
               std::string(sampleTypeName(m.storedType)).c_str(), mappingFormula(m.mapping).c_str());
   std::printf("values     [%g, %g]%s\n", v.valueMin.value_or(0), v.valueMax.value_or(0),

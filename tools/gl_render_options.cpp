@@ -278,10 +278,19 @@ std::pair<double, double> valueRangeOf(const BrickSourceInfo& info) {
           info.volume.valueMax.value_or(info.mapping.toData(storedMax))};
 }
 
-CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims) {
+CropBox cropBoxOf(const std::vector<std::string>& ranges, const BrickSourceInfo& info) {
   if (ranges.empty()) return {};
-  const VoxelBox box = voxelBoxOf("--crop", ranges, dims);
-  return {glm::dvec3(box.begin), glm::dvec3(box.end)};
+  const VoxelBox box = voxelBoxOf("--crop", ranges, info.volume.dims);
+  return fileCropOf({glm::dvec3(box.begin), glm::dvec3(box.end)}, info);
+}
+
+CropBox fileCropOf(const CropBox& crop, const BrickSourceInfo& info) {
+  if (!info.xReversed || crop == CropBox{}) return crop;
+  const double n = info.volume.dims.x;
+  CropBox mirrored = crop;
+  mirrored.lo.x = std::max(0.0, n - std::min(crop.hi.x, n));
+  mirrored.hi.x = n - crop.lo.x;
+  return mirrored;
 }
 
 ClipPlane clipPlaneOf(const std::vector<double>& values) {
@@ -312,7 +321,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.background = toVec3(o.background);
   params.backend = o.backend;
   params.gradients = o.gradients;
-  params.crop = cropBoxOf(o.crop, info.volume.dims);
+  params.crop = cropBoxOf(o.crop, info);
   params.clipPlane = clipPlaneOf(o.clipPlane);
   params.isoCaps = o.caps;
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))

@@ -73,9 +73,13 @@ Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);
 // The volume's value range in data units: the source's known range, else what its stored type holds.
 std::pair<double, double> valueRangeOf(const BrickSourceInfo& info);
 
-// The crop box of --crop's three ranges (RenderOptions::crop) for a volume of `dims` (empty ranges: the whole
-// volume). Throws UsageError, naming the axis and the volume's extent, when a range does not lie in it.
-CropBox cropBoxOf(const std::vector<std::string>& ranges, glm::u32vec3 dims);
+// The crop box of --crop's three ranges (RenderOptions::crop) of the volume's file indices (empty ranges: the
+// whole volume), in the source's (x the other way where it keeps x reversed: BrickSourceInfo::xReversed).
+// Throws UsageError, naming the axis and the volume's extent, when a range does not lie in it.
+CropBox cropBoxOf(const std::vector<std::string>& ranges, const BrickSourceInfo& info);
+
+// A crop box in the source's indices as the file counts them, and back (the same map both ways).
+CropBox fileCropOf(const CropBox& crop, const BrickSourceInfo& info);
 
 // The clip plane of --clip-plane's six numbers (RenderOptions::clipPlane; empty: none), its normal made unit.
 // Throws UsageError when the normal has no direction.

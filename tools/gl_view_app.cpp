@@ -155,14 +155,15 @@ class Viewer {
   void checkPanelOutput(const std::string& what, const std::string& path) const;
   void reportPanelError(const std::exception& e);
   void drawPanels();
-  void drawCropControls(glm::u32vec3 dims);
+  void drawCropControls(const BrickSourceInfo& info);
   void drawCutOutlines(const VolumeInfo& volume);
   // The sides of the patient at the 3D view's edges and the world's axes in its lower left corner.
   void drawOrientationMarks();
   // The drawn frame's pixel under the window point `pos`; nullopt before the first frame and outside the
   // view.
   std::optional<glm::u32vec2> pixelAt(glm::dvec2 pos) const;
-  // Where that pixel's ray stopped in the drawn frame (view_probe.h); nullopt where it met nothing.
+  // Where that pixel's ray stopped in the drawn frame (view_probe.h), its voxel the file's indices; nullopt
+  // where it met nothing.
   std::optional<ProbedVoxel> probedAt(glm::u32vec2 pixel) const;
   // The probe's line for the window point `pos` (view_probe.h); empty before the first frame and outside the
   // view.
@@ -623,7 +624,7 @@ void Viewer::runEvent(const ViewEvent& e) {
       setMode(e.mode);
       break;
     case ViewEventKind::SetCrop:
-      params_.crop = cropBoxOf(e.crop, bricks().info().volume.dims);
+      params_.crop = cropBoxOf(e.crop, bricks().info());
       unfoldCutControls_ = true;
       break;
     case ViewEventKind::SetClipPlane:
@@ -722,21 +723,25 @@ void Viewer::screenshot(const std::string& path, bool panels) {
   message_ = "wrote " + path;
 }
 
-// --crop's box as one range of voxels per axis; the rest of the volume is neither drawn nor read.
-void Viewer::drawCropControls(glm::u32vec3 dims) {
+// --crop's box as one range of voxels per axis, the file's indices as --crop takes them; the rest of the
+// volume is neither drawn nor read.
+void Viewer::drawCropControls(const BrickSourceInfo& info) {
   ImGui::Text("crop (voxels)");
+  const glm::u32vec3 dims = info.volume.dims;
+  CropBox crop = fileCropOf(params_.crop, info);
   for (int axis = 0; axis < 3; ++axis) {
     const int n = int(std::min<uint32_t>(dims[axis], INT32_MAX));
-    int lo = int(std::clamp(params_.crop.lo[axis], 0.0, double(n)));
-    int hi = int(std::clamp(params_.crop.hi[axis], 0.0, double(n)));
+    int lo = int(std::clamp(crop.lo[axis], 0.0, double(n)));
+    int hi = int(std::clamp(crop.hi[axis], 0.0, double(n)));
     const char label[] = {"xyz"[axis], '\0'};
     if (ImGui::DragIntRange2(label, &lo, &hi, std::max(1.0f, float(n) / 256.0f), 0, n, "%d", "%d",
                              ImGuiSliderFlags_AlwaysClamp)) {
       // At least one voxel: an empty box would show nothing and say nothing.
       lo = std::min(lo, n - 1);
       hi = std::max(hi, lo + 1);
-      params_.crop.lo[axis] = lo;
-      params_.crop.hi[axis] = hi;
+      crop.lo[axis] = lo;
+      crop.hi[axis] = hi;
+      params_.crop = fileCropOf(crop, info);
     }
   }
   if (ImGui::Button("whole volume")) params_.crop = CropBox{};
@@ -842,8 +847,12 @@ std::optional<glm::u32vec2> Viewer::pixelAt(glm::dvec2 pos) const {
 
 std::optional<ProbedVoxel> Viewer::probedAt(glm::u32vec2 pixel) const {
   const FrameRequest& drawn = *lastRequest_;
-  return probedVoxel(drawn.camera, drawn.width, drawn.height, pixel, renderer_->readDepthAt(pixel.x, pixel.y),
-                     bricks().info().volume);
+  const BrickSourceInfo& info = bricks().info();
+  std::optional<ProbedVoxel> probed = probedVoxel(drawn.camera, drawn.width, drawn.height, pixel,
+                                                  renderer_->readDepthAt(pixel.x, pixel.y), info.volume);
+  // The voxel as the file counts it, as --crop and extract do.
+  if (probed) probed->voxel.x = fileVoxelX(info, probed->voxel.x, info.volume.dims.x);
+  return probed;
 }
 
 std::string Viewer::probe(glm::dvec2 pos) {
@@ -987,7 +996,7 @@ void Viewer::drawPanels() {
     // Folded unless a cut is set (the options, a script): the panel stays short in a small window.
     if (std::exchange(unfoldCutControls_, false)) ImGui::SetNextItemOpen(true);
     if (ImGui::CollapsingHeader("crop box and clip plane")) {
-      drawCropControls(info.volume.dims);
+      drawCropControls(info);
       drawClipPlaneControls(info.volume);
       // --caps: an isosurface closed where the cuts cut it, or left open to show it from within.
       if (params_.mode == RenderMode::Iso) ImGui::Checkbox("caps on the cuts", &params_.isoCaps);

@@ -99,6 +99,21 @@ grep -q -- "--orbit excludes --view" "$dir/err.txt" || fail "--view with --orbit
 grep -q "^axes       RPS, mirroring: a store keeps x reversed, as LPS$" "$dir/info.txt" || fail "info of the mirrored file: $(grep axes "$dir/info.txt")"
 "$ropecast" info "$dir/m.rcast" > "$dir/info.txt" || fail "info m.rcast"
 grep -q "^axes       LPS$" "$dir/info.txt" || fail "info of the mirrored file's store: $(grep axes "$dir/info.txt")"
+grep -q "x kept reversed: its file's axes mirror (RPS); voxel indices (--crop, extract, the viewer's probe) are the file's" \
+  "$dir/info.txt" || fail "info of the mirrored file's store does not say x is kept reversed: $(cat "$dir/info.txt")"
+
+# The mirrored store's voxel indices are its file's: extract gives the file's samples back in its order, a
+# level-1 NRRD says where they lie (x toward the right), and --crop's x counts from the file's first sample:
+# M's x 2:7 is W's 13:18.
+"$ropecast" extract "$dir/m.rcast" -o "$dir/m0.raw" -q || fail "extract m.rcast"
+tail -c 3840 "$dir/m.nrrd" | cmp -s - "$dir/m0.raw" || fail "the mirrored store's extract is not its file's samples"
+"$ropecast" extract "$dir/m.rcast" --level 1 --crop 1:,2:,: -o "$dir/m1.nrrd" -q || fail "extract m.rcast --level 1"
+grep -qx "space directions: (-2,0,0) (0,2,0) (0,0,2)" "$dir/m1.nrrd" --text &&
+  grep -qx "space origin: (17,5,1)" "$dir/m1.nrrd" --text ||
+  fail "the mirrored store's level-1 NRRD: $(head -c 400 "$dir/m1.nrrd" | tr -c '[:print:]\n' '?')"
+"$ropecast" "${render[@]}" "$dir/m.rcast" --crop 2:7,3:9,1:11 -o "$dir/mc.png" || fail "render m --crop"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --crop 13:18,3:9,1:11 -o "$dir/wc.png" || fail "render w --crop"
+same "the mirrored store's --crop counts the file's x" "$dir/mc.png" "$dir/wc.png"
 "$ropecast" info "$dir/t.rcast" --json > "$dir/info.json" || fail "info t.rcast --json"
 python3 - "$dir/info.json" <<'PY' || fail "info --json of the turned store: $(cat "$dir/info.json")"
 import json, sys
@@ -124,8 +139,8 @@ grep -qx "sizes: 9 6 6" "$dir/w1.nrrd" --text && grep -qx "space directions: (2,
   grep -qx "space origin: (3,5,1)" "$dir/w1.nrrd" --text ||
   fail "the level-1 NRRD's header: $(head -c 400 "$dir/w1.nrrd" | tr -c '[:print:]\n' '?')"
 
-# The viewer's probe under the same pixels names the same world point in each volume's own samples: the turned
-# volume's T[i,j,k] = W[19-k, i, 11-j], the mirrored volume's store W's own (its x kept reversed), each value W's.
+# The viewer's probe under the same pixels names the same world point in each volume's file's samples: the
+# turned volume's T[i,j,k] = W[19-k, i, 11-j], the mirrored one's M[i,j,k] = W[19-i, j, k], each value W's.
 if command -v xvfb-run > /dev/null; then
   echo '[{"event": "probe", "pos": [20, 100]}, {"event": "probe", "pos": [40, 80]},
          {"event": "probe", "pos": [80, 60]}, {"event": "probe", "pos": [100, 60]}]' > "$dir/probe.json"
@@ -138,8 +153,8 @@ if command -v xvfb-run > /dev/null; then
   [ "$(voxels "$dir/probe_w.txt" | wc -l)" = 4 ] || fail "probes of w: $(cat "$dir/probe_w.txt")"
   [ "$(voxels "$dir/probe_t.txt" | awk '{ print 19 - $3, $1, 11 - $2, $4 }')" = "$(voxels "$dir/probe_w.txt")" ] ||
     fail "the turned volume's probes are not the world one's samples: $(paste "$dir/probe_t.txt" "$dir/probe_w.txt")"
-  [ "$(voxels "$dir/probe_m.txt")" = "$(voxels "$dir/probe_w.txt")" ] ||
-    fail "the mirrored store's probes are not the world one's samples: $(paste "$dir/probe_m.txt" "$dir/probe_w.txt")"
+  [ "$(voxels "$dir/probe_m.txt" | awk '{ print 19 - $1, $2, $3, $4 }')" = "$(voxels "$dir/probe_w.txt")" ] ||
+    fail "the mirrored volume's probes are not the world one's samples: $(paste "$dir/probe_m.txt" "$dir/probe_w.txt")"
 else
   echo "skip: the viewer's probe (xvfb-run is not installed)"
 fi

@@ -74,7 +74,8 @@ TEST(StoreRoundTrip, LargeOddUInt16VolumeIsByteIdentical) {
 
 // A volume whose axes mirror (a left-handed frame) is stored with each row reversed and its x axis turned
 // around, so that the store's axes are a rotation placing every sample where the source's axes put it; one
-// whose axes are a rotation is stored as it is.
+// whose axes are a rotation is stored as it is. Extract gives either back in the file's order, a region and a
+// voxel in the file's indices.
 TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
   const glm::u32vec3 dims{13, 7, 5};
   const std::vector<uint8_t> samples = testing::toType<uint8_t>(testing::ballField(dims, 3), 0, 255);
@@ -90,15 +91,26 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
     convertVolume(source, dir / "m.store", options);
     const auto store = Store::open(dir / "m.store");
     EXPECT_EQ(store->info().volume.axes, turned) << "mirrored " << mirrored;
+    EXPECT_EQ(store->info().xReversed, mirrored);
+    // The bricks hold the rows reversed: level 0's node at the store's x = 0 holds the file's last column.
+    std::vector<std::byte> brick(store->brickBytes());
+    store->readBrick({store->info().layout.maxDepth, {0, 0, 0}}, brick);
+    const uint32_t edge = store->info().layout.storedBrickEdge();
+    const size_t first = (size_t(kBrickBorder) * edge + kBrickBorder) * edge + kBrickBorder;
+    EXPECT_EQ(uint8_t(brick[first]), samples[mirrored ? dims.x - 1 : 0]) << "mirrored " << mirrored;
+
     const std::vector<std::byte> level0 = extractLevelBytes(*store, 0);
     ASSERT_EQ(level0.size(), samples.size());
-    for (uint32_t z = 0; z < dims.z; ++z)
-      for (uint32_t y = 0; y < dims.y; ++y)
-        for (uint32_t x = 0; x < dims.x; ++x) {
-          const size_t row = (size_t(z) * dims.y + y) * dims.x;
-          ASSERT_EQ(uint8_t(level0[row + x]), samples[row + (mirrored ? dims.x - 1 - x : x)])
-              << "mirrored " << mirrored << " at " << x << "," << y << "," << z;
-        }
+    EXPECT_TRUE(std::equal(level0.begin(), level0.end(), samples.begin(),
+                           [](std::byte a, uint8_t b) { return uint8_t(a) == b; }))
+        << "mirrored " << mirrored << ": extract is not the file's order";
+    const std::vector<std::byte> region = extractLevelBytes(*store, 0, {{2, 1, 0}, {7, 3, 1}});
+    ASSERT_EQ(region.size(), 10u);
+    for (uint32_t y = 1; y < 3; ++y)
+      for (uint32_t x = 2; x < 7; ++x)
+        EXPECT_EQ(uint8_t(region[(y - 1) * 5 + (x - 2)]), samples[y * dims.x + x])
+            << "mirrored " << mirrored << " at " << x << "," << y;
+    EXPECT_EQ(voxelValue(*store, 0, {11, 4, 3}), samples[(3 * dims.y + 4) * dims.x + 11]);
     EXPECT_TRUE(verifyStore(*store).ok());
   }
 }
