@@ -34,8 +34,9 @@ std::string voxelText(glm::u32vec3 voxel) {
 }
 
 std::string probeText(const ProbedVoxel& probed, double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "  value %.7g", value);
+  char text[160];
+  std::snprintf(text, sizeof text, "  value %.7g  at %.6g, %.6g, %.6g", value, probed.world.x, probed.world.y,
+                probed.world.z);
   return voxelText(probed.voxel) + text;
 }
 

@@ -33,7 +33,8 @@ std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width
 // "voxel 12, 40, 7".
 std::string voxelText(glm::u32vec3 voxel);
 
-// The probe's line, as the stats panel and the script's probe event show it: "voxel 12, 40, 7  value 187".
+// The probe's line, as the stats panel and the script's probe event show it: "voxel 12, 40, 7  value 187  at
+// 12.43, 40.5, 7.61", the point in the world (where --eye, --target and --clip-plane take points).
 std::string probeText(const ProbedVoxel& probed, double value);
 
 // The ruler's line between two probed points: "length 23.41 from voxel 12, 40, 7 to voxel 30, 41, 9". The

@@ -149,7 +149,7 @@ if command -v xvfb-run > /dev/null; then
       --voxels-per-pixel 16 --orbit 30,20,1.6 --script "$dir/probe.json" > "$dir/probe_$v.txt" 2> "$dir/err.txt" ||
       fail "view $v with probes: $(cat "$dir/err.txt")"
   done
-  voxels() { sed -n 's/.*: voxel \([0-9]*\), \([0-9]*\), \([0-9]*\)  value \(.*\)$/\1 \2 \3 \4/p' "$1"; }
+  voxels() { sed -n 's/.*: voxel \([0-9]*\), \([0-9]*\), \([0-9]*\)  value \([^ ]*\)  at .*$/\1 \2 \3 \4/p' "$1"; }
   [ "$(voxels "$dir/probe_w.txt" | wc -l)" = 4 ] || fail "probes of w: $(cat "$dir/probe_w.txt")"
   [ "$(voxels "$dir/probe_t.txt" | awk '{ print 19 - $3, $1, 11 - $2, $4 }')" = "$(voxels "$dir/probe_w.txt")" ] ||
     fail "the turned volume's probes are not the world one's samples: $(paste "$dir/probe_t.txt" "$dir/probe_w.txt")"

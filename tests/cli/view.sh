@@ -228,8 +228,8 @@ same "view --view left = render --view left" "$dir/v10.png" "$dir/r10.png"
 # probe: the voxel under a pixel of the converged view and its value. A ball (64 voxels) seen from +x, above the
 # middle of a 96x96 view (40 degrees; the camera looks below its center, so that a pixel's depth read from
 # another row would miss it): the voxels where the rays through two pixels meet its surface, each within a voxel
-# of that pixel's ray and at the surface's distance from the center; the value what extract reads there; with
-# MIP a larger value on the same ray; in a corner nothing, and past the window's edge no pixel. center_at (a double
+# of that pixel's ray and at the surface's distance from the center; the value what extract reads there and the
+# point in the world within the voxel; with MIP a larger value on the same ray; in a corner nothing, and past the window's edge no pixel. center_at (a double
 # click) on the second pixel brings its voxel to the middle of the view, and a drag turns the view about it; on
 # nothing it warns and the camera stays. measure (two right clicks) between the two pixels: the ruler ends on
 # their voxels, its length their distance; to nothing it warns.
@@ -246,7 +246,7 @@ JSON
 run "view --script probe" xview "$dir/ball.rcast" --size 96x96 --eye 182,32,32 --target 32,32,12 --up 0,0,1 \
   --script "$dir/probe.json"
 mapfile -t probes < <(grep "^ropecast view: probe at" "$dir/out.txt")
-probe_voxel() { sed -n 's/.*: voxel \([0-9]*\), \([0-9]*\), \([0-9]*\)  value \(.*\)$/\1 \2 \3 \4/p' <<< "$1"; }
+probe_voxel() { sed -n 's/.*: voxel \([0-9]*\), \([0-9]*\), \([0-9]*\)  value \([^ ]*\)  at .*$/\1 \2 \3 \4/p' <<< "$1"; }
 on_pixel_ray() {  # on_pixel_ray PX PY X Y Z: the voxel's center within a voxel of the ray through pixel PX, PY
   awk -v px="$1" -v py="$2" -v x="$3" -v y="$4" -v z="$5" 'BEGIN {
     t = sin(atan2(0, -1) / 9) / cos(atan2(0, -1) / 9)                        # tan(20 degrees)
@@ -268,6 +268,11 @@ for k in 0 1; do
   if [ -z "${pvalue:-}" ] || [ -z "$pixel" ]; then fail "probe: no voxel on the ball: ${probes[$k]:-none}"; continue; fi
   # shellcheck disable=SC2086
   on_pixel_ray $pixel "$px" "$py" "$pz" || fail "probe: ${probes[$k]} is not on the ball's surface under that pixel"
+  # The point in the world (the volume's own axes here): within the voxel.
+  at=$(sed -n 's/.*  at \(.*\)$/\1/p' <<< "${probes[$k]}" | tr -d ',')
+  awk -v p="$at" -v v="$px $py $pz" 'BEGIN { split(p, a, " "); split(v, b, " ")
+    for (i = 1; i <= 3; ++i) if (!(a[i] >= b[i] - 0.001 && a[i] <= b[i] + 1.001)) exit 1 }' ||
+    fail "probe: the point ${at:-none} is not in voxel $px, $py, $pz"
   "$ropecast" extract "$dir/ball.rcast" --crop "$px:$((px + 1)),$py:$((py + 1)),$pz:$((pz + 1))" -o "$dir/voxel.raw" > /dev/null
   [ "$(od -An -tu1 "$dir/voxel.raw" | tr -d ' ')" = "$pvalue" ] ||
     fail "probe: value $pvalue, extract reads $(od -An -tu1 "$dir/voxel.raw") at $px, $py, $pz"

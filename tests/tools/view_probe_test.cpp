@@ -82,9 +82,10 @@ TEST(ViewProbe, AMissNamesNothingAndAFacesRoundingStaysInTheVolume) {
 TEST(ViewProbe, TheLineNamesTheVoxelAndItsValue) {
   ProbedVoxel p;
   p.voxel = {12, 40, 7};
-  EXPECT_EQ(probeText(p, 187.0), "voxel 12, 40, 7  value 187");
-  EXPECT_EQ(probeText(p, -1024.0), "voxel 12, 40, 7  value -1024");
-  EXPECT_EQ(probeText(p, 0.123456789), "voxel 12, 40, 7  value 0.1234568");
+  p.world = {12.43, -40.5, 1234567.0};
+  EXPECT_EQ(probeText(p, 187.0), "voxel 12, 40, 7  value 187  at 12.43, -40.5, 1.23457e+06");
+  EXPECT_EQ(probeText(p, -1024.0).substr(0, 33), "voxel 12, 40, 7  value -1024  at ");
+  EXPECT_EQ(probeText(p, 0.123456789).substr(0, 37), "voxel 12, 40, 7  value 0.1234568  at ");
 }
 
 TEST(ViewProbe, TheRulerIsTheDistanceBetweenItsPoints) {
