@@ -157,7 +157,7 @@ class Viewer {
   void drawPanels();
   void drawCropControls(const BrickSourceInfo& info);
   void drawCutOutlines(const VolumeInfo& volume);
-  // The sides of the patient at the 3D view's edges and the world's axes in its lower left corner.
+  // The sides of the patient at the 3D view's edges and the volume's axes at its bottom.
   void drawOrientationMarks();
   // The drawn frame's pixel under the window point `pos`; nullopt before the first frame and outside the
   // view.
@@ -813,9 +813,11 @@ void Viewer::drawOrientationMarks() {
   text(letters.top, ImVec2(0.5f * display.x, kMargin), ImVec2(0.5f, 0.0f), letterColor);
   text(letters.bottom, ImVec2(0.5f * display.x, display.y - kMargin), ImVec2(0.5f, 1.0f), letterColor);
 
-  // The volume's axes, x red, y green, z blue, the farthest drawn first.
+  // The volume's axes, x red, y green, z blue, the farthest drawn first: left of the bottom letter, where no
+  // panel starts (the Volume panel runs down the left side, the stats panel sits at the bottom right).
   constexpr float kLength = 36.0f;
-  const ImVec2 origin(kMargin + kLength + 12.0f, display.y - kMargin - kLength - 12.0f);
+  const ImVec2 origin(std::max(kMargin + kLength + 12.0f, 0.5f * display.x - 2.0f * kLength - 24.0f),
+                      display.y - kMargin - kLength - 12.0f);
   const std::array<TriadAxis, 3> triad = axesTriad(camera, bricks().info().volume.axes);
   std::array<int, 3> order = {0, 1, 2};
   std::sort(order.begin(), order.end(),
@@ -1076,7 +1078,7 @@ void Viewer::drawPanels() {
       if (ImGui::Button("clear ruler")) ruler_.clear();
     }
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("the sides of the patient at the view's edges, the volume's axes in its corner");
+      ImGui::SetTooltip("the sides of the patient at the view's edges, the volume's axes at the bottom");
     if (!message_.empty()) {
       ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
       ImGui::TextUnformatted(message_.c_str());
