@@ -87,6 +87,10 @@ struct LightingParams {
 
 // Gradient magnitude (times min spacing) below which DVR samples are left unshaded.
 inline constexpr double kDvrShadeGradientThreshold = 1e-4;
+// A DVR ray's depth is that of the sample at which its accumulated opacity reaches this (where it looks
+// half solid: what a probe or a depth-compositing caller wants, not its far end), else of its last sample
+// that added opacity.
+inline constexpr double kDvrDepthOpacity = 0.5;
 // Bisection steps refining an isosurface crossing.
 inline constexpr int kIsoBisectionSteps = 8;
 

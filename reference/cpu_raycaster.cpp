@@ -349,10 +349,10 @@ class RayIntegrator {
       c = c * (lp.ambient + lp.diffuse * std::abs(terms.x)) +
           glm::dvec3(lp.specular * std::pow(std::abs(terms.y), lp.shininess));
     }
+    if (alpha_ < kDvrDepthOpacity) depth_ = glm::dot(x - fc_.eye, fc_.forward);
     color_ += (1.0 - alpha_) * a * c;
     alpha_ += (1.0 - alpha_) * a;
     traceAlpha_ = alpha_;
-    depth_ = glm::dot(x - fc_.eye, fc_.forward);
     return alpha_ >= fc_.params.ert;
   }
 

@@ -34,6 +34,7 @@ std::vector<std::string> raycastDefines(const RenderParams& params) {
       "BRICK_BORDER " + std::to_string(kBrickBorder),
       "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),
       floatDefine("DVR_SHADE_GRADIENT_THRESHOLD", kDvrShadeGradientThreshold),
+      floatDefine("DVR_DEPTH_OPACITY", kDvrDepthOpacity),
       "TF_ENTRIES " + std::to_string(TfTable::kDefaultEntries),
   };
   if (usesStoredGradients(params)) defines.push_back("DVR_STORED_GRADIENTS");

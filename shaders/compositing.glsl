@@ -3,7 +3,7 @@
 // front-to-back DVR compositing with early ray termination, and the largest value along the ray. Shared by
 // the rope ray caster, which calls them once per data leaf (Gobbetti et al. 2008, Sect. 5.2), and the
 // brute-force pass, which calls them once for the whole volume. No #version line. Needs the defines
-// ISO_BISECTION_STEPS and those of shaders/shading.glsl.
+// ISO_BISECTION_STEPS, DVR_DEPTH_OPACITY and those of shaders/shading.glsl.
 
 #include "shaders/sampling.glsl"
 #include "shaders/shading.glsl"
@@ -127,10 +127,11 @@ RayResult shadeIsoCap(IsoMarch m, Ray ray) {
 struct DvrAccum {
   vec3 color;
   float alpha;
-  float depth;  // of the last sample that added opacity
+  float depth;      // of the sample at which alpha reached DVR_DEPTH_OPACITY, else of the last that added opacity
+  float lastDepth;  // of the last sample that added opacity: where early ray termination stopped the ray
 };
 
-DvrAccum dvrAccumBegin() { return DvrAccum(vec3(0.0), 0.0, kInfinity); }
+DvrAccum dvrAccumBegin() { return DvrAccum(vec3(0.0), 0.0, kInfinity, kInfinity); }
 
 // Composites sample k of a segment; true when early ray termination ends the ray (as the CPU mirror: only a
 // sample that adds opacity ends it).
@@ -141,9 +142,10 @@ bool compositeDvrSample(inout DvrAccum acc, Segment s, Ray ray, float k) {
   float alpha = correctedOpacity(tf.a, s.opacityExponent);
   if (!(alpha > 0.0)) return false;
   vec3 color = shadeDvr(tf.rgb, dvrSampleDifferences(voxel) * s.gradientScale, ray.dir);
+  acc.lastDepth = t * ray.depthPerT;
+  if (acc.alpha < DVR_DEPTH_OPACITY) acc.depth = acc.lastDepth;
   acc.color += (1.0 - acc.alpha) * alpha * color;
   acc.alpha += (1.0 - acc.alpha) * alpha;
-  acc.depth = t * ray.depthPerT;
   return acc.alpha >= raycast.ert;
 }
 
@@ -155,7 +157,7 @@ bool compositeDvr(inout DvrAccum acc, Segment s, Ray ray, float kBegin, float kE
 }
 
 RayResult dvrResult(DvrAccum acc) {
-  float stopDepth = acc.alpha >= raycast.ert ? acc.depth : kInfinity;
+  float stopDepth = acc.alpha >= raycast.ert ? acc.lastDepth : kInfinity;
   return RayResult(vec4(acc.color + (1.0 - acc.alpha) * raycast.background, acc.alpha), acc.depth, stopDepth);
 }
 

@@ -145,7 +145,8 @@ void main() {
 #else
   vec4 accum = imageLoad(uAccum, pixel);
   if (accum.a >= raycast.ert) return;
-  DvrAccum acc = DvrAccum(accum.rgb, accum.a, imageLoad(uDepth, pixel).r);
+  // Where early ray termination stops the ray, the mark pass notes (shaders/multipass_mark.frag): not kept here.
+  DvrAccum acc = DvrAccum(accum.rgb, accum.a, imageLoad(uDepth, pixel).r, kInfinity);
   compositeDvr(acc, s, ray, kBegin, firstSampleIndex(ray.t0, min(tExit, ray.t1), s.dt, false));
   imageStore(uAccum, pixel, vec4(acc.color, acc.alpha));
   imageStore(uDepth, pixel, vec4(acc.depth));

@@ -6,9 +6,9 @@
 //
 // Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR or _MIP (MIP_SIGN
 // 1, or -1 for a minimum intensity projection);
-// BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_STORED_GRADIENTS (DVR samples
-// a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the leaves they used and request finer
-// ones, shaders/feedback.glsl).
+// BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_DEPTH_OPACITY;
+// DVR_STORED_GRADIENTS (DVR samples a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the
+// leaves they used and request finer ones, shaders/feedback.glsl).
 
 #include "shaders/rope_traversal.glsl"
 #include "shaders/brick_pool.glsl"

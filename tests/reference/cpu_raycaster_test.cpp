@@ -226,7 +226,7 @@ TEST(CpuRaycaster, AFlatRegionAtTheIsovalueHasNoSurface) {
     for (float depth : image.depth) ASSERT_TRUE(std::isinf(depth));
 }
 
-TEST(CpuRaycaster, DvrOfAConstantVolumeHasTheAnalyticOpacity) {
+TEST(CpuRaycaster, DvrOfAConstantVolumeHasTheAnalyticOpacityAndDepth) {
   // Constant 100 in a 40 x 24 x 32 volume with anisotropic spacing; TF: a = 0.03 per voxel, color c
   // everywhere.
   const glm::dvec3 spacing(1.0, 1.5, 0.75);
@@ -290,6 +290,13 @@ TEST(CpuRaycaster, DvrOfAConstantVolumeHasTheAnalyticOpacity) {
         ASSERT_TRUE(matches(n)) << x << "," << y << " image " << (img == &reference ? "reference" : "mirror")
                                 << " level scale " << levelScale << " n " << n << " alpha " << px.a
                                 << " expected " << expectedRgba(n).a;
+        // The depth is the sample's at which the opacity reached a half (the last sample that found less
+        // before it), or the last sample's where the ray never got there.
+        double k = 0.0;
+        while (k + 1.0 < n && expectedRgba(k + 1.0).a < kDvrDepthOpacity) k += 1.0;
+        const double forward = glm::dot(ray.dir, glm::normalize(in.camera.target - in.camera.eye));
+        ASSERT_NEAR(img->depth[size_t(y) * in.width + x], (t0 + k * dt) * forward, 0.02)
+            << x << "," << y << " n " << n << " sample " << k;
         ++checked;
       }
     }
