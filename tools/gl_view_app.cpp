@@ -168,9 +168,14 @@ class Viewer {
   // The probe's line for the window point `pos` (view_probe.h); empty before the first frame and outside the
   // view.
   std::string probe(glm::dvec2 pos);
+  // What a pointer action did, or why it did nothing, for the panel and the script.
+  struct Outcome {
+    bool done = false;
+    std::string message;
+  };
   // A double click, or the script's center_at: the point under `pos` becomes the orbit's center, the camera
-  // moved to it (core/camera.h centeredOn). Returns what it did, or why it did nothing.
-  std::string centerAt(glm::dvec2 pos);
+  // moved to it (core/camera.h centeredOn).
+  Outcome centerAt(glm::dvec2 pos);
   // A right click, or an end of the script's measure: the point under `pos` ends the ruler; after two ends,
   // the next starts a new ruler. Returns what it did, or why it did nothing.
   std::string placeRulerEnd(glm::dvec2 pos);
@@ -516,7 +521,7 @@ void Viewer::readWindowInput(double dtSeconds) {
   windowPointer_ = now;
   if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) controller_->zoom(wheelClicks_);
   if (!io.WantCaptureMouse && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
-    message_ = centerAt(now.pos);
+    message_ = centerAt(now.pos).message;
   if (!io.WantCaptureMouse && ImGui::IsMouseClicked(ImGuiMouseButton_Right))
     message_ = placeRulerEnd(now.pos);
   wheelClicks_ = 0.0;
@@ -677,9 +682,9 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     }
     case ViewEventKind::CenterAt:
-      if (const std::string what = centerAt(e.pos); what.rfind("centered", 0) != 0)
+      if (const Outcome o = centerAt(e.pos); !o.done)
         std::fprintf(stderr, "ropecast view: warning: %s: %s; the camera stays\n", e.where.c_str(),
-                     what.c_str());
+                     o.message.c_str());
       break;
     case ViewEventKind::WaitConverged:
     case ViewEventKind::Quit:  // the script ends: runScript skips the rest
@@ -876,13 +881,13 @@ std::string Viewer::probe(glm::dvec2 pos) {
   return text;
 }
 
-std::string Viewer::centerAt(glm::dvec2 pos) {
+Viewer::Outcome Viewer::centerAt(glm::dvec2 pos) {
   const std::optional<glm::u32vec2> pixel = pixelAt(pos);
-  if (!pixel) return "nothing to center on outside the 3D view";
+  if (!pixel) return {false, "nothing to center on outside the 3D view"};
   const std::optional<ProbedVoxel> probed = probedAt(*pixel);
-  if (!probed) return "nothing under the pointer to center on";
+  if (!probed) return {false, "nothing under the pointer to center on"};
   controller_->lookFrom(centeredOn(controller_->camera(), probed->world));
-  return "centered on " + voxelText(probed->voxel);
+  return {true, "centered on " + voxelText(probed->voxel)};
 }
 
 std::string Viewer::placeRulerEnd(glm::dvec2 pos) {
