@@ -96,9 +96,9 @@ int runView(const ViewOptions& o) {
 const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::function<int()> {
   auto o = std::make_shared<ViewOptions>();
   app.description(
-      "view a store, a volume or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly; "
-      "panels for "
-      "mode, isovalue, transfer function, rendering settings, stats");
+      "view a store, a volume or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly, "
+      "center on a point; probe and ruler; panels for mode, isovalue, transfer function, rendering settings, "
+      "stats");
   app.add_option("input", o->input,
                  "store file (.rcast), a volume as convert reads it (converted to a temporary store first), "
                  "or procedural:NAME:SIZE")
