@@ -144,10 +144,37 @@ std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t lev
 }
 
 double voxelValue(const BrickSource& source, uint32_t level, glm::u32vec3 voxel) {
-  const std::vector<std::byte> bytes = extractLevelBytes(source, level, {voxel, voxel + 1u});
+  return VoxelReader(source).value(level, voxel);
+}
+
+double VoxelReader::value(uint32_t level, glm::u32vec3 voxel) {
+  const BrickSourceInfo& info = source_.info();
+  const OctreeLayout& layout = info.layout;
+  const glm::u32vec3 levelDims = levelDimsOf(source_, level);
+  if (!(voxel.x < levelDims.x && voxel.y < levelDims.y && voxel.z < levelDims.z))
+    throw UsageError("extract: voxel " + formatDims(voxel) + " lies outside level " + std::to_string(level) +
+                     " (" + formatDims(levelDims) + ")");
+  voxel.x = fileVoxelX(info, voxel.x, levelDims.x);  // the store's index
+  const uint32_t b = layout.brickSize, edge = layout.storedBrickEdge();
+  const NodeKey node{layout.maxDepth - level, voxel / b};
+  if (cached_ != node) {
+    brick_.resize(source_.brickBytes());
+    cached_.reset();  // a read that throws leaves no brick
+    source_.readBrick(node, brick_);
+    cached_ = node;
+  }
+  const glm::u32vec3 in = voxel - node.coord * b + kBrickBorder;
+  const size_t index = (size_t(in.z) * edge + in.y) * edge + in.x;
+  uint16_t stored;
+  if (info.storedType == SampleType::UInt8)
+    stored = uint16_t(brick_[index]);
+  else
+    std::memcpy(&stored, brick_.data() + 2 * index, 2);
+  std::byte original[8];
+  writeOriginal(stored, info.volume.type, info.mapping, original);
   double value = 0.0;
-  forSampleType(source.info().volume.type, [&](auto sample) {
-    std::memcpy(&sample, bytes.data(), sizeof(sample));
+  forSampleType(info.volume.type, [&](auto sample) {
+    std::memcpy(&sample, original, sizeof(sample));
     value = double(sample);
   });
   return value;

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -47,8 +48,21 @@ std::vector<std::byte> extractLevelBytes(const BrickSource& source, uint32_t lev
 
 // The value of one voxel (the file's indices) of a level in data units, as extractLevel writes it (an integer
 // type's exactly; a float's as the store keeps it: quantized to 16 bits over its value range). Reads the one
-// brick that holds it. Throws UsageError as extractLevel, for a voxel outside the level.
+// brick that holds it. Throws UsageError, naming the level, for a voxel outside it.
 double voxelValue(const BrickSource& source, uint32_t level, glm::u32vec3 voxel);
+
+// voxelValue one voxel after another (the viewer's probe), keeping the last brick read: the voxels of one
+// brick cost one read. One caller at a time; the BrickSource may be shared with other readers.
+class VoxelReader {
+ public:
+  explicit VoxelReader(const BrickSource& source) : source_(source) {}
+  double value(uint32_t level, glm::u32vec3 voxel);
+
+ private:
+  const BrickSource& source_;
+  std::optional<NodeKey> cached_;
+  std::vector<std::byte> brick_;
+};
 
 // Writes `header` (may be empty) and the region to `output` under a temporary name, renamed when complete.
 void extractLevelToFile(const BrickSource& source, uint32_t level, const std::filesystem::path& output,

@@ -206,6 +206,7 @@ class Viewer {
     std::string text;
   };
   std::optional<ProbeAnswer> probeAnswer_;
+  std::optional<VoxelReader> voxelReader_;  // the probe's values, a brick kept
   // The ruler's ends (right clicks on the 3D view, the script's measure); one while it waits for its second.
   std::vector<ProbedVoxel> ruler_;
   double voxelsPerPixel_ = 1.0;
@@ -280,6 +281,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   source_ = openBrickSource(o, "view");
   if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
   const BrickSourceInfo& info = bricks().info();
+  voxelReader_.emplace(bricks());
   valueRange_ = valueRangeOf(info);
   boxMax_ = info.volume.worldMax();
   {
@@ -872,7 +874,7 @@ std::string Viewer::probe(glm::dvec2 pos) {
     text = "nothing under the pointer";
   } else {
     try {
-      text = probeText(*probed, voxelValue(bricks(), 0, probed->voxel));
+      text = probeText(*probed, voxelReader_->value(0, probed->voxel));
     } catch (const Error& e) {
       text = e.what();
     }

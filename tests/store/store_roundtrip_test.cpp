@@ -281,6 +281,39 @@ TEST(StoreRoundTrip, AVoxelsValueIsItsSampleInDataUnits) {
   EXPECT_THROW(voxelValue(*store, 0, {0, 0, UINT32_MAX}), UsageError);
 }
 
+// A BrickSource that counts its brick reads.
+class CountingSource : public BrickSource {
+ public:
+  explicit CountingSource(const BrickSource& inner) : inner_(inner) {}
+  const BrickSourceInfo& info() const override { return inner_.info(); }
+  NodeInfo node(const NodeKey& key) const override { return inner_.node(key); }
+  void readBrick(const NodeKey& key, std::span<std::byte> out) const override {
+    ++reads;
+    inner_.readBrick(key, out);
+  }
+  mutable int reads = 0;
+
+ private:
+  const BrickSource& inner_;
+};
+
+TEST(StoreRoundTrip, AVoxelReaderReadsABrickOnceForItsVoxels) {
+  TempDir dir;
+  const auto samples = ballSamples();
+  const auto store = ballStore(dir);  // bricks of 4
+  const glm::u32vec3 d = store->info().layout.levelDims(0);
+  CountingSource counting(*store);
+  VoxelReader reader(counting);
+  const auto sample = [&](glm::u32vec3 v) { return double(samples[(size_t(v.z) * d.y + v.y) * d.x + v.x]); };
+  for (const glm::u32vec3 v : {glm::u32vec3(8, 4, 12), glm::u32vec3(11, 7, 15), glm::u32vec3(9, 5, 12)})
+    EXPECT_EQ(reader.value(0, v), sample(v));
+  EXPECT_EQ(counting.reads, 1);
+  EXPECT_EQ(reader.value(0, {12, 4, 12}), sample({12, 4, 12}));  // the next brick along x
+  EXPECT_EQ(reader.value(1, {4, 2, 6}), voxelValue(*store, 1, {4, 2, 6}));
+  EXPECT_EQ(counting.reads, 3);
+  EXPECT_THROW(reader.value(0, {0, d.y, 0}), UsageError);
+}
+
 TEST(StoreRoundTrip, MetadataKeepsSpacingSourceAndOptions) {
   TempDir dir;
   const glm::u32vec3 dims{20, 9, 13};
