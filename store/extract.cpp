@@ -26,6 +26,14 @@ I roundedData(uint16_t stored, const ValueMapping& mapping) {
   return I(std::clamp(v, double(std::numeric_limits<I>::min()), double(std::numeric_limits<I>::max())));
 }
 
+// The stored value of texel `index` of a brick (UInt8 or UInt16).
+uint16_t storedTexel(std::span<const std::byte> brick, SampleType storedType, size_t index) {
+  if (storedType == SampleType::UInt8) return uint16_t(brick[index]);
+  uint16_t stored;
+  std::memcpy(&stored, brick.data() + 2 * index, 2);
+  return stored;
+}
+
 // Writes one stored sample in the original type.
 void writeOriginal(uint16_t stored, SampleType type, const ValueMapping& mapping, std::byte* out) {
   switch (type) {
@@ -113,14 +121,9 @@ void extractLevel(const BrickSource& source, uint32_t level,
                 (xa - cx * b + kBrickBorder);
             std::byte* out = slab.data() + (z - za) * sliceBytes +
                              ((size_t(y) - begin.y) * dims.x + (xa - begin.x)) * outBytes;
-            for (uint32_t i = 0; i < xb - xa; ++i) {
-              uint16_t stored;
-              if (info.storedType == SampleType::UInt8)
-                stored = uint16_t(brick[in + i]);
-              else
-                std::memcpy(&stored, brick.data() + 2 * (in + i), 2);
-              writeOriginal(stored, type, info.mapping, out + i * outBytes);
-            }
+            for (uint32_t i = 0; i < xb - xa; ++i)
+              writeOriginal(storedTexel(brick, info.storedType, in + i), type, info.mapping,
+                            out + i * outBytes);
           }
       }
     }
@@ -165,13 +168,8 @@ double VoxelReader::value(uint32_t level, glm::u32vec3 voxel) {
   }
   const glm::u32vec3 in = voxel - node.coord * b + kBrickBorder;
   const size_t index = (size_t(in.z) * edge + in.y) * edge + in.x;
-  uint16_t stored;
-  if (info.storedType == SampleType::UInt8)
-    stored = uint16_t(brick_[index]);
-  else
-    std::memcpy(&stored, brick_.data() + 2 * index, 2);
   std::byte original[8];
-  writeOriginal(stored, info.volume.type, info.mapping, original);
+  writeOriginal(storedTexel(brick_, info.storedType, index), info.volume.type, info.mapping, original);
   double value = 0.0;
   forSampleType(info.volume.type, [&](auto sample) {
     std::memcpy(&sample, original, sizeof(sample));
@@ -247,7 +245,7 @@ std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelR
   glm::dvec3 firstIndex(region.begin);
   AxisDirections directions = volume.axes;
   if (source.info().xReversed) {
-    firstIndex.x = double(dims.x - 1 - region.begin.x);
+    firstIndex.x = double(fileVoxelX(source.info(), region.begin.x, dims.x));
     directions[0] = -volume.axes[0];
   }
   const glm::dvec3 first = (firstIndex + 0.5) * spacing;

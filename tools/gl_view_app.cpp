@@ -56,6 +56,12 @@ constexpr double kStillAfterSeconds = 0.25;
 // Frame times the stats graph shows.
 constexpr size_t kFrameHistory = 120;
 
+// The script's events that wait until the shown view has converged: they read or write what it shows.
+bool waitsForConvergence(ViewEventKind kind) {
+  return kind == ViewEventKind::Screenshot || kind == ViewEventKind::WaitConverged ||
+         kind == ViewEventKind::Probe || kind == ViewEventKind::CenterAt || kind == ViewEventKind::Measure;
+}
+
 // The mouse as the camera sees it: position in window pixels (y down) and the buttons held.
 struct Pointer {
   glm::dvec2 pos{0.0};
@@ -550,10 +556,7 @@ void Viewer::runScript(bool converged) {
   while (nextEvent_ < script_->events.size()) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
-    const bool waits = e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
-                       e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt ||
-                       e.kind == ViewEventKind::Measure;
-    if (waits && (!converged || changedHere)) {
+    if (waitsForConvergence(e.kind) && (!converged || changedHere)) {
       if (changedHere || ++waitedFrames_ <= o_.maxFrames) break;
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
                    e.where.c_str(), o_.maxFrames);
@@ -1232,10 +1235,7 @@ bool Viewer::waitingForConvergence() const {
   if (!script_) return false;
   if (scriptDone()) return !o_.screenshot.empty();
   const ViewEvent& e = script_->events[nextEvent_];
-  return (e.kind == ViewEventKind::Screenshot || e.kind == ViewEventKind::WaitConverged ||
-          e.kind == ViewEventKind::Probe || e.kind == ViewEventKind::CenterAt ||
-          e.kind == ViewEventKind::Measure) &&
-         e.atSeconds <= secondsSince(start_);
+  return waitsForConvergence(e.kind) && e.atSeconds <= secondsSince(start_);
 }
 
 double Viewer::secondsToNextEvent() const {

@@ -99,6 +99,17 @@ struct EventReader {
     for (const json& v : p) values.push_back(v.get<double>());
     return values;
   }
+  // One of a table's names ({name, value} pairs: kRenderModeNames, kAnatomicalViewNames): its value.
+  template <typename Table>
+  auto named(const char* name, const Table& table) const {
+    const std::string given = text(name);
+    std::vector<std::string> names;
+    for (const auto& [known, value] : table) {
+      if (given == known) return value;
+      names.emplace_back(known);
+    }
+    fail(std::string("\"") + name + "\" must be " + alternatives(names) + ", got \"" + given + "\"");
+  }
   // Seconds: "at" or "seconds", in [0, kMaxScriptSeconds].
   double seconds(const char* name, double fallback) const {
     const double s = number(name, fallback);
@@ -214,14 +225,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       add(e);
     } else if (kind == "set_mode") {
       e.kind = ViewEventKind::SetMode;
-      const std::string mode = r.text("mode");
-      std::vector<std::string> names;
-      for (const auto& [name, value] : kRenderModeNames) {
-        names.emplace_back(name);
-        if (name == mode) e.mode = value;
-      }
-      if (std::find(names.begin(), names.end(), mode) == names.end())
-        r.fail("\"mode\" must be " + alternatives(names) + ", got \"" + mode + "\"");
+      e.mode = r.named("mode", kRenderModeNames);
       add(e);
     } else if (kind == "set_crop") {
       e.kind = ViewEventKind::SetCrop;
@@ -263,17 +267,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       add(e);
     } else if (kind == "set_view") {
       e.kind = ViewEventKind::SetView;
-      const std::string view = r.text("view");
-      std::vector<std::string> names;
-      bool known = false;
-      for (const auto& [name, value] : kAnatomicalViewNames) {
-        names.emplace_back(name);
-        if (name == view) {
-          e.view = value;
-          known = true;
-        }
-      }
-      if (!known) r.fail("\"view\" must be " + alternatives(names) + ", got \"" + view + "\"");
+      e.view = r.named("view", kAnatomicalViewNames);
       add(e);
     } else if (kind == "probe" || kind == "center_at") {
       e.kind = kind == "probe" ? ViewEventKind::Probe : ViewEventKind::CenterAt;
