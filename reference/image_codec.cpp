@@ -46,13 +46,12 @@ FloatImage decodeImage(const std::string& path) {
   auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw Error("readImage: cannot open '" + path + "': " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
-  // The limit holds the largest image ropecast writes (16384 x 16384 RGBA).
-  constexpr uint64_t kMaxValues = uint64_t(16384) * 16384 * 4;
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 ||
-      uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) > kMaxValues)
+      uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) > kMaxDecodedImageValues)
     throw Error("readImage: '" + path + "' claims " + std::to_string(spec.width) + "x" +
                 std::to_string(spec.height) + " pixels of " + std::to_string(spec.nchannels) +
-                " channels; expected at most " + std::to_string(kMaxValues) + " values (16384x16384 RGBA)");
+                " channels; expected at most " + std::to_string(kMaxDecodedImageValues) +
+                " values (16384x16384 RGBA)");
   FloatImage image;
   image.width = uint32_t(spec.width);
   image.height = uint32_t(spec.height);

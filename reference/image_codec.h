@@ -29,9 +29,12 @@ std::vector<unsigned char> encodeImage(const std::string& where, const std::stri
 // Why no writer can encode `path`'s extension in memory, in words ("" when one can).
 std::string imageWriterProblem(const std::string& path);
 
-// `path` read as floats (8-bit PNG values become v / 255; the stored color, not color * alpha). A header that
-// claims more than 16384 x 16384 RGBA values is refused before anything is allocated. Throws ropecast::Error
-// naming the file.
+// The most values a decoded image may hold: the largest image ropecast writes (16384 x 16384 RGBA). A header
+// that claims more is refused before anything is allocated.
+inline constexpr uint64_t kMaxDecodedImageValues = uint64_t(16384) * 16384 * 4;
+
+// `path` read as floats (8-bit PNG values become v / 255; the stored color, not color * alpha), at most
+// kMaxDecodedImageValues. Throws ropecast::Error naming the file.
 FloatImage decodeImage(const std::string& path);
 
 }  // namespace ropecast

@@ -13,7 +13,7 @@
 #include "core/input_file.h"
 #include "core/temporary_file.h"
 #include "reference/image_codec.h"
-#include "reference/png_encoder.h"
+#include "reference/png_codec.h"
 
 namespace ropecast {
 
@@ -107,7 +107,9 @@ StagedImage stageDepthExr(const std::string& path, const FloatImage& depth) {
 
 FloatImage readImage(const std::string& path) {
   requireRegularFile(path, "readImage: '" + path + "'");  // a FIFO would block, a device never end
-  return decodeImage(path);
+  // PNG, what ropecast writes and compares most, through libpng: OpenImageIO (in the ropecast executable, its
+  // image module) only for the other formats.
+  return hasPngSignature(path) ? decodePng(path) : decodeImage(path);
 }
 
 }  // namespace ropecast

@@ -1,4 +1,4 @@
-// Image files: PNG (8-bit RGB or RGBA, clamped to [0,1], no gamma; through libpng, png_encoder.h), other
+// Image files: PNG (8-bit RGB or RGBA, clamped to [0,1], no gamma; through libpng, png_codec.h), other
 // 8-bit formats OpenImageIO writes, and OpenEXR (float RGBA; a depth EXR with one float channel "Z") through
 // OpenImageIO, and reading them back as floats (tests, regression goldens).
 // Writes go to a unique temporary name next to the path ("<path>.tmp-XXXXXX") and are renamed when complete,
@@ -45,7 +45,8 @@ enum class ImageOutputKind { Color8, FloatExr };
 // no writer knows its extension, or a float output's name does not end in .exr (any other format would round
 // the floats). Callers check their outputs before long work, so a typo does not surface after the render.
 std::string imageOutputProblem(const std::string& path, ImageOutputKind kind);
-// Reads any image OpenImageIO knows as floats (8-bit PNG values become v / 255). Throws naming the file.
+// Reads any image OpenImageIO knows as floats (8-bit PNG values become v / 255; PNG files through libpng,
+// png_codec.h). Throws naming the file.
 FloatImage readImage(const std::string& path);
 
 }  // namespace ropecast

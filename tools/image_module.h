@@ -2,8 +2,9 @@
 // image-stack sources, golden-image comparison), GDCM (DICOM series) and HDF5 files, built as a shared
 // module, ropecast_images.so, that the ropecast executable loads the first time a command needs one.
 // OpenImageIO loads a few hundred shared libraries, which took the larger part of every start; commands that
-// touch no image (info, verify, convert from raw or NRRD, view without a screenshot) no longer load them
-// (docs/BENCHMARKS.md, "Start-up"). Test executables link those parts directly.
+// touch no image but PNG (info, verify, convert from raw or NRRD, render to PNG, compare of PNGs: libpng,
+// reference/png_codec.h) no longer load them (docs/BENCHMARKS.md, "Start-up"). Test executables link those
+// parts directly.
 //
 // The module links its own copy of core/ and store/, so it keeps no state of ropecast's: it makes no
 // TemporaryFile (whose removal on a signal lives in the executable's copy) and returns bytes and images for

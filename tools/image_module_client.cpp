@@ -28,7 +28,7 @@ const ImageModule& loadImageModule() {
   for (const fs::path& candidate : candidates)
     if (!found && fs::is_regular_file(candidate, ec)) found = &candidate;
   const std::string need =
-      "image files (PNG, EXR, TIFF), image stacks, DICOM and HDF5 need ropecast's image module ";
+      "image files other than PNG (EXR, TIFF), image stacks, DICOM and HDF5 need ropecast's image module ";
   if (!found)
     throw Error(need + kImageModuleFile + ", which is neither at " + candidates[0].string() + " nor at " +
                 candidates[1].string() + " (install it with ropecast, or rebuild)");

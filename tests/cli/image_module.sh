@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The image module (tools/image_module.h): ropecast links no OpenImageIO and loads ropecast_images.so the first
-# time a command needs an image other than a PNG it writes (reference/png_encoder.h); without the module, or with
-# a wrong one, the commands that need none still work (render to PNG among them) and those that do fail with a
-# message that names it, leaving nothing behind.
+# time a command needs an image other than a PNG (reference/png_codec.h); without the module, or with a wrong one,
+# the commands that need none still work (render to PNG and compare of PNGs among them) and those that do fail
+# with a message that names it, leaving nothing behind.
 # Usage: bash image_module.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -60,8 +60,11 @@ expect_failure "render to JPEG without the module" "ropecast_images.so" \
   "$alone" render "$dir/v.rcast" --size 16x16 -o "$dir/out/x.jpg"
 expect_failure "convert a PNG stack without the module" "ropecast_images.so" \
   "$alone" convert "$dir/slices" -o "$dir/out/s.rcast"
-expect_failure "compare without the module" "ropecast_images.so" \
-  "$alone" compare "$dir/slices/s0.png" "$dir/slices/s1.png"
+"$alone" compare "$dir/slices/s0.png" "$dir/slices/s1.png" > "$dir/cmp.txt" && grep -q '"psnr_db":"inf"' "$dir/cmp.txt" &&
+  echo "ok   compare of PNGs without the module" || fail "compare of PNGs without the module: $(cat "$dir/cmp.txt")"
+"$ropecast" render procedural:sphere:16 --size 16x16 -o "$dir/s.png" --exr "$dir/s.exr" -q || exit 1
+expect_failure "compare of an EXR without the module" "ropecast_images.so" \
+  "$alone" compare "$dir/s.exr" "$dir/slices/s0.png"
 [ -z "$(ls -A "$dir/out")" ] && echo "ok   nothing written" || { fail "left behind:"; ls -A "$dir/out"; }
 
 # A file of that name that is no module of this build.

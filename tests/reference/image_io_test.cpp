@@ -10,7 +10,7 @@
 
 #include "core/error.h"
 #include "reference/image_io.h"
-#include "reference/png_encoder.h"
+#include "reference/png_codec.h"
 #include "tests/render/testutil_gl.h"
 
 namespace ropecast {
