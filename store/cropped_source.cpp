@@ -27,6 +27,7 @@ class CroppedSource final : public VolumeSource {
       : source_(std::move(source)), begin_(begin) {
     info_ = source_->info();
     info_.dims = end - begin;
+    if (info_.origin) info_.origin = *info_.origin + info_.axes * (glm::dvec3(begin) * info_.spacing);
     info_.valueMin.reset();
     info_.valueMax.reset();
     info_.description += " cropped to " + rangesText(begin, end);

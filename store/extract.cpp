@@ -249,7 +249,8 @@ std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelR
     directions[0] = -volume.axes[0];
   }
   const glm::dvec3 first = (firstIndex + 0.5) * spacing;
-  const glm::dvec3 origin = center + volume.axes * (first - center);
+  // The place in the file's frame where the volume has an origin (fileFrameOffset), else in the world.
+  const glm::dvec3 origin = center + volume.axes * (first - center) + fileFrameOffset(volume);
   std::string described = volume.description;
   for (char& c : described) c = (c >= ' ' && c != 127) || (c & 0x80) ? c : '?';  // the comment stays one line
   std::string text =

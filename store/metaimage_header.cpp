@@ -146,11 +146,14 @@ class MetaImageHeaderParser {
           axisDirectionsOf({m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]});
       header_.axes = axes.value_or(AxisDirections(1.0));
       header_.matrixNotApplied = !axes;
+    } else if (name == "offset" || name == "origin" || name == "position") {
+      const std::vector<double> o = numbers(key, value, 3);
+      header_.origin = glm::dvec3(o[0], o[1], o[2]);
     } else if (name == "elementdatafile") {
       parseDataFile(key, value);
     }
-    // Anything else (Offset, CenterOfRotation, AnatomicalOrientation, ElementMin, Comment, ...) does not
-    // change how samples are read.
+    // Anything else (CenterOfRotation, AnatomicalOrientation, ElementMin, Comment, ...) does not change how
+    // samples are read or placed.
   }
 
   void parseSizes(std::string_view key, std::string_view value) {

@@ -7,11 +7,13 @@
 // MET_INT, MET_UINT, MET_LONG, MET_ULONG (32-bit in MetaIO), MET_FLOAT, MET_DOUBLE), ElementSpacing (else
 // ElementSize), BinaryData, BinaryDataByteOrderMSB or ElementByteOrderMSB, CompressedData (a zlib stream),
 // HeaderSize (-1: the data ends the file), ElementNumberOfChannels 1, TransformMatrix (or Rotation or
-// Orientation: only whether it turns the axes), ElementDataFile LOCAL or one file. Other keys are ignored.
+// Orientation: only whether it turns the axes), Offset (or Origin, Position), ElementDataFile LOCAL or one
+// file. Other keys are ignored.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -32,10 +34,11 @@ struct MetaImageHeader {
   // Where the axes point (core/orientation.h), LPS as ITK writes it: TransformMatrix's three rows, the
   // directions of x, y and z. Identity without one.
   AxisDirections axes{1.0};
-  bool matrixNotApplied = false;  // a TransformMatrix whose rows are not at right angles (a sheared grid)
-  bool compressed = false;        // CompressedData: the data is one zlib stream
-  bool bigEndian = false;         // the data's byte order (irrelevant for 1-byte types)
-  int64_t headerSize = 0;         // bytes of the data file skipped before the data; -1: data at the end
+  bool matrixNotApplied = false;     // a TransformMatrix whose rows are not at right angles (a sheared grid)
+  std::optional<glm::dvec3> origin;  // Offset (or Origin, Position): the first sample's center, in LPS
+  bool compressed = false;           // CompressedData: the data is one zlib stream
+  bool bigEndian = false;            // the data's byte order (irrelevant for 1-byte types)
+  int64_t headerSize = 0;            // bytes of the data file skipped before the data; -1: data at the end
   std::string dataFile;    // ElementDataFile as written (relative to the header's folder); empty: LOCAL
   size_t headerBytes = 0;  // bytes of the header, the ElementDataFile line and its line end included
 

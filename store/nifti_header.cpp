@@ -103,6 +103,12 @@ class NiftiFields {
   bool swapped_;
 };
 
+// A point of NIfTI's RAS in LPS; nullopt unless finite.
+std::optional<glm::dvec3> lpsOrigin(glm::dvec3 ras) {
+  if (!std::isfinite(ras.x) || !std::isfinite(ras.y) || !std::isfinite(ras.z)) return std::nullopt;
+  return glm::dvec3(-ras.x, -ras.y, ras.z);
+}
+
 }  // namespace
 
 NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName) {
@@ -209,10 +215,14 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
         m[size_t(r * 3 + c)] = field.real(layout.srowX + size_t(r * 4 + c) * real, layout.wide);
     const std::optional<AxisDirections> axes =
         axisDirectionsOf({m[0], m[3], m[6]}, {m[1], m[4], m[7]}, {m[2], m[5], m[8]});
-    if (axes)
+    if (axes) {
       header.axes = rasToLps(*axes);
-    else
+      header.origin = lpsOrigin({field.real(layout.srowX + 3 * real, layout.wide),
+                                 field.real(layout.srowX + 7 * real, layout.wide),
+                                 field.real(layout.srowX + 11 * real, layout.wide)});
+    } else {
       header.transformNotApplied = true;
+    }
   } else if (field.code(layout.qformCode, layout.wide) > 0) {
     // The rotation of the unit quaternion (a, b, c, d), a = sqrt(1 - b^2 - c^2 - d^2), as the NIfTI-1
     // header's comments give it; pixdim[0] = -1 (qfac) turns the third axis around.
@@ -225,10 +235,15 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
     const glm::dvec3 y(2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b));
     const glm::dvec3 z(2 * (b * d + a * c), 2 * (c * d - a * b), a * a + d * d - c * c - b * b);
     const std::optional<AxisDirections> axes = axisDirectionsOf(x, y, qfac * z);
-    if (axes)
+    if (axes) {
       header.axes = rasToLps(*axes);
-    else
+      // qoffset_x, _y, _z follow quatern_d.
+      header.origin = lpsOrigin({field.real(layout.quaternB + 3 * real, layout.wide),
+                                 field.real(layout.quaternB + 4 * real, layout.wide),
+                                 field.real(layout.quaternB + 5 * real, layout.wide)});
+    } else {
       header.transformNotApplied = true;  // b, c, d not finite
+    }
   }
   return header;
 }

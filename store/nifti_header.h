@@ -5,11 +5,12 @@
 // Supported: both versions in either byte order, single files ("n+1", "n+2": .nii, .nii.gz) and header/image
 // pairs ("ni1", "ni2": .hdr with .img); 3 dimensions (a 4th or more only of size 1); the scalar datatypes
 // int8, uint8, int16, uint16, int32, uint32, float32 and float64; pixdim 1-3 as spacing; scl_slope and
-// scl_inter; whether the qform or sform turns the axes.
+// scl_inter; whether the qform or sform turns the axes, and where it places the first sample.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -40,6 +41,9 @@ struct NiftiHeader {
   // directions, turned from NIfTI's RAS into LPS. Identity where the file sets neither.
   AxisDirections axes{1.0};
   bool transformNotApplied = false;  // an sform whose columns are not at right angles (a sheared grid)
+  // The center of the first sample in LPS: the sform's offsets, or the qform's (qoffset), with the axes they
+  // turn; absent where neither is applied or they are not finite.
+  std::optional<glm::dvec3> origin;
 
   uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
 };

@@ -146,6 +146,8 @@ class HeaderParser {
       parseSpaceDirections(name, value);
     } else if (name == "space") {
       space_ = std::string(value);
+    } else if (name == "space origin") {
+      parseSpaceOrigin(value);
     } else if (name == "byte skip") {
       const auto skip = parseInteger(value);
       if (!skip || *skip < -1 || *skip > kMaxSkip)
@@ -161,8 +163,7 @@ class HeaderParser {
     } else if (name == "data file" || name == "datafile") {
       parseDataFile(name, value);
     }
-    // Anything else (kinds, space origin, centerings, content, ...) does not change how samples are read
-    // or placed.
+    // Anything else (kinds, centerings, content, ...) does not change how samples are read or placed.
   }
 
   void parseSizes(std::string_view name, std::string_view value) {
@@ -245,6 +246,27 @@ class HeaderParser {
     hasDirections_ = true;
   }
 
+  // "(x,y,z)"; Teem writes "(nan,nan,nan)" for an unknown origin.
+  void parseSpaceOrigin(std::string_view value) {
+    while (!value.empty() && (value.back() == ' ' || value.back() == '\t')) value.remove_suffix(1);
+    glm::dvec3 origin(0.0);
+    int count = 0;
+    bool finite = value.size() >= 2 && value.front() == '(' && value.back() == ')';
+    const std::string_view inner = finite ? value.substr(1, value.size() - 2) : std::string_view();
+    for (size_t start = 0; finite;) {
+      const size_t comma = inner.find(',', start);
+      const auto number =
+          parseNumber(inner.substr(start, comma == std::string_view::npos ? comma : comma - start));
+      finite = number && std::isfinite(*number) && count < 3;
+      if (finite) origin[count++] = *number;
+      if (comma == std::string_view::npos) break;
+      start = comma + 1;
+    }
+    finite = finite && count == 3;
+    rawOrigin_ = finite ? std::optional(origin) : std::nullopt;
+    originNotRead_ = !finite && value.find("nan") == std::string_view::npos;
+  }
+
   void parseDataFile(std::string_view name, std::string_view value) {
     if (value.empty()) failField(name, "expected a file name");
     const auto words = splitWords(value);
@@ -276,23 +298,26 @@ class HeaderParser {
     } else if (hasSpacings_) {
       header_.spacing = spacings_;
     }
+    if (rawOrigin_) header_.origin = lpsSigns() * *rawOrigin_;
+    header_.originNotRead = originNotRead_;
     return header_;
   }
 
   // The space directions in LPS, from the anatomical frame the "space" field names (NRRD's long and short
   // names); a space that is not anatomical (scanner-xyz, 3D-right-handed, none given) as it is.
   AxisDirections inLps(const AxisDirections& axes) const {
+    AxisDirections lps = axes;
+    for (int a = 0; a < 3; ++a) lps[a] *= lpsSigns();
+    return lps;
+  }
+  // What turns a vector of the "space" field's frame into LPS: -1 on the axes that point the other way.
+  glm::dvec3 lpsSigns() const {
     std::string space;
     for (const char c : space_) space += char(std::tolower(static_cast<unsigned char>(c)));
     const bool right = space.starts_with("right-") || space.starts_with("ra");
     const bool anterior = space.starts_with("right-anterior") || space.starts_with("left-anterior") ||
                           space.starts_with("ra") || space.starts_with("la");
-    AxisDirections lps = axes;
-    for (int a = 0; a < 3; ++a) {
-      if (right) lps[a].x = -lps[a].x;
-      if (anterior) lps[a].y = -lps[a].y;
-    }
-    return lps;
+    return {right ? -1.0 : 1.0, anterior ? -1.0 : 1.0, 1.0};
   }
 
   static constexpr int64_t kMaxSkip = int64_t(1) << 40;
@@ -309,6 +334,8 @@ class HeaderParser {
   glm::dvec3 directions_{1.0};
   glm::dvec3 vectors_[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // the space directions
   bool vectorsUsable_ = true;                                                    // three 3-vectors, no "none"
+  std::optional<glm::dvec3> rawOrigin_;  // the space origin in the "space" field's frame
+  bool originNotRead_ = false;
   std::string space_;
 };
 

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -37,6 +38,10 @@ struct NrrdHeader {
   // Space directions that are not three orthogonal 3-vectors (a sheared grid, a "none"): only their lengths
   // are used (as spacing), and axes stays the identity.
   bool directionsNotApplied = false;
+  // The "space origin" (the center of the first sample), turned into LPS as the axes are; absent without one,
+  // or when it is not three finite numbers (originNotRead: said to the user, the samples read the same).
+  std::optional<glm::dvec3> origin;
+  bool originNotRead = false;
   NrrdEncoding encoding = NrrdEncoding::Raw;
   bool bigEndian = false;  // the data's byte order (irrelevant for 1-byte types)
   int64_t byteSkip = 0;  // bytes to skip before the data (after decompression for gzip); -1: data at the end

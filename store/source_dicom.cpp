@@ -683,6 +683,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
           notes);
       reorderFrames(decoded, stack.order, size_t(sliceDims.x) * sliceDims.y);
       info.axes = axesOf(*decoded.frameOrientation);
+      info.origin = decoded.framePositions[stack.order.front()];  // the first frame stacked
       if (stack.spacing) decoded.spacing.z = *stack.spacing;
       if (const auto& pixel = decoded.framePixelSpacing; pixel && (*pixel)[0] > 0 && (*pixel)[1] > 0)
         decoded.spacing.x = (*pixel)[1], decoded.spacing.y = (*pixel)[0];  // row spacing first
@@ -730,8 +731,10 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
                   "; expected " + validSpacingText() + " (--spacing sets it)");
   }
   if (std::all_of(slices.begin(), slices.end(),
-                  [](const DicomImage& s) { return s.position && s.orientation; }))
+                  [](const DicomImage& s) { return s.position && s.orientation; })) {
     info.axes = axesOf(*bottom.orientation);  // stacked along their normal
+    info.origin = *bottom.position;
+  }
   info.type = sampleTypeFor(layout, slices);
   info.description =
       "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) + " images)";

@@ -54,6 +54,7 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "metaimage:" + path;
   info.axes = header.axes;
+  info.origin = header.origin;
   if (header.matrixNotApplied) info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
   return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
                          header.bigEndian);

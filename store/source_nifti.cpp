@@ -170,6 +170,7 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "nifti:" + path;
   info.axes = header.axes;
+  info.origin = header.origin;
   if (header.transformNotApplied)
     info.notes.push_back(unappliedTransformNote(headerPath, "its qform or sform"));
   if (header.spacingUnknown && !options.spacing)

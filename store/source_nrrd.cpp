@@ -71,6 +71,9 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
   info.spacing = options.spacing.value_or(header.spacing);
   info.description = "nrrd:" + path;
   info.axes = header.axes;
+  info.origin = header.origin;
+  if (header.originNotRead)
+    info.notes.push_back(path + ": its space origin is not three numbers; the volume is placed without it");
   if (header.directionsNotApplied)
     info.notes.push_back(path +
                          ": its space directions are not three vectors at right angles; only their lengths "

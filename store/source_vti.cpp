@@ -85,6 +85,7 @@ class VtiSource final : public VolumeSource {
     }
     info_.description = "vti:" + path + " (" + header_.arrayName + ")";
     info_.axes = header_.axes;
+    info_.origin = header_.origin;
     if (header_.directionNotApplied) info_.notes.push_back(unappliedTransformNote(path, "its Direction"));
     if (header_.zlib)
       readCompressionHeader();

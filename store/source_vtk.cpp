@@ -20,6 +20,7 @@ std::unique_ptr<VolumeSource> openVtkSource(const std::string& path, const Sourc
   info.dims = header.sizes;
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
+  info.origin = header.origin;
   info.description = "vtk:" + path + " (" + header.arrayName + ")";
   if (header.ascii) {
     TextSamples text;

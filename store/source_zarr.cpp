@@ -433,6 +433,11 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
     }
   }
   info.spacing = options.spacing.value_or(spacing);
+  if (ome && ome->translation && ome->translation->size() == array.shape.size()) {
+    const auto shift = [&](int i) { return (*ome->translation)[size_t(axes.zyx[size_t(i)])]; };
+    const glm::dvec3 origin(shift(2), shift(1), shift(0));
+    if (std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)) info.origin = origin;
+  }
   info.description = "zarr:" + arrayFolder.lexically_normal().string();
   return std::make_unique<ZarrSource>(std::move(info), arrayFolder, std::move(array), axes.zyx,
                                       maxBufferedBytes);

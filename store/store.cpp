@@ -102,6 +102,12 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
     m.volume.dims = readVec3u(field(j, "dims"), "dims");
     m.volume.spacing = readVec3d(field(j, "spacing"), "spacing");
     if (j.contains("axes")) m.volume.axes = readAxes(j["axes"]);  // absent in stores written before
+    if (j.contains("origin")) {  // absent where the source placed its samples nowhere, or written before
+      m.volume.origin = readVec3d(j["origin"], "origin");
+      if (!std::isfinite(m.volume.origin->x) || !std::isfinite(m.volume.origin->y) ||
+          !std::isfinite(m.volume.origin->z))
+        throw std::runtime_error("origin: expected finite numbers");
+    }
     if (j.contains("xReversed")) {
       if (!j["xReversed"].is_boolean()) throw std::runtime_error("\"xReversed\": expected true or false");
       m.xReversed = j["xReversed"].get<bool>();

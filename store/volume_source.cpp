@@ -21,6 +21,13 @@ void VolumeSource::readSlab(uint32_t z0, uint32_t count, std::span<std::byte> ou
   readSlices(z0, count, out);
 }
 
+glm::dvec3 fileFrameOffset(const VolumeInfo& v) {
+  if (!v.origin) return glm::dvec3(0.0);
+  // Sample (0, 0, 0) is at origin in the file's frame, at center + axes (0.5 s - center) in the world.
+  const glm::dvec3 center = 0.5 * v.worldMax();
+  return *v.origin - center - v.axes * (0.5 * v.spacing - center);
+}
+
 SizesText parseSizesText(std::string_view text) {
   const auto words = splitWords(text);
   SizesText parsed;

@@ -35,6 +35,11 @@ struct VolumeInfo {
   // Sources give what their file says, a mirroring frame included; a store's never mirrors (the converter
   // stores such a volume's x axis reversed).
   AxisDirections axes{1.0};
+  // Where the file places the center of sample (0, 0, 0), in the frame `axes` point in (LPS for medical
+  // inputs: the scanner's coordinates), in world units; absent where the file says nothing (raw volumes,
+  // image stacks, procedural ones). A store's is that of its own sample (0, 0, 0): the converter moves it
+  // with a crop and with an x axis it keeps reversed.
+  std::optional<glm::dvec3> origin;
   std::string description;  // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
   // What the source noticed about its input that a person should hear, though the samples are read as
   // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.
@@ -54,6 +59,11 @@ inline Camera cameraInVolume(const Camera& world, const VolumeInfo& v) {
 inline ClipPlane clipPlaneInVolume(const ClipPlane& world, const VolumeInfo& v) {
   return clipPlaneInVolume(world, v.axes, 0.5 * v.worldMax());
 }
+
+// The file's frame (where `origin` places the samples) less the renderers' world, which turns the volume
+// about its extent's center and puts sample i at (i + 0.5) s: the two differ by this translation, zero
+// without an origin. A point of the world plus it is the point the file's frame names.
+glm::dvec3 fileFrameOffset(const VolumeInfo& v);
 
 // The most samples a store holds per axis: keeps every node count far from overflow.
 inline constexpr uint32_t kMaxDimsPerAxis = 1u << 20;

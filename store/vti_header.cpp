@@ -170,20 +170,31 @@ class VtiParser {
     const SizesText parsed = parseSizesText(sizes);
     if (!parsed.problem.empty()) return stop("ImageData WholeExtent: " + parsed.problem);
     header_.sizes = parsed.sizes;
+    glm::dvec3 signedSpacing(1.0);
     if (const auto spacingText = attribute(attributes, "Spacing")) {
       const auto spacing = numbers(*spacingText, 3);
       if (!spacing || (*spacing)[0] == 0.0 || (*spacing)[1] == 0.0 || (*spacing)[2] == 0.0)
         return stop("ImageData Spacing: expected 3 non-zero numbers");
       header_.spacing = glm::dvec3(std::abs((*spacing)[0]), std::abs((*spacing)[1]), std::abs((*spacing)[2]));
+      signedSpacing = glm::dvec3((*spacing)[0], (*spacing)[1], (*spacing)[2]);
     }
+    glm::dmat3 direction(1.0);  // columns: where x, y and z point
     if (const auto directionText = attribute(attributes, "Direction")) {
       const auto m = numbers(*directionText, 9);
       if (!m) return stop("ImageData Direction: expected 9 numbers");
       const std::vector<double>& d = *m;
-      const std::optional<AxisDirections> axes =
-          axisDirectionsOf({d[0], d[3], d[6]}, {d[1], d[4], d[7]}, {d[2], d[5], d[8]});
+      direction = glm::dmat3(d[0], d[3], d[6], d[1], d[4], d[7], d[2], d[5], d[8]);
+      const std::optional<AxisDirections> axes = axisDirectionsOf(direction[0], direction[1], direction[2]);
       header_.axes = axes.value_or(AxisDirections(1.0));
       header_.directionNotApplied = !axes;
+    }
+    // VTK places point (i, j, k) of the extent at Origin + Direction (i, j, k) Spacing: the first sample is
+    // the WholeExtent's low corner.
+    if (const auto originText = attribute(attributes, "Origin")) {
+      const auto o = numbers(*originText, 3);
+      if (!o) return stop("ImageData Origin: expected 3 numbers");
+      const glm::dvec3 low(wholeExtent_[0], wholeExtent_[2], wholeExtent_[4]);
+      header_.origin = glm::dvec3((*o)[0], (*o)[1], (*o)[2]) + direction * (low * signedSpacing);
     }
   }
 

@@ -5,12 +5,13 @@
 // Supported: VTKFile of type ImageData, either byte order, UInt32 or UInt64 headers, no compressor or
 // vtkZLibDataCompressor; one Piece covering the WholeExtent; the point data's active scalars (its Scalars
 // attribute, else its first DataArray) of one component and a scalar type of ropecast's, stored appended
-// (raw or base64) or inline (format "binary", base64). Spacing and Direction (only whether it turns the
-// axes) are read; the origin is not needed.
+// (raw or base64) or inline (format "binary", base64). Spacing, Direction (only whether it turns the axes)
+// and Origin are read.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -32,10 +33,12 @@ struct VtiHeader {
   // without one.
   AxisDirections axes{1.0};
   bool directionNotApplied = false;  // a Direction whose columns are not at right angles
-  bool bigEndian = false;            // byte_order: of the samples and of the data's header words
-  size_t headerWordBytes = 4;        // header_type UInt32 (4) or UInt64 (8)
-  bool zlib = false;                 // compressor vtkZLibDataCompressor: the data is in zlib blocks
-  bool base64 = false;               // the data is base64 text (inline, or appended with encoding base64)
+  std::optional<glm::dvec3>
+      origin;                  // where the first sample lies: Origin, moved to the WholeExtent's low corner
+  bool bigEndian = false;      // byte_order: of the samples and of the data's header words
+  size_t headerWordBytes = 4;  // header_type UInt32 (4) or UInt64 (8)
+  bool zlib = false;           // compressor vtkZLibDataCompressor: the data is in zlib blocks
+  bool base64 = false;         // the data is base64 text (inline, or appended with encoding base64)
   // File offset of the array's data: its header words first (the byte count, or the compression header).
   uint64_t dataStart = 0;
   std::string arrayName;

@@ -111,7 +111,13 @@ class VtkHeaderParser {
     } else if (keyword == "spacing" || keyword == "aspect_ratio") {
       header_.spacing = spacing(line, words);
     } else if (keyword == "origin") {
-      // Where the volume lies does not change how its samples are read.
+      glm::dvec3 origin;
+      for (int axis = 0; axis < 3; ++axis) {
+        const auto n = words.size() == 4 ? parseWholeNumber<double>(words[size_t(axis) + 1]) : std::nullopt;
+        if (!n || !std::isfinite(*n)) failLine("expected 3 numbers after ORIGIN, got " + quotedExcerpt(line));
+        origin[axis] = *n;
+      }
+      header_.origin = origin;
     } else if (keyword == "field") {
       parseField(words, line);
     } else if (keyword == "point_data") {

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -27,11 +28,12 @@ constexpr size_t kMaxVtkHeaderBytes = size_t(1) << 20;
 
 struct VtkHeader {
   SampleType type = SampleType::UInt8;
-  glm::u32vec3 sizes{0};    // DIMENSIONS: samples per axis, axis 0 fastest
-  glm::dvec3 spacing{1.0};  // SPACING (or ASPECT_RATIO): 1 where not given
-  std::string arrayName;    // the SCALARS' or FIELD array's name, for the description
-  size_t headerBytes = 0;   // where the samples start: after the line that ends the header
-  bool ascii = false;       // ASCII: the samples are numbers in text
+  glm::u32vec3 sizes{0};             // DIMENSIONS: samples per axis, axis 0 fastest
+  glm::dvec3 spacing{1.0};           // SPACING (or ASPECT_RATIO): 1 where not given
+  std::optional<glm::dvec3> origin;  // ORIGIN: the first sample's place
+  std::string arrayName;             // the SCALARS' or FIELD array's name, for the description
+  size_t headerBytes = 0;            // where the samples start: after the line that ends the header
+  bool ascii = false;                // ASCII: the samples are numbers in text
   // COLOR_SCALARS: unsigned char samples, which an ASCII file writes as fractions of 255 ("0.501961")
   bool colorScalars = false;
 

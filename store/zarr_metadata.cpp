@@ -321,29 +321,43 @@ std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std
             : throw Error(where + ": an axis of 'multiscales' has no name: " + axis.dump());
     ome.axisNames.push_back(lowerAscii(name));
   }
-  // Scales: the dataset's, times the image's own (OME-NGFF 0.4 allows both).
-  const auto scaleOf = [&](const json& owner) -> std::optional<std::vector<double>> {
+  // Scales and translations: the dataset's, then the image's own (OME-NGFF 0.4 allows both), each a scale
+  // first.
+  const auto transformOf = [&](const json& owner, const char* type) -> std::optional<std::vector<double>> {
     for (const json& t : owner.value("coordinateTransformations", json::array())) {
-      if (!t.is_object() || t.value("type", json()) != json("scale")) continue;
-      const json s = t.value("scale", json());
+      if (!t.is_object() || t.value("type", json()) != json(type)) continue;
+      const json s = t.value(type, json());
       std::vector<double> values;
       for (const json& v : s.is_array() ? s : json::array()) {
-        if (!v.is_number()) throw Error(where + ": a 'scale' holds " + v.dump() + ", not a number");
+        if (!v.is_number()) throw Error(where + ": a '" + type + "' holds " + v.dump() + ", not a number");
         values.push_back(v.get<double>());
       }
       if (!ome.axisNames.empty() && values.size() != ome.axisNames.size())
-        throw Error(where + ": a 'scale' has " + std::to_string(values.size()) + " values for " +
+        throw Error(where + ": a '" + type + "' has " + std::to_string(values.size()) + " values for " +
                     std::to_string(ome.axisNames.size()) + " axes");
       return values;
     }
     return std::nullopt;
   };
-  ome.scale = scaleOf(datasets.at(0));
-  if (const auto image = scaleOf(m)) {
-    if (!ome.scale) ome.scale = std::vector<double>(image->size(), 1.0);
-    if (ome.scale->size() != image->size())
-      throw Error(where + ": the image's 'scale' and its dataset's have different lengths");
-    for (size_t i = 0; i < image->size(); ++i) (*ome.scale)[i] *= (*image)[i];
+  ome.scale = transformOf(datasets.at(0), "scale");
+  ome.translation = transformOf(datasets.at(0), "translation");
+  const auto imageScale = transformOf(m, "scale");
+  const auto imageTranslation = transformOf(m, "translation");
+  for (const auto& image : {imageScale, imageTranslation, ome.translation})
+    if (image && ome.scale && image->size() != ome.scale->size())
+      throw Error(where + ": the image's and its dataset's transformations have different lengths");
+  if (imageScale) {
+    if (!ome.scale) ome.scale = std::vector<double>(imageScale->size(), 1.0);
+    for (size_t i = 0; i < imageScale->size(); ++i) {
+      (*ome.scale)[i] *= (*imageScale)[i];
+      if (ome.translation) (*ome.translation)[i] *= (*imageScale)[i];
+    }
+  }
+  if (imageTranslation) {
+    if (!ome.translation) ome.translation = std::vector<double>(imageTranslation->size(), 0.0);
+    if (ome.translation->size() != imageTranslation->size())
+      throw Error(where + ": the image's and its dataset's transformations have different lengths");
+    for (size_t i = 0; i < imageTranslation->size(); ++i) (*ome.translation)[i] += (*imageTranslation)[i];
   }
   return ome;
 }

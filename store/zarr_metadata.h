@@ -1,7 +1,7 @@
 // Zarr metadata as the Zarr source reads it (store/source_zarr.h): a v2 array's `.zarray` or a v3 array's
 // `zarr.json` (shape, chunks and shards, sample type and byte order, codecs, fill value, order, chunk keys)
 // and, for an OME-Zarr image, the `multiscales` of its `.zattrs` or `zarr.json` (the full-resolution
-// dataset's path, the axes' names and its scale).
+// dataset's path, the axes' names, its scale and translation).
 // Pure functions; any thread.
 #pragma once
 
@@ -64,6 +64,8 @@ struct OmeMultiscale {
   std::string datasetPath;                   // the first (full-resolution) dataset's path
   std::vector<std::string> axisNames;        // lower case; empty when the image names no axes
   std::optional<std::vector<double>> scale;  // per axis, the dataset's scale times the image's
+  // Per axis, where the first sample lies: the dataset's translation, then the image's scale and translation
+  std::optional<std::vector<double>> translation;
 };
 
 // The first multiscale image of a `.zattrs` (OME-NGFF 0.1 to 0.4) or of a group's `zarr.json` (0.5: under

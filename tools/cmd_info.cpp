@@ -58,6 +58,9 @@ void printPlacement(const VolumeInfo& v) {
   std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
               v.spacing.x, v.spacing.y, v.spacing.z);
   std::printf("axes       %s\n", axesText(v.axes).c_str());
+  if (v.origin)
+    std::printf("origin     %g, %g, %g (the center of voxel 0, 0, 0, in the axes' frame)\n", v.origin->x,
+                v.origin->y, v.origin->z);
 }
 
 // File names need not be UTF-8: bytes that are not become U+FFFD, as in the store's metadata.
@@ -76,6 +79,8 @@ int runVolumeInfo(const std::string& spec, const SourceOptions& options, bool js
                         {"dims", {v.dims.x, v.dims.y, v.dims.z}},
                         {"spacing", {v.spacing.x, v.spacing.y, v.spacing.z}},
                         {"axes", axesJson(v.axes)},
+                        {"origin", v.origin ? nlohmann::json{v.origin->x, v.origin->y, v.origin->z}
+                                            : nlohmann::json(nullptr)},
                         {"orientation", orientationCode(v.axes)},
                         {"type", std::string(sampleTypeName(v.type))},
                         {"source", v.description},
@@ -131,7 +136,10 @@ int runInfo(const std::string& path, const VolumeReadArgs& read, bool json) {
     return 0;
   }
   std::printf("store      %s\n", path.c_str());
-  printPlacement(v);
+  // The file's voxel 0, 0, 0, as the other voxel indices: a store that keeps x reversed has it at its far x.
+  VolumeInfo placed = v;
+  if (m.xReversed && v.origin) placed.origin = *v.origin + v.axes[0] * (v.spacing.x * (v.dims.x - 1));
+  printPlacement(placed);
   if (m.xReversed) {
     AxisDirections file = v.axes;
     file[0] = -v.axes[0];

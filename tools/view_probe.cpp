@@ -24,6 +24,7 @@ std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width
   // The ray stops inside the volume's box, but a point on its faces may round to just outside it.
   const glm::dvec3 index = glm::floor(probed.point / volume.spacing);
   probed.voxel = glm::u32vec3(glm::clamp(index, glm::dvec3(0.0), glm::dvec3(volume.dims) - 1.0));
+  if (volume.origin) probed.file = probed.world + fileFrameOffset(volume);
   return probed;
 }
 
@@ -37,7 +38,11 @@ std::string probeText(const ProbedVoxel& probed, double value) {
   char text[160];
   std::snprintf(text, sizeof text, "  value %.7g  at %.6g, %.6g, %.6g", value, probed.world.x, probed.world.y,
                 probed.world.z);
-  return voxelText(probed.voxel) + text;
+  char file[96] = "";
+  if (probed.file)
+    std::snprintf(file, sizeof file, "  file %.6g, %.6g, %.6g", probed.file->x, probed.file->y,
+                  probed.file->z);
+  return voxelText(probed.voxel) + text + file;
 }
 
 std::string rulerText(const ProbedVoxel& a, const ProbedVoxel& b) {

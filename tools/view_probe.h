@@ -21,6 +21,9 @@ struct ProbedVoxel {
   glm::dvec3 world{0.0};  // the point in the world, where the camera is
   glm::dvec3 point{0.0};  // the same point in the volume's own axes, world units from its corner [0, n s]
   glm::u32vec3 voxel{0};  // the level-0 sample nearest the point (sample i lies at (i + 0.5) s)
+  // The same point where the file places its samples (VolumeInfo::origin; LPS for medical volumes: the
+  // scanner's coordinates); nullopt for a volume without an origin.
+  std::optional<glm::dvec3> file;
 };
 
 // Where the ray through pixel `pixel` (x right, y down) of a width x height view of `worldCamera` stopped,
@@ -34,7 +37,8 @@ std::optional<ProbedVoxel> probedVoxel(const Camera& worldCamera, uint32_t width
 std::string voxelText(glm::u32vec3 voxel);
 
 // The probe's line, as the stats panel and the script's probe event show it: "voxel 12, 40, 7  value 187  at
-// 12.43, 40.5, 7.61", the point in the world (where --eye, --target and --clip-plane take points).
+// 12.43, 40.5, 7.61", the point in the world (where --eye, --target and --clip-plane take points), and for a
+// volume with an origin "  file -107.6, 83.2, 30.1", the point in the file's frame.
 std::string probeText(const ProbedVoxel& probed, double value);
 
 // The ruler's line between two probed points: "length 23.41 from voxel 12, 40, 7 to voxel 30, 41, 9". The

@@ -2,8 +2,9 @@
 # A volume is drawn as its file places it: one whose axes are turned (a sagittal stack: x toward the back, y
 # down, z to the right) or mirrored (x to the right) draws the image of the same volume resampled into the
 # world's axes, from the same orbit, and --eye/--target and --clip-plane are world points; `info` says where
-# the axes point, for the file and for its store (whose x a mirroring volume keeps reversed); the viewer's probe
-# names the same world point's sample in each.
+# the axes point, for the file and for its store (whose x a mirroring volume keeps reversed), and where a file
+# that places its first sample places it; extract's NRRDs place their samples as the file did; the viewer's
+# probe names the same world point's sample in each, and where the file places that point.
 # Usage: bash orientation.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -139,12 +140,35 @@ grep -qx "sizes: 9 6 6" "$dir/w1.nrrd" --text && grep -qx "space directions: (2,
   grep -qx "space origin: (3,5,1)" "$dir/w1.nrrd" --text ||
   fail "the level-1 NRRD's header: $(head -c 400 "$dir/w1.nrrd" | tr -c '[:print:]\n' '?')"
 
+# A file that places its first sample (P: M's samples, its "space origin" the centre of voxel 0, 0, 0): info
+# says where, of the file and of its store (which keeps x reversed: its own first sample is the file's last);
+# extract's NRRDs place their samples where the file does, so the extracted volume overlays the original in
+# another program; converted again, it is placed the same.
+sed 's/^space directions: (-1,0,0) (0,1,0) (0,0,1)$/&\nspace origin: (-100.5,50,-20)/' "$dir/m.nrrd" > "$dir/p.nrrd"
+"$ropecast" convert "$dir/p.nrrd" -o "$dir/p.rcast" --brick 8 -q || fail "convert p.nrrd"
+for input in p.nrrd p.rcast; do
+  "$ropecast" info "$dir/$input" > "$dir/info.txt" || fail "info $input"
+  grep -qx "origin     -100.5, 50, -20 (the center of voxel 0, 0, 0, in the axes' frame)" "$dir/info.txt" ||
+    fail "info of $input does not place voxel 0, 0, 0: $(cat "$dir/info.txt")"
+done
+"$ropecast" extract "$dir/p.rcast" -o "$dir/p0.nrrd" -q || fail "extract p.rcast"
+grep -qx "space directions: (-1,0,0) (0,1,0) (0,0,1)" "$dir/p0.nrrd" --text &&
+  grep -qx "space origin: (-100.5,50,-20)" "$dir/p0.nrrd" --text ||
+  fail "the placed store's NRRD: $(head -c 400 "$dir/p0.nrrd" | tr -c '[:print:]\n' '?')"
+# Level 1, from the file's voxel 2, 4 on: its first sample's centre is level 0's (2.5, 4.5, 0.5).
+"$ropecast" extract "$dir/p.rcast" --level 1 --crop 1:,2:,: -o "$dir/p1.nrrd" -q || fail "extract p.rcast --level 1"
+grep -qx "space origin: (-103,54.5,-19.5)" "$dir/p1.nrrd" --text ||
+  fail "the placed store's level-1 NRRD: $(head -c 400 "$dir/p1.nrrd" | tr -c '[:print:]\n' '?')"
+"$ropecast" convert "$dir/p0.nrrd" -o "$dir/p0.rcast" --brick 8 -q && "$ropecast" info "$dir/p0.rcast" > "$dir/info.txt" &&
+  grep -qx "origin     -100.5, 50, -20 (the center of voxel 0, 0, 0, in the axes' frame)" "$dir/info.txt" ||
+  fail "the extracted NRRD's store is placed otherwise: $(cat "$dir/info.txt")"
+
 # The viewer's probe under the same pixels names the same world point in each volume's file's samples: the
 # turned volume's T[i,j,k] = W[19-k, i, 11-j], the mirrored one's M[i,j,k] = W[19-i, j, k], each value W's.
 if command -v xvfb-run > /dev/null; then
   echo '[{"event": "probe", "pos": [20, 100]}, {"event": "probe", "pos": [40, 80]},
          {"event": "probe", "pos": [80, 60]}, {"event": "probe", "pos": [100, 60]}]' > "$dir/probe.json"
-  for v in w t m; do
+  for v in w t m p; do
     xvfb-run -a -s "-screen 0 320x240x24" "$ropecast" view "$dir/$v.rcast" --size 160x128 --iso 100 \
       --voxels-per-pixel 16 --orbit 30,20,1.6 --script "$dir/probe.json" > "$dir/probe_$v.txt" 2> "$dir/err.txt" ||
       fail "view $v with probes: $(cat "$dir/err.txt")"
@@ -155,6 +179,15 @@ if command -v xvfb-run > /dev/null; then
     fail "the turned volume's probes are not the world one's samples: $(paste "$dir/probe_t.txt" "$dir/probe_w.txt")"
   [ "$(voxels "$dir/probe_m.txt" | awk '{ print 19 - $1, $2, $3, $4 }')" = "$(voxels "$dir/probe_w.txt")" ] ||
     fail "the mirrored volume's probes are not the world one's samples: $(paste "$dir/probe_m.txt" "$dir/probe_w.txt")"
+  # P is M placed: the same voxels, and each point also in the file's frame, the world's moved by the offset
+  # of their placements (store origin (-119.5, 50, -20) less the world's sample 0 at 0.5, 0.5, 0.5).
+  [ "$(voxels "$dir/probe_p.txt")" = "$(voxels "$dir/probe_m.txt")" ] ||
+    fail "the placed volume's probes are not the mirrored one's: $(paste "$dir/probe_p.txt" "$dir/probe_m.txt")"
+  sed -n 's/.*  at \([^,]*\), \([^,]*\), \([^ ]*\)  file \([^,]*\), \([^,]*\), \(.*\)$/\1 \2 \3 \4 \5 \6/p' "$dir/probe_p.txt" |
+    awk 'function off(a, b, d) { return (a + d - b) ^ 2 } { n++; if (off($1, $4, -120) + off($2, $5, 49.5) + off($3, $6, -20.5) > 1e-6) bad++ }
+         END { exit !(n == 4 && !bad) }' ||
+    fail "the placed volume's probes do not give the file's frame: $(cat "$dir/probe_p.txt")"
+  grep -q "  file " "$dir/probe_m.txt" && fail "a volume placed nowhere names a point in a file's frame: $(cat "$dir/probe_m.txt")"
 else
   echo "skip: the viewer's probe (xvfb-run is not installed)"
 fi

@@ -41,6 +41,7 @@ TEST(CroppedSource, ReadsTheSamplesOfTheBoxAndSaysWhatItIs) {
   EXPECT_EQ(info.type, SampleType::UInt16);
   EXPECT_EQ(info.spacing, glm::dvec3(0.5, 1.0, 2.0));
   EXPECT_EQ(info.description, "iota cropped to 1:6,2:5,1:5");
+  EXPECT_FALSE(info.origin);  // placed nowhere, as the whole
   // The whole volume's range may be wider than the box's: the converter finds the box's.
   EXPECT_FALSE(info.valueMin);
   EXPECT_FALSE(info.valueMax);
@@ -51,6 +52,21 @@ TEST(CroppedSource, ReadsTheSamplesOfTheBoxAndSaysWhatItIs) {
     for (uint32_t y = 0; y < 3; ++y)
       for (uint32_t x = 0; x < 5; ++x)
         EXPECT_EQ(out[i++], sampleOf<uint16_t>(original, {x + 1, y + 2, z + 2})) << x << "," << y << "," << z;
+}
+
+// The box's first sample is where the whole volume places its sample `begin`, along its own axes.
+TEST(CroppedSource, MovesTheOriginToTheBoxsFirstSample) {
+  VolumeInfo info;
+  info.dims = {7, 5, 6};
+  info.spacing = {0.5, 1.0, 2.0};
+  info.axes = AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1), glm::dvec3(-1, 0, 0));
+  info.origin = glm::dvec3(10.0, -20.0, 30.0);
+  const std::vector<uint8_t> samples(info.sampleCount(), 1);
+  const auto crop = cropVolumeSource(
+      std::make_unique<ArraySource>(ArraySource::fromSamples<uint8_t>(info, samples)), {2, 1, 3}, {6, 5, 5});
+  // x: 2 * 0.5 along +y; y: 1 * 1 along -z; z: 3 * 2 along -x.
+  EXPECT_EQ(crop->info().origin, glm::dvec3(10.0 - 6.0, -20.0 + 1.0, 30.0 - 1.0));
+  EXPECT_EQ(crop->info().axes, info.axes);
 }
 
 TEST(CroppedSource, ReadsSlabsOfLargeSlicesAFewSlicesAtATime) {

@@ -124,6 +124,7 @@ TEST(SourceDicom, SlicesGoAlongTheNormalOfTheirOrientation) {
   EXPECT_EQ(source->info().axes,
             AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1)));
   EXPECT_EQ(orientationCode(source->info().axes), "PLI");
+  EXPECT_EQ(source->info().origin, glm::dvec3(-10.0, 20.0, 30.0 + 2.5 * 3));  // the first slice stacked's
 
   // A sagittal series (rows along y, columns down -z): slices go along -x, to the patient's right.
   const TempDir sagittal;
@@ -185,7 +186,8 @@ TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
   EXPECT_EQ(info.spacing, glm::dvec3(0.5, 0.75, 2.0));
   EXPECT_TRUE(info.notes.empty()) << info.notes.front();
   EXPECT_EQ(readSlab<int16_t>(*source, 0, 4), expectedCt<int16_t>(4));
-  EXPECT_EQ(info.axes, AxisDirections(1.0));  // an axial image
+  EXPECT_EQ(info.axes, AxisDirections(1.0));              // an axial image
+  EXPECT_EQ(info.origin, glm::dvec3(-10.0, 20.0, 30.0));  // the lowest frame's, stored second
 
   // A missing frame is noted; two frames at one position (two stacks in one image) are refused.
   spec.framePositions[2].z += 2.0;

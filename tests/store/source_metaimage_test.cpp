@@ -153,6 +153,20 @@ TEST(SourceMetaImage, TheTransformMatrixGivesTheAxes) {
             std::string::npos);
 }
 
+// Offset (or its other names, Origin and Position) is where the first sample lies, in LPS as ITK writes it.
+TEST(SourceMetaImage, TheOffsetPlacesTheFirstSample) {
+  const auto originOf = [](const std::string& header) {
+    return parseMetaImageHeader(header, "t.mha").origin;
+  };
+  std::string header = metaImageHeader("MET_UCHAR");
+  EXPECT_EQ(originOf(header), glm::dvec3(0.0));
+  EXPECT_EQ(originOf(withValue(header, "Offset", "-120.5 88 30.25")), glm::dvec3(-120.5, 88.0, 30.25));
+  header.erase(header.find("Offset = 0 0 0\n"), std::string("Offset = 0 0 0\n").size());
+  EXPECT_FALSE(originOf(header));
+  for (const char* key : {"Origin", "Position"})
+    EXPECT_EQ(originOf(std::string(key) + " = 1 2 3\n" + header), glm::dvec3(1.0, 2.0, 3.0)) << key;
+}
+
 TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
   const std::string good = metaImageHeader("MET_SHORT");
   const std::vector<RefusedHeader> cases = {
@@ -172,6 +186,8 @@ TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
       {"zero spacing", withValue(good, "ElementSpacing", "1 0 1"), "spacing of axis 1 is zero"},
       {"NaN spacing", withValue(good, "ElementSpacing", "1 nan 1"), "key 'ElementSpacing'"},
       {"short matrix", withValue(good, "TransformMatrix", "1 0 0 1"), "key 'TransformMatrix'"},
+      {"short offset", withValue(good, "Offset", "0 0"), "key 'Offset'"},
+      {"NaN offset", withValue(good, "Offset", "0 nan 0"), "key 'Offset'"},
       {"twice", metaImageHeader("MET_SHORT", "dimsize = 1 1 1\n"), "given more than once"},
       {"byte orders disagree", metaImageHeader("MET_SHORT", "ElementByteOrderMSB = True\n"), "contradicts"},
       {"bad header size", metaImageHeader("MET_SHORT", "HeaderSize = -2\n"), "key 'HeaderSize'"},

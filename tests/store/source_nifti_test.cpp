@@ -74,11 +74,12 @@ class NiftiWriter {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) real(280 + 4 * size_t(r * 4 + c), 400 + 8 * size_t(r * 4 + c), rows[r][c]);
   }
-  void qform(double b, double c, double d) {
+  void qform(double b, double c, double d, glm::dvec3 offset = glm::dvec3(0.0)) {
     wide_ ? put<int32_t>(344, 1) : put<int16_t>(252, 1);
     real(256, 352, b);
     real(260, 360, c);
     real(264, 368, d);
+    for (int i = 0; i < 3; ++i) real(268 + 4 * size_t(i), 376 + 8 * size_t(i), offset[i]);
   }
   void paired() { std::memcpy(bytes_.data() + (wide_ ? 4 : 344), wide_ ? "ni2" : "ni1", 3); }
 
@@ -246,6 +247,29 @@ TEST(SourceNifti, TheSformOrQformGivesTheAxesInLps) {
   EXPECT_NE(source->info().notes[0].find("qform or sform does not keep the axes at right angles"),
             std::string::npos);
   EXPECT_EQ(source->info().axes, AxisDirections(1.0));
+}
+
+// The first sample's center: the sform's offsets where it is set, else the qform's, turned from RAS into LPS;
+// none without either, or with a transform that is not applied.
+TEST(SourceNifti, TheSformOrQformPlacesTheFirstSampleInLps) {
+  for (int version : {1, 2}) {
+    NiftiWriter writer(version, 2, 8);
+    EXPECT_FALSE(parsed(writer.header()).origin) << version;
+    writer.qform(0.0, 0.0, 1.0, {10.5, -20.0, 30.0});
+    EXPECT_EQ(parsed(writer.header()).origin, glm::dvec3(-10.5, 20.0, 30.0)) << version;
+    const double radiological[3][4] = {{-0.5, 0, 0, 90}, {0, 1, 0, -126}, {0, 0, 1.5, -72}};
+    writer.sform(radiological);
+    EXPECT_EQ(parsed(writer.header()).origin, glm::dvec3(-90.0, 126.0, -72.0)) << version;
+    const double sheared[3][4] = {{1, 0.5, 0, 1}, {0, 1, 0, 2}, {0, 0, 1, 3}};
+    writer.sform(sheared);
+    EXPECT_FALSE(parsed(writer.header()).origin) << version;
+
+    TempDir dir;
+    const std::string path = dir.file("placed.nii");
+    writer.sform(radiological);
+    writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
+    EXPECT_EQ(openVolumeSource(path)->info().origin, glm::dvec3(-90.0, 126.0, -72.0)) << version;
+  }
 }
 
 TEST(SourceNifti, MalformedHeadersAndDataNameTheFile) {

@@ -201,6 +201,27 @@ TEST(SourceNrrd, SpacingFromSpaceDirections) {
   EXPECT_EQ(crlf.headerBytes, withData.size() - 2);
 }
 
+// The space origin, turned into LPS as the directions are; an unknown one (Teem's nan) or a malformed one is
+// no origin, the second said to the user.
+TEST(SourceNrrd, SpaceOriginInLps) {
+  const auto origin = [](const std::string& fields) {
+    return parseNrrdHeader(headerFor("uchar", "raw", fields), "t.nhdr");
+  };
+  EXPECT_EQ(origin("space: LPS\nspace origin: (-120.5,88,30.25)\n").origin, glm::dvec3(-120.5, 88.0, 30.25));
+  EXPECT_EQ(origin("space origin: ( 1, 2 ,3 )\nspace: right-anterior-superior\n").origin,
+            glm::dvec3(-1.0, -2.0, 3.0));  // the space may come after it
+  EXPECT_EQ(origin("space: LAS\nspace origin: (1,2,3)\n").origin, glm::dvec3(1.0, -2.0, 3.0));
+  EXPECT_FALSE(origin("").origin);
+  const NrrdHeader unknown = origin("space origin: (nan,nan,nan)\n");
+  EXPECT_FALSE(unknown.origin);
+  EXPECT_FALSE(unknown.originNotRead);
+  for (const char* bad : {"(1,2)", "(1,2,3,4)", "1,2,3", "(1,inf,3)", "(1,x,3)"}) {
+    const NrrdHeader h = origin("space origin: " + std::string(bad) + "\n");
+    EXPECT_FALSE(h.origin) << bad;
+    EXPECT_TRUE(h.originNotRead) << bad;
+  }
+}
+
 struct BadHeader {
   const char* what;
   std::string header;

@@ -171,6 +171,10 @@ TEST(SourceVti, DirectionGivesTheAxes) {
   EXPECT_EQ(turned->info().axes,
             AxisDirections(glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1)));
   EXPECT_TRUE(turned->info().notes.empty());
+  // The first sample is the WholeExtent's low corner (-4, 10, 0): Origin + Direction (low * Spacing).
+  writeFile(dir.file("plain.vti"), good);
+  EXPECT_EQ(openVolumeSource(dir.file("plain.vti"))->info().origin, glm::dvec3(-2.0, 7.5, 0.0));
+  EXPECT_EQ(turned->info().origin, glm::dvec3(-7.5, -2.0, 0.0));
   writeFile(dir.file("sheared.vti"), withDirection("1 0.5 0 0 1 0 0 0 1"));
   const auto sheared = openVolumeSource(dir.file("sheared.vti"));
   EXPECT_EQ(sheared->info().axes, AxisDirections(1.0));

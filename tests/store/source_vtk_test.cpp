@@ -69,9 +69,11 @@ TEST(SourceVtk, StructuredPointsOfEveryTypeInBinaryAndAscii) {
     const std::string binary = dir.file(vtkType + ".vtk"), ascii = dir.file("ascii_" + vtkType + ".vtk");
     writeFile(binary, vtkHeader(vtkType) + fileBytes(values, /*bigEndian=*/true) + "\n");
     writeFile(ascii, asciiHeader(vtkType) + asciiNumbers(values));
-    for (const std::string& path : {binary, ascii})
+    for (const std::string& path : {binary, ascii}) {
       expectVolume(*openVolumeSource(path),
                    {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "vtk:" + path + " (ImageFile)"}, values);
+      EXPECT_EQ(openVolumeSource(path)->info().origin, glm::dvec3(-10.0, 0.0, 3.5)) << path;  // ORIGIN
+    }
   };
   check(int8_t{}, "char", SampleType::Int8);
   check(uint8_t{}, "unsigned_char", SampleType::UInt8);
@@ -255,6 +257,7 @@ TEST(SourceVtk, UnsupportedAndMalformedFilesNameTheFileAndLine) {
       {"long", vtkHeader("long"), "unsupported type 'long'"},
       {"64-bit", vtkHeader("vtktypeint64"), "unsupported type 'vtktypeint64'"},
       {"unknown keyword", replaced("ORIGIN", "CENTER"), "unknown keyword 'CENTER'"},
+      {"short origin", replaced("ORIGIN -10 0 3.5", "ORIGIN -10 0"), "expected 3 numbers after ORIGIN"},
       {"no samples", "# vtk DataFile Version 3.0\nt\nBINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 9 6 5\n",
        "ends before the samples"},
       {"field past the end", replaced("DIMENSIONS", "FIELD FieldData 1\nTIME 1 100000 double\nDIMENSIONS"),

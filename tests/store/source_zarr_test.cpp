@@ -117,11 +117,15 @@ TEST(SourceZarr, OmeZarrImagesReadTheirFirstDatasetWithNamedAxesAndScale) {
     "axes": [{"name": "t", "type": "time"}, {"name": "c", "type": "channel"},
              {"name": "z", "type": "space", "unit": "micrometer"}, {"name": "y", "type": "space"},
              {"name": "x", "type": "space"}],
-    "datasets": [{"path": "0", "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 1, 0.25, 0.125]}]},
+    "datasets": [{"path": "0", "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 1, 0.25, 0.125]},
+                                                             {"type": "translation", "translation": [0, 0, 5, 1, -3]}]},
                  {"path": "1", "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 2, 0.5, 0.25]}]}],
-    "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 2, 2, 2]}]}]})");
+    "coordinateTransformations": [{"type": "scale", "scale": [1, 1, 2, 2, 2]},
+                                  {"type": "translation", "translation": [0, 0, 10, 20, 30]}]}]})");
   expectVolume(*openVolumeSource(image.string()),
                {{9, 6, 5}, SampleType::UInt16, {0.25, 0.5, 2.0}, "zarr:" + (image / "0").string()}, values);
+  // The first sample: the dataset's translation, scaled and moved by the image's (x -3 * 2 + 30, ...).
+  EXPECT_EQ(openVolumeSource(image.string())->info().origin, glm::dvec3(24.0, 22.0, 20.0));
   // A level named by its folder reads as a plain array.
   EXPECT_EQ(openVolumeSource((image / "1").string())->info().dims, glm::u32vec3(5, 3, 3));
 
@@ -353,6 +357,7 @@ TEST(ZarrMetadata, FillValuesOrdersAndOmeVersions) {
   EXPECT_EQ(v3->datasetPath, "s0");
   EXPECT_EQ(v3->axisNames, (std::vector<std::string>{"t", "z", "y", "x"}));
   EXPECT_FALSE(v3->scale);
+  EXPECT_FALSE(v3->translation);
   const auto v1 =
       parseOmeMultiscale(R"({"multiscales": [{"datasets": [{"path": "0"}, {"path": "1"}]}]})", "x");
   ASSERT_TRUE(v1);

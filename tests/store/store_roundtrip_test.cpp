@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 
@@ -81,6 +82,7 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
   const std::vector<uint8_t> samples = testing::toType<uint8_t>(testing::ballField(dims, 3), 0, 255);
   VolumeInfo info = testing::volumeInfo(dims, SampleType::UInt8);
   const AxisDirections turned(glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0));
+  info.origin = glm::dvec3(10.0, -20.0, 30.0);
   for (const bool mirrored : {false, true}) {
     TempDir dir;
     info.axes = turned;
@@ -112,6 +114,30 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
             << "mirrored " << mirrored << " at " << x << "," << y;
     EXPECT_EQ(voxelValue(*store, 0, {11, 4, 3}), samples[(3 * dims.y + 4) * dims.x + 11]);
     EXPECT_TRUE(verifyStore(*store).ok());
+
+    // The store's origin is its own sample 0's: the file's last along x when x is kept reversed. Every
+    // voxel's center in the renderers' world, moved by fileFrameOffset, is where the file places its sample.
+    const VolumeInfo& stored = store->info().volume;
+    ASSERT_TRUE(stored.origin);
+    const glm::dvec3 fileLast = *info.origin + info.axes[0] * (info.spacing.x * (dims.x - 1));
+    EXPECT_NEAR(glm::distance(*stored.origin, mirrored ? fileLast : *info.origin), 0.0, 1e-12);
+    const glm::dvec3 center = 0.5 * stored.worldMax();
+    for (const glm::u32vec3 voxel : {glm::u32vec3(0), glm::u32vec3(11, 4, 3), glm::u32vec3(3, 6, 1)}) {
+      const glm::dvec3 world = center + stored.axes * ((glm::dvec3(voxel) + 0.5) * stored.spacing - center);
+      const glm::dvec3 fileIndex(fileVoxelX(store->info(), voxel.x, dims.x), voxel.y, voxel.z);
+      const glm::dvec3 expected = *info.origin + info.axes * (fileIndex * info.spacing);
+      EXPECT_NEAR(glm::distance(world + fileFrameOffset(stored), expected), 0.0, 1e-12)
+          << "mirrored " << mirrored << " at voxel " << voxel.x << "," << voxel.y << "," << voxel.z;
+    }
+    // A region's NRRD header places its first sample, the file's (2, 1, 0), where the file does.
+    const std::string header = nrrdHeaderOf(*store, 0, {{2, 1, 0}, {7, 3, 1}});
+    const glm::dvec3 regionFirst = *info.origin + info.axes * (glm::dvec3(2, 1, 0) * info.spacing);
+    glm::dvec3 written(0.0);
+    ASSERT_EQ(std::sscanf(header.c_str() + header.find("space origin: "), "space origin: (%lf,%lf,%lf)",
+                          &written.x, &written.y, &written.z),
+              3)
+        << header;
+    EXPECT_NEAR(glm::distance(written, regionFirst), 0.0, 1e-12) << "mirrored " << mirrored << "\n" << header;
   }
 }
 

@@ -49,6 +49,16 @@ TEST(ViewProbe, TheStopDepthNamesThePointAndItsVoxel) {
     EXPECT_NEAR(glm::length(probed->point - inside), 0.0, 1e-9);
     EXPECT_NEAR(glm::length(probed->world - world), 0.0, 1e-9);
     EXPECT_EQ(probed->voxel, glm::u32vec3(14, 21, 6));  // floor(inside / spacing)
+    EXPECT_FALSE(probed->file);                         // a volume placed nowhere
+
+    // With an origin: the point where the file places it, origin + axes (inside - s / 2) (sample i's center
+    // lies at (i + 0.5) s in the volume's own axes).
+    VolumeInfo placed = volume;
+    placed.origin = glm::dvec3(-120.5, 88.0, 30.25);
+    const auto inFile = probedVoxel(camera, kViewWidth, kViewHeight, {50, 40}, depth, placed);
+    ASSERT_TRUE(inFile && inFile->file);
+    const glm::dvec3 expectedFile = *placed.origin + axes * (inside - 0.5 * placed.spacing);
+    EXPECT_NEAR(glm::length(*inFile->file - expectedFile), 0.0, 1e-9);
 
     // Another pixel: the depth is along the view axis, not along its ray.
     const Ray ray = pixelRay(camera, kViewWidth, kViewHeight, 12, 70);
@@ -86,6 +96,9 @@ TEST(ViewProbe, TheLineNamesTheVoxelAndItsValue) {
   EXPECT_EQ(probeText(p, 187.0), "voxel 12, 40, 7  value 187  at 12.43, -40.5, 1.23457e+06");
   EXPECT_EQ(probeText(p, -1024.0).substr(0, 33), "voxel 12, 40, 7  value -1024  at ");
   EXPECT_EQ(probeText(p, 0.123456789).substr(0, 37), "voxel 12, 40, 7  value 0.1234568  at ");
+  p.file = glm::dvec3(-107.625, 83.25, 30);
+  EXPECT_EQ(probeText(p, 187.0),
+            "voxel 12, 40, 7  value 187  at 12.43, -40.5, 1.23457e+06  file -107.625, 83.25, 30");
 }
 
 TEST(ViewProbe, TheRulerIsTheDistanceBetweenItsPoints) {
