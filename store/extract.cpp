@@ -150,16 +150,28 @@ double voxelValue(const BrickSource& source, uint32_t level, glm::u32vec3 voxel)
   return VoxelReader(source).value(level, voxel);
 }
 
-double VoxelReader::value(uint32_t level, glm::u32vec3 voxel) {
+NodeKey VoxelReader::nodeOf(uint32_t level, glm::u32vec3& voxel) const {
   const BrickSourceInfo& info = source_.info();
-  const OctreeLayout& layout = info.layout;
   const glm::u32vec3 levelDims = levelDimsOf(source_, level);
   if (!(voxel.x < levelDims.x && voxel.y < levelDims.y && voxel.z < levelDims.z))
     throw UsageError("extract: voxel " + formatDims(voxel) + " lies outside level " + std::to_string(level) +
                      " (" + formatDims(levelDims) + ")");
   voxel.x = fileVoxelX(info, voxel.x, levelDims.x);  // the store's index
-  const uint32_t b = layout.brickSize, edge = layout.storedBrickEdge();
-  const NodeKey node{layout.maxDepth - level, voxel / b};
+  return NodeKey{info.layout.maxDepth - level, voxel / info.layout.brickSize};
+}
+
+bool VoxelReader::holds(uint32_t level, glm::u32vec3 voxel) const {
+  try {
+    return cached_ == nodeOf(level, voxel);
+  } catch (const UsageError&) {
+    return false;
+  }
+}
+
+double VoxelReader::value(uint32_t level, glm::u32vec3 voxel) {
+  const BrickSourceInfo& info = source_.info();
+  const NodeKey node = nodeOf(level, voxel);
+  const uint32_t b = info.layout.brickSize, edge = info.layout.storedBrickEdge();
   if (cached_ != node) {
     brick_.resize(source_.brickBytes());
     cached_.reset();  // a read that throws leaves no brick

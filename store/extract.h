@@ -57,8 +57,13 @@ class VoxelReader {
  public:
   explicit VoxelReader(const BrickSource& source) : source_(source) {}
   double value(uint32_t level, glm::u32vec3 voxel);
+  // Whether value(level, voxel) would read nothing: the voxel lies in the brick kept.
+  bool holds(uint32_t level, glm::u32vec3 voxel) const;
 
  private:
+  // The node whose brick holds the voxel (the store's index along x). Throws as value.
+  NodeKey nodeOf(uint32_t level, glm::u32vec3& voxel) const;
+
   const BrickSource& source_;
   std::optional<NodeKey> cached_;
   std::vector<std::byte> brick_;

@@ -37,6 +37,7 @@
 #include "render/frame_renderer.h"
 #include "render/step_pacer.h"
 #include "render/window_context.h"
+#include "store/async_voxel_reader.h"
 #include "store/extract.h"
 #include "store/value_histogram.h"
 #include "tools/cli_values.h"
@@ -172,8 +173,9 @@ class Viewer {
   // where it met nothing.
   std::optional<ProbedVoxel> probedAt(glm::u32vec2 pixel) const;
   // The probe's line for the window point `pos` (view_probe.h); empty before the first frame and outside the
-  // view.
-  std::string probe(glm::dvec2 pos);
+  // view. The voxel's value is read on the probe reader's thread: until it is known the line says so, unless
+  // `waitForValue` (a script's probe event).
+  std::string probe(glm::dvec2 pos, bool waitForValue = false);
   // What a pointer action did, or why it did nothing, for the panel and the script.
   struct Outcome {
     bool done = false;
@@ -205,14 +207,14 @@ class Viewer {
   RenderParams params_;
   bool unfoldCutControls_ = false;  // open the crop box and clip plane controls at the next frame
   bool orientationMarks_ = true;
-  // The probe's last answer, kept while the pointer stays on its pixel and no frame is drawn.
+  // The probe's last answer with a value, kept while the pointer stays on its pixel and no frame is drawn.
   struct ProbeAnswer {
     glm::u32vec2 pixel{0};
     uint64_t frame = 0;
     std::string text;
   };
   std::optional<ProbeAnswer> probeAnswer_;
-  std::optional<VoxelReader> voxelReader_;  // the probe's values, a brick kept
+  bool probeReading_ = false;  // the last probe line waits for its value
   // The ruler's ends (right clicks on the 3D view, the script's measure); one while it waits for its second.
   std::vector<ProbedVoxel> ruler_;
   double voxelsPerPixel_ = 1.0;
@@ -227,6 +229,8 @@ class Viewer {
 
   std::unique_ptr<WindowContext> window_;
   std::unique_ptr<FrameRenderer> renderer_;
+  // The probe's values, read off the main thread; gone first (its thread wakes the window, reads the source).
+  std::optional<AsyncVoxelReader> probeReader_;
   bool rendererHasGradients_ = false;
   std::optional<OrbitController> controller_;
   StepPacer stepPacer_;
@@ -287,7 +291,8 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   source_ = openBrickSource(o, "view");
   if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
   const BrickSourceInfo& info = bricks().info();
-  voxelReader_.emplace(bricks());
+  // An answer read wakes the window, which may be waiting for events.
+  probeReader_.emplace(bricks(), [] { glfwPostEmptyEvent(); });
   valueRange_ = valueRangeOf(info);
   boxMax_ = info.volume.worldMax();
   {
@@ -561,6 +566,10 @@ void Viewer::runScript(bool converged) {
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
                    e.where.c_str(), o_.maxFrames);
     }
+    // A screenshot with panels shows them settled: not while the probe's line waits for its value (the stats
+    // panel takes the size of the last frame's lines).
+    if (e.kind == ViewEventKind::Screenshot && e.panels && probeReading_ && ++waitedFrames_ <= o_.maxFrames)
+      break;
     try {
       runEvent(e);
     } catch (const Error& error) {
@@ -667,7 +676,7 @@ void Viewer::runEvent(const ViewEvent& e) {
       showAnatomicalView(e.view);
       break;
     case ViewEventKind::Probe: {
-      const std::string text = probe(e.pos);
+      const std::string text = probe(e.pos, /*waitForValue=*/true);
       std::printf("ropecast view: probe at %g, %g: %s\n", e.pos.x, e.pos.y,
                   text.empty() ? "outside the 3D view" : text.c_str());
       std::fflush(stdout);
@@ -867,21 +876,19 @@ std::optional<ProbedVoxel> Viewer::probedAt(glm::u32vec2 pixel) const {
   return probed;
 }
 
-std::string Viewer::probe(glm::dvec2 pos) {
+std::string Viewer::probe(glm::dvec2 pos, bool waitForValue) {
+  probeReading_ = false;
   const std::optional<glm::u32vec2> pixel = pixelAt(pos);
   if (!pixel) return "";
   if (probeAnswer_ && probeAnswer_->pixel == *pixel && probeAnswer_->frame == framesRendered_)
     return probeAnswer_->text;
-  std::string text;
-  if (const std::optional<ProbedVoxel> probed = probedAt(*pixel); !probed) {
-    text = "nothing under the pointer";
-  } else {
-    try {
-      text = probeText(*probed, voxelReader_->value(0, probed->voxel));
-    } catch (const Error& e) {
-      text = e.what();
-    }
-  }
+  const std::optional<ProbedVoxel> probed = probedAt(*pixel);
+  if (!probed) return "nothing under the pointer";
+  const std::optional<VoxelAnswer> answer =
+      waitForValue ? probeReader_->wait(0, probed->voxel) : probeReader_->ask(0, probed->voxel);
+  probeReading_ = !answer;
+  if (!answer) return probeText(*probed, std::nullopt);  // asked again next frame
+  const std::string text = answer->error.empty() ? probeText(*probed, answer->value) : answer->error;
   probeAnswer_ = ProbeAnswer{*pixel, framesRendered_, text};
   return text;
 }

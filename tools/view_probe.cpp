@@ -34,9 +34,11 @@ std::string voxelText(glm::u32vec3 voxel) {
   return text;
 }
 
-std::string probeText(const ProbedVoxel& probed, double value) {
+std::string probeText(const ProbedVoxel& probed, std::optional<double> value) {
+  char number[32] = "(reading)";
+  if (value) std::snprintf(number, sizeof number, "%.7g", *value);
   char text[160];
-  std::snprintf(text, sizeof text, "  value %.7g  at %.6g, %.6g, %.6g", value, probed.world.x, probed.world.y,
+  std::snprintf(text, sizeof text, "  value %s  at %.6g, %.6g, %.6g", number, probed.world.x, probed.world.y,
                 probed.world.z);
   char file[96] = "";
   if (probed.file)

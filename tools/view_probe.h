@@ -38,8 +38,9 @@ std::string voxelText(glm::u32vec3 voxel);
 
 // The probe's line, as the stats panel and the script's probe event show it: "voxel 12, 40, 7  value 187  at
 // 12.43, 40.5, 7.61", the point in the world (where --eye, --target and --clip-plane take points), and for a
-// volume with an origin "  file -107.6, 83.2, 30.1", the point in the file's frame.
-std::string probeText(const ProbedVoxel& probed, double value);
+// volume with an origin "  file -107.6, 83.2, 30.1", the point in the file's frame. Without a value (its
+// brick still being read) "value (reading)".
+std::string probeText(const ProbedVoxel& probed, std::optional<double> value);
 
 // The ruler's line between two probed points: "length 23.41 from voxel 12, 40, 7 to voxel 30, 41, 9". The
 // length is the points' distance in world units (the spacing's: mm for medical data).

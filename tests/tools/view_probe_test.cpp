@@ -96,6 +96,7 @@ TEST(ViewProbe, TheLineNamesTheVoxelAndItsValue) {
   EXPECT_EQ(probeText(p, 187.0), "voxel 12, 40, 7  value 187  at 12.43, -40.5, 1.23457e+06");
   EXPECT_EQ(probeText(p, -1024.0).substr(0, 33), "voxel 12, 40, 7  value -1024  at ");
   EXPECT_EQ(probeText(p, 0.123456789).substr(0, 37), "voxel 12, 40, 7  value 0.1234568  at ");
+  EXPECT_EQ(probeText(p, std::nullopt), "voxel 12, 40, 7  value (reading)  at 12.43, -40.5, 1.23457e+06");
   p.file = glm::dvec3(-107.625, 83.25, 30);
   EXPECT_EQ(probeText(p, 187.0),
             "voxel 12, 40, 7  value 187  at 12.43, -40.5, 1.23457e+06  file -107.625, 83.25, 30");
