@@ -28,11 +28,11 @@ VoxelAnswer AsyncVoxelReader::read(const Question& q) {
 
 std::optional<VoxelAnswer> AsyncVoxelReader::askLocked(const Question& q) {
   if (answer_ && answer_->first == q) return answer_->second;
-  if (!busy_ && reader_.holds(q.level, q.voxel)) {  // the brick kept: no read, no wait
+  if (!reading_ && reader_.holds(q.level, q.voxel)) {  // the brick kept: no read, no wait
     answer_.emplace(q, read(q));
     return answer_->second;
   }
-  if (question_ != q) {
+  if (question_ != q && reading_ != q) {
     question_ = q;
     changed_.notify_all();
   }
@@ -64,11 +64,11 @@ void AsyncVoxelReader::serve() {
     if (stop_) return;
     const Question q = *question_;
     question_.reset();
-    busy_ = true;
+    reading_ = q;
     lock.unlock();
     VoxelAnswer answer = read(q);
     lock.lock();
-    busy_ = false;
+    reading_.reset();
     ++reads_;
     answer_.emplace(q, std::move(answer));
     changed_.notify_all();

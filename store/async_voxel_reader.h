@@ -49,7 +49,7 @@ class AsyncVoxelReader {
     bool operator==(const Question&) const = default;
   };
   std::optional<VoxelAnswer> askLocked(const Question& q);
-  VoxelAnswer read(const Question& q);  // reader_ used by the caller alone (busy_ or under the lock)
+  VoxelAnswer read(const Question& q);  // reader_ used by the caller alone (reading_ or under the lock)
   void serve();
 
   VoxelReader reader_;
@@ -57,7 +57,7 @@ class AsyncVoxelReader {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::optional<Question> question_;  // asked, not yet begun
-  bool busy_ = false;                 // the thread is reading (reader_ is its)
+  std::optional<Question> reading_;   // what the thread is reading (reader_ is its meanwhile)
   bool stop_ = false;
   std::optional<std::pair<Question, VoxelAnswer>> answer_;  // the last answer
   uint64_t reads_ = 0;
