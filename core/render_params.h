@@ -27,15 +27,17 @@ constexpr std::string_view nameIn(const std::array<std::pair<std::string_view, E
 }
 
 // What a ray computes (docs/RENDERING.md): the first isosurface crossing, shaded; the transfer function's
-// colors composited front to back (direct volume rendering); or the largest or the smallest value along the
-// ray mapped through the transfer function (maximum or minimum intensity projection).
-enum class RenderMode { Iso, Dvr, Mip, MinIp };
+// colors composited front to back (direct volume rendering); the largest or the smallest value along the
+// ray mapped through the transfer function (maximum or minimum intensity projection); or the mean value along
+// the ray mapped through it (average intensity projection, a radiograph's look).
+enum class RenderMode { Iso, Dvr, Mip, MinIp, Aip };
 // The names of `--mode`, of the viewer's script events and of --stats and bench settings.
-inline constexpr std::array<std::pair<std::string_view, RenderMode>, 4> kRenderModeNames{
+inline constexpr std::array<std::pair<std::string_view, RenderMode>, 5> kRenderModeNames{
     {{"iso", RenderMode::Iso},
      {"dvr", RenderMode::Dvr},
      {"mip", RenderMode::Mip},
-     {"minip", RenderMode::MinIp}}};
+     {"minip", RenderMode::MinIp},
+     {"aip", RenderMode::Aip}}};
 constexpr std::string_view renderModeName(RenderMode mode) {
   return nameIn(kRenderModeNames, mode);
 }
@@ -50,6 +52,11 @@ constexpr bool isIntensityProjection(RenderMode mode) {
 }
 constexpr double projectionSign(RenderMode mode) {
   return mode == RenderMode::MinIp ? -1.0 : 1.0;
+}
+// Whether a ray shows one value of the transfer function without compositing it: an intensity projection's
+// or the average's. They have the gray preset by default, and no occlusion: no ray stops at an opaque sample.
+constexpr bool showsOneValue(RenderMode mode) {
+  return isIntensityProjection(mode) || mode == RenderMode::Aip;
 }
 // How the GL renderer draws (the CPU renderers ignore it): the octree ray caster's fragment or compute entry
 // point (render/raycast_pass), brute force over level 0 in one 3D texture without an index (the benchmark

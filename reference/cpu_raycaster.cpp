@@ -119,6 +119,7 @@ class RayIntegrator {
     }
     // Where the leaf's samples begin: the first leaf's at t0, which its float tEnter may round past.
     const double tBegin = fromEntry ? std::min(tEnter, t0_) : tEnter;
+    const double firstT = t0_ + k * dt;
     bool sampled = false;
     for (double t = t0_ + k * dt; t < tStop; k += 1.0, t = t0_ + k * dt) {
       tLastSample_ = t;
@@ -150,11 +151,27 @@ class RayIntegrator {
           mipValue_ = fc_.sign * v;
           mipT_ = t;
         }
+      } else if (fc_.params.mode == RenderMode::Aip) {
+        // As shaders/compositing.glsl marchAip: each sample's value times the stretch of the leaf it stands
+        // for.
+        const double next = t0_ + (k + 1.0) * dt;
+        aipSum_ += v * ((next < tStop ? t + 0.5 * dt : tStop) - (t == firstT ? tBegin : t - 0.5 * dt));
+        aipSampled_ = true;
+        if (v > 0.0 && mipT_ == kInf) mipT_ = t;
       } else if (compositeDvr(sampler, x, v, dt, cell)) {
         ended_ = true;
         if (visit) endSample_ = visit->samples.size() - 1;
         if (!visit) return false;
       }
+    }
+    // As shaders/compositing.glsl marchAip: a leaf crossed between two grid points takes a sample at the
+    // middle of the crossing (not traced: the shader's feedback counts the grid's samples).
+    if (fc_.params.mode == RenderMode::Aip && !(firstT < tStop) && tStop > tBegin) {
+      const double t = 0.5 * (tBegin + tStop);
+      const double v = sampler.value(ray_.origin + t * ray_.dir);
+      aipSum_ += v * (tStop - tBegin);
+      aipSampled_ = true;
+      if (v > 0.0 && mipT_ == kInf) mipT_ = t;
     }
     // As shaders/compositing.glsl marchIso: one more sample at the leaf's end when the ray's last sample lies
     // more than a texel of this leaf's level before it (traced rays: the last sample, as if the ray had gone
@@ -211,8 +228,14 @@ class RayIntegrator {
   void finish(float* rgba, float* depth) const {
     glm::dvec3 color = color_;
     double alpha = alpha_, rayDepth = depth_;
-    if (isIntensityProjection(fc_.params.mode) && mipValue_ >= -1.0) {
-      const glm::dvec4 tf = fc_.tf->lookup(fc_.sign * mipValue_);
+    // An average intensity projection's are the function's at the mean over the ray's part in the drawn box
+    // (aipResult), its depth the first sample above zero's.
+    const bool oneValue = (isIntensityProjection(fc_.params.mode) && mipValue_ >= -1.0) ||
+                          (fc_.params.mode == RenderMode::Aip && aipSampled_ && t1_ > t0_);
+    if (oneValue) {
+      const double value = fc_.params.mode == RenderMode::Aip ? std::clamp(aipSum_ / (t1_ - t0_), 0.0, 1.0)
+                                                              : fc_.sign * mipValue_;
+      const glm::dvec4 tf = fc_.tf->lookup(value);
       if (tf.a > 0.0) {
         color = tf.a * glm::dvec3(tf);
         alpha = tf.a;
@@ -379,9 +402,12 @@ class RayIntegrator {
   double alpha_ = 0.0;
   double depth_ = kInf;
   // Intensity projections: the largest signed value (sign v, in [-1, 1]) so far, -2 before the first sample,
-  // and its t.
+  // and its t; the average intensity projection's t of its first sample above zero.
   double mipValue_ = -2.0;
-  double mipT_ = 0.0;
+  double mipT_ = kInf;
+  // The average intensity projection: the sum of v dt, and whether a sample was taken.
+  double aipSum_ = 0.0;
+  bool aipSampled_ = false;
 };
 
 // Runs pixel(x, y, rgba, depth) for every pixel, rows interleaved over the threads.

@@ -53,6 +53,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
                                 const FeedbackTolerance& tol, uint32_t hitThreshold) {
   const bool iso = input.params.mode == RenderMode::Iso;
   const bool mip = isIntensityProjection(input.params.mode);  // rays that end only where nothing is left
+  const bool aip = input.params.mode == RenderMode::Aip;      // rays that never end before their exit
   const double ert = input.params.ert;
   const glm::dvec3 spacing = volume.volume.spacing;
   const double cubeExtent = double(volume.layout.cubeSamples()) * std::max({spacing.x, spacing.y, spacing.z});
@@ -174,7 +175,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
             hasPrev = true;
             fPrev = s.f;
             prevUncertain = uncertain;
-          } else if (!mip) {
+          } else if (!mip && !aip) {
             // An uncertain sample's opacity is unknown, and so is the opacity accumulated from it on.
             opacityUnknown = opacityUnknown || uncertain;
             possible = uncertain || (s.addsOpacity && s.alpha >= ert - tol.alpha);

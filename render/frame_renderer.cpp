@@ -107,6 +107,10 @@ EmptinessPredicate emptinessFor(const RenderParams& params, const BrickSourceInf
     const uint32_t top = uint32_t(storedMaxOf(info.storedType));
     return [tf, top](uint16_t lo, uint16_t) { return !tf->hasOpacity(lo, top); };
   }
+  if (params.mode == RenderMode::Aip) {
+    // Every value counts toward a mean: only zeros may be skipped (the rays count them by length alone).
+    return [](uint16_t, uint16_t hi) { return hi == 0; };
+  }
   return [tf](uint16_t lo, uint16_t hi) { return !tf->hasOpacity(lo, hi); };
 }
 
@@ -433,9 +437,10 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
-  // Nothing opaque stops a maximum intensity projection's rays, so no box lies hidden behind them: no query.
+  // Nothing opaque stops an intensity projection's or an average's rays, so no box lies hidden behind them:
+  // no query.
   const bool occlusion =
-      visibility_ && !request.synchronous && !multipass && !isIntensityProjection(request.params.mode);
+      visibility_ && !request.synchronous && !multipass && !showsOneValue(request.params.mode);
   const bool feedback = feedback_ && !request.synchronous && !multipass;
 
   // Pass 0, hear back: the occlusion answers and the rays' feedback of earlier frames (never waiting for

@@ -29,6 +29,7 @@ std::vector<std::string> raycastDefines(const RenderParams& params) {
   std::vector<std::string> defines = {
       params.mode == RenderMode::Iso   ? "RAYCAST_MODE_ISO"
       : params.mode == RenderMode::Dvr ? "RAYCAST_MODE_DVR"
+      : params.mode == RenderMode::Aip ? "RAYCAST_MODE_AIP"
                                        : "RAYCAST_MODE_MIP",
       floatDefine("MIP_SIGN", projectionSign(params.mode)),
       "BRICK_BORDER " + std::to_string(kBrickBorder),

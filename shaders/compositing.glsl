@@ -193,3 +193,46 @@ RayResult mipResult(MipMax m, float depthPerT) {
   if (!(tf.a > 0.0)) return missedRay();
   return RayResult(vec4(tf.a * tf.rgb + (1.0 - tf.a) * raycast.background, tf.a), m.t * depthPerT, kInfinity);
 }
+
+// Average intensity projection: the mean value over the ray's part in the drawn box. Each sample stands for
+// the stretch of its leaf within half a step of it, the leaf's first also for the stretch before it and its
+// last for the one after it up to the leaf's end, so that the samples of a leaf cover its part of the ray once
+// whatever its level's step (a midpoint rule: a ramp's mean is exact); a leaf the ray crosses between two grid points of its step takes one sample at the middle
+// of the crossing (else a coarse leaf's corner would count as zeros, a dark seam). The sum is divided by the
+// part's length, so that empty leaves, which are skipped, count as the zeros they hold. The ray's depth is
+// that of its first sample above zero.
+struct AipSum {
+  float sum;     // of v times the stretch each sample stands for
+  float firstT;  // of the first sample above zero; kInfinity before
+  bool sampled;  // a sample was taken: a ray through empty leaves alone shows the background
+};
+
+AipSum aipBegin() { return AipSum(0.0, kInfinity, false); }
+
+// Takes samples k in [kBegin, kEnd) of a segment whose leaf the ray crosses over [tEnter, tExit).
+void marchAip(inout AipSum a, Segment s, float t0, float kBegin, float kEnd, float tEnter, float tExit) {
+  if (!(kBegin < kEnd) && tExit > tEnter) {
+    float t = 0.5 * (tEnter + tExit);
+    float v = sampleValue(segmentCoord(s, t));
+    a.sum += v * (tExit - tEnter);
+    a.sampled = true;
+    if (v > 0.0 && a.firstT == kInfinity) a.firstT = t;
+    return;
+  }
+  for (float k = kBegin; k < kEnd; k += 1.0) {
+    float t = t0 + k * s.dt;
+    float v = sampleValue(segmentCoord(s, t));
+    a.sum += v * ((k + 1.0 < kEnd ? t + 0.5 * s.dt : tExit) - (k == kBegin ? tEnter : t - 0.5 * s.dt));
+    a.sampled = true;
+    if (v > 0.0 && a.firstT == kInfinity) a.firstT = t;
+  }
+}
+
+// The mean of a ray whose part in the drawn box is `length` long, through the transfer function, over the
+// background by its opacity (as mipResult). Its stop depth is infinite: nothing stopped it.
+RayResult aipResult(AipSum a, float length, float depthPerT) {
+  vec4 tf = a.sampled && length > 0.0 ? transferFunction(clamp(a.sum / length, 0.0, 1.0)) : vec4(0.0);
+  if (!(tf.a > 0.0)) return missedRay();
+  return RayResult(vec4(tf.a * tf.rgb + (1.0 - tf.a) * raycast.background, tf.a), a.firstT * depthPerT,
+                   kInfinity);
+}

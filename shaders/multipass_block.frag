@@ -19,6 +19,11 @@ layout(r32f, binding = 1) uniform image2D uDepth;     // world depth (+inf: none
 // color); its depth is in uDepth.
 layout(rgba32f, binding = 2) uniform image2D uMarch;
 #endif
+#ifdef RAYCAST_MODE_AIP
+// The sum of v dt so far, the ray's length in the drawn box, whether a sample was taken (AipSum;
+// shaders/multipass_resolve.frag makes the mean a color); the first sample above zero's depth is in uDepth.
+layout(rgba32f, binding = 2) uniform image2D uMarch;
+#endif
 #ifdef RAYCAST_MODE_ISO
 layout(rgba32f, binding = 2) uniform image2D uMarch;  // has previous sample, its t, its f, hit
 // The leaf of the previous sample, where shadeIsoHit refines a crossing that lies before this block:
@@ -142,6 +147,14 @@ void main() {
     imageStore(uMarch, pixel, vec4(m.value, 1.0, 0.0, 0.0));
     imageStore(uDepth, pixel, vec4(m.t * ray.depthPerT));
   }
+#elif defined(RAYCAST_MODE_AIP)
+  // Sums add up in any order; the nearest first sample above zero wins by depth.
+  AipSum a = AipSum(imageLoad(uMarch, pixel).x, kInfinity, false);
+  marchAip(a, s, ray.t0, kBegin, firstSampleIndex(ray.t0, min(tExit, ray.t1), s.dt, false),
+           entry ? min(tEnter, ray.t0) : tEnter, min(tExit, ray.t1));
+  if (!a.sampled) return;
+  imageStore(uMarch, pixel, vec4(a.sum, ray.t1 - ray.t0, 1.0, 0.0));
+  if (a.firstT * ray.depthPerT < imageLoad(uDepth, pixel).r) imageStore(uDepth, pixel, vec4(a.firstT * ray.depthPerT));
 #else
   vec4 accum = imageLoad(uAccum, pixel);
   if (accum.a >= raycast.ert) return;

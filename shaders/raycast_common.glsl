@@ -4,8 +4,8 @@
 // (shaders/rope_traversal.glsl); empty leaves are skipped, and each data leaf is one segment sampled at the
 // leaf's level on the step grid anchored at the volume entry. No #version line: the entry point has it.
 //
-// Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR or _MIP (MIP_SIGN
-// 1, or -1 for a minimum intensity projection);
+// Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR, _MIP (MIP_SIGN
+// 1, or -1 for a minimum intensity projection) or _AIP;
 // BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_DEPTH_OPACITY;
 // DVR_STORED_GRADIENTS (DVR samples a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the
 // leaves they used and request finer ones, shaders/feedback.glsl).
@@ -257,6 +257,22 @@ RayResult castRay(uvec2 pixel) {
     marchMip(m, s, ray.t0, kBegin, kEnd);
   }
   return mipResult(m, ray.depthPerT);
+#elif defined(RAYCAST_MODE_AIP)
+  AipSum a = aipBegin();
+  while (ropeNextLeaf(cursor, leaf)) {
+    bool entry = firstLeaf;
+    firstLeaf = false;
+    if (leaf.kind != kRopeTagDataLeaf) continue;  // zeros: they add to the length alone
+    Segment s = leafSegment(leaf, originCube, dirCube);
+    float kBegin = firstSampleIndex(ray.t0, leaf.tEnter, s.dt, entry);
+    float kEnd = firstSampleIndex(ray.t0, min(leaf.tExit, ray.t1), s.dt, false);
+#ifdef RAYCAST_FEEDBACK
+    if (kBegin < kEnd) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
+#endif
+    // The first leaf's samples start at t0, which its float tEnter may round past.
+    marchAip(a, s, ray.t0, kBegin, kEnd, entry ? min(leaf.tEnter, ray.t0) : leaf.tEnter, min(leaf.tExit, ray.t1));
+  }
+  return aipResult(a, ray.t1 - ray.t0, ray.depthPerT);
 #elif defined(LLVMPIPE_DVR_LEAF_BATCH)
   return dvrResult(walkDvrBatched(cursor, ray, originCube, dirCube));
 #else

@@ -243,9 +243,7 @@ int runModesBench(const Options& o) {
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   request.params.isoValue = o.iso.value_or(0.5 * (lo + hi));
   std::optional<TfTable> tf;
-  const std::string tfSpec = !o.tf.empty()                   ? o.tf
-                             : isIntensityProjection(o.mode) ? defaultTfSpec(o.mode)
-                                                             : "ct-soft";
+  const std::string tfSpec = !o.tf.empty() ? o.tf : showsOneValue(o.mode) ? defaultTfSpec(o.mode) : "ct-soft";
   const TransferFunction function =
       windowed(TransferFunction::fromSpec(tfSpec, tfDataRangeFor(info)), o.tfRange);
   if (usesTransferFunction(o.mode)) {
@@ -470,7 +468,7 @@ std::function<int()> setupModesBench(CLI::App& app) {
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip or minip"))
+  app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip, minip or aip"))
       ->check(notEmpty("a preset or a JSON file"));
   addRangeOption(
       app, "--tf-range", o->tfRange,

@@ -232,7 +232,7 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
   };
   if (o.mode == RenderMode::Dvr) warn({"--iso", "--caps"}, "with --mode dvr (the transfer function decides)");
   if (o.mode == RenderMode::Iso) warn({"--tf", "--tf-range", "--ert", "--gradients"}, "with --mode iso");
-  if (isIntensityProjection(o.mode)) {
+  if (showsOneValue(o.mode)) {
     const std::string mode = "with --mode " + std::string(renderModeName(o.mode));
     warn({"--iso", "--ert", "--gradients", "--caps"},
          mode + " (one value per ray through the transfer function)");

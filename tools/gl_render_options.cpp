@@ -34,7 +34,8 @@ std::vector<std::pair<std::string, Enum>> optionNames(
 
 const std::vector<std::pair<std::string, RenderMode>> kModeNames = optionNames(kRenderModeNames);
 const char* const kModeHelp =
-    "iso: isosurface; dvr: direct volume rendering; mip, minip: maximum, minimum intensity projection";
+    "iso: isosurface; dvr: direct volume rendering; mip, minip, aip: maximum, minimum, average intensity "
+    "projection";
 const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
@@ -54,7 +55,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip or minip"))
+  app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip, minip or aip"))
       ->check(notEmpty("a preset or a JSON file"));
   addRangeOption(
       app, "--tf-range", o.tfRange,
@@ -340,8 +341,8 @@ std::string tfOptionHelp(const std::string& defaultText) {
 }
 
 std::string defaultTfSpec(RenderMode mode) {
-  return std::string(isIntensityProjection(mode) ? TransferFunction::kMipDefaultPreset
-                                                 : TransferFunction::kDefaultPreset);
+  return std::string(showsOneValue(mode) ? TransferFunction::kMipDefaultPreset
+                                         : TransferFunction::kDefaultPreset);
 }
 
 void checkTfRange(const std::vector<double>& tfRange) {

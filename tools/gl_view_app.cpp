@@ -955,6 +955,8 @@ void Viewer::drawPanels() {
     ImGui::RadioButton("MIP", &mode, int(RenderMode::Mip));
     ImGui::SameLine();
     ImGui::RadioButton("MinIP", &mode, int(RenderMode::MinIp));
+    ImGui::SameLine();
+    ImGui::RadioButton("AIP", &mode, int(RenderMode::Aip));
     if (mode != int(params_.mode)) setMode(RenderMode(mode));
     double iso = params_.isoValue;
     if (ImGui::SliderScalar("isovalue", ImGuiDataType_Double, &iso, &valueRange_.first, &valueRange_.second,

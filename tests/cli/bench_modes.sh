@@ -115,7 +115,7 @@ expect_failure "config twice" "listed twice" $vol --configs multipass,multipass 
 expect_failure "no config named" "--configs: expected at least one of" $vol --configs "" --out "$dir/e2"
 expect_failure "bad size" "--size" $vol --size 0x10 --out "$dir/e3"
 expect_failure "zero reps" "--reps" $vol --reps 0 --out "$dir/e4"
-expect_failure "bad mode" "--mode" $vol --mode aip --out "$dir/e5"
+expect_failure "bad mode" "--mode" $vol --mode average --out "$dir/e5"
 expect_failure "missing store" "no such store file" "$dir/none.rcast" --out "$dir/e6"
 expect_failure "path and orbit" "--path and --orbit" $vol --path x.json --orbit 1,2,3 --out "$dir/e7"
 expect_failure "path and turn" "--path excludes --turn" $vol --path x.json --turn 45 --out "$dir/e7"

@@ -214,6 +214,8 @@ warned "iso and DVR options with --mode mip" "warning: --iso, --ert: no effect w
   --iso 100 --ert 0.5
 warned "occlusion options with --mode mip" "warning: --occlusion: no effect with --mode mip" "$vol" --mode mip \
   --occlusion on
+warned "iso and occlusion options with --mode aip" "warning: --iso, --caps: no effect with --mode aip" "$vol" \
+  --mode aip --iso 100 --caps off
 # With --path, --frames says which camera is the last frame's, the one --reference renders: no warning.
 printf '[{"orbit": [0, 20, 2.5]}, {"orbit": [90, 20, 2.5]}]' > "$dir/turn.json"
 printf '[{"orbit": [90, 20, 2.5]}]' > "$dir/last.json"

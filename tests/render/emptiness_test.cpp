@@ -72,8 +72,21 @@ TEST(Emptiness, MinIpSkipsOnlyTheRangesAboveEveryOpaqueValue) {
   EXPECT_FALSE(isEmpty(0, 50));
 }
 
+// An average intensity projection counts every value toward its mean, whatever the transfer function: only a
+// node of zeros is empty (the rays count its length alone).
+TEST(Emptiness, AipSkipsOnlyZeros) {
+  const TfTable tf = bandTf();
+  RenderParams params;
+  params.mode = RenderMode::Aip;
+  const EmptinessPredicate isEmpty = emptinessFor(params, uint8Info(), &tf);
+  EXPECT_TRUE(isEmpty(0, 0));
+  EXPECT_FALSE(isEmpty(0, 1));
+  EXPECT_FALSE(isEmpty(170, 250));  // where the function is transparent
+  EXPECT_FALSE(isEmpty(120, 130));
+}
+
 TEST(Emptiness, DvrAndProjectionsNeedATransferFunction) {
-  for (RenderMode mode : {RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp}) {
+  for (RenderMode mode : {RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp, RenderMode::Aip}) {
     RenderParams params;
     params.mode = mode;
     EXPECT_THROW(emptinessFor(params, uint8Info(), nullptr), Error) << renderModeName(mode);

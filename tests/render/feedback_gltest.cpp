@@ -205,9 +205,9 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
     const glm::dvec3 volumeMax = glm::dvec3(spec.dims) * spec.spacing;
     for (const CameraCase& cam : randomCameras(seed, volumeMax)) {
       // Iso at a step above a voxel too, where a leaf's end takes a sample (docs/RENDERING.md "Isosurface").
-      for (auto [mode, step] :
-           {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5}, std::pair{RenderMode::Iso, 2.5},
-            std::pair{RenderMode::Mip, 0.5}, std::pair{RenderMode::MinIp, 0.5}}) {
+      for (auto [mode, step] : {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5},
+                                std::pair{RenderMode::Iso, 2.5}, std::pair{RenderMode::Mip, 0.5},
+                                std::pair{RenderMode::MinIp, 0.5}, std::pair{RenderMode::Aip, 0.5}}) {
         RaycastFrame frame;
         frame.camera = cam.camera;
         frame.width = 96;

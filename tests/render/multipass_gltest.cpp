@@ -80,7 +80,7 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
         info.mapping, storedMaxOf(info.storedType));
     request.tf = &*tf;
   } else if (usesTransferFunction(c.mode)) {
-    const std::string preset = c.mode == RenderMode::Mip ? "gray" : "ct-soft";
+    const std::string preset = c.mode == RenderMode::Mip || c.mode == RenderMode::Aip ? "gray" : "ct-soft";
     tf = TfTable::bake(TransferFunction::fromSpec(preset, tfDataRangeFor(info)), info.mapping,
                        storedMaxOf(info.storedType));
     request.tf = &*tf;
@@ -174,7 +174,10 @@ INSTANTIATE_TEST_SUITE_P(
                       MultipassCase{"procedural:noise:48", RenderMode::Mip, false},
                       MultipassCase{"procedural:sphere:64", RenderMode::Mip, false, false, true},
                       MultipassCase{"procedural:noise:48", RenderMode::MinIp, false},
-                      MultipassCase{"procedural:sphere:64", RenderMode::MinIp, false, false, true}),
+                      MultipassCase{"procedural:sphere:64", RenderMode::MinIp, false, false, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::Aip, false},
+                      MultipassCase{"procedural:sphere:64", RenderMode::Aip, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::Aip, false, false, true}),
     [](const ::testing::TestParamInfo<MultipassCase>& info) {
       std::string name = multipassCaseName(info.param).substr(std::string("procedural:").size());
       for (char& ch : name)

@@ -116,7 +116,8 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
         Variant{RenderMode::Iso, GradientSource::Computed, 2.5},
         Variant{RenderMode::Dvr, GradientSource::Computed}, Variant{RenderMode::Dvr, GradientSource::Stored},
         Variant{RenderMode::Mip, GradientSource::Computed},
-        Variant{RenderMode::MinIp, GradientSource::Computed}}) {
+        Variant{RenderMode::MinIp, GradientSource::Computed},
+        Variant{RenderMode::Aip, GradientSource::Computed}}) {
     const RenderMode mode = v.mode;
     std::optional<FloatImage> plainWalk;  // DVR: the image of the walk without leaf batches
     for (auto [backend, leafBatch] :
@@ -157,6 +158,9 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       const double psnr = test::psnrDb(glColor, colorOf(cpu), 3);
       std::printf("%s: PSNR %.1f dB vs the CPU mirror\n", what.c_str(), psnr);
       EXPECT_GE(psnr, 45.0) << what;
+      // A mean has no threshold to flip: on llvmpipe the images agree to rounding (a leaf corner's sample
+      // left out shows at 75 dB).
+      if (mode == RenderMode::Aip && !test::onHardwareGpu()) EXPECT_GE(psnr, 100.0) << what;
       // Hardware filtering weights are fixed point (8 fractional bits on NVIDIA), so a grazing ray's sample
       // near the isovalue may land on the other side and a silhouette pixel flip; the coverage check below
       // bounds how many.
@@ -191,7 +195,8 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
   };
   for (const Cut cut :
        {Cut{"crop", true, false}, Cut{"plane", false, true}, Cut{"crop and plane", true, true}})
-    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp}) {
+    for (RenderMode mode :
+         {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp, RenderMode::Aip}) {
       for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
         RaycastFrame frame;
         frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));

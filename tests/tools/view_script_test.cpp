@@ -54,9 +54,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_tf_range", "range": [-160, 240]}, {"event": "set_caps", "caps": false},
           {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"},
           {"event": "probe", "pos": [120, 80.5]}, {"event": "center_at", "pos": [3, 4]},
-          {"event": "measure", "from": [1, 2], "to": [30, 40]}])",
+          {"event": "measure", "from": [1, 2], "to": [30, 40]}, {"event": "set_mode", "mode": "aip"}])",
       "t");
-  ASSERT_EQ(s.events.size(), 20u);
+  ASSERT_EQ(s.events.size(), 21u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -87,6 +87,7 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[19].kind, ViewEventKind::Measure);
   EXPECT_EQ(s.events[19].pos, glm::dvec2(1, 2));
   EXPECT_EQ(s.events[19].to, glm::dvec2(30, 40));
+  EXPECT_EQ(s.events[20].mode, RenderMode::Aip);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -109,7 +110,8 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "spin"}])", "s.json: event 0 (spin): unknown event");
   expectRefused(R"([{"event": "quit"}, {"event": "set_iso"}])", "event 1 (set_iso): \"value\" is required");
   expectRefused(R"([{"event": "drag", "from": [0, 0], "to": [1]}])", "\"to\" must be [x, y]");
-  expectRefused(R"([{"event": "set_mode", "mode": "aip"}])", "\"mode\" must be iso, dvr, mip or minip");
+  expectRefused(R"([{"event": "set_mode", "mode": "average"}])",
+                "\"mode\" must be iso, dvr, mip, minip or aip");
   expectRefused(R"([{"event": "key", "key": "x"}])", "\"key\" must be one of w a s d q e r");
   expectRefused(R"([{"event": "quit", "at": -1}])", "\"at\" must not be negative");
   expectRefused(R"([{"event": "set_crop", "crop": "0:4,:"}])",
