@@ -1,6 +1,7 @@
 #include "store/extract.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -242,40 +243,132 @@ std::string nrrdTypeName(SampleType type) {
 
 }  // namespace
 
-std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region) {
+namespace {
+
+// Where a region of a level lies (docs/RENDERING.md "Spaces"): its size, spacing, the file's axes, and its
+// first sample's center, in the file's frame where the store keeps the file's origin (fileFrameOffset), else
+// in the world. Throws UsageError for a region that is empty or leaves the level.
+struct RegionPlacement {
+  glm::u32vec3 size{0};
+  glm::dvec3 spacing{1.0};
+  AxisDirections directions{1.0};
+  glm::dvec3 origin{0.0};
+};
+
+RegionPlacement placementOf(const BrickSource& source, uint32_t level, const LevelRegion& region) {
   const VolumeInfo& volume = source.info().volume;
   const glm::u32vec3 dims = levelDimsOf(source, level);
   const glm::u32vec3 end = glm::min(region.end, dims);
   if (!(region.begin.x < end.x && region.begin.y < end.y && region.begin.z < end.z))
     throw UsageError("extract: the region is empty or leaves level " + std::to_string(level));
-  const glm::u32vec3 size = end - region.begin;
+  RegionPlacement p;
+  p.size = end - region.begin;
   // Level L's sample i sits at (i + 0.5) 2^L s in the volume's own axes, turned about the extent's center.
-  const glm::dvec3 spacing = volume.spacing * std::ldexp(1.0, int(level));
+  p.spacing = volume.spacing * std::ldexp(1.0, int(level));
   const glm::dvec3 center = 0.5 * volume.worldMax();
   // The first sample written: the file's index along x, which a store that keeps x reversed holds at the
   // other end, and whose x then points the file's way.
   glm::dvec3 firstIndex(region.begin);
-  AxisDirections directions = volume.axes;
+  p.directions = volume.axes;
   if (source.info().xReversed) {
     firstIndex.x = double(fileVoxelX(source.info(), region.begin.x, dims.x));
-    directions[0] = -volume.axes[0];
+    p.directions[0] = -volume.axes[0];
   }
-  const glm::dvec3 first = (firstIndex + 0.5) * spacing;
-  // The place in the file's frame where the volume has an origin (fileFrameOffset), else in the world.
-  const glm::dvec3 origin = center + volume.axes * (first - center) + fileFrameOffset(volume);
+  const glm::dvec3 first = (firstIndex + 0.5) * p.spacing;
+  p.origin = center + volume.axes * (first - center) + fileFrameOffset(volume);
+  return p;
+}
+
+// The source's description for a header's comment: one line, control bytes as '?'.
+std::string describedOneLine(const VolumeInfo& volume) {
   std::string described = volume.description;
-  for (char& c : described) c = (c >= ' ' && c != 127) || (c & 0x80) ? c : '?';  // the comment stays one line
-  std::string text =
-      "NRRD0004\n# ropecast extract: level " + std::to_string(level) + " of " + described + "\n";
+  for (char& c : described) c = (c >= ' ' && c != 127) || (c & 0x80) ? c : '?';
+  return described;
+}
+
+// NIfTI-1's datatype code of a sample type.
+int16_t niftiDatatypeOf(SampleType type) {
+  switch (type) {
+    case SampleType::UInt8:
+      return 2;
+    case SampleType::Int16:
+      return 4;
+    case SampleType::Int32:
+      return 8;
+    case SampleType::Float32:
+      return 16;
+    case SampleType::Float64:
+      return 64;
+    case SampleType::Int8:
+      return 256;
+    case SampleType::UInt16:
+      return 512;
+    case SampleType::UInt32:
+      return 768;
+  }
+  return 0;
+}
+
+template <typename T>
+void putLittleEndian(std::string& bytes, size_t offset, T value) {
+  static_assert(std::endian::native == std::endian::little, "NIfTI headers are written in native order");
+  std::memcpy(bytes.data() + offset, &value, sizeof value);
+}
+
+}  // namespace
+
+std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region) {
+  const VolumeInfo& volume = source.info().volume;
+  const RegionPlacement p = placementOf(source, level, region);
+  std::string text = "NRRD0004\n# ropecast extract: level " + std::to_string(level) + " of " +
+                     describedOneLine(volume) + "\n";
   text +=
       "type: " + nrrdTypeName(volume.type) +
-      "\ndimension: 3\nspace: left-posterior-superior\nsizes: " + std::to_string(size.x) + " " +
-      std::to_string(size.y) + " " + std::to_string(size.z) +
-      "\nspace directions: " + vectorText(directions[0] * spacing.x) + " " +
-      vectorText(directions[1] * spacing.y) + " " + vectorText(directions[2] * spacing.z) +
-      "\nkinds: domain domain domain\nendian: little\nencoding: raw\nspace origin: " + vectorText(origin) +
+      "\ndimension: 3\nspace: left-posterior-superior\nsizes: " + std::to_string(p.size.x) + " " +
+      std::to_string(p.size.y) + " " + std::to_string(p.size.z) +
+      "\nspace directions: " + vectorText(p.directions[0] * p.spacing.x) + " " +
+      vectorText(p.directions[1] * p.spacing.y) + " " + vectorText(p.directions[2] * p.spacing.z) +
+      "\nkinds: domain domain domain\nendian: little\nencoding: raw\nspace origin: " + vectorText(p.origin) +
       "\n\n";
   return text;
+}
+
+std::string niftiHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region) {
+  const VolumeInfo& volume = source.info().volume;
+  const RegionPlacement p = placementOf(source, level, region);
+  std::string bytes(kNiftiHeaderBytes, '\0');
+  putLittleEndian<int32_t>(bytes, 0, 348);  // sizeof_hdr
+  // dim: 3 axes of the region's size, the other four of one sample.
+  putLittleEndian<int16_t>(bytes, 40, 3);
+  for (size_t i = 4; i < 8; ++i) putLittleEndian<int16_t>(bytes, 40 + 2 * i, 1);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (p.size[axis] > uint32_t(INT16_MAX))
+      throw UsageError("extract: a NIfTI-1 file holds at most 32767 samples per axis; the region has " +
+                       std::to_string(p.size[axis]) + " along " + "xyz"[axis] + " (write .nrrd or .raw)");
+    putLittleEndian<int16_t>(bytes, 42 + 2 * size_t(axis), int16_t(p.size[axis]));
+  }
+  putLittleEndian<int16_t>(bytes, 70, niftiDatatypeOf(volume.type));
+  putLittleEndian<int16_t>(bytes, 72, int16_t(8 * bytesPerSample(volume.type)));  // bitpix
+  putLittleEndian<float>(bytes, 76, 1.0f);  // pixdim[0], qfac: unused without a qform
+  for (int axis = 0; axis < 3; ++axis)
+    putLittleEndian<float>(bytes, 80 + 4 * size_t(axis), float(p.spacing[axis]));
+  putLittleEndian<float>(bytes, 108, float(kNiftiHeaderBytes));  // vox_offset: the samples follow
+  bytes[123] = 2;                                                // xyzt_units: millimeters
+  const std::string descrip =
+      "ropecast extract: level " + std::to_string(level) + " of " + describedOneLine(volume);
+  std::memcpy(bytes.data() + 148, descrip.data(), std::min<size_t>(descrip.size(), 79));
+  // The sform (code 1, scanner anatomical): its columns the axes times the spacing and its last column the
+  // first sample, in NIfTI's RAS (LPS with x and y negated). It places a mirroring file's samples as well.
+  putLittleEndian<int16_t>(bytes, 254, 1);
+  const glm::dvec3 toRas(-1.0, -1.0, 1.0);
+  for (int row = 0; row < 3; ++row) {
+    for (int axis = 0; axis < 3; ++axis)
+      putLittleEndian<float>(bytes, 280 + 16 * size_t(row) + 4 * size_t(axis),
+                             float(toRas[row] * p.directions[axis][row] * p.spacing[axis]));
+    putLittleEndian<float>(bytes, 280 + 16 * size_t(row) + 12, float(toRas[row] * p.origin[row]));
+  }
+  std::memcpy(bytes.data() + 344, "n+1", 4);  // and 4 bytes of extension flags, zero: no extensions
+  return bytes;
 }
 
 }  // namespace ropecast

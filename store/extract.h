@@ -80,4 +80,11 @@ void extractLevelToFile(const BrickSource& source, uint32_t level, const std::fi
 // as extractLevel.
 std::string nrrdHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region = {});
 
+// The bytes of a NIfTI-1 single file's header (348 bytes and 4 of extension flags, kNiftiHeaderBytes) whose
+// data is the region as extractLevel writes it: sizes, datatype, spacing (pixdim) and an sform that places
+// the samples as nrrdHeaderOf does, in NIfTI's RAS. Throws UsageError as extractLevel, or for a region of
+// more than 32767 samples along an axis (NIfTI-1's limit).
+inline constexpr size_t kNiftiHeaderBytes = 352;
+std::string niftiHeaderOf(const BrickSource& source, uint32_t level, const LevelRegion& region = {});
+
 }  // namespace ropecast

@@ -1,5 +1,6 @@
-// `ropecast extract STORE --level L [--crop X0:X1,Y0:Y1,Z0:Z1] -o OUT.raw`: one resolution level, or a box of
-// it, as a raw volume in the original type (store/extract.h). Main thread.
+// `ropecast extract STORE --level L [--crop X0:X1,Y0:Y1,Z0:Z1] -o OUT.raw|OUT.nrrd|OUT.nii`: one resolution
+// level, or a box of it, as a raw volume in the original type, plain or after a NRRD or NIfTI-1 header
+// (store/extract.h). Main thread.
 #include <cstdio>
 #include <memory>
 
@@ -25,6 +26,11 @@ struct ExtractArgs {
 };
 
 int runExtract(const ExtractArgs& a) {
+  // A compressed name would hold uncompressed bytes that its readers take for garbage.
+  if (hasExtension(a.output, ".gz") || hasExtension(a.output, ".bz2") || hasExtension(a.output, ".zst"))
+    throw UsageError(
+        "extract: -o " + a.output +
+        ": extract writes uncompressed files: name it .raw, .nrrd or .nii (compress it afterwards)");
   OutputGuard guard("extract");
   guard.addInput("the store", a.store);
   guard.addOutput("-o", a.output);
@@ -37,14 +43,19 @@ int runExtract(const ExtractArgs& a) {
         voxelBoxOf("--crop", a.crop, levelDimsOf(*store, a.level), "level " + std::to_string(a.level) + "'s");
     region = {box.begin, box.end};
   }
-  // A .nrrd output says what it holds: its type and size, and where it lies (spacing and axes).
-  const bool nrrd = hasExtension(a.output, ".nrrd");
-  extractLevelToFile(*store, a.level, a.output, region, nrrd ? nrrdHeaderOf(*store, a.level, region) : "");
+  // A .nrrd or .nii output says what it holds: its type and size, and where it lies (spacing, axes, origin).
+  const bool nrrd = hasExtension(a.output, ".nrrd"), nifti = hasExtension(a.output, ".nii");
+  const std::string header = nrrd    ? nrrdHeaderOf(*store, a.level, region)
+                             : nifti ? niftiHeaderOf(*store, a.level, region)
+                                     : "";
+  extractLevelToFile(*store, a.level, a.output, region, header);
   if (!a.quiet) {
     const glm::u32vec3 d = glm::min(region.end, levelDimsOf(*store, a.level)) - region.begin;
     std::printf("wrote %s: level %u, %ux%ux%u %s, x fastest, little-endian%s\n", a.output.c_str(), a.level,
                 d.x, d.y, d.z, std::string(sampleTypeName(store->info().volume.type)).c_str(),
-                nrrd ? ", after a NRRD header" : "");
+                nrrd    ? ", after a NRRD header"
+                : nifti ? ", after a NIfTI-1 header"
+                        : "");
   }
   return 0;
 }
@@ -57,8 +68,8 @@ const CommandRegistration extractCommand("extract", 40, [](CLI::App& app) -> std
       ->capture_default_str();
   app.add_option(
          "-o,--output", a->output,
-         "raw file to write; a .nrrd name writes a NRRD file (the raw samples after a header that says "
-         "their type, size, spacing and axes)")
+         "raw file to write; a .nrrd or .nii name writes a NRRD or NIfTI-1 file (the raw samples after a "
+         "header that says their type, size, spacing, axes and where they lie)")
       ->required()
       ->check(nonEmptyPath("a file"));
   addVoxelRangesOption(

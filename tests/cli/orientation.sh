@@ -162,6 +162,17 @@ grep -qx "space origin: (-103,54.5,-19.5)" "$dir/p1.nrrd" --text ||
 "$ropecast" convert "$dir/p0.nrrd" -o "$dir/p0.rcast" --brick 8 -q && "$ropecast" info "$dir/p0.rcast" > "$dir/info.txt" &&
   grep -qx "origin     -100.5, 50, -20 (the center of voxel 0, 0, 0, in the axes' frame)" "$dir/info.txt" ||
   fail "the extracted NRRD's store is placed otherwise: $(cat "$dir/info.txt")"
+# The same as a NIfTI-1 file (an sform in RAS, which mirrors here): placed as its file, the same samples; a
+# compressed name is refused, not filled with uncompressed bytes.
+"$ropecast" extract "$dir/p.rcast" -o "$dir/p0.nii" -q && "$ropecast" info "$dir/p0.nii" > "$dir/info.txt" &&
+  grep -qx "axes       RPS, mirroring: a store keeps x reversed, as LPS" "$dir/info.txt" &&
+  grep -qx "origin     -100.5, 50, -20 (the center of voxel 0, 0, 0, in the axes' frame)" "$dir/info.txt" ||
+  fail "the placed store's NIfTI file: $(cat "$dir/info.txt")"
+"$ropecast" convert "$dir/p0.nii" -o "$dir/p0n.rcast" --brick 8 -q && "$ropecast" extract "$dir/p0n.rcast" -o "$dir/p0n.raw" -q &&
+  tail -c 3840 "$dir/p.nrrd" | cmp -s - "$dir/p0n.raw" || fail "the NIfTI file's samples are not its store's file's"
+"$ropecast" extract "$dir/p.rcast" -o "$dir/p0.nii.gz" -q 2> "$dir/err.txt" && fail "extract to .nii.gz accepted"
+grep -q "extract writes uncompressed files" "$dir/err.txt" && [ ! -e "$dir/p0.nii.gz" ] ||
+  fail "extract to .nii.gz: $(cat "$dir/err.txt")"
 
 # The viewer's probe under the same pixels names the same world point in each volume's file's samples: the
 # turned volume's T[i,j,k] = W[19-k, i, 11-j], the mirrored one's M[i,j,k] = W[19-i, j, k], each value W's.

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "store/converter.h"
 #include "store/extract.h"
+#include "store/nifti_header.h"
 #include "store/store.h"
 #include "store/verify.h"
 #include "tests/store/store_test_util.h"
@@ -138,6 +139,21 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
               3)
         << header;
     EXPECT_NEAR(glm::distance(written, regionFirst), 0.0, 1e-12) << "mirrored " << mirrored << "\n" << header;
+    // The NIfTI-1 header of the region, read back as the NIfTI source reads it: the file's axes (a mirroring
+    // frame too), spacing, and the first sample's place, to float's precision.
+    const std::string nifti = niftiHeaderOf(*store, 0, {{2, 1, 0}, {7, 3, 1}});
+    ASSERT_EQ(nifti.size(), kNiftiHeaderBytes);
+    const NiftiHeader parsed =
+        parseNiftiHeader(std::as_bytes(std::span(nifti.data(), nifti.size())), "r.nii");
+    EXPECT_EQ(parsed.sizes, glm::u32vec3(5, 2, 1));
+    EXPECT_EQ(parsed.type, SampleType::UInt8);
+    EXPECT_EQ(parsed.voxOffset, kNiftiHeaderBytes);
+    EXPECT_FALSE(parsed.scaled);
+    EXPECT_NEAR(glm::distance(parsed.spacing, info.spacing), 0.0, 1e-6);
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_NEAR(glm::distance(parsed.axes[axis], info.axes[axis]), 0.0, 1e-6) << "mirrored " << mirrored;
+    ASSERT_TRUE(parsed.origin);
+    EXPECT_NEAR(glm::distance(*parsed.origin, regionFirst), 0.0, 1e-5) << "mirrored " << mirrored;
   }
 }
 
