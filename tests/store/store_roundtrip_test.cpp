@@ -157,6 +157,28 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
   }
 }
 
+// NIfTI-1 counts samples in 16 bits: a longer axis is refused, naming the other formats; a box of it is not.
+TEST(StoreRoundTrip, ANiftiHeaderRefusesMoreThan32767SamplesAnAxis) {
+  TempDir dir;
+  const glm::u32vec3 dims{33000, 2, 2};
+  ArraySource source = ArraySource::fromSamples<uint8_t>(testing::volumeInfo(dims, SampleType::UInt8),
+                                                         std::vector<uint8_t>(size_t(dims.x) * 4, 7));
+  ConvertOptions options;
+  options.brickSize = 8;
+  convertVolume(source, dir / "long.store", options);
+  const auto store = Store::open(dir / "long.store");
+  try {
+    niftiHeaderOf(*store, 0);
+    FAIL() << "33000 samples along x accepted";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("at most 32767 samples per axis; the region has 33000 along x"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(niftiHeaderOf(*store, 1).size(), kNiftiHeaderBytes);  // 16500 along x
+  EXPECT_EQ(niftiHeaderOf(*store, 0, {{0, 0, 0}, {32767, 2, 2}}).size(), kNiftiHeaderBytes);
+}
+
 TEST(StoreRoundTrip, Float32IsQuantizedWithinHalfAStepOverItsRange) {
   TempDir dir;
   const glm::u32vec3 dims{45, 37, 29};
