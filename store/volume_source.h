@@ -62,7 +62,8 @@ inline ClipPlane clipPlaneInVolume(const ClipPlane& world, const VolumeInfo& v) 
 
 // The file's frame (where `origin` places the samples) less the renderers' world, which turns the volume
 // about its extent's center and puts sample i at (i + 0.5) s: the two differ by this translation, zero
-// without an origin. A point of the world plus it is the point the file's frame names.
+// without an origin. A point of the world plus it is the point the file's frame names. For a store's volume
+// (BrickSourceInfo::volume: its axes a turn, its origin its own first sample's).
 glm::dvec3 fileFrameOffset(const VolumeInfo& v);
 
 // The most samples a store holds per axis: keeps every node count far from overflow.
