@@ -3,8 +3,8 @@
 // one 3D texture, every ray sampled from the volume entry t0 to its exit t1 on the grid t0 + k dt,
 // dt = step min(s), with no index and no empty-space skipping. The volume is one segment of the shared sampling
 // and compositing (shaders/compositing.glsl), so rays, interpolation, bisection, gradients, transfer function,
-// shading, maximum, mean and early ray termination are those of the rope ray caster at level 0. No #version line:
-// the entry point has it. Variants: the defines of shaders/raycast_common.glsl but RAYCAST_FEEDBACK and
+// shading, maximum, mean and early ray termination are those of the rope ray caster at level 0. No #version
+// line: the entry point has it. Variants: the defines of shaders/raycast_common.glsl but RAYCAST_FEEDBACK and
 // LLVMPIPE_DVR_LEAF_BATCH.
 
 #include "shaders/compositing.glsl"

@@ -196,11 +196,11 @@ RayResult mipResult(MipMax m, float depthPerT) {
 
 // Average intensity projection: the mean value over the ray's part in the drawn box. Each sample stands for
 // the stretch of its leaf within half a step of it, the leaf's first also for the stretch before it and its
-// last for the one after it up to the leaf's end, so that the samples of a leaf cover its part of the ray once
-// whatever its level's step (a midpoint rule: a ramp's mean is exact); a leaf the ray crosses between two grid points of its step takes one sample at the middle
-// of the crossing (else a coarse leaf's corner would count as zeros, a dark seam). The sum is divided by the
-// part's length, so that empty leaves, which are skipped, count as the zeros they hold. The ray's depth is
-// that of its first sample above zero.
+// last for the one after it up to the leaf's end, so that the samples of a leaf cover its part of the ray
+// once whatever its level's step (a midpoint rule: a ramp's mean is exact); a leaf the ray crosses between
+// two grid points of its step takes one sample at the middle of the crossing (else a coarse leaf's corner
+// would count as zeros, a dark seam). The sum is divided by the part's length, so that empty leaves, which
+// are skipped, count as the zeros they hold. The ray's depth is that of its first sample above zero.
 struct AipSum {
   float sum;     // of v times the stretch each sample stands for
   float firstT;  // of the first sample above zero; kInfinity before

@@ -20,7 +20,7 @@ layout(r32f, binding = 1) uniform image2D uDepth;     // world depth (+inf: none
 layout(rgba32f, binding = 2) uniform image2D uMarch;
 #endif
 #ifdef RAYCAST_MODE_AIP
-// The sum of v dt so far, the ray's length in the drawn box, whether a sample was taken (AipSum;
+// The sum so far (AipSum.sum), the ray's length in the drawn box, whether a sample was taken (AipSum;
 // shaders/multipass_resolve.frag makes the mean a color); the first sample above zero's depth is in uDepth.
 layout(rgba32f, binding = 2) uniform image2D uMarch;
 #endif
@@ -154,7 +154,8 @@ void main() {
            entry ? min(tEnter, ray.t0) : tEnter, min(tExit, ray.t1));
   if (!a.sampled) return;
   imageStore(uMarch, pixel, vec4(a.sum, ray.t1 - ray.t0, 1.0, 0.0));
-  if (a.firstT * ray.depthPerT < imageLoad(uDepth, pixel).r) imageStore(uDepth, pixel, vec4(a.firstT * ray.depthPerT));
+  float firstDepth = a.firstT * ray.depthPerT;
+  if (firstDepth < imageLoad(uDepth, pixel).r) imageStore(uDepth, pixel, vec4(firstDepth));
 #else
   vec4 accum = imageLoad(uAccum, pixel);
   if (accum.a >= raycast.ert) return;

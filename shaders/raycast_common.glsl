@@ -270,7 +270,8 @@ RayResult castRay(uvec2 pixel) {
     if (kBegin < kEnd) feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
 #endif
     // The first leaf's samples start at t0, which its float tEnter may round past.
-    marchAip(a, s, ray.t0, kBegin, kEnd, entry ? min(leaf.tEnter, ray.t0) : leaf.tEnter, min(leaf.tExit, ray.t1));
+    float tEnter = entry ? min(leaf.tEnter, ray.t0) : leaf.tEnter;
+    marchAip(a, s, ray.t0, kBegin, kEnd, tEnter, min(leaf.tExit, ray.t1));
   }
   return aipResult(a, ray.t1 - ray.t0, ray.depthPerT);
 #elif defined(LLVMPIPE_DVR_LEAF_BATCH)

@@ -207,7 +207,8 @@ class Viewer {
   RenderParams params_;
   bool unfoldCutControls_ = false;  // open the crop box and clip plane controls at the next frame
   bool orientationMarks_ = true;
-  // The probe's last answer with a value, kept while the pointer stays on its pixel and no frame is drawn.
+  // The probe's last answer (with a value, or nothing under the pointer), kept while the pointer stays on its
+  // pixel and no frame is drawn.
   struct ProbeAnswer {
     glm::u32vec2 pixel{0};
     uint64_t frame = 0;
@@ -882,13 +883,14 @@ std::string Viewer::probe(glm::dvec2 pos, bool waitForValue) {
   if (!pixel) return "";
   if (probeAnswer_ && probeAnswer_->pixel == *pixel && probeAnswer_->frame == framesRendered_)
     return probeAnswer_->text;
-  const std::optional<ProbedVoxel> probed = probedAt(*pixel);
-  if (!probed) return "nothing under the pointer";
-  const std::optional<VoxelAnswer> answer =
-      waitForValue ? probeReader_->wait(0, probed->voxel) : probeReader_->ask(0, probed->voxel);
-  probeReading_ = !answer;
-  if (!answer) return probeText(*probed, std::nullopt);  // asked again next frame
-  const std::string text = answer->error.empty() ? probeText(*probed, answer->value) : answer->error;
+  std::string text = "nothing under the pointer";
+  if (const std::optional<ProbedVoxel> probed = probedAt(*pixel)) {
+    const std::optional<VoxelAnswer> answer =
+        waitForValue ? probeReader_->wait(0, probed->voxel) : probeReader_->ask(0, probed->voxel);
+    probeReading_ = !answer;
+    if (!answer) return probeText(*probed, std::nullopt);  // asked again next frame
+    text = answer->error.empty() ? probeText(*probed, answer->value) : answer->error;
+  }
   probeAnswer_ = ProbeAnswer{*pixel, framesRendered_, text};
   return text;
 }
