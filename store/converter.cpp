@@ -509,9 +509,7 @@ ConvertStats convertVolume(VolumeSource& source, const std::filesystem::path& ou
   if (mirrors(info.axes)) {
     metadata.volume.axes[0] = -info.axes[0];
     metadata.xReversed = true;
-    // The store's sample 0 along x is the file's last.
-    if (info.origin)
-      metadata.volume.origin = *info.origin + info.axes[0] * (info.spacing.x * (info.dims.x - 1));
+    if (info.origin) metadata.volume.origin = originAtLastX(info);  // the store's sample 0 is the file's last
   }
   metadata.brickSize = options.brickSize;
   metadata.levels = layout.maxDepth + 1;

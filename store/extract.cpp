@@ -13,6 +13,7 @@
 #include <glm/common.hpp>
 
 #include "core/error.h"
+#include "store/nifti_header.h"
 #include "store/store_writer.h"
 #include "store/volume_source.h"
 
@@ -284,29 +285,6 @@ std::string describedOneLine(const VolumeInfo& volume) {
   std::string described = volume.description;
   for (char& c : described) c = (c >= ' ' && c != 127) || (c & 0x80) ? c : '?';
   return described;
-}
-
-// NIfTI-1's datatype code of a sample type.
-int16_t niftiDatatypeOf(SampleType type) {
-  switch (type) {
-    case SampleType::UInt8:
-      return 2;
-    case SampleType::Int16:
-      return 4;
-    case SampleType::Int32:
-      return 8;
-    case SampleType::Float32:
-      return 16;
-    case SampleType::Float64:
-      return 64;
-    case SampleType::Int8:
-      return 256;
-    case SampleType::UInt16:
-      return 512;
-    case SampleType::UInt32:
-      return 768;
-  }
-  return 0;
 }
 
 template <typename T>

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <utility>
 
 #include "core/error.h"
 #include "store/volume_source.h"
@@ -29,27 +30,15 @@ constexpr NiftiLayout kNifti2{
 constexpr std::string_view kNiftiTypeList =
     "uint8 (2), int16 (4), int32 (8), float32 (16), float64 (64), int8 (256), uint16 (512) or uint32 (768)";
 
+// NIfTI's datatype codes of the sample types, read and written.
+constexpr std::pair<int16_t, SampleType> kNiftiDatatypes[] = {
+    {2, SampleType::UInt8},    {4, SampleType::Int16},  {8, SampleType::Int32},    {16, SampleType::Float32},
+    {64, SampleType::Float64}, {256, SampleType::Int8}, {512, SampleType::UInt16}, {768, SampleType::UInt32}};
+
 std::optional<SampleType> niftiSampleType(int64_t datatype) {
-  switch (datatype) {
-    case 2:
-      return SampleType::UInt8;
-    case 4:
-      return SampleType::Int16;
-    case 8:
-      return SampleType::Int32;
-    case 16:
-      return SampleType::Float32;
-    case 64:
-      return SampleType::Float64;
-    case 256:
-      return SampleType::Int8;
-    case 512:
-      return SampleType::UInt16;
-    case 768:
-      return SampleType::UInt32;
-    default:
-      return std::nullopt;
-  }
+  for (const auto& [code, type] : kNiftiDatatypes)
+    if (code == datatype) return type;
+  return std::nullopt;
 }
 
 std::string niftiTypeName(int64_t datatype) {
@@ -110,6 +99,12 @@ std::optional<glm::dvec3> lpsOrigin(glm::dvec3 ras) {
 }
 
 }  // namespace
+
+int16_t niftiDatatypeOf(SampleType type) {
+  for (const auto& [code, known] : kNiftiDatatypes)
+    if (known == type) return code;
+  return 0;
+}
 
 NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName) {
   const auto fail = [&](const std::string& what) -> Error {

@@ -55,4 +55,7 @@ struct NiftiHeader {
 // bitpix that does not match the datatype, and a vox_offset before the header's end (single files).
 NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName);
 
+// NIfTI's datatype code of a sample type (extract's NIfTI files write it).
+int16_t niftiDatatypeOf(SampleType type);
+
 }  // namespace ropecast

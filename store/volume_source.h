@@ -66,6 +66,12 @@ inline ClipPlane clipPlaneInVolume(const ClipPlane& world, const VolumeInfo& v) 
 // (BrickSourceInfo::volume: its axes a turn, its origin its own first sample's).
 glm::dvec3 fileFrameOffset(const VolumeInfo& v);
 
+// Where the volume's origin places its last sample along x (origin + axes x (n - 1) s): the other end's
+// origin of a volume whose x is read reversed (a store that keeps x reversed, and its file). Needs an origin.
+inline glm::dvec3 originAtLastX(const VolumeInfo& v) {
+  return *v.origin + v.axes[0] * (v.spacing.x * (v.dims.x - 1));
+}
+
 // The most samples a store holds per axis: keeps every node count far from overflow.
 inline constexpr uint32_t kMaxDimsPerAxis = 1u << 20;
 

@@ -138,7 +138,7 @@ int runInfo(const std::string& path, const VolumeReadArgs& read, bool json) {
   std::printf("store      %s\n", path.c_str());
   // The file's voxel 0, 0, 0, as the other voxel indices: a store that keeps x reversed has it at its far x.
   VolumeInfo placed = v;
-  if (m.xReversed && v.origin) placed.origin = *v.origin + v.axes[0] * (v.spacing.x * (v.dims.x - 1));
+  if (m.xReversed && v.origin) placed.origin = originAtLastX(v);
   printPlacement(placed);
   if (m.xReversed) {
     AxisDirections file = v.axes;
