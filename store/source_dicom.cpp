@@ -34,6 +34,7 @@
 #include "core/error.h"
 #include "core/number_text.h"
 #include "store/dicom_structure.h"
+#include "store/placed_stack.h"
 
 namespace ropecast {
 namespace {
@@ -493,51 +494,42 @@ AxisDirections axesOf(const std::vector<double>& o) {
   return axisDirectionsOf(row, column, glm::cross(row, column)).value_or(AxisDirections(1.0));
 }
 
-// Where images lie along their normal: their order (stable) and the average gap between neighbours.
-struct StackOrder {
-  std::vector<size_t> order;      // order[k]: the image stacked k-th
-  std::optional<double> spacing;  // with two images or more
-};
-
-// The order of `positions` along `normal`. Uneven gaps (a missing slice) and positions off the normal (a
-// tilted gantry) are noted in `notes`, which call the images `what` ("the DICOM slices"); two at one position
+// The order of `positions` along `normal` (stable): order[k] is the image stacked k-th. Two at one position
 // throw samePosition(a, b), the message naming them.
-StackOrder stackAlongNormal(const std::vector<glm::dvec3>& positions, const glm::dvec3& normal,
-                            const std::string& what,
-                            const std::function<std::string(size_t, size_t)>& samePosition,
-                            std::vector<std::string>& notes) {
-  StackOrder stack;
-  stack.order.resize(positions.size());
-  std::iota(stack.order.begin(), stack.order.end(), size_t(0));
-  std::stable_sort(stack.order.begin(), stack.order.end(), [&](size_t a, size_t b) {
+std::vector<size_t> stackAlongNormal(const std::vector<glm::dvec3>& positions, const glm::dvec3& normal,
+                                     const std::function<std::string(size_t, size_t)>& samePosition) {
+  std::vector<size_t> order(positions.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return glm::dot(positions[a], normal) < glm::dot(positions[b], normal);
   });
-  if (positions.size() < 2) return stack;
-  const glm::dvec3 lowest = positions[stack.order.front()], highest = positions[stack.order.back()];
-  const double extent = glm::dot(highest - lowest, normal);
-  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  if (positions.size() < 2) return order;
+  const double extent = glm::dot(positions[order.back()] - positions[order.front()], normal);
   for (size_t k = 1; k < positions.size(); ++k) {
-    const size_t below = stack.order[k - 1], above = stack.order[k];
-    const double gap = glm::dot(positions[above] - positions[below], normal);
-    if (gap <= 1e-6 * std::max(1.0, std::abs(extent))) throw Error(samePosition(below, above));
-    smallest = std::min(smallest, gap);
-    largest = std::max(largest, gap);
+    const size_t below = order[k - 1], above = order[k];
+    if (glm::dot(positions[above] - positions[below], normal) <= 1e-6 * std::max(1.0, std::abs(extent)))
+      throw Error(samePosition(below, above));
   }
-  stack.spacing = extent / double(positions.size() - 1);
-  if (largest - smallest > 0.01 * *stack.spacing)
-    notes.push_back("the gaps between " + what + " vary from " + formatNumber(smallest) + " to " +
-                    formatNumber(largest) + " (a missing slice?); they are stacked " +
-                    formatNumber(*stack.spacing) + " apart, the average");
-  if (glm::length(highest - lowest - extent * normal) > 0.01 * std::abs(extent))
-    notes.push_back("the positions of " + what +
-                    " do not lie along their normal (a tilted gantry?); they are stacked unsheared");
-  return stack;
+  return order;
 }
 
-// Sorts a series' slices into the order they are stacked in, and returns the spacing between them where their
-// positions say it. What a person should hear about the stacking goes to `notes`.
-std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::string& listed,
-                                  std::vector<std::string>& notes) {
+// The spacing across slices at `positions` (stacking order), of a volume `info` whose dims, in-plane spacing
+// and axes are set: their average gap (none for one slice), with the grid they are resampled onto in `grid`
+// where they lie off a regular stack (planSlices), and what is said of it in `notes`.
+std::optional<double> placeSlicesOf(const VolumeInfo& info, const std::vector<glm::dvec3>& positions,
+                                    const std::string& what, std::optional<SliceGrid>& grid,
+                                    std::vector<std::string>& notes) {
+  if (positions.size() < 2) return std::nullopt;
+  SlicePlan plan = planSlices(info, positions, what);
+  notes.insert(notes.end(), plan.notes.begin(), plan.notes.end());
+  grid = std::move(plan.grid);
+  return plan.averageGap;
+}
+
+// Sorts a series' slices into the order they are stacked in, and returns their positions in that order; none
+// where they are stacked by Instance Number. What a person should hear about the stacking goes to `notes`.
+std::vector<glm::dvec3> stackSlices(std::vector<DicomImage>& slices, const std::string& listed,
+                                    std::vector<std::string>& notes) {
   const bool positioned = std::all_of(slices.begin(), slices.end(),
                                       [](const DicomImage& s) { return s.position && s.orientation; });
   if (positioned) {
@@ -553,18 +545,19 @@ std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::st
     const glm::dvec3 normal = normalOf(*listedFirst.orientation, "DICOM image " + listedFirst.path);
     std::vector<glm::dvec3> positions;
     for (const DicomImage& slice : slices) positions.push_back(*slice.position);
-    const StackOrder stack = stackAlongNormal(
-        positions, normal, "the DICOM slices",
-        [&](size_t a, size_t b) {
-          return "DICOM images " + slices[a].path + " and " + slices[b].path +
-                 " lie at one position; a series of one image per position is read (several acquisitions "
-                 "or echoes in one series?)";
-        },
-        notes);
+    const std::vector<size_t> order = stackAlongNormal(positions, normal, [&](size_t a, size_t b) {
+      return "DICOM images " + slices[a].path + " and " + slices[b].path +
+             " lie at one position; a series of one image per position is read (several acquisitions or "
+             "echoes in one series?)";
+    });
     std::vector<DicomImage> stacked;
-    for (const size_t i : stack.order) stacked.push_back(std::move(slices[i]));
+    std::vector<glm::dvec3> stackedPositions;
+    for (const size_t i : order) {
+      stacked.push_back(std::move(slices[i]));
+      stackedPositions.push_back(positions[i]);
+    }
     slices = std::move(stacked);
-    return stack.spacing;
+    return stackedPositions;
   }
   if (std::all_of(slices.begin(), slices.end(), [](const DicomImage& s) { return s.instance; })) {
     std::stable_sort(slices.begin(), slices.end(),
@@ -572,7 +565,7 @@ std::optional<double> stackSlices(std::vector<DicomImage>& slices, const std::st
     notes.push_back(
         "the DICOM images have no Image Position and Orientation (Patient); they are stacked by Instance "
         "Number");
-    return std::nullopt;
+    return {};
   }
   throw Error("DICOM images of " + listed + " have neither Image Position and Orientation (Patient) nor " +
               "Instance Number (e.g. " + slices.front().path + "); their order is unknown");
@@ -655,6 +648,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
 
   VolumeInfo info;
   std::vector<std::string> notes;
+  std::optional<SliceGrid> grid;  // where the slices must be resampled to lie where their positions say
   if (first.photometric == "MONOCHROME1") notes.push_back(monochrome1Note);
   if (!first.frames.empty() && first.frames != "1") {
     info.dims = sliceDims;
@@ -673,20 +667,24 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
     const std::optional<double> between = numberOf(first.spacingBetweenSlices);
     if (enhanced && !decoded.framePositions.empty()) {
       const std::string image = "DICOM image " + first.path;
-      const StackOrder stack = stackAlongNormal(
-          decoded.framePositions, normalOf(*decoded.frameOrientation, image), "the frames of " + image,
-          [&](size_t a, size_t b) {
+      const std::vector<size_t> order = stackAlongNormal(
+          decoded.framePositions, normalOf(*decoded.frameOrientation, image), [&](size_t a, size_t b) {
             return "frames " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " of " + image +
                    " lie at one position; a multi-frame image of one frame per position is read (several "
                    "stacks, echoes or time points in one image?)";
-          },
-          notes);
-      reorderFrames(decoded, stack.order, size_t(sliceDims.x) * sliceDims.y);
+          });
+      reorderFrames(decoded, order, size_t(sliceDims.x) * sliceDims.y);
+      std::vector<glm::dvec3> positions;
+      for (const size_t i : order) positions.push_back(decoded.framePositions[i]);
       info.axes = axesOf(*decoded.frameOrientation);
-      info.origin = decoded.framePositions[stack.order.front()];  // the first frame stacked
-      if (stack.spacing) decoded.spacing.z = *stack.spacing;
+      info.origin = positions.front();  // the first frame stacked
       if (const auto& pixel = decoded.framePixelSpacing; pixel && (*pixel)[0] > 0 && (*pixel)[1] > 0)
         decoded.spacing.x = (*pixel)[1], decoded.spacing.y = (*pixel)[0];  // row spacing first
+      if (!options.spacing) {
+        info.spacing = decoded.spacing;
+        if (const auto across = placeSlicesOf(info, positions, "the frames of " + image, grid, notes))
+          decoded.spacing.z = *across;
+      }
     } else if (between && *between > 0) {
       decoded.spacing.z = *between;
     } else if (!enhanced) {
@@ -704,25 +702,32 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
     info.description =
         "dicom:" + first.path + " (series " + seriesText + ", " + std::to_string(info.dims.z) + " frames)";
     info.notes = std::move(notes);
-    return std::make_unique<DicomMultiFrameSource>(std::move(decoded), std::move(info));
+    auto source = std::make_unique<DicomMultiFrameSource>(std::move(decoded), std::move(info));
+    if (grid) return resampleSlices(std::move(source), std::move(*grid));
+    return source;
   }
-  std::optional<double> sliceSpacing = stackSlices(slices, listed, notes);
+  const std::vector<glm::dvec3> positions = stackSlices(slices, listed, notes);
   const DicomImage& bottom = slices.front();  // the slices are in their stacking order now
-  if (!sliceSpacing)
-    if (const auto thickness = numberOf(bottom.sliceThickness); thickness && *thickness > 0)
-      sliceSpacing = *thickness;
-
   info.dims = {sliceDims.x, sliceDims.y, uint32_t(slices.size())};
+  if (!positions.empty()) {
+    info.axes = axesOf(*bottom.orientation);  // stacked along their normal
+    info.origin = positions.front();
+  }
   if (options.spacing) {
     info.spacing = *options.spacing;
   } else {
     const auto pixelSpacing = numbersOf(bottom.pixelSpacing, 2);
     if (pixelSpacing && (*pixelSpacing)[0] > 0 && (*pixelSpacing)[1] > 0)
-      info.spacing = {(*pixelSpacing)[1], (*pixelSpacing)[0], sliceSpacing.value_or((*pixelSpacing)[0])};
+      info.spacing = {(*pixelSpacing)[1], (*pixelSpacing)[0], (*pixelSpacing)[0]};
     else
       notes.push_back(
           "the DICOM images have no Pixel Spacing; the volume takes 1 per sample (--spacing sets it)");
-    if (!sliceSpacing && pixelSpacing)
+    std::optional<double> across = placeSlicesOf(info, positions, "the DICOM slices", grid, notes);
+    if (!across)
+      if (const auto thickness = numberOf(bottom.sliceThickness); thickness && *thickness > 0)
+        across = *thickness;
+    if (across) info.spacing.z = *across;
+    if (!across && pixelSpacing)
       notes.push_back(
           "the spacing across the DICOM slices is unknown (no positions, or one slice, and no Slice "
           "Thickness); it takes the spacing between rows (--spacing sets it)");
@@ -730,16 +735,13 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
       throw Error("DICOM series of " + bottom.path + " has spacing " + formatSpacing(info.spacing) +
                   "; expected " + validSpacingText() + " (--spacing sets it)");
   }
-  if (std::all_of(slices.begin(), slices.end(),
-                  [](const DicomImage& s) { return s.position && s.orientation; })) {
-    info.axes = axesOf(*bottom.orientation);  // stacked along their normal
-    info.origin = *bottom.position;
-  }
   info.type = sampleTypeFor(layout, slices);
   info.description =
       "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) + " images)";
   info.notes = std::move(notes);
-  return std::make_unique<DicomSeriesSource>(std::move(slices), std::move(info));
+  auto source = std::make_unique<DicomSeriesSource>(std::move(slices), std::move(info));
+  if (grid) return resampleSlices(std::move(source), std::move(*grid));
+  return source;
 }
 
 }  // namespace ropecast

@@ -42,12 +42,12 @@ std::vector<std::string> listDicomFilesBelow(const std::string& directory);
 // header is checked when opening: a folder of several series (the error lists them, each with one of its
 // files to give instead), a multi-frame image among others, color images, images of different sizes, pixel
 // formats or orientations, two images at one position, or a file cut short (dicomStructureProblem) throw
-// ropecast::Error naming the files. Uneven gaps between positions (a missing slice) and positions off the
-// slice normal (a tilted gantry) are notes: the slices are stacked evenly, unsheared. A series of one
-// multi-frame image (enhanced CT or MR, NM) is a volume of its frames, decoded whole when opening (GDCM
-// decodes pixel data at once): an enhanced image's frames placed by its functional groups (Plane Position)
-// are stacked as a series' slices are (two at one position refused), other frames in the file's order; frames
-// that say no spacing between them (a cine) are stacked at the pixel spacing, noted.
+// ropecast::Error naming the files. Slices that lie off a regular stack (a tilted gantry, a missing
+// slice) are resampled where they lie (store/placed_stack.h), noted, unless options.spacing is given. A
+// series of one multi-frame image (enhanced CT or MR, NM) is a volume of its frames, decoded whole when
+// opening (GDCM decodes pixel data at once): an enhanced image's frames placed by its functional groups
+// (Plane Position) are stacked as a series' slices are (two at one position refused), other frames in the
+// file's order; frames that say no spacing between them (a cine) are stacked at the pixel spacing, noted.
 std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const SourceOptions& options);
 
 }  // namespace ropecast

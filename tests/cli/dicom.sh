@@ -3,7 +3,8 @@
 # reverse of the slices' order) converts to a store of its size, type, spacing and values; one image of a
 # folder of two series converts its own series, and is refused an output onto another image of it; the folder
 # alone is refused, listing both, and writes nothing; a disc's top folder converts the series in its folders,
-# whose images may not be overwritten.
+# whose images may not be overwritten. A tilted gantry's series converts to the grid that holds its slices,
+# with a warning that says so.
 # Usage: bash dicom.sh /path/to/ropecast  (ROPECAST_DICOM_WRITER: tests/cli/write_dicom_series, which ctest sets)
 set -uo pipefail
 ropecast="$1"
@@ -60,6 +61,15 @@ sum=$(md5sum < "$dir/disc/DICOM/PA0/ST0/SE0/IM3")
   fail "convert wrote its store onto an image of the disc it read"
 grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal for the disc:"; cat "$dir/err.txt"; }
 [ "$(md5sum < "$dir/disc/DICOM/PA0/ST0/SE0/IM3")" = "$sum" ] || fail "an image of the disc was changed"
+
+# A tilted gantry's series: 0.8 mm further down the columns a slice, 4 slices: resampled onto 5 x 8 x 4.
+mkdir "$dir/tilted"
+"$writer" "$dir/tilted" 4 1.2.826.0.1.3680043.9.7607.3 t 0.8 || exit 1
+"$ropecast" convert "$dir/tilted" -o "$dir/tilted.rcast" 2> "$dir/err.txt" || { fail "convert of a tilted series"; cat "$dir/err.txt"; }
+grep -qF "warning: the DICOM slices lie off their normal" "$dir/err.txt" && grep -qF "gantry tilted 17.7 degrees" "$dir/err.txt" ||
+  { fail "no warning of the tilt:"; cat "$dir/err.txt"; }
+"$ropecast" info "$dir/tilted.rcast" | grep -qF "5 x 8 x 4 samples, spacing 0.5 x 0.75 x 2.5" ||
+  { fail "the tilted series is not on its grid:"; "$ropecast" info "$dir/tilted.rcast"; }
 
 if [ "$failures" -ne 0 ]; then
   echo "dicom.sh: $failures failure(s)"

@@ -189,7 +189,7 @@ TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
   EXPECT_EQ(info.axes, AxisDirections(1.0));              // an axial image
   EXPECT_EQ(info.origin, glm::dvec3(-10.0, 20.0, 30.0));  // the lowest frame's, stored second
 
-  // A missing frame is noted; two frames at one position (two stacks in one image) are refused.
+  // A missing frame is filled and noted; two frames at one position (two stacks in one image) are refused.
   spec.framePositions[2].z += 2.0;
   const TempDir gaps, twice;
   writeDicomSlice(gaps.file("gap.dcm"), spec);
@@ -197,6 +197,8 @@ TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
   ASSERT_EQ(gap->info().notes.size(), 1u);
   EXPECT_NE(gap->info().notes[0].find("the gaps between the frames of DICOM image"), std::string::npos)
       << gap->info().notes[0];
+  EXPECT_EQ(gap->info().dims.z, 5u);  // resampled 2 apart: the missing frame filled
+  EXPECT_EQ(gap->info().spacing.z, 2.0);
   spec.framePositions[2] = spec.framePositions[0];
   writeDicomSlice(twice.file("twice.dcm"), spec);
   const std::string error = errorOf(twice.file("twice.dcm"));
@@ -412,24 +414,51 @@ TEST(SourceDicom, InstanceNumberOrdersSlicesWithoutPositions) {
       << errorOf(dir.path().string());
 }
 
-TEST(SourceDicom, UnevenGapsAndTiltedPositionsAreNoted) {
+// Slices are drawn where their positions place them (store/placed_stack.h): a missing slice is filled
+// between its neighbours, a gantry's tilt (each slice moved down its columns against the one below) is
+// undone on a grid that holds every slice; each is noted.
+TEST(SourceDicom, AMissingSliceAndATiltedGantryAreResampledWhereTheSlicesLie) {
   const TempDir gaps, tilted;
   for (const uint32_t z : {0u, 1u, 2u, 4u, 5u}) writeDicomSlice(gaps.file(numbered("g", z)), ctSlice(z));
   const auto missing = openVolumeSource(gaps.path().string());
-  EXPECT_EQ(missing->info().dims.z, 5u);
-  EXPECT_DOUBLE_EQ(missing->info().spacing.z, 12.5 / 4);
+  EXPECT_EQ(missing->info().dims, glm::u32vec3(kColumns, kRows, 6));
+  EXPECT_EQ(missing->info().spacing, glm::dvec3(0.5, 0.75, 2.5));
+  EXPECT_EQ(missing->info().origin, glm::dvec3(-10.0, 20.0, 30.0));
   ASSERT_EQ(missing->info().notes.size(), 1u);
-  EXPECT_NE(missing->info().notes[0].find("vary from 2.5 to 5"), std::string::npos)
+  EXPECT_NE(missing->info().notes[0].find("vary from 2.5 to 5 (a missing slice?); they are resampled"),
+            std::string::npos)
       << missing->info().notes[0];
+  // The values grow evenly from slice to slice: the missing one's lie halfway between its neighbours'.
+  EXPECT_EQ(readSlab<int16_t>(*missing, 0, 6), expectedCt<int16_t>(6));
 
+  // Moved 0.8 down the columns a slice (1.07 rows: 3.2 rows in all, so the grid has 4 more).
   for (uint32_t z = 0; z < 4; ++z) {
     DicomSliceSpec spec = ctSlice(z);
-    spec.position = *spec.position + glm::dvec3(0.0, 0.8 * z, 0.0);  // a gantry tilted about x
+    spec.position = *spec.position + glm::dvec3(0.0, 0.8 * z, 0.0);
     writeDicomSlice(tilted.file(numbered("t", z)), spec);
   }
   const auto sheared = openVolumeSource(tilted.path().string());
-  ASSERT_EQ(sheared->info().notes.size(), 1u);
-  EXPECT_NE(sheared->info().notes[0].find("tilted gantry"), std::string::npos) << sheared->info().notes[0];
+  const VolumeInfo& info = sheared->info();
+  EXPECT_EQ(info.dims, glm::u32vec3(kColumns, kRows + 4, 4));
+  EXPECT_EQ(info.spacing, glm::dvec3(0.5, 0.75, 2.5));
+  EXPECT_EQ(info.origin, glm::dvec3(-10.0, 20.0, 30.0));
+  ASSERT_EQ(info.notes.size(), 1u);
+  EXPECT_NE(info.notes[0].find("as a gantry tilted 17.7 degrees places them); they are resampled"),
+            std::string::npos)
+      << info.notes[0];
+  const std::vector<int16_t> samples = readSlab<int16_t>(*sheared, 0, 4);
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t y = 0; y < info.dims.y; ++y)
+      for (uint32_t x = 0; x < kColumns; ++x) {
+        // Row y of the grid is row y - 1.07 z of slice z: its values there, linear down the columns.
+        const double row = y - 0.8 * z / 0.75;
+        const int16_t value = samples[(size_t(z) * info.dims.y + y) * kColumns + x];
+        if (row >= 0.0 && row <= kRows - 1)
+          EXPECT_NEAR(value, 100 + 37.0 * z + 3.0 * (row * kColumns + x) - 1024, 0.5)
+              << x << "," << y << "," << z;
+        else if (row <= -1.0 || row >= kRows)
+          EXPECT_EQ(value, 100 - 1024) << x << "," << y << "," << z;  // the bottom slice's smallest
+      }
 }
 
 TEST(SourceDicom, BadSeriesNameTheirFiles) {
