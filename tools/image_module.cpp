@@ -16,8 +16,6 @@ const ropecast::tools::ImageModule kModule{
     .openMultiPageTiffSource = &ropecast::openMultiPageTiffSource,
     .openDicomSource = &ropecast::openDicomSource,
     .openHdf5Source = &ropecast::openHdf5Source,
-    .checkRenderImage = &ropecast::tools::checkRenderImage,
-    .compareWithGolden = &ropecast::tools::compareWithGolden,
 };
 
 }  // namespace

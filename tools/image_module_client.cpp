@@ -51,15 +51,6 @@ const ImageModule& imageModule() {
   return module;
 }
 
-void checkRenderImage(const std::string& render) {
-  imageModule().checkRenderImage(render);
-}
-
-GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
-                                   double failingPixelError, FloatImage* difference) {
-  return imageModule().compareWithGolden(golden, render, failingPixelError, difference);
-}
-
 }  // namespace ropecast::tools
 
 namespace ropecast {

@@ -1,5 +1,6 @@
 // Image comparison for `ropecast regress`: a render against its golden image, and the amplified difference
-// image of the report, through OpenImageIO. GL-free; any thread (no shared state).
+// image of the report. Images are read as `ropecast compare` reads them (reference/image_io.h readImage: PNG
+// through libpng, other formats through OpenImageIO). GL-free; any thread (no shared state).
 #pragma once
 
 #include <cstdint>
@@ -23,7 +24,8 @@ struct GoldenDifference {
 // cannot be read or is not an RGB(A) image.
 void checkRenderImage(const std::string& render);
 
-// Compares `render` with `golden` (both read by OpenImageIO, both RGB or RGBA). With `difference` given, also
+// Compares `render` with `golden` (both RGB or RGBA) over RGB: a pixel fails where a channel differs by more
+// than `failingPixelError`. With `difference` given, also
 // makes |golden - render| * amplification there (RGB), for the caller to write. Throws ropecast::Error naming
 // the file that cannot be read or is not RGB(A), and both sizes when they differ.
 GoldenDifference compareWithGolden(const std::string& golden, const std::string& render,
