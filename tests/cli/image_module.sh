@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The image module (tools/image_module.h): ropecast links no OpenImageIO and loads ropecast_images.so the first
 # time a command needs an image other than a PNG (reference/png_codec.h); without the module, or with a wrong one,
-# the commands that need none still work (render to PNG and compare of PNGs among them) and those that do fail
+# the commands that need none still work (render to PNG, compare and regress of PNGs among them) and those that do fail
 # with a message that names it, leaving nothing behind.
 # Usage: bash image_module.sh /path/to/ropecast
 set -uo pipefail
@@ -62,6 +62,11 @@ expect_failure "convert a PNG stack without the module" "ropecast_images.so" \
   "$alone" convert "$dir/slices" -o "$dir/out/s.rcast"
 "$alone" compare "$dir/slices/s0.png" "$dir/slices/s1.png" > "$dir/cmp.txt" && grep -q '"psnr_db":"inf"' "$dir/cmp.txt" &&
   echo "ok   compare of PNGs without the module" || fail "compare of PNGs without the module: $(cat "$dir/cmp.txt")"
+# regress of PNG goldens, its report's images included (the golden: s0.png, rendered as the case renders).
+printf '{"cases": [{"name": "s", "input": "procedural:sphere:16", "options": ["--size", "16x16"], "golden": "slices/s0.png"}]}' > "$dir/suite.json"
+"$alone" regress "$dir/suite.json" --report "$dir/report" > "$dir/reg.txt" 2>&1 && grep -q "1 cases, 0 failed" "$dir/reg.txt" &&
+  [ -s "$dir/report/s.difference.png" ] && echo "ok   regress of PNG goldens without the module" ||
+  fail "regress of PNG goldens without the module: $(cat "$dir/reg.txt")"
 "$ropecast" render procedural:sphere:16 --size 16x16 -o "$dir/s.png" --exr "$dir/s.exr" -q || exit 1
 expect_failure "compare of an EXR without the module" "ropecast_images.so" \
   "$alone" compare "$dir/s.exr" "$dir/slices/s0.png"
