@@ -13,6 +13,22 @@
 namespace ropecast {
 namespace {
 
+// A patient orientation code as MetaImage's AnatomicalOrientation writes it: three letters, one of each pair
+// R/L, A/P, S/I, in any order and case ("RAI", "lps").
+bool isPatientOrientationCode(std::string_view code) {
+  if (code.size() != 3) return false;
+  const std::string_view pairs[] = {"RL", "AP", "SI"};
+  bool seen[3] = {false, false, false};
+  for (const char c : code) {
+    const char upper = char(std::toupper(static_cast<unsigned char>(c)));
+    bool found = false;
+    for (int p = 0; p < 3; ++p)
+      if (pairs[p].find(upper) != std::string_view::npos && !seen[p]) found = seen[p] = true;
+    if (!found) return false;
+  }
+  return true;
+}
+
 // The element types read, for messages.
 constexpr std::string_view kMetaTypeList =
     "MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT, MET_INT, MET_UINT, MET_LONG, MET_ULONG, MET_FLOAT or "
@@ -151,9 +167,11 @@ class MetaImageHeaderParser {
       header_.origin = glm::dvec3(o[0], o[1], o[2]);
     } else if (name == "elementdatafile") {
       parseDataFile(key, value);
+    } else if (name == "anatomicalorientation") {
+      header_.anatomicalOrientation = isPatientOrientationCode(value);
     }
-    // Anything else (CenterOfRotation, AnatomicalOrientation, ElementMin, Comment, ...) does not change how
-    // samples are read or placed.
+    // Anything else (CenterOfRotation, ElementMin, Comment, ...) does not change how samples are read or
+    // placed.
   }
 
   void parseSizes(std::string_view key, std::string_view value) {

@@ -36,11 +36,14 @@ struct MetaImageHeader {
   AxisDirections axes{1.0};
   bool matrixNotApplied = false;     // a TransformMatrix whose rows are not at right angles (a sheared grid)
   std::optional<glm::dvec3> origin;  // Offset (or Origin, Position): the first sample's center, in LPS
-  bool compressed = false;           // CompressedData: the data is one zlib stream
-  bool bigEndian = false;            // the data's byte order (irrelevant for 1-byte types)
-  int64_t headerSize = 0;            // bytes of the data file skipped before the data; -1: data at the end
-  std::string dataFile;    // ElementDataFile as written (relative to the header's folder); empty: LOCAL
-  size_t headerBytes = 0;  // bytes of the header, the ElementDataFile line and its line end included
+  // AnatomicalOrientation names a patient's frame: three letters, one of R or L, A or P, S or I ("RAI"); ITK
+  // writes "???" where it does not know.
+  bool anatomicalOrientation = false;
+  bool compressed = false;  // CompressedData: the data is one zlib stream
+  bool bigEndian = false;   // the data's byte order (irrelevant for 1-byte types)
+  int64_t headerSize = 0;   // bytes of the data file skipped before the data; -1: data at the end
+  std::string dataFile;     // ElementDataFile as written (relative to the header's folder); empty: LOCAL
+  size_t headerBytes = 0;   // bytes of the header, the ElementDataFile line and its line end included
 
   uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
 };

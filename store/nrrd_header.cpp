@@ -299,6 +299,7 @@ class HeaderParser {
       header_.spacing = spacings_;
     }
     if (rawOrigin_) header_.origin = lpsSigns() * *rawOrigin_;
+    header_.anatomicalSpace = isAnatomicalSpace();
     header_.originNotRead = originNotRead_;
     return header_;
   }
@@ -309,6 +310,14 @@ class HeaderParser {
     AxisDirections lps = axes;
     for (int a = 0; a < 3; ++a) lps[a] *= lpsSigns();
     return lps;
+  }
+  // Whether the "space" field names a patient's frame: NRRD's long names (right-anterior-superior, ...) and
+  // short ones (RAS, LAS, LPS), with or without "-time".
+  bool isAnatomicalSpace() const {
+    std::string space;
+    for (const char c : space_) space += char(std::tolower(static_cast<unsigned char>(c)));
+    return space.starts_with("right-") || space.starts_with("left-") || space.starts_with("ras") ||
+           space.starts_with("las") || space.starts_with("lps");
   }
   // What turns a vector of the "space" field's frame into LPS: -1 on the axes that point the other way.
   glm::dvec3 lpsSigns() const {

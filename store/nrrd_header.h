@@ -38,6 +38,9 @@ struct NrrdHeader {
   // Space directions that are not three orthogonal 3-vectors (a sheared grid, a "none"): only their lengths
   // are used (as spacing), and axes stays the identity.
   bool directionsNotApplied = false;
+  // The "space" field names a patient's frame (right-anterior-superior, LPS, ... and their -time forms), not
+  // scanner-xyz or a 3D-handed space.
+  bool anatomicalSpace = false;
   // The "space origin" (the center of the first sample), turned into LPS as the axes are; absent without one,
   // or when it is not three finite numbers (originNotRead: said to the user, the samples read the same).
   std::optional<glm::dvec3> origin;

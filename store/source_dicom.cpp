@@ -678,6 +678,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
       for (const size_t i : order) positions.push_back(decoded.framePositions[i]);
       info.axes = axesOf(*decoded.frameOrientation);
       info.origin = positions.front();  // the first frame stacked
+      info.patientFrame = true;
       if (const auto& pixel = decoded.framePixelSpacing; pixel && (*pixel)[0] > 0 && (*pixel)[1] > 0)
         decoded.spacing.x = (*pixel)[1], decoded.spacing.y = (*pixel)[0];  // row spacing first
       if (!options.spacing) {
@@ -712,6 +713,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
   if (!positions.empty()) {
     info.axes = axesOf(*bottom.orientation);  // stacked along their normal
     info.origin = positions.front();
+    info.patientFrame = true;
   }
   if (options.spacing) {
     info.spacing = *options.spacing;

@@ -55,6 +55,7 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.description = "metaimage:" + path;
   info.axes = header.axes;
   info.origin = header.origin;
+  info.patientFrame = header.anatomicalOrientation && !header.matrixNotApplied;
   if (header.matrixNotApplied) info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
   return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
                          header.bigEndian);

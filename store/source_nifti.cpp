@@ -171,6 +171,7 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.description = "nifti:" + path;
   info.axes = header.axes;
   info.origin = header.origin;
+  info.patientFrame = header.origin.has_value();  // a qform or sform applied: NIfTI's frame is a patient's
   if (header.transformNotApplied)
     info.notes.push_back(unappliedTransformNote(headerPath, "its qform or sform"));
   if (header.spacingUnknown && !options.spacing)

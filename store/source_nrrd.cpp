@@ -72,6 +72,7 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
   info.description = "nrrd:" + path;
   info.axes = header.axes;
   info.origin = header.origin;
+  info.patientFrame = header.anatomicalSpace && !header.directionsNotApplied;
   if (header.originNotRead)
     info.notes.push_back(path + ": its space origin is not three numbers; the volume is placed without it");
   if (header.directionsNotApplied)

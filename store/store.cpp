@@ -108,6 +108,11 @@ StoreMetadata parseMetadata(const std::string& text, const std::string& name) {
           !std::isfinite(m.volume.origin->z))
         throw std::runtime_error("origin: expected finite numbers");
     }
+    if (j.contains("patientFrame")) {  // absent: false (and in stores written before it)
+      if (!j["patientFrame"].is_boolean())
+        throw std::runtime_error("\"patientFrame\": expected true or false");
+      m.volume.patientFrame = j["patientFrame"].get<bool>();
+    }
     if (j.contains("xReversed")) {
       if (!j["xReversed"].is_boolean()) throw std::runtime_error("\"xReversed\": expected true or false");
       m.xReversed = j["xReversed"].get<bool>();

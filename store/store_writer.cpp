@@ -34,6 +34,7 @@ std::string storeMetadataToJson(const StoreMetadata& m) {
   const AxisDirections& a = m.volume.axes;
   j["axes"] = {{a[0].x, a[0].y, a[0].z}, {a[1].x, a[1].y, a[1].z}, {a[2].x, a[2].y, a[2].z}};
   if (m.xReversed) j["xReversed"] = true;
+  if (m.volume.patientFrame) j["patientFrame"] = true;
   if (m.volume.origin) j["origin"] = {m.volume.origin->x, m.volume.origin->y, m.volume.origin->z};
   j["originalType"] = std::string(sampleTypeName(m.volume.type));
   j["valueRange"] = {m.volume.valueMin.value_or(0.0), m.volume.valueMax.value_or(0.0)};

@@ -40,6 +40,10 @@ struct VolumeInfo {
   // image stacks, procedural ones). A store's is that of its own sample (0, 0, 0): the converter moves it
   // with a crop and with an x axis it keeps reversed.
   std::optional<glm::dvec3> origin;
+  // Whether `axes` point in a patient's frame (LPS): the file names an anatomical space (a DICOM series
+  // placed by its positions, a NIfTI file's qform or sform, a NRRD's right-anterior-superior and the like, a
+  // MetaImage's AnatomicalOrientation) and its axes were applied. The default view then faces the patient.
+  bool patientFrame = false;
   std::string description;  // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
   // What the source noticed about its input that a person should hear, though the samples are read as
   // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.

@@ -58,6 +58,7 @@ void printPlacement(const VolumeInfo& v) {
   std::printf("dims       %u x %u x %u samples, spacing %g x %g x %g\n", v.dims.x, v.dims.y, v.dims.z,
               v.spacing.x, v.spacing.y, v.spacing.z);
   std::printf("axes       %s\n", axesText(v.axes).c_str());
+  if (v.patientFrame) std::printf("frame      a patient's (LPS): the default view faces the patient\n");
   if (v.origin)
     std::printf("origin     %g, %g, %g (the center of voxel 0, 0, 0, in the axes' frame)\n", v.origin->x,
                 v.origin->y, v.origin->z);
@@ -82,6 +83,7 @@ int runVolumeInfo(const std::string& spec, const SourceOptions& options, bool js
                         {"origin", v.origin ? nlohmann::json{v.origin->x, v.origin->y, v.origin->z}
                                             : nlohmann::json(nullptr)},
                         {"orientation", orientationCode(v.axes)},
+                        {"patientFrame", v.patientFrame},
                         {"type", std::string(sampleTypeName(v.type))},
                         {"source", v.description},
                         {"notes", v.notes},
@@ -123,6 +125,7 @@ int runInfo(const std::string& path, const VolumeReadArgs& read, bool json) {
     nlohmann::json j = nlohmann::json::parse(storeMetadataToJson(m));
     j["file"] = path;
     j["orientation"] = orientationCode(v.axes);
+    j["patientFrame"] = v.patientFrame;
     j["nodes"] = {{"total", s.total}, {"empty", s.empty}, {"constant", s.constant}, {"data", s.data}};
     j["levelsDetail"] = levels;
     j["bytes"] = {{"file", s.fileBytes},

@@ -63,9 +63,10 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       "LO and its last at HI (a preset placed over LO..HI instead of the value range; CT window "
       "width 400 at level 40: -160,240)");
   addImageSizeOption(app, "--size", o.size, "image size WxH, each in [1, 16384] (default 512x512)");
-  CLI::Option* orbit =
-      addTripleOption(app, "--orbit", o.orbit,
-                      "AZ,EL,DIST: degrees, degrees, bounding-sphere radii about z (default 30,20,3)");
+  CLI::Option* orbit = addTripleOption(
+      app, "--orbit", o.orbit,
+      "AZ,EL,DIST: degrees, degrees, bounding-sphere radii about z (default 30,20,3; for a volume in a "
+      "patient's frame -60,20,3, facing the patient from its left front)");
   std::vector<std::pair<std::string, AnatomicalView>> views;
   for (const auto& [name, view] : kAnatomicalViewNames) views.emplace_back(name, view);
   CLI::Option* view = addEnumOption(
@@ -202,15 +203,16 @@ std::optional<Camera> eyeTargetCamera(const RenderOptions& o) {
   return c;
 }
 
-glm::dvec3 orbitOf(const RenderOptions& o) {
+}  // namespace
+
+glm::dvec3 orbitFor(const RenderOptions& o, const VolumeInfo& volume) {
+  const double* fallback = volume.patientFrame ? kPatientDefaultOrbit : kDefaultOrbit;
   const glm::dvec3 orbit =
-      o.orbit.empty() ? glm::dvec3(kDefaultOrbit[0], kDefaultOrbit[1], kDefaultOrbit[2]) : toVec3(o.orbit);
+      o.orbit.empty() ? glm::dvec3(fallback[0], fallback[1], fallback[2]) : toVec3(o.orbit);
   if (orbit.z <= 0.0)
     throw UsageError("--orbit: the distance must be positive, got " + formatTriple(o.orbit));
   return orbit;
 }
-
-}  // namespace
 
 void checkSceneOptions(const RenderOptions& o) {
   checkBrickOption(o.input, o.brick);
@@ -219,7 +221,7 @@ void checkSceneOptions(const RenderOptions& o) {
     throw UsageError("--brute-stage " + std::string(renderBackendName(*o.bruteStage)) +
                      " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
                      "compute");
-  if (!eyeTargetCamera(o)) orbitOf(o);
+  if (!eyeTargetCamera(o)) orbitFor(o, VolumeInfo{});
   // Only frames that query: progressive ones of the octree's single pass (not one synchronous frame,
   // --reference, brute force or multi-pass).
   const bool queries = o.occlusion && (o.converge || o.frames > 1) && !o.reference &&
@@ -269,7 +271,7 @@ Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {
   if (const std::optional<Camera> camera = eyeTargetCamera(o)) return *camera;
   if (o.view)
     return anatomicalViewCamera(*o.view, kDefaultOrbit[2], glm::dvec3(0.0), info.volume.worldMax(), o.fov);
-  const glm::dvec3 orbit = orbitOf(o);
+  const glm::dvec3 orbit = orbitFor(o, info.volume);
   return orbitCamera(orbit.x, orbit.y, orbit.z, glm::dvec3(0.0), info.volume.worldMax(), o.fov);
 }
 

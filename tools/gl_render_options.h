@@ -27,6 +27,10 @@ namespace ropecast::tools {
 
 // The default orbit (docs/ARCHITECTURE.md): azimuth, elevation (degrees), distance (bounding-sphere radii).
 inline constexpr double kDefaultOrbit[3] = {30.0, 20.0, 3.0};
+// The default orbit of a patient's volume (VolumeInfo::patientFrame): facing the patient, as radiology
+// viewers open a 3D view, turned 30 degrees to the patient's left and raised 20 (LPS: anterior toward -y,
+// left toward +x).
+inline constexpr double kPatientDefaultOrbit[3] = {-60.0, 20.0, 3.0};
 
 extern const std::vector<std::pair<std::string, RenderMode>> kModeNames;
 extern const char* const kModeHelp;  // --mode's help: what each name draws
@@ -65,8 +69,11 @@ std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
                                              const VolumeReadArgs& read, bool quiet, const std::string& who);
 
-// The camera of --eye/--target/--up/--fov, else of --view, else of --orbit (default kDefaultOrbit) around the
-// volume box.
+// --orbit, else the default orbit of `volume` (kPatientDefaultOrbit for a patient's, else kDefaultOrbit).
+// Throws UsageError for a distance that is not positive.
+glm::dvec3 orbitFor(const RenderOptions& o, const VolumeInfo& volume);
+
+// The camera of --eye/--target/--up/--fov, else of --view, else of orbitFor around the volume box.
 // Throws UsageError as checkSceneOptions.
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info);
 

@@ -314,8 +314,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   if (!o.eye.empty() || o.view) {
     controller_ = OrbitController::fromCamera(glm::dvec3(0.0), boxMax_, initial);
   } else {
-    const glm::dvec3 orbit =
-        o.orbit.empty() ? glm::dvec3(kDefaultOrbit[0], kDefaultOrbit[1], kDefaultOrbit[2]) : toVec3(o.orbit);
+    const glm::dvec3 orbit = orbitFor(o, info.volume);
     controller_.emplace(
         glm::dvec3(0.0), boxMax_,
         OrbitController::orbitAroundBox(glm::dvec3(0.0), boxMax_, orbit.x, orbit.y, orbit.z, o.fov));

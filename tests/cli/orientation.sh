@@ -57,6 +57,18 @@ if "$ropecast" compare "$dir/w.png" "$dir/t_unturned.png" --min-psnr 40 > /dev/n
   fail "the sagittal samples on the world's axes draw the world's image: the test shows nothing"
 else echo "ok   the turn matters"; fi
 
+# A patient's volume (its space anatomical) is seen by default facing the patient (--orbit -60,20,3); one in no
+# patient's frame (scanner-xyz) from the default orbit, 30,20,3.
+"$ropecast" info "$dir/w.rcast" | grep -qx "frame      a patient's (LPS): the default view faces the patient" ||
+  fail "info of a patient's store: $("$ropecast" info "$dir/w.rcast")"
+"$ropecast" "${render[@]}" "$dir/w.rcast" -o "$dir/w_default.png" || fail "render w by default"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --orbit -60,20,3 -o "$dir/w_facing.png" || fail "render w facing"
+same "a patient's volume by default = --orbit -60,20,3" "$dir/w_default.png" "$dir/w_facing.png"
+sed 's/space: left-posterior-superior/space: scanner-xyz/' "$dir/w.nrrd" > "$dir/s.nrrd"
+"$ropecast" info "$dir/s.nrrd" | grep -q "^frame" && fail "info of a scanner-xyz volume names a patient's frame"
+"$ropecast" "${render[@]}" "$dir/s.nrrd" -o "$dir/s_default.png" || fail "render s by default"
+same "a volume in no patient's frame by default = --orbit 30,20,3" "$dir/s_default.png" "$dir/w.png"
+
 # World points: an eye and target, and a clip plane, given in the world draw the same on either volume. The
 # turned volume's centre is its own extent's (8,6,10), the world one's (10,8,6): the same world offsets.
 "$ropecast" "${render[@]}" "$dir/w.rcast" --eye 40,-20,30 --target 10,8,6 --clip-plane 10,8,6,1,0.3,0 -o "$dir/wp.png" || fail "render w with a plane"

@@ -89,6 +89,7 @@ TEST(SourceDicom, StacksByPositionWithSpacingAndRescale) {
     EXPECT_DOUBLE_EQ(info.spacing.z, 2.5) << spec;
     EXPECT_TRUE(info.notes.empty()) << info.notes.front();
     EXPECT_NE(info.description.find("6 images"), std::string::npos) << info.description;
+    EXPECT_TRUE(info.patientFrame) << spec;  // placed by its positions, in the patient's LPS
     EXPECT_EQ(readSlab<int16_t>(*source, 0, 6), expectedCt<int16_t>(6)) << spec;
     const std::vector<int16_t> all = expectedCt<int16_t>(6);
     EXPECT_EQ(readSlab<int16_t>(*source, 3, 2),
@@ -188,6 +189,7 @@ TEST(SourceDicom, AnEnhancedImagesFramesAreStackedByTheirPositions) {
   EXPECT_EQ(readSlab<int16_t>(*source, 0, 4), expectedCt<int16_t>(4));
   EXPECT_EQ(info.axes, AxisDirections(1.0));              // an axial image
   EXPECT_EQ(info.origin, glm::dvec3(-10.0, 20.0, 30.0));  // the lowest frame's, stored second
+  EXPECT_TRUE(info.patientFrame);
 
   // A missing frame is filled and noted; two frames at one position (two stacks in one image) are refused.
   spec.framePositions[2].z += 2.0;
@@ -400,6 +402,7 @@ TEST(SourceDicom, InstanceNumberOrdersSlicesWithoutPositions) {
   EXPECT_EQ(readSlab<int16_t>(*source, 0, 3), expectedCt<int16_t>(3));
   // Without positions or Slice Thickness, the spacing across is the spacing between rows (said too).
   EXPECT_DOUBLE_EQ(source->info().spacing.z, 0.75);
+  EXPECT_FALSE(source->info().patientFrame);  // placed nowhere
   ASSERT_EQ(source->info().notes.size(), 2u);
   EXPECT_NE(source->info().notes[0].find("stacked by Instance Number"), std::string::npos)
       << source->info().notes[0];
@@ -453,11 +456,12 @@ TEST(SourceDicom, AMissingSliceAndATiltedGantryAreResampledWhereTheSlicesLie) {
         // Row y of the grid is row y - 1.07 z of slice z: its values there, linear down the columns.
         const double row = y - 0.8 * z / 0.75;
         const int16_t value = samples[(size_t(z) * info.dims.y + y) * kColumns + x];
-        if (row >= 0.0 && row <= kRows - 1)
+        if (row >= 0.0 && row <= kRows - 1) {
           EXPECT_NEAR(value, 100 + 37.0 * z + 3.0 * (row * kColumns + x) - 1024, 0.5)
               << x << "," << y << "," << z;
-        else if (row <= -1.0 || row >= kRows)
+        } else if (row <= -1.0 || row >= kRows) {
           EXPECT_EQ(value, 100 - 1024) << x << "," << y << "," << z;  // the bottom slice's smallest
+        }
       }
 }
 

@@ -167,6 +167,34 @@ TEST(SourceMetaImage, TheOffsetPlacesTheFirstSample) {
     EXPECT_EQ(originOf(std::string(key) + " = 1 2 3\n" + header), glm::dvec3(1.0, 2.0, 3.0)) << key;
 }
 
+// AnatomicalOrientation makes a patient's volume where it is a patient orientation code (ITK writes "???"
+// where it knows none) and the TransformMatrix is applied.
+TEST(SourceMetaImage, AnAnatomicalOrientationIsAPatientsFrame) {
+  const std::string header = metaImageHeader("MET_UCHAR");  // AnatomicalOrientation = RAI
+  const auto oriented = [&](const std::string& code) {
+    return withValue(header, "AnatomicalOrientation", code);
+  };
+  for (const char* code : {"RAI", "LPS", "SPL", "ras"})
+    EXPECT_TRUE(parseMetaImageHeader(oriented(code), "t.mha").anatomicalOrientation) << code;
+  for (const char* code : {"???", "RRI", "RA", "RAIS", "XYZ"})
+    EXPECT_FALSE(parseMetaImageHeader(oriented(code), "t.mha").anatomicalOrientation) << code;
+  std::string without = header;
+  without.erase(without.find("AnatomicalOrientation = RAI\n"),
+                std::string("AnatomicalOrientation = RAI\n").size());
+  EXPECT_FALSE(parseMetaImageHeader(without, "t.mha").anatomicalOrientation);
+
+  TempDir dir;
+  const auto patientFrame = [&](const std::string& text) {
+    const std::string path = dir.file("p.mha");
+    writeFile(path, text + fileBytes(samplePattern<uint8_t>(kMetaImageSamples)));
+    return openVolumeSource(path)->info().patientFrame;
+  };
+  EXPECT_TRUE(patientFrame(header));
+  EXPECT_FALSE(patientFrame(oriented("???")));
+  EXPECT_FALSE(patientFrame(without));
+  EXPECT_FALSE(patientFrame(withValue(header, "TransformMatrix", "1 0 0 0.5 1 0 0 0 1")));
+}
+
 TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
   const std::string good = metaImageHeader("MET_SHORT");
   const std::vector<RefusedHeader> cases = {

@@ -269,6 +269,14 @@ TEST(SourceNifti, TheSformOrQformPlacesTheFirstSampleInLps) {
     writer.sform(radiological);
     writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
     EXPECT_EQ(openVolumeSource(path)->info().origin, glm::dvec3(-90.0, 126.0, -72.0)) << version;
+    // A qform or sform applied puts the volume in the patient's frame; neither, or a sheared one, does not.
+    EXPECT_TRUE(openVolumeSource(path)->info().patientFrame) << version;
+    writer.sform(sheared);
+    writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
+    EXPECT_FALSE(openVolumeSource(path)->info().patientFrame) << version;
+    NiftiWriter unplaced(version, 2, 8);
+    writeFile(path, unplaced.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
+    EXPECT_FALSE(openVolumeSource(path)->info().patientFrame) << version;
   }
 }
 

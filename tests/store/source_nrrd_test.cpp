@@ -222,6 +222,33 @@ TEST(SourceNrrd, SpaceOriginInLps) {
   }
 }
 
+// A space that names a patient's frame (NRRD's long and short names, with "-time") makes a patient's volume
+// where its directions are applied; scanner-xyz, a 3D-handed space or none does not.
+TEST(SourceNrrd, AnAnatomicalSpaceIsAPatientsFrame) {
+  const auto header = [](const std::string& fields) {
+    return parseNrrdHeader(headerFor("uchar", "raw", fields), "t.nhdr");
+  };
+  for (const char* space : {"RAS", "LAS", "LPS", "right-anterior-superior", "Left-Posterior-Superior",
+                            "left-anterior-superior", "RAS-time", "left-posterior-superior-time"})
+    EXPECT_TRUE(header("space: " + std::string(space) + "\n").anatomicalSpace) << space;
+  for (const char* space : {"scanner-xyz", "3D-right-handed", "3D-left-handed-time"})
+    EXPECT_FALSE(header("space: " + std::string(space) + "\n").anatomicalSpace) << space;
+  EXPECT_FALSE(header("").anatomicalSpace);
+
+  TempDir dir;
+  const auto patientFrame = [&](const std::string& fields) {
+    const std::string path = dir.file("p.nrrd");
+    writeFile(path,
+              headerFor("uchar", "raw", fields) + "\n" + bytesOf(samplePattern<uint8_t>(9 * 6 * 5), false));
+    return openVolumeSource(path)->info().patientFrame;
+  };
+  EXPECT_TRUE(patientFrame("space: RAS\nspace directions: (-1,0,0) (0,-1,0) (0,0,1)\n"));
+  EXPECT_FALSE(patientFrame("space: scanner-xyz\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"));
+  EXPECT_FALSE(patientFrame("spacings: 1 1 1\n"));
+  // Directions not at right angles are not applied: the volume is shown unturned, in no patient's frame.
+  EXPECT_FALSE(patientFrame("space: RAS\nspace directions: (0,0.5,0) (3,4,0) (0,0,-2.5)\n"));
+}
+
 struct BadHeader {
   const char* what;
   std::string header;

@@ -88,6 +88,7 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
     TempDir dir;
     info.axes = turned;
     if (mirrored) info.axes[0] = -turned[0];
+    info.patientFrame = mirrored;  // kept by the store as it is (absent from the metadata when false)
     ArraySource source = ArraySource::fromSamples<uint8_t>(info, samples);
     ConvertOptions options;
     options.brickSize = 4;
@@ -95,6 +96,7 @@ TEST(StoreRoundTrip, AMirroringVolumeIsStoredWithItsXAxisReversed) {
     const auto store = Store::open(dir / "m.store");
     EXPECT_EQ(store->info().volume.axes, turned) << "mirrored " << mirrored;
     EXPECT_EQ(store->info().xReversed, mirrored);
+    EXPECT_EQ(store->info().volume.patientFrame, mirrored);
     // The bricks hold the rows reversed: level 0's node at the store's x = 0 holds the file's last column.
     std::vector<std::byte> brick(store->brickBytes());
     store->readBrick({store->info().layout.maxDepth, {0, 0, 0}}, brick);
