@@ -181,7 +181,7 @@ void renderCases(const std::vector<RenderOptions>& options, std::vector<CaseOutc
       const auto start = SteadyClock::now();
       try {
         const RenderedFrame frame = renderFrames(options[i]);
-        writePng((fs::path(folder) / renderFile(o)).string(), frame.color, false);
+        writePng((fs::path(folder) / renderFile(o)).string(), colorOutputOf(options[i], frame), false);
         o.renderFile = renderFile(o);
       } catch (const std::exception& e) {
         o.problems.push_back(std::string("render failed: ") + e.what());

@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/camera_path.h"
@@ -28,6 +29,7 @@
 #include "tools/command.h"
 #include "tools/frame_series.h"
 #include "tools/gl_render_options.h"
+#include "tools/image_marks.h"
 #include "tools/output_guard.h"
 #include "tools/progress_bar.h"
 #include "tools/render_command.h"
@@ -45,10 +47,18 @@ FloatImage toFloatImage(const std::vector<float>& values, uint32_t w, uint32_t h
   return image;
 }
 
+// A frame's images; renderFrames sets where it was seen from.
+RenderedFrame renderedFrame(FloatImage color, FloatImage depth) {
+  RenderedFrame frame;
+  frame.color = std::move(color);
+  frame.depth = std::move(depth);
+  return frame;
+}
+
 // -o, --exr and --depth under their temporary names (renderFrames renames them with the other outputs).
 std::vector<StagedImage> stageOutputs(const RenderOptions& o, const RenderedFrame& frame) {
   std::vector<StagedImage> staged;
-  staged.push_back(stagePng(o.output, frame.color, false));
+  staged.push_back(stagePng(o.output, colorOutputOf(o, frame), false));
   if (!o.exr.empty()) staged.push_back(stageExr(o.exr, frame.color));
   if (!o.depth.empty()) staged.push_back(stageDepthExr(o.depth, frame.depth));
   return staged;
@@ -135,6 +145,12 @@ class RenderSetup {
     return path_ ? sampleCameraPath(*path_, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o_, info);
   }
 
+  // Frame `frame`'s color as --every writes it: marked with --marks, as -o's.
+  FloatImage seriesImage(uint32_t frame, FloatImage color) const {
+    if (o_.marks) drawOrientationMarks(color, cameraOf(frame), bricks().info().volume.axes);
+    return color;
+  }
+
   uint32_t width = 0, height = 0;
   RenderParams params;
   uint32_t frames = 1;
@@ -152,8 +168,8 @@ RenderedFrame renderReference(const RenderSetup& s) {
   input.params = s.params;
   input.tf = s.tf();
   const CpuImage image = reference.render(input);
-  return {toFloatImage(image.rgba, image.width, image.height, 4),
-          toFloatImage(image.depth, image.width, image.height, 1)};
+  return renderedFrame(toFloatImage(image.rgba, image.width, image.height, 4),
+                       toFloatImage(image.depth, image.width, image.height, 1));
 }
 
 // --backend brute: the baseline of bench/render_vs_brute.sh, level 0 in one 3D texture and no index
@@ -186,9 +202,9 @@ RenderedFrame renderBrute(const RenderOptions& o, RenderSetup& s) {
     stats.converged = true;
     s.stats->write(stats);
     if (o.every > 0 && (frame % o.every == 0 || frame + 1 == s.frames))
-      s.series->write(frame, brute.readColor());
+      s.series->write(frame, s.seriesImage(frame, brute.readColor()));
   }
-  return {brute.readColor(), brute.readDepth()};
+  return renderedFrame(brute.readColor(), brute.readDepth());
 }
 
 // The octree ray caster of both remaining paths, its shader compiled (FrameRenderer::prepare) and the request
@@ -268,7 +284,7 @@ RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
   const FrameStats stats = octree.renderer->render(octree.request, showLoad);
   s.stats->write(stats);
   warnIfPoolLimited(o, stats, "render");
-  return {octree.renderer->readColor(), octree.renderer->readDepth()};
+  return renderedFrame(octree.renderer->readColor(), octree.renderer->readDepth());
 }
 
 // --frames N > 1 (along --path, if given), --converge: the asynchronous loader streams bricks while frames
@@ -303,7 +319,8 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     }
     // --every writes the frame's PNG only: the EXR and depth outputs are the last frame's, written once.
     // The last frame too, so that a numbered sequence (a movie) ends on the final image.
-    if (o.every > 0 && (frame % o.every == 0 || last)) s.series->write(frame, octree.renderer->readColor());
+    if (o.every > 0 && (frame % o.every == 0 || last))
+      s.series->write(frame, s.seriesImage(frame, octree.renderer->readColor()));
     if (last) {
       progress.finish();  // the line ends before any message
       if (o.converge && !stats.converged)
@@ -319,7 +336,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     if (o.converge && stillCamera && stats.bricksUploaded == 0 && stats.requestsPending > 0)
       octree.renderer->waitForReads(std::chrono::milliseconds(100));
   }
-  return {octree.renderer->readColor(), octree.renderer->readDepth()};
+  return renderedFrame(octree.renderer->readColor(), octree.renderer->readDepth());
 }
 
 }  // namespace
@@ -335,6 +352,8 @@ RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImage
     frame = renderProgressive(o, setup);
   else
     frame = renderSingleFrame(o, setup);
+  frame.camera = setup.cameraOf(setup.frames - 1);
+  frame.axes = setup.bricks().info().volume.axes;
   // Every output is written before any is renamed; the renames that can fail for a reason found on disk (a
   // folder where a frame goes) are checked first.
   std::vector<StagedImage> staged;
@@ -344,6 +363,12 @@ RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImage
   setup.stats->finish();
   setup.series->commit();
   return frame;
+}
+
+FloatImage colorOutputOf(const RenderOptions& o, const RenderedFrame& frame) {
+  FloatImage color = frame.color;
+  if (o.marks) drawOrientationMarks(color, frame.camera, frame.axes);
+  return color;
 }
 
 namespace {
@@ -398,6 +423,10 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
       ->needs(converge);
   app.add_option("--every", o.every, "also write every K-th frame, and the last, as OUT_NNNN.png")
       ->transform(integerRange(1, 1000000));
+  app.add_flag("--marks", o.marks,
+               "draw orientation marks into the PNG (not the EXR): at each edge's middle the sides of the "
+               "patient it faces (LPS letters), and the volume's axes in the bottom-left corner, as the "
+               "viewer draws them");
   app.add_flag("-q,--quiet", o.quiet, "no progress line (drawn only when stderr is a terminal)");
 }
 

@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/camera.h"
 #include "core/float_image.h"
 #include "core/orientation.h"
 #include "core/render_params.h"
@@ -65,6 +66,7 @@ struct RenderOptions {
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
   uint64_t visibilityThreshold = VisibilityConfig{}.thresholdPixels;
   bool quiet = false;  // no progress line (there is one only when stderr is a terminal)
+  bool marks = false;  // --marks: orientation marks drawn into the PNG images (-o, --every's), not the EXRs
   // Not an option: what starts each warning line (regress renders its cases in one process and names the
   // case there, as it does for the lines of a child process).
   std::string messagePrefix;
@@ -76,7 +78,13 @@ void addRenderOptions(CLI::App& app, RenderOptions& o);
 // The last frame of a render: RGBA color (alpha = coverage) and depth (world units, +inf = miss).
 struct RenderedFrame {
   FloatImage color, depth;
+  Camera camera;             // in the world (the last frame's)
+  AxisDirections axes{1.0};  // where the volume's axes point in the world
 };
+
+// The color image of a frame as -o writes it: with --marks, the orientation marks drawn into it
+// (tools/image_marks.h).
+FloatImage colorOutputOf(const RenderOptions& o, const RenderedFrame& frame);
 
 // Renders as `ropecast render` does with these options (one synchronous frame, progressive frames until
 // --converge, --reference, --backend brute) and returns the last frame. --stats and --every's frames are

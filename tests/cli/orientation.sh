@@ -107,6 +107,20 @@ fi
   fail "--view with --orbit accepted"
 grep -q -- "--orbit excludes --view" "$dir/err.txt" || fail "--view with --orbit: $(cat "$dir/err.txt")"
 
+# --marks draws the orientation marks into the PNGs (-o and --every's), not into the EXR: the data stays the
+# render's. (Where each mark lies: tests/tools/image_marks_test.cpp.)
+"$ropecast" "${render[@]}" "$dir/w.rcast" --view anterior --marks -o "$dir/wm.png" --exr "$dir/wm.exr" \
+  --converge --every 1 || fail "render --marks"
+"$ropecast" "${render[@]}" "$dir/w.rcast" --view anterior -o "$dir/wu.png" --exr "$dir/wu.exr" --converge --every 1 ||
+  fail "render without marks"
+"$ropecast" compare "$dir/wm.exr" "$dir/wu.exr" | grep -q '"psnr_db":"inf"' || fail "--marks changed the EXR"
+last=$(cd "$dir" && ls wm_*.png | tail -n 1)  # the converged frame, as -o's: the same without marks
+for image in wm.png "$last"; do
+  if "$ropecast" compare "$dir/$image" "$dir/${image/wm/wu}" | grep -q '"psnr_db":"inf"'; then
+    fail "--marks drew nothing into $image"
+  else echo "ok   --marks drew into $image"; fi
+done
+
 # info: where the axes point, the file's and its store's.
 "$ropecast" info "$dir/m.nrrd" > "$dir/info.txt" || fail "info m.nrrd"
 grep -q "^axes       RPS, mirroring: a store keeps x reversed, as LPS$" "$dir/info.txt" || fail "info of the mirrored file: $(grep axes "$dir/info.txt")"
