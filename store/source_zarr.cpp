@@ -1,23 +1,21 @@
 #include "store/source_zarr.h"
 
 #include <blosc.h>
-#include <zlib.h>
 #include <zstd.h>
-
-#include <glm/common.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #include "core/error.h"
 #include "core/header_text.h"
 #include "core/input_file.h"
 #include "store/array_axes.h"
+#include "store/chunk_codecs.h"
+#include "store/chunk_layer.h"
 #include "store/source_raw.h"
 #include "store/zarr_metadata.h"
 
@@ -65,20 +63,6 @@ std::vector<std::string> arraysBelow(const fs::path& group) {
   }
   std::sort(arrays.begin(), arrays.end());
   return arrays;
-}
-
-// Inflates a zlib (or, with `gzip`, a gzip) stream into exactly out.size() bytes; false otherwise.
-bool inflateExactly(std::span<const std::byte> in, std::span<std::byte> out, bool gzip) {
-  z_stream zs{};
-  if (inflateInit2(&zs, gzip ? 15 + 16 : 15) != Z_OK) return false;
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(in.data()));
-  zs.avail_in = uInt(in.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = uInt(out.size());
-  const int status = inflate(&zs, Z_FINISH);
-  const bool whole = status == Z_STREAM_END && zs.total_out == out.size();
-  inflateEnd(&zs);
-  return whole;
 }
 
 // Decompresses `in` with one compressor into exactly out.size() bytes, or says why it cannot.
@@ -163,7 +147,7 @@ class ZarrSource final : public VolumeSource {
         folder_(std::move(folder)),
         array_(std::move(array)),
         zyx_(zyx),
-        maxBufferedBytes_(maxBufferedBytes) {
+        layer_(info_.dims, info_.type, array_.chunks[size_t(zyx_[0])], maxBufferedBytes) {
     const size_t rank = array_.shape.size();
     strides_.assign(rank, 1);
     if (array_.fortranOrder) {
@@ -177,15 +161,7 @@ class ZarrSource final : public VolumeSource {
 
  protected:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    const size_t sliceBytes = info_.sliceBytes();
-    for (uint32_t done = 0; done < count;) {
-      const uint64_t z = uint64_t(z0) + done;
-      if (z < bufferBegin_ || z >= bufferEnd_) decodeSlices(z);
-      const uint32_t slices = uint32_t(std::min<uint64_t>(count - done, bufferEnd_ - z));
-      std::memcpy(out.data() + size_t(done) * sliceBytes, buffer_.data() + (z - bufferBegin_) * sliceBytes,
-                  size_t(slices) * sliceBytes);
-      done += slices;
-    }
+    layer_.read(z0, count, out, [this](uint64_t z) { decodeSlices(z); });
   }
 
  private:
@@ -203,33 +179,6 @@ class ZarrSource final : public VolumeSource {
     }
     return folder_ / key;
   }
-
-  // Copies a decoded box of samples (`stride`: samples between neighbors along x, y, z) whose first sample
-  // lies at `origin` of the array into the buffer: its part inside the array and the buffered slices. Workers
-  // call this for different boxes at once, each writing its own part of the buffer.
-  void place(const std::byte* samples, glm::u64vec3 stride, glm::u64vec3 origin, glm::u64vec3 box) {
-    const glm::u64vec3 dims(info_.dims);
-    if (origin.x >= dims.x || origin.y >= dims.y || origin.z >= dims.z) return;  // an edge chunk's padding
-    const glm::u64vec3 extent = glm::min(box, dims - origin);
-    const size_t width = bytesPerSample(info_.type);
-    const uint64_t zBegin = std::max(origin.z, bufferBegin_),
-                   zEnd = std::min(origin.z + extent.z, bufferEnd_);
-    for (uint64_t slice = zBegin; slice < zEnd; ++slice)
-      for (uint64_t y = 0; y < extent.y; ++y) {
-        std::byte* target =
-            buffer_.data() + (((slice - bufferBegin_) * dims.y + origin.y + y) * dims.x + origin.x) * width;
-        const std::byte* source = samples + ((slice - origin.z) * stride.z + y * stride.y) * width;
-        if (stride.x == 1) {
-          std::memcpy(target, source, extent.x * width);
-        } else {
-          for (uint64_t x = 0; x < extent.x; ++x)
-            std::memcpy(target + x * width, source + x * stride.x * width, width);
-        }
-      }
-  }
-
-  // Whether a box starting at slice `z`, `depth` slices deep, reaches into the buffered slices.
-  bool buffered(uint64_t z, uint64_t depth) const { return z < bufferEnd_ && z + depth > bufferBegin_; }
 
   glm::u64vec3 zyxOf(const std::vector<uint64_t>& perAxis) const {
     return {perAxis[size_t(zyx_[2])], perAxis[size_t(zyx_[1])], perAxis[size_t(zyx_[0])]};
@@ -266,7 +215,7 @@ class ZarrSource final : public VolumeSource {
     for (uint64_t i = 0; i < count; ++i) {
       for (uint64_t a = rank, rest = i; a-- > 0;) at[a] = rest % grid[a], rest /= grid[a];
       const glm::u64vec3 innerOrigin = origin + zyxOf(at) * inner;
-      if (!buffered(innerOrigin.z, inner.z)) continue;
+      if (!layer_.reaches(innerOrigin.z, inner.z)) continue;
       const uint64_t offset = index ? littleEndian(index + 16 * i) : ~uint64_t(0);
       const uint64_t bytes = index ? littleEndian(index + 16 * i + 8) : ~uint64_t(0);
       if (offset == ~uint64_t(0) && bytes == ~uint64_t(0)) {
@@ -280,7 +229,7 @@ class ZarrSource final : public VolumeSource {
           return "inner chunk " + std::to_string(i) + " " + problem;
         samplesToNative(b.inner, info_.type, sharding.bigEndian);
       }
-      place(b.inner.data(), zyxOf(strides), innerOrigin, inner);
+      layer_.place(b.inner.data(), zyxOf(strides), innerOrigin, inner);
     }
     return "";
   }
@@ -317,55 +266,28 @@ class ZarrSource final : public VolumeSource {
         return "Zarr chunk " + file.string() + ": " + problem;
       samplesToNative(b.decoded, info_.type, array_.bigEndian);
     }
-    place(b.decoded.data(), zyxOf(strides_), origin, chunk);
+    layer_.place(b.decoded.data(), zyxOf(strides_), origin, chunk);
     return "";
   }
 
-  // Fills the buffer with the slices from z on that it holds: the rest of z's chunk layer, or as much of it
-  // as maxBufferedBytes_ allows, decoding each chunk of the layer on worker threads.
+  // Decodes the slices from z on that the layer holds, each chunk of z's chunk layer on a worker thread.
   void decodeSlices(uint64_t z) {
-    const uint64_t depth = array_.chunks[size_t(zyx_[0])], layer = z / depth;
-    const uint64_t layerEnd = std::min<uint64_t>((layer + 1) * depth, info_.dims.z);
-    const uint64_t fits = std::max<uint64_t>(1, maxBufferedBytes_ / info_.sliceBytes());
-    const uint64_t begin = layerEnd - layer * depth <= fits ? layer * depth : z;
-    const uint64_t end = std::min(layerEnd, begin + fits);
-    buffer_.resize(size_t(end - begin) * info_.sliceBytes());
-    bufferBegin_ = begin, bufferEnd_ = end;
+    const uint64_t layer = layer_.begin(z);
     const uint64_t across =
         (info_.dims.x + array_.chunks[size_t(zyx_[2])] - 1) / array_.chunks[size_t(zyx_[2])];
     const uint64_t down =
         (info_.dims.y + array_.chunks[size_t(zyx_[1])] - 1) / array_.chunks[size_t(zyx_[1])];
-    const uint64_t chunks = across * down;
-    const unsigned workers = unsigned(std::clamp<uint64_t>(std::thread::hardware_concurrency(), 1, chunks));
-    std::vector<std::string> problems(workers);
-    {
-      std::vector<std::jthread> threads;
-      for (unsigned w = 0; w < workers; ++w)
-        threads.emplace_back([&, w] {
-          ChunkBuffers buffers;
-          try {
-            for (uint64_t i = w; i < chunks && problems[w].empty(); i += workers)
-              problems[w] = copyChunk(layer, i / across, i % across, buffers);
-          } catch (const std::exception& e) {  // out of memory: the reading thread hears of it
-            problems[w] = e.what();
-          }
-        });
-    }
-    for (const std::string& problem : problems)
-      if (!problem.empty()) {
-        bufferBegin_ = bufferEnd_ = 0;
-        throw Error(problem);
-      }
+    runOnWorkers<ChunkBuffers>(across * down, [&](uint64_t i, ChunkBuffers& buffers) {
+      return copyChunk(layer, i / across, i % across, buffers);
+    });
   }
 
   VolumeInfo info_;
   fs::path folder_;
   ZarrArray array_;
   std::array<int, 3> zyx_;
-  uint64_t maxBufferedBytes_;
-  std::vector<uint64_t> strides_;             // samples between neighbors along each axis within a chunk
-  uint64_t bufferBegin_ = 0, bufferEnd_ = 0;  // the slices decoded into buffer_
-  std::vector<std::byte> buffer_;
+  ChunkLayer layer_;
+  std::vector<uint64_t> strides_;  // samples between neighbors along each axis within a chunk
 };
 
 }  // namespace
