@@ -6,7 +6,9 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <optional>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -14,7 +16,10 @@
 #include "core/file_names.h"
 #include "core/header_text.h"
 #include "store/array_axes.h"
+#include "store/chunk_codecs.h"
+#include "store/chunk_layer.h"
 #include "store/hdf5_spec.h"
+#include "store/source_raw.h"
 
 namespace ropecast {
 namespace {
@@ -288,20 +293,90 @@ Handle chunkCacheFor(hid_t dataset, const VolumeShape& shape, size_t sampleBytes
   return access;
 }
 
+// How a chunked dataset whose filters ropecast decodes itself (none, deflate once, shuffle, in any order) is
+// read: a layer's chunks as the file stores them, a few per core at a time, through the library (which is
+// serial), then decoded and placed on one thread per core (store/chunk_layer.h). Absent for other datasets
+// (other filters, a checksum, samples the library converts), which the library reads.
+struct ChunkedReading {
+  std::vector<hsize_t> chunk;         // samples per axis, in HDF5's order
+  std::vector<H5Z_filter_t> filters;  // in the order they were applied when written
+  bool bigEndian = false;             // the samples' byte order in the file
+  std::vector<std::byte> fill;        // one sample of the dataset's fill value (unwritten chunks)
+};
+
+std::optional<ChunkedReading> chunkedReadingOf(hid_t dataset, const VolumeShape& shape) {
+  const Handle create(H5Dget_create_plist(dataset), H5Pclose);
+  const Handle fileType(H5Dget_type(dataset), H5Tclose);
+  if (!create || !fileType || H5Pget_layout(create.get()) != H5D_CHUNKED) return std::nullopt;
+  ChunkedReading r;
+  r.chunk.resize(shape.extent.size());
+  if (H5Pget_chunk(create.get(), int(r.chunk.size()), r.chunk.data()) != int(r.chunk.size()))
+    return std::nullopt;
+  const int filters = H5Pget_nfilters(create.get());
+  for (int i = 0; i < filters; ++i) {
+    unsigned flags = 0, config = 0;
+    size_t values = 0;
+    const H5Z_filter_t id =
+        H5Pget_filter2(create.get(), unsigned(i), &flags, &values, nullptr, 0, nullptr, &config);
+    if (id != H5Z_FILTER_DEFLATE && id != H5Z_FILTER_SHUFFLE) return std::nullopt;
+    r.filters.push_back(id);
+  }
+  // One deflate at most: a second one's output size is not known before it is inflated.
+  if (std::count(r.filters.begin(), r.filters.end(), H5Z_FILTER_DEFLATE) > 1) return std::nullopt;
+  // The file's samples must be the memory type's but for their byte order.
+  const hid_t memoryType = memoryTypeOf(*shape.type);
+  const Handle ordered(H5Tcopy(memoryType), H5Tclose);
+  const H5T_order_t order = H5Tget_order(fileType.get());
+  if (!ordered || (order != H5T_ORDER_LE && order != H5T_ORDER_BE) ||
+      H5Tset_order(ordered.get(), order) < 0 || H5Tequal(fileType.get(), ordered.get()) <= 0)
+    return std::nullopt;
+  r.bigEndian = order == H5T_ORDER_BE;
+  r.fill.assign(bytesPerSample(*shape.type), std::byte{0});
+  H5D_fill_value_t defined = H5D_FILL_VALUE_UNDEFINED;
+  if (H5Pfill_value_defined(create.get(), &defined) >= 0 && defined != H5D_FILL_VALUE_UNDEFINED &&
+      H5Pget_fill_value(create.get(), memoryType, r.fill.data()) < 0)
+    return std::nullopt;
+  return r;
+}
+
+// A chunk as the file stores it: its bytes and which filters were skipped for it (bit i: filter i), or none
+// where it was never written (the fill value).
+struct StoredChunk {
+  bool written = false;
+  uint32_t skipped = 0;
+  std::vector<std::byte> bytes;
+};
+
+// A worker's buffers, kept from chunk to chunk.
+struct ChunkBuffers {
+  std::vector<std::byte> decoded, scratch;
+};
+
 class Hdf5Source final : public VolumeSource {
  public:
-  Hdf5Source(VolumeInfo info, Handle file, Handle dataset, VolumeShape shape, std::string where)
+  // `chunked`: how the dataset's chunks are read as stored (chunkedReadingOf), or none for the library's
+  // reads.
+  Hdf5Source(VolumeInfo info, Handle file, Handle dataset, VolumeShape shape, std::string where,
+             std::optional<ChunkedReading> chunked)
       : info_(std::move(info)),
         file_(std::move(file)),
         dataset_(std::move(dataset)),
         shape_(std::move(shape)),
-        where_(std::move(where)) {}
+        where_(std::move(where)),
+        chunked_(std::move(chunked)) {
+    if (chunked_)
+      layer_.emplace(info_.dims, info_.type, chunked_->chunk[size_t(shape_.axes[0])], kMaxChunkCacheBytes);
+  }
 
   const VolumeInfo& info() const override { return info_; }
 
  protected:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
     silenceHdf5Errors();
+    if (layer_) {
+      layer_->read(z0, count, out, [this](uint64_t z) { decodeLayer(z); });
+      return;
+    }
     std::vector<hsize_t> start(shape_.extent.size(), 0), extent(shape_.extent.size(), 1);
     start[size_t(shape_.axes[0])] = z0;
     extent[size_t(shape_.axes[0])] = count;
@@ -320,10 +395,108 @@ class Hdf5Source final : public VolumeSource {
   }
 
  private:
+  // The chunk (cx, cy) of chunk layer `layer`: where it starts, per axis in HDF5's order.
+  std::vector<hsize_t> chunkOffset(uint64_t layer, uint64_t cy, uint64_t cx) const {
+    std::vector<hsize_t> offset(shape_.extent.size(), 0);
+    const auto& chunk = chunked_->chunk;
+    offset[size_t(shape_.axes[0])] = layer * chunk[size_t(shape_.axes[0])];
+    offset[size_t(shape_.axes[1])] = cy * chunk[size_t(shape_.axes[1])];
+    offset[size_t(shape_.axes[2])] = cx * chunk[size_t(shape_.axes[2])];
+    return offset;
+  }
+
+  // "the chunk at (0, 64, 128)", for messages.
+  static std::string chunkText(const std::vector<hsize_t>& offset) {
+    std::string text = "the chunk at (";
+    for (size_t a = 0; a < offset.size(); ++a) text += (a ? ", " : "") + std::to_string(offset[a]);
+    return text + ")";
+  }
+
+  // Reads the chunks of z's chunk layer that reach the slices the layer holds from z on, as stored (the
+  // library is serial), then decodes and places them on worker threads.
+  void decodeLayer(uint64_t z) {
+    const uint64_t layer = layer_->begin(z);
+    const auto& chunk = chunked_->chunk;
+    const glm::u64vec3 box(chunk[size_t(shape_.axes[2])], chunk[size_t(shape_.axes[1])],
+                           chunk[size_t(shape_.axes[0])]);
+    // Chunks that only pad the dataset past the volume (Imaris) are not read.
+    const uint64_t across = (info_.dims.x + box.x - 1) / box.x, down = (info_.dims.y + box.y - 1) / box.y;
+    size_t chunkBytes = bytesPerSample(info_.type);
+    for (const hsize_t n : chunk) chunkBytes *= size_t(n);
+    std::vector<uint64_t> strides(chunk.size(), 1);
+    for (size_t a = chunk.size() - 1; a-- > 0;) strides[a] = strides[a + 1] * chunk[a + 1];
+    const glm::u64vec3 stride(strides[size_t(shape_.axes[2])], strides[size_t(shape_.axes[1])],
+                              strides[size_t(shape_.axes[0])]);
+    // In batches of a few chunks per core, so that the stored bytes held stay a few chunks'.
+    const uint64_t chunks = across * down;
+    const uint64_t batch = std::min<uint64_t>(chunks, 4 * std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<StoredChunk> stored(batch);
+    for (uint64_t first = 0; first < chunks; first += batch) {
+      const uint64_t count = std::min(batch, chunks - first);
+      for (uint64_t j = 0; j < count; ++j) {
+        const std::vector<hsize_t> offset = chunkOffset(layer, (first + j) / across, (first + j) % across);
+        StoredChunk& c = stored[j];
+        hsize_t bytes = 0;
+        c.written = H5Dget_chunk_storage_size(dataset_.get(), offset.data(), &bytes) >= 0 && bytes > 0;
+        if (!c.written) {
+          H5Eclear2(H5E_DEFAULT);  // never written: the fill value
+          continue;
+        }
+        c.bytes.resize(bytes);
+        if (H5Dread_chunk(dataset_.get(), H5P_DEFAULT, offset.data(), &c.skipped, c.bytes.data()) < 0)
+          throw Error(where_ + ": reading " + chunkText(offset) + " failed: " + hdf5Problem());
+      }
+      runOnWorkers<ChunkBuffers>(count, [&](uint64_t j, ChunkBuffers& b) -> std::string {
+        const uint64_t i = first + j;
+        b.decoded.resize(chunkBytes);
+        if (const std::string problem = decodeChunk(stored[j], b); !problem.empty())
+          return where_ + ": " + chunkText(chunkOffset(layer, i / across, i % across)) + " " + problem;
+        layer_->place(b.decoded.data(), stride, glm::u64vec3(i % across, i / across, layer) * box, box);
+        return "";
+      });
+    }
+  }
+
+  // Decodes a stored chunk into b.decoded (its size set): the filters undone in reverse, those skipped for it
+  // left out, the samples in native byte order. Returns the problem, if any.
+  std::string decodeChunk(StoredChunk& stored, ChunkBuffers& b) const {
+    const size_t width = chunked_->fill.size(), chunkBytes = b.decoded.size();
+    if (!stored.written) {
+      for (size_t i = 0; i + width <= chunkBytes; i += width)
+        std::memcpy(b.decoded.data() + i, chunked_->fill.data(), width);
+      return "";
+    }
+    std::span<const std::byte> data = stored.bytes;
+    for (size_t f = chunked_->filters.size(); f-- > 0;) {
+      if (stored.skipped & (1u << f)) continue;
+      // A shuffle keeps the size (a compressed stream's too); the one deflate gives the chunk's bytes.
+      std::vector<std::byte>& into = data.data() == b.scratch.data() ? b.decoded : b.scratch;
+      const bool inflating = chunked_->filters[f] == H5Z_FILTER_DEFLATE;
+      into.resize(inflating ? chunkBytes : data.size());
+      if (inflating) {
+        if (!inflateExactly(data, into, false))
+          return "is damaged or of another size (deflate); expected " + std::to_string(chunkBytes) + " bytes";
+      } else {
+        unshuffleBytes(data, into, width);
+      }
+      data = into;
+    }
+    if (data.size() != chunkBytes)
+      return "holds " + std::to_string(data.size()) + " bytes; expected " + std::to_string(chunkBytes);
+    if (data.data() != b.decoded.data()) {
+      b.decoded.resize(chunkBytes);
+      std::memcpy(b.decoded.data(), data.data(), chunkBytes);
+    }
+    if (chunked_->bigEndian) samplesToNative(b.decoded, info_.type, true);
+    return "";
+  }
+
   VolumeInfo info_;
   Handle file_, dataset_;
   VolumeShape shape_;
   std::string where_;  // "HDF5 file F, dataset /D", for messages
+  std::optional<ChunkedReading> chunked_;
+  std::optional<ChunkLayer> layer_;  // with chunked_
 };
 
 }  // namespace
@@ -377,7 +550,10 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
   const auto extentOf = [&](int i) { return shape.extent[size_t(shape.axes[size_t(i)])]; };
   const glm::u64vec3 extent(extentOf(2), extentOf(1), extentOf(0));
   glm::dvec3 spacing(1.0);
-  const Handle access = chunkCacheFor(object.get(), shape, bytesPerSample(info.type));
+  // A dataset whose chunks ropecast reads as stored needs no chunk cache of the library's.
+  std::optional<ChunkedReading> chunked = chunkedReadingOf(object.get(), shape);
+  H5Eclear2(H5E_DEFAULT);
+  const Handle access = chunked ? Handle() : chunkCacheFor(object.get(), shape, bytesPerSample(info.type));
   object = Handle();  // a dataset opened twice shares its first opening's chunk cache
   Handle dataset(H5Dopen2(file.get(), datasetPath.c_str(), access ? access.get() : H5P_DEFAULT), H5Dclose);
   if (!dataset) throw Error(where + ": cannot be opened: " + hdf5Problem());
@@ -419,7 +595,7 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
   info.spacing = options.spacing.value_or(spacing);
   info.description = "hdf5:" + path + ":" + datasetPath;
   return std::make_unique<Hdf5Source>(std::move(info), std::move(file), std::move(dataset), std::move(shape),
-                                      where);
+                                      where, std::move(chunked));
 }
 
 }  // namespace ropecast

@@ -1,7 +1,11 @@
 // The HDF5 VolumeSource: one numeric dataset of an HDF5 file (simulation output, microscopy: ilastik, Fiji,
 // BigDataViewer, Imaris .ims; netCDF-4), read slab by slab as hyperslabs through the HDF5 library, so every
 // layout (contiguous, chunked, compact), byte order and built-in filter (deflate, shuffle, szip, checksums)
-// reads as it is stored. Read in ropecast's image module (tools/image_module.h). Owned by loader/.
+// reads as it is stored; a chunked dataset whose filters are none or shuffle and deflate is read a layer of
+// chunks at a time as the file stores them, and decoded on one thread per core (store/chunk_layer.h). Read in
+// ropecast's image module (tools/image_module.h). Owned by loader/.
+//
+// Threads: as VolumeSource (readSlab from one thread at a time); the library is called from that thread only.
 //
 // The input is FILE or FILE:/PATH/TO/DATASET (store/hdf5_spec.h). Without a path: an Imaris file's full
 // resolution, first time point and channel; else the file's one dataset that is a volume (several or none is
@@ -9,8 +13,6 @@
 // whose axes, in HDF5's order (the last varies fastest), are z, y, x; more than three axes are taken when all
 // but three have length 1 (a time point and a channel of ilastik's and BigDataViewer's layouts). Spacing:
 // --spacing, else an `element_size_um` attribute (z, y, x: ilastik, Fiji), else Imaris's extents, else 1.
-//
-// Threads: as VolumeSource (readSlab from one thread at a time).
 #pragma once
 
 #include <memory>

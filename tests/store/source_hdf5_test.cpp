@@ -1,8 +1,8 @@
 // Tests of the HDF5 VolumeSource and of how inputs name HDF5 datasets: every sample type, big-endian and
 // chunked, compressed datasets read in slabs thinner than a chunk and out of order, a dataset chosen by path
 // or alone, the axes of ilastik's and BigDataViewer's layouts, spacings from element_size_um and from
-// Imaris's extents (with its padded datasets cut to the image), and each refusal naming the file, the dataset
-// and why.
+// Imaris's extents (with its padded datasets cut to the image), chunks decoded by ropecast itself, and each
+// refusal naming the file, the dataset and why.
 #include <filesystem>
 #include <fstream>
 #include <vector>
@@ -72,6 +72,93 @@ TEST(SourceHdf5, BigEndianChunkedCompressedSlabsInAnyOrder) {
   const auto pair = readSlab<int16_t>(*source, 2, 2);
   EXPECT_TRUE(std::equal(pair.begin(), pair.end(), values.begin() + 2 * slice));
   expectVolume(*source, {{9, 6, 5}, SampleType::Int16, {1.0, 1.0, 1.0}, "hdf5:" + path + ":/scan"}, values);
+}
+
+// Deflated and shuffled datasets are decoded by ropecast, a layer of chunks at a time on one thread per core:
+// chunks the file stores with their filters skipped (bit i of a chunk's mask: filter i), chunks never written
+// (the dataset's fill value), filters in either order, and a damaged chunk named by where it starts.
+TEST(SourceHdf5, ChunksDecodedOnWorkersAsTheFileStoresThem) {
+  TempDir dir;
+  const hsize_t extent[3] = {4, 6, 9}, chunk[3] = {2, 3, 4};
+  // A dataset of uint16, chunks 2 x 3 x 4, with `filters` in that order and a fill value of 7.
+  const auto create = [&](hid_t file, const std::vector<H5Z_filter_t>& filters) {
+    const hid_t space = H5Screate_simple(3, extent, nullptr);
+    const hid_t plist = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(plist, 3, chunk);
+    for (const H5Z_filter_t f : filters)
+      f == H5Z_FILTER_DEFLATE ? H5Pset_deflate(plist, 6) : H5Pset_shuffle(plist);
+    const uint16_t fill = 7;
+    H5Pset_fill_value(plist, H5T_NATIVE_UINT16, &fill);
+    const hid_t dataset = H5Dcreate2(file, "/v", H5T_STD_U16LE, space, H5P_DEFAULT, plist, H5P_DEFAULT);
+    H5Pclose(plist);
+    H5Sclose(space);
+    return dataset;
+  };
+  const auto values = samplePattern<uint16_t>(4 * 6 * 9);
+
+  // Filters in both orders, every chunk written.
+  for (const auto& filters : std::vector<std::vector<H5Z_filter_t>>{
+           {H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE}, {H5Z_FILTER_DEFLATE, H5Z_FILTER_SHUFFLE}}) {
+    const std::string path = dir.file("order.h5");
+    {
+      const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+      const hid_t dataset = create(file, filters);
+      ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_UINT16, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+      H5Dclose(dataset);
+      H5Fclose(file);
+    }
+    const auto source = openVolumeSource(path);
+    EXPECT_EQ(readSlab<uint16_t>(*source, 1, 3), std::vector<uint16_t>(values.begin() + 9 * 6, values.end()));
+  }
+
+  // The first chunk layer written, its first chunk stored again with both filters skipped; the second layer
+  // never written.
+  const std::string path = dir.file("sparse.h5");
+  std::vector<uint16_t> raw(2 * 3 * 4);
+  for (size_t i = 0; i < raw.size(); ++i) raw[i] = uint16_t(1000 + i);
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t dataset = create(file, {H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE});
+    const hsize_t start[3] = {0, 0, 0}, count[3] = {2, 6, 9};
+    const hid_t fileSpace = H5Dget_space(dataset), memorySpace = H5Screate_simple(3, count, nullptr);
+    H5Sselect_hyperslab(fileSpace, H5S_SELECT_SET, start, nullptr, count, nullptr);
+    ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_UINT16, memorySpace, fileSpace, H5P_DEFAULT, values.data()), 0);
+    ASSERT_GE(H5Dwrite_chunk(dataset, H5P_DEFAULT, 0x3, start, raw.size() * 2, raw.data()), 0);
+    H5Sclose(memorySpace);
+    H5Sclose(fileSpace);
+    H5Dclose(dataset);
+    H5Fclose(file);
+  }
+  std::vector<uint16_t> expected(values.begin(), values.begin() + 2 * 6 * 9);
+  for (uint32_t z = 0; z < 2; ++z)
+    for (uint32_t y = 0; y < 3; ++y)
+      for (uint32_t x = 0; x < 4; ++x) expected[(z * 6 + y) * 9 + x] = raw[(z * 3 + y) * 4 + x];
+  expected.resize(4 * 6 * 9, 7);
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(path), 0, 4), expected);
+
+  // A chunk whose stored bytes are no deflate stream.
+  const std::string damaged = dir.file("damaged.h5");
+  {
+    const hid_t file = H5Fcreate(damaged.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t dataset = create(file, {H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE});
+    const hsize_t at[3] = {2, 3, 4};
+    const std::vector<uint8_t> garbage(40, 0xab);
+    ASSERT_GE(H5Dwrite_chunk(dataset, H5P_DEFAULT, 0, at, garbage.size(), garbage.data()), 0);
+    H5Dclose(dataset);
+    H5Fclose(file);
+  }
+  const auto source = openVolumeSource(damaged);
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 2), std::vector<uint16_t>(2 * 6 * 9, 7));  // the layer before it
+  try {
+    readSlab<uint16_t>(*source, 2, 1);
+    FAIL() << "a damaged chunk was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("HDF5 file " + damaged +
+                                         ", dataset /v: the chunk at (2, 3, 4) is "
+                                         "damaged or of another size (deflate)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(SourceHdf5, ADatasetIsNamedByPathOrChosenWhenItIsTheOnlyVolume) {
