@@ -5,7 +5,8 @@
 //   DICOM series if it holds DICOM files, or
 //   no slices and DICOM files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff ->
 //   multi-page TIFF (a single page alone is an error); an HDF5 file (.h5, .hdf5, .ims, ... or its signature),
-//   alone or as FILE:/DATASET -> HDF5; a single .png or a store is an error; anything else -> raw.
+//   alone or as FILE:/DATASET -> HDF5; a BigDataViewer XML -> HDF5 (its dataset's one view); a single .png or
+//   a store is an error; anything else -> raw.
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -14,6 +15,7 @@
 #include "core/error.h"
 #include "core/file_names.h"
 #include "core/input_file.h"
+#include "store/bdv_xml.h"
 #include "store/hdf5_spec.h"
 #include "store/source_dicom.h"
 #include "store/source_hdf5.h"
@@ -124,6 +126,14 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   if (ext == ".vti") {
     rejectRawOptions(spec, options, "a VTK image data file");
     return openVtiSource(spec, options);
+  }
+  if (ext == ".xml") {
+    if (!isBdvXml(spec))
+      throw Error("openVolumeSource: " + spec +
+                  " is XML but no BigDataViewer dataset (no SpimData element); of XML files, BigDataViewer's "
+                  "(beside its HDF5 file) and VTK image data (.vti) are read");
+    rejectRawOptions(spec, options, "a BigDataViewer dataset");
+    return openHdf5Source(spec, options);
   }
   if (ext == ".vtk") {
     rejectRawOptions(spec, options, "a legacy VTK file");

@@ -15,7 +15,9 @@
 #include "core/error.h"
 #include "core/file_names.h"
 #include "core/header_text.h"
+#include "core/input_file.h"
 #include "store/array_axes.h"
+#include "store/bdv_xml.h"
 #include "store/chunk_codecs.h"
 #include "store/chunk_layer.h"
 #include "store/hdf5_spec.h"
@@ -388,7 +390,7 @@ class Hdf5Source final : public VolumeSource {
     if (!fileSpace || !memorySpace ||
         H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start.data(), nullptr, extent.data(), nullptr) <
             0 ||
-        H5Dread(dataset_.get(), memoryTypeOf(info_.type), memorySpace.get(), fileSpace.get(), H5P_DEFAULT,
+        H5Dread(dataset_.get(), memoryTypeOf(*shape_.type), memorySpace.get(), fileSpace.get(), H5P_DEFAULT,
                 out.data()) < 0)
       throw Error(where_ + ": reading slices " + std::to_string(z0) + " to " +
                   std::to_string(z0 + count - 1) + " failed: " + hdf5Problem());
@@ -501,11 +503,54 @@ class Hdf5Source final : public VolumeSource {
 
 }  // namespace
 
+namespace {
+
+// A view of a BigDataViewer dataset, read through its XML: what the XML says that the HDF5 file does not.
+struct BdvView {
+  std::string xml;
+  std::optional<glm::dvec3> voxelSize;
+};
+
+std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string datasetPath,
+                                          const SourceOptions& options, const std::optional<BdvView>& bdv);
+
+// A BigDataViewer XML's one view (one setup, one time point); several are refused with a list of their
+// datasets, each to give with its voxel size as --spacing.
+std::unique_ptr<VolumeSource> openBdvXml(const std::string& xml, const SourceOptions& options) {
+  const BdvDataset dataset = parseBdvXml(readTextInput(xml, "BigDataViewer XML " + xml), xml);
+  if (dataset.setups.size() > 1 || dataset.timepoints.size() > 1) {
+    std::string list;
+    for (const int t : dataset.timepoints)
+      for (const BdvSetup& s : dataset.setups) {
+        if (list.size() > 4000) break;
+        list += "\n  " + dataset.hdf5File + ":" + bdvCellsPath(t, s.id);
+        if (s.voxelSize)
+          list += " --spacing " + formatSpacing(*s.voxelSize) + (s.unit.empty() ? "" : " (" + s.unit + ")");
+        if (!s.name.empty()) list += "  " + s.name;
+      }
+    throw Error("BigDataViewer XML " + xml + ": holds " + std::to_string(dataset.setups.size()) +
+                " view setups and " + std::to_string(dataset.timepoints.size()) +
+                " time points; one view is read: give its HDF5 dataset, with its voxel size:" + list);
+  }
+  const BdvSetup& setup = dataset.setups.front();
+  return openDataset(dataset.hdf5File, bdvCellsPath(dataset.timepoints.front(), setup.id), options,
+                     BdvView{xml, setup.voxelSize});
+}
+
+}  // namespace
+
 std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const SourceOptions& options) {
   silenceHdf5Errors();
+  if (lowerExtension(spec) == ".xml") return openBdvXml(spec, options);
   const std::optional<Hdf5Spec> parts = hdf5SpecOf(spec);
   if (!parts) throw Error(spec + ": not an HDF5 file (nor FILE:/DATASET of one)");
-  const std::string& path = parts->file;
+  return openDataset(parts->file, parts->dataset, options, std::nullopt);
+}
+
+namespace {
+
+std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string datasetPath,
+                                          const SourceOptions& options, const std::optional<BdvView>& bdv) {
   const std::string inFile = "HDF5 file " + path;
   if (!startsWithHdf5Signature(path) && H5Fis_hdf5(path.c_str()) <= 0) {
     H5Eclear2(H5E_DEFAULT);
@@ -515,7 +560,6 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
   Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file) throw Error(inFile + ": cannot be opened: " + hdf5Problem());
 
-  std::string datasetPath = parts->dataset;
   if (!datasetPath.empty() && datasetPath.front() != '/') datasetPath = "/" + datasetPath;
   if (datasetPath.empty()) {
     if (openObject(file.get(), kImarisDataset)) {
@@ -547,6 +591,9 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
 
   VolumeInfo info;
   info.type = *shape.type;
+  // BigDataViewer keeps unsigned 16-bit images in datasets of signed ones (Java has no unsigned types): the
+  // same bytes, read as unsigned.
+  if (bdv && info.type == SampleType::Int16) info.type = SampleType::UInt16;
   const auto extentOf = [&](int i) { return shape.extent[size_t(shape.axes[size_t(i)])]; };
   const glm::u64vec3 extent(extentOf(2), extentOf(1), extentOf(0));
   glm::dvec3 spacing(1.0);
@@ -576,6 +623,8 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
           spacing[a] = (hi[0] - lo[0]) / double(dims[a]);
       }
     }
+  } else if (bdv) {
+    if (bdv->voxelSize) spacing = *bdv->voxelSize;
   } else if (const std::vector<double> size = attributeNumbers(dataset.get(), "element_size_um");
              size.size() == 3 || size.size() == shape.extent.size()) {
     const auto along = [&](int i) {
@@ -593,9 +642,10 @@ std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const Sour
     spacing = glm::dvec3(1.0);
   }
   info.spacing = options.spacing.value_or(spacing);
-  info.description = "hdf5:" + path + ":" + datasetPath;
+  info.description = (bdv ? "bdv:" + bdv->xml + " (" : "hdf5:") + path + ":" + datasetPath + (bdv ? ")" : "");
   return std::make_unique<Hdf5Source>(std::move(info), std::move(file), std::move(dataset), std::move(shape),
                                       where, std::move(chunked));
 }
 
+}  // namespace
 }  // namespace ropecast

@@ -7,9 +7,11 @@
 //
 // Threads: as VolumeSource (readSlab from one thread at a time); the library is called from that thread only.
 //
-// The input is FILE or FILE:/PATH/TO/DATASET (store/hdf5_spec.h). Without a path: an Imaris file's full
-// resolution, first time point and channel; else the file's one dataset that is a volume (several or none is
-// an error that lists them). A volume is a dataset of 8-, 16- or 32-bit integers or of 32- or 64-bit floats
+// The input is FILE or FILE:/PATH/TO/DATASET (store/hdf5_spec.h), or a BigDataViewer XML (store/bdv_xml.h):
+// its one view's full resolution, at its setup's voxel size, signed 16-bit cells read as unsigned (several
+// views are an error that lists their datasets). Without a path: an Imaris file's full resolution, first time
+// point and channel; else the file's one dataset that is a volume (several or none is an error that lists
+// them). A volume is a dataset of 8-, 16- or 32-bit integers or of 32- or 64-bit floats
 // whose axes, in HDF5's order (the last varies fastest), are z, y, x; more than three axes are taken when all
 // but three have length 1 (a time point and a channel of ilastik's and BigDataViewer's layouts). Spacing:
 // --spacing, else an `element_size_um` attribute (z, y, x: ilastik, Fiji), else Imaris's extents, else 1.

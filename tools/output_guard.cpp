@@ -8,7 +8,9 @@
 
 #include "core/error.h"
 #include "core/file_names.h"
+#include "core/input_file.h"
 #include "core/temporary_file.h"
+#include "store/bdv_xml.h"
 #include "store/hdf5_spec.h"
 #include "store/procedural.h"
 #include "store/source_dicom.h"
@@ -200,6 +202,8 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
     } else if (hasNiftiName(spec)) {
       const std::string data = niftiDataPath(readNiftiHeaderFile(spec), spec);
       if (!data.empty() && data != spec) files.push_back(data);
+    } else if (ext == ".xml" && isBdvXml(spec)) {  // a BigDataViewer dataset: the XML and its HDF5 file
+      files.push_back(parseBdvXml(readTextInput(spec, "BigDataViewer XML " + spec), spec).hdf5File);
     }
   } catch (const Error&) {
   }

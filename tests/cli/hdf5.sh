@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # `ropecast convert` of HDF5 files, end to end through the image module: a file of two volumes is refused,
 # listing both, and writes nothing; FILE:/DATASET converts that dataset to a store of its size, type, spacing
-# (element_size_um) and values; the file may not be overwritten by the store; ropecast itself loads no HDF5
-# library at start.
+# (element_size_um) and values; the file may not be overwritten by the store, nor through a BigDataViewer XML
+# that names it; ropecast itself loads no HDF5 library at start.
 # Usage: bash hdf5.sh /path/to/ropecast  (ROPECAST_HDF5_WRITER: tests/cli/write_hdf5_volume, which ctest sets)
 set -uo pipefail
 ropecast="$1"
@@ -48,6 +48,15 @@ sum=$(md5sum < "$dir/scan.h5")
   fail "convert wrote its store onto the HDF5 file it read"
 grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal:"; cat "$dir/err.txt"; }
 [ "$(md5sum < "$dir/scan.h5")" = "$sum" ] || fail "the HDF5 file was changed"
+
+# A BigDataViewer XML names its HDF5 file, which is an input too (its dataset need not exist to be guarded).
+printf '<SpimData version="0.2"><BasePath type="relative">.</BasePath><SequenceDescription><ImageLoader format="bdv.hdf5"><hdf5 type="relative">scan.h5</hdf5></ImageLoader><ViewSetups><ViewSetup><id>0</id></ViewSetup></ViewSetups><Timepoints type="range"><first>0</first><last>0</last></Timepoints></SequenceDescription></SpimData>\n' > "$dir/scan.xml"
+"$ropecast" convert "$dir/scan.xml" -o "$dir/scan.h5" --quiet 2> "$dir/err.txt" &&
+  fail "convert wrote its store onto the HDF5 file of the BigDataViewer XML it read"
+grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal for the XML's file:"; cat "$dir/err.txt"; }
+[ "$(md5sum < "$dir/scan.h5")" = "$sum" ] || fail "the XML's HDF5 file was changed"
+"$ropecast" info "$dir/scan.xml" > /dev/null 2> "$dir/err.txt" && fail "info of an XML whose view is not in its file"
+grep -qF "has no object /t00000/s00/0/cells" "$dir/err.txt" || { fail "the missing view:"; cat "$dir/err.txt"; }
 
 if [ "$failures" -ne 0 ]; then
   echo "hdf5.sh: $failures failure(s)"

@@ -301,6 +301,62 @@ TEST(SourceHdf5, ImarisFilesReadTheFullResolutionCutToTheImage) {
             glm::u32vec3(8, 4, 2));
 }
 
+// A BigDataViewer dataset given by its XML: the full resolution of its one view, at the voxel size the XML
+// gives, its signed 16-bit cells read as the unsigned samples they hold; several views are refused with a
+// list of their datasets and voxel sizes; XML of another loader is refused.
+TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "data");
+  const std::string h5 = (dir.path() / "data" / "beads.h5").string();
+  std::vector<int16_t> cells(5 * 6 * 9);
+  for (size_t i = 0; i < cells.size(); ++i) cells[i] = int16_t(uint16_t(i * 1201 + 7));  // past 32767 too
+  const std::vector<int16_t> coarse(3 * 3 * 5, 1);
+  {
+    Hdf5Writer writer(h5);
+    writer.write(
+        {"/t00000/s00/0/cells", {5, 6, 9}, H5T_STD_I16LE, H5T_NATIVE_INT16, cells.data(), {2, 3, 4}, true});
+    writer.write(
+        {"/t00000/s00/1/cells", {3, 3, 5}, H5T_STD_I16LE, H5T_NATIVE_INT16, coarse.data(), {}, false});
+  }
+  const auto xmlWith = [](const std::string& setups, const std::string& loader = "bdv.hdf5") {
+    return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<SpimData version=\"0.2\">\n"
+           "  <BasePath type=\"relative\">data</BasePath>\n  <SequenceDescription>\n"
+           "    <ImageLoader format=\"" +
+           loader +
+           "\">\n      <hdf5 type=\"relative\">beads.h5</hdf5>\n    </ImageLoader>\n"
+           "    <ViewSetups>\n" +
+           setups +
+           "    </ViewSetups>\n    <Timepoints type=\"range\"><first>0</first><last>0</last></Timepoints>\n"
+           "  </SequenceDescription>\n</SpimData>\n";
+  };
+  const auto setup = [](int id, const char* name) {
+    return "      <ViewSetup><id>" + std::to_string(id) + "</id><name>" + name +
+           "</name><size>9 6 5</size><voxelSize><unit>µm</unit><size>0.25 0.25 1.5</size></voxelSize>"
+           "</ViewSetup>\n";
+  };
+  const std::string xml = dir.file("beads.xml");
+  writeFile(xml, xmlWith(setup(0, "beads")));
+  const auto source = openVolumeSource(xml);
+  std::vector<uint16_t> expected(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) expected[i] = uint16_t(cells[i]);
+  expectVolume(
+      *source,
+      {{9, 6, 5}, SampleType::UInt16, {0.25, 0.25, 1.5}, "bdv:" + xml + " (" + h5 + ":/t00000/s00/0/cells)"},
+      expected);
+
+  writeFile(xml, xmlWith(setup(0, "beads") + setup(3, "beads, other angle")));
+  const std::string several = errorOf(xml);
+  for (const std::string& part :
+       {std::string("holds 2 view setups and 1 time points"),
+        h5 + ":/t00000/s00/0/cells --spacing 0.25,0.25,1.5 (µm)  beads",
+        h5 + ":/t00000/s03/0/cells --spacing 0.25,0.25,1.5 (µm)  beads, other angle"})
+    EXPECT_NE(several.find(part), std::string::npos) << part << " in: " << several;
+  writeFile(xml, xmlWith(setup(0, "beads"), "bdv.n5"));
+  EXPECT_NE(errorOf(xml).find("loaded by 'bdv.n5'; BigDataViewer's HDF5"), std::string::npos) << errorOf(xml);
+  writeFile(xml, "<VTKFile type=\"ImageData\"/>\n");
+  EXPECT_NE(errorOf(xml).find("is XML but no BigDataViewer dataset"), std::string::npos) << errorOf(xml);
+}
+
 TEST(SourceHdf5, RefusalsNameTheFileTheDatasetAndWhy) {
   TempDir dir;
   const std::string path = dir.file("mixed.h5");

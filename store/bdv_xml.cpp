@@ -1,0 +1,180 @@
+#include "store/bdv_xml.h"
+
+#include <expat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "core/error.h"
+#include "core/header_text.h"
+#include "core/number_text.h"
+
+namespace ropecast {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::optional<std::string_view> attribute(const XML_Char** attributes, std::string_view name) {
+  for (size_t i = 0; attributes[i]; i += 2)
+    if (name == attributes[i]) return std::string_view(attributes[i + 1]);
+  return std::nullopt;
+}
+
+// What the expat callbacks gather, by the path of elements. A problem is kept and the parser stopped, since
+// exceptions must not cross expat's C frames.
+class BdvParser {
+ public:
+  BdvParser(std::string_view text, const std::string& path) : input_(text), path_(path) {}
+
+  BdvDataset parse() {
+    std::unique_ptr<XML_ParserStruct, decltype(&XML_ParserFree)> parser(XML_ParserCreate(nullptr),
+                                                                        &XML_ParserFree);
+    if (!parser) fail("cannot create an XML parser");
+    parser_ = parser.get();
+    XML_SetUserData(parser_, this);
+    XML_SetElementHandler(
+        parser_,
+        [](void* self, const XML_Char* name, const XML_Char** attributes) {
+          static_cast<BdvParser*>(self)->startElement(name, attributes);
+        },
+        [](void* self, const XML_Char* name) { static_cast<BdvParser*>(self)->endElement(name); });
+    XML_SetCharacterDataHandler(parser_, [](void* self, const XML_Char* s, int length) {
+      static_cast<BdvParser*>(self)->chars_.append(s, size_t(length));
+    });
+    const XML_Status status = XML_Parse(parser_, input_.data(), int(input_.size()), XML_TRUE);
+    if (!problem_.empty()) fail(problem_);
+    if (status == XML_STATUS_ERROR)
+      fail("not well-formed XML at line " + std::to_string(XML_GetCurrentLineNumber(parser_)) + " (" +
+           XML_ErrorString(XML_GetErrorCode(parser_)) + ")");
+    if (loader_ != "bdv.hdf5")
+      fail(loader_.empty() ? "no ImageLoader element"
+                           : "its images are loaded by '" + loader_ +
+                                 "'; BigDataViewer's HDF5 (format \"bdv.hdf5\") is read");
+    if (hdf5_.empty()) fail("its ImageLoader names no hdf5 file");
+    if (dataset_.setups.empty()) fail("no ViewSetup");
+    if (dataset_.timepoints.empty()) fail("no Timepoints");
+    const fs::path folder = fs::path(path_).parent_path();
+    fs::path base = basePath_.empty() ? fs::path(".") : fs::path(basePath_);
+    if (base.is_relative()) base = folder / base;
+    const fs::path file(hdf5_);
+    dataset_.hdf5File = (file.is_relative() ? base / file : file).lexically_normal().string();
+    return dataset_;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error("BigDataViewer XML " + path_ + ": " + what);
+  }
+  void stop(const std::string& problem) {
+    if (problem_.empty()) problem_ = problem;
+    XML_StopParser(parser_, XML_FALSE);
+  }
+
+  // Whether the open elements end with `names` (innermost last).
+  bool within(std::initializer_list<std::string_view> names) const {
+    if (open_.size() < names.size()) return false;
+    size_t i = open_.size() - names.size();
+    for (std::string_view name : names)
+      if (open_[i++] != name) return false;
+    return true;
+  }
+
+  void startElement(std::string_view name, const XML_Char** attributes) {
+    if (!problem_.empty()) return;
+    if (open_.empty() && name != "SpimData")
+      return stop("expected a SpimData element first, got '" + std::string(name) + "'");
+    open_.emplace_back(name);
+    chars_.clear();
+    if (within({"SequenceDescription", "ImageLoader"}))
+      loader_ = std::string(attribute(attributes, "format").value_or(""));
+    if (within({"ViewSetups", "ViewSetup"})) dataset_.setups.emplace_back();
+    if (within({"SequenceDescription", "Timepoints"})) {
+      timepointsType_ = std::string(attribute(attributes, "type").value_or(""));
+      if (timepointsType_ != "range" && timepointsType_ != "pattern" && timepointsType_ != "list")
+        return stop("its Timepoints are of type '" + timepointsType_ + "'; range, pattern and list are read");
+    }
+  }
+
+  void endElement(std::string_view name) {
+    if (!problem_.empty() || open_.empty()) return;
+    const std::string text(trimBlanks(chars_));
+    if (within({"SpimData", "BasePath"})) basePath_ = text;
+    if (within({"ImageLoader", "hdf5"})) hdf5_ = text;
+    if (within({"ViewSetup", "id"})) dataset_.setups.back().id = integer(text, "a ViewSetup's id");
+    if (within({"ViewSetup", "name"})) dataset_.setups.back().name = text;
+    if (within({"ViewSetup", "voxelSize", "unit"})) dataset_.setups.back().unit = text;
+    if (within({"ViewSetup", "voxelSize", "size"})) {
+      const auto words = splitWords(text);
+      glm::dvec3 size(0.0);
+      for (size_t a = 0; a < 3 && words.size() == 3; ++a) {
+        const auto n = parseWholeNumber<double>(words[a]);
+        if (!n || !std::isfinite(*n))
+          return stop("a ViewSetup's voxel size '" + text + "' is not three numbers");
+        size[int(a)] = *n;
+      }
+      if (words.size() != 3) return stop("a ViewSetup's voxel size '" + text + "' is not three numbers");
+      dataset_.setups.back().voxelSize = size;
+    }
+    if (within({"Timepoints", "first"})) first_ = integer(text, "the first time point");
+    if (within({"Timepoints", "last"})) {
+      const int last = integer(text, "the last time point");
+      for (int t = first_; t <= last && dataset_.timepoints.size() < 1000000; ++t)
+        dataset_.timepoints.push_back(t);
+    }
+    if (within({"Timepoints", "id"})) dataset_.timepoints.push_back(integer(text, "a time point"));
+    if (within({"Timepoints", "integerpattern"})) {
+      // One number, or first-last (BigDataViewer's pattern form); steps and lists are not read.
+      const size_t dash = text.find('-', 1);
+      const int from = integer(text.substr(0, dash), "a time point pattern");
+      const int to =
+          dash == std::string::npos ? from : integer(text.substr(dash + 1), "a time point pattern");
+      for (int t = from; t <= to && dataset_.timepoints.size() < 1000000; ++t)
+        dataset_.timepoints.push_back(t);
+    }
+    open_.pop_back();
+    chars_.clear();
+  }
+
+  int integer(std::string_view text, const char* what) {
+    const auto n = parseWholeNumber<int>(trimBlanks(text));
+    if (!n || *n < 0) {
+      stop(std::string(what) + " '" + std::string(text) + "' is not a whole number of 0 or more");
+      return 0;
+    }
+    return *n;
+  }
+
+  std::string_view input_;
+  std::string chars_;  // the text of the element that ends next
+  const std::string& path_;
+  XML_Parser parser_ = nullptr;
+  std::vector<std::string> open_;
+  std::string problem_, loader_, hdf5_, basePath_, timepointsType_;
+  int first_ = 0;
+  BdvDataset dataset_;
+};
+
+}  // namespace
+
+bool isBdvXml(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(in.gcount()));
+  return head.find("<SpimData") != std::string::npos;
+}
+
+BdvDataset parseBdvXml(std::string_view text, const std::string& path) {
+  return BdvParser(text, path).parse();
+}
+
+std::string bdvCellsPath(int timepoint, int setup) {
+  char path[64];
+  std::snprintf(path, sizeof path, "/t%05d/s%02d/0/cells", timepoint, setup);
+  return path;
+}
+
+}  // namespace ropecast
