@@ -177,4 +177,23 @@ std::string bdvCellsPath(int timepoint, int setup) {
   return path;
 }
 
+bool isBdvCellsPath(std::string_view path) {
+  const auto digits = [&](size_t count) {
+    if (path.size() < count) return false;
+    for (size_t i = 0; i < count; ++i)
+      if (path[i] < '0' || path[i] > '9') return false;
+    path.remove_prefix(count);
+    return true;
+  };
+  const auto literal = [&](std::string_view text) {
+    if (!path.starts_with(text)) return false;
+    path.remove_prefix(text.size());
+    return true;
+  };
+  if (!literal("/t") || !digits(5) || !literal("/s") || !digits(2) || !literal("/")) return false;
+  size_t level = 0;
+  while (level < path.size() && path[level] >= '0' && path[level] <= '9') ++level;
+  return level > 0 && digits(level) && path == "/cells";
+}
+
 }  // namespace ropecast

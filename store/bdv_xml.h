@@ -36,5 +36,8 @@ BdvDataset parseBdvXml(std::string_view text, const std::string& path);
 
 // The HDF5 dataset of a view's full resolution: "/t00000/s00/0/cells".
 std::string bdvCellsPath(int timepoint, int setup);
+// Whether a dataset path is one of BigDataViewer's images ("/t00000/s00/0/cells", any level), whose signed
+// 16-bit samples hold unsigned ones.
+bool isBdvCellsPath(std::string_view datasetPath);
 
 }  // namespace ropecast

@@ -593,7 +593,7 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
   info.type = *shape.type;
   // BigDataViewer keeps unsigned 16-bit images in datasets of signed ones (Java has no unsigned types): the
   // same bytes, read as unsigned.
-  if (bdv && info.type == SampleType::Int16) info.type = SampleType::UInt16;
+  if ((bdv || isBdvCellsPath(datasetPath)) && info.type == SampleType::Int16) info.type = SampleType::UInt16;
   const auto extentOf = [&](int i) { return shape.extent[size_t(shape.axes[size_t(i)])]; };
   const glm::u64vec3 extent(extentOf(2), extentOf(1), extentOf(0));
   glm::dvec3 spacing(1.0);

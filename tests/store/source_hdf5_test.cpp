@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "store/bdv_xml.h"
 #include "store/hdf5_spec.h"
 #include "store/source_hdf5.h"
 #include "store/volume_source.h"
@@ -343,6 +344,14 @@ TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
       *source,
       {{9, 6, 5}, SampleType::UInt16, {0.25, 0.25, 1.5}, "bdv:" + xml + " (" + h5 + ":/t00000/s00/0/cells)"},
       expected);
+
+  // The dataset given directly is read as the XML reads it (unsigned), another dataset's signed samples not.
+  EXPECT_EQ(openVolumeSource(h5 + ":/t00000/s00/0/cells")->info().type, SampleType::UInt16);
+  EXPECT_EQ(openVolumeSource(h5 + ":/t00000/s00/1/cells")->info().type, SampleType::UInt16);
+  EXPECT_TRUE(isBdvCellsPath("/t00012/s03/10/cells"));
+  for (const char* other : {"/t0000/s00/0/cells", "/t00000/s00//cells", "/t00000/s00/0/cell", "/scan/ct",
+                            "/t00000/s00/0/cells/x", "/t00000/sx0/0/cells"})
+    EXPECT_FALSE(isBdvCellsPath(other)) << other;
 
   writeFile(xml, xmlWith(setup(0, "beads") + setup(3, "beads, other angle")));
   const std::string several = errorOf(xml);
