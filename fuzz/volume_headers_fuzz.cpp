@@ -1,7 +1,8 @@
-// libFuzzer target for the MetaImage and NIfTI header parsers (store/metaimage_header.h,
-// store/nifti_header.h): with an even first byte the rest is a MetaImage header's text, with an odd one a
-// NIfTI header's bytes. Any input must either parse into a header whose fields keep the parser's promises or
-// throw ropecast::Error; never crash, hang or throw anything else.
+// libFuzzer target for the MetaImage, NIfTI, legacy VTK and VTK image data header parsers
+// (store/metaimage_header.h, store/nifti_header.h, store/vtk_header.h, store/vti_header.h) and
+// BigDataViewer's XML (store/bdv_xml.h): the first byte modulo 5 chooses the parser, the rest is its input.
+// Any input must either parse into a header whose fields keep the parser's promises or throw ropecast::Error;
+// never crash, hang or throw anything else.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "store/bdv_xml.h"
 #include "store/metaimage_header.h"
 #include "store/nifti_header.h"
 #include "store/vti_header.h"
@@ -42,12 +44,19 @@ void checkAxes(const ropecast::AxisDirections& axes) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  const int parser = data[0] % 4;
+  const int parser = data[0] % 5;
   ++data;
   --size;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    if (parser == 3) {
+    if (parser == 4) {
+      const ropecast::BdvDataset dataset = ropecast::parseBdvXml(text, "fuzz.xml");
+      if (dataset.setups.empty() || dataset.timepoints.empty() || dataset.hdf5File.empty()) std::abort();
+      for (const ropecast::BdvSetup& setup : dataset.setups)
+        if (setup.voxelSize && !(std::isfinite(setup.voxelSize->x) && std::isfinite(setup.voxelSize->y) &&
+                                 std::isfinite(setup.voxelSize->z)))
+          std::abort();
+    } else if (parser == 3) {
       const ropecast::VtiHeader header = ropecast::parseVtiHeader(text, "fuzz.vti");
       checkVolume(header);
       checkAxes(header.axes);

@@ -40,7 +40,7 @@ class BdvParser {
         [](void* self, const XML_Char* name, const XML_Char** attributes) {
           static_cast<BdvParser*>(self)->startElement(name, attributes);
         },
-        [](void* self, const XML_Char* name) { static_cast<BdvParser*>(self)->endElement(name); });
+        [](void* self, const XML_Char*) { static_cast<BdvParser*>(self)->endElement(); });
     XML_SetCharacterDataHandler(parser_, [](void* self, const XML_Char* s, int length) {
       static_cast<BdvParser*>(self)->chars_.append(s, size_t(length));
     });
@@ -98,15 +98,17 @@ class BdvParser {
     }
   }
 
-  void endElement(std::string_view name) {
+  // A ViewSetup's fields are read only within ViewSetups/ViewSetup, where startElement added the setup.
+  void endElement() {
     if (!problem_.empty() || open_.empty()) return;
     const std::string text(trimBlanks(chars_));
     if (within({"SpimData", "BasePath"})) basePath_ = text;
     if (within({"ImageLoader", "hdf5"})) hdf5_ = text;
-    if (within({"ViewSetup", "id"})) dataset_.setups.back().id = integer(text, "a ViewSetup's id");
-    if (within({"ViewSetup", "name"})) dataset_.setups.back().name = text;
-    if (within({"ViewSetup", "voxelSize", "unit"})) dataset_.setups.back().unit = text;
-    if (within({"ViewSetup", "voxelSize", "size"})) {
+    if (within({"ViewSetups", "ViewSetup", "id"}))
+      dataset_.setups.back().id = integer(text, "a ViewSetup's id");
+    if (within({"ViewSetups", "ViewSetup", "name"})) dataset_.setups.back().name = text;
+    if (within({"ViewSetups", "ViewSetup", "voxelSize", "unit"})) dataset_.setups.back().unit = text;
+    if (within({"ViewSetups", "ViewSetup", "voxelSize", "size"})) {
       const auto words = splitWords(text);
       glm::dvec3 size(0.0);
       for (size_t a = 0; a < 3 && words.size() == 3; ++a) {
@@ -118,14 +120,16 @@ class BdvParser {
       if (words.size() != 3) return stop("a ViewSetup's voxel size '" + text + "' is not three numbers");
       dataset_.setups.back().voxelSize = size;
     }
-    if (within({"Timepoints", "first"})) first_ = integer(text, "the first time point");
-    if (within({"Timepoints", "last"})) {
+    if (within({"SequenceDescription", "Timepoints", "first"}))
+      first_ = integer(text, "the first time point");
+    if (within({"SequenceDescription", "Timepoints", "last"})) {
       const int last = integer(text, "the last time point");
       for (int t = first_; t <= last && dataset_.timepoints.size() < 1000000; ++t)
         dataset_.timepoints.push_back(t);
     }
-    if (within({"Timepoints", "id"})) dataset_.timepoints.push_back(integer(text, "a time point"));
-    if (within({"Timepoints", "integerpattern"})) {
+    if (within({"SequenceDescription", "Timepoints", "id"}))
+      dataset_.timepoints.push_back(integer(text, "a time point"));
+    if (within({"SequenceDescription", "Timepoints", "integerpattern"})) {
       // One number, or first-last (BigDataViewer's pattern form); steps and lists are not read.
       const size_t dash = text.find('-', 1);
       const int from = integer(text.substr(0, dash), "a time point pattern");
