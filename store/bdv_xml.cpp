@@ -1,7 +1,5 @@
 #include "store/bdv_xml.h"
 
-#include <expat.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,17 +9,12 @@
 #include "core/error.h"
 #include "core/header_text.h"
 #include "core/number_text.h"
+#include "store/xml_reading.h"
 
 namespace ropecast {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::optional<std::string_view> attribute(const XML_Char** attributes, std::string_view name) {
-  for (size_t i = 0; attributes[i]; i += 2)
-    if (name == attributes[i]) return std::string_view(attributes[i + 1]);
-  return std::nullopt;
-}
 
 // What the expat callbacks gather, by the path of elements. A problem is kept and the parser stopped, since
 // exceptions must not cross expat's C frames.
@@ -30,20 +23,9 @@ class BdvParser {
   BdvParser(std::string_view text, const std::string& path) : input_(text), path_(path) {}
 
   BdvDataset parse() {
-    std::unique_ptr<XML_ParserStruct, decltype(&XML_ParserFree)> parser(XML_ParserCreate(nullptr),
-                                                                        &XML_ParserFree);
+    const XmlParser parser = makeXmlParser(*this);
     if (!parser) fail("cannot create an XML parser");
     parser_ = parser.get();
-    XML_SetUserData(parser_, this);
-    XML_SetElementHandler(
-        parser_,
-        [](void* self, const XML_Char* name, const XML_Char** attributes) {
-          static_cast<BdvParser*>(self)->startElement(name, attributes);
-        },
-        [](void* self, const XML_Char*) { static_cast<BdvParser*>(self)->endElement(); });
-    XML_SetCharacterDataHandler(parser_, [](void* self, const XML_Char* s, int length) {
-      static_cast<BdvParser*>(self)->chars_.append(s, size_t(length));
-    });
     const XML_Status status = XML_Parse(parser_, input_.data(), int(input_.size()), XML_TRUE);
     if (!problem_.empty()) fail(problem_);
     if (status == XML_STATUS_ERROR)
@@ -82,6 +64,7 @@ class BdvParser {
     return true;
   }
 
+ public:  // expat's callbacks (store/xml_reading.h)
   void startElement(std::string_view name, const XML_Char** attributes) {
     if (!problem_.empty()) return;
     if (open_.empty() && name != "SpimData")
@@ -89,17 +72,19 @@ class BdvParser {
     open_.emplace_back(name);
     chars_.clear();
     if (within({"SequenceDescription", "ImageLoader"}))
-      loader_ = std::string(attribute(attributes, "format").value_or(""));
+      loader_ = std::string(xmlAttribute(attributes, "format").value_or(""));
     if (within({"ViewSetups", "ViewSetup"})) dataset_.setups.emplace_back();
     if (within({"SequenceDescription", "Timepoints"})) {
-      timepointsType_ = std::string(attribute(attributes, "type").value_or(""));
+      timepointsType_ = std::string(xmlAttribute(attributes, "type").value_or(""));
       if (timepointsType_ != "range" && timepointsType_ != "pattern" && timepointsType_ != "list")
         return stop("its Timepoints are of type '" + timepointsType_ + "'; range, pattern and list are read");
     }
   }
 
   // A ViewSetup's fields are read only within ViewSetups/ViewSetup, where startElement added the setup.
-  void endElement() {
+  void characters(std::string_view text) { chars_.append(text); }
+
+  void endElement(std::string_view) {
     if (!problem_.empty() || open_.empty()) return;
     const std::string text(trimBlanks(chars_));
     if (within({"SpimData", "BasePath"})) basePath_ = text;
@@ -142,6 +127,7 @@ class BdvParser {
     chars_.clear();
   }
 
+ private:
   int integer(std::string_view text, const char* what) {
     const auto n = parseWholeNumber<int>(trimBlanks(text));
     if (!n || *n < 0) {

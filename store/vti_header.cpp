@@ -1,7 +1,5 @@
 #include "store/vti_header.h"
 
-#include <expat.h>
-
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -11,6 +9,7 @@
 #include "core/header_text.h"
 #include "core/number_text.h"
 #include "store/volume_source.h"
+#include "store/xml_reading.h"
 
 namespace ropecast {
 namespace {
@@ -32,13 +31,6 @@ std::optional<SampleType> parseVtiType(std::string_view name) {
   return std::nullopt;
 }
 
-// An attribute of an element as expat gives them (name, value, ..., null); nullopt when absent.
-std::optional<std::string_view> attribute(const XML_Char** attributes, std::string_view name) {
-  for (size_t i = 0; attributes[i]; i += 2)
-    if (name == attributes[i]) return std::string_view(attributes[i + 1]);
-  return std::nullopt;
-}
-
 // What the expat callbacks gather: the elements on the way to the point data's active array and to the
 // appended data. A problem is kept and the parser stopped, since exceptions must not cross expat's C frames.
 class VtiParser {
@@ -46,17 +38,9 @@ class VtiParser {
   VtiParser(std::string_view text, const std::string& fileName) : text_(text), fileName_(fileName) {}
 
   VtiHeader parse() {
-    std::unique_ptr<XML_ParserStruct, decltype(&XML_ParserFree)> parser(XML_ParserCreate(nullptr),
-                                                                        &XML_ParserFree);
+    const XmlParser parser = makeXmlParser(*this);
     if (!parser) fail("cannot create an XML parser");
     parser_ = parser.get();
-    XML_SetUserData(parser_, this);
-    XML_SetElementHandler(
-        parser_,
-        [](void* self, const XML_Char* name, const XML_Char** attributes) {
-          static_cast<VtiParser*>(self)->startElement(name, attributes);
-        },
-        [](void* self, const XML_Char* name) { static_cast<VtiParser*>(self)->endElement(name); });
     const XML_Status status = XML_Parse(parser_, text_.data(), int(text_.size()), XML_FALSE);
     if (!problem_.empty()) fail(problem_);
     if (status == XML_STATUS_ERROR && XML_GetErrorCode(parser_) != XML_ERROR_ABORTED)
@@ -101,6 +85,7 @@ class VtiParser {
     return out;
   }
 
+ public:  // expat's callbacks (store/xml_reading.h)
   void startElement(std::string_view name, const XML_Char** attributes) {
     path_.emplace_back(name);
     if (!problem_.empty() || done_) return;
@@ -112,7 +97,7 @@ class VtiParser {
     } else if (name == "Piece" && path_.size() == 3) {
       piece(attributes);
     } else if (name == "PointData" && path_.size() == 4 && pieces_ == 1) {
-      scalars_ = attribute(attributes, "Scalars").value_or("");
+      scalars_ = xmlAttribute(attributes, "Scalars").value_or("");
       inPointData_ = true;
     } else if (name == "DataArray" && inPointData_ && path_.size() == 5 && !arrayFound_) {
       dataArray(attributes);
@@ -132,20 +117,21 @@ class VtiParser {
     }
   }
 
+ private:
   void vtkFile(const XML_Char** attributes) {
-    const std::string_view type = attribute(attributes, "type").value_or("");
+    const std::string_view type = xmlAttribute(attributes, "type").value_or("");
     if (type != "ImageData")
       return stop("VTKFile type '" + std::string(type) +
                   "': only ImageData (.vti) is read; other datasets are not volumes of samples on a grid");
-    const std::string_view order = attribute(attributes, "byte_order").value_or("LittleEndian");
+    const std::string_view order = xmlAttribute(attributes, "byte_order").value_or("LittleEndian");
     if (order != "LittleEndian" && order != "BigEndian")
       return stop("byte_order '" + std::string(order) + "': expected LittleEndian or BigEndian");
     header_.bigEndian = order == "BigEndian";
-    const std::string_view headerType = attribute(attributes, "header_type").value_or("UInt32");
+    const std::string_view headerType = xmlAttribute(attributes, "header_type").value_or("UInt32");
     if (headerType != "UInt32" && headerType != "UInt64")
       return stop("header_type '" + std::string(headerType) + "': expected UInt32 or UInt64");
     header_.headerWordBytes = headerType == "UInt64" ? 8 : 4;
-    const std::string_view compressor = attribute(attributes, "compressor").value_or("");
+    const std::string_view compressor = xmlAttribute(attributes, "compressor").value_or("");
     if (compressor == "vtkZLibDataCompressor")
       header_.zlib = true;
     else if (!compressor.empty())
@@ -155,7 +141,7 @@ class VtiParser {
   }
 
   void imageData(const XML_Char** attributes) {
-    const auto extent = numbers(attribute(attributes, "WholeExtent").value_or(""), 6);
+    const auto extent = numbers(xmlAttribute(attributes, "WholeExtent").value_or(""), 6);
     if (!extent) return stop("ImageData WholeExtent: expected 6 integers");
     std::string sizes;
     for (int axis = 0; axis < 3; ++axis) {
@@ -171,7 +157,7 @@ class VtiParser {
     if (!parsed.problem.empty()) return stop("ImageData WholeExtent: " + parsed.problem);
     header_.sizes = parsed.sizes;
     glm::dvec3 signedSpacing(1.0);
-    if (const auto spacingText = attribute(attributes, "Spacing")) {
+    if (const auto spacingText = xmlAttribute(attributes, "Spacing")) {
       const auto spacing = numbers(*spacingText, 3);
       if (!spacing || (*spacing)[0] == 0.0 || (*spacing)[1] == 0.0 || (*spacing)[2] == 0.0)
         return stop("ImageData Spacing: expected 3 non-zero numbers");
@@ -179,7 +165,7 @@ class VtiParser {
       signedSpacing = glm::dvec3((*spacing)[0], (*spacing)[1], (*spacing)[2]);
     }
     glm::dmat3 direction(1.0);  // columns: where x, y and z point
-    if (const auto directionText = attribute(attributes, "Direction")) {
+    if (const auto directionText = xmlAttribute(attributes, "Direction")) {
       const auto m = numbers(*directionText, 9);
       if (!m) return stop("ImageData Direction: expected 9 numbers");
       const std::vector<double>& d = *m;
@@ -190,7 +176,7 @@ class VtiParser {
     }
     // VTK places point (i, j, k) of the extent at Origin + Direction (i, j, k) Spacing: the first sample is
     // the WholeExtent's low corner.
-    if (const auto originText = attribute(attributes, "Origin")) {
+    if (const auto originText = xmlAttribute(attributes, "Origin")) {
       const auto o = numbers(*originText, 3);
       if (!o) return stop("ImageData Origin: expected 3 numbers");
       const glm::dvec3 low(wholeExtent_[0], wholeExtent_[2], wholeExtent_[4]);
@@ -203,29 +189,29 @@ class VtiParser {
       return stop(
           "several Pieces; only image data in one piece is read (ParaView: save without splitting "
           "it into pieces)");
-    const auto extent = numbers(attribute(attributes, "Extent").value_or(""), 6);
+    const auto extent = numbers(xmlAttribute(attributes, "Extent").value_or(""), 6);
     if (!extent || !std::equal(extent->begin(), extent->end(), wholeExtent_))
       stop("the Piece's Extent is not the WholeExtent; only a piece holding the whole image is read");
   }
 
   void dataArray(const XML_Char** attributes) {
-    const std::string_view arrayName = attribute(attributes, "Name").value_or("");
+    const std::string_view arrayName = xmlAttribute(attributes, "Name").value_or("");
     if (!scalars_.empty() && arrayName != scalars_) return;  // not the active scalars
     header_.arrayName = std::string(arrayName);
     arrayFound_ = true;
-    const std::string_view type = attribute(attributes, "type").value_or("");
+    const std::string_view type = xmlAttribute(attributes, "type").value_or("");
     const auto sampleType = parseVtiType(type);
     if (!sampleType)
       return stop("DataArray '" + header_.arrayName + "' of type '" + std::string(type) +
                   "' is not read; expected " + std::string(kVtiTypeList));
     header_.type = *sampleType;
-    const std::string_view components = attribute(attributes, "NumberOfComponents").value_or("1");
+    const std::string_view components = xmlAttribute(attributes, "NumberOfComponents").value_or("1");
     if (components != "1")
       return stop("DataArray '" + header_.arrayName + "' has " + std::string(components) +
                   " components; only one component per point is read");
-    const std::string_view format = attribute(attributes, "format").value_or("");
+    const std::string_view format = xmlAttribute(attributes, "format").value_or("");
     if (format == "appended") {
-      const auto offset = parseWholeNumber<uint64_t>(attribute(attributes, "offset").value_or(""));
+      const auto offset = parseWholeNumber<uint64_t>(xmlAttribute(attributes, "offset").value_or(""));
       if (!offset) return stop("DataArray '" + header_.arrayName + "': appended without a valid offset");
       appended_ = true;
       arrayOffset_ = *offset;
@@ -240,7 +226,7 @@ class VtiParser {
   }
 
   void appendedData(const XML_Char** attributes) {
-    const std::string_view encoding = attribute(attributes, "encoding").value_or("");
+    const std::string_view encoding = xmlAttribute(attributes, "encoding").value_or("");
     if (encoding != "raw" && encoding != "base64")
       return stop("AppendedData encoding '" + std::string(encoding) + "': expected raw or base64");
     header_.base64 = encoding == "base64";
