@@ -1,6 +1,7 @@
 // libFuzzer target for the MetaImage, NIfTI, legacy VTK and VTK image data header parsers
 // (store/metaimage_header.h, store/nifti_header.h, store/vtk_header.h, store/vti_header.h) and
-// BigDataViewer's XML (store/bdv_xml.h): the first byte modulo 5 chooses the parser, the rest is its input.
+// BigDataViewer's XML (store/bdv_xml.h), and the ImageJ and OME-TIFF descriptions of a multi-page TIFF
+// (store/tiff_stack_layout.h): the first byte modulo 6 chooses the parser, the rest is its input.
 // Any input must either parse into a header whose fields keep the parser's promises or throw ropecast::Error;
 // never crash, hang or throw anything else.
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "store/bdv_xml.h"
 #include "store/metaimage_header.h"
 #include "store/nifti_header.h"
+#include "store/tiff_stack_layout.h"
 #include "store/vti_header.h"
 #include "store/vtk_header.h"
 
@@ -44,12 +46,24 @@ void checkAxes(const ropecast::AxisDirections& axes) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  const int parser = data[0] % 5;
+  const int parser = data[0] % 6;
   ++data;
   --size;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    if (parser == 4) {
+    if (parser == 5) {
+      // A layout must name pages that exist, and a spacing that is positive and finite.
+      constexpr uint64_t kPages = 1000;
+      for (const auto& layout :
+           {ropecast::imageJLayout(text, 0.5, 0.25, kPages), ropecast::omeLayout(text, kPages)}) {
+        if (!layout) continue;
+        if (layout->slices * layout->channels * layout->frames != kPages) std::abort();
+        if (layout->pageStride == 0 || layout->pageStride * (layout->slices - 1) >= kPages) std::abort();
+        if (layout->spacing)
+          for (int a = 0; a < 3; ++a)
+            if (!((*layout->spacing)[a] > 0.0 && std::isfinite((*layout->spacing)[a]))) std::abort();
+      }
+    } else if (parser == 4) {
       const ropecast::BdvDataset dataset = ropecast::parseBdvXml(text, "fuzz.xml");
       if (dataset.setups.empty() || dataset.timepoints.empty() || dataset.hdf5File.empty()) std::abort();
       for (const ropecast::BdvSetup& setup : dataset.setups)

@@ -15,6 +15,7 @@
 #include "core/input_file.h"
 #include "store/slice_files.h"
 #include "store/tiff_directories.h"
+#include "store/tiff_stack_layout.h"
 
 namespace ropecast {
 namespace {
@@ -372,9 +373,36 @@ std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryO
 
 std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options) {
   const int pages = countImagePages(path);
+  // The first page's description says how ImageJ or OME-TIFF laid the pages out and how large a voxel is.
+  std::optional<TiffStackLayout> layout;
+  {
+    const auto in = openImage(path);
+    const OIIO::ImageSpec& spec = in->spec();
+    const std::string description = spec.get_string_attribute("ImageDescription");
+    layout = omeLayout(description, uint64_t(pages));
+    if (!layout)
+      layout = imageJLayout(description, spec.get_float_attribute("XResolution", 0.0f),
+                            spec.get_float_attribute("YResolution", 0.0f), uint64_t(pages));
+  }
   std::vector<SliceRef> slices;
-  for (int page = 0; page < pages; ++page) slices.push_back({path, page});
-  return std::make_unique<ImageSliceSource>(std::move(slices), true, "tiff:" + path, options);
+  const uint64_t stride = layout ? layout->pageStride : 1, count = layout ? layout->slices : uint64_t(pages);
+  for (uint64_t z = 0; z < count; ++z) slices.push_back({path, int(z * stride)});
+  SourceOptions placed = options;
+  if (layout && layout->spacing && !options.spacing && isValidSpacing(*layout->spacing))
+    placed.spacing = layout->spacing;
+  // The calibration is said where the source is: info shows it, the store keeps it.
+  std::string description = "tiff:" + path;
+  if (placed.spacing && !options.spacing)
+    description += " (" + layout->writer + " calibration: " + formatSpacing(*placed.spacing) +
+                   (layout->unit.empty() ? "" : " " + layout->unit) + ")";
+  auto source = std::make_unique<ImageSliceSource>(std::move(slices), true, description, placed);
+  if (layout && (layout->channels > 1 || layout->frames > 1))
+    source->addNote(path + " is " +
+                    (layout->writer == "ImageJ" ? "an ImageJ hyperstack" : "an OME-TIFF image") + " of " +
+                    std::to_string(layout->channels) + " channels and " + std::to_string(layout->frames) +
+                    " time points: the first channel's first time point is read (" +
+                    std::to_string(layout->slices) + " of its " + std::to_string(pages) + " pages)");
+  return source;
 }
 
 }  // namespace ropecast

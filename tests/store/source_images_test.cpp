@@ -266,6 +266,54 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<int16_t>(*i16, 5, 12, 3);
 }
 
+// An ImageJ hyperstack of 2 channels and 3 slices (pages c0 z0, c1 z0, c0 z1, ...), calibrated: its first
+// channel is read, at its calibration, said in the description; --spacing overrides it.
+TEST(SourceImages, AnImageJHyperstacksFirstChannelAtItsCalibration) {
+  TempDir dir;
+  const std::string path = dir.file("stack.tif");
+  std::vector<std::vector<uint16_t>> pages;
+  for (uint32_t page = 0; page < 6; ++page) pages.push_back(slicePattern<uint16_t>(5, 4, page));
+  {
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out);
+    std::vector<OIIO::ImageSpec> specs(6, OIIO::ImageSpec(5, 4, 1, OIIO::TypeDesc::UINT16));
+    specs[0].attribute(
+        "ImageDescription",
+        "ImageJ=1.54f\nimages=6\nchannels=2\nslices=3\nhyperstack=true\nunit=micron\nspacing=2\n");
+    specs[0].attribute("XResolution", 4.0f);
+    specs[0].attribute("YResolution", 4.0f);
+    specs[0].attribute("ResolutionUnit", "none");
+    ASSERT_TRUE(out->open(path, 6, specs.data())) << out->geterror();
+    for (size_t z = 0; z < pages.size(); ++z) {
+      if (z > 0) {
+        ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
+      }
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, pages[z].data())) << out->geterror();
+    }
+    ASSERT_TRUE(out->close());
+  }
+  const auto source = openVolumeSource(path);
+  const VolumeInfo& info = source->info();
+  EXPECT_EQ(info.dims, glm::u32vec3(5, 4, 3));
+  EXPECT_EQ(info.spacing, glm::dvec3(0.25, 0.25, 2.0));
+  EXPECT_EQ(info.description, "tiff:" + path + " (ImageJ calibration: 0.25,0.25,2 micron)");
+  ASSERT_EQ(info.notes.size(), 1u);
+  EXPECT_NE(
+      info.notes[0].find("an ImageJ hyperstack of 2 channels and 1 time points: the first channel's first "
+                         "time point is read (3 of its 6 pages)"),
+      std::string::npos)
+      << info.notes[0];
+  std::vector<uint16_t> expected;
+  for (const uint32_t page : {0u, 2u, 4u})
+    for (const uint16_t v : pages[page]) expected.push_back(v);
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 3), expected);
+  SourceOptions options;
+  options.spacing = glm::dvec3(1.0, 1.0, 1.0);
+  const auto given = openVolumeSource(path, options);
+  EXPECT_EQ(given->info().spacing, glm::dvec3(1.0));
+  EXPECT_EQ(given->info().description, "tiff:" + path);
+}
+
 // `values` (w x h slices, x fastest) as a folder of TIFF slices and as a multi-page TIFF, each converted and
 // read back through the store's mapping: kept as a raw file of the same type keeps them (expectKept).
 template <typename T>
