@@ -145,9 +145,11 @@ class RenderSetup {
     return path_ ? sampleCameraPath(*path_, frame, frames, glm::dvec3(0.0), boxMax) : chooseCamera(o_, info);
   }
 
-  // Frame `frame`'s color as --every writes it: marked with --marks, as -o's.
+  // Frame `frame`'s color as --every writes it: marked with --marks, as -o's (frames past the path's end, of
+  // --converge, keep its last camera).
   FloatImage seriesImage(uint32_t frame, FloatImage color) const {
-    if (o_.marks) drawOrientationMarks(color, cameraOf(frame), bricks().info().volume.axes);
+    if (o_.marks)
+      drawOrientationMarks(color, cameraOf(std::min(frame, frames - 1)), bricks().info().volume.axes);
     return color;
   }
 
