@@ -217,6 +217,15 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
                                  field.real(layout.srowX + 11 * real, layout.wide)});
     } else {
       header.transformNotApplied = true;
+      const auto lps = [](glm::dvec3 ras) { return glm::dvec3(-ras.x, -ras.y, ras.z); };
+      const std::optional<glm::dvec3> offset = lpsOrigin({field.real(layout.srowX + 3 * real, layout.wide),
+                                                          field.real(layout.srowX + 7 * real, layout.wide),
+                                                          field.real(layout.srowX + 11 * real, layout.wide)});
+      bool finite = offset.has_value();
+      for (const double v : m) finite = finite && std::isfinite(v);
+      if (finite)
+        header.shearedSform = {lps({m[0], m[3], m[6]}), lps({m[1], m[4], m[7]}), lps({m[2], m[5], m[8]}),
+                               *offset};
     }
   } else if (field.code(layout.qformCode, layout.wide) > 0) {
     // The rotation of the unit quaternion (a, b, c, d), a = sqrt(1 - b^2 - c^2 - d^2), as the NIfTI-1

@@ -8,6 +8,7 @@
 // scl_inter; whether the qform or sform turns the axes, and where it places the first sample.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -41,6 +42,9 @@ struct NiftiHeader {
   // directions, turned from NIfTI's RAS into LPS. Identity where the file sets neither.
   AxisDirections axes{1.0};
   bool transformNotApplied = false;  // an sform whose columns are not at right angles (a sheared grid)
+  // Such an sform's three axis vectors (spacing included) and its offset, in LPS, where all are finite: a
+  // source may place the slices they stack (store/placed_stack.h placeSkewedSlices).
+  std::optional<std::array<glm::dvec3, 4>> shearedSform;
   // The center of the first sample in LPS: the sform's offsets, or the qform's (qoffset), with the axes they
   // turn; absent where neither is applied or they are not finite.
   std::optional<glm::dvec3> origin;

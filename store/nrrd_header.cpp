@@ -291,10 +291,14 @@ class HeaderParser {
       header_.spacing = directions_;
       const std::optional<AxisDirections> axes =
           vectorsUsable_ ? axisDirectionsOf(vectors_[0], vectors_[1], vectors_[2]) : std::nullopt;
-      if (axes)
+      if (axes) {
         header_.axes = inLps(*axes);
-      else
+      } else {
         header_.directionsNotApplied = true;
+        if (vectorsUsable_)
+          header_.shearedDirections = {lpsSigns() * vectors_[0], lpsSigns() * vectors_[1],
+                                       lpsSigns() * vectors_[2]};
+      }
     } else if (hasSpacings_) {
       header_.spacing = spacings_;
     }

@@ -9,6 +9,7 @@
 // comments and key/value pairs are ignored.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -38,6 +39,9 @@ struct NrrdHeader {
   // Space directions that are not three orthogonal 3-vectors (a sheared grid, a "none"): only their lengths
   // are used (as spacing), and axes stays the identity.
   bool directionsNotApplied = false;
+  // Those directions where they are three 3-vectors not at right angles (a sheared grid), turned into LPS as
+  // the axes are: a source may place the slices they stack (store/placed_stack.h placeSkewedSlices).
+  std::optional<std::array<glm::dvec3, 3>> shearedDirections;
   // The "space" field names a patient's frame (right-anterior-superior, LPS, ... and their -time forms), not
   // scanner-xyz or a 3D-handed space.
   bool anatomicalSpace = false;

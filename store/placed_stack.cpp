@@ -30,7 +30,7 @@ class ResampledSlices final : public VolumeSource {
     info_ = from;
     info_.dims = grid_.dims;
     info_.spacing = grid_.spacing;
-    info_.origin = grid_.origin;
+    if (from.origin) info_.origin = grid_.origin;
     const std::vector<double>& bottom = slice(0);
     outside_ = *std::min_element(bottom.begin(), bottom.end());
   }
@@ -212,6 +212,30 @@ SlicePlan planSlices(const VolumeInfo& stacked, std::span<const glm::dvec3> posi
                        " apart across (samples no slice reaches take the bottom slice's smallest value)");
   plan.grid = std::move(grid);
   return plan;
+}
+
+bool placeSkewedSlices(VolumeInfo& info, const std::array<glm::dvec3, 3>& vectors, const std::string& what,
+                       std::optional<SliceGrid>& grid) {
+  const double x = glm::length(vectors[0]), y = glm::length(vectors[1]), z = glm::length(vectors[2]);
+  if (!(x > 0.0 && y > 0.0 && z > 0.0) || !std::isfinite(x + y + z)) return false;
+  const glm::dvec3 rows = vectors[0] / x, columns = vectors[1] / y;
+  if (std::abs(glm::dot(rows, columns)) > 1e-3) return false;
+  glm::dvec3 normal = glm::normalize(glm::cross(rows, columns));
+  const double across = glm::dot(normal, vectors[2]);
+  if (!(std::abs(across) > 1e-6 * z)) return false;
+  if (across < 0.0) normal = -normal;  // the slices stack along the normal: a mirroring frame
+  VolumeInfo placed = info;
+  placed.axes = AxisDirections(rows, columns, normal);
+  placed.spacing = {x, y, std::abs(across)};
+  const glm::dvec3 first = info.origin.value_or(glm::dvec3(0.0));
+  std::vector<glm::dvec3> positions;
+  for (uint32_t k = 0; k < info.dims.z; ++k) positions.push_back(first + double(k) * vectors[2]);
+  SlicePlan plan = planSlices(placed, positions, what);
+  if (plan.averageGap) placed.spacing.z = *plan.averageGap;
+  placed.notes.insert(placed.notes.end(), plan.notes.begin(), plan.notes.end());
+  grid = std::move(plan.grid);
+  info = std::move(placed);
+  return true;
 }
 
 std::unique_ptr<VolumeSource> resampleSlices(std::unique_ptr<VolumeSource> stacked, SliceGrid grid) {

@@ -9,6 +9,7 @@
 // thread at a time).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -56,9 +57,20 @@ struct SlicePlan {
 SlicePlan planSlices(const VolumeInfo& stacked, std::span<const glm::dvec3> positions,
                      const std::string& what);
 
+// A volume whose file gives its axes as vectors not at right angles (`vectors`: x, y and z in the frame of
+// `info`'s origin, LPS for medical files, their lengths the spacings) where x and y are at right angles:
+// slices whose stacking direction is skewed, as a gantry tilt written into a file's directions leaves them.
+// Turns `info` (dims and type set) into the slices' frame: axes x, y and their normal on z's side (a
+// mirroring frame where that is how they turn), spacing x's and y's lengths and the gap along the normal;
+// plans where the slices lie (planSlices, its notes added to info's, calling the slices `what`), the grid in
+// `grid` when they are to be resampled. False, `info` untouched, where x and y are not at right angles
+// either, or z lies in their plane.
+bool placeSkewedSlices(VolumeInfo& info, const std::array<glm::dvec3, 3>& vectors, const std::string& what,
+                       std::optional<SliceGrid>& grid);
+
 // The slices of `stacked` on `grid`; its info is that of `stacked` with the grid's dims, spacing and origin
-// (the value range kept: interpolation stays within it). Reads the bottom slice for the value outside the
-// slices; throws as `stacked` does.
+// (where it has one; the value range kept: interpolation stays within it). Reads the bottom slice for the
+// value outside the slices; throws as `stacked` does.
 std::unique_ptr<VolumeSource> resampleSlices(std::unique_ptr<VolumeSource> stacked, SliceGrid grid);
 
 }  // namespace ropecast

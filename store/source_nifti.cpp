@@ -13,6 +13,7 @@
 #include "core/header_text.h"
 #include "core/input_file.h"
 #include "store/file_samples.h"
+#include "store/placed_stack.h"
 #include "store/source_raw.h"
 
 namespace ropecast {
@@ -171,14 +172,28 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.description = "nifti:" + path;
   info.axes = header.axes;
   info.origin = header.origin;
-  info.patientFrame = header.origin.has_value();  // a qform or sform applied: NIfTI's frame is a patient's
-  if (header.transformNotApplied)
+  // An sform whose third axis alone is off the slices' normal (a gantry's tilt kept in the file): the slices
+  // are placed where they lie, in the patient's frame.
+  std::optional<SliceGrid> grid;
+  bool placed = false;
+  if (header.shearedSform && !options.spacing) {
+    const auto& s = *header.shearedSform;
+    info.origin = s[3];
+    placed = placeSkewedSlices(info, {s[0], s[1], s[2]}, "the slices of " + path, grid);
+    if (!placed) info.origin.reset();
+  }
+  info.patientFrame = info.origin.has_value();  // a qform or sform applied: NIfTI's frame is a patient's
+  if (header.transformNotApplied && !placed)
     info.notes.push_back(unappliedTransformNote(headerPath, "its qform or sform"));
-  if (header.spacingUnknown && !options.spacing)
+  if (header.spacingUnknown && !options.spacing && !placed)
     info.notes.push_back(headerPath +
                          ": pixdim gives no spacing for some axis (zero or not a number); 1 is used there "
                          "(--spacing sets it)");
-  if (!header.scaled) return openBlockSource(std::move(info), std::move(samples), header.bigEndian);
+  const auto placedWhereTheyLie = [&grid](std::unique_ptr<VolumeSource> source) {
+    return grid ? resampleSlices(std::move(source), std::move(*grid)) : std::move(source);
+  };
+  if (!header.scaled)
+    return placedWhereTheyLie(openBlockSource(std::move(info), std::move(samples), header.bigEndian));
 
   info.type = scaledType(header.type, header.slope, header.intercept);
   if (info.type == SampleType::UInt8) {
@@ -187,7 +202,7 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   }
   info.description += " (values scaled by scl_slope " + formatNumber(header.slope) + " and scl_inter " +
                       formatNumber(header.intercept) + ")";
-  return std::make_unique<ScaledNiftiSource>(std::move(info), std::move(samples), header);
+  return placedWhereTheyLie(std::make_unique<ScaledNiftiSource>(std::move(info), std::move(samples), header));
 }
 
 }  // namespace ropecast

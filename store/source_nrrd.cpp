@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "store/file_samples.h"
 #include "store/nrrd_header.h"
+#include "store/placed_stack.h"
 #include "store/source_raw.h"
 
 namespace ropecast {
@@ -72,15 +73,22 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
   info.description = "nrrd:" + path;
   info.axes = header.axes;
   info.origin = header.origin;
-  info.patientFrame = header.anatomicalSpace && !header.directionsNotApplied;
   if (header.originNotRead)
     info.notes.push_back(path + ": its space origin is not three numbers; the volume is placed without it");
-  if (header.directionsNotApplied)
+  // Directions whose third alone is off the slices' normal (a gantry's tilt kept in the file): the slices are
+  // placed where they lie.
+  std::optional<SliceGrid> grid;
+  const bool placed = header.shearedDirections && !options.spacing &&
+                      placeSkewedSlices(info, *header.shearedDirections, "the slices of " + path, grid);
+  info.patientFrame = header.anatomicalSpace && (placed || !header.directionsNotApplied);
+  if (header.directionsNotApplied && !placed)
     info.notes.push_back(path +
                          ": its space directions are not three vectors at right angles; only their lengths "
                          "are used, as spacings, so the volume is shown unsheared and axis-aligned");
-  return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
-                         header.bigEndian);
+  auto source = openBlockSource(
+      std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)), header.bigEndian);
+  if (grid) return resampleSlices(std::move(source), std::move(*grid));
+  return source;
 }
 
 }  // namespace ropecast

@@ -215,6 +215,41 @@ TEST(PlacedStack, SlicesTooFarOffTheirNormalAreStackedStraight) {
       << plan.notes[0];
 }
 
+// Axis vectors whose third alone is off the slices' normal: the slices' frame, and where they lie.
+TEST(PlacedStack, SkewedAxesArePlacedInTheSlicesFrame) {
+  VolumeInfo info;
+  info.dims = {9, 7, 4};
+  info.spacing = {3.0, 3.0, 3.0};  // the lengths a source would otherwise take
+  info.origin = glm::dvec3(10.0, 20.0, 30.0);
+  std::optional<SliceGrid> grid;
+  const std::array<glm::dvec3, 3> skewed = {glm::dvec3(0.5, 0, 0), glm::dvec3(0, 0.75, 0),
+                                            glm::dvec3(0, 0.75, 2)};
+  VolumeInfo placed = info;
+  ASSERT_TRUE(placeSkewedSlices(placed, skewed, "the slices", grid));
+  EXPECT_EQ(placed.axes, AxisDirections(1.0));
+  EXPECT_EQ(placed.spacing, glm::dvec3(0.5, 0.75, 2.0));
+  EXPECT_EQ(placed.origin, info.origin);
+  ASSERT_EQ(placed.notes.size(), 1u);
+  EXPECT_NE(placed.notes[0].find("the slices lie off their normal, by up to 3 samples"), std::string::npos)
+      << placed.notes[0];
+  ASSERT_TRUE(grid);
+  EXPECT_EQ(grid->dims, glm::u32vec3(9, 7 + 3, 4));  // a row down per slice
+
+  // Slices stacked down the normal: a mirroring frame, whose normal points the way they stack.
+  VolumeInfo down = info;
+  ASSERT_TRUE(placeSkewedSlices(down, {skewed[0], skewed[1], glm::dvec3(0, 0.75, -2)}, "the slices", grid));
+  EXPECT_TRUE(mirrors(down.axes));
+  EXPECT_EQ(down.axes[2], glm::dvec3(0, 0, -1));
+  // Rows and columns not at right angles, or slices in their own plane: left as they were.
+  VolumeInfo untouched = info;
+  EXPECT_FALSE(placeSkewedSlices(untouched, {glm::dvec3(1, 0, 0), glm::dvec3(0.5, 1, 0), glm::dvec3(0, 0, 1)},
+                                 "the slices", grid));
+  EXPECT_FALSE(placeSkewedSlices(untouched, {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(1, 1, 0)},
+                                 "the slices", grid));
+  EXPECT_EQ(untouched.spacing, info.spacing);
+  EXPECT_TRUE(untouched.notes.empty());
+}
+
 TEST(PlacedStack, PositionsMustMatchTheSlices) {
   const std::vector<glm::dvec3> positions = tablePositions({0, 1, 2}, 1.0);
   const auto stacked = slicesAt<float>(positions, AxisDirections(1.0), SampleType::Float32);

@@ -277,6 +277,21 @@ TEST(SourceNifti, TheSformOrQformPlacesTheFirstSampleInLps) {
     NiftiWriter unplaced(version, 2, 8);
     writeFile(path, unplaced.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
     EXPECT_FALSE(openVolumeSource(path)->info().patientFrame) << version;
+
+    // An sform whose third column alone is off the slices' normal (a gantry's tilt kept in the file): the
+    // slices placed where they lie, a row further a slice (LPS: x (1,0,0), y (0,-1,0), z (0,-1,2)).
+    const double skewed[3][4] = {{-1, 0, 0, 90}, {0, 1, 1, -126}, {0, 0, 2, -72}};
+    writer.sform(skewed);
+    writeFile(path, writer.file(fileBytes(samplePattern<uint8_t>(kNiftiSamples))));
+    const auto tilted = openVolumeSource(path);
+    EXPECT_EQ(tilted->info().dims, glm::u32vec3(kNiftiDims.x, kNiftiDims.y + kNiftiDims.z - 1, kNiftiDims.z))
+        << version;
+    EXPECT_EQ(tilted->info().spacing, glm::dvec3(1.0, 1.0, 2.0)) << version;
+    EXPECT_EQ(tilted->info().origin, glm::dvec3(-90.0, 126.0, -72.0)) << version;
+    EXPECT_TRUE(tilted->info().patientFrame) << version;
+    ASSERT_EQ(tilted->info().notes.size(), 1u) << version;
+    EXPECT_NE(tilted->info().notes[0].find("lie off their normal"), std::string::npos)
+        << tilted->info().notes[0];
   }
 }
 

@@ -249,6 +249,42 @@ TEST(SourceNrrd, AnAnatomicalSpaceIsAPatientsFrame) {
   EXPECT_FALSE(patientFrame("space: RAS\nspace directions: (0,0.5,0) (3,4,0) (0,0,-2.5)\n"));
 }
 
+// Space directions whose third alone is off the slices' normal (a gantry's tilt kept in the file): the slices
+// are placed where they lie. Here each lies a whole row further down than the one below, so the grid's
+// samples are the file's, moved, and the bottom slice's smallest (1) where no slice reaches.
+TEST(SourceNrrd, SkewedSpaceDirectionsArePlacedWhereTheSlicesLie) {
+  TempDir dir;
+  const std::string path = dir.file("tilted.nrrd");
+  std::vector<float> values(4 * 3 * 3);
+  for (size_t i = 0; i < values.size(); ++i) values[i] = float(i + 1);
+  writeFile(
+      path,
+      "NRRD0004\ntype: float\ndimension: 3\nsizes: 4 3 3\nencoding: raw\nendian: little\n"
+      "space: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) (0,1,2)\nspace origin: (5,6,7)\n\n" +
+          bytesOf(values, false));
+  const auto source = openVolumeSource(path);
+  const VolumeInfo& info = source->info();
+  EXPECT_EQ(info.dims, glm::u32vec3(4, 5, 3));
+  EXPECT_EQ(info.spacing, glm::dvec3(1.0, 1.0, 2.0));
+  EXPECT_EQ(info.axes, AxisDirections(1.0));
+  EXPECT_EQ(info.origin, glm::dvec3(5.0, 6.0, 7.0));
+  EXPECT_TRUE(info.patientFrame);
+  ASSERT_EQ(info.notes.size(), 1u);
+  EXPECT_NE(info.notes[0].find("lie off their normal, by up to 2 samples"), std::string::npos)
+      << info.notes[0];
+  const std::vector<float> grid = readSlab<float>(*source, 0, 3);
+  for (uint32_t k = 0; k < 3; ++k)
+    for (uint32_t j = 0; j < 5; ++j)
+      for (uint32_t i = 0; i < 4; ++i) {
+        const float expected = j >= k && j - k < 3 ? values[(k * 3 + (j - k)) * 4 + i] : 1.0f;
+        EXPECT_EQ(grid[(k * 5 + j) * 4 + i], expected) << i << "," << j << "," << k;
+      }
+  // --spacing stacks the file's slices as they are.
+  SourceOptions options;
+  options.spacing = glm::dvec3(1.0);
+  EXPECT_EQ(openVolumeSource(path, options)->info().dims, glm::u32vec3(4, 3, 3));
+}
+
 struct BadHeader {
   const char* what;
   std::string header;
