@@ -162,6 +162,10 @@ class MetaImageHeaderParser {
           axisDirectionsOf({m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]});
       header_.axes = axes.value_or(AxisDirections(1.0));
       header_.matrixNotApplied = !axes;
+      header_.shearedMatrix.reset();
+      if (!axes && std::all_of(m.begin(), m.end(), [](double v) { return std::isfinite(v); }))
+        header_.shearedMatrix = {glm::dvec3(m[0], m[1], m[2]), glm::dvec3(m[3], m[4], m[5]),
+                                 glm::dvec3(m[6], m[7], m[8])};
     } else if (name == "offset" || name == "origin" || name == "position") {
       const std::vector<double> o = numbers(key, value, 3);
       header_.origin = glm::dvec3(o[0], o[1], o[2]);

@@ -11,6 +11,7 @@
 // file. Other keys are ignored.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -34,7 +35,10 @@ struct MetaImageHeader {
   // Where the axes point (core/orientation.h), LPS as ITK writes it: TransformMatrix's three rows, the
   // directions of x, y and z. Identity without one.
   AxisDirections axes{1.0};
-  bool matrixNotApplied = false;     // a TransformMatrix whose rows are not at right angles (a sheared grid)
+  bool matrixNotApplied = false;  // a TransformMatrix whose rows are not at right angles (a sheared grid)
+  // Such a matrix's rows (directions of x, y and z, not yet scaled by the spacing), where all are finite: a
+  // source may place the slices they stack (store/placed_stack.h placeSkewedSlices).
+  std::optional<std::array<glm::dvec3, 3>> shearedMatrix;
   std::optional<glm::dvec3> origin;  // Offset (or Origin, Position): the first sample's center, in LPS
   // AnatomicalOrientation names a patient's frame: three letters, one of R or L, A or P, S or I ("RAI"); ITK
   // writes "???" where it does not know.

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/header_text.h"
 #include "store/file_samples.h"
+#include "store/placed_stack.h"
 #include "store/source_raw.h"
 
 namespace ropecast {
@@ -55,10 +56,22 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.description = "metaimage:" + path;
   info.axes = header.axes;
   info.origin = header.origin;
-  info.patientFrame = header.anatomicalOrientation && !header.matrixNotApplied;
-  if (header.matrixNotApplied) info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
-  return openBlockSource(std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)),
-                         header.bigEndian);
+  // A matrix whose third row alone is off the slices' normal (a gantry's tilt kept in the file): the slices
+  // are placed where they lie.
+  std::optional<SliceGrid> grid;
+  bool placed = false;
+  if (header.shearedMatrix && !options.spacing) {
+    const auto& m = *header.shearedMatrix;
+    const glm::dvec3 s = header.spacing;
+    placed = placeSkewedSlices(info, {m[0] * s.x, m[1] * s.y, m[2] * s.z}, "the slices of " + path, grid);
+  }
+  info.patientFrame = header.anatomicalOrientation && (placed || !header.matrixNotApplied);
+  if (header.matrixNotApplied && !placed)
+    info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
+  auto source = openBlockSource(
+      std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)), header.bigEndian);
+  if (grid) return resampleSlices(std::move(source), std::move(*grid));
+  return source;
 }
 
 }  // namespace ropecast

@@ -151,6 +151,21 @@ TEST(SourceMetaImage, TheTransformMatrixGivesTheAxes) {
   ASSERT_EQ(shear->info().notes.size(), 1u);
   EXPECT_NE(shear->info().notes[0].find("TransformMatrix does not keep the axes at right angles"),
             std::string::npos);
+  EXPECT_FALSE(shear->info().patientFrame);
+
+  // A third row alone off the slices' normal (a gantry's tilt kept in the file): the slices placed where they
+  // lie, 1.6 rows further a slice (z's row 0 0.6 1 at spacing 2: 1.2 along y, rows 0.75 apart).
+  const std::string tiltPath = dir.file("tilt.mha");
+  writeFile(tiltPath, withValue(metaImageHeader("MET_UCHAR"), "TransformMatrix", "1 0 0 0 1 0 0 0.6 1") +
+                          fileBytes(values));
+  const auto tilt = openVolumeSource(tiltPath);
+  EXPECT_EQ(tilt->info().dims, glm::u32vec3(9, 6 + 7, 5));
+  EXPECT_EQ(tilt->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
+  EXPECT_EQ(tilt->info().axes, AxisDirections(1.0));
+  EXPECT_TRUE(tilt->info().patientFrame);  // AnatomicalOrientation = RAI
+  ASSERT_EQ(tilt->info().notes.size(), 1u);
+  EXPECT_NE(tilt->info().notes[0].find("lie off their normal, by up to 6.4 samples"), std::string::npos)
+      << tilt->info().notes[0];
 }
 
 // Offset (or its other names, Origin and Position) is where the first sample lies, in LPS as ITK writes it.
