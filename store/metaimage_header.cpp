@@ -1,5 +1,7 @@
 #include "store/metaimage_header.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <optional>
 #include <set>
