@@ -295,9 +295,10 @@ class HeaderParser {
         header_.axes = inLps(*axes);
       } else {
         header_.directionsNotApplied = true;
-        if (vectorsUsable_)
-          header_.shearedDirections = {lpsSigns() * vectors_[0], lpsSigns() * vectors_[1],
-                                       lpsSigns() * vectors_[2]};
+        if (vectorsUsable_) {
+          const glm::dvec3 signs = lpsSigns();
+          header_.shearedDirections = {signs * vectors_[0], signs * vectors_[1], signs * vectors_[2]};
+        }
       }
     } else if (hasSpacings_) {
       header_.spacing = spacings_;
@@ -315,18 +316,22 @@ class HeaderParser {
     for (int a = 0; a < 3; ++a) lps[a] *= lpsSigns();
     return lps;
   }
+  // The "space" field in lower case, as NRRD's names compare.
+  std::string lowerSpace() const {
+    std::string space;
+    for (const char c : space_) space += char(std::tolower(static_cast<unsigned char>(c)));
+    return space;
+  }
   // Whether the "space" field names a patient's frame: NRRD's long names (right-anterior-superior, ...) and
   // short ones (RAS, LAS, LPS), with or without "-time".
   bool isAnatomicalSpace() const {
-    std::string space;
-    for (const char c : space_) space += char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string space = lowerSpace();
     return space.starts_with("right-") || space.starts_with("left-") || space.starts_with("ras") ||
            space.starts_with("las") || space.starts_with("lps");
   }
   // What turns a vector of the "space" field's frame into LPS: -1 on the axes that point the other way.
   glm::dvec3 lpsSigns() const {
-    std::string space;
-    for (const char c : space_) space += char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string space = lowerSpace();
     const bool right = space.starts_with("right-") || space.starts_with("ra");
     const bool anterior = space.starts_with("right-anterior") || space.starts_with("left-anterior") ||
                           space.starts_with("ra") || space.starts_with("la");
