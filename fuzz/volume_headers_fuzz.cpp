@@ -58,7 +58,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
            {ropecast::imageJLayout(text, 0.5, 0.25, kPages), ropecast::omeLayout(text, kPages)}) {
         if (!layout) continue;
         if (layout->slices * layout->channels * layout->frames != kPages) std::abort();
-        if (layout->pageStride == 0 || layout->pageStride * (layout->slices - 1) >= kPages) std::abort();
+        const uint64_t last = layout->page(layout->slices - 1, layout->channels - 1, layout->frames - 1);
+        if (last >= kPages) std::abort();
         if (layout->spacing)
           for (int a = 0; a < 3; ++a)
             if (!((*layout->spacing)[a] > 0.0 && std::isfinite((*layout->spacing)[a]))) std::abort();

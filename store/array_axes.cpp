@@ -67,12 +67,18 @@ ArrayAxes volumeAxesNamed(std::span<const uint64_t> extent, const std::vector<st
     }
     axes.zyx[size_t(i)] = int(at - names.begin());
   }
-  for (size_t a = 0; a < names.size(); ++a)
-    if (names[a] != "z" && names[a] != "y" && names[a] != "x" && extent[a] != 1) {
+  for (size_t a = 0; a < names.size(); ++a) {
+    int* const picked = names[a] == "t" ? &axes.time : names[a] == "c" ? &axes.channel : nullptr;
+    if (picked && *picked < 0) {
+      *picked = int(a);
+    } else if (names[a] != "z" && names[a] != "y" && names[a] != "x" && extent[a] != 1) {
       axes.problem = "its axis " + names[a] + " has " + std::to_string(extent[a]) + " entries (" +
-                     formatExtent(extent) + "); one is read (a time series or several channels are not)";
+                     formatExtent(extent) +
+                     "); besides z, y and x only axes named t (time) and c (channel) may be longer, one "
+                     "volume of them read";
       return axes;
     }
+  }
   axes.problem = emptyProblem(extent, axes.zyx);
   return axes;
 }

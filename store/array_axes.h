@@ -1,7 +1,8 @@
 // Which three axes of an N-dimensional array (HDF5 datasets, Zarr arrays) are a volume's z, y and x: the
 // axes longer than 1, in order, padded with the length-1 axes nearest before the first of them (else the
 // first length-1 axes), so that a time point and a channel around z, y, x (tczyx, zyxc) fall away. Named axes
-// (OME-Zarr's) are chosen by name instead. Pure functions; any thread.
+// (OME-Zarr's) are chosen by name instead, and a time or channel axis among them may be longer (one of its
+// volumes is read). Pure functions; any thread.
 #pragma once
 
 #include <array>
@@ -13,8 +14,9 @@
 namespace ropecast {
 
 struct ArrayAxes {
-  std::array<int, 3> zyx{};  // indices into the array's axes
-  std::string problem;       // empty when the array is a volume; else why not ("it has 2 axes (3x4)...")
+  std::array<int, 3> zyx{};     // indices into the array's axes
+  int time = -1, channel = -1;  // the axes named t and c, by name only; -1: none
+  std::string problem;          // empty when the array is a volume; else why not ("it has 2 axes (3x4)...")
 };
 
 // "2x5x6x9"; "a scalar" for no axes.
@@ -23,7 +25,7 @@ std::string formatExtent(std::span<const uint64_t> extent);
 // By length: three axes of any length, or more when all but three have length 1.
 ArrayAxes volumeAxes(std::span<const uint64_t> extent);
 
-// By name (lower case): the axes named z, y and x; every other axis must have length 1.
+// By name (lower case): the axes named z, y and x; one named t, one named c, and every other of length 1.
 ArrayAxes volumeAxesNamed(std::span<const uint64_t> extent, const std::vector<std::string>& names);
 
 }  // namespace ropecast

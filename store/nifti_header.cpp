@@ -145,7 +145,9 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
 
   const int64_t rank = field.integer(layout.dim, layout.wide);
   if (rank < 3 || rank > 7)
-    throw fail("dim[0] is " + std::to_string(rank) + "; only 3-dimensional volumes are supported");
+    throw fail("dim[0] is " + std::to_string(rank) +
+               "; expected 3 to 7 dimensions (a volume, or volumes of time "
+               "points and components)");
   uint64_t total = 8;  // widest sample
   for (int axis = 0; axis < 3; ++axis) {
     const int64_t n = field.integer(layout.dim + size_t(axis + 1) * (layout.wide ? 8 : 2), layout.wide);
@@ -157,11 +159,17 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
       throw fail("dims are too large (more than 2^62 bytes of data)");
     total *= uint64_t(n);
   }
+  uint64_t* const volumeCounts[] = {&header.timePoints, &header.components, &header.components,
+                                    &header.components};
   for (int64_t axis = 4; axis <= rank; ++axis) {
     const int64_t n = field.integer(layout.dim + size_t(axis) * (layout.wide ? 8 : 2), layout.wide);
-    if (n != 1)
+    if (n < 1 || n > int64_t(UINT32_MAX))
       throw fail("dim[" + std::to_string(axis) + "] is " + std::to_string(n) +
-                 "; only 3-dimensional volumes are supported (a time series or vectors are not)");
+                 "; expected a positive size below 2^32");
+    if (total > (uint64_t(1) << 62) / uint64_t(n))
+      throw fail("dims are too large (more than 2^62 bytes of data)");
+    total *= uint64_t(n);
+    *volumeCounts[axis - 4] *= uint64_t(n);
   }
 
   const int64_t datatype = field.code(layout.datatype, false);

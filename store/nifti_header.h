@@ -3,9 +3,10 @@
 // fuzz/nifti_header_fuzz.cpp. Used by the NIfTI volume source (store/). Pure function; any thread.
 //
 // Supported: both versions in either byte order, single files ("n+1", "n+2": .nii, .nii.gz) and header/image
-// pairs ("ni1", "ni2": .hdr with .img); 3 dimensions (a 4th or more only of size 1); the scalar datatypes
-// int8, uint8, int16, uint16, int32, uint32, float32 and float64; pixdim 1-3 as spacing; scl_slope and
-// scl_inter; whether the qform or sform turns the axes, and where it places the first sample.
+// pairs ("ni1", "ni2": .hdr with .img); 3 to 7 dimensions (the 4th time, the 5th to 7th a sample's
+// components, as NIfTI names them: a time series or a vector field is a series of volumes); the scalar
+// datatypes int8, uint8, int16, uint16, int32, uint32, float32 and float64; pixdim 1-3 as spacing; scl_slope
+// and scl_inter; whether the qform or sform turns the axes, and where it places the first sample.
 #pragma once
 
 #include <array>
@@ -29,7 +30,10 @@ struct NiftiHeader {
   int version = 1;          // 1 or 2
   bool pairedFile = false;  // "ni1"/"ni2": the samples are in the .img beside the .hdr
   SampleType type = SampleType::UInt8;
-  glm::u32vec3 sizes{0};        // samples per axis, axis 0 fastest
+  glm::u32vec3 sizes{0};  // samples per axis, axis 0 fastest
+  // Volumes after one another: dim[4] time points, each of dim[5] * dim[6] * dim[7] components (1 where the
+  // file has fewer dimensions); the volume of time point t and component c is the (c * timePoints + t)-th.
+  uint64_t timePoints = 1, components = 1;
   glm::dvec3 spacing{1.0};      // |pixdim[1..3]| (1 where zero or not finite)
   bool spacingUnknown = false;  // some pixdim[1..3] was zero or not finite
   bool bigEndian = false;       // the header's and the samples' byte order
@@ -54,7 +58,8 @@ struct NiftiHeader {
 
 // Parses a header from `bytes` (at least its first 348 bytes; 540 for NIfTI-2). `fileName` is only used in
 // messages. Throws ropecast::Error naming the file and the field for: no NIfTI header (neither size in either
-// byte order, or a magic other than the four), dimensions other than 3 (beyond the 3rd, sizes must be 1),
+// byte order, or a magic other than the four), fewer dimensions than 3 or more than 7, all the volumes'
+// samples more than 2^62 bytes,
 // sizes that are not positive or overflow, unsupported datatypes (complex, RGB, 64-bit integers, ...), a
 // bitpix that does not match the datatype, and a vox_offset before the header's end (single files).
 NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName);

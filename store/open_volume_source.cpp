@@ -17,6 +17,7 @@
 #include "core/input_file.h"
 #include "store/bdv_xml.h"
 #include "store/hdf5_spec.h"
+#include "store/picked_volume.h"
 #include "store/source_dicom.h"
 #include "store/source_hdf5.h"
 #include "store/source_images.h"
@@ -51,6 +52,11 @@ void rejectRawOptions(const std::string& spec, const SourceOptions& options, con
                    " to raw files only; " + kind + " states its own dimensions, type and layout");
 }
 
+// Sources of one volume: `--time` and `--channel` can only pick its first (0), and are refused past it.
+void requireSingleVolume(const std::string& spec, const SourceOptions& options) {
+  pickVolume(options, VolumeCounts{}, spec);
+}
+
 // Whether a folder holds image slices: a DICOM folder with them too is ambiguous.
 bool holdsSliceImages(const std::string& directory) {
   std::error_code ec;
@@ -69,10 +75,12 @@ bool isSlicePattern(const std::string& spec) {
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
   if (isProceduralSpec(spec)) {
     rejectRawOptions(spec, options, "a procedural volume");
+    requireSingleVolume(spec, options);
     return openProceduralSource(proceduralNameAndSize(spec), options);
   }
   if (isSlicePattern(spec)) {
     rejectRawOptions(spec, options, "a stack of image slices");
+    requireSingleVolume(spec, options);
     return openImageStackSource(spec, options);
   }
   if (hdf5SpecOf(spec)) {
@@ -95,28 +103,34 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
             "or a pattern (e.g. " +
             (fs::path(spec) / "*.png").string() + ") to read the slices");
       rejectRawOptions(spec, options, "a DICOM series");
+      requireSingleVolume(spec, options);
       return openDicomSource(spec, options);
     }
     if (!holdsSliceImages(spec) && !listDicomFilesBelow(spec).empty()) {
       rejectRawOptions(spec, options, "a DICOM series");
+      requireSingleVolume(spec, options);
       return openDicomSource(spec, options);  // a disc's or an export's folders, without a DICOMDIR
     }
     rejectRawOptions(spec, options, "a stack of image slices");
+    requireSingleVolume(spec, options);
     return openImageStackSource(spec, options);
   }
   // A FIFO or a device would block or never end the reads below (their magic numbers first).
   requireRegularFile(spec, "openVolumeSource: " + spec);
   if (startsWithDicomMagic(spec)) {
     rejectRawOptions(spec, options, "a DICOM series");
+    requireSingleVolume(spec, options);
     return openDicomSource(spec, options);
   }
   const std::string ext = lowerExtension(spec);
   if (ext == ".nrrd" || ext == ".nhdr") {
     rejectRawOptions(spec, options, "a NRRD header");
+    requireSingleVolume(spec, options);
     return openNrrdSource(spec, options);
   }
   if (ext == ".mha" || ext == ".mhd") {
     rejectRawOptions(spec, options, "a MetaImage header");
+    requireSingleVolume(spec, options);
     return openMetaImageSource(spec, options);
   }
   if (hasNiftiName(spec) || !niftiPairHeader(spec).empty()) {
@@ -125,6 +139,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   }
   if (ext == ".vti") {
     rejectRawOptions(spec, options, "a VTK image data file");
+    requireSingleVolume(spec, options);
     return openVtiSource(spec, options);
   }
   if (ext == ".xml") {
@@ -137,6 +152,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   }
   if (ext == ".vtk") {
     rejectRawOptions(spec, options, "a legacy VTK file");
+    requireSingleVolume(spec, options);
     return openVtkSource(spec, options);
   }
   if (ext == ".tif" || ext == ".tiff") {
@@ -162,6 +178,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
         " is a ropecast store already (convert reads volumes: raw, NRRD, MetaImage, NIfTI, VTK (.vtk, "
         ".vti), image stacks, TIFF, DICOM, HDF5, Zarr); render, view "
         "and info read it as it is, and `ropecast extract` writes a level of it as a raw volume");
+  requireSingleVolume(spec, options);
   return openRawSource(spec, options);
 }
 

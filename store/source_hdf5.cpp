@@ -21,15 +21,23 @@
 #include "store/chunk_codecs.h"
 #include "store/chunk_layer.h"
 #include "store/hdf5_spec.h"
+#include "store/picked_volume.h"
 #include "store/source_raw.h"
 
 namespace ropecast {
 namespace {
 
-// Where Imaris keeps the full resolution's first time point and channel, and the image's true size and
+// Where Imaris keeps its full resolution's time points, their channels, and the image's true size and
 // extents (its datasets are padded to whole chunks).
-constexpr const char* kImarisDataset = "/DataSet/ResolutionLevel 0/TimePoint 0/Channel 0/Data";
+constexpr const char* kImarisTimePoint = "/DataSet/ResolutionLevel 0/TimePoint ";
 constexpr const char* kImarisImageInfo = "/DataSetInfo/Image";
+
+std::string imarisChannel(uint64_t timePoint) {
+  return kImarisTimePoint + std::to_string(timePoint) + "/Channel ";
+}
+std::string imarisDataset(uint64_t timePoint, uint64_t channel) {
+  return imarisChannel(timePoint) + std::to_string(channel) + "/Data";
+}
 
 // The chunk cache of a dataset read slab by slab holds one layer of its chunks (a slab thinner than a chunk
 // would otherwise decompress each chunk again for every slab it crosses), up to this much.
@@ -173,6 +181,14 @@ Handle openObject(hid_t file, const std::string& path) {
   const hid_t id = H5Oopen(file, path.c_str(), H5P_DEFAULT);
   if (id < 0) H5Eclear2(H5E_DEFAULT);
   return Handle(id, H5Oclose);
+}
+
+// How many of the objects "PREFIX0", "PREFIX1", ... exist, counting up from 0 (Imaris numbers its time
+// points and channels so).
+uint64_t countNumbered(hid_t file, const std::string& prefix) {
+  uint64_t count = 0;
+  while (openObject(file, prefix + std::to_string(count))) ++count;
+  return count;
 }
 
 struct DatasetList {
@@ -509,32 +525,25 @@ namespace {
 struct BdvView {
   std::string xml;
   std::optional<glm::dvec3> voxelSize;
+  PickedVolume picked;  // of its time points and view setups
 };
 
 std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string datasetPath,
                                           const SourceOptions& options, const std::optional<BdvView>& bdv);
 
-// A BigDataViewer XML's one view (one setup, one time point); several are refused with a list of their
-// datasets, each to give with its voxel size as --spacing.
+// A BigDataViewer XML's view: one of its time points (--time, in the XML's order) and view setups
+// (--channel), by default the first of each.
 std::unique_ptr<VolumeSource> openBdvXml(const std::string& xml, const SourceOptions& options) {
   const BdvDataset dataset = parseBdvXml(readTextInput(xml, "BigDataViewer XML " + xml), xml);
-  if (dataset.setups.size() > 1 || dataset.timepoints.size() > 1) {
-    std::string list;
-    for (const int t : dataset.timepoints)
-      for (const BdvSetup& s : dataset.setups) {
-        if (list.size() > 4000) break;
-        list += "\n  " + dataset.hdf5File + ":" + bdvCellsPath(t, s.id);
-        if (s.voxelSize)
-          list += " --spacing " + formatSpacing(*s.voxelSize) + (s.unit.empty() ? "" : " (" + s.unit + ")");
-        if (!s.name.empty()) list += "  " + s.name;
-      }
-    throw Error("BigDataViewer XML " + xml + ": holds " + std::to_string(dataset.setups.size()) +
-                " view setups and " + std::to_string(dataset.timepoints.size()) +
-                " time points; one view is read: give its HDF5 dataset, with its voxel size:" + list);
-  }
-  const BdvSetup& setup = dataset.setups.front();
-  return openDataset(dataset.hdf5File, bdvCellsPath(dataset.timepoints.front(), setup.id), options,
-                     BdvView{xml, setup.voxelSize});
+  const PickedVolume picked =
+      pickVolume(options, {dataset.timepoints.size(), dataset.setups.size(), "view setup"},
+                 "BigDataViewer dataset " + xml);
+  const BdvSetup& setup = dataset.setups[picked.channel];
+  SourceOptions picking = options;  // the dataset itself is one volume
+  picking.timePoint.reset();
+  picking.channel.reset();
+  return openDataset(dataset.hdf5File, bdvCellsPath(dataset.timepoints[picked.timePoint], setup.id), picking,
+                     BdvView{xml, setup.voxelSize, picked});
 }
 
 }  // namespace
@@ -561,9 +570,15 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
   if (!file) throw Error(inFile + ": cannot be opened: " + hdf5Problem());
 
   if (!datasetPath.empty() && datasetPath.front() != '/') datasetPath = "/" + datasetPath;
+  PickedVolume picked;
+  bool imaris = false;
   if (datasetPath.empty()) {
-    if (openObject(file.get(), kImarisDataset)) {
-      datasetPath = kImarisDataset;
+    if (openObject(file.get(), imarisDataset(0, 0))) {
+      imaris = true;
+      picked = pickVolume(
+          options, {countNumbered(file.get(), kImarisTimePoint), countNumbered(file.get(), imarisChannel(0))},
+          "Imaris file " + path);
+      datasetPath = imarisDataset(picked.timePoint, picked.channel);
     } else {
       const DatasetList list = listDatasets(file.get());
       if (list.volumes.size() > 1)
@@ -577,6 +592,10 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
       datasetPath = list.volumes.front();
     }
   }
+  if (bdv)
+    picked = bdv->picked;
+  else if (!imaris)
+    picked = pickVolume(options, {}, inFile + ", dataset " + datasetPath);
   const std::string where = inFile + ", dataset " + datasetPath;
   Handle object = openObject(file.get(), datasetPath);
   if (!object) throw Error(inFile + ": has no object " + datasetPath);
@@ -606,7 +625,7 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
   if (!dataset) throw Error(where + ": cannot be opened: " + hdf5Problem());
 
   glm::u64vec3 dims = extent;
-  if (datasetPath == kImarisDataset) {
+  if (imaris) {
     // Imaris pads its datasets to whole chunks: the image is the box its info group states, whose extents
     // give the spacing.
     if (const Handle image = openObject(file.get(), kImarisImageInfo)) {
@@ -642,7 +661,9 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
     spacing = glm::dvec3(1.0);
   }
   info.spacing = options.spacing.value_or(spacing);
-  info.description = (bdv ? "bdv:" + bdv->xml + " (" : "hdf5:") + path + ":" + datasetPath + (bdv ? ")" : "");
+  info.description = (bdv ? "bdv:" + bdv->xml + " (" : "hdf5:") + path + ":" + datasetPath +
+                     (bdv ? ")" : "") + picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
   return std::make_unique<Hdf5Source>(std::move(info), std::move(file), std::move(dataset), std::move(shape),
                                       where, std::move(chunked));
 }

@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "store/picked_volume.h"
 #include "store/slice_files.h"
 #include "store/tiff_directories.h"
 #include "store/tiff_stack_layout.h"
@@ -384,24 +385,25 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
       layout = imageJLayout(description, spec.get_float_attribute("XResolution", 0.0f),
                             spec.get_float_attribute("YResolution", 0.0f), uint64_t(pages));
   }
+  const std::string kind = !layout                      ? "TIFF "
+                           : layout->writer == "ImageJ" ? "ImageJ hyperstack "
+                                                        : "OME-TIFF image ";
+  const PickedVolume picked = pickVolume(
+      options, layout ? VolumeCounts{layout->frames, layout->channels} : VolumeCounts{}, kind + path);
   std::vector<SliceRef> slices;
-  const uint64_t stride = layout ? layout->pageStride : 1, count = layout ? layout->slices : uint64_t(pages);
-  for (uint64_t z = 0; z < count; ++z) slices.push_back({path, int(z * stride)});
+  const uint64_t count = layout ? layout->slices : uint64_t(pages);
+  for (uint64_t z = 0; z < count; ++z)
+    slices.push_back({path, layout ? int(layout->page(z, picked.channel, picked.timePoint)) : int(z)});
   SourceOptions placed = options;
   if (layout && layout->spacing && !options.spacing && isValidSpacing(*layout->spacing))
     placed.spacing = layout->spacing;
   // The calibration is said where the source is: info shows it, the store keeps it.
-  std::string description = "tiff:" + path;
+  std::string description = "tiff:" + path + picked.described;
   if (placed.spacing && !options.spacing)
     description += " (" + layout->writer + " calibration: " + formatSpacing(*placed.spacing) +
                    (layout->unit.empty() ? "" : " " + layout->unit) + ")";
   auto source = std::make_unique<ImageSliceSource>(std::move(slices), true, description, placed);
-  if (layout && (layout->channels > 1 || layout->frames > 1))
-    source->addNote(path + " is " +
-                    (layout->writer == "ImageJ" ? "an ImageJ hyperstack" : "an OME-TIFF image") + " of " +
-                    std::to_string(layout->channels) + " channels and " + std::to_string(layout->frames) +
-                    " time points: the first channel's first time point is read (" +
-                    std::to_string(layout->slices) + " of its " + std::to_string(pages) + " pages)");
+  if (!picked.note.empty()) source->addNote(picked.note);
   return source;
 }
 

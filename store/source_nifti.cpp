@@ -13,6 +13,7 @@
 #include "core/header_text.h"
 #include "core/input_file.h"
 #include "store/file_samples.h"
+#include "store/picked_volume.h"
 #include "store/placed_stack.h"
 #include "store/source_raw.h"
 
@@ -152,6 +153,12 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
         "NIfTI header " + headerPath +
         " is the header of a header/image pair ('ni1' or 'ni2'), but no .img or .img.gz of its name lies "
         "beside it");
+  const std::string file = std::string(header.pairedFile ? "NIfTI image file " : "NIfTI file ") + dataPath;
+  const PickedVolume picked = pickVolume(options, {header.timePoints, header.components}, file);
+  // The picked volume's samples follow those of the volumes before it.
+  const uint64_t volumeStart =
+      header.voxOffset +
+      (uint64_t(picked.channel) * header.timePoints + picked.timePoint) * header.dataBytes();
   auto data = std::make_unique<PosixFile>(dataPath);
   SampleBlock block;
   block.fileKind = header.pairedFile ? "NIfTI image file" : "NIfTI file";
@@ -159,9 +166,9 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   block.bytes = header.dataBytes();
   if (startsWithGzipMagic(*data)) {
     block.encoding = SampleEncoding::Deflated;
-    block.skip = header.voxOffset;
+    block.skip = volumeStart;
   } else {
-    block.start = header.voxOffset;
+    block.start = volumeStart;
   }
   auto samples = std::make_unique<FileSamples>(std::move(data), std::move(block));
 
@@ -169,7 +176,8 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.dims = header.sizes;
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
-  info.description = "nifti:" + path;
+  info.description = "nifti:" + path + picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
   info.axes = header.axes;
   info.origin = header.origin;
   // An sform whose third axis alone is off the slices' normal (a gantry's tilt kept in the file): the slices

@@ -16,6 +16,7 @@
 #include "store/array_axes.h"
 #include "store/chunk_codecs.h"
 #include "store/chunk_layer.h"
+#include "store/picked_volume.h"
 #include "store/source_raw.h"
 #include "store/zarr_metadata.h"
 
@@ -141,12 +142,14 @@ void fillChunk(std::span<std::byte> chunk, SampleType type, double value) {
 
 class ZarrSource final : public VolumeSource {
  public:
+  // `picked`: the index read along each axis that is not z, y or x (a time point, a channel).
   ZarrSource(VolumeInfo info, fs::path folder, ZarrArray array, std::array<int, 3> zyx,
-             uint64_t maxBufferedBytes)
+             std::vector<uint64_t> picked, uint64_t maxBufferedBytes)
       : info_(std::move(info)),
         folder_(std::move(folder)),
         array_(std::move(array)),
         zyx_(zyx),
+        picked_(std::move(picked)),
         layer_(info_.dims, info_.type, array_.chunks[size_t(zyx_[0])], maxBufferedBytes) {
     const size_t rank = array_.shape.size();
     strides_.assign(rank, 1);
@@ -184,6 +187,16 @@ class ZarrSource final : public VolumeSource {
     return {perAxis[size_t(zyx_[2])], perAxis[size_t(zyx_[1])], perAxis[size_t(zyx_[0])]};
   }
 
+  // Whether the inner chunk at `at` (inner chunks of `inner` samples per axis, counted within the shard)
+  // holds the picked time point and channel.
+  bool holdsPicked(const std::vector<uint64_t>& at, const std::vector<uint64_t>& inner) const {
+    for (size_t a = 0; a < at.size(); ++a)
+      if (int(a) != zyx_[0] && int(a) != zyx_[1] && int(a) != zyx_[2] &&
+          at[a] != picked_[a] % array_.chunks[a] / inner[a])
+        return false;
+    return true;
+  }
+
   // Decodes a shard (v3's sharding_indexed; empty when it is not stored) whose first sample lies at `origin`,
   // inner chunk by inner chunk (those its index lists, the others the fill value), each placed in the buffer
   // if it reaches the buffered slices. Returns the problem, if any.
@@ -215,7 +228,7 @@ class ZarrSource final : public VolumeSource {
     for (uint64_t i = 0; i < count; ++i) {
       for (uint64_t a = rank, rest = i; a-- > 0;) at[a] = rest % grid[a], rest /= grid[a];
       const glm::u64vec3 innerOrigin = origin + zyxOf(at) * inner;
-      if (!layer_.reaches(innerOrigin.z, inner.z)) continue;
+      if (!layer_.reaches(innerOrigin.z, inner.z) || !holdsPicked(at, sharding.chunks)) continue;
       const uint64_t offset = index ? littleEndian(index + 16 * i) : ~uint64_t(0);
       const uint64_t bytes = index ? littleEndian(index + 16 * i + 8) : ~uint64_t(0);
       if (offset == ~uint64_t(0) && bytes == ~uint64_t(0)) {
@@ -229,7 +242,10 @@ class ZarrSource final : public VolumeSource {
           return "inner chunk " + std::to_string(i) + " " + problem;
         samplesToNative(b.inner, info_.type, sharding.bigEndian);
       }
-      layer_.place(b.inner.data(), zyxOf(strides), innerOrigin, inner);
+      uint64_t first = 0;
+      for (size_t a = 0; a < rank; ++a)
+        first += picked_[a] % array_.chunks[a] % sharding.chunks[a] * strides[a];
+      layer_.place(b.inner.data() + first * bytesPerSample(info_.type), zyxOf(strides), innerOrigin, inner);
     }
     return "";
   }
@@ -238,6 +254,7 @@ class ZarrSource final : public VolumeSource {
   // problem, if any, naming the file.
   std::string copyChunk(uint64_t layer, uint64_t cy, uint64_t cx, ChunkBuffers& b) {
     std::vector<uint64_t> index(array_.shape.size(), 0);
+    for (size_t a = 0; a < index.size(); ++a) index[a] = picked_[a] / array_.chunks[a];
     index[size_t(zyx_[0])] = layer, index[size_t(zyx_[1])] = cy, index[size_t(zyx_[2])] = cx;
     const fs::path file = chunkFile(index);
     const glm::u64vec3 chunk = zyxOf(array_.chunks), origin = glm::u64vec3(cx, cy, layer) * chunk;
@@ -266,7 +283,10 @@ class ZarrSource final : public VolumeSource {
         return "Zarr chunk " + file.string() + ": " + problem;
       samplesToNative(b.decoded, info_.type, array_.bigEndian);
     }
-    layer_.place(b.decoded.data(), zyxOf(strides_), origin, chunk);
+    // The picked time point's and channel's samples within the chunk.
+    uint64_t first = 0;
+    for (size_t a = 0; a < index.size(); ++a) first += picked_[a] % array_.chunks[a] * strides_[a];
+    layer_.place(b.decoded.data() + first * bytesPerSample(info_.type), zyxOf(strides_), origin, chunk);
     return "";
   }
 
@@ -286,6 +306,7 @@ class ZarrSource final : public VolumeSource {
   fs::path folder_;
   ZarrArray array_;
   std::array<int, 3> zyx_;
+  std::vector<uint64_t> picked_;
   ChunkLayer layer_;
   std::vector<uint64_t> strides_;  // samples between neighbors along each axis within a chunk
 };
@@ -360,9 +381,17 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
     const glm::dvec3 origin(shift(2), shift(1), shift(0));
     if (std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)) info.origin = origin;
   }
-  info.description = "zarr:" + arrayFolder.lexically_normal().string();
+  const PickedVolume picked = pickVolume(options,
+                                         {axes.time < 0 ? 1 : array.shape[size_t(axes.time)],
+                                          axes.channel < 0 ? 1 : array.shape[size_t(axes.channel)]},
+                                         (ome ? "OME-Zarr image " : "Zarr array ") + path);
+  std::vector<uint64_t> pickedIndex(array.shape.size(), 0);
+  if (axes.time >= 0) pickedIndex[size_t(axes.time)] = picked.timePoint;
+  if (axes.channel >= 0) pickedIndex[size_t(axes.channel)] = picked.channel;
+  info.description = "zarr:" + arrayFolder.lexically_normal().string() + picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
   return std::make_unique<ZarrSource>(std::move(info), arrayFolder, std::move(array), axes.zyx,
-                                      maxBufferedBytes);
+                                      std::move(pickedIndex), maxBufferedBytes);
 }
 
 }  // namespace ropecast

@@ -77,7 +77,9 @@ std::optional<TiffStackLayout> imageJLayout(std::string_view description, double
   layout.slices = count(field("slices")).value_or(pages / perSlice);
   if (layout.slices == 0 || layout.slices > pages / perSlice || layout.slices * perSlice != pages)
     return std::nullopt;
-  layout.pageStride = layout.channels;  // ImageJ's order: channels, then slices, then frames
+  // ImageJ's order: channels, then slices, then frames.
+  layout.sliceStride = layout.channels;
+  layout.frameStride = layout.channels * layout.slices;
   layout.unit = std::string(field("unit"));
   if (layout.unit == "\\u00B5m") layout.unit = "µm";  // ImageJ escapes the micro sign
   if (xResolution > 0.0 && yResolution > 0.0 && std::isfinite(xResolution) && std::isfinite(yResolution)) {
@@ -109,15 +111,19 @@ std::optional<TiffStackLayout> omeLayout(std::string_view description, uint64_t 
       layout.frames > pages / (layout.slices * layout.channels) ||
       layout.slices * layout.channels * layout.frames != pages)
     return std::nullopt;  // checked in steps, so that no product overflows
-  // Pages follow the dimension order after XY, its first letter fastest: z's stride is the product of the
-  // sizes before it.
+  // Pages follow the dimension order after XY, its first letter fastest: each one's stride is the product of
+  // the sizes before it.
   uint64_t stride = 1;
+  bool seen[3] = {};
   for (const char dimension : order.substr(2)) {
-    if (dimension == 'Z') break;
-    if (dimension != 'C' && dimension != 'T') return std::nullopt;
-    stride *= dimension == 'C' ? layout.channels : layout.frames;
+    const size_t which = dimension == 'Z' ? 0 : dimension == 'C' ? 1 : dimension == 'T' ? 2 : 3;
+    if (which == 3 || seen[which]) return std::nullopt;
+    seen[which] = true;
+    const uint64_t sizes[] = {layout.slices, layout.channels, layout.frames};
+    uint64_t* const strides[] = {&layout.sliceStride, &layout.channelStride, &layout.frameStride};
+    *strides[which] = stride;
+    stride *= sizes[which];
   }
-  layout.pageStride = stride;
   const auto x = positiveNumber(attribute("PhysicalSizeX")), y = positiveNumber(attribute("PhysicalSizeY"));
   if (x && y) {
     layout.spacing = glm::dvec3(*x, *y, positiveNumber(attribute("PhysicalSizeZ")).value_or(*x));

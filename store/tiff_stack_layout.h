@@ -2,7 +2,7 @@
 // microscopy users meet describe it in the first page's ImageDescription: ImageJ (Fiji's "Save As > Tiff":
 // its hyperstacks interleave channels, slices and frames, channels fastest; `spacing=` and `unit=` calibrate
 // z, the XResolution and YResolution tags x and y) and OME-TIFF (the OME-XML Pixels element: DimensionOrder,
-// sizes and physical sizes). The volume read is the first channel's first time point. Pure functions; any
+// sizes and physical sizes). The volume read is one channel's slices at one time point. Pure functions; any
 // thread.
 #pragma once
 
@@ -20,8 +20,13 @@ struct TiffStackLayout {
   std::optional<glm::dvec3> spacing;  // x, y, z where the description gives them
   std::string unit;                   // of the spacing ("micron", "µm", ...), where named
   uint64_t channels = 1, slices = 1, frames = 1;
-  // The page of z slice k of the first channel's first time point: k * pageStride.
-  uint64_t pageStride = 1;
+  // Pages between one slice, channel and frame and the next.
+  uint64_t sliceStride = 1, channelStride = 1, frameStride = 1;
+
+  // The page of z slice k of `channel` at time point `frame` (each below its count).
+  uint64_t page(uint64_t k, uint64_t channel, uint64_t frame) const {
+    return k * sliceStride + channel * channelStride + frame * frameStride;
+  }
 };
 
 // The layout an ImageJ description gives ("ImageJ=1.54f\nimages=200\nchannels=2\nslices=100\n..."), with

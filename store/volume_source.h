@@ -145,13 +145,17 @@ class VolumeSource {
 enum class ByteOrder : uint8_t { Little, Big };
 
 // Options that apply to sources whose file does not say them (raw files), or override what it says. All but
-// the spacing are raw files' only: given for another input, opening it is a UsageError naming them.
+// the spacing, the time point and the channel are raw files' only: given for another input, opening it is a
+// UsageError naming them.
 struct SourceOptions {
   std::optional<glm::u32vec3> dims;     // --dims X,Y,Z
   std::optional<SampleType> type;       // --type T
   std::optional<glm::dvec3> spacing;    // --spacing SX,SY,SZ
   std::optional<ByteOrder> byteOrder;   // --byte-order little|big (default little)
   std::optional<uint64_t> headerBytes;  // --header-bytes N: bytes before the samples (default 0)
+  // --time T, --channel C: which of a file's volumes to read (store/picked_volume.h); default the first.
+  std::optional<uint32_t> timePoint;
+  std::optional<uint32_t> channel;
 };
 
 // Opens a source from a command-line spec:

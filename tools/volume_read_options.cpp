@@ -24,6 +24,8 @@ std::string VolumeReadArgs::firstGiven() const {
   if (byteOrder) return "--byte-order";
   if (headerBytes) return "--header-bytes";
   if (!spacing.empty()) return "--spacing";
+  if (timePoint) return "--time";
+  if (channel) return "--channel";
   return "";
 }
 
@@ -41,6 +43,18 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
       ->transform(integerRange(0, double(kMaxRawHeaderBytes)));
   addTripleOption(app, "--spacing", a.spacing,
                   "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
+  app.add_option(
+         "--time", a.timePoint,
+         "which time point of a time series to read, from 0 (NIfTI, TIFF hyperstacks, OME-Zarr, HDF5: "
+         "Imaris, BigDataViewer; default 0)")
+      ->type_name("T")
+      ->transform(integerRange(0, double(UINT32_MAX)));
+  app.add_option(
+         "--channel", a.channel,
+         "which channel of an image of several to read, from 0 (TIFF hyperstacks, OME-TIFF, OME-Zarr, "
+         "HDF5: Imaris, BigDataViewer; NIfTI's 5th dimension; default 0)")
+      ->type_name("C")
+      ->transform(integerRange(0, double(UINT32_MAX)));
 }
 
 SourceOptions sourceOptionsOf(const VolumeReadArgs& a, const std::string& who) {
@@ -54,6 +68,8 @@ SourceOptions sourceOptionsOf(const VolumeReadArgs& a, const std::string& who) {
   options.type = a.type;
   options.byteOrder = a.byteOrder;
   options.headerBytes = a.headerBytes;
+  options.timePoint = a.timePoint;
+  options.channel = a.channel;
   return options;
 }
 

@@ -1,6 +1,7 @@
 // The options that say how to read a volume: --dims, --type, --byte-order and --header-bytes of a raw file,
-// --spacing of any volume. `convert` and `info` take them, and so do render, view and bench modes for a
-// volume given where a store is read (tools/temporary_store.h). Main thread.
+// --spacing of any volume, --time and --channel of a file of several volumes. `convert` and `info` take them,
+// and so do render, view and bench modes for a volume given where a store is read (tools/temporary_store.h).
+// Main thread.
 #pragma once
 
 #include <cstdint>
@@ -20,13 +21,14 @@ struct VolumeReadArgs {
   std::optional<SampleType> type;
   std::optional<ByteOrder> byteOrder;
   std::optional<uint64_t> headerBytes;
-  std::vector<double> spacing;  // --spacing SX,SY,SZ; empty: not given
+  std::vector<double> spacing;                 // --spacing SX,SY,SZ; empty: not given
+  std::optional<uint32_t> timePoint, channel;  // --time T, --channel C
 
   // The first option given ("--dims", ...), or "" when none was.
   std::string firstGiven() const;
 };
 
-// Adds the five options, with their help.
+// Adds the seven options, with their help.
 void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a);
 
 // The SourceOptions of the arguments. Throws UsageError naming `who` ("convert") for a spacing out of range.

@@ -65,6 +65,42 @@ done
 grep -qF -- "--spacing applies to a volume read from its file; the store" "$dir/err.txt" || { fail "no --spacing refusal:"; cat "$dir/err.txt"; }
 [ ! -e "$dir/x.png" ] || fail "a refused render left $dir/x.png"
 
+# A file of several volumes (a NIfTI time series of two): the first read, with a warning naming --time; --time
+# picks the other; an index past the series, and --time for a store or a single volume, refused.
+python3 - "$dir/series.nii" <<'PY' || exit 1
+import struct, sys
+header = bytearray(348)
+struct.pack_into("<i", header, 0, 348)
+struct.pack_into("<8h", header, 40, 4, 24, 20, 16, 2, 1, 1, 1)
+struct.pack_into("<hh", header, 70, 512, 16)
+struct.pack_into("<8f", header, 76, 1, 1, 1, 1, 1, 1, 1, 1)
+struct.pack_into("<f", header, 108, 352)
+header[344:348] = b"n+1\0"
+volumes = []
+for slope in (300, 600):
+    volumes += [max(0, int(4000 - slope * ((x - 12) ** 2 + (y - 10) ** 2 + (z - 8) ** 2) ** 0.5))
+                for z in range(16) for y in range(20) for x in range(24)]
+open(sys.argv[1], "wb").write(bytes(header) + bytes(4) + struct.pack("<%dH" % len(volumes), *volumes))
+PY
+"$ropecast" info "$dir/series.nii" > "$dir/info.txt" 2>&1 || fail "info of a time series"
+grep -qF "holds 2 time points: time point 0 of 2 is read; --time T (0 to 1) picks another" "$dir/info.txt" ||
+  { fail "info of a time series gave no warning:"; cat "$dir/info.txt"; }
+"$ropecast" "${render[@]}" "$dir/series.nii" -o "$dir/t.png" || fail "render of a time series"
+cmp -s "$dir/t.png" "$dir/store.png" || fail "a time series' first volume differs from the ball's image"
+"$ropecast" "${render[@]}" "$dir/series.nii" --time 1 -o "$dir/t1.png" || fail "render --time 1"
+cmp -s "$dir/t1.png" "$dir/store.png" && fail "--time 1 drew the first volume"
+"$ropecast" convert "$dir/series.nii" --time 1 -o "$dir/t1.rcast" -q || fail "convert --time 1"
+"$ropecast" info "$dir/t1.rcast" | grep -qF "(time point 1 of 2)" || fail "the store does not say its time point"
+"$ropecast" "${render[@]}" "$dir/series.nii" --time 2 -o "$dir/x.png" 2> "$dir/err.txt" && fail "--time 2 of 2"
+grep -qF -- "--time 2: NIfTI file $dir/series.nii holds 2 time points (--time 0 to 1)" "$dir/err.txt" ||
+  { fail "no refusal of --time 2:"; cat "$dir/err.txt"; }
+"$ropecast" "${render[@]}" "$dir/ball.rcast" --time 1 -o "$dir/x.png" 2> "$dir/err.txt" && fail "--time with a store"
+grep -qF -- "--time applies to a volume read from its file" "$dir/err.txt" || { fail "no --time refusal for a store:"; cat "$dir/err.txt"; }
+"$ropecast" "${render[@]}" "$dir/ball_24x20x16_uint16.raw" --channel 1 -o "$dir/x.png" 2> "$dir/err.txt" &&
+  fail "--channel 1 of a raw volume"
+grep -qF -- "holds 1 channel (--channel 0 alone)" "$dir/err.txt" || { fail "no --channel refusal for a raw file:"; cat "$dir/err.txt"; }
+[ ! -e "$dir/x.png" ] || fail "a refused render left $dir/x.png"
+
 # The volume is an input.
 sum=$(md5sum < "$dir/ball_24x20x16_uint16.raw")
 ln "$dir/ball_24x20x16_uint16.raw" "$dir/hard.png"

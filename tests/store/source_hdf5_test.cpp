@@ -300,11 +300,67 @@ TEST(SourceHdf5, ImarisFilesReadTheFullResolutionCutToTheImage) {
   // A coarser level named by path is read as it is stored.
   EXPECT_EQ(openVolumeSource(path + ":/DataSet/ResolutionLevel 1/TimePoint 0/Channel 0/Data")->info().dims,
             glm::u32vec3(8, 4, 2));
+  SourceOptions second;
+  second.timePoint = 1;
+  EXPECT_EQ(errorOf(path, second), "--time 1: Imaris file " + path + " holds 1 time point (--time 0 alone)");
+}
+
+// An Imaris file of 3 time points of 2 channels: the first read by default, with a warning; --time and
+// --channel pick another (the volume of time point t, channel c holds 10 (2 t + c) + its index).
+TEST(SourceHdf5, ImarisTimePointsAndChannelsArePickedByTimeAndChannel) {
+  TempDir dir;
+  const std::string path = dir.file("series.ims");
+  const auto volumeOf = [](int t, int c) {
+    std::vector<uint8_t> v(4 * 3 * 2);
+    for (size_t i = 0; i < v.size(); ++i) v[i] = uint8_t(10 * (2 * t + c) + int(i));
+    return v;
+  };
+  {
+    Hdf5Writer writer(path);
+    for (int t = 0; t < 3; ++t)
+      for (int c = 0; c < 2; ++c) {
+        const std::vector<uint8_t> v = volumeOf(t, c);
+        writer.write({"/DataSet/ResolutionLevel 0/TimePoint " + std::to_string(t) + "/Channel " +
+                          std::to_string(c) + "/Data",
+                      {2, 3, 4},
+                      H5T_STD_U8LE,
+                      H5T_NATIVE_UINT8,
+                      v.data(),
+                      {},
+                      false});
+      }
+  }
+  auto source = openVolumeSource(path);
+  EXPECT_EQ(readSlab<uint8_t>(*source, 0, 2), volumeOf(0, 0));
+  ASSERT_EQ(source->info().notes.size(), 1u);
+  EXPECT_EQ(source->info().notes[0],
+            "Imaris file " + path +
+                " holds 3 time points and 2 channels: time point 0 of 3, channel 0 "
+                "of 2 is read; --time T (0 to 2) or --channel C (0 to 1) picks another");
+  SourceOptions options;
+  options.timePoint = 2;
+  options.channel = 1;
+  source = openVolumeSource(path, options);
+  EXPECT_EQ(readSlab<uint8_t>(*source, 0, 2), volumeOf(2, 1));
+  EXPECT_EQ(source->info().description, "hdf5:" + path +
+                                            ":/DataSet/ResolutionLevel 0/TimePoint 2/Channel 1/Data (time "
+                                            "point 2 of 3, channel 1 of 2)");
+  EXPECT_TRUE(source->info().notes.empty());
+  options.channel.reset();
+  options.timePoint = 1;
+  EXPECT_EQ(readSlab<uint8_t>(*openVolumeSource(path, options), 0, 2), volumeOf(1, 0));
+  options.timePoint = 3;
+  EXPECT_EQ(errorOf(path, options), "--time 3: Imaris file " + path + " holds 3 time points (--time 0 to 2)");
+  // A dataset named by path is one volume.
+  options.timePoint = 1;
+  EXPECT_NE(errorOf(path + ":/DataSet/ResolutionLevel 0/TimePoint 0/Channel 0/Data", options)
+                .find("holds 1 time point (--time 0 alone)"),
+            std::string::npos);
 }
 
 // A BigDataViewer dataset given by its XML: the full resolution of its one view, at the voxel size the XML
-// gives, its signed 16-bit cells read as the unsigned samples they hold; several views are refused with a
-// list of their datasets and voxel sizes; XML of another loader is refused.
+// gives, its signed 16-bit cells read as the unsigned samples they hold; of several view setups, the one
+// --channel picks; XML of another loader is refused.
 TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
   TempDir dir;
   fs::create_directories(dir.path() / "data");
@@ -312,10 +368,14 @@ TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
   std::vector<int16_t> cells(5 * 6 * 9);
   for (size_t i = 0; i < cells.size(); ++i) cells[i] = int16_t(uint16_t(i * 1201 + 7));  // past 32767 too
   const std::vector<int16_t> coarse(3 * 3 * 5, 1);
+  std::vector<int16_t> other(cells.size());  // setup 3's
+  for (size_t i = 0; i < other.size(); ++i) other[i] = int16_t(i);
   {
     Hdf5Writer writer(h5);
     writer.write(
         {"/t00000/s00/0/cells", {5, 6, 9}, H5T_STD_I16LE, H5T_NATIVE_INT16, cells.data(), {2, 3, 4}, true});
+    writer.write(
+        {"/t00000/s03/0/cells", {5, 6, 9}, H5T_STD_I16LE, H5T_NATIVE_INT16, other.data(), {}, false});
     writer.write(
         {"/t00000/s00/1/cells", {3, 3, 5}, H5T_STD_I16LE, H5T_NATIVE_INT16, coarse.data(), {}, false});
   }
@@ -330,10 +390,10 @@ TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
            "    </ViewSetups>\n    <Timepoints type=\"range\"><first>0</first><last>0</last></Timepoints>\n"
            "  </SequenceDescription>\n</SpimData>\n";
   };
-  const auto setup = [](int id, const char* name) {
+  const auto setup = [](int id, const char* name, const char* voxelSize = "0.25 0.25 1.5") {
     return "      <ViewSetup><id>" + std::to_string(id) + "</id><name>" + name +
-           "</name><size>9 6 5</size><voxelSize><unit>µm</unit><size>0.25 0.25 1.5</size></voxelSize>"
-           "</ViewSetup>\n";
+           "</name><size>9 6 5</size><voxelSize><unit>µm</unit><size>" + voxelSize +
+           "</size></voxelSize></ViewSetup>\n";
   };
   const std::string xml = dir.file("beads.xml");
   writeFile(xml, xmlWith(setup(0, "beads")));
@@ -353,13 +413,30 @@ TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
                             "/t00000/s00/0/cells/x", "/t00000/sx0/0/cells"})
     EXPECT_FALSE(isBdvCellsPath(other)) << other;
 
-  writeFile(xml, xmlWith(setup(0, "beads") + setup(3, "beads, other angle")));
-  const std::string several = errorOf(xml);
-  for (const std::string& part :
-       {std::string("holds 2 view setups and 1 time points"),
-        h5 + ":/t00000/s00/0/cells --spacing 0.25,0.25,1.5 (µm)  beads",
-        h5 + ":/t00000/s03/0/cells --spacing 0.25,0.25,1.5 (µm)  beads, other angle"})
-    EXPECT_NE(several.find(part), std::string::npos) << part << " in: " << several;
+  // Several view setups: the first is read, with a warning; --channel picks another, at its voxel size.
+  writeFile(xml, xmlWith(setup(0, "beads") + setup(3, "beads, other angle", "0.5 0.5 2")));
+  const auto first = openVolumeSource(xml);
+  EXPECT_EQ(first->info().spacing, glm::dvec3(0.25, 0.25, 1.5));
+  ASSERT_EQ(first->info().notes.size(), 1u);
+  EXPECT_EQ(first->info().notes[0],
+            "BigDataViewer dataset " + xml +
+                " holds 2 view setups: view setup 0 of 2 is read; --channel C (0 to 1) "
+                "picks another");
+  SourceOptions angle;
+  angle.channel = 1;
+  const auto picked = openVolumeSource(xml, angle);
+  EXPECT_EQ(picked->info().spacing, glm::dvec3(0.5, 0.5, 2.0));
+  EXPECT_EQ(picked->info().description,
+            "bdv:" + xml + " (" + h5 + ":/t00000/s03/0/cells) (view setup 1 of 2)");
+  std::vector<uint16_t> otherValues(other.begin(), other.end());
+  EXPECT_EQ(readSlab<uint16_t>(*picked, 0, 5), otherValues);
+  angle.channel = 2;
+  EXPECT_EQ(errorOf(xml, angle),
+            "--channel 2: BigDataViewer dataset " + xml + " holds 2 view setups (--channel 0 to 1)");
+  angle.channel.reset();
+  angle.timePoint = 1;
+  EXPECT_EQ(errorOf(xml, angle),
+            "--time 1: BigDataViewer dataset " + xml + " holds 1 time point (--time 0 alone)");
   writeFile(xml, xmlWith(setup(0, "beads"), "bdv.n5"));
   EXPECT_NE(errorOf(xml).find("loaded by 'bdv.n5'; BigDataViewer's HDF5"), std::string::npos) << errorOf(xml);
   writeFile(xml, "<VTKFile type=\"ImageData\"/>\n");

@@ -266,24 +266,25 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<int16_t>(*i16, 5, 12, 3);
 }
 
-// An ImageJ hyperstack of 2 channels and 3 slices (pages c0 z0, c1 z0, c0 z1, ...), calibrated: its first
-// channel is read, at its calibration, said in the description; --spacing overrides it.
-TEST(SourceImages, AnImageJHyperstacksFirstChannelAtItsCalibration) {
+// An ImageJ hyperstack of 2 channels, 3 slices and 2 frames (pages c0 z0 t0, c1 z0 t0, c0 z1 t0, ..., c0 z0
+// t1, ...), calibrated: its first channel's first frame is read, at its calibration, said in the description;
+// --channel and --time pick another; --spacing overrides the calibration.
+TEST(SourceImages, AnImageJHyperstacksChannelAndFrameAtItsCalibration) {
   TempDir dir;
   const std::string path = dir.file("stack.tif");
   std::vector<std::vector<uint16_t>> pages;
-  for (uint32_t page = 0; page < 6; ++page) pages.push_back(slicePattern<uint16_t>(5, 4, page));
+  for (uint32_t page = 0; page < 12; ++page) pages.push_back(slicePattern<uint16_t>(5, 4, page));
   {
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out);
-    std::vector<OIIO::ImageSpec> specs(6, OIIO::ImageSpec(5, 4, 1, OIIO::TypeDesc::UINT16));
-    specs[0].attribute(
-        "ImageDescription",
-        "ImageJ=1.54f\nimages=6\nchannels=2\nslices=3\nhyperstack=true\nunit=micron\nspacing=2\n");
+    std::vector<OIIO::ImageSpec> specs(12, OIIO::ImageSpec(5, 4, 1, OIIO::TypeDesc::UINT16));
+    specs[0].attribute("ImageDescription",
+                       "ImageJ=1.54f\nimages=12\nchannels=2\nslices=3\nframes=2\nhyperstack=true\nunit="
+                       "micron\nspacing=2\n");
     specs[0].attribute("XResolution", 4.0f);
     specs[0].attribute("YResolution", 4.0f);
     specs[0].attribute("ResolutionUnit", "none");
-    ASSERT_TRUE(out->open(path, 6, specs.data())) << out->geterror();
+    ASSERT_TRUE(out->open(path, 12, specs.data())) << out->geterror();
     for (size_t z = 0; z < pages.size(); ++z) {
       if (z > 0) {
         ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
@@ -292,26 +293,43 @@ TEST(SourceImages, AnImageJHyperstacksFirstChannelAtItsCalibration) {
     }
     ASSERT_TRUE(out->close());
   }
+  const auto pagesOf = [&](std::initializer_list<uint32_t> numbers) {
+    std::vector<uint16_t> expected;
+    for (const uint32_t page : numbers)
+      for (const uint16_t v : pages[page]) expected.push_back(v);
+    return expected;
+  };
   const auto source = openVolumeSource(path);
   const VolumeInfo& info = source->info();
   EXPECT_EQ(info.dims, glm::u32vec3(5, 4, 3));
   EXPECT_EQ(info.spacing, glm::dvec3(0.25, 0.25, 2.0));
-  EXPECT_EQ(info.description, "tiff:" + path + " (ImageJ calibration: 0.25,0.25,2 micron)");
+  EXPECT_EQ(info.description,
+            "tiff:" + path + " (time point 0 of 2, channel 0 of 2) (ImageJ calibration: 0.25,0.25,2 micron)");
   ASSERT_EQ(info.notes.size(), 1u);
-  EXPECT_NE(
-      info.notes[0].find("an ImageJ hyperstack of 2 channels and 1 time points: the first channel's first "
-                         "time point is read (3 of its 6 pages)"),
-      std::string::npos)
-      << info.notes[0];
-  std::vector<uint16_t> expected;
-  for (const uint32_t page : {0u, 2u, 4u})
-    for (const uint16_t v : pages[page]) expected.push_back(v);
-  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 3), expected);
+  EXPECT_EQ(info.notes[0],
+            "ImageJ hyperstack " + path +
+                " holds 2 time points and 2 channels: time point 0 of 2, channel 0 of 2 is read; "
+                "--time T (0 to 1) or --channel C (0 to 1) picks another");
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 3), pagesOf({0, 2, 4}));
+
   SourceOptions options;
-  options.spacing = glm::dvec3(1.0, 1.0, 1.0);
-  const auto given = openVolumeSource(path, options);
+  options.channel = 1;
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(path, options), 0, 3), pagesOf({1, 3, 5}));
+  options.timePoint = 1;
+  const auto picked = openVolumeSource(path, options);
+  EXPECT_EQ(readSlab<uint16_t>(*picked, 0, 3), pagesOf({7, 9, 11}));
+  EXPECT_TRUE(picked->info().notes.empty());
+  options.channel = 0;
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(path, options), 1, 2), pagesOf({8, 10}));
+  options.channel = 2;
+  EXPECT_EQ(errorOf(path, options),
+            "--channel 2: ImageJ hyperstack " + path + " holds 2 channels (--channel 0 to 1)");
+
+  SourceOptions spacing;
+  spacing.spacing = glm::dvec3(1.0, 1.0, 1.0);
+  const auto given = openVolumeSource(path, spacing);
   EXPECT_EQ(given->info().spacing, glm::dvec3(1.0));
-  EXPECT_EQ(given->info().description, "tiff:" + path);
+  EXPECT_EQ(given->info().description, "tiff:" + path + " (time point 0 of 2, channel 0 of 2)");
 }
 
 // `values` (w x h slices, x fastest) as a folder of TIFF slices and as a multi-page TIFF, each converted and

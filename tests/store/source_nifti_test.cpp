@@ -140,6 +140,88 @@ TEST(SourceNifti, BigEndianCompressedAndFourDimensionsOfOneVolume) {
   }
 }
 
+// A series of 3 time points of 2 components each (dim[4], dim[5]): volume v holds the pattern plus 1000 v,
+// time fastest.
+TEST(SourceNifti, TimePointsAndComponentsArePickedByTimeAndChannel) {
+  TempDir dir;
+  const auto first = samplePattern<int16_t>(kNiftiSamples);
+  std::vector<int16_t> series;
+  for (int volume = 0; volume < 6; ++volume)
+    for (const int16_t v : first) series.push_back(int16_t(v + 1000 * volume));
+  const auto volumeOf = [&](int index) {
+    return std::vector<int16_t>(series.begin() + index * long(kNiftiSamples),
+                                series.begin() + (index + 1) * long(kNiftiSamples));
+  };
+  for (const int version : {1, 2}) {
+    NiftiWriter writer(version, 4, 16);
+    writer.dims({5, kNiftiDims.x, kNiftiDims.y, kNiftiDims.z, 3, 2});
+    const std::string plain = dir.file("series" + std::to_string(version) + ".nii");
+    writeFile(plain, writer.file(fileBytes(series)));
+    const std::string gz = dir.file("series" + std::to_string(version) + ".nii.gz");
+    writeFile(gz, gzipOf(writer.file(fileBytes(series))));
+
+    // Without --time and --channel: the first volume, and a warning that says what else the file holds.
+    auto source = openVolumeSource(plain);
+    EXPECT_EQ(source->info().dims, kNiftiDims);
+    EXPECT_EQ(readSlab<int16_t>(*source, 0, 5), volumeOf(0));
+    ASSERT_EQ(source->info().notes.size(), 1u);
+    EXPECT_EQ(source->info().notes[0],
+              "NIfTI file " + plain +
+                  " holds 3 time points and 2 channels: time point 0 of 3, channel 0 of 2 is read; --time T "
+                  "(0 to 2) or --channel C (0 to 1) picks another");
+    EXPECT_EQ(source->info().description, "nifti:" + plain + " (time point 0 of 3, channel 0 of 2)");
+
+    for (const std::string& path : {plain, gz}) {
+      SourceOptions options;
+      options.timePoint = 2;
+      options.channel = 1;
+      source = openVolumeSource(path, options);
+      EXPECT_EQ(readSlab<int16_t>(*source, 0, 5), volumeOf(5)) << path;
+      EXPECT_TRUE(source->info().notes.empty()) << path;
+      EXPECT_EQ(source->info().description, "nifti:" + path + " (time point 2 of 3, channel 1 of 2)");
+      options.timePoint = 1;
+      options.channel.reset();
+      source = openVolumeSource(path, options);
+      EXPECT_EQ(readSlab<int16_t>(*source, 2, 3),
+                std::vector<int16_t>(series.begin() + 1 * long(kNiftiSamples) + 2 * 54,
+                                     series.begin() + 2 * long(kNiftiSamples)))
+          << path;
+      ASSERT_EQ(source->info().notes.size(), 1u) << path;
+      EXPECT_NE(source->info().notes[0].find("--channel C (0 to 1) picks another"), std::string::npos);
+      EXPECT_EQ(source->info().notes[0].find("--time T"), std::string::npos) << source->info().notes[0];
+    }
+
+    SourceOptions past;
+    past.timePoint = 3;
+    EXPECT_EQ(errorOf(plain, past), "--time 3: NIfTI file " + plain + " holds 3 time points (--time 0 to 2)");
+    past.timePoint.reset();
+    past.channel = 2;
+    EXPECT_EQ(errorOf(plain, past),
+              "--channel 2: NIfTI file " + plain + " holds 2 channels (--channel 0 to 1)");
+
+    // A series cut short within the volume asked for is refused as truncated; earlier ones still read.
+    const std::string cut = dir.file("cut" + std::to_string(version) + ".nii");
+    writeFile(cut, writer.file(fileBytes(series).substr(0, 5 * kNiftiSamples * 2 + 10)));
+    SourceOptions last;
+    last.timePoint = 2;
+    last.channel = 1;
+    EXPECT_NE(errorOf(cut, last).find("truncated"), std::string::npos) << errorOf(cut, last);
+    last.channel = 0;
+    EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(cut, last), 0, 5), volumeOf(2));
+  }
+
+  // A file of one volume has only time point 0 and channel 0.
+  const std::string single = dir.file("single.nii");
+  writeFile(single, NiftiWriter(1, 4, 16).file(fileBytes(first)));
+  SourceOptions options;
+  options.timePoint = 0;
+  options.channel = 0;
+  EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(single, options), 0, 5), first);
+  options.timePoint = 1;
+  EXPECT_EQ(errorOf(single, options),
+            "--time 1: NIfTI file " + single + " holds 1 time point (--time 0 alone)");
+}
+
 TEST(SourceNifti, AHeaderAndImagePairIsReadFromEither) {
   TempDir dir;
   const auto values = samplePattern<uint16_t>(kNiftiSamples);
@@ -312,13 +394,19 @@ TEST(SourceNifti, MalformedHeadersAndDataNameTheFile) {
       [](NiftiWriter& w) {
         w.dims({2, 9, 6, 1});
       },
-      "only 3-dimensional");
+      "expected 3 to 7 dimensions");
   with(
-      "time series",
+      "8D",
       [](NiftiWriter& w) {
-        w.dims({4, 9, 6, 5, 10});
+        w.dims({8, 9, 6, 5, 1, 1, 1, 1, 1});
       },
-      "dim[4] is 10");
+      "dim[0] is 8");
+  with(
+      "no time points",
+      [](NiftiWriter& w) {
+        w.dims({4, 9, 6, 5, 0});
+      },
+      "dim[4] is 0");
   with(
       "zero size",
       [](NiftiWriter& w) {

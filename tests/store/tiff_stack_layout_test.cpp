@@ -18,7 +18,9 @@ TEST(TiffStackLayout, AnImageJHyperstack) {
   EXPECT_EQ(layout->channels, 2u);
   EXPECT_EQ(layout->slices, 4u);
   EXPECT_EQ(layout->frames, 3u);
-  EXPECT_EQ(layout->pageStride, 2u);  // channels fastest
+  EXPECT_EQ(layout->page(0, 1, 0), 1u);  // channels fastest, then slices, then frames
+  EXPECT_EQ(layout->page(1, 0, 0), 2u);
+  EXPECT_EQ(layout->page(3, 1, 2), 2u * 4u * 2u + 3u * 2u + 1u);
   EXPECT_EQ(layout->spacing, glm::dvec3(0.25, 0.5, 2.5));
   EXPECT_EQ(layout->unit, "µm");
   EXPECT_FALSE(imageJLayout(description, 4.0, 2.0, 23));  // the counts do not fit the pages
@@ -30,7 +32,7 @@ TEST(TiffStackLayout, AnImageJHyperstack) {
   const auto stack = imageJLayout("ImageJ=1.53t\nimages=7\nunit=micron\nspacing=3\n", 0.0, 0.0, 7);
   ASSERT_TRUE(stack);
   EXPECT_EQ(stack->slices, 7u);
-  EXPECT_EQ(stack->pageStride, 1u);
+  EXPECT_EQ(stack->page(6, 0, 0), 6u);
   EXPECT_EQ(stack->spacing, glm::dvec3(1.0, 1.0, 3.0));
   const auto uncalibrated = imageJLayout("ImageJ=1.53t\nimages=7\n", 0.0, 0.0, 7);
   ASSERT_TRUE(uncalibrated);
@@ -53,7 +55,8 @@ TEST(TiffStackLayout, AnOmeTiffsPixels) {
                              10);
   ASSERT_TRUE(zct);
   EXPECT_EQ(zct->writer, "OME-TIFF");
-  EXPECT_EQ(zct->pageStride, 1u);  // z fastest
+  EXPECT_EQ(zct->page(1, 0, 0), 1u);  // z fastest, then c
+  EXPECT_EQ(zct->page(4, 1, 0), 9u);
   EXPECT_EQ(zct->slices, 5u);
   EXPECT_EQ(zct->channels, 2u);
   EXPECT_EQ(zct->spacing, glm::dvec3(0.2, 0.2, 1.5));
@@ -62,12 +65,15 @@ TEST(TiffStackLayout, AnOmeTiffsPixels) {
                                     "PhysicalSizeX=\"1\" PhysicalSizeY=\"1\" PhysicalSizeXUnit=\"nm\""),
                              24);
   ASSERT_TRUE(ctz);
-  EXPECT_EQ(ctz->pageStride, 6u);  // channels and time points before z
+  EXPECT_EQ(ctz->page(1, 0, 0), 6u);  // channels and time points before z
+  EXPECT_EQ(ctz->page(0, 1, 0), 1u);
+  EXPECT_EQ(ctz->page(3, 2, 1), 3u * 6u + 2u + 3u);
   EXPECT_EQ(ctz->spacing, glm::dvec3(1.0, 1.0, 1.0));
   EXPECT_EQ(ctz->unit, "nm");
   EXPECT_FALSE(omeLayout(omeXml("DimensionOrder=\"XYZCT\" SizeZ=\"5\" SizeC=\"2\" SizeT=\"1\""), 12));
   EXPECT_FALSE(omeLayout(omeXml("SizeZ=\"5\" SizeC=\"1\" SizeT=\"1\""), 5));  // no DimensionOrder
   EXPECT_FALSE(omeLayout(omeXml("DimensionOrder=\"XYQCT\" SizeZ=\"5\" SizeC=\"1\" SizeT=\"1\""), 5));
+  EXPECT_FALSE(omeLayout(omeXml("DimensionOrder=\"XYZCC\" SizeZ=\"5\" SizeC=\"1\" SizeT=\"1\""), 5));
   EXPECT_FALSE(omeLayout("<OME><unclosed", 5));
   EXPECT_FALSE(
       omeLayout(omeXml("DimensionOrder=\"XYZCT\" SizeZ=\"2\" SizeC=\"9223372036854775809\" SizeT=\"2\""), 4));

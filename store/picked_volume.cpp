@@ -1,0 +1,53 @@
+#include "store/picked_volume.h"
+
+#include "core/error.h"
+
+namespace ropecast {
+namespace {
+
+// "120 time points", "1 channel".
+std::string countOf(uint64_t count, const std::string& singular) {
+  return std::to_string(count) + " " + singular + (count == 1 ? "" : "s");
+}
+
+uint32_t pickIndex(const std::optional<uint32_t>& given, uint64_t count, const std::string& option,
+                   const std::string& singular, const std::string& file) {
+  if (!given) return 0;
+  if (*given >= count)
+    throw UsageError(option + " " + std::to_string(*given) + ": " + file + " holds " +
+                     countOf(count, singular) +
+                     (count == 1 ? " (" + option + " 0 alone)"
+                                 : " (" + option + " 0 to " + std::to_string(count - 1) + ")"));
+  return *given;
+}
+
+}  // namespace
+
+PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file) {
+  PickedVolume picked;
+  picked.timePoint = pickIndex(options.timePoint, counts.timePoints, "--time", "time point", file);
+  const std::string& channel = counts.channelWord;
+  picked.channel = pickIndex(options.channel, counts.channels, "--channel", channel, file);
+  std::string described, held, unpicked;
+  const auto add = [](std::string& list, const std::string& item, const char* separator = ", ") {
+    list += (list.empty() ? "" : separator) + item;
+  };
+  if (counts.timePoints > 1) {
+    add(described,
+        "time point " + std::to_string(picked.timePoint) + " of " + std::to_string(counts.timePoints));
+    add(held, countOf(counts.timePoints, "time point"));
+    if (!options.timePoint) add(unpicked, "--time T (0 to " + std::to_string(counts.timePoints - 1) + ")");
+  }
+  if (counts.channels > 1) {
+    add(described, channel + " " + std::to_string(picked.channel) + " of " + std::to_string(counts.channels));
+    add(held, countOf(counts.channels, channel), " and ");
+    if (!options.channel)
+      add(unpicked, "--channel C (0 to " + std::to_string(counts.channels - 1) + ")", " or ");
+  }
+  if (!described.empty()) picked.described = " (" + described + ")";
+  if (!unpicked.empty())
+    picked.note = file + " holds " + held + ": " + described + " is read; " + unpicked + " picks another";
+  return picked;
+}
+
+}  // namespace ropecast

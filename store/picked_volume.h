@@ -1,0 +1,37 @@
+// Which of a file's several volumes a source reads: a NIfTI time series, an ImageJ hyperstack or OME-TIFF of
+// several channels, an Imaris file, an OME-Zarr image with time and channel axes hold one volume per time
+// point and channel, and `--time T` and `--channel C` (SourceOptions, each counted from 0) pick one. Used by
+// the file-format VolumeSources (store/) when they open. Pure functions; any thread.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "store/volume_source.h"
+
+namespace ropecast {
+
+// How many volumes a file holds: its time points and channels (1 where it has no such axis).
+struct VolumeCounts {
+  uint64_t timePoints = 1, channels = 1;
+  // What the file calls what --channel picks, for messages: "channel", or "view setup" (BigDataViewer's
+  // channels, angles and tiles).
+  std::string channelWord = "channel";
+};
+
+struct PickedVolume {
+  uint32_t timePoint = 0, channel = 0;
+  // For the source's description, where the file holds several volumes: " (time point 3 of 120)",
+  // " (channel 1 of 2)", " (time point 0 of 5, channel 1 of 2)"; else "".
+  std::string described;
+  // A warning where the file holds several time points or channels and the options did not pick among them
+  // (the first is read): what it holds and the option that picks another; else "".
+  std::string note;
+};
+
+// The volume `options` pick of those `counts` says `file` ("NIfTI file a.nii") holds; the first time point
+// and channel where an option is not given. Throws UsageError naming the option, the file and the range for
+// an index that is not one of the file's (`--time 3` of a file of one volume included).
+PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file);
+
+}  // namespace ropecast
