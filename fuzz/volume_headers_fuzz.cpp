@@ -23,12 +23,15 @@
 
 namespace {
 
-// Sizes positive, their bytes without overflow, spacings positive and finite: what the sources rely on.
+// Sizes positive, their bytes (of every channel) without overflow, spacings positive and finite: what the
+// sources rely on.
 template <typename Header>
 void checkVolume(const Header& header) {
   if (header.sizes.x == 0 || header.sizes.y == 0 || header.sizes.z == 0) std::abort();
-  if (header.dataBytes() / header.sizes.x / header.sizes.y / header.sizes.z !=
-      ropecast::bytesPerSample(header.type))
+  uint64_t channels = 1;  // a MetaImage's samples per point
+  if constexpr (requires { header.channels; }) channels = header.channels;
+  if (channels == 0 || header.dataBytes() / header.sizes.x / header.sizes.y / header.sizes.z !=
+                           ropecast::bytesPerSample(header.type) * channels)
     std::abort();  // dataBytes() overflowed
   for (int axis = 0; axis < 3; ++axis)
     if (!(header.spacing[axis] > 0.0 && std::isfinite(header.spacing[axis]))) std::abort();
@@ -88,6 +91,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const size_t headerBytes =
           header.version == 2 ? ropecast::kNifti2HeaderBytes : ropecast::kNifti1HeaderBytes;
       if (!header.pairedFile && header.voxOffset < headerBytes) std::abort();
+      // Every volume of the series ends within 2^62 bytes (a source seeks to the last one).
+      const uint64_t volumes = header.timePoints * header.components;
+      if (header.timePoints == 0 || header.components == 0 ||
+          volumes / header.components != header.timePoints ||
+          header.dataBytes() > (uint64_t(1) << 62) / volumes)
+        std::abort();
       if (header.scaled &&
           !(std::isfinite(header.slope) && header.slope != 0.0 && std::isfinite(header.intercept)))
         std::abort();

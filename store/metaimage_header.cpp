@@ -155,9 +155,7 @@ class MetaImageHeaderParser {
     } else if (name == "headersize") {
       header_.headerSize = integer(key, value, -1, kMaxSkip);
     } else if (name == "elementnumberofchannels") {
-      const int64_t n = integer(key, value, 1, 1 << 20);
-      if (n != 1)
-        failKey(key, std::to_string(n) + " channels; only single-channel (scalar) volumes are supported");
+      header_.channels = uint32_t(integer(key, value, 1, 1 << 16));
     } else if (name == "transformmatrix" || name == "rotation" || name == "orientation") {
       const std::vector<double> m = numbers(key, value, 9);
       const std::optional<AxisDirections> axes =
@@ -205,6 +203,12 @@ class MetaImageHeaderParser {
     if (!dataFileSeen_) fail("no ElementDataFile key, which ends a MetaImage header");
     if (!sizes_) fail("missing key 'DimSize'");
     if (!type_) fail("missing key 'ElementType'");
+    // Sizes keep a channel's bytes within 2^62 (at 8 bytes a sample); so many channels could not.
+    const uint64_t channelBytes =
+        uint64_t(header_.sizes.x) * header_.sizes.y * header_.sizes.z * bytesPerSample(header_.type);
+    if (channelBytes > (uint64_t(1) << 62) / header_.channels)
+      fail("key 'ElementNumberOfChannels': " + std::to_string(header_.channels) +
+           " channels of these sizes are more than 2^62 bytes");
     if (header_.headerSize == -1 && header_.compressed)
       fail("key 'HeaderSize': -1 (data at the end of the file) is only allowed for uncompressed data");
     return header_;

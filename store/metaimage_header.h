@@ -6,9 +6,9 @@
 // says it must: ObjectType Image, NDims 3, DimSize, ElementType (MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT,
 // MET_INT, MET_UINT, MET_LONG, MET_ULONG (32-bit in MetaIO), MET_FLOAT, MET_DOUBLE), ElementSpacing (else
 // ElementSize), BinaryData, BinaryDataByteOrderMSB or ElementByteOrderMSB, CompressedData (a zlib stream),
-// HeaderSize (-1: the data ends the file), ElementNumberOfChannels 1, TransformMatrix (or Rotation or
-// Orientation: only whether it turns the axes), Offset (or Origin, Position), ElementDataFile LOCAL or one
-// file. Other keys are ignored.
+// HeaderSize (-1: the data ends the file), ElementNumberOfChannels (interleaved), TransformMatrix (or
+// Rotation or Orientation: only whether it turns the axes), Offset (or Origin, Position), ElementDataFile
+// LOCAL or one file. Other keys are ignored.
 #pragma once
 
 #include <array>
@@ -31,6 +31,7 @@ constexpr size_t kMaxMetaImageHeaderBytes = size_t(1) << 20;
 struct MetaImageHeader {
   SampleType type = SampleType::UInt8;
   glm::u32vec3 sizes{0};    // samples per axis, axis 0 fastest
+  uint32_t channels = 1;    // ElementNumberOfChannels: samples per point, one after another
   glm::dvec3 spacing{1.0};  // ElementSpacing, else ElementSize (1 where neither is given)
   // Where the axes point (core/orientation.h), LPS as ITK writes it: TransformMatrix's three rows, the
   // directions of x, y and z. Identity without one.
@@ -49,13 +50,17 @@ struct MetaImageHeader {
   std::string dataFile;     // ElementDataFile as written (relative to the header's folder); empty: LOCAL
   size_t headerBytes = 0;   // bytes of the header, the ElementDataFile line and its line end included
 
-  uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
+  // Of every channel.
+  uint64_t dataBytes() const {
+    return uint64_t(sizes.x) * sizes.y * sizes.z * channels * bytesPerSample(type);
+  }
 };
 
 // Parses the header at the start of `text` (which may continue with the data: parsing stops after the
 // ElementDataFile line). `fileName` is only used in messages. Throws ropecast::Error naming the file and the
 // key for a missing ElementDataFile, NDims, DimSize or ElementType, malformed or out-of-range numbers, a key
-// given twice, sizes that are not 3 positive integers or overflow, NDims other than 3, several channels,
+// given twice, sizes that are not 3 positive integers or overflow (their channels' samples included), NDims
+// other than 3,
 // ASCII data, unsupported element types, several data files (LIST or a file name pattern), and an ObjectType
 // other than Image.
 MetaImageHeader parseMetaImageHeader(std::string_view text, const std::string& fileName);

@@ -130,7 +130,6 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   }
   if (ext == ".mha" || ext == ".mhd") {
     rejectRawOptions(spec, options, "a MetaImage header");
-    requireSingleVolume(spec, options);
     return openMetaImageSource(spec, options);
   }
   if (hasNiftiName(spec) || !niftiPairHeader(spec).empty()) {

@@ -1,9 +1,41 @@
 #include "store/picked_volume.h"
 
+#include <cstring>
+#include <vector>
+
 #include "core/error.h"
 
 namespace ropecast {
 namespace {
+
+class ComponentSource final : public VolumeSource {
+ public:
+  ComponentSource(std::unique_ptr<VolumeSource> interleaved, uint32_t components, uint32_t component,
+                  VolumeInfo info)
+      : interleaved_(std::move(interleaved)),
+        components_(components),
+        component_(component),
+        info_(std::move(info)) {}
+
+  const VolumeInfo& info() const override { return info_; }
+
+ protected:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    const size_t width = bytesPerSample(info_.type);
+    stored_.resize(out.size() * components_);
+    interleaved_->readSlab(z0, count, stored_);
+    const std::byte* from = stored_.data() + size_t(component_) * width;
+    const size_t step = size_t(components_) * width;
+    for (size_t i = 0, n = out.size() / width; i < n; ++i, from += step)
+      std::memcpy(out.data() + i * width, from, width);
+  }
+
+ private:
+  std::unique_ptr<VolumeSource> interleaved_;
+  uint32_t components_, component_;
+  VolumeInfo info_;
+  std::vector<std::byte> stored_;  // a slab of every component
+};
 
 // "120 time points", "1 channel".
 std::string countOf(uint64_t count, const std::string& singular) {
@@ -48,6 +80,11 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
   if (!unpicked.empty())
     picked.note = file + " holds " + held + ": " + described + " is read; " + unpicked + " picks another";
   return picked;
+}
+
+std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,
+                                            uint32_t component, VolumeInfo info) {
+  return std::make_unique<ComponentSource>(std::move(interleaved), components, component, std::move(info));
 }
 
 }  // namespace ropecast

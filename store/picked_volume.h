@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "store/volume_source.h"
@@ -33,5 +34,11 @@ struct PickedVolume {
 // and channel where an option is not given. Throws UsageError naming the option, the file and the range for
 // an index that is not one of the file's (`--time 3` of a file of one volume included).
 PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file);
+
+// The volume of one component of samples stored interleaved, `components` per point (a MetaImage's
+// channels): `interleaved` reads them as a volume whose x axis holds components times `info.dims.x` samples;
+// the source returned keeps those of `component` and is described by `info`.
+std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,
+                                            uint32_t component, VolumeInfo info);
 
 }  // namespace ropecast

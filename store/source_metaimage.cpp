@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/header_text.h"
 #include "store/file_samples.h"
+#include "store/picked_volume.h"
 #include "store/placed_stack.h"
 #include "store/source_raw.h"
 
@@ -41,7 +42,8 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   auto data = openDataFile(metaImageDataPath(header, path), "MetaImage header", path, header.dataFile);
   SampleBlock block;
   block.fileKind = "MetaImage data file";
-  block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type));
+  block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type)) +
+                 (header.channels > 1 ? " of " + std::to_string(header.channels) + " channels" : "");
   block.bytes = header.dataBytes();
   if (header.compressed) block.encoding = SampleEncoding::Deflated;
   if (header.headerSize == -1)
@@ -53,7 +55,9 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.dims = header.sizes;
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
-  info.description = "metaimage:" + path;
+  const PickedVolume picked = pickVolume(options, {1, header.channels}, "MetaImage " + path);
+  info.description = "metaimage:" + path + picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
   info.axes = header.axes;
   info.origin = header.origin;
   // A matrix whose third row alone is off the slices' normal (a gantry's tilt kept in the file): the slices
@@ -68,8 +72,22 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.patientFrame = header.anatomicalOrientation && (placed || !header.matrixNotApplied);
   if (header.matrixNotApplied && !placed)
     info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
-  auto source = openBlockSource(
-      std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)), header.bigEndian);
+  auto samples = std::make_unique<FileSamples>(std::move(data), std::move(block));
+  std::unique_ptr<VolumeSource> source;
+  if (header.channels == 1) {
+    source = openBlockSource(std::move(info), std::move(samples), header.bigEndian);
+  } else {
+    // Channels are interleaved: read as rows of channels times as many samples, one channel kept.
+    if (uint64_t(header.sizes.x) * header.channels > UINT32_MAX)
+      throw Error("MetaImage " + path + ": rows of " + std::to_string(header.sizes.x) + " samples of " +
+                  std::to_string(header.channels) + " channels each are too long to read");
+    VolumeInfo stored;
+    stored.dims = {header.sizes.x * header.channels, header.sizes.y, header.sizes.z};
+    stored.type = header.type;
+    stored.description = info.description;
+    source = pickComponent(openBlockSource(std::move(stored), std::move(samples), header.bigEndian),
+                           header.channels, picked.channel, std::move(info));
+  }
   if (grid) return resampleSlices(std::move(source), std::move(*grid));
   return source;
 }

@@ -52,7 +52,7 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
   app.add_option(
          "--channel", a.channel,
          "which channel of an image of several to read, from 0 (TIFF hyperstacks, OME-TIFF, OME-Zarr, "
-         "HDF5: Imaris, BigDataViewer; NIfTI's 5th dimension; default 0)")
+         "MetaImage, HDF5: Imaris, BigDataViewer view setups; NIfTI's 5th dimension; default 0)")
       ->type_name("C")
       ->transform(integerRange(0, double(UINT32_MAX)));
 }

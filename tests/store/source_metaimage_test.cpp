@@ -122,6 +122,51 @@ TEST(SourceMetaImage, DetachedBigEndianCompressedAndSkipped) {
   EXPECT_EQ(readSlab<float>(*source, 0, 5), floats);
 }
 
+// Channels stored interleaved (ElementNumberOfChannels 3, as ITK writes a vector image), compressed and
+// big-endian or not: the first read by default, with a warning; --channel picks another.
+TEST(SourceMetaImage, ChannelsArePickedByChannel) {
+  TempDir dir;
+  const auto interleaved = samplePattern<int16_t>(kMetaImageSamples * 3);
+  const auto channelOf = [&](size_t c) {
+    std::vector<int16_t> values;
+    for (size_t i = c; i < interleaved.size(); i += 3) values.push_back(interleaved[i]);
+    return values;
+  };
+  const std::string plain = dir.file("vectors.mha");
+  writeFile(plain, metaImageHeader("MET_SHORT", "ElementNumberOfChannels = 3\n") + fileBytes(interleaved));
+  const std::string packed = dir.file("packed.mha");
+  writeFile(packed, withValue(withValue(metaImageHeader("MET_SHORT", "ElementNumberOfChannels = 3\n"),
+                                        "CompressedData", "True"),
+                              "BinaryDataByteOrderMSB", "True") +
+                        zlibOf(fileBytes(interleaved, true)));
+  for (const std::string& path : {plain, packed}) {
+    const auto first = openVolumeSource(path);
+    EXPECT_EQ(first->info().dims, glm::u32vec3(9, 6, 5));
+    EXPECT_EQ(first->info().type, SampleType::Int16);
+    EXPECT_EQ(readSlab<int16_t>(*first, 0, 5), channelOf(0)) << path;
+    ASSERT_EQ(first->info().notes.size(), 1u);
+    EXPECT_EQ(first->info().notes[0],
+              "MetaImage " + path +
+                  " holds 3 channels: channel 0 of 3 is read; --channel C (0 to 2) picks "
+                  "another");
+    SourceOptions options;
+    options.channel = 2;
+    const auto last = openVolumeSource(path, options);
+    EXPECT_EQ(readSlab<int16_t>(*last, 0, 5), channelOf(2)) << path;
+    const auto slab = readSlab<int16_t>(*last, 3, 2);
+    EXPECT_TRUE(std::equal(slab.begin(), slab.end(), channelOf(2).begin() + 3 * 54)) << path;
+    EXPECT_EQ(last->info().description, "metaimage:" + path + " (channel 2 of 3)");
+    EXPECT_TRUE(last->info().notes.empty());
+    options.channel = 3;
+    EXPECT_EQ(errorOf(path, options),
+              "--channel 3: MetaImage " + path + " holds 3 channels (--channel 0 to 2)");
+  }
+  // The data of all three channels is needed: one channel's bytes are a file cut short.
+  const std::string cut = dir.file("cut.mha");
+  writeFile(cut, metaImageHeader("MET_SHORT", "ElementNumberOfChannels = 3\n") + fileBytes(channelOf(0)));
+  EXPECT_NE(errorOf(cut).find("truncated"), std::string::npos) << errorOf(cut);
+}
+
 TEST(SourceMetaImage, TheTransformMatrixGivesTheAxes) {
   TempDir dir;
   const auto values = samplePattern<uint8_t>(kMetaImageSamples);
@@ -222,7 +267,11 @@ TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
       {"huge", withValue(good, "DimSize", "4294967295 4294967295 4294967295"), "too large"},
       {"64-bit type", withValue(good, "ElementType", "MET_LONG_LONG"), "unsupported element type"},
       {"vector type", withValue(good, "ElementType", "MET_FLOAT_ARRAY"), "unsupported element type"},
-      {"channels", metaImageHeader("MET_UCHAR", "ElementNumberOfChannels = 3\n"), "single-channel"},
+      {"channels", metaImageHeader("MET_UCHAR", "ElementNumberOfChannels = 0\n"), "ElementNumberOfChannels"},
+      {"too many channels",
+       withValue(metaImageHeader("MET_DOUBLE", "ElementNumberOfChannels = 65536\n"), "DimSize",
+                 "1048576 1048576 512"),
+       "more than 2^62 bytes"},
       {"ASCII", withValue(good, "BinaryData", "False"), "ASCII data"},
       {"not a boolean", withValue(good, "CompressedData", "maybe"), "expected True or False"},
       {"other object", withValue(good, "ObjectType", "Tube"), "expected Image"},
