@@ -22,6 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (header.dataBytes() / header.sizes.x / header.sizes.y / header.sizes.z !=
         ropecast::bytesPerSample(header.type))
       std::abort();  // dataBytes() overflowed
+    // Every volume of a 4-dimensional file ends within 2^62 bytes.
+    if (header.volumes == 0 || header.dataBytes() > (uint64_t(1) << 62) / header.volumes) std::abort();
     if (!(header.spacing.x > 0.0 && header.spacing.y > 0.0 && header.spacing.z > 0.0)) std::abort();
     if (header.byteSkip < -1 || header.lineSkip < 0) std::abort();
     for (int a = 0; a < 3; ++a) {  // axes: unit directions at right angles, which a store then keeps

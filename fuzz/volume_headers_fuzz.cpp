@@ -30,6 +30,7 @@ void checkVolume(const Header& header) {
   if (header.sizes.x == 0 || header.sizes.y == 0 || header.sizes.z == 0) std::abort();
   uint64_t channels = 1;  // a MetaImage's samples per point
   if constexpr (requires { header.channels; }) channels = header.channels;
+  if constexpr (requires { header.components; }) channels = header.components;  // a .vti's
   if (channels == 0 || header.dataBytes() / header.sizes.x / header.sizes.y / header.sizes.z !=
                            ropecast::bytesPerSample(header.type) * channels)
     std::abort();  // dataBytes() overflowed

@@ -2,8 +2,10 @@
 
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -116,7 +118,10 @@ class HeaderParser {
     if (name == "dimension") {
       const auto d = parseInteger(value);
       if (!d) failField(name, "expected an integer, got " + quotedExcerpt(value));
-      if (*d != 3) failField(name, "only 3-dimensional volumes are supported, got " + std::to_string(*d));
+      if (*d != 3 && *d != 4)
+        failField(name, "expected 3 (a volume) or 4 (volumes along a time, list or vector axis), got " +
+                            std::to_string(*d));
+      rank_ = int(*d);
       dimension_ = true;
     } else if (name == "type") {
       const auto t = parseNrrdType(value);
@@ -128,6 +133,12 @@ class HeaderParser {
       }
       header_.type = *t;
       type_ = true;
+    } else if (rank_ == 4 && (name == "sizes" || name == "spacings" || name == "space directions")) {
+      perAxis_[std::string(name)] = {std::string(value),
+                                     lineNumber_};  // the non-spatial axis is known at the end
+    } else if (name == "kinds") {
+      kinds_ = axisWords(value);
+      kindsLine_ = lineNumber_;
     } else if (name == "sizes") {
       parseSizes(name, value);
     } else if (name == "encoding") {
@@ -278,8 +289,92 @@ class HeaderParser {
     header_.dataFile = std::string(value);
   }
 
+  // A per-axis field's entries: words, a vector "(x, y, z)" one entry whatever spaces it holds.
+  static std::vector<std::string> axisWords(std::string_view value) {
+    std::vector<std::string> words;
+    int depth = 0;
+    bool inWord = false;
+    for (const char c : value) {
+      const bool blank = (c == ' ' || c == '\t') && depth == 0;
+      if (blank) {
+        inWord = false;
+        continue;
+      }
+      if (!inWord) words.emplace_back();
+      inWord = true;
+      words.back() += c;
+      depth += c == '(' ? 1 : c == ')' ? -1 : 0;
+    }
+    return words;
+  }
+
+  // Dimension 4: finds the axis that is not spatial, reads the per-axis fields without it, and says where the
+  // volumes along it lie.
+  void resolveFourthAxis() {
+    if (!perAxis_.contains("sizes")) return;  // missing, said below
+    int extra = -1;
+    if (!kinds_.empty()) {
+      lineNumber_ = kindsLine_;
+      if (kinds_.size() != 4)
+        failField("kinds", "expected 4 kinds (dimension 4), got " + std::to_string(kinds_.size()));
+      for (int a = 0; a < 4; ++a)
+        if (kinds_[size_t(a)] != "domain" && kinds_[size_t(a)] != "space") {
+          if (extra >= 0)
+            failField("kinds", "two axes (" + std::to_string(extra) + " and " + std::to_string(a) +
+                                   ") are not domain or space; one of four may be another kind");
+          extra = a;
+        }
+      if (extra < 0)
+        failField(
+            "kinds",
+            "every axis is domain or space; one of four must be another kind (time, list, vector, ...)");
+    } else if (const auto it = perAxis_.find("space directions"); it != perAxis_.end()) {
+      lineNumber_ = it->second.second;
+      const std::vector<std::string> words = axisWords(it->second.first);
+      if (words.size() != 4)
+        failField("space directions",
+                  "expected 4 entries (dimension 4), got " + quotedExcerpt(it->second.first));
+      for (int a = 0; a < int(words.size()); ++a)
+        if (words[size_t(a)] == "none") {
+          if (extra >= 0) failField("space directions", "two axes are 'none'; one of four may be");
+          extra = a;
+        }
+    }
+    if (extra < 0) fail("dimension 4, but neither kinds nor space directions say which axis is not spatial");
+    if (extra == 1 || extra == 2)
+      fail("axis " + std::to_string(extra) +
+           " is not spatial and lies between spatial ones; the first (interleaved) or the last is read");
+    header_.volumesInterleaved = extra == 0;
+    header_.volumesAreTimePoints = !kinds_.empty() && kinds_[size_t(extra)] == "time";
+    for (const auto& [name, written] : perAxis_) {
+      const auto& [value, line] = written;
+      lineNumber_ = line;
+      std::vector<std::string> words = axisWords(value);
+      if (words.size() != 4) failField(name, "expected 4 entries (dimension 4), got " + quotedExcerpt(value));
+      if (name == "sizes") {
+        const auto volumes = parseWholeNumber<uint32_t>(words[size_t(extra)]);
+        if (!volumes || *volumes == 0)
+          failField(name, "expected positive sizes, got " + quotedExcerpt(value));
+        header_.volumes = *volumes;
+      }
+      words.erase(words.begin() + extra);
+      const std::string spatial = words[0] + " " + words[1] + " " + words[2];
+      if (name == "sizes")
+        parseSizes(name, spatial);
+      else if (name == "spacings")
+        parseSpacings(name, spatial);
+      else
+        parseSpaceDirections(name, spatial);
+    }
+    lineNumber_ = perAxis_.at("sizes").second;
+    if (header_.dataBytes() > (uint64_t(1) << 62) / header_.volumes)
+      failField("sizes", "the " + std::to_string(header_.volumes) + " volumes are more than 2^62 bytes");
+  }
+
   NrrdHeader finish() {
     if (!dimension_) fail("missing field 'dimension'");
+    if (!type_) fail("missing field 'type'");
+    if (rank_ == 4) resolveFourthAxis();
     if (!type_) fail("missing field 'type'");
     if (!sizes_) fail("missing field 'sizes'");
     if (!encoding_) fail("missing field 'encoding'");
@@ -347,6 +442,11 @@ class HeaderParser {
   NrrdHeader header_;
   std::set<std::string> seen_;
   bool dimension_ = false, type_ = false, sizes_ = false, encoding_ = false, endian_ = false;
+  int rank_ = 3;
+  // Dimension 4: sizes, spacings and space directions as written, with their lines.
+  std::map<std::string, std::pair<std::string, size_t>> perAxis_;
+  std::vector<std::string> kinds_;
+  size_t kindsLine_ = 0;
   bool hasSpacings_ = false, hasDirections_ = false;
   glm::dvec3 spacings_{1.0};
   glm::dvec3 directions_{1.0};

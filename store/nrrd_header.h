@@ -2,8 +2,10 @@
 // untrusted text: a pure function over a string, fuzzed by fuzz/nrrd_header_fuzz.cpp. Used by the NRRD volume
 // source (store/). Pure function; any thread.
 //
-// Supported: "NRRD000n" magic, dimension 3, type (the NRRD spellings of int8, uint8, int16, uint16, int32,
-// uint32, float and double; not the 64-bit integers or block; plain "char" is no NRRD type), sizes,
+// Supported: "NRRD000n" magic, dimension 3, or 4 with one axis not spatial (its kind not domain or space, or
+// its space direction none) first (interleaved: a vector's components) or last (volumes one after another: a
+// time series, a list of diffusion-weighted volumes), type (the NRRD spellings of int8, uint8, int16, uint16,
+// int32, uint32, float and double; not the 64-bit integers or block; plain "char" is no NRRD type), sizes,
 // encoding raw or gzip, endian, spacings or space directions (spacing = length of each direction), byte skip
 // (-1 = data at the end of the file, raw only), line skip, data file (one detached file). Other fields,
 // comments and key/value pairs are ignored.
@@ -57,14 +59,22 @@ struct NrrdHeader {
   size_t headerBytes = 0;          // bytes of the header including the blank line that ends it
   bool endsWithBlankLine = false;  // false: the text ended without the blank line (fine for .nhdr only)
 
+  // Dimension 4: the samples of `volumes` volumes, interleaved (the non-spatial axis first) or one after
+  // another (last); a time series where that axis' kind is "time". One volume otherwise.
+  uint32_t volumes = 1;
+  bool volumesInterleaved = false;
+  bool volumesAreTimePoints = false;
+
+  // Of one volume.
   uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
 };
 
 // Parses the header at the start of `text` (which may continue with the data; parsing stops at the first
 // empty line). `fileName` is only used in messages. Throws ropecast::Error naming the file and the field for
 // a bad magic line, a missing required field (dimension, type, sizes, encoding, endian for multi-byte types),
-// malformed or out-of-range numbers, sizes that are not 3 positive integers or overflow, dimension other than
-// 3, unsupported types and encodings.
+// malformed or out-of-range numbers, sizes that are not positive integers or overflow (every volume's samples
+// included), dimension other than 3 or 4, a 4th axis that is not one or lies between spatial ones,
+// unsupported types and encodings.
 NrrdHeader parseNrrdHeader(std::string_view text, const std::string& fileName);
 
 }  // namespace ropecast

@@ -125,7 +125,6 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   const std::string ext = lowerExtension(spec);
   if (ext == ".nrrd" || ext == ".nhdr") {
     rejectRawOptions(spec, options, "a NRRD header");
-    requireSingleVolume(spec, options);
     return openNrrdSource(spec, options);
   }
   if (ext == ".mha" || ext == ".mhd") {
@@ -138,7 +137,6 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   }
   if (ext == ".vti") {
     rejectRawOptions(spec, options, "a VTK image data file");
-    requireSingleVolume(spec, options);
     return openVtiSource(spec, options);
   }
   if (ext == ".xml") {

@@ -53,6 +53,24 @@ uint32_t pickIndex(const std::optional<uint32_t>& given, uint64_t count, const s
   return *given;
 }
 
+class StackedSource final : public VolumeSource {
+ public:
+  StackedSource(std::unique_ptr<VolumeSource> stacked, uint32_t index, VolumeInfo info)
+      : stacked_(std::move(stacked)), firstSlice_(uint64_t(index) * info.dims.z), info_(std::move(info)) {}
+
+  const VolumeInfo& info() const override { return info_; }
+
+ protected:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    stacked_->readSlab(uint32_t(firstSlice_ + z0), count, out);
+  }
+
+ private:
+  std::unique_ptr<VolumeSource> stacked_;
+  uint64_t firstSlice_;
+  VolumeInfo info_;
+};
+
 }  // namespace
 
 PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file) {
@@ -85,6 +103,11 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
 std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,
                                             uint32_t component, VolumeInfo info) {
   return std::make_unique<ComponentSource>(std::move(interleaved), components, component, std::move(info));
+}
+
+std::unique_ptr<VolumeSource> pickStacked(std::unique_ptr<VolumeSource> stacked, uint32_t index,
+                                          VolumeInfo info) {
+  return std::make_unique<StackedSource>(std::move(stacked), index, std::move(info));
 }
 
 }  // namespace ropecast

@@ -1,7 +1,9 @@
-// Which of a file's several volumes a source reads: a NIfTI time series, an ImageJ hyperstack or OME-TIFF of
-// several channels, an Imaris file, an OME-Zarr image with time and channel axes hold one volume per time
-// point and channel, and `--time T` and `--channel C` (SourceOptions, each counted from 0) pick one. Used by
-// the file-format VolumeSources (store/) when they open. Pure functions; any thread.
+// Which of a file's several volumes a source reads: a NIfTI time series, a NRRD of dimension 4, an ImageJ
+// hyperstack or OME-TIFF of several channels, an Imaris file, an OME-Zarr image with time and channel axes, a
+// MetaImage of several channels and a `.vti` array of several components hold one volume per time point and
+// channel, and `--time T` and `--channel C` (SourceOptions, each counted from 0) pick one. Used by the
+// file-format VolumeSources (store/) when they open. Functions: any thread; the sources: as VolumeSource
+// says.
 #pragma once
 
 #include <cstdint>
@@ -36,9 +38,15 @@ struct PickedVolume {
 PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file);
 
 // The volume of one component of samples stored interleaved, `components` per point (a MetaImage's
-// channels): `interleaved` reads them as a volume whose x axis holds components times `info.dims.x` samples;
-// the source returned keeps those of `component` and is described by `info`.
+// channels, a `.vti` array's components): `interleaved` reads them as a volume whose x axis holds components
+// times `info.dims.x` samples; the source returned keeps those of `component` and is described by `info`.
 std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,
                                             uint32_t component, VolumeInfo info);
+
+// The volume `index` of volumes stored one after another (a NRRD's volumes along its last axis): `stacked`
+// reads them as one volume of their slices, volume after volume; the source returned reads those of `index`
+// and is described by `info`.
+std::unique_ptr<VolumeSource> pickStacked(std::unique_ptr<VolumeSource> stacked, uint32_t index,
+                                          VolumeInfo info);
 
 }  // namespace ropecast

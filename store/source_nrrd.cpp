@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "store/file_samples.h"
 #include "store/nrrd_header.h"
+#include "store/picked_volume.h"
 #include "store/placed_stack.h"
 #include "store/source_raw.h"
 
@@ -54,8 +55,9 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
   auto data = openDataFile(nrrdDataPath(header, path), "NRRD header", path, header.dataFile);
   SampleBlock block;
   block.fileKind = "NRRD data file";
-  block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type));
-  block.bytes = header.dataBytes();
+  block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type)) +
+                 (header.volumes > 1 ? " times " + std::to_string(header.volumes) : "");
+  block.bytes = header.dataBytes() * header.volumes;
   const uint64_t dataStart =
       skipLines(*data, header.dataFile.empty() ? header.headerBytes : 0, header.lineSkip);
   if (header.encoding == NrrdEncoding::Raw) {
@@ -70,7 +72,13 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
   info.dims = header.sizes;
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
-  info.description = "nrrd:" + path;
+  const PickedVolume picked =
+      pickVolume(options,
+                 header.volumesAreTimePoints ? VolumeCounts{header.volumes, 1}
+                                             : VolumeCounts{1, header.volumes, "component"},
+                 "NRRD file " + path);
+  info.description = "nrrd:" + path + picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
   info.axes = header.axes;
   info.origin = header.origin;
   if (header.originNotRead)
@@ -85,8 +93,28 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
     info.notes.push_back(path +
                          ": its space directions are not three vectors at right angles; only their lengths "
                          "are used, as spacings, so the volume is shown unsheared and axis-aligned");
-  auto source = openBlockSource(
-      std::move(info), std::make_unique<FileSamples>(std::move(data), std::move(block)), header.bigEndian);
+  auto samples = std::make_unique<FileSamples>(std::move(data), std::move(block));
+  std::unique_ptr<VolumeSource> source;
+  if (header.volumes == 1) {
+    source = openBlockSource(std::move(info), std::move(samples), header.bigEndian);
+  } else {
+    // Every volume's samples are read as one volume: rows of all their values (interleaved), or all their
+    // slices (one after another); the picked one is kept.
+    VolumeInfo stored;
+    stored.dims = header.sizes;
+    stored.type = header.type;
+    stored.description = info.description;
+    uint32_t& longer = header.volumesInterleaved ? stored.dims.x : stored.dims.z;
+    const uint32_t across = header.volumesInterleaved ? header.sizes.x : header.sizes.z;
+    if (uint64_t(across) * header.volumes > UINT32_MAX)
+      throw Error("NRRD file " + path + ": " + std::to_string(header.volumes) + " volumes of " +
+                  formatDims(header.sizes) + " samples are too many to read");
+    longer = uint32_t(uint64_t(across) * header.volumes);
+    auto all = openBlockSource(std::move(stored), std::move(samples), header.bigEndian);
+    const uint32_t index = header.volumesAreTimePoints ? picked.timePoint : picked.channel;
+    source = header.volumesInterleaved ? pickComponent(std::move(all), header.volumes, index, std::move(info))
+                                       : pickStacked(std::move(all), index, std::move(info));
+  }
   if (grid) return resampleSlices(std::move(source), std::move(*grid));
   return source;
 }

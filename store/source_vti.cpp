@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "store/picked_volume.h"
 #include "store/source_raw.h"
 
 namespace ropecast {
@@ -77,6 +78,7 @@ class VtiSource final : public VolumeSource {
   VtiSource(const std::string& path, const SourceOptions& options)
       : header_(readVtiHeaderFile(path)), file_(path), data_(file_, header_.dataStart, header_.base64) {
     info_.dims = header_.sizes;
+    info_.dims.x *= header_.components;  // components interleaved: rows of every component (openVtiSource)
     info_.type = header_.type;
     info_.spacing = options.spacing.value_or(header_.spacing);
     if (info_.type == SampleType::UInt8) {
@@ -94,6 +96,7 @@ class VtiSource final : public VolumeSource {
   }
 
   const VolumeInfo& info() const override { return info_; }
+  const VtiHeader& header() const { return header_; }
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
@@ -210,7 +213,20 @@ VtiHeader readVtiHeaderFile(const std::string& path) {
 }
 
 std::unique_ptr<VolumeSource> openVtiSource(const std::string& path, const SourceOptions& options) {
-  return std::make_unique<VtiSource>(path, options);
+  auto source = std::make_unique<VtiSource>(path, options);
+  const VtiHeader& header = source->header();
+  const PickedVolume picked =
+      pickVolume(options, {1, header.components, "component"}, "VTK image data file " + path);
+  if (header.components == 1) return source;
+  if (uint64_t(header.sizes.x) * header.components > UINT32_MAX)
+    throw Error("VTK image data file " + path + ": rows of " + std::to_string(header.sizes.x) +
+                " points of " + std::to_string(header.components) + " components each are too long to read");
+  VolumeInfo info = source->info();
+  info.dims.x = header.sizes.x;
+  info.description += picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  const uint32_t components = header.components;
+  return pickComponent(std::move(source), components, picked.channel, std::move(info));
 }
 
 }  // namespace ropecast

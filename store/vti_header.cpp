@@ -206,9 +206,15 @@ class VtiParser {
                   "' is not read; expected " + std::string(kVtiTypeList));
     header_.type = *sampleType;
     const std::string_view components = xmlAttribute(attributes, "NumberOfComponents").value_or("1");
-    if (components != "1")
-      return stop("DataArray '" + header_.arrayName + "' has " + std::string(components) +
-                  " components; only one component per point is read");
+    const auto count = parseWholeNumber<uint32_t>(components);
+    if (!count || *count == 0 || *count > 65536)
+      return stop("DataArray '" + header_.arrayName + "': NumberOfComponents '" + std::string(components) +
+                  "' is not a count from 1 to 65536");
+    const uint64_t componentBytes = uint64_t(header_.sizes.x) * header_.sizes.y * header_.sizes.z * 8;
+    if (componentBytes > (uint64_t(1) << 62) / *count)
+      return stop("DataArray '" + header_.arrayName + "': " + std::string(components) +
+                  " components of the WholeExtent's samples are more than 2^62 bytes");
+    header_.components = *count;
     const std::string_view format = xmlAttribute(attributes, "format").value_or("");
     if (format == "appended") {
       const auto offset = parseWholeNumber<uint64_t>(xmlAttribute(attributes, "offset").value_or(""));

@@ -42,16 +42,21 @@ struct VtiHeader {
   // File offset of the array's data: its header words first (the byte count, or the compression header).
   uint64_t dataStart = 0;
   std::string arrayName;
+  uint32_t components = 1;  // NumberOfComponents: samples per point, one after another
 
-  uint64_t dataBytes() const { return uint64_t(sizes.x) * sizes.y * sizes.z * bytesPerSample(type); }
+  // Of every component.
+  uint64_t dataBytes() const {
+    return uint64_t(sizes.x) * sizes.y * sizes.z * components * bytesPerSample(type);
+  }
 };
 
 // Parses the XML at the start of `text` (the file's first bytes; the appended data may follow). `fileName`
 // is only used in messages. Throws ropecast::Error naming the file for: text that is not well-formed XML
 // (with expat's message and line), a VTKFile of another type, an unknown byte order, header type or
 // compressor (LZ4 and LZMA are refused), a WholeExtent that is not 6 integers or holds no samples, several
-// pieces or one that does not cover the whole extent, point data without a DataArray, several components,
-// unsupported types (64-bit integers, strings), ASCII data, and data that starts past `text`.
+// pieces or one that does not cover the whole extent, point data without a DataArray, components past 65536
+// or whose samples pass 2^62 bytes, unsupported types (64-bit integers, strings), ASCII data, and data that
+// starts past `text`.
 VtiHeader parseVtiHeader(std::string_view text, const std::string& fileName);
 
 }  // namespace ropecast

@@ -45,14 +45,15 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
                   "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
   app.add_option(
          "--time", a.timePoint,
-         "which time point of a time series to read, from 0 (NIfTI, TIFF hyperstacks, OME-Zarr, HDF5: "
-         "Imaris, BigDataViewer; default 0)")
+         "which time point of a time series to read, from 0 (NIfTI, NRRD, TIFF hyperstacks, OME-Zarr, "
+         "HDF5: Imaris, BigDataViewer; default 0)")
       ->type_name("T")
       ->transform(integerRange(0, double(UINT32_MAX)));
   app.add_option(
          "--channel", a.channel,
-         "which channel of an image of several to read, from 0 (TIFF hyperstacks, OME-TIFF, OME-Zarr, "
-         "MetaImage, HDF5: Imaris, BigDataViewer view setups; NIfTI's 5th dimension; default 0)")
+         "which channel or component of several to read, from 0 (TIFF hyperstacks, OME-TIFF, OME-Zarr, "
+         "MetaImage, HDF5: Imaris, BigDataViewer view setups; a NIfTI's 5th dimension, a NRRD's or a "
+         ".vti array's components; default 0)")
       ->type_name("C")
       ->transform(integerRange(0, double(UINT32_MAX)));
 }

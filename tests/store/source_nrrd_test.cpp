@@ -291,6 +291,88 @@ struct BadHeader {
   const char* expected;  // text the message must contain, besides the file name
 };
 
+// Dimension 4: volumes one after another along a last axis of kind time (raw, and at the file's end) or list
+// (gzip), and a vector's components interleaved along a first axis; each picked by --time or --channel.
+// Volume v holds the pattern plus 1000 v.
+TEST(SourceNrrd, FourDimensionsAreVolumesPickedByTimeOrChannel) {
+  TempDir dir;
+  const auto first = samplePattern<int16_t>(9 * 6 * 5);
+  std::vector<int16_t> stacked, interleaved;
+  for (int v = 0; v < 3; ++v)
+    for (const int16_t value : first) stacked.push_back(int16_t(value + 1000 * v));
+  for (const int16_t value : first)
+    for (int v = 0; v < 3; ++v) interleaved.push_back(int16_t(value + 1000 * v));
+  const auto volumeOf = [&](int v) {
+    std::vector<int16_t> values;
+    for (const int16_t value : first) values.push_back(int16_t(value + 1000 * v));
+    return values;
+  };
+  const std::string common = "NRRD0005\ntype: short\ndimension: 4\nendian: little\n";
+  const std::string series = dir.file("series.nrrd");
+  writeFile(series, common +
+                        "sizes: 9 6 5 3\nkinds: domain domain domain time\nencoding: raw\n"
+                        "space directions: (0.5,0,0) (0,0.75,0) (0,0,2) none\n\n" +
+                        bytesOf(stacked, false));
+  const std::string atEnd = dir.file("at_end.nhdr");
+  writeFile(dir.file("at_end.raw"), "some leading bytes" + bytesOf(stacked, false));
+  writeFile(atEnd, common +
+                       "sizes: 9 6 5 3\nkinds: space space space time\nencoding: raw\nbyte skip: -1\n"
+                       "spacings: 0.5 0.75 2 nan\ndata file: at_end.raw\n");
+  for (const std::string& path : {series, atEnd}) {
+    const auto source = openVolumeSource(path);
+    EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5));
+    EXPECT_EQ(source->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
+    EXPECT_EQ(readSlab<int16_t>(*source, 0, 5), volumeOf(0)) << path;
+    ASSERT_EQ(source->info().notes.size(), 1u);
+    EXPECT_EQ(source->info().notes[0],
+              "NRRD file " + path +
+                  " holds 3 time points: time point 0 of 3 is read; --time T (0 to 2) picks another");
+    SourceOptions options;
+    options.timePoint = 2;
+    const auto last = openVolumeSource(path, options);
+    EXPECT_EQ(readSlab<int16_t>(*last, 0, 5), volumeOf(2)) << path;
+    EXPECT_EQ(last->info().description, "nrrd:" + path + " (time point 2 of 3)");
+    options.timePoint.reset();
+    options.channel = 1;
+    EXPECT_EQ(errorOf(path, options),
+              "--channel 1: NRRD file " + path + " holds 1 channel (--channel 0 alone)");
+  }
+
+  const std::string list = dir.file("list.nrrd");
+  writeFile(list, common + "sizes: 9 6 5 3\nkinds: domain domain domain list\nencoding: gzip\n\n" +
+                      gzipOf(bytesOf(stacked, false)));
+  const std::string vectors = dir.file("vectors.nrrd");
+  writeFile(vectors, common +
+                         "sizes: 3 9 6 5\nkinds: vector domain domain domain\nencoding: raw\n"
+                         "space directions: none (0.5,0,0) (0,0.75,0) (0,0,2)\nspace origin: (1,2,3)\n\n" +
+                         bytesOf(interleaved, false));
+  for (const std::string& path : {list, vectors}) {
+    const auto source = openVolumeSource(path);
+    EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5)) << path;
+    EXPECT_EQ(readSlab<int16_t>(*source, 0, 5), volumeOf(0)) << path;
+    ASSERT_EQ(source->info().notes.size(), 1u);
+    EXPECT_EQ(source->info().notes[0],
+              "NRRD file " + path +
+                  " holds 3 components: component 0 of 3 is read; --channel C (0 to 2) "
+                  "picks another");
+    SourceOptions options;
+    options.channel = 1;
+    const auto picked = openVolumeSource(path, options);
+    for (const uint32_t z : {3u, 1u, 4u, 0u, 2u}) {
+      const auto slab = readSlab<int16_t>(*picked, z, 1);
+      EXPECT_TRUE(std::equal(slab.begin(), slab.end(), volumeOf(1).begin() + z * 54)) << path << " " << z;
+    }
+  }
+  EXPECT_EQ(openVolumeSource(vectors)->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
+  EXPECT_EQ(openVolumeSource(vectors)->info().origin, glm::dvec3(1.0, 2.0, 3.0));
+
+  // A series cut short is refused as truncated.
+  const std::string cut = dir.file("cut.nrrd");
+  writeFile(cut, common + "sizes: 9 6 5 3\nkinds: domain domain domain time\nencoding: raw\n\n" +
+                     bytesOf(first, false));
+  EXPECT_NE(errorOf(cut).find("truncated"), std::string::npos) << errorOf(cut);
+}
+
 TEST(SourceNrrd, MalformedHeadersNameFileAndField) {
   const std::string good = headerFor("uint16", "raw");
   auto without = [&](const std::string& line) {
@@ -301,6 +383,15 @@ TEST(SourceNrrd, MalformedHeadersNameFileAndField) {
   auto replaced = [&](const std::string& line, const std::string& by) {
     std::string h = good;
     h.replace(h.find(line), line.size(), by);
+    return h;
+  };
+  // Dimension 4 with these sizes and kinds (none: no kinds field).
+  auto fourD = [&](const std::string& sizes, const std::string& kinds) {
+    std::string h = good;
+    h.replace(h.find("dimension: 3"), 12, "dimension: 4");
+    h.replace(h.find("sizes: 9 6 5"), 12, "sizes: " + sizes);
+    const size_t at = h.find("kinds: domain domain domain\n");
+    h.replace(at, 28, kinds.empty() ? "" : "kinds: " + kinds + "\n");
     return h;
   };
   const BadHeader cases[] = {
@@ -319,7 +410,20 @@ TEST(SourceNrrd, MalformedHeadersNameFileAndField) {
       {"sizes negative", replaced("sizes: 9 6 5", "sizes: 9 -6 5"), "field 'sizes'"},
       {"sizes overflow", replaced("sizes: 9 6 5", "sizes: 4000000000 4000000000 4000000000"), "too large"},
       {"sizes huge", replaced("sizes: 9 6 5", "sizes: 99999999999999999999 1 1"), "field 'sizes'"},
-      {"dimension 4", replaced("dimension: 3", "dimension: 4"), "field 'dimension'"},
+      {"dimension 5", replaced("dimension: 3", "dimension: 5"), "field 'dimension'"},
+      {"dimension 4, three sizes", fourD("9 6 5", "domain domain domain list"),
+       "field 'sizes' (line 5): expected 4 entries"},
+      {"dimension 4, three kinds", fourD("9 6 5 2", "domain domain domain"), "expected 4 kinds"},
+      {"dimension 4, no kinds", fourD("9 6 5 2", ""), "neither kinds nor space directions"},
+      {"dimension 4, five directions",
+       fourD("3 9 6 5", "") + "space directions: none (1,0,0) (0,1,0) (0,0,1) none\n",
+       "field 'space directions' (line 9): expected 4 entries"},
+      {"dimension 4, a middle axis", fourD("9 2 6 5", "domain list domain domain"), "between spatial ones"},
+      {"dimension 4, two lists", fourD("2 2 6 5", "list list domain domain"), "two axes (0 and 1)"},
+      {"dimension 4, all spatial", fourD("9 6 5 2", "domain domain domain domain"), "every axis is domain"},
+      {"dimension 4, no volumes", fourD("9 6 5 0", "domain domain domain time"), "expected positive sizes"},
+      {"dimension 4, too many", fourD("1048576 1048576 512 65536", "domain domain domain list"),
+       "2^62 bytes"},
       {"dimension text", replaced("dimension: 3", "dimension: three"), "field 'dimension'"},
       {"unknown encoding", replaced("encoding: raw", "encoding: lzma"), "unknown encoding 'lzma'"},
       {"unsupported encoding", replaced("encoding: raw", "encoding: ascii"), "unsupported encoding 'ascii'"},

@@ -136,6 +136,46 @@ TEST(SourceVti, EveryLayoutAWriterLeaves) {
           }
 }
 
+// An array of 3 components per point (a vector field, VTK's interleaved tuples), appended in zlib blocks or
+// inline in base64, big-endian: component 0 by default, with a warning; --channel picks another.
+TEST(SourceVti, ComponentsArePickedByChannel) {
+  TempDir dir;
+  const auto tuples = samplePattern<float>(kVtiSamples * 3);
+  const auto componentOf = [&](size_t c) {
+    std::vector<float> values;
+    for (size_t i = c; i < tuples.size(); i += 3) values.push_back(tuples[i]);
+    return values;
+  };
+  for (const VtiLayout& layout : {VtiLayout{.zlib = true, .bigEndian = true}, VtiLayout{true, true}}) {
+    std::string xml = vtiFile("Float32", tuples, layout);
+    const size_t at = xml.find("Name=\"density\"");
+    ASSERT_NE(at, std::string::npos);
+    xml.insert(at, "NumberOfComponents=\"3\" ");
+    const std::string path = dir.file(layout.inlined ? "inline.vti" : "appended.vti");
+    writeFile(path, xml);
+    const auto first = openVolumeSource(path);
+    EXPECT_EQ(first->info().dims, glm::u32vec3(9, 6, 5));
+    EXPECT_EQ(readSlab<float>(*first, 0, 5), componentOf(0)) << path;
+    ASSERT_EQ(first->info().notes.size(), 1u);
+    EXPECT_EQ(first->info().notes[0],
+              "VTK image data file " + path +
+                  " holds 3 components: component 0 of 3 is read; --channel C (0 to 2) "
+                  "picks another");
+    SourceOptions options;
+    options.channel = 2;
+    const auto last = openVolumeSource(path, options);
+    EXPECT_EQ(last->info().description, "vti:" + path + " (density) (component 2 of 3)");
+    EXPECT_EQ(last->info().spacing, glm::dvec3(0.5, 0.75, 2.0));
+    for (const uint32_t z : {3u, 1u, 4u, 0u, 2u}) {
+      const auto slab = readSlab<float>(*last, z, 1);
+      EXPECT_TRUE(std::equal(slab.begin(), slab.end(), componentOf(2).begin() + z * 54)) << path << " " << z;
+    }
+    options.channel = 3;
+    EXPECT_EQ(errorOf(path, options),
+              "--channel 3: VTK image data file " + path + " holds 3 components (--channel 0 to 2)");
+  }
+}
+
 TEST(SourceVti, EveryType) {
   TempDir dir;
   auto check = [&](auto tag, const std::string& vtiType, SampleType type) {
@@ -210,8 +250,8 @@ TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
        "several Pieces"},
       {"no such scalars", replaced("Scalars=\"density\"", "Scalars=\"pressure\""),
        "no DataArray named 'pressure'"},
-      {"components", replaced("Name=\"density\"", "Name=\"density\" NumberOfComponents=\"3\""),
-       "3 components"},
+      {"components", replaced("Name=\"density\"", "Name=\"density\" NumberOfComponents=\"0\""),
+       "NumberOfComponents '0' is not a count from 1 to 65536"},
       {"Int64", replaced("type=\"Int16\"", "type=\"Int64\""), "of type 'Int64' is not read"},
       {"ASCII", replaced("Name=\"density\" format=\"appended\"", "Name=\"density\" format=\"ascii\""),
        "ASCII data is not read"},
