@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <span>
 #include <string_view>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 
@@ -30,7 +31,7 @@ void checkVolume(const Header& header) {
   if (header.sizes.x == 0 || header.sizes.y == 0 || header.sizes.z == 0) std::abort();
   uint64_t channels = 1;  // a MetaImage's samples per point
   if constexpr (requires { header.channels; }) channels = header.channels;
-  if constexpr (requires { header.components; }) channels = header.components;  // a .vti's
+  if constexpr (std::is_same_v<Header, ropecast::VtiHeader>) channels = header.components;
   if (channels == 0 || header.dataBytes() / header.sizes.x / header.sizes.y / header.sizes.z !=
                            ropecast::bytesPerSample(header.type) * channels)
     std::abort();  // dataBytes() overflowed
@@ -51,6 +52,7 @@ void checkAxes(const ropecast::AxisDirections& axes) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
   const int parser = data[0] % 6;
+  const bool analyzeAllowed = data[0] >= 128;  // a NIfTI header read as a .hdr's, ANALYZE 7.5 allowed
   ++data;
   --size;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
@@ -86,12 +88,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (header.headerBytes > size) std::abort();
     } else if (parser == 1) {
       const ropecast::NiftiHeader header =
-          ropecast::parseNiftiHeader(std::as_bytes(std::span(data, size)), "fuzz.nii");
+          ropecast::parseNiftiHeader(std::as_bytes(std::span(data, size)), "fuzz.hdr", analyzeAllowed);
       checkVolume(header);
       checkAxes(header.axes);
       const size_t headerBytes =
           header.version == 2 ? ropecast::kNifti2HeaderBytes : ropecast::kNifti1HeaderBytes;
       if (!header.pairedFile && header.voxOffset < headerBytes) std::abort();
+      if (header.analyze && (!analyzeAllowed || !header.pairedFile || header.origin ||
+                             header.axes != ropecast::AxisDirections(1.0)))
+        std::abort();
       // Every volume of the series ends within 2^62 bytes (a source seeks to the last one).
       const uint64_t volumes = header.timePoints * header.components;
       if (header.timePoints == 0 || header.components == 0 ||

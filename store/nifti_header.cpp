@@ -106,7 +106,8 @@ int16_t niftiDatatypeOf(SampleType type) {
   return 0;
 }
 
-NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName) {
+NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string& fileName,
+                             bool analyzeAllowed) {
   const auto fail = [&](const std::string& what) -> Error {
     return Error("NIfTI header of " + fileName + ": " + what);
   };
@@ -137,11 +138,15 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
   const std::string_view paired =
       layout.wide ? std::string_view("ni2\0\r\n\032\n", 8) : std::string_view("ni1\0", 4);
   const std::string_view found(magic, layout.magicBytes);
-  if (found == paired)
+  if (found == paired) {
     header.pairedFile = true;
-  else if (found != single)
+  } else if (!layout.wide && analyzeAllowed && found != single) {
+    header.pairedFile = header.analyze = true;  // where NIfTI has its magic, ANALYZE keeps hist.smin
+  } else if (found != single) {
     throw fail("magic is not '" + std::string(single.substr(0, 3)) + "' or '" +
-               std::string(paired.substr(0, 3)) + "' (an ANALYZE 7.5 header, or not a NIfTI file)");
+               std::string(paired.substr(0, 3)) +
+               "' (an ANALYZE 7.5 header is read as the .hdr of a .hdr and .img pair), not a NIfTI file");
+  }
 
   const int64_t rank = field.integer(layout.dim, layout.wide);
   if (rank < 3 || rank > 7)
@@ -209,6 +214,7 @@ NiftiHeader parseNiftiHeader(std::span<const std::byte> bytes, const std::string
     if (!header.scaled) header.slope = 1.0;
   }
 
+  if (header.analyze) return header;
   // The sform where its code is set (NIfTI's method 3), else the qform (method 2); neither: axes as stored.
   const size_t real = layout.wide ? 8 : 4;
   if (field.code(layout.sformCode, layout.wide) > 0) {

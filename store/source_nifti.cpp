@@ -129,7 +129,9 @@ NiftiHeader readNiftiHeaderFile(const std::string& path) {
   const std::string problem = got < 0 ? gzerror(file, &status) : "";
   gzclose(file);
   if (got < 0) throw Error("NIfTI file " + path + ": cannot read its header (" + problem + ")");
-  return parseNiftiHeader(std::span(bytes).first(size_t(got)), path);
+  const std::string lower = lowerFileName(path);
+  const bool pairHeader = endsWith(lower, ".hdr") || endsWith(lower, ".hdr.gz");
+  return parseNiftiHeader(std::span(bytes).first(size_t(got)), path, /*analyzeAllowed=*/pairHeader);
 }
 
 std::string niftiDataPath(const NiftiHeader& header, const std::string& headerPath) {
@@ -153,7 +155,10 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
         "NIfTI header " + headerPath +
         " is the header of a header/image pair ('ni1' or 'ni2'), but no .img or .img.gz of its name lies "
         "beside it");
-  const std::string file = std::string(header.pairedFile ? "NIfTI image file " : "NIfTI file ") + dataPath;
+  const std::string kind = header.analyze      ? "ANALYZE image file"
+                           : header.pairedFile ? "NIfTI image file"
+                                               : "NIfTI file";
+  const std::string file = kind + " " + dataPath;
   const PickedVolume picked = pickVolume(options, {header.timePoints, header.components}, file);
   // The picked volume's samples follow those of the volumes before it.
   const uint64_t volumeStart =
@@ -161,7 +166,7 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
       (uint64_t(picked.channel) * header.timePoints + picked.timePoint) * header.dataBytes();
   auto data = std::make_unique<PosixFile>(dataPath);
   SampleBlock block;
-  block.fileKind = header.pairedFile ? "NIfTI image file" : "NIfTI file";
+  block.fileKind = kind;
   block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type));
   block.bytes = header.dataBytes();
   if (startsWithGzipMagic(*data)) {
@@ -176,7 +181,13 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.dims = header.sizes;
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
-  info.description = "nifti:" + path + picked.described;
+  info.description = (header.analyze ? "analyze:" : "nifti:") + path + picked.described;
+  if (header.analyze)
+    info.notes.push_back(
+        headerPath +
+        " is an ANALYZE 7.5 header (no NIfTI magic): the volume is drawn in the file's axes, "
+        "unoriented (programs read ANALYZE's orientation code differently, left and right "
+        "above all)");
   if (!picked.note.empty()) info.notes.push_back(picked.note);
   info.axes = header.axes;
   info.origin = header.origin;

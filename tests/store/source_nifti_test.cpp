@@ -222,6 +222,62 @@ TEST(SourceNifti, TimePointsAndComponentsArePickedByTimeAndChannel) {
             "--time 1: NIfTI file " + single + " holds 1 time point (--time 0 alone)");
 }
 
+// An ANALYZE 7.5 pair (a NIfTI-1 layout without the magic, hist.smin where the magic would be, an
+// orientation code and originator where NIfTI keeps qform_code and sform_code), in both byte orders: its
+// sizes, spacing, vox_offset and SPM's scale factor read; its orientation not, with a warning. A single file
+// without the magic is still refused.
+TEST(SourceNifti, AnAnalyzeHeaderIsReadWithoutOrientation) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(kNiftiSamples);
+  for (const bool big : {false, true}) {
+    NiftiWriter analyze(1, 4, 16, big);
+    analyze.put<int32_t>(344, 17);      // hist.smin
+    analyze.put<int16_t>(252, 0x0101);  // hist.orient 1 (coronal) and originator's first byte
+    analyze.put<int16_t>(254, 0x0203);  // the originator's next bytes
+    analyze.voxOffset(0);
+    analyze.scale(2.0, 0.0);  // SPM's funused1
+    const std::string name = big ? "big" : "little";
+    writeFile(dir.file(name + ".hdr"), analyze.header());
+    writeFile(dir.file(name + ".img"), fileBytes(values, big));
+    for (const std::string& path : {dir.file(name + ".hdr"), dir.file(name + ".img")}) {
+      const auto source = openVolumeSource(path);
+      const VolumeInfo& info = source->info();
+      EXPECT_EQ(info.dims, kNiftiDims);
+      EXPECT_EQ(info.spacing, glm::dvec3(0.5, 1.0, 1.5));
+      EXPECT_EQ(info.axes, AxisDirections(1.0));
+      EXPECT_FALSE(info.origin);
+      EXPECT_FALSE(info.patientFrame);
+      EXPECT_EQ(info.description.substr(0, 8 + path.size()), "analyze:" + path);
+      ASSERT_EQ(info.notes.size(), 1u);
+      EXPECT_EQ(info.notes[0], dir.file(name + ".hdr") +
+                                   " is an ANALYZE 7.5 header (no NIfTI magic): the volume is drawn in the "
+                                   "file's axes, unoriented (programs read ANALYZE's orientation code "
+                                   "differently, left and right above all)");
+      std::vector<double> expected, got;
+      for (const int16_t v : values) expected.push_back(2.0 * v);
+      const size_t bytes = bytesPerSample(info.type);
+      std::vector<std::byte> slab(kNiftiSamples * bytes);
+      source->readSlab(0, 5, slab);
+      for (size_t i = 0; i < kNiftiSamples; ++i) {
+        if (info.type == SampleType::Int32) {
+          int32_t v;
+          std::memcpy(&v, slab.data() + i * 4, 4);
+          got.push_back(v);
+        } else {
+          float v;
+          std::memcpy(&v, slab.data() + i * 4, 4);
+          got.push_back(v);
+        }
+      }
+      EXPECT_EQ(got, expected) << path;
+    }
+  }
+  NiftiWriter single(1, 4, 16);
+  single.put<int32_t>(344, 0);
+  writeFile(dir.file("nomagic.nii"), single.file(fileBytes(values)));
+  EXPECT_NE(errorOf(dir.file("nomagic.nii")).find("not a NIfTI file"), std::string::npos);
+}
+
 TEST(SourceNifti, AHeaderAndImagePairIsReadFromEither) {
   TempDir dir;
   const auto values = samplePattern<uint16_t>(kNiftiSamples);
