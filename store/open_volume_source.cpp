@@ -154,12 +154,7 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   }
   if (ext == ".tif" || ext == ".tiff") {
     rejectRawOptions(spec, options, "a TIFF");
-    if (countImagePages(spec) < 2)
-      throw Error(
-          "openVolumeSource: " + spec +
-          " is a single-page TIFF; give its folder or a pattern (e.g. dir/slice_*.tif) to read a stack of "
-          "slices, or a multi-page TIFF");
-    return openMultiPageTiffSource(spec, options);
+    return openMultiPageTiffSource(spec, options);  // a single page is refused there
   }
   if (ext == ".dcm")
     throw Error("openVolumeSource: " + spec +

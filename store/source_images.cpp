@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -86,6 +88,16 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
   auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw Error("cannot read image " + path + ": " + oiioError(nullptr));
   return in;
+}
+
+// The pages of a multi-page TIFF: walked by tiffPageCount where the file is a TIFF (to reach page n,
+// OpenImageIO's TIFF reader walks the n directories before it, so counting by its seeks took time in the
+// square of the pages: minutes for thousands), else counted by OpenImageIO's input `in`.
+int countPages(OIIO::ImageInput& in, const std::string& path) {
+  if (const std::optional<int> tiffPages = tiffPageCount(path)) return *tiffPages;
+  int pages = 1;
+  while (in.seek_subimage(pages, 0)) ++pages;
+  return pages;
 }
 
 // The sample types of OpenImageIO's pixel types. Half floats are read as float32, which holds each exactly.
@@ -245,15 +257,26 @@ void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const s
 
 class ImageSliceSource final : public VolumeSource {
  public:
-  ImageSliceSource(std::vector<SliceRef> slices, bool multiPage, std::string description,
-                   const SourceOptions& options)
-      : slices_(std::move(slices)), multiPage_(multiPage) {
+  // `multiPage`: OpenImageIO's input of the multi-page TIFF whose pages the slices are; none for slices of
+  // their own files.
+  ImageSliceSource(std::vector<SliceRef> slices, std::unique_ptr<OIIO::ImageInput> multiPage,
+                   std::string description, const SourceOptions& options)
+      : slices_(std::move(slices)), multiPage_(multiPage != nullptr), multiPageInput_(std::move(multiPage)) {
     // Check every slice now, so a bad stack fails before any conversion work; whether a color slice is gray
-    // takes its pixels, and is checked as it is read.
-    if (multiPage_) multiPageInput_ = openImage(slices_.front().path);
+    // takes its pixels, and is checked as it is read. A page stored as the first one is (its directory says
+    // so) reads as it does, and is checked as it is read too: seeking every page through OpenImageIO takes
+    // time in the square of the pages (countPages).
+    std::optional<std::vector<TiffPageLayout>> pageLayouts;
+    if (multiPage_) pageLayouts = tiffPageLayouts(slices_.front().path);
+    const auto storedAsFirst = [&](size_t z) {
+      const auto& layouts = *pageLayouts;
+      const auto page = size_t(slices_[z].page), first = size_t(slices_.front().page);
+      return page < layouts.size() && first < layouts.size() && layouts[page] == layouts[first];
+    };
     size_t colorSlices = 0;
     std::string firstColor;
     for (size_t z = 0; z < slices_.size(); ++z) {
+      if (z > 0 && pageLayouts && storedAsFirst(z)) continue;
       const SliceFormat slice = formatOf(slices_[z]);
       if (slice.channels > 1 && colorSlices++ == 0) firstColor = describe(slices_[z], multiPage_);
       if (z == 0)
@@ -297,10 +320,10 @@ class ImageSliceSource final : public VolumeSource {
   SliceFormat formatOf(const SliceRef& slice) {
     if (multiPage_) {
       OIIO::ImageSpec spec;
-      if (!multiPageInput_->seek_subimage(slice.page, 0, spec))
-        throw Error("cannot read image slice " + describe(slice, true) + ": " +
-                    oiioError(multiPageInput_.get()));
-      return sliceFormat(spec, multiPageInput_->format_name(), describe(slice, true));
+      OIIO::ImageInput& in = *multiPageInput_;
+      if (!in.seek_subimage(slice.page, 0, spec))
+        throw Error("cannot read image slice " + describe(slice, true) + ": " + oiioError(&in));
+      return sliceFormat(spec, in.format_name(), describe(slice, true));
     }
     const auto in = openImage(slice.path);
     tiffPageCount(slice.path);  // refuses a TIFF cut short, whose missing data would read as zeros
@@ -350,14 +373,7 @@ class ImageSliceSource final : public VolumeSource {
 }  // namespace
 
 int countImagePages(const std::string& path) {
-  auto in = openImage(path);
-  int pages = 1;
-  while (in->seek_subimage(pages, 0)) ++pages;
-  // OpenImageIO stops at the first page it cannot read, as if the file ended there.
-  if (const std::optional<int> tiffPages = tiffPageCount(path); tiffPages && *tiffPages > pages)
-    throw Error("cannot read image " + path + " (page " + std::to_string(pages) + "): OpenImageIO reads " +
-                std::to_string(pages) + " of its " + std::to_string(*tiffPages) + " pages");
-  return pages;
+  return countPages(*openImage(path), path);
 }
 
 std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryOrPattern,
@@ -367,24 +383,26 @@ std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryO
   std::vector<SliceRef> slices;
   for (auto& file : files) slices.push_back({std::move(file), 0});
   auto source =
-      std::make_unique<ImageSliceSource>(std::move(slices), false, "images:" + directoryOrPattern, options);
+      std::make_unique<ImageSliceSource>(std::move(slices), nullptr, "images:" + directoryOrPattern, options);
   if (!numbering.empty()) source->addNote(numbering);
   return source;
 }
 
 std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, const SourceOptions& options) {
-  const int pages = countImagePages(path);
+  auto file = openImage(path);
   // The first page's description says how ImageJ or OME-TIFF laid the pages out and how large a voxel is.
-  std::optional<TiffStackLayout> layout;
-  {
-    const auto in = openImage(path);
-    const OIIO::ImageSpec& spec = in->spec();
-    const std::string description = spec.get_string_attribute("ImageDescription");
-    layout = omeLayout(description, uint64_t(pages));
-    if (!layout)
-      layout = imageJLayout(description, spec.get_float_attribute("XResolution", 0.0f),
-                            spec.get_float_attribute("YResolution", 0.0f), uint64_t(pages));
-  }
+  const OIIO::ImageSpec& first = file->spec();
+  const std::string firstDescription = first.get_string_attribute("ImageDescription");
+  const double xResolution = first.get_float_attribute("XResolution", 0.0f);
+  const double yResolution = first.get_float_attribute("YResolution", 0.0f);
+  const int pages = countPages(*file, path);
+  if (pages < 2)
+    throw Error(
+        "openVolumeSource: " + path +
+        " is a single-page TIFF; give its folder or a pattern (e.g. dir/slice_*.tif) to read a stack of "
+        "slices, or a multi-page TIFF");
+  std::optional<TiffStackLayout> layout = omeLayout(firstDescription, uint64_t(pages));
+  if (!layout) layout = imageJLayout(firstDescription, xResolution, yResolution, uint64_t(pages));
   const std::string kind = !layout                      ? "TIFF "
                            : layout->writer == "ImageJ" ? "ImageJ hyperstack "
                                                         : "OME-TIFF image ";
@@ -402,7 +420,7 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
   if (placed.spacing && !options.spacing)
     description += " (" + layout->writer + " calibration: " + formatSpacing(*placed.spacing) +
                    (layout->unit.empty() ? "" : " " + layout->unit) + ")";
-  auto source = std::make_unique<ImageSliceSource>(std::move(slices), true, description, placed);
+  auto source = std::make_unique<ImageSliceSource>(std::move(slices), std::move(file), description, placed);
   if (!picked.note.empty()) source->addNote(picked.note);
   return source;
 }

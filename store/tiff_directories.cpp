@@ -82,25 +82,56 @@ std::vector<uint64_t> entryValues(TiffFile& file, const uint8_t* entry, int page
   return values;
 }
 
-// Checks that the image data a directory points to lies inside the file.
-void checkImageData(TiffFile& file, const std::vector<uint8_t>& table, uint64_t entries, int page) {
+// The tags of a page's layout.
+constexpr uint16_t kImageWidth = 256, kImageLength = 257, kBitsPerSample = 258, kPhotometric = 262,
+                   kSamplesPerPixel = 277, kPlanarConfiguration = 284, kExtraSamples = 338,
+                   kSampleFormat = 339;
+
+// Checks that the image data a directory points to lies inside the file; returns the page's layout.
+TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table, uint64_t entries, int page) {
   const int entryBytes = file.bigTiff ? 20 : 12;
   std::vector<uint64_t> offsets, byteCounts;
+  TiffPageLayout layout;
   for (uint64_t e = 0; e < entries; ++e) {
     const uint8_t* entry = table.data() + e * entryBytes;
     const auto tag = uint16_t(file.value(entry, 2));
     if (tag == kStripOffsets || tag == kTileOffsets) offsets = entryValues(file, entry, page);
     if (tag == kStripByteCounts || tag == kTileByteCounts) byteCounts = entryValues(file, entry, page);
+    uint64_t* const field = tag == kImageWidth            ? &layout.width
+                            : tag == kImageLength         ? &layout.height
+                            : tag == kBitsPerSample       ? &layout.bitsPerSample
+                            : tag == kSamplesPerPixel     ? &layout.samplesPerPixel
+                            : tag == kSampleFormat        ? &layout.sampleFormat
+                            : tag == kPhotometric         ? &layout.photometric
+                            : tag == kExtraSamples        ? &layout.extraSamples
+                            : tag == kPlanarConfiguration ? &layout.planarConfiguration
+                                                          : nullptr;
+    if (field) {
+      // A list (BitsPerSample and SampleFormat give one value per sample): its first value, and its others
+      // when they differ from it, which makes the page unlike any other.
+      const std::vector<uint64_t> values = entryValues(file, entry, page);
+      const bool uniform =
+          !values.empty() && std::ranges::count(values, values.front()) == long(values.size());
+      *field = values.empty() ? 0 : values.front();
+      if (!uniform) layout.unlikeOthers = uint64_t(page) + 1;
+    }
   }
   uint64_t end = 0;
   for (size_t i = 0; i < std::min(offsets.size(), byteCounts.size()); ++i)
     if (byteCounts[i] > 0) end = std::max(end, offsets[i] + std::min(byteCounts[i], ~offsets[i]));
   if (end > file.size()) cutShort(file, page, "its image data runs to byte " + std::to_string(end));
+  return layout;
 }
 
 }  // namespace
 
 std::optional<int> tiffPageCount(const std::string& path) {
+  const std::optional<std::vector<TiffPageLayout>> pages = tiffPageLayouts(path);
+  if (!pages) return std::nullopt;
+  return int(pages->size());
+}
+
+std::optional<std::vector<TiffPageLayout>> tiffPageLayouts(const std::string& path) {
   TiffFile file(path);
   if (!file.holds(0, 8)) return std::nullopt;
   const std::vector<uint8_t> header = file.read(0, 8);
@@ -120,8 +151,8 @@ std::optional<int> tiffPageCount(const std::string& path) {
   }
   const int countBytes = file.bigTiff ? 8 : 2, entryBytes = file.bigTiff ? 20 : 12;
   std::set<uint64_t> seen;
-  int pages = 0;
-  for (; at != 0; ++pages) {
+  std::vector<TiffPageLayout> layouts;
+  for (int pages = 0; at != 0; ++pages) {
     if (!seen.insert(at).second)
       throw Error("TIFF file " + path + " (page " + std::to_string(pages) +
                   "): its directory is an earlier page's; the directories loop");
@@ -134,10 +165,10 @@ std::optional<int> tiffPageCount(const std::string& path) {
                "its directory runs from byte " + std::to_string(at) + " to byte " +
                    std::to_string(at + countBytes + tableBytes));
     const std::vector<uint8_t> table = file.read(at + countBytes, tableBytes);
-    checkImageData(file, table, entries, pages);
+    layouts.push_back(checkImageData(file, table, entries, pages));
     at = file.value(table.data() + entries * entryBytes, file.offsetBytes());
   }
-  return pages;
+  return layouts;
 }
 
 }  // namespace ropecast

@@ -5,6 +5,7 @@
 // and each bad slice (different size or type, unreadable, two channels, color that is not gray, a TIFF cut
 // short, one OpenImageIO would read as zeros) or bad spec giving an error that names the file.
 #include "store/source_images.h"
+#include "store/tiff_directories.h"
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
@@ -937,6 +938,41 @@ TEST(SourceImages, SliceNameOrder) {
   EXPECT_TRUE(sliceNameLess("s9_b.png", "s10_a.png"));
   EXPECT_FALSE(sliceNameLess("s1.png", "s1.png"));
   EXPECT_TRUE(sliceNameLess("s1.png", "s01.png") != sliceNameLess("s01.png", "s1.png"));
+}
+
+// A multi-page TIFF's pages are checked against its first by their directories (tiffPageLayouts), and those
+// stored otherwise through OpenImageIO: one of another size, sample format or photometric interpretation is
+// refused when the TIFF opens, naming its page; pages stored alike open without a read of their own.
+TEST(SourceImages, AMultiPageTiffsPagesStoredUnlikeItsFirstAreNamed) {
+  TempDir dir;
+  std::vector<TiffPage> pages;
+  for (uint32_t z = 0; z < 5; ++z) pages.push_back(tiffPage<uint16_t>(6, 4, slicePattern<uint16_t>(6, 4, z)));
+  const std::string alike = dir.file("alike.tif");
+  writeTiff(alike, pages);
+  const auto layouts = tiffPageLayouts(alike);
+  ASSERT_TRUE(layouts);
+  ASSERT_EQ(layouts->size(), 5u);
+  EXPECT_EQ((*layouts)[0].width, 6u);
+  EXPECT_EQ((*layouts)[0].height, 4u);
+  EXPECT_EQ((*layouts)[0].bitsPerSample, 16u);
+  for (const TiffPageLayout& layout : *layouts) EXPECT_EQ(layout, (*layouts)[0]);
+  expectSlices<uint16_t>(*openVolumeSource(alike), 6, 4, 5);
+
+  const auto refusedFor = [&](const std::string& name, TiffPage page, const std::string& expected) {
+    std::vector<TiffPage> unlike = pages;
+    unlike[3] = std::move(page);
+    const std::string path = dir.file(name);
+    writeTiff(path, unlike);
+    EXPECT_NE((*tiffPageLayouts(path))[3], (*tiffPageLayouts(path))[0]) << name;
+    const std::string message = errorOf(path);
+    EXPECT_NE(message.find(path + " (page 3)"), std::string::npos) << name << ": " << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << name << ": " << message;
+  };
+  refusedFor("size.tif", tiffPage<uint16_t>(6, 5, slicePattern<uint16_t>(6, 5, 3)), "6x5");
+  refusedFor("signed.tif", tiffPage<int16_t>(6, 4, slicePattern<int16_t>(6, 4, 3)), "int16");
+  refusedFor("white.tif", tiffPage<uint16_t>(6, 4, slicePattern<uint16_t>(6, 4, 3), 0), "MinIsWhite");
+  writeFile(dir.file("text.tif"), "not a TIFF at all");
+  EXPECT_EQ(tiffPageLayouts(dir.file("text.tif")), std::nullopt);
 }
 
 TEST(SourceImages, DifferentSizeOrTypeNamesTheSlice) {
