@@ -83,9 +83,9 @@ std::vector<uint64_t> entryValues(TiffFile& file, const uint8_t* entry, int page
 }
 
 // The tags of a page's layout.
-constexpr uint16_t kImageWidth = 256, kImageLength = 257, kBitsPerSample = 258, kPhotometric = 262,
-                   kSamplesPerPixel = 277, kPlanarConfiguration = 284, kExtraSamples = 338,
-                   kSampleFormat = 339;
+constexpr uint16_t kImageWidth = 256, kImageLength = 257, kBitsPerSample = 258, kCompression = 259,
+                   kPhotometric = 262, kSamplesPerPixel = 277, kRowsPerStrip = 278,
+                   kPlanarConfiguration = 284, kExtraSamples = 338, kSampleFormat = 339;
 
 // Checks that the image data a directory points to lies inside the file; returns the page's layout.
 TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table, uint64_t entries, int page) {
@@ -97,6 +97,7 @@ TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table,
     const auto tag = uint16_t(file.value(entry, 2));
     if (tag == kStripOffsets || tag == kTileOffsets) offsets = entryValues(file, entry, page);
     if (tag == kStripByteCounts || tag == kTileByteCounts) byteCounts = entryValues(file, entry, page);
+    if (tag == kTileOffsets) layout.tiled = true;
     uint64_t* const field = tag == kImageWidth            ? &layout.width
                             : tag == kImageLength         ? &layout.height
                             : tag == kBitsPerSample       ? &layout.bitsPerSample
@@ -105,6 +106,8 @@ TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table,
                             : tag == kPhotometric         ? &layout.photometric
                             : tag == kExtraSamples        ? &layout.extraSamples
                             : tag == kPlanarConfiguration ? &layout.planarConfiguration
+                            : tag == kCompression         ? &layout.compression
+                            : tag == kRowsPerStrip        ? &layout.rowsPerStrip
                                                           : nullptr;
     if (field) {
       // A list (BitsPerSample and SampleFormat give one value per sample): its first value, and its others
@@ -120,6 +123,9 @@ TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table,
   for (size_t i = 0; i < std::min(offsets.size(), byteCounts.size()); ++i)
     if (byteCounts[i] > 0) end = std::max(end, offsets[i] + std::min(byteCounts[i], ~offsets[i]));
   if (end > file.size()) cutShort(file, page, "its image data runs to byte " + std::to_string(end));
+  layout.bigEndian = file.bigEndian;
+  layout.dataOffsets = std::move(offsets);
+  layout.dataByteCounts = std::move(byteCounts);
   return layout;
 }
 

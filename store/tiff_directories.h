@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace ropecast {
@@ -20,10 +21,23 @@ struct TiffPageLayout {
   uint64_t width = 0, height = 0;
   uint64_t bitsPerSample = 1, samplesPerPixel = 1, sampleFormat = 1;  // the first sample's, TIFF's defaults
   uint64_t photometric = ~uint64_t(0), extraSamples = 0, planarConfiguration = 1;
+  uint64_t compression = 1;              // 1: none
+  uint64_t rowsPerStrip = ~uint32_t(0);  // TIFF's default: one strip
+  bool tiled = false;                    // tiles, not strips
+  bool bigEndian = false;                // the file's byte order
   // Non-zero (the page's number plus 1) where a layout tag is not a list of one unsigned value repeated: the
   // page is then like no other, and read to be checked.
   uint64_t unlikeOthers = 0;
-  bool operator==(const TiffPageLayout&) const = default;
+  // Where the page's strips (or tiles) start, and their bytes: not part of the layout (not compared).
+  std::vector<uint64_t> dataOffsets, dataByteCounts;
+
+  bool operator==(const TiffPageLayout& o) const {
+    return std::tie(width, height, bitsPerSample, samplesPerPixel, sampleFormat, photometric, extraSamples,
+                    planarConfiguration, compression, rowsPerStrip, tiled, bigEndian, unlikeOthers) ==
+           std::tie(o.width, o.height, o.bitsPerSample, o.samplesPerPixel, o.sampleFormat, o.photometric,
+                    o.extraSamples, o.planarConfiguration, o.compression, o.rowsPerStrip, o.tiled,
+                    o.bigEndian, o.unlikeOthers);
+  }
 };
 
 // Each page's layout, in page order (none when its header points to no directory), or nullopt when `path`

@@ -165,11 +165,17 @@ uint32_t tiffDirectoryBytes(const TiffPage& page) {
 // A little-endian, uncompressed TIFF, for what OpenImageIO does not write: MinIsWhite pages, palette pages
 // with the color maps given, half floats, and every page's directory ahead of all the image data (OpenImageIO
 // writes each page's data, then its directory; then no page may have a color map).
-void writeTiff(const std::string& path, const std::vector<TiffPage>& pages, bool directoriesFirst = false) {
-  std::vector<uint8_t> file{'I', 'I', 42, 0, 0, 0, 0, 0};
+void writeTiff(const std::string& path, std::vector<TiffPage> pages, bool directoriesFirst = false,
+               bool bigEndian = false) {
+  std::vector<uint8_t> file = bigEndian ? std::vector<uint8_t>{'M', 'M', 0, 42, 0, 0, 0, 0}
+                                        : std::vector<uint8_t>{'I', 'I', 42, 0, 0, 0, 0, 0};
   const auto put = [&](uint32_t at, uint32_t value, int bytes) {
-    for (int i = 0; i < bytes; ++i) file[at + i] = uint8_t(value >> (8 * i));
+    for (int i = 0; i < bytes; ++i) file[at + (bigEndian ? bytes - 1 - i : i)] = uint8_t(value >> (8 * i));
   };
+  if (bigEndian)
+    for (TiffPage& page : pages)
+      for (size_t i = 0, width = page.bits / 8; width > 1 && i + width <= page.data.size(); i += width)
+        std::reverse(page.data.begin() + long(i), page.data.begin() + long(i + width));
   uint32_t dataAt = 8;
   if (directoriesFirst)
     for (const TiffPage& page : pages) dataAt += tiffDirectoryBytes(page);
@@ -270,6 +276,55 @@ TEST(SourceImages, MultiPageTiff) {
 // An ImageJ hyperstack of 2 channels, 3 slices and 2 frames (pages c0 z0 t0, c1 z0 t0, c0 z1 t0, ..., c0 z0
 // t1, ...), calibrated: its first channel's first frame is read, at its calibration, said in the description;
 // --channel and --time pick another; --spacing overrides the calibration.
+// Pages stored uncompressed in strips are read as the file stores them, not through OpenImageIO (whose TIFF
+// reader walks every directory before a page to reach it): in strips of 3 rows of 7 (OpenImageIO's writer),
+// and big-endian (ImageJ's), each type as written.
+template <typename T>
+void expectStoredPagesRead(const std::string& path) {
+  std::vector<std::vector<T>> patterns;
+  for (uint32_t z = 0; z < 4; ++z) patterns.push_back(slicePattern<T>(10, 7, z));
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out);
+  std::vector<OIIO::ImageSpec> specs(patterns.size(), OIIO::ImageSpec(10, 7, 1, typeDescOf<T>()));
+  for (OIIO::ImageSpec& spec : specs) {
+    spec.attribute("compression", "none");
+    spec.attribute("tiff:RowsPerStrip", 3);
+  }
+  ASSERT_TRUE(out->open(path, int(patterns.size()), specs.data())) << out->geterror();
+  for (size_t z = 0; z < patterns.size(); ++z) {
+    if (z > 0) {
+      ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
+    }
+    ASSERT_TRUE(out->write_image(typeDescOf<T>(), patterns[z].data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close());
+  const auto layouts = tiffPageLayouts(path);
+  ASSERT_TRUE(layouts);
+  ASSERT_EQ((*layouts)[2].compression, 1u);
+  ASSERT_EQ((*layouts)[2].dataOffsets.size(), 3u);  // strips of 3, 3 and 1 rows
+  expectSlices<T>(*openVolumeSource(path), 10, 7, 4);
+}
+
+TEST(SourceImages, UncompressedPagesAreReadAsStoredInEitherByteOrder) {
+  TempDir dir;
+  expectStoredPagesRead<uint8_t>(dir.file("u8.tif"));
+  expectStoredPagesRead<int16_t>(dir.file("i16.tif"));
+  expectStoredPagesRead<uint32_t>(dir.file("u32.tif"));
+  expectStoredPagesRead<float>(dir.file("f32.tif"));
+  expectStoredPagesRead<double>(dir.file("f64.tif"));
+
+  std::vector<TiffPage> u16, f32;
+  for (uint32_t z = 0; z < 3; ++z) {
+    u16.push_back(tiffPage<uint16_t>(5, 4, slicePattern<uint16_t>(5, 4, z)));
+    f32.push_back(tiffPage<float>(5, 4, slicePattern<float>(5, 4, z)));
+  }
+  writeTiff(dir.file("big16.tif"), u16, false, /*bigEndian=*/true);
+  writeTiff(dir.file("big32.tif"), f32, true, /*bigEndian=*/true);
+  ASSERT_TRUE((*tiffPageLayouts(dir.file("big16.tif")))[0].bigEndian);
+  expectSlices<uint16_t>(*openVolumeSource(dir.file("big16.tif")), 5, 4, 3);
+  expectSlices<float>(*openVolumeSource(dir.file("big32.tif")), 5, 4, 3);
+}
+
 TEST(SourceImages, AnImageJHyperstacksChannelAndFrameAtItsCalibration) {
   TempDir dir;
   const std::string path = dir.file("stack.tif");
