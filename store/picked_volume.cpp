@@ -1,5 +1,6 @@
 #include "store/picked_volume.h"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -8,33 +9,45 @@
 namespace ropecast {
 namespace {
 
+// The most one slice of every component may take: more is refused when the source opens.
+constexpr uint64_t kMaxSliceOfComponents = uint64_t(4) << 30;
+
 class ComponentSource final : public VolumeSource {
  public:
   ComponentSource(std::unique_ptr<VolumeSource> interleaved, uint32_t components, uint32_t component,
-                  VolumeInfo info)
+                  VolumeInfo info, uint64_t maxStoredBytes)
       : interleaved_(std::move(interleaved)),
         components_(components),
         component_(component),
+        maxStoredBytes_(maxStoredBytes),
         info_(std::move(info)) {}
 
   const VolumeInfo& info() const override { return info_; }
 
  protected:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    const size_t width = bytesPerSample(info_.type);
-    stored_.resize(out.size() * components_);
-    interleaved_->readSlab(z0, count, stored_);
-    const std::byte* from = stored_.data() + size_t(component_) * width;
-    const size_t step = size_t(components_) * width;
-    for (size_t i = 0, n = out.size() / width; i < n; ++i, from += step)
-      std::memcpy(out.data() + i * width, from, width);
+    const size_t width = bytesPerSample(info_.type), sliceBytes = info_.sliceBytes();
+    // Slices of every component, as many at a time as maxStoredBytes_ holds (one at least).
+    const uint32_t perRead =
+        uint32_t(std::clamp<uint64_t>(maxStoredBytes_ / (uint64_t(sliceBytes) * components_), 1, count));
+    for (uint32_t done = 0; done < count; done += perRead) {
+      const uint32_t slices = std::min(perRead, count - done);
+      stored_.resize(size_t(slices) * sliceBytes * components_);
+      interleaved_->readSlab(z0 + done, slices, stored_);
+      const std::byte* from = stored_.data() + size_t(component_) * width;
+      std::byte* to = out.data() + size_t(done) * sliceBytes;
+      const size_t step = size_t(components_) * width;
+      for (size_t i = 0, n = size_t(slices) * sliceBytes / width; i < n; ++i, from += step)
+        std::memcpy(to + i * width, from, width);
+    }
   }
 
  private:
   std::unique_ptr<VolumeSource> interleaved_;
   uint32_t components_, component_;
+  uint64_t maxStoredBytes_;
   VolumeInfo info_;
-  std::vector<std::byte> stored_;  // a slab of every component
+  std::vector<std::byte> stored_;  // slices of every component
 };
 
 // "120 time points", "1 channel".
@@ -101,8 +114,13 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
 }
 
 std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,
-                                            uint32_t component, VolumeInfo info) {
-  return std::make_unique<ComponentSource>(std::move(interleaved), components, component, std::move(info));
+                                            uint32_t component, VolumeInfo info, uint64_t maxStoredBytes) {
+  if (uint64_t(info.sliceBytes()) * components > kMaxSliceOfComponents)
+    throw Error(info.description + ": a slice of its " + std::to_string(components) +
+                " components is more than " + std::to_string(kMaxSliceOfComponents >> 30) +
+                " GiB, too much to read for one of them");
+  return std::make_unique<ComponentSource>(std::move(interleaved), components, component, std::move(info),
+                                           maxStoredBytes);
 }
 
 std::unique_ptr<VolumeSource> pickStacked(std::unique_ptr<VolumeSource> stacked, uint32_t index,

@@ -39,9 +39,12 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
 
 // The volume of one component of samples stored interleaved, `components` per point (a MetaImage's
 // channels, a `.vti` array's components): `interleaved` reads them as a volume whose x axis holds components
-// times `info.dims.x` samples; the source returned keeps those of `component` and is described by `info`.
+// times `info.dims.x` samples; the source returned keeps those of `component` and is described by `info`. It
+// reads every component's slices at most `maxStoredBytes` at a time (one slice at least); a slice of all
+// components past 4 GiB is refused, naming `info.description`.
 std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,
-                                            uint32_t component, VolumeInfo info);
+                                            uint32_t component, VolumeInfo info,
+                                            uint64_t maxStoredBytes = uint64_t(256) << 20);
 
 // The volume `index` of volumes stored one after another (a NRRD's volumes along its last axis): `stacked`
 // reads them as one volume of their slices, volume after volume; the source returned reads those of `index`

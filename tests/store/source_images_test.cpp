@@ -100,14 +100,20 @@ void writeNarrowImage(const std::string& path, uint32_t w, uint32_t h, const std
   ASSERT_TRUE(out->close());
 }
 
-// A multi-page TIFF of w x h pages of `channels` samples a pixel.
+// A multi-page TIFF of w x h pages of `channels` samples a pixel; `stripsOf3` uncompressed, in strips of 3
+// rows (else as OpenImageIO writes them by default).
 template <typename T>
 void writePages(const std::string& path, uint32_t w, uint32_t h, const std::vector<std::vector<T>>& pages,
-                int channels = 1) {
+                int channels = 1, bool stripsOf3 = false) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out && out->supports("multiimage"));
   std::vector<OIIO::ImageSpec> specs(pages.size(),
                                      OIIO::ImageSpec(int(w), int(h), channels, typeDescOf<T>()));
+  if (stripsOf3)
+    for (OIIO::ImageSpec& spec : specs) {
+      spec.attribute("compression", "none");
+      spec.attribute("tiff:RowsPerStrip", 3);
+    }
   ASSERT_TRUE(out->open(path, int(pages.size()), specs.data())) << out->geterror();
   for (size_t z = 0; z < pages.size(); ++z) {
     if (z > 0) {
@@ -283,21 +289,7 @@ template <typename T>
 void expectStoredPagesRead(const std::string& path) {
   std::vector<std::vector<T>> patterns;
   for (uint32_t z = 0; z < 4; ++z) patterns.push_back(slicePattern<T>(10, 7, z));
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out);
-  std::vector<OIIO::ImageSpec> specs(patterns.size(), OIIO::ImageSpec(10, 7, 1, typeDescOf<T>()));
-  for (OIIO::ImageSpec& spec : specs) {
-    spec.attribute("compression", "none");
-    spec.attribute("tiff:RowsPerStrip", 3);
-  }
-  ASSERT_TRUE(out->open(path, int(patterns.size()), specs.data())) << out->geterror();
-  for (size_t z = 0; z < patterns.size(); ++z) {
-    if (z > 0) {
-      ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
-    }
-    ASSERT_TRUE(out->write_image(typeDescOf<T>(), patterns[z].data())) << out->geterror();
-  }
-  ASSERT_TRUE(out->close());
+  writePages(path, 10, 7, patterns, 1, /*stripsOf3=*/true);
   const auto layouts = tiffPageLayouts(path);
   ASSERT_TRUE(layouts);
   ASSERT_EQ((*layouts)[2].compression, 1u);
