@@ -20,7 +20,11 @@ glm::dvec3 readVec3(const nlohmann::json& j, const char* field, const std::strin
   return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
+// The distance of a named view keyframe without "distance": --view's.
+constexpr double kDefaultViewDistance = 3.0;
+
 Camera keyframeCamera(const CameraKeyframe& k, glm::dvec3 boxMin, glm::dvec3 boxMax) {
+  if (k.view) return anatomicalViewCamera(*k.view, k.viewDistance, boxMin, boxMax, k.camera.fovYDeg);
   if (!k.isOrbit) return k.camera;
   return orbitCamera(k.orbit.x, k.orbit.y, k.orbit.z, boxMin, boxMax, k.camera.fovYDeg);
 }
@@ -59,19 +63,54 @@ CameraPath parseCameraPath(const std::string& text, const std::string& sourceNam
     if (!j.is_object()) throw Error(where + ": expected an object");
     // As strict as the command-line options: a misspelt key is an error, not a keyframe that ignores it.
     for (const auto& [key, value] : j.items())
-      if (key != "orbit" && key != "eye" && key != "target" && key != "up" && key != "fov" && key != "time")
+      if (key != "orbit" && key != "eye" && key != "target" && key != "up" && key != "fov" && key != "time" &&
+          key != "view" && key != "distance")
         throw Error(where + ": unknown key \"" + key +
-                    "\" (expected orbit, or eye, target and up; fov, time)");
+                    "\" (expected orbit, view and distance, or eye, target and up; fov, time)");
     if (j.contains("orbit") && (j.contains("eye") || j.contains("target") || j.contains("up")))
       throw Error(where +
                   ": \"orbit\" places the camera itself; give it without \"eye\", \"target\" and \"up\"");
+    if (j.contains("view") &&
+        (j.contains("orbit") || j.contains("eye") || j.contains("target") || j.contains("up")))
+      throw Error(where +
+                  ": \"view\" places the camera itself; give it without \"orbit\", \"eye\", \"target\" and "
+                  "\"up\"");
+    if (j.contains("distance") && !j.contains("view"))
+      throw Error(where + ": \"distance\" is a named view's; an orbit's is its third number");
     CameraKeyframe k;
     if (j.contains("fov")) {
       if (!j["fov"].is_number() || j["fov"].get<double>() <= 0.0 || j["fov"].get<double>() >= 180.0)
         throw Error(where + ": \"fov\" must be a number of degrees in (0, 180)");
       k.camera.fovYDeg = j["fov"].get<double>();
     }
-    if (j.contains("orbit")) {
+    if (j.contains("view")) {
+      std::string names;
+      std::optional<AnatomicalView> view;
+      for (const auto& [name, named] : kAnatomicalViewNames) {
+        names += std::string(names.empty() ? "" : ", ") + name;
+        if (j["view"].is_string() && j["view"].get<std::string>() == name) view = named;
+      }
+      if (!view) throw Error(where + ": \"view\" must be one of " + names);
+      double distance = kDefaultViewDistance;
+      if (j.contains("distance")) {
+        if (!j["distance"].is_number() || !(j["distance"].get<double>() > 0.0))
+          throw Error(where + ": \"distance\" must be a positive number (bounding-sphere radii)");
+        distance = j["distance"].get<double>();
+      }
+      // The sides as orbits (their eyes at elevation 0, z up), so that a path between them turns around
+      // the volume; above and below as the cameras --view gives.
+      const double azimuth = *view == AnatomicalView::Anterior    ? -90.0
+                             : *view == AnatomicalView::Posterior ? 90.0
+                             : *view == AnatomicalView::Left      ? 0.0
+                                                                  : 180.0;
+      if (*view == AnatomicalView::Superior || *view == AnatomicalView::Inferior) {
+        k.view = view;
+        k.viewDistance = distance;
+      } else {
+        k.isOrbit = true;
+        k.orbit = {azimuth, 0.0, distance};
+      }
+    } else if (j.contains("orbit")) {
       k.isOrbit = true;
       k.orbit = readVec3(j["orbit"], "orbit", where);
       if (!(k.orbit.z > 0.0))

@@ -103,6 +103,13 @@ for view in left anterior superior; do same "--view $view of turned axes = the w
 if "$ropecast" compare "$dir/w_left.png" "$dir/w_anterior.png" --min-psnr 40 > /dev/null 2>&1; then
   fail "left and anterior views draw the same image: the test shows nothing"
 fi
+# A camera path's named views are --view's: a one-keyframe path of each draws the same image.
+for view in left superior; do
+  printf '[{"view": "%s"}]\n' "$view" > "$dir/path_$view.json"
+  "$ropecast" "${render[@]}" "$dir/w.rcast" --path "$dir/path_$view.json" -o "$dir/w_path_$view.png" 2> "$dir/err.txt" ||
+    fail "render --path of view $view: $(cat "$dir/err.txt")"
+  same "a path's view $view = --view $view" "$dir/w_path_$view.png" "$dir/w_$view.png"
+done
 "$ropecast" "${render[@]}" "$dir/w.rcast" --view anterior --orbit 0,0,3 -o "$dir/x.png" 2> "$dir/err.txt" &&
   fail "--view with --orbit accepted"
 grep -q -- "--orbit excludes --view" "$dir/err.txt" || fail "--view with --orbit: $(cat "$dir/err.txt")"

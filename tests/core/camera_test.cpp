@@ -178,6 +178,57 @@ TEST(CameraPathKeyframes, RejectUnknownKeysMixedFormsAndANonPositiveOrbitDistanc
             "no error");
 }
 
+// Named views, as --view gives them: each keyframe's camera that of anatomicalViewCamera; the sides are
+// orbits, so that a path from the front to the left turns around the volume (its middle frame's eye as far
+// from the center, between the two); refusals name the keyframe.
+TEST(CameraPathKeyframes, NamedViewsAreThoseOfView) {
+  const glm::dvec3 lo(0.0), hi(40.0, 20.0, 10.0);
+  const CameraPath path = parseCameraPath(
+      R"([{"view": "anterior"}, {"view": "left", "distance": 2, "fov": 30}, {"view": "superior"},
+          {"view": "inferior", "distance": 4}, {"view": "right"}, {"view": "posterior"}])",
+      "v.json");
+  const struct {
+    AnatomicalView view;
+    double distance, fov;
+  } expected[] = {{AnatomicalView::Anterior, 3, 40}, {AnatomicalView::Left, 2, 30},
+                  {AnatomicalView::Superior, 3, 40}, {AnatomicalView::Inferior, 4, 40},
+                  {AnatomicalView::Right, 3, 40},    {AnatomicalView::Posterior, 3, 40}};
+  for (uint32_t i = 0; i < 6; ++i) {
+    const Camera got = sampleCameraPath(path, i * 2, 11, lo, hi);
+    const Camera want = anatomicalViewCamera(expected[i].view, expected[i].distance, lo, hi, expected[i].fov);
+    EXPECT_LT(glm::length(got.eye - want.eye), 1e-9) << i;
+    EXPECT_LT(glm::length(got.target - want.target), 1e-9) << i;
+    EXPECT_LT(glm::length(glm::normalize(got.up) - glm::normalize(want.up)), 1e-9) << i;
+    EXPECT_DOUBLE_EQ(got.fovYDeg, want.fovYDeg) << i;
+  }
+  // Halfway from the front (3 radii) to the left (2): around the volume, at 2.5 radii.
+  const Camera half = sampleCameraPath(path, 1, 11, lo, hi);
+  const glm::dvec3 center = 0.5 * (lo + hi), from = half.eye - center;
+  EXPECT_NEAR(glm::length(from), 2.5 * 0.5 * glm::length(hi - lo), 1e-9);
+  EXPECT_GT(from.x, 0.0);
+  EXPECT_LT(from.y, 0.0);
+  EXPECT_NEAR(from.z, 0.0, 1e-9);
+
+  const auto message = [](const std::string& text) {
+    try {
+      parseCameraPath(text, "v.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(
+      message(R"([{"view": "front"}])"),
+      "camera path v.json, keyframe 0: \"view\" must be one of anterior, posterior, left, right, superior, "
+      "inferior");
+  EXPECT_NE(message(R"([{"view": "left", "orbit": [0, 0, 3]}])").find("\"view\" places the camera itself"),
+            std::string::npos);
+  EXPECT_NE(message(R"([{"view": "left", "distance": 0}])").find("\"distance\" must be a positive number"),
+            std::string::npos);
+  EXPECT_NE(message(R"([{"orbit": [0, 0, 3], "distance": 2}])").find("\"distance\" is a named view's"),
+            std::string::npos);
+}
+
 TEST(CameraPathKeyframes, WithoutUpLookingAlongZIsUsable) {
   const CameraPath path = parseCameraPath(R"([{"eye": [0, 0, 9], "target": [0, 0, 0]}])", "p.json");
   const Camera c = sampleCameraPath(path, 0, 1, glm::dvec3(0.0), glm::dvec3(1.0));
