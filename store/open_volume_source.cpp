@@ -103,12 +103,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
             "or a pattern (e.g. " +
             (fs::path(spec) / "*.png").string() + ") to read the slices");
       rejectRawOptions(spec, options, "a DICOM series");
-      requireSingleVolume(spec, options);
       return openDicomSource(spec, options);
     }
     if (!holdsSliceImages(spec) && !listDicomFilesBelow(spec).empty()) {
       rejectRawOptions(spec, options, "a DICOM series");
-      requireSingleVolume(spec, options);
       return openDicomSource(spec, options);  // a disc's or an export's folders, without a DICOMDIR
     }
     rejectRawOptions(spec, options, "a stack of image slices");
@@ -119,7 +117,6 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
   requireRegularFile(spec, "openVolumeSource: " + spec);
   if (startsWithDicomMagic(spec)) {
     rejectRawOptions(spec, options, "a DICOM series");
-    requireSingleVolume(spec, options);
     return openDicomSource(spec, options);
   }
   const std::string ext = lowerExtension(spec);

@@ -1,9 +1,9 @@
-// Which of a file's several volumes a source reads: a NIfTI time series, a NRRD of dimension 4, an ImageJ
-// hyperstack or OME-TIFF of several channels, an Imaris file, an OME-Zarr image with time and channel axes, a
-// MetaImage of several channels and a `.vti` array of several components hold one volume per time point and
-// channel, and `--time T` and `--channel C` (SourceOptions, each counted from 0) pick one. Used by the
-// file-format VolumeSources (store/) when they open. Functions: any thread; the sources: as VolumeSource
-// says.
+// Which of a file's several volumes a source reads: a NIfTI time series, a NRRD of dimension 4, a DICOM
+// series of several time points, an ImageJ hyperstack or OME-TIFF of several channels, an Imaris file, an
+// OME-Zarr image with time and channel axes, a MetaImage of several channels and a `.vti` array of several
+// components hold one volume per time point and channel, and `--time T` and `--channel C` (SourceOptions,
+// each counted from 0) pick one. Used by the file-format VolumeSources (store/) when they open. Functions:
+// any thread; the sources: as VolumeSource says.
 #pragma once
 
 #include <cstdint>

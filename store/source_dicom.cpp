@@ -25,8 +25,10 @@
 #include <mutex>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -34,6 +36,7 @@
 #include "core/error.h"
 #include "core/number_text.h"
 #include "store/dicom_structure.h"
+#include "store/picked_volume.h"
 #include "store/placed_stack.h"
 
 namespace ropecast {
@@ -47,7 +50,8 @@ const gdcm::Tag kSeriesUid(0x0020, 0x000e), kSeriesNumber(0x0020, 0x0011), kModa
     kPixelSpacing(0x0028, 0x0030), kFrames(0x0028, 0x0008), kSamplesPerPixel(0x0028, 0x0002),
     kPhotometric(0x0028, 0x0004), kBitsAllocated(0x0028, 0x0100), kBitsStored(0x0028, 0x0101),
     kPixelRepresentation(0x0028, 0x0103), kSlope(0x0028, 0x1053), kIntercept(0x0028, 0x1052),
-    kSliceThickness(0x0018, 0x0050), kSpacingBetweenSlices(0x0018, 0x0088), kSopClass(0x0008, 0x0016);
+    kSliceThickness(0x0018, 0x0050), kSpacingBetweenSlices(0x0018, 0x0088), kSopClass(0x0008, 0x0016),
+    kTemporalPosition(0x0020, 0x0100), kAcquisitionNumber(0x0020, 0x0012);
 // An enhanced image's functional groups: shared by all frames, per frame, and the two that place a frame.
 const gdcm::Tag kSharedGroups(0x5200, 0x9229), kPerFrameGroups(0x5200, 0x9230),
     kPlanePosition(0x0020, 0x9113), kPlaneOrientation(0x0020, 0x9116), kPixelMeasures(0x0028, 0x9110);
@@ -179,6 +183,8 @@ struct DicomImage {
   std::optional<glm::dvec3> position;
   std::optional<std::vector<double>> orientation;  // row direction, then column direction
   std::optional<double> instance;
+  // What tells the images of one position apart in a series of several time points (or acquisitions).
+  std::optional<double> temporalPosition, acquisition;
   double slope = 1.0, intercept = 0.0;
   // The pixel format, as text: images of one series must agree on it.
   std::string rows, columns, samplesPerPixel, photometric, bitsAllocated, bitsStored, pixelRepresentation;
@@ -190,12 +196,12 @@ struct DicomImage {
 std::vector<DicomImage> scanImages(const std::vector<std::string>& files, const std::string& where) {
   if (files.empty()) return {};
   gdcm::Scanner scanner;
-  for (const gdcm::Tag& tag : {kSeriesUid,      kSeriesNumber,  kModality,       kSeriesDescription,
-                               kInstanceNumber, kPosition,      kOrientation,    kRows,
-                               kColumns,        kPixelSpacing,  kFrames,         kSamplesPerPixel,
-                               kPhotometric,    kBitsAllocated, kBitsStored,     kPixelRepresentation,
-                               kSlope,          kIntercept,     kSliceThickness, kSpacingBetweenSlices,
-                               kSopClass})
+  for (const gdcm::Tag& tag : {kSeriesUid,      kSeriesNumber,     kModality,         kSeriesDescription,
+                               kInstanceNumber, kPosition,         kOrientation,      kRows,
+                               kColumns,        kPixelSpacing,     kFrames,           kSamplesPerPixel,
+                               kPhotometric,    kBitsAllocated,    kBitsStored,       kPixelRepresentation,
+                               kSlope,          kIntercept,        kSliceThickness,   kSpacingBetweenSlices,
+                               kSopClass,       kTemporalPosition, kAcquisitionNumber})
     scanner.AddTag(tag);
   for (const std::string& file : files)
     if (const std::string problem = dicomStructureProblem(file); !problem.empty())
@@ -219,6 +225,8 @@ std::vector<DicomImage> scanImages(const std::vector<std::string>& files, const 
     if (const auto p = numbersOf(text(kPosition), 3)) image.position = glm::dvec3((*p)[0], (*p)[1], (*p)[2]);
     image.orientation = numbersOf(text(kOrientation), 6);
     image.instance = numberOf(text(kInstanceNumber));
+    image.temporalPosition = numberOf(text(kTemporalPosition));
+    image.acquisition = numberOf(text(kAcquisitionNumber));
     const std::string slope = text(kSlope), intercept = text(kIntercept);
     if (!slope.empty()) {
       const auto value = numberOf(slope);
@@ -526,9 +534,57 @@ std::optional<double> placeSlicesOf(const VolumeInfo& info, const std::vector<gl
   return plan.averageGap;
 }
 
+// A series that holds each position the same number of times, N > 1 (a 4D CT's phases, a perfusion study's
+// time points): the images of time point `picked` (options' --time), one per position, told apart at each
+// position by Temporal Position Identifier, else Acquisition Number, else Instance Number (where every image
+// has it and they differ at each position). `slices` is left as it is, and nullopt returned, for a series of
+// one image per position or one whose positions repeat unevenly or cannot be told apart (refused when
+// stacked).
+std::optional<PickedVolume> pickTimePoint(std::vector<DicomImage>& slices, const SourceOptions& options,
+                                          const std::string& listed) {
+  // Images at one position: their positions along the normal and in the plane agree within a micron.
+  std::map<std::tuple<long long, long long, long long>, std::vector<size_t>> atPosition;
+  for (size_t i = 0; i < slices.size(); ++i) {
+    const glm::dvec3 p = *slices[i].position;
+    atPosition[{std::llround(p.x * 1e3), std::llround(p.y * 1e3), std::llround(p.z * 1e3)}].push_back(i);
+  }
+  const size_t count = atPosition.begin()->second.size();
+  if (count < 2 || atPosition.size() * count != slices.size() ||
+      std::any_of(atPosition.begin(), atPosition.end(),
+                  [&](const auto& p) { return p.second.size() != count; }))
+    return std::nullopt;
+  using Key = std::optional<double> DicomImage::*;
+  std::optional<Key> byKey;
+  for (const Key key : {&DicomImage::temporalPosition, &DicomImage::acquisition, &DicomImage::instance}) {
+    bool apart = true;
+    for (const auto& [position, members] : atPosition) {
+      std::set<double> values;
+      for (const size_t i : members)
+        if (const auto& v = slices[i].*key) values.insert(*v);
+      apart = apart && values.size() == members.size();
+    }
+    if (apart) {
+      byKey = key;
+      break;
+    }
+  }
+  if (!byKey) return std::nullopt;
+  const PickedVolume picked = pickVolume(options, {count, 1}, "DICOM series " + listed);
+  std::vector<DicomImage> chosen;
+  for (auto& [position, members] : atPosition) {
+    std::sort(members.begin(), members.end(),
+              [&](size_t a, size_t b) { return *(slices[a].*(*byKey)) < *(slices[b].*(*byKey)); });
+    chosen.push_back(std::move(slices[members[picked.timePoint]]));
+  }
+  slices = std::move(chosen);
+  return picked;
+}
+
 // Sorts a series' slices into the order they are stacked in, and returns their positions in that order; none
-// where they are stacked by Instance Number. What a person should hear about the stacking goes to `notes`.
+// where they are stacked by Instance Number. What a person should hear about the stacking goes to `notes`;
+// of a series of several time points (pickTimePoint), the one --time picks is stacked, said in `picked`.
 std::vector<glm::dvec3> stackSlices(std::vector<DicomImage>& slices, const std::string& listed,
+                                    const SourceOptions& options, std::optional<PickedVolume>& picked,
                                     std::vector<std::string>& notes) {
   const bool positioned = std::all_of(slices.begin(), slices.end(),
                                       [](const DicomImage& s) { return s.position && s.orientation; });
@@ -543,6 +599,7 @@ std::vector<glm::dvec3> stackSlices(std::vector<DicomImage>& slices, const std::
               " (Image Orientation (Patient)); a series of one orientation is read (a localizer among "
               "the slices?)");
     const glm::dvec3 normal = normalOf(*listedFirst.orientation, "DICOM image " + listedFirst.path);
+    picked = pickTimePoint(slices, options, listed);
     std::vector<glm::dvec3> positions;
     for (const DicomImage& slice : slices) positions.push_back(*slice.position);
     const std::vector<size_t> order = stackAlongNormal(positions, normal, [&](size_t a, size_t b) {
@@ -651,6 +708,7 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
   std::optional<SliceGrid> grid;  // where the slices must be resampled to lie where their positions say
   if (first.photometric == "MONOCHROME1") notes.push_back(monochrome1Note);
   if (!first.frames.empty() && first.frames != "1") {
+    pickVolume(options, {}, "DICOM image " + first.path);  // one volume: --time or --channel 0 alone
     info.dims = sliceDims;
     info.dims.z = positiveInteger(first, first.frames, "Number of Frames", kMaxDimsPerAxis);
     DecodedImage decoded = decodeImage(first.path, info.dims, info.dims.z);
@@ -707,7 +765,10 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
     if (grid) return resampleSlices(std::move(source), std::move(*grid));
     return source;
   }
-  const std::vector<glm::dvec3> positions = stackSlices(slices, listed, notes);
+  std::optional<PickedVolume> picked;
+  const std::vector<glm::dvec3> positions = stackSlices(slices, listed, options, picked, notes);
+  if (!picked) picked = pickVolume(options, {}, "DICOM series " + listed);
+  if (!picked->note.empty()) notes.push_back(picked->note);
   const DicomImage& bottom = slices.front();  // the slices are in their stacking order now
   info.dims = {sliceDims.x, sliceDims.y, uint32_t(slices.size())};
   if (!positions.empty()) {
@@ -738,8 +799,8 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
                   "; expected " + validSpacingText() + " (--spacing sets it)");
   }
   info.type = sampleTypeFor(layout, slices);
-  info.description =
-      "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) + " images)";
+  info.description = "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) +
+                     " images)" + picked->described;
   info.notes = std::move(notes);
   auto source = std::make_unique<DicomSeriesSource>(std::move(slices), std::move(info));
   if (grid) return resampleSlices(std::move(source), std::move(*grid));

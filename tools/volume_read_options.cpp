@@ -45,7 +45,7 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
                   "SX,SY,SZ world units per sample (default 1,1,1 or the file's)");
   app.add_option(
          "--time", a.timePoint,
-         "which time point of a time series to read, from 0 (NIfTI, NRRD, TIFF hyperstacks, OME-Zarr, "
+         "which time point of a time series to read, from 0 (NIfTI, NRRD, DICOM, TIFF hyperstacks, OME-Zarr, "
          "HDF5: Imaris, BigDataViewer; default 0)")
       ->type_name("T")
       ->transform(integerRange(0, double(UINT32_MAX)));

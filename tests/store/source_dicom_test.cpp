@@ -465,6 +465,56 @@ TEST(SourceDicom, AMissingSliceAndATiltedGantryAreResampledWhereTheSlicesLie) {
       }
 }
 
+// A series holding each of its 3 positions 2 times (a 4D CT's phases): told apart by Temporal Position
+// Identifier, else by Instance Number; the first time point read by default, with a warning, the other by
+// --time. Time point t's slice z holds storedValues(z, 100 + 1000 t).
+TEST(SourceDicom, ATimeSeriesPicksOneTimePoint) {
+  for (const bool temporal : {true, false}) {
+    const TempDir dir;
+    for (uint32_t t = 0; t < 2; ++t)
+      for (uint32_t z = 0; z < 3; ++z) {
+        DicomSliceSpec slice = ctSlice(z);
+        slice.stored = storedValues(z, 100 + 1000 * int64_t(t));
+        // Instance Numbers against the time points where Temporal Position Identifier tells them apart.
+        slice.instance = temporal ? int(10 - (3 * t + z)) : int(3 * t + z + 1);
+        if (temporal) slice.temporalPosition = int(t + 1);
+        writeDicomSlice(dir.file(numbered("f", 3 * t + z)), slice);
+      }
+    const auto expected = [](uint32_t t) {
+      std::vector<int16_t> values;
+      for (uint32_t z = 0; z < 3; ++z)
+        for (const int64_t stored : storedValues(z, 100 + 1000 * int64_t(t)))
+          values.push_back(int16_t(stored - 1024));
+      return values;
+    };
+    const auto first = openVolumeSource(dir.path().string());
+    EXPECT_EQ(first->info().dims, glm::u32vec3(kColumns, kRows, 3));
+    EXPECT_DOUBLE_EQ(first->info().spacing.z, 2.5);
+    EXPECT_EQ(readSlab<int16_t>(*first, 0, 3), expected(0)) << temporal;
+    ASSERT_EQ(first->info().notes.size(), 1u);
+    EXPECT_EQ(first->info().notes[0],
+              "DICOM series " + dir.path().string() +
+                  " holds 2 time points: time point 0 of 2 is read; --time T (0 to 1) "
+                  "picks another");
+    SourceOptions options;
+    options.timePoint = 1;
+    const auto second = openVolumeSource(dir.path().string(), options);
+    EXPECT_EQ(readSlab<int16_t>(*second, 0, 3), expected(1)) << temporal;
+    EXPECT_NE(second->info().description.find("3 images) (time point 1 of 2)"), std::string::npos)
+        << second->info().description;
+    options.timePoint = 2;
+    EXPECT_EQ(errorOf(dir.path().string(), options),
+              "--time 2: DICOM series " + dir.path().string() + " holds 2 time points (--time 0 to 1)");
+  }
+  // A single volume has time point 0 alone.
+  const TempDir dir;
+  writeCtSeries(dir, 3);
+  SourceOptions options;
+  options.timePoint = 1;
+  EXPECT_NE(errorOf(dir.path().string(), options).find("holds 1 time point (--time 0 alone)"),
+            std::string::npos);
+}
+
 TEST(SourceDicom, BadSeriesNameTheirFiles) {
   const auto errorFor = [](const std::vector<DicomSliceSpec>& slices) {
     const TempDir dir;

@@ -90,6 +90,7 @@ void writeDicomSlice(const std::string& path, const DicomSliceSpec& spec) {
   put<0x0008, 0x0060>(ds, spec.modality.c_str());
   if (!spec.seriesDescription.empty()) put<0x0008, 0x103e>(ds, spec.seriesDescription.c_str());
   if (spec.instance) put<0x0020, 0x0013>(ds, *spec.instance);
+  if (spec.temporalPosition) put<0x0020, 0x0100>(ds, *spec.temporalPosition);
   if (enhanced) putFunctionalGroups(ds, spec);
   if (spec.position && !enhanced) {
     gdcm::Attribute<0x0020, 0x0032> position = {{spec.position->x, spec.position->y, spec.position->z}};

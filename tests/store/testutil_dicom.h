@@ -24,6 +24,7 @@ struct DicomSliceSpec {
   std::optional<glm::dvec3> position = glm::dvec3(0.0);
   std::optional<std::array<double, 6>> orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
   std::optional<int> instance;
+  std::optional<int> temporalPosition;  // Temporal Position Identifier (0020,0100)
   std::optional<double> slope, intercept;
   std::optional<glm::dvec2> pixelSpacing =
       glm::dvec2(0.75, 0.5);       // as the header orders it: row spacing first
