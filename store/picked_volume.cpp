@@ -107,10 +107,20 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
     if (!options.channel)
       add(unpicked, "--channel C (0 to " + std::to_string(counts.channels - 1) + ")", " or ");
   }
+  picked.counts = counts;
   if (!described.empty()) picked.described = " (" + described + ")";
   if (!unpicked.empty())
     picked.note = file + " holds " + held + ": " + described + " is read; " + unpicked + " picks another";
   return picked;
+}
+
+void describePicked(VolumeInfo& info, const PickedVolume& picked) {
+  info.timePoints = picked.counts.timePoints;
+  info.channels = picked.counts.channels;
+  info.timePoint = picked.timePoint;
+  info.channel = picked.channel;
+  info.description += picked.described;
+  if (!picked.note.empty()) info.notes.push_back(picked.note);
 }
 
 std::unique_ptr<VolumeSource> pickComponent(std::unique_ptr<VolumeSource> interleaved, uint32_t components,

@@ -24,6 +24,7 @@ struct VolumeCounts {
 
 struct PickedVolume {
   uint32_t timePoint = 0, channel = 0;
+  VolumeCounts counts;
   // For the source's description, where the file holds several volumes: " (time point 3 of 120)",
   // " (channel 1 of 2)", " (time point 0 of 5, channel 1 of 2)"; else "".
   std::string described;
@@ -36,6 +37,10 @@ struct PickedVolume {
 // and channel where an option is not given. Throws UsageError naming the option, the file and the range for
 // an index that is not one of the file's (`--time 3` of a file of one volume included).
 PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file);
+
+// Says in `info` which volume `picked` is: its counts and indices, its description followed by `described`,
+// its note among the notes.
+void describePicked(VolumeInfo& info, const PickedVolume& picked);
 
 // The volume of one component of samples stored interleaved, `components` per point (a MetaImage's
 // channels, a `.vti` array's components): `interleaved` reads them as a volume whose x axis holds components

@@ -768,7 +768,6 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
   std::optional<PickedVolume> picked;
   const std::vector<glm::dvec3> positions = stackSlices(slices, listed, options, picked, notes);
   if (!picked) picked = pickVolume(options, {}, "DICOM series " + listed);
-  if (!picked->note.empty()) notes.push_back(picked->note);
   const DicomImage& bottom = slices.front();  // the slices are in their stacking order now
   info.dims = {sliceDims.x, sliceDims.y, uint32_t(slices.size())};
   if (!positions.empty()) {
@@ -799,9 +798,10 @@ std::unique_ptr<VolumeSource> openDicomSource(const std::string& spec, const Sou
                   "; expected " + validSpacingText() + " (--spacing sets it)");
   }
   info.type = sampleTypeFor(layout, slices);
-  info.description = "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) +
-                     " images)" + picked->described;
+  info.description =
+      "dicom:" + listed + " (series " + seriesText + ", " + std::to_string(slices.size()) + " images)";
   info.notes = std::move(notes);
+  describePicked(info, *picked);
   auto source = std::make_unique<DicomSeriesSource>(std::move(slices), std::move(info));
   if (grid) return resampleSlices(std::move(source), std::move(*grid));
   return source;

@@ -661,9 +661,8 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
     spacing = glm::dvec3(1.0);
   }
   info.spacing = options.spacing.value_or(spacing);
-  info.description = (bdv ? "bdv:" + bdv->xml + " (" : "hdf5:") + path + ":" + datasetPath +
-                     (bdv ? ")" : "") + picked.described;
-  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  info.description = (bdv ? "bdv:" + bdv->xml + " (" : "hdf5:") + path + ":" + datasetPath + (bdv ? ")" : "");
+  describePicked(info, picked);
   return std::make_unique<Hdf5Source>(std::move(info), std::move(file), std::move(dataset), std::move(shape),
                                       where, std::move(chunked));
 }

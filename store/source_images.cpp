@@ -309,6 +309,7 @@ class ImageSliceSource final : public VolumeSource {
 
   const VolumeInfo& info() const override { return info_; }
   void addNote(std::string note) { info_.notes.push_back(std::move(note)); }
+  void describeVolume(const PickedVolume& picked) { describePicked(info_, picked); }
 
  private:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
@@ -467,12 +468,12 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
   if (layout && layout->spacing && !options.spacing && isValidSpacing(*layout->spacing))
     placed.spacing = layout->spacing;
   // The calibration is said where the source is: info shows it, the store keeps it.
-  std::string description = "tiff:" + path + picked.described;
+  std::string description = "tiff:" + path;
   if (placed.spacing && !options.spacing)
     description += " (" + layout->writer + " calibration: " + formatSpacing(*placed.spacing) +
                    (layout->unit.empty() ? "" : " " + layout->unit) + ")";
   auto source = std::make_unique<ImageSliceSource>(std::move(slices), std::move(file), description, placed);
-  if (!picked.note.empty()) source->addNote(picked.note);
+  source->describeVolume(picked);
   return source;
 }
 

@@ -56,8 +56,8 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
   const PickedVolume picked = pickVolume(options, {1, header.channels}, "MetaImage " + path);
-  info.description = "metaimage:" + path + picked.described;
-  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  info.description = "metaimage:" + path;
+  describePicked(info, picked);
   info.axes = header.axes;
   info.origin = header.origin;
   // A matrix whose third row alone is off the slices' normal (a gantry's tilt kept in the file): the slices

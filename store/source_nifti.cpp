@@ -181,14 +181,14 @@ std::unique_ptr<VolumeSource> openNiftiSource(const std::string& path, const Sou
   info.dims = header.sizes;
   info.type = header.type;
   info.spacing = options.spacing.value_or(header.spacing);
-  info.description = (header.analyze ? "analyze:" : "nifti:") + path + picked.described;
+  info.description = (header.analyze ? "analyze:" : "nifti:") + path;
   if (header.analyze)
     info.notes.push_back(
         headerPath +
         " is an ANALYZE 7.5 header (no NIfTI magic): the volume is drawn in the file's axes, "
         "unoriented (programs read ANALYZE's orientation code differently, left and right "
         "above all)");
-  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  describePicked(info, picked);
   info.axes = header.axes;
   info.origin = header.origin;
   // An sform whose third axis alone is off the slices' normal (a gantry's tilt kept in the file): the slices

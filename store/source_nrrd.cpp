@@ -77,8 +77,8 @@ std::unique_ptr<VolumeSource> openNrrdSource(const std::string& path, const Sour
                  header.volumesAreTimePoints ? VolumeCounts{header.volumes, 1}
                                              : VolumeCounts{1, header.volumes, "component"},
                  "NRRD file " + path);
-  info.description = "nrrd:" + path + picked.described;
-  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  info.description = "nrrd:" + path;
+  describePicked(info, picked);
   info.axes = header.axes;
   info.origin = header.origin;
   if (header.originNotRead)

@@ -223,8 +223,7 @@ std::unique_ptr<VolumeSource> openVtiSource(const std::string& path, const Sourc
                 " points of " + std::to_string(header.components) + " components each are too long to read");
   VolumeInfo info = source->info();
   info.dims.x = header.sizes.x;
-  info.description += picked.described;
-  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  describePicked(info, picked);
   const uint32_t components = header.components;
   return pickComponent(std::move(source), components, picked.channel, std::move(info));
 }

@@ -388,8 +388,8 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
   std::vector<uint64_t> pickedIndex(array.shape.size(), 0);
   if (axes.time >= 0) pickedIndex[size_t(axes.time)] = picked.timePoint;
   if (axes.channel >= 0) pickedIndex[size_t(axes.channel)] = picked.channel;
-  info.description = "zarr:" + arrayFolder.lexically_normal().string() + picked.described;
-  if (!picked.note.empty()) info.notes.push_back(picked.note);
+  info.description = "zarr:" + arrayFolder.lexically_normal().string();
+  describePicked(info, picked);
   return std::make_unique<ZarrSource>(std::move(info), arrayFolder, std::move(array), axes.zyx,
                                       std::move(pickedIndex), maxBufferedBytes);
 }

@@ -44,6 +44,10 @@ struct VolumeInfo {
   // placed by its positions, a NIfTI file's qform or sform, a NRRD's right-anterior-superior and the like, a
   // MetaImage's AnatomicalOrientation) and its axes were applied. The default view then faces the patient.
   bool patientFrame = false;
+  // Of a file of several volumes (store/picked_volume.h): how many time points and channels it holds, and
+  // which of each this volume is; 1, 1 and 0, 0 for a file of one volume.
+  uint64_t timePoints = 1, channels = 1;
+  uint32_t timePoint = 0, channel = 0;
   std::string description;  // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
   // What the source noticed about its input that a person should hear, though the samples are read as
   // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.

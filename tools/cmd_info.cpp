@@ -87,6 +87,10 @@ int runVolumeInfo(const std::string& spec, const SourceOptions& options, bool js
                         {"type", std::string(sampleTypeName(v.type))},
                         {"source", v.description},
                         {"notes", v.notes},
+                        {"timePoints", v.timePoints},
+                        {"timePoint", v.timePoint},
+                        {"channels", v.channels},
+                        {"channel", v.channel},
                         {"rawBytes", rawBytes}};
     if (v.valueMin) j["valueMin"] = *v.valueMin;
     if (v.valueMax) j["valueMax"] = *v.valueMax;

@@ -85,6 +85,9 @@ PY
 "$ropecast" info "$dir/series.nii" > "$dir/info.txt" 2>&1 || fail "info of a time series"
 grep -qF "holds 2 time points: time point 0 of 2 is read; --time T (0 to 1) picks another" "$dir/info.txt" ||
   { fail "info of a time series gave no warning:"; cat "$dir/info.txt"; }
+"$ropecast" info "$dir/series.nii" --time 1 --json > "$dir/info.json" || fail "info --json of a time series"
+python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); sys.exit(not (j["timePoints"] == 2 and j["timePoint"] == 1 and j["channels"] == 1))' "$dir/info.json" ||
+  { fail "info --json gives no time points:"; cat "$dir/info.json"; }
 "$ropecast" "${render[@]}" "$dir/series.nii" -o "$dir/t.png" || fail "render of a time series"
 cmp -s "$dir/t.png" "$dir/store.png" || fail "a time series' first volume differs from the ball's image"
 "$ropecast" "${render[@]}" "$dir/series.nii" --time 1 -o "$dir/t1.png" || fail "render --time 1"

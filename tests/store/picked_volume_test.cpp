@@ -51,6 +51,25 @@ TEST(PickedVolume, TheOptionsPickAndTheNoteSaysWhatElseTheFileHolds) {
   EXPECT_EQ(pickError(options, {}), "--channel 1: F holds 1 channel (--channel 0 alone)");
 }
 
+TEST(PickedVolume, DescribePickedSaysWhichVolumeInTheInfo) {
+  SourceOptions options;
+  options.timePoint = 2;
+  VolumeInfo info;
+  info.description = "nifti:a.nii";
+  describePicked(info, pickVolume(options, {5, 3}, "F"));
+  EXPECT_EQ(info.description, "nifti:a.nii (time point 2 of 5, channel 0 of 3)");
+  EXPECT_EQ(info.timePoints, 5u);
+  EXPECT_EQ(info.channels, 3u);
+  EXPECT_EQ(info.timePoint, 2u);
+  EXPECT_EQ(info.channel, 0u);
+  ASSERT_EQ(info.notes.size(), 1u);
+  EXPECT_NE(info.notes[0].find("--channel C (0 to 2) picks another"), std::string::npos);
+  VolumeInfo single;
+  describePicked(single, pickVolume({}, {}, "F"));
+  EXPECT_EQ(single.timePoints, 1u);
+  EXPECT_TRUE(single.notes.empty());
+}
+
 VolumeInfo volumeOf(glm::u32vec3 dims) {
   VolumeInfo info;
   info.dims = dims;

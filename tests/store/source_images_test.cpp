@@ -352,7 +352,7 @@ TEST(SourceImages, AnImageJHyperstacksChannelAndFrameAtItsCalibration) {
   EXPECT_EQ(info.dims, glm::u32vec3(5, 4, 3));
   EXPECT_EQ(info.spacing, glm::dvec3(0.25, 0.25, 2.0));
   EXPECT_EQ(info.description,
-            "tiff:" + path + " (time point 0 of 2, channel 0 of 2) (ImageJ calibration: 0.25,0.25,2 micron)");
+            "tiff:" + path + " (ImageJ calibration: 0.25,0.25,2 micron) (time point 0 of 2, channel 0 of 2)");
   ASSERT_EQ(info.notes.size(), 1u);
   EXPECT_EQ(info.notes[0],
             "ImageJ hyperstack " + path +
