@@ -111,6 +111,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       checkVolume(header);
       checkAxes(header.axes);
       if (header.headerBytes > size || header.headerSize < -1) std::abort();
+      // A file per slice: as many as slices, uncompressed.
+      if (!header.sliceFiles.empty() && (header.sliceFiles.size() != header.sizes.z || header.compressed))
+        std::abort();
     }
   } catch (const ropecast::Error&) {
     // Malformed input is expected to be rejected this way.

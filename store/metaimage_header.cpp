@@ -64,6 +64,12 @@ class MetaImageHeaderParser {
       const std::string_view line = nextLine();
       if (!trimBlanks(line).empty()) parseLine(line);
     }
+    if (listed_)  // LIST: a file name a line, to the end of the header's file
+      while (pos_ < text_.size()) {
+        ++lineNumber_;
+        const std::string_view name = trimBlanks(nextLine());
+        if (!name.empty()) header_.sliceFiles.emplace_back(name);
+      }
     header_.headerBytes = pos_;
     return finish();
   }
@@ -189,14 +195,68 @@ class MetaImageHeaderParser {
     if (value.empty()) failKey(key, "expected LOCAL or a file name");
     const auto words = splitWords(value);
     const std::string first = lowerAscii(words.front());
-    bool isPattern = words.size() >= 4;  // "<printf pattern> <min> <max> <step>"
+    bool isPattern = words.size() == 4;  // "<printf pattern> <min> <max> <step>"
     for (size_t w = 1; isPattern && w < words.size(); ++w)
       isPattern = parseWholeNumber<int64_t>(words[w]).has_value();
-    if (first == "list" || isPattern)
-      failKey(key, "several data files (one per slice) are not supported, got " + quotedExcerpt(value) +
-                       "; expected LOCAL or one file");
-    if (lowerAscii(value) != "local") header_.dataFile = std::string(value);
     dataFileSeen_ = true;
+    if (first == "list") {
+      if (words.size() > 2 || (words.size() == 2 && lowerAscii(words[1]) != "2d"))
+        failKey(key, "expected LIST or LIST 2D (a file per slice), got " + quotedExcerpt(value));
+      listed_ = true;
+    } else if (isPattern) {
+      expandPattern(key, words);
+    } else if (lowerAscii(value) != "local") {
+      header_.dataFile = std::string(value);
+    }
+  }
+
+  // "slice%03d.raw 1 100 1": the names printf would make of the numbers from the first to the second by the
+  // third, the pattern holding one %d (or %i) with an optional 0 and width, and %% for a percent sign.
+  void expandPattern(std::string_view key, const std::vector<std::string_view>& words) {
+    const std::string_view pattern = words[0];
+    const int64_t from = *parseWholeNumber<int64_t>(words[1]), to = *parseWholeNumber<int64_t>(words[2]),
+                  step = *parseWholeNumber<int64_t>(words[3]);
+    std::string before, after;
+    std::optional<std::pair<bool, int>> conversion;  // zero-padded, width
+    for (size_t i = 0; i < pattern.size(); ++i) {
+      std::string& text = conversion ? after : before;
+      if (pattern[i] != '%') {
+        text += pattern[i];
+        continue;
+      }
+      if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+        text += '%';
+        ++i;
+        continue;
+      }
+      size_t j = i + 1;
+      const bool zero = j < pattern.size() && pattern[j] == '0';
+      int width = 0;
+      while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j])) && width < 100)
+        width = width * 10 + (pattern[j++] - '0');
+      if (conversion || j >= pattern.size() || (pattern[j] != 'd' && pattern[j] != 'i'))
+        failKey(key, "the file name pattern " + quotedExcerpt(pattern) +
+                         " must hold one %d (with an optional 0 and width, as slice%03d.raw)");
+      conversion = std::pair(zero, width);
+      i = j;
+    }
+    if (!conversion)
+      failKey(key, "the file name pattern " + quotedExcerpt(pattern) + " holds no %d for the slice numbers");
+    if (step == 0 || (step > 0) != (to >= from) || from < -(int64_t(1) << 40) || from > (int64_t(1) << 40) ||
+        to < -(int64_t(1) << 40) || to > (int64_t(1) << 40))
+      failKey(key, "expected numbers from " + std::string(words[1]) + " to " + std::string(words[2]) +
+                       " by a step " + "that reaches it, got step " + std::string(words[3]));
+    const uint64_t count = uint64_t((to - from) / step) + 1;
+    if (count > kMaxDimsPerAxis)
+      failKey(key, "the pattern gives " + std::to_string(count) + " files; a volume has at most " +
+                       std::to_string(kMaxDimsPerAxis) + " slices");
+    for (uint64_t k = 0; k < count; ++k) {
+      const int64_t n = from + int64_t(k) * step;
+      std::string digits = std::to_string(n < 0 ? -n : n);
+      const size_t width = size_t(conversion->second) - (n < 0 ? 1 : 0);
+      if (digits.size() < width) digits.insert(0, width - digits.size(), conversion->first ? '0' : ' ');
+      header_.sliceFiles.push_back(before + (n < 0 ? "-" : "") + digits + after);
+    }
   }
 
   MetaImageHeader finish() {
@@ -211,6 +271,13 @@ class MetaImageHeaderParser {
            " channels of these sizes are more than 2^62 bytes");
     if (header_.headerSize == -1 && header_.compressed)
       fail("key 'HeaderSize': -1 (data at the end of the file) is only allowed for uncompressed data");
+    if (listed_ || !header_.sliceFiles.empty()) {
+      if (header_.compressed)
+        fail("key 'CompressedData': data in a file per slice is read uncompressed only");
+      if (header_.sliceFiles.size() != header_.sizes.z)
+        fail("key 'ElementDataFile': " + std::to_string(header_.sliceFiles.size()) + " data files for " +
+             std::to_string(header_.sizes.z) + " slices (DimSize); expected a file per slice");
+    }
     return header_;
   }
 
@@ -224,6 +291,7 @@ class MetaImageHeaderParser {
   std::set<std::string> seen_;
   std::optional<bool> byteOrder_;
   bool sizes_ = false, type_ = false, elementSpacing_ = false, dataFileSeen_ = false;
+  bool listed_ = false;  // ElementDataFile = LIST: the file names follow
 };
 
 }  // namespace

@@ -3,12 +3,13 @@
 // fuzz/metaimage_header_fuzz.cpp. Used by the MetaImage volume source (store/). Pure function; any thread.
 //
 // Supported: "Key = Value" lines (keys in any case) up to ElementDataFile, which ends the header as MetaIO
-// says it must: ObjectType Image, NDims 3, DimSize, ElementType (MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT,
-// MET_INT, MET_UINT, MET_LONG, MET_ULONG (32-bit in MetaIO), MET_FLOAT, MET_DOUBLE), ElementSpacing (else
-// ElementSize), BinaryData, BinaryDataByteOrderMSB or ElementByteOrderMSB, CompressedData (a zlib stream),
-// HeaderSize (-1: the data ends the file), ElementNumberOfChannels (interleaved), TransformMatrix (or
-// Rotation or Orientation: only whether it turns the axes), Offset (or Origin, Position), ElementDataFile
-// LOCAL or one file. Other keys are ignored.
+// says it must (but for LIST's file names, which follow it): ObjectType Image, NDims 3, DimSize, ElementType
+// (MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT, MET_INT, MET_UINT, MET_LONG, MET_ULONG (32-bit in MetaIO),
+// MET_FLOAT, MET_DOUBLE), ElementSpacing (else ElementSize), BinaryData, BinaryDataByteOrderMSB or
+// ElementByteOrderMSB, CompressedData (a zlib stream; not with a file per slice), HeaderSize (-1: the data
+// ends the file; with a file per slice, each file's), ElementNumberOfChannels (interleaved), TransformMatrix
+// (or Rotation or Orientation: only whether it turns the axes), Offset (or Origin, Position), ElementDataFile
+// LOCAL, one file, or a file per slice (LIST, or a file name pattern). Other keys are ignored.
 #pragma once
 
 #include <array>
@@ -17,6 +18,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -48,7 +50,12 @@ struct MetaImageHeader {
   bool bigEndian = false;   // the data's byte order (irrelevant for 1-byte types)
   int64_t headerSize = 0;   // bytes of the data file skipped before the data; -1: data at the end
   std::string dataFile;     // ElementDataFile as written (relative to the header's folder); empty: LOCAL
-  size_t headerBytes = 0;   // bytes of the header, the ElementDataFile line and its line end included
+  // One data file per slice, in slice order (relative to the header's folder): the names after
+  // `ElementDataFile = LIST` (or `LIST 2D`), or those a pattern gives (`slice%03d.raw 1 100 1`: printf's %d
+  // with a width, from the first number to the second by the third). Empty: one data file (dataFile, or
+  // LOCAL).
+  std::vector<std::string> sliceFiles;
+  size_t headerBytes = 0;  // bytes of the header, the ElementDataFile line and its line end included
 
   // Of every channel.
   uint64_t dataBytes() const {
@@ -61,8 +68,8 @@ struct MetaImageHeader {
 // key for a missing ElementDataFile, NDims, DimSize or ElementType, malformed or out-of-range numbers, a key
 // given twice, sizes that are not 3 positive integers or overflow (their channels' samples included), NDims
 // other than 3,
-// ASCII data, unsupported element types, several data files (LIST or a file name pattern), and an ObjectType
-// other than Image.
+// ASCII data, unsupported element types, a list or pattern of data files that does not give one per slice,
+// and an ObjectType other than Image.
 MetaImageHeader parseMetaImageHeader(std::string_view text, const std::string& fileName);
 
 }  // namespace ropecast

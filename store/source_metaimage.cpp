@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <vector>
 
 #include "core/error.h"
 #include "core/header_text.h"
@@ -11,6 +12,50 @@
 #include "store/source_raw.h"
 
 namespace ropecast {
+namespace {
+
+// A MetaImage whose slices are each a file of their own (ElementDataFile LIST, or a pattern): raw samples,
+// after HeaderSize bytes (or ending the file, for -1). Every file is opened, and its size checked, when the
+// source opens, so that a missing or short one is named before any conversion work.
+class ListedSlicesSource final : public VolumeSource {
+ public:
+  ListedSlicesSource(VolumeInfo info, const MetaImageHeader& header, const std::string& headerPath)
+      : info_(std::move(info)), bigEndian_(header.bigEndian) {
+    const uint64_t sliceBytes = info_.sliceBytes();
+    for (const std::string& name : header.sliceFiles) {
+      auto file = openDataFile(pathBesideHeader(headerPath, name), "MetaImage header", headerPath, name);
+      const uint64_t skip = header.headerSize == -1 ? 0 : uint64_t(header.headerSize);
+      const bool fits =
+          header.headerSize == -1 ? file->sizeBytes() >= sliceBytes : file->sizeBytes() == skip + sliceBytes;
+      if (!fits)
+        throw Error("MetaImage data file " + file->path() + " holds " + std::to_string(file->sizeBytes()) +
+                    " bytes; a slice of " + formatDims({info_.dims.x, info_.dims.y, 1}) + " " +
+                    std::string(sampleTypeName(info_.type)) + " samples is " + std::to_string(sliceBytes) +
+                    (skip ? " after " + std::to_string(skip) + " header bytes" : std::string()) +
+                    (header.headerSize == -1 ? " at its end" : ""));
+      starts_.push_back(header.headerSize == -1 ? file->sizeBytes() - sliceBytes : skip);
+      files_.push_back(std::move(file));
+    }
+  }
+
+  const VolumeInfo& info() const override { return info_; }
+
+ protected:
+  void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
+    const size_t sliceBytes = info_.sliceBytes();
+    for (uint32_t i = 0; i < count; ++i)
+      files_[z0 + i]->readAt(starts_[z0 + i], out.subspan(i * sliceBytes, sliceBytes));
+    samplesToNative(out, info_.type, bigEndian_);
+  }
+
+ private:
+  VolumeInfo info_;
+  bool bigEndian_;
+  std::vector<std::unique_ptr<PosixFile>> files_;  // a slice's each
+  std::vector<uint64_t> starts_;                   // where each file's slice starts
+};
+
+}  // namespace
 
 MetaImageHeader readMetaImageHeaderFile(const std::string& path) {
   const PosixFile file(path);
@@ -37,9 +82,19 @@ std::string metaImageDataPath(const MetaImageHeader& header, const std::string& 
   return header.dataFile.empty() ? headerPath : pathBesideHeader(headerPath, header.dataFile);
 }
 
+std::vector<std::string> metaImageDataPaths(const MetaImageHeader& header, const std::string& headerPath) {
+  if (header.sliceFiles.empty()) return {metaImageDataPath(header, headerPath)};
+  std::vector<std::string> paths;
+  for (const std::string& name : header.sliceFiles) paths.push_back(pathBesideHeader(headerPath, name));
+  return paths;
+}
+
 std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const SourceOptions& options) {
   const MetaImageHeader header = readMetaImageHeaderFile(path);
-  auto data = openDataFile(metaImageDataPath(header, path), "MetaImage header", path, header.dataFile);
+  const bool listed = !header.sliceFiles.empty();
+  auto data = listed
+                  ? nullptr
+                  : openDataFile(metaImageDataPath(header, path), "MetaImage header", path, header.dataFile);
   SampleBlock block;
   block.fileKind = "MetaImage data file";
   block.volume = formatDims(header.sizes) + " " + std::string(sampleTypeName(header.type)) +
@@ -72,21 +127,25 @@ std::unique_ptr<VolumeSource> openMetaImageSource(const std::string& path, const
   info.patientFrame = header.anatomicalOrientation && (placed || !header.matrixNotApplied);
   if (header.matrixNotApplied && !placed)
     info.notes.push_back(unappliedTransformNote(path, "its TransformMatrix"));
-  auto samples = std::make_unique<FileSamples>(std::move(data), std::move(block));
+  // The samples of every channel, as the file or files store them.
+  const auto stored = [&](VolumeInfo all) -> std::unique_ptr<VolumeSource> {
+    if (listed) return std::make_unique<ListedSlicesSource>(std::move(all), header, path);
+    return openBlockSource(std::move(all), std::make_unique<FileSamples>(std::move(data), std::move(block)),
+                           header.bigEndian);
+  };
   std::unique_ptr<VolumeSource> source;
   if (header.channels == 1) {
-    source = openBlockSource(std::move(info), std::move(samples), header.bigEndian);
+    source = stored(std::move(info));
   } else {
     // Channels are interleaved: read as rows of channels times as many samples, one channel kept.
     if (uint64_t(header.sizes.x) * header.channels > UINT32_MAX)
       throw Error("MetaImage " + path + ": rows of " + std::to_string(header.sizes.x) + " samples of " +
                   std::to_string(header.channels) + " channels each are too long to read");
-    VolumeInfo stored;
-    stored.dims = {header.sizes.x * header.channels, header.sizes.y, header.sizes.z};
-    stored.type = header.type;
-    stored.description = info.description;
-    source = pickComponent(openBlockSource(std::move(stored), std::move(samples), header.bigEndian),
-                           header.channels, picked.channel, std::move(info));
+    VolumeInfo all;
+    all.dims = {header.sizes.x * header.channels, header.sizes.y, header.sizes.z};
+    all.type = header.type;
+    all.description = info.description;
+    source = pickComponent(stored(std::move(all)), header.channels, picked.channel, std::move(info));
   }
   if (grid) return resampleSlices(std::move(source), std::move(*grid));
   return source;

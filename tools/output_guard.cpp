@@ -196,7 +196,8 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
       if (!header.dataFile.empty()) files.push_back(nrrdDataPath(header, spec));
     } else if (ext == ".mhd" || ext == ".mha") {
       const MetaImageHeader header = readMetaImageHeaderFile(spec);
-      if (!header.dataFile.empty()) files.push_back(metaImageDataPath(header, spec));
+      if (!header.dataFile.empty() || !header.sliceFiles.empty())
+        for (std::string& data : metaImageDataPaths(header, spec)) files.push_back(std::move(data));
     } else if (const std::string pairHeader = niftiPairHeader(spec); !pairHeader.empty()) {
       files.push_back(pairHeader);  // an .img given for its pair
     } else if (hasNiftiName(spec)) {

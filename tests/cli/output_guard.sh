@@ -48,6 +48,8 @@ printf 'a' > slices/s0.png
 printf 'b' > slices/s1.png
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\ndata file: scan_8x8x8_uint8.raw\n' > v.nhdr
 printf 'NDims = 3\nDimSize = 8 8 8\nElementType = MET_UCHAR\nElementDataFile = scan_8x8x8_uint8.raw\n' > v.mhd
+for z in 1 2; do head -c 64 /dev/urandom > "slice$z.raw"; done
+printf 'NDims = 3\nDimSize = 8 8 2\nElementType = MET_UCHAR\nElementDataFile = slice%%d.raw 1 2 1\n' > listed.mhd
 printf '{"points": [[0, 0, 0, 0, 0], [255, 1, 1, 1, 1]]}' > tf.json
 printf '[{"orbit": [0, 20, 3]}, {"orbit": [90, 20, 2.5]}]' > path.json
 
@@ -65,6 +67,7 @@ refused "convert -o slice of glob" "-o slices/s0.png" "the input slices/s0.png" 
   "$ropecast" convert 'slices/s*.png' -o slices/s0.png
 refused "convert -o NRRD data file" "-o scan_hard.raw" "the input" "$ropecast" convert v.nhdr -o scan_hard.raw
 refused "convert -o MetaImage data file" "-o scan_hard.raw" "the input" "$ropecast" convert v.mhd -o scan_hard.raw
+refused "convert -o a MetaImage slice's file" "-o slice2.raw" "the input" "$ropecast" convert listed.mhd -o slice2.raw
 # A header longer than 64 KiB (comments) still names its data file to the guard as it does to the source.
 { printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\n'
   for _ in $(seq 1 2000); do printf '# a comment line of some length, repeated to pass 64 KiB of header\n'; done

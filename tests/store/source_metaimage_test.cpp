@@ -4,6 +4,7 @@
 // and the key.
 #include <zlib.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 namespace ropecast {
 namespace {
 
+namespace fs = std::filesystem;
 using testing::errorOf;
 using testing::expectHeadersRefused;
 using testing::expectVolume;
@@ -286,12 +288,79 @@ TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
       {"end of a compressed file",
        withValue(metaImageHeader("MET_SHORT", "HeaderSize = -1\n"), "CompressedData", "True"),
        "uncompressed"},
-      {"list", metaImageHeader("MET_SHORT", "", "LIST"), "several data files"},
-      {"pattern", metaImageHeader("MET_SHORT", "", "slice%03d.raw 1 5 1"), "several data files"},
+      {"list of none", metaImageHeader("MET_SHORT", "", "LIST"), "0 data files for 5 slices"},
+      {"list of too few", metaImageHeader("MET_SHORT", "", "LIST") + "a.raw\nb.raw\n", "2 data files for 5"},
+      {"list 3D", metaImageHeader("MET_SHORT", "", "LIST 3D"), "expected LIST or LIST 2D"},
+      {"pattern of too many", metaImageHeader("MET_SHORT", "", "slice%03d.raw 1 6 1"), "6 data files for 5"},
+      {"pattern without %d", metaImageHeader("MET_SHORT", "", "slice.raw 1 5 1"), "holds no %d"},
+      {"pattern of two", metaImageHeader("MET_SHORT", "", "s%d_%d.raw 1 5 1"), "must hold one %d"},
+      {"pattern of %s", metaImageHeader("MET_SHORT", "", "s%s.raw 1 5 1"), "must hold one %d"},
+      {"pattern step 0", metaImageHeader("MET_SHORT", "", "s%d.raw 1 5 0"), "by a step that reaches it"},
+      {"pattern backwards", metaImageHeader("MET_SHORT", "", "s%d.raw 5 1 1"), "by a step that reaches it"},
+      {"compressed list",
+       withValue(metaImageHeader("MET_SHORT", "", "s%d.raw 1 5 1"), "CompressedData", "True"),
+       "read uncompressed only"},
       {"no equals sign", "NDims 3\n" + good, "expected 'Key = Value'"},
   };
   expectHeadersRefused(cases, "/some/dir/bad.mha",
                        [](const std::string& h, const std::string& f) { parseMetaImageHeader(h, f); });
+}
+
+// A file per slice: LIST (big-endian, each file after a 4-byte header), LIST 2D of two interleaved channels,
+// and a pattern counting down (each slice ending its file, HeaderSize -1): read as one file of them would be.
+TEST(SourceMetaImage, AFilePerSliceListedOrByPattern) {
+  TempDir dir;
+  const auto values = samplePattern<int16_t>(kMetaImageSamples);
+  const auto sliceOf = [&](const std::vector<int16_t>& all, size_t z, size_t per) {
+    return std::vector<int16_t>(all.begin() + long(z * per), all.begin() + long((z + 1) * per));
+  };
+  std::string names;
+  for (size_t z = 0; z < 5; ++z) {
+    writeFile(dir.file("list_" + std::to_string(z) + ".raw"),
+              "HEAD" + fileBytes(sliceOf(values, z, 54), true));
+    names += "list_" + std::to_string(z) + ".raw\n";
+  }
+  const std::string listed = dir.file("listed.mhd");
+  writeFile(listed, withValue(metaImageHeader("MET_SHORT", "HeaderSize = 4\n", "LIST"),
+                              "BinaryDataByteOrderMSB", "True") +
+                        names);
+  auto source = openVolumeSource(listed);
+  EXPECT_EQ(source->info().dims, glm::u32vec3(9, 6, 5));
+  EXPECT_EQ(readSlab<int16_t>(*source, 0, 5), values);
+  EXPECT_EQ(readSlab<int16_t>(*source, 2, 2),
+            std::vector<int16_t>(values.begin() + 108, values.begin() + 216));
+
+  const auto interleaved = samplePattern<int16_t>(kMetaImageSamples * 2);
+  names.clear();
+  for (size_t z = 0; z < 5; ++z) {
+    writeFile(dir.file("two_" + std::to_string(z) + ".raw"), fileBytes(sliceOf(interleaved, z, 108)));
+    names += "  two_" + std::to_string(z) + ".raw  \n\n";
+  }
+  const std::string channels = dir.file("channels.mhd");
+  writeFile(channels, metaImageHeader("MET_SHORT", "ElementNumberOfChannels = 2\n", "LIST 2D") + names);
+  SourceOptions second;
+  second.channel = 1;
+  std::vector<int16_t> expected;
+  for (size_t i = 1; i < interleaved.size(); i += 2) expected.push_back(interleaved[i]);
+  EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(channels, second), 0, 5), expected);
+
+  for (size_t z = 0; z < 5; ++z)
+    writeFile(dir.file("img00" + std::to_string(9 - z) + ".raw"),
+              std::string(z + 1, 'x') + fileBytes(sliceOf(values, z, 54)));
+  const std::string pattern = dir.file("pattern.mhd");
+  writeFile(pattern, metaImageHeader("MET_SHORT", "HeaderSize = -1\n", "img%03d.raw 9 5 -1"));
+  EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(pattern), 0, 5), values);
+
+  // A missing or short slice file is named when the source opens.
+  fs::remove(dir.file("list_3.raw"));
+  EXPECT_NE(errorOf(listed).find("list_3.raw"), std::string::npos) << errorOf(listed);
+  writeFile(dir.file("list_3.raw"), "HEAD" + fileBytes(sliceOf(values, 3, 53), true));
+  const std::string message = errorOf(listed);
+  EXPECT_NE(message.find("MetaImage data file " + dir.file("list_3.raw") +
+                         " holds 110 bytes; a slice of 9x6x1 int16 "
+                         "samples is 108 after 4 header bytes"),
+            std::string::npos)
+      << message;
 }
 
 TEST(SourceMetaImage, BadDataFilesNameTheFile) {
