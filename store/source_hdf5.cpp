@@ -1,6 +1,7 @@
 #include "store/source_hdf5.h"
 
 #include <hdf5.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -148,9 +149,57 @@ hid_t memoryTypeOf(SampleType type) {
 struct VolumeShape {
   std::vector<uint64_t> extent;  // every axis, in HDF5's order
   std::array<int, 3> axes{};     // z, y, x
+  int time = -1, channel = -1;   // axes named t and c (ilastik's axistags), or -1
+  std::vector<uint64_t> picked;  // per axis, the index read along it where it is not z, y or x (else 0)
   std::optional<SampleType> type;
   std::string problem;  // empty when it is a volume
 };
+
+// An attribute's text: a string, fixed or variable in length, or an array of characters; "" where it is
+// missing or none of these.
+std::string attributeText(hid_t object, const char* name) {
+  if (H5Aexists(object, name) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    return "";
+  }
+  const Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose);
+  const Handle type(attribute ? H5Aget_type(attribute.get()) : -1, H5Tclose);
+  const Handle space(attribute ? H5Aget_space(attribute.get()) : -1, H5Sclose);
+  std::string text;
+  if (type && space && H5Tget_class(type.get()) == H5T_STRING) {
+    const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+    if (H5Tis_variable_str(type.get()) > 0 && count == 1) {
+      const Handle memoryType(H5Tcopy(H5T_C_S1), H5Tclose);
+      char* value = nullptr;
+      if (memoryType && H5Tset_size(memoryType.get(), H5T_VARIABLE) >= 0 &&
+          H5Aread(attribute.get(), memoryType.get(), &value) >= 0 && value) {
+        text = value;
+        H5free_memory(value);
+      }
+    } else if (H5Tis_variable_str(type.get()) == 0 && count > 0 && count <= (1 << 20)) {
+      text.assign(size_t(count) * H5Tget_size(type.get()), '\0');
+      if (H5Aread(attribute.get(), type.get(), text.data()) < 0) text.clear();
+      text = text.c_str();  // up to the first NUL
+    }
+  }
+  H5Eclear2(H5E_DEFAULT);
+  return text;
+}
+
+// The names of a dataset's axes, in HDF5's order, where ilastik's `axistags` attribute gives them (JSON:
+// {"axes": [{"key": "t"}, {"key": "z"}, ...]}, the dataset's axes in order); none otherwise.
+std::vector<std::string> axisTagNames(hid_t dataset) {
+  const std::string text = attributeText(dataset, "axistags");
+  if (text.empty()) return {};
+  const nlohmann::json tags = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!tags.is_object() || !tags.contains("axes") || !tags["axes"].is_array()) return {};
+  std::vector<std::string> names;
+  for (const nlohmann::json& axis : tags["axes"]) {
+    if (!axis.is_object() || !axis.contains("key") || !axis["key"].is_string()) return {};
+    names.push_back(axis["key"].get<std::string>());
+  }
+  return names;
+}
 
 VolumeShape volumeShapeOf(hid_t dataset) {
   VolumeShape shape;
@@ -170,8 +219,13 @@ VolumeShape volumeShapeOf(hid_t dataset) {
   std::vector<hsize_t> extent(static_cast<size_t>(rank));
   if (rank > 0) H5Sget_simple_extent_dims(space.get(), extent.data(), nullptr);
   shape.extent.assign(extent.begin(), extent.end());
-  const ArrayAxes axes = volumeAxes(shape.extent);
+  shape.picked.assign(shape.extent.size(), 0);
+  const std::vector<std::string> names = axisTagNames(dataset);
+  const ArrayAxes axes =
+      names.size() == shape.extent.size() ? volumeAxesNamed(shape.extent, names) : volumeAxes(shape.extent);
   shape.axes = axes.zyx;
+  shape.time = axes.time;
+  shape.channel = axes.channel;
   shape.problem = axes.problem;
   return shape;
 }
@@ -395,7 +449,7 @@ class Hdf5Source final : public VolumeSource {
       layer_->read(z0, count, out, [this](uint64_t z) { decodeLayer(z); });
       return;
     }
-    std::vector<hsize_t> start(shape_.extent.size(), 0), extent(shape_.extent.size(), 1);
+    std::vector<hsize_t> start(shape_.picked.begin(), shape_.picked.end()), extent(shape_.extent.size(), 1);
     start[size_t(shape_.axes[0])] = z0;
     extent[size_t(shape_.axes[0])] = count;
     extent[size_t(shape_.axes[1])] = info_.dims.y;
@@ -417,6 +471,7 @@ class Hdf5Source final : public VolumeSource {
   std::vector<hsize_t> chunkOffset(uint64_t layer, uint64_t cy, uint64_t cx) const {
     std::vector<hsize_t> offset(shape_.extent.size(), 0);
     const auto& chunk = chunked_->chunk;
+    for (size_t a = 0; a < offset.size(); ++a) offset[a] = shape_.picked[a] - shape_.picked[a] % chunk[a];
     offset[size_t(shape_.axes[0])] = layer * chunk[size_t(shape_.axes[0])];
     offset[size_t(shape_.axes[1])] = cy * chunk[size_t(shape_.axes[1])];
     offset[size_t(shape_.axes[2])] = cx * chunk[size_t(shape_.axes[2])];
@@ -445,6 +500,10 @@ class Hdf5Source final : public VolumeSource {
     for (size_t a = chunk.size() - 1; a-- > 0;) strides[a] = strides[a + 1] * chunk[a + 1];
     const glm::u64vec3 stride(strides[size_t(shape_.axes[2])], strides[size_t(shape_.axes[1])],
                               strides[size_t(shape_.axes[0])]);
+    // The picked time point's and channel's samples within a chunk.
+    uint64_t first = 0;
+    for (size_t a = 0; a < chunk.size(); ++a) first += shape_.picked[a] % chunk[a] * strides[a];
+    const size_t pickedAt = size_t(first) * bytesPerSample(info_.type);
     // In batches of a few chunks per core, so that the stored bytes held stay a few chunks'.
     const uint64_t chunks = across * down;
     const uint64_t batch = std::min<uint64_t>(chunks, 4 * std::max(1u, std::thread::hardware_concurrency()));
@@ -469,7 +528,8 @@ class Hdf5Source final : public VolumeSource {
         b.decoded.resize(chunkBytes);
         if (const std::string problem = decodeChunk(stored[j], b); !problem.empty())
           return where_ + ": " + chunkText(chunkOffset(layer, i / across, i % across)) + " " + problem;
-        layer_->place(b.decoded.data(), stride, glm::u64vec3(i % across, i / across, layer) * box, box);
+        layer_->place(b.decoded.data() + pickedAt, stride, glm::u64vec3(i % across, i / across, layer) * box,
+                      box);
         return "";
       });
     }
@@ -592,10 +652,6 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
       datasetPath = list.volumes.front();
     }
   }
-  if (bdv)
-    picked = bdv->picked;
-  else if (!imaris)
-    picked = pickVolume(options, {}, inFile + ", dataset " + datasetPath);
   const std::string where = inFile + ", dataset " + datasetPath;
   Handle object = openObject(file.get(), datasetPath);
   if (!object) throw Error(inFile + ": has no object " + datasetPath);
@@ -604,6 +660,16 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
                                            : ": is not a dataset"));
   VolumeShape shape = volumeShapeOf(object.get());
   if (!shape.problem.empty()) throw Error(where + ": not a volume: " + shape.problem);
+  if (bdv) {
+    picked = bdv->picked;
+  } else if (!imaris) {  // a dataset whose axistags name a time or channel axis: one of its volumes
+    picked = pickVolume(options,
+                        {shape.time < 0 ? 1 : shape.extent[size_t(shape.time)],
+                         shape.channel < 0 ? 1 : shape.extent[size_t(shape.channel)]},
+                        where);
+    if (shape.time >= 0) shape.picked[size_t(shape.time)] = picked.timePoint;
+    if (shape.channel >= 0) shape.picked[size_t(shape.channel)] = picked.channel;
+  }
   if (const std::vector<std::string> missing = missingFilters(object.get()); !missing.empty())
     throw Error(where + ": compressed with HDF5 filter " + listedNames(missing) +
                 ", which this HDF5 library lacks (filter plugins are found through HDF5_PLUGIN_PATH)");

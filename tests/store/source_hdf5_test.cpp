@@ -230,6 +230,56 @@ TEST(SourceHdf5, LengthOneAxesAroundZyxAreTimePointsAndChannels) {
     EXPECT_NE(refused.find(word), std::string::npos) << word << " in: " << refused;
 }
 
+// ilastik's exports name their axes in an `axistags` attribute: a probability map of 2 time points and 3
+// channels (t, z, y, x, c) is a volume of each, picked by --time and --channel; contiguous (the library's
+// reads) and in chunks of 2 channels and 1 time point, deflated (ropecast's own). Time point t, channel c
+// holds 10 (3 t + c) plus the sample's index.
+TEST(SourceHdf5, IlastikAxisTagsNameTimeAndChannelAxes) {
+  TempDir dir;
+  std::vector<uint8_t> map(2 * 3 * 4 * 5 * 3);
+  for (size_t t = 0, i = 0; t < 2; ++t)
+    for (size_t zyx = 0; zyx < 3 * 4 * 5; ++zyx)
+      for (size_t c = 0; c < 3; ++c) map[i++] = uint8_t(10 * (3 * t + c) + zyx);
+  const auto volumeOf = [](size_t t, size_t c) {
+    std::vector<uint8_t> v(3 * 4 * 5);
+    for (size_t i = 0; i < v.size(); ++i) v[i] = uint8_t(10 * (3 * t + c) + i);
+    return v;
+  };
+  const std::string tags =
+      R"({"axes": [{"key": "t", "typeFlags": 8}, {"key": "z", "typeFlags": 2}, {"key": "y", "typeFlags": 2},)"
+      R"( {"key": "x", "typeFlags": 2}, {"key": "c", "typeFlags": 1}]})";
+  for (const bool chunked : {false, true}) {
+    const std::string path = dir.file(chunked ? "chunked.h5" : "plain.h5");
+    {
+      Hdf5Writer writer(path);
+      const hid_t dataset =
+          writer.write({"/exported_data",
+                        {2, 3, 4, 5, 3},
+                        H5T_STD_U8LE,
+                        H5T_NATIVE_UINT8,
+                        map.data(),
+                        chunked ? std::vector<hsize_t>{1, 2, 3, 4, 2} : std::vector<hsize_t>{},
+                        chunked});
+      testing::writeCharsAttribute(dataset, "axistags", tags);
+    }
+    const auto first = openVolumeSource(path);
+    EXPECT_EQ(first->info().dims, glm::u32vec3(5, 4, 3));
+    EXPECT_EQ(readSlab<uint8_t>(*first, 0, 3), volumeOf(0, 0)) << path;
+    ASSERT_EQ(first->info().notes.size(), 1u);
+    EXPECT_NE(first->info().notes[0].find("holds 2 time points and 3 channels"), std::string::npos);
+    for (const auto& [t, c] : std::vector<std::pair<uint32_t, uint32_t>>{{1, 2}, {0, 1}, {1, 0}}) {
+      SourceOptions options;
+      options.timePoint = t;
+      options.channel = c;
+      const auto source = openVolumeSource(path, options);
+      const std::vector<uint8_t> expected = volumeOf(t, c);
+      EXPECT_EQ(readSlab<uint8_t>(*source, 0, 3), expected) << path << " t " << t << " c " << c;
+      EXPECT_EQ(readSlab<uint8_t>(*source, 1, 2), std::vector<uint8_t>(expected.begin() + 20, expected.end()))
+          << path;
+    }
+  }
+}
+
 TEST(SourceHdf5, SpacingFromElementSizeOrOptions) {
   TempDir dir;
   const std::string path = dir.file("sized.h5");
