@@ -258,16 +258,19 @@ void checkSameFormat(const SliceFormat& first, const SliceFormat& slice, const s
 
 class ImageSliceSource final : public VolumeSource {
  public:
-  // `multiPage`: OpenImageIO's input of the multi-page TIFF whose pages the slices are; none for slices of
-  // their own files.
+  // `multiPage`: OpenImageIO's input of the multi-page TIFF whose pages the slices are, and its pages'
+  // layouts (tiffPageLayouts, where it is a TIFF); none for slices of their own files.
   ImageSliceSource(std::vector<SliceRef> slices, std::unique_ptr<OIIO::ImageInput> multiPage,
-                   std::string description, const SourceOptions& options)
-      : slices_(std::move(slices)), multiPage_(multiPage != nullptr), multiPageInput_(std::move(multiPage)) {
+                   std::optional<std::vector<TiffPageLayout>> pageLayouts, std::string description,
+                   const SourceOptions& options)
+      : slices_(std::move(slices)),
+        multiPage_(multiPage != nullptr),
+        multiPageInput_(std::move(multiPage)),
+        pageLayouts_(std::move(pageLayouts)) {
     // Check every slice now, so a bad stack fails before any conversion work; whether a color slice is gray
     // takes its pixels, and is checked as it is read. A page stored as the first one is (its directory says
     // so) reads as it does, and is checked as it is read too: seeking every page through OpenImageIO takes
     // time in the square of the pages (countPages).
-    if (multiPage_) pageLayouts_ = tiffPageLayouts(slices_.front().path);
     const auto storedAsFirst = [&](size_t z) {
       const auto& layouts = *pageLayouts_;
       const auto page = size_t(slices_[z].page), first = size_t(slices_.front().page);
@@ -434,8 +437,8 @@ std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryO
   const std::string numbering = sliceNumberingNote(files);
   std::vector<SliceRef> slices;
   for (auto& file : files) slices.push_back({std::move(file), 0});
-  auto source =
-      std::make_unique<ImageSliceSource>(std::move(slices), nullptr, "images:" + directoryOrPattern, options);
+  auto source = std::make_unique<ImageSliceSource>(std::move(slices), nullptr, std::nullopt,
+                                                   "images:" + directoryOrPattern, options);
   if (!numbering.empty()) source->addNote(numbering);
   return source;
 }
@@ -447,7 +450,9 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
   const std::string firstDescription = first.get_string_attribute("ImageDescription");
   const double xResolution = first.get_float_attribute("XResolution", 0.0f);
   const double yResolution = first.get_float_attribute("YResolution", 0.0f);
-  const int pages = countPages(*file, path);
+  // The directories walked once: they count the pages and say how each is stored.
+  std::optional<std::vector<TiffPageLayout>> pageLayouts = tiffPageLayouts(path);
+  const int pages = pageLayouts ? int(pageLayouts->size()) : countPages(*file, path);
   if (pages < 2)
     throw Error(
         "openVolumeSource: " + path +
@@ -472,7 +477,8 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
   if (placed.spacing && !options.spacing)
     description += " (" + layout->writer + " calibration: " + formatSpacing(*placed.spacing) +
                    (layout->unit.empty() ? "" : " " + layout->unit) + ")";
-  auto source = std::make_unique<ImageSliceSource>(std::move(slices), std::move(file), description, placed);
+  auto source = std::make_unique<ImageSliceSource>(std::move(slices), std::move(file), std::move(pageLayouts),
+                                                   description, placed);
   source->describeVolume(picked);
   return source;
 }
