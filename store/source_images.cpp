@@ -17,8 +17,8 @@
 #include "core/input_file.h"
 #include "store/picked_volume.h"
 #include "store/slice_files.h"
-#include "store/source_raw.h"
 #include "store/tiff_directories.h"
+#include "store/tiff_page_reader.h"
 #include "store/tiff_stack_layout.h"
 
 namespace ropecast {
@@ -340,56 +340,33 @@ class ImageSliceSource final : public VolumeSource {
     return sliceFormat(spec, formatName, slice.path);
   }
 
-  // Whether the page's samples are read as its file stores them, without OpenImageIO (whose TIFF reader walks
-  // every directory before a page to reach it): a page stored as the first one, uncompressed, one sample a
-  // pixel in strips, of the bits and sample format of the stack's type, its values kept as stored
-  // (OpenImageIO inverts 8-bit MinIsWhite ones, which readSlice undoes).
-  const TiffPageLayout* storedPlainly(const SliceRef& slice) const {
+  // Whether the page is read through libtiff at its directory's offset (TiffPageReader), not through
+  // OpenImageIO (whose TIFF reader walks every directory before a page to reach it): a page stored as the
+  // first one, which TiffPageReader reads, of the bits and sample format of the stack's type, its values kept
+  // as stored (OpenImageIO inverts 8-bit MinIsWhite ones, which readSlice undoes).
+  const TiffPageLayout* readByDirectory(const SliceRef& slice) const {
     if (!pageLayouts_ || size_t(slice.page) >= pageLayouts_->size()) return nullptr;
     const TiffPageLayout& page = (*pageLayouts_)[size_t(slice.page)];
     const TiffPageLayout& first = (*pageLayouts_)[size_t(slices_.front().page)];
-    const uint64_t bits = 8 * bytesPerSample(format_.type);
     const bool isFloat = format_.type == SampleType::Float32 || format_.type == SampleType::Float64;
     const bool isSigned = format_.type == SampleType::Int8 || format_.type == SampleType::Int16 ||
                           format_.type == SampleType::Int32;
-    const uint64_t rowsPerStrip = std::min<uint64_t>(page.rowsPerStrip, page.height);
-    if (!(page == first) || page.compression != 1 || page.tiled || page.samplesPerPixel != 1 ||
-        page.planarConfiguration != 1 || page.extraSamples != 0 || page.photometric > 1 ||
-        page.bitsPerSample != bits ||
+    if (!(page == first) || !TiffPageReader::reads(page) || page.photometric > 1 ||
+        page.bitsPerSample != 8 * bytesPerSample(format_.type) ||
         page.sampleFormat != (isFloat    ? 3u
                               : isSigned ? 2u
                                          : 1u) ||
         format_.channels != 1 || format_.narrowBits != 0 || page.width != format_.width ||
-        page.height != format_.height || rowsPerStrip == 0)
+        page.height != format_.height)
       return nullptr;
-    const uint64_t strips = (page.height + rowsPerStrip - 1) / rowsPerStrip;
-    if (page.dataOffsets.size() != strips || page.dataByteCounts.size() != strips) return nullptr;
-    const uint64_t rowBytes = page.width * (bits / 8);
-    for (uint64_t i = 0; i < strips; ++i)
-      if (page.dataByteCounts[i] < std::min(rowsPerStrip, page.height - i * rowsPerStrip) * rowBytes)
-        return nullptr;
     return &page;
   }
 
-  // Reads a page storedPlainly allows: its strips' rows, in the machine's byte order.
-  void readStoredRows(const TiffPageLayout& page, const SliceRef& slice, std::span<std::byte> out) {
-    if (!plainFile_) plainFile_ = std::make_unique<PosixFile>(slice.path);
-    const uint64_t rowsPerStrip = std::min<uint64_t>(page.rowsPerStrip, page.height);
-    const uint64_t rowBytes = page.width * bytesPerSample(format_.type);
-    for (uint64_t i = 0, row = 0; row < page.height; ++i, row += rowsPerStrip) {
-      const uint64_t rows = std::min(rowsPerStrip, page.height - row);
-      try {
-        plainFile_->readAt(page.dataOffsets[i], out.subspan(row * rowBytes, rows * rowBytes));
-      } catch (const Error& e) {
-        throw Error("cannot read image slice " + describe(slice, true) + ": " + e.what());
-      }
-    }
-    samplesToNative(out, format_.type, page.bigEndian);
-  }
-
   void readSlice(const SliceRef& slice, std::span<std::byte> out) {
-    if (const TiffPageLayout* page = multiPage_ ? storedPlainly(slice) : nullptr)
-      return readStoredRows(*page, slice, out);
+    if (const TiffPageLayout* page = multiPage_ ? readByDirectory(slice) : nullptr) {
+      if (!pageReader_) pageReader_ = std::make_unique<TiffPageReader>(slice.path);
+      return pageReader_->read(*page, slice.page, out);
+    }
     const std::string what = describe(slice, multiPage_);
     std::unique_ptr<OIIO::ImageInput> ownInput;
     OIIO::ImageInput* in = multiPageInput_.get();
@@ -420,7 +397,7 @@ class ImageSliceSource final : public VolumeSource {
   bool multiPage_ = false;
   std::unique_ptr<OIIO::ImageInput> multiPageInput_;        // kept open between slabs for multi-page TIFFs
   std::optional<std::vector<TiffPageLayout>> pageLayouts_;  // a multi-page TIFF's, where it is a TIFF
-  std::unique_ptr<PosixFile> plainFile_;                    // its file, for the pages storedPlainly allows
+  std::unique_ptr<TiffPageReader> pageReader_;              // its pages that readByDirectory allows
   SliceFormat format_;
   VolumeInfo info_;
 };

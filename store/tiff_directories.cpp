@@ -88,7 +88,8 @@ constexpr uint16_t kImageWidth = 256, kImageLength = 257, kBitsPerSample = 258, 
                    kPlanarConfiguration = 284, kExtraSamples = 338, kSampleFormat = 339;
 
 // Checks that the image data a directory points to lies inside the file; returns the page's layout.
-TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table, uint64_t entries, int page) {
+TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table, uint64_t entries, int page,
+                              uint64_t directoryOffset) {
   const int entryBytes = file.bigTiff ? 20 : 12;
   std::vector<uint64_t> offsets, byteCounts;
   TiffPageLayout layout;
@@ -124,8 +125,7 @@ TiffPageLayout checkImageData(TiffFile& file, const std::vector<uint8_t>& table,
     if (byteCounts[i] > 0) end = std::max(end, offsets[i] + std::min(byteCounts[i], ~offsets[i]));
   if (end > file.size()) cutShort(file, page, "its image data runs to byte " + std::to_string(end));
   layout.bigEndian = file.bigEndian;
-  layout.dataOffsets = std::move(offsets);
-  layout.dataByteCounts = std::move(byteCounts);
+  layout.directoryOffset = directoryOffset;
   return layout;
 }
 
@@ -171,7 +171,7 @@ std::optional<std::vector<TiffPageLayout>> tiffPageLayouts(const std::string& pa
                "its directory runs from byte " + std::to_string(at) + " to byte " +
                    std::to_string(at + countBytes + tableBytes));
     const std::vector<uint8_t> table = file.read(at + countBytes, tableBytes);
-    layouts.push_back(checkImageData(file, table, entries, pages));
+    layouts.push_back(checkImageData(file, table, entries, pages, at));
     at = file.value(table.data() + entries * entryBytes, file.offsetBytes());
   }
   return layouts;

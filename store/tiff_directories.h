@@ -28,8 +28,8 @@ struct TiffPageLayout {
   // Non-zero (the page's number plus 1) where a layout tag is not a list of one unsigned value repeated: the
   // page is then like no other, and read to be checked.
   uint64_t unlikeOthers = 0;
-  // Where the page's strips (or tiles) start, and their bytes: not part of the layout (not compared).
-  std::vector<uint64_t> dataOffsets, dataByteCounts;
+  // Where the page's directory starts: not part of the layout (not compared).
+  uint64_t directoryOffset = 0;
 
   bool operator==(const TiffPageLayout& o) const {
     return std::tie(width, height, bitsPerSample, samplesPerPixel, sampleFormat, photometric, extraSamples,

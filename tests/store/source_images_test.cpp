@@ -6,6 +6,7 @@
 // short, one OpenImageIO would read as zeros) or bad spec giving an error that names the file.
 #include "store/source_images.h"
 #include "store/tiff_directories.h"
+#include "store/tiff_page_reader.h"
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -100,20 +102,26 @@ void writeNarrowImage(const std::string& path, uint32_t w, uint32_t h, const std
   ASSERT_TRUE(out->close());
 }
 
-// A multi-page TIFF of w x h pages of `channels` samples a pixel; `stripsOf3` uncompressed, in strips of 3
-// rows (else as OpenImageIO writes them by default).
+// How writePages stores the pages: OpenImageIO's defaults where a field is left empty.
+struct PageStorage {
+  std::string compression;  // "none", "lzw", "zip", "packbits", ...
+  int rowsPerStrip = 0;
+  int tile = 0;  // tiles of tile x tile pixels
+};
+
+// A multi-page TIFF of w x h pages of `channels` samples a pixel.
 template <typename T>
 void writePages(const std::string& path, uint32_t w, uint32_t h, const std::vector<std::vector<T>>& pages,
-                int channels = 1, bool stripsOf3 = false) {
+                int channels = 1, const PageStorage& storage = {}) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out && out->supports("multiimage"));
   std::vector<OIIO::ImageSpec> specs(pages.size(),
                                      OIIO::ImageSpec(int(w), int(h), channels, typeDescOf<T>()));
-  if (stripsOf3)
-    for (OIIO::ImageSpec& spec : specs) {
-      spec.attribute("compression", "none");
-      spec.attribute("tiff:RowsPerStrip", 3);
-    }
+  for (OIIO::ImageSpec& spec : specs) {
+    if (!storage.compression.empty()) spec.attribute("compression", storage.compression);
+    if (storage.rowsPerStrip) spec.attribute("tiff:RowsPerStrip", storage.rowsPerStrip);
+    spec.tile_width = spec.tile_height = storage.tile;
+  }
   ASSERT_TRUE(out->open(path, int(pages.size()), specs.data())) << out->geterror();
   for (size_t z = 0; z < pages.size(); ++z) {
     if (z > 0) {
@@ -140,7 +148,20 @@ struct TiffPage {
   uint16_t sampleFormat = 1;  // 1: unsigned, 2: signed, 3: floating point (tagged only when not 1)
   // A palette page's ColorMap (photometric 3): the reds, greens, then blues of its 2^bits entries.
   std::vector<uint16_t> colorMap{};
+  uint16_t compression = 1;  // 1: none; 32773: PackBits, which writeTiff encodes
 };
+
+// Rows of `rowBytes` bytes in PackBits (TIFF 6.0, Sect. 9): each row as runs of up to 128 literal bytes.
+std::vector<uint8_t> packBits(const std::vector<uint8_t>& data, size_t rowBytes) {
+  std::vector<uint8_t> packed;
+  for (size_t row = 0; row < data.size(); row += rowBytes)
+    for (size_t at = row; at < row + rowBytes; at += 128) {
+      const size_t run = std::min<size_t>(128, row + rowBytes - at);
+      packed.push_back(uint8_t(run - 1));
+      packed.insert(packed.end(), data.begin() + long(at), data.begin() + long(at + run));
+    }
+  return packed;
+}
 
 template <typename T>
 TiffPage tiffPage(uint32_t w, uint32_t h, const std::vector<T>& samples, uint16_t photometric = 1) {
@@ -155,10 +176,15 @@ TiffPage tiffPage(uint32_t w, uint32_t h, const std::vector<T>& samples, uint16_
 // for samples that are not unsigned, so that the directories of unsigned pages are 114 bytes (9 entries).
 std::vector<std::array<uint32_t, 4>> tiffEntries(const TiffPage& page, uint32_t dataAt,
                                                  uint32_t colorMapAt = 0) {
-  std::vector<std::array<uint32_t, 4>> entries = {
-      {256, 4, 1, page.width}, {257, 4, 1, page.height},      {258, 3, 1, page.bits},
-      {259, 3, 1, 1},          {262, 3, 1, page.photometric}, {273, 4, 1, dataAt},
-      {277, 3, 1, 1},          {278, 4, 1, page.height},      {279, 4, 1, uint32_t(page.data.size())}};
+  std::vector<std::array<uint32_t, 4>> entries = {{256, 4, 1, page.width},
+                                                  {257, 4, 1, page.height},
+                                                  {258, 3, 1, page.bits},
+                                                  {259, 3, 1, page.compression},
+                                                  {262, 3, 1, page.photometric},
+                                                  {273, 4, 1, dataAt},
+                                                  {277, 3, 1, 1},
+                                                  {278, 4, 1, page.height},
+                                                  {279, 4, 1, uint32_t(page.data.size())}};
   if (!page.colorMap.empty()) entries.push_back({320, 3, uint32_t(page.colorMap.size()), colorMapAt});
   if (page.sampleFormat != 1) entries.push_back({339, 3, 1, page.sampleFormat});
   return entries;
@@ -168,9 +194,9 @@ uint32_t tiffDirectoryBytes(const TiffPage& page) {
   return uint32_t(2 + tiffEntries(page, 0).size() * 12 + 4);
 }
 
-// A little-endian, uncompressed TIFF, for what OpenImageIO does not write: MinIsWhite pages, palette pages
-// with the color maps given, half floats, and every page's directory ahead of all the image data (OpenImageIO
-// writes each page's data, then its directory; then no page may have a color map).
+// A TIFF, little-endian unless `bigEndian`, for what OpenImageIO does not write: MinIsWhite pages, palette
+// pages with the color maps given, half floats, big-endian files, and every page's directory ahead of all the
+// image data (OpenImageIO writes each page's data, then its directory; then no page may have a color map).
 void writeTiff(const std::string& path, std::vector<TiffPage> pages, bool directoriesFirst = false,
                bool bigEndian = false) {
   std::vector<uint8_t> file = bigEndian ? std::vector<uint8_t>{'M', 'M', 0, 42, 0, 0, 0, 0}
@@ -178,10 +204,12 @@ void writeTiff(const std::string& path, std::vector<TiffPage> pages, bool direct
   const auto put = [&](uint32_t at, uint32_t value, int bytes) {
     for (int i = 0; i < bytes; ++i) file[at + (bigEndian ? bytes - 1 - i : i)] = uint8_t(value >> (8 * i));
   };
-  if (bigEndian)
-    for (TiffPage& page : pages)
+  for (TiffPage& page : pages) {
+    if (bigEndian)
       for (size_t i = 0, width = page.bits / 8; width > 1 && i + width <= page.data.size(); i += width)
         std::reverse(page.data.begin() + long(i), page.data.begin() + long(i + width));
+    if (page.compression == 32773) page.data = packBits(page.data, page.data.size() / page.height);
+  }
   uint32_t dataAt = 8;
   if (directoriesFirst)
     for (const TiffPage& page : pages) dataAt += tiffDirectoryBytes(page);
@@ -279,31 +307,33 @@ TEST(SourceImages, MultiPageTiff) {
   expectSlices<int16_t>(*i16, 5, 12, 3);
 }
 
-// An ImageJ hyperstack of 2 channels, 3 slices and 2 frames (pages c0 z0 t0, c1 z0 t0, c0 z1 t0, ..., c0 z0
-// t1, ...), calibrated: its first channel's first frame is read, at its calibration, said in the description;
-// --channel and --time pick another; --spacing overrides the calibration.
-// Pages stored uncompressed in strips are read as the file stores them, not through OpenImageIO (whose TIFF
-// reader walks every directory before a page to reach it): in strips of 3 rows of 7 (OpenImageIO's writer),
-// and big-endian (ImageJ's), each type as written.
+// A multi-page TIFF's pages are read through libtiff at their directories' offsets (TiffPageReader), not
+// through OpenImageIO (whose TIFF reader walks every directory before a page to reach it), in each type as
+// written: 4 pages of w x h stored as `storage` says.
 template <typename T>
-void expectStoredPagesRead(const std::string& path) {
+void expectPagesReadAtTheirDirectories(const std::string& path, const PageStorage& storage,
+                                       uint64_t compression, uint32_t w = 10, uint32_t h = 7) {
   std::vector<std::vector<T>> patterns;
-  for (uint32_t z = 0; z < 4; ++z) patterns.push_back(slicePattern<T>(10, 7, z));
-  writePages(path, 10, 7, patterns, 1, /*stripsOf3=*/true);
+  for (uint32_t z = 0; z < 4; ++z) patterns.push_back(slicePattern<T>(w, h, z));
+  writePages(path, w, h, patterns, 1, storage);
   const auto layouts = tiffPageLayouts(path);
   ASSERT_TRUE(layouts);
-  ASSERT_EQ((*layouts)[2].compression, 1u);
-  ASSERT_EQ((*layouts)[2].dataOffsets.size(), 3u);  // strips of 3, 3 and 1 rows
-  expectSlices<T>(*openVolumeSource(path), 10, 7, 4);
+  ASSERT_EQ((*layouts)[2].compression, compression) << path;
+  ASSERT_EQ((*layouts)[2].tiled, storage.tile > 0) << path;
+  if (storage.rowsPerStrip) ASSERT_EQ((*layouts)[2].rowsPerStrip, uint64_t(storage.rowsPerStrip)) << path;
+  ASSERT_TRUE(TiffPageReader::reads((*layouts)[2])) << path;
+  expectSlices<T>(*openVolumeSource(path), w, h, 4);
 }
 
+// Uncompressed, in strips of 3 rows of 7 (OpenImageIO's writer), and big-endian (ImageJ's).
 TEST(SourceImages, UncompressedPagesAreReadAsStoredInEitherByteOrder) {
   TempDir dir;
-  expectStoredPagesRead<uint8_t>(dir.file("u8.tif"));
-  expectStoredPagesRead<int16_t>(dir.file("i16.tif"));
-  expectStoredPagesRead<uint32_t>(dir.file("u32.tif"));
-  expectStoredPagesRead<float>(dir.file("f32.tif"));
-  expectStoredPagesRead<double>(dir.file("f64.tif"));
+  const PageStorage stripsOf3{.compression = "none", .rowsPerStrip = 3};
+  expectPagesReadAtTheirDirectories<uint8_t>(dir.file("u8.tif"), stripsOf3, 1);
+  expectPagesReadAtTheirDirectories<int16_t>(dir.file("i16.tif"), stripsOf3, 1);
+  expectPagesReadAtTheirDirectories<uint32_t>(dir.file("u32.tif"), stripsOf3, 1);
+  expectPagesReadAtTheirDirectories<float>(dir.file("f32.tif"), stripsOf3, 1);
+  expectPagesReadAtTheirDirectories<double>(dir.file("f64.tif"), stripsOf3, 1);
 
   std::vector<TiffPage> u16, f32;
   for (uint32_t z = 0; z < 3; ++z) {
@@ -317,6 +347,68 @@ TEST(SourceImages, UncompressedPagesAreReadAsStoredInEitherByteOrder) {
   expectSlices<float>(*openVolumeSource(dir.file("big32.tif")), 5, 4, 3);
 }
 
+// LZW, Deflate (with OpenImageIO's predictors), PackBits, in strips and in 16 x 16 tiles that overhang the
+// page; big-endian PackBits, written byte by byte.
+TEST(SourceImages, CompressedAndTiledPagesAreReadAtTheirDirectories) {
+  TempDir dir;
+  expectPagesReadAtTheirDirectories<uint8_t>(dir.file("lzw8.tif"), {.compression = "lzw", .rowsPerStrip = 2},
+                                             5);
+  expectPagesReadAtTheirDirectories<int16_t>(dir.file("zip16.tif"), {.compression = "zip"}, 8);
+  expectPagesReadAtTheirDirectories<float>(dir.file("lzwf.tif"), {.compression = "lzw"}, 5);
+  expectPagesReadAtTheirDirectories<double>(dir.file("zipd.tif"), {.compression = "zip"}, 8);
+  expectPagesReadAtTheirDirectories<uint16_t>(dir.file("packbits16.tif"), {.compression = "packbits"}, 32773);
+  expectPagesReadAtTheirDirectories<uint16_t>(dir.file("tiled16.tif"), {.compression = "zip", .tile = 16}, 8,
+                                              40, 20);
+  expectPagesReadAtTheirDirectories<uint8_t>(dir.file("tiled8.tif"), {.compression = "none", .tile = 16}, 1,
+                                             20, 33);
+
+  std::vector<TiffPage> pages;
+  for (uint32_t z = 0; z < 3; ++z) {
+    pages.push_back(tiffPage<int32_t>(70, 3, slicePattern<int32_t>(70, 3, z)));
+    pages.back().compression = 32773;
+  }
+  writeTiff(dir.file("big_packbits.tif"), pages, false, /*bigEndian=*/true);
+  ASSERT_EQ((*tiffPageLayouts(dir.file("big_packbits.tif")))[1].compression, 32773u);
+  expectSlices<int32_t>(*openVolumeSource(dir.file("big_packbits.tif")), 70, 3, 3);
+}
+
+// A page whose compressed data does not decode is an error naming the file and page, with libtiff's message.
+TEST(SourceImages, APageThatDoesNotDecodeIsNamed) {
+  TempDir dir;
+  const std::string path = dir.file("pages.tif");
+  // Noise, which Deflate leaves about as large as it is.
+  std::mt19937 random(7);
+  std::vector<std::vector<uint16_t>> pages(4, std::vector<uint16_t>(30 * 20));
+  for (auto& page : pages)
+    for (uint16_t& v : page) v = uint16_t(random());
+  writePages(path, 30, 20, pages, 1, {.compression = "zip"});
+  // OpenImageIO writes each page's directory, then its data: page 2's data fills most of the bytes from its
+  // directory to page 3's.
+  const auto layouts = tiffPageLayouts(path);
+  ASSERT_TRUE(layouts);
+  const uint64_t start = (*layouts)[2].directoryOffset, end = (*layouts)[3].directoryOffset;
+  ASSERT_LT(start + 1000, end);
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff((start + end) / 2 - 32));
+    const std::string garbage(64, char(0xA5));
+    file.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  const auto source = openVolumeSource(path);
+  EXPECT_EQ(readSlab<uint16_t>(*source, 1, 1), pages[1]);
+  try {
+    readSlab<uint16_t>(*source, 2, 1);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read image slice " + path + " (page 2): "),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// An ImageJ hyperstack of 2 channels, 3 slices and 2 frames (pages c0 z0 t0, c1 z0 t0, c0 z1 t0, ..., c0 z0
+// t1, ...), calibrated: its first channel's first frame is read, at its calibration, said in the description;
+// --channel and --time pick another; --spacing overrides the calibration.
 TEST(SourceImages, AnImageJHyperstacksChannelAndFrameAtItsCalibration) {
   TempDir dir;
   const std::string path = dir.file("stack.tif");
