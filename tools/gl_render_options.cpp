@@ -247,7 +247,8 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const cha
 }
 
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
-                                             const VolumeReadArgs& read, bool quiet, const std::string& who) {
+                                             const VolumeReadArgs& read, bool quiet, const std::string& who,
+                                             VolumeInfo* volume) {
   if (isProceduralSpec(input)) {
     refuseVolumeReadOptions(read, input + " is generated");
     return openProceduralBricks(input, brick.value_or(kDefaultBrickSize));
@@ -260,11 +261,14 @@ std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::opti
     if (!std::filesystem::exists(input)) throw Error(input + ": no such store file");
     return Store::open(input);
   }
-  return openVolumeAsStore(input, sourceOptionsOf(read, who), brick, quiet, who);
+  ConversionReport report;
+  report.quiet = quiet;
+  return openVolumeAsStore(input, sourceOptionsOf(read, who), brick, report, who, volume);
 }
 
-std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who) {
-  return openBrickSource(o.input, o.brick, o.read, o.quiet, who);
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who,
+                                             VolumeInfo* volume) {
+  return openBrickSource(o.input, o.brick, o.read, o.quiet, who, volume);
 }
 
 Camera chooseCamera(const RenderOptions& o, const BrickSourceInfo& info) {

@@ -61,13 +61,16 @@ void warnIfPoolLimited(const RenderOptions& o, const FrameStats& last, const cha
 
 // The input of --input's kinds, with --io-delay-ms applied by the caller (DelayedBrickSource); `who` names
 // the command ("render").
-std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who);
+std::unique_ptr<BrickSource> openBrickSource(const RenderOptions& o, const std::string& who,
+                                             VolumeInfo* volume = nullptr);
 // A store file; procedural:NAME:SIZE, bricked by `brick` (default kDefaultBrickSize); or a volume as convert
 // reads it with `read`'s options, converted to a temporary store bricked by `brick` (tools/temporary_store.h;
-// `quiet` as there). A store keeps its own brick size and everything it was read with, so `brick` or a `read`
-// option with a store is a UsageError, and a `read` option with a procedural input too.
+// `quiet` as there; `volume`, where given, receives what the source read, and is left as it is for a store
+// or a procedural input). A store keeps its own brick size and everything it was read with, so `brick` or a
+// `read` option with a store is a UsageError, and a `read` option with a procedural input too.
 std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::optional<uint32_t> brick,
-                                             const VolumeReadArgs& read, bool quiet, const std::string& who);
+                                             const VolumeReadArgs& read, bool quiet, const std::string& who,
+                                             VolumeInfo* volume = nullptr);
 
 // --orbit, else the default orbit of `volume` (kPatientDefaultOrbit for a patient's, else kDefaultOrbit).
 // Throws UsageError for a distance that is not positive.

@@ -44,8 +44,11 @@
 #include "tools/gl_view_tf_editor.h"
 #include "tools/output_guard.h"
 #include "tools/stats_writer.h"
+#include "tools/temporary_store.h"
 #include "tools/view_outline.h"
 #include "tools/view_probe.h"
+#include "tools/view_time_points.h"
+#include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
 
@@ -163,6 +166,7 @@ class Viewer {
   void reportPanelError(const std::exception& e);
   void drawPanels();
   void drawCropControls(const BrickSourceInfo& info);
+  void drawTimePointControls();
   void drawCutOutlines(const VolumeInfo& volume);
   // The sides of the patient at the 3D view's edges and the volume's axes at its bottom.
   void drawOrientationMarks();
@@ -196,8 +200,21 @@ class Viewer {
   // The inputs and every output of the command line and script, checked before the window opened: what the
   // panels write is checked against them.
   OutputGuard guard_;
-  std::unique_ptr<BrickSource> source_, delayed_;
-  const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
+  // The input; a series' time points each as a source of their own, made as they are asked for.
+  std::unique_ptr<BrickSource> source_;
+  std::optional<TimePointStores> timePoints_;
+  BrickSource* shown_ = nullptr;          // source_, or the shown time point's
+  std::unique_ptr<BrickSource> delayed_;  // --io-delay-ms over shown_
+  const BrickSource& bricks() const { return delayed_ ? *delayed_ : *shown_; }
+  uint32_t shownTime_ = 0, wantedTime_ = 0;  // of a series: the time point shown, and the one asked for
+  bool timePointPending() const { return shownTime_ != wantedTime_; }
+  // The panel's and the script's choice: time point t is shown once it is made.
+  void askTimePoint(uint32_t t);
+  // Shows the wanted time point once it is made (its conversion's failure turns it back to the shown one).
+  void followTimePoint();
+  // What depends on the shown source: the probe's reader, the value range and histogram, the baked transfer
+  // function; the renderer is made again for it at the next frame.
+  void attachShownSource();
   std::pair<double, double> valueRange_;
   // The value histogram of the octree's root brick (store/value_histogram.h): log bar heights in [0, 1].
   std::vector<float> histogram_;
@@ -289,20 +306,27 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
     throw Error(
         "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
         "(auto, fragment, compute or multipass)");
-  source_ = openBrickSource(o, "view");
-  if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
-  const BrickSourceInfo& info = bricks().info();
-  // An answer read wakes the window, which may be waiting for events.
-  probeReader_.emplace(bricks(), [] { glfwPostEmptyEvent(); });
-  valueRange_ = valueRangeOf(info);
-  boxMax_ = info.volume.worldMax();
-  {
-    const ValueHistogram h = coarseHistogram(bricks(), 64, valueRange_.first, valueRange_.second);
-    histogramLevel_ = h.level;
-    double top = 0.0;
-    for (uint64_t c : h.counts) top = std::max(top, std::log1p(double(c)));
-    for (uint64_t c : h.counts) histogram_.push_back(top > 0.0 ? float(std::log1p(double(c)) / top) : 0.0f);
+  VolumeInfo volume;  // what a volume's source read: a series' time points
+  source_ = openBrickSource(o, "view", &volume);
+  shown_ = source_.get();
+  if (volume.timePoints > 1 && volume.timePoints <= UINT32_MAX) {
+    shownTime_ = wantedTime_ = uint32_t(volume.timePoint);
+    const SourceOptions read = sourceOptionsOf(o.read, "view");
+    auto convert = [input = o.input, read, brick = o.brick](uint32_t t,
+                                                            const std::function<void(double)>& progress) {
+      SourceOptions picked = read;
+      picked.timePoint = t;
+      // Quietly: the panel shows the progress, and the first conversion told the source's notes.
+      return std::unique_ptr<BrickSource>(openVolumeAsStore(
+          input, picked, brick, {.quiet = true, .notes = false, .progress = progress}, "view"));
+    };
+    // A time point made wakes the window, which may be waiting for events.
+    timePoints_.emplace(uint32_t(volume.timePoints), shownTime_, std::move(source_), std::move(convert),
+                        [] { glfwPostEmptyEvent(); });
   }
+  attachShownSource();
+  const BrickSourceInfo& info = bricks().info();
+  boxMax_ = info.volume.worldMax();
   params_ = renderParamsOf(o, info, "view");
   unfoldCutControls_ = !o.crop.empty() || !o.clipPlane.empty();
   voxelsPerPixel_ = o.voxelsPerPixel;
@@ -359,13 +383,67 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
 }
 
 Viewer::~Viewer() {
-  if (!window_) return;
+  // The time points' sources outlive what reads them; their thread, which wakes the window, stops first.
   renderer_.reset();
+  probeReader_.reset();
+  delayed_.reset();
+  timePoints_.reset();
+  if (!window_) return;
   glDeleteFramebuffers(1, &viewFramebuffer_);
   glDeleteTextures(1, &viewTexture_);
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
+}
+
+void Viewer::attachShownSource() {
+  renderer_.reset();
+  probeReader_.reset();
+  probeAnswer_.reset();
+  delayed_.reset();
+  if (o_.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*shown_, o_.ioDelayMs);
+  const BrickSourceInfo& info = bricks().info();
+  // An answer read wakes the window, which may be waiting for events.
+  probeReader_.emplace(bricks(), [] { glfwPostEmptyEvent(); });
+  valueRange_ = valueRangeOf(info);
+  const ValueHistogram h = coarseHistogram(bricks(), 64, valueRange_.first, valueRange_.second);
+  histogramLevel_ = h.level;
+  histogram_.clear();
+  double top = 0.0;
+  for (uint64_t c : h.counts) top = std::max(top, std::log1p(double(c)));
+  for (uint64_t c : h.counts) histogram_.push_back(top > 0.0 ? float(std::log1p(double(c)) / top) : 0.0f);
+  // The function stays in data units across time points; its table follows the store's value mapping.
+  if (tfTable_) setTransferFunction(tf_, tfSpec_);
+}
+
+void Viewer::askTimePoint(uint32_t t) {
+  if (!timePoints_)
+    throw Error("view: the input " + o_.input + " holds one time point; time point " + std::to_string(t) +
+                " does not exist");
+  if (t >= timePoints_->count())
+    throw Error("view: time point " + std::to_string(t) + ": the input " + o_.input + " holds " +
+                std::to_string(timePoints_->count()) + " (0 to " + std::to_string(timePoints_->count() - 1) +
+                ")");
+  wantedTime_ = t;
+  timePoints_->ask(t);
+}
+
+void Viewer::followTimePoint() {
+  if (!timePoints_) return;
+  if (const auto failure = timePoints_->takeFailure(); failure && failure->timePoint == wantedTime_) {
+    wantedTime_ = shownTime_;
+    message_ = "time point " + std::to_string(failure->timePoint) + ": " + failure->message;
+    std::fprintf(stderr, "ropecast view: %s\n", message_.c_str());
+    // A script asked for it: what it does next would not show what it expects.
+    if (script_) throw Error("view: " + message_);
+  }
+  if (!timePointPending()) return;
+  BrickSource* made = timePoints_->find(wantedTime_);
+  if (!made) return;
+  shown_ = made;
+  shownTime_ = wantedTime_;
+  attachShownSource();
+  lastRequest_.reset();  // the new time point is drawn, whatever the camera
 }
 
 void Viewer::setTransferFunction(const std::string& spec) {
@@ -562,7 +640,8 @@ void Viewer::runScript(bool converged) {
     const ViewEvent& e = script_->events[nextEvent_];
     if (e.atSeconds > now) break;
     if (waitsForConvergence(e.kind) && (!converged || changedHere)) {
-      if (changedHere || ++waitedFrames_ <= o_.maxFrames) break;
+      // Frames are counted, not the wait for a time point being made (it draws none).
+      if (changedHere || timePointPending() || ++waitedFrames_ <= o_.maxFrames) break;
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
                    e.where.c_str(), o_.maxFrames);
     }
@@ -653,6 +732,9 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetCaps:
       params_.isoCaps = e.caps;
       unfoldCutControls_ = true;
+      break;
+    case ViewEventKind::SetTimePoint:
+      askTimePoint(e.timePoint);
       break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
@@ -764,6 +846,29 @@ void Viewer::drawCropControls(const BrickSourceInfo& info) {
     }
   }
   if (ImGui::Button("whole volume")) params_.crop = CropBox{};
+}
+
+// A series' time point: a slider and a step each way. One not shown yet is converted first, its progress
+// shown, the view showing the one before meanwhile.
+void Viewer::drawTimePointControls() {
+  const int last = int(timePoints_->count() - 1);
+  int t = int(wantedTime_);
+  bool changed = ImGui::SliderInt("time point", &t, 0, last);
+  ImGui::SameLine();
+  if (ImGui::ArrowButton("##earlier", ImGuiDir_Left)) {
+    t = std::max(t - 1, 0);
+    changed = true;
+  }
+  ImGui::SameLine();
+  if (ImGui::ArrowButton("##later", ImGuiDir_Right)) {
+    t = std::min(t + 1, last);
+    changed = true;
+  }
+  if (changed && t != int(wantedTime_)) askTimePoint(uint32_t(t));
+  if (const auto converting = timePoints_->converting())
+    ImGui::TextDisabled("converting time point %u: %.0f%%", converting->timePoint,
+                        100.0 * converting->fraction);
+  if (timePointPending()) ImGui::TextDisabled("showing time point %u meanwhile", shownTime_);
 }
 
 void Viewer::showAnatomicalView(AnatomicalView view) {
@@ -948,6 +1053,7 @@ void Viewer::drawPanels() {
                 valueRange_.first, valueRange_.second);
     if (info.volume.axes != AxisDirections(1.0))  // where a turned volume's axes point (core/orientation.h)
       ImGui::Text("axes %s", orientationCode(info.volume.axes).c_str());
+    if (timePoints_) drawTimePointControls();
     int mode = int(params_.mode);
     ImGui::RadioButton("iso", &mode, int(RenderMode::Iso));
     ImGui::SameLine();
@@ -1151,11 +1257,12 @@ void Viewer::drawPanels() {
 int Viewer::run() {
   start_ = SteadyClock::now();
   auto lastLoop = SteadyClock::now();
-  bool converged = false, screenshotWritten = false;
+  bool viewConverged = false, converged = false, screenshotWritten = false;
   while (!window_->shouldClose()) {
     const bool scriptActive = script_ && !scriptDone();
-    // Nothing to refine: wait for the user, or for the script's next event.
-    const bool still = converged && !windowDragOwned_ && scriptKeys_.empty() && !panelShot_ &&
+    // Nothing to refine: wait for the user, or for the script's next event (or a time point being made: its
+    // thread wakes the window when it is, and the panel's progress shows at the wait's timeout).
+    const bool still = viewConverged && !windowDragOwned_ && scriptKeys_.empty() && !panelShot_ &&
                        secondsSince(start_) - lastMoveSeconds_ > kStillAfterSeconds;
     const double untilEvent = scriptActive ? secondsToNextEvent() : HUGE_VAL;
     if (still && untilEvent > 0.0)
@@ -1185,6 +1292,7 @@ int Viewer::run() {
     lastCamera_ = camera;
     const bool moving = secondsSince(start_) - lastMoveSeconds_ < kStillAfterSeconds;
     if (!moving) coarser_ = false;
+    followTimePoint();
     ensureRenderer(moving);  // may fall back to computed gradients (params_)
     const FrameRequest request = currentRequest(moving);
     if (needsFrame(request)) {
@@ -1200,7 +1308,9 @@ int Viewer::run() {
           lastStats_.requestsPending > 0)
         renderer_->waitForReads(std::chrono::milliseconds(100));
     }
-    converged = !moving && !needsFrame(currentRequest(false));
+    viewConverged = !moving && !needsFrame(currentRequest(false));
+    // A time point asked for and still being made: what waits for the view waits for it too.
+    converged = viewConverged && !timePointPending();
 
     present(viewWidth_, viewHeight_);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -1216,7 +1326,7 @@ int Viewer::run() {
 
     if (scriptDone()) {
       if (o_.screenshot.empty()) break;
-      if (converged || ++waitedFrames_ > o_.maxFrames) {
+      if (converged || (!timePointPending() && ++waitedFrames_ > o_.maxFrames)) {
         if (!converged)
           std::fprintf(stderr,
                        "ropecast view: --screenshot: not converged after %u frames (--max-frames); writing "

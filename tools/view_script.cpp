@@ -245,6 +245,13 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       if (!r.j.contains("caps")) r.fail("\"caps\" is required");
       e.caps = r.flag("caps");
       add(e);
+    } else if (kind == "set_time_point") {
+      e.kind = ViewEventKind::SetTimePoint;
+      const double t = r.number("time_point", 0.0, true);
+      if (!(t >= 0.0 && t <= double(UINT32_MAX) && t == std::floor(t)))
+        r.fail("\"time_point\" must be a whole number from 0, counted as --time counts them");
+      e.timePoint = uint32_t(t);
+      add(e);
     } else if (kind == "load_tf") {
       e.kind = ViewEventKind::LoadTf;
       e.tf = r.text("tf");
@@ -290,8 +297,9 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else {
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
-          "set_iso, set_mode, set_crop, set_clip_plane, set_caps, load_tf, set_tf_range, screenshot, "
-          "save_camera, set_view, probe, center_at, measure, reset_camera, wait_converged or quit");
+          "set_iso, set_mode, set_crop, set_clip_plane, set_caps, set_time_point, load_tf, set_tf_range, "
+          "screenshot, save_camera, set_view, probe, center_at, measure, reset_camera, wait_converged or "
+          "quit");
     }
     r.refuseOtherKeys();
   }

@@ -1,8 +1,8 @@
 // ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
 // tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
-// named UI actions (set the isovalue, mode, crop box or clip plane, load a transfer function, take a
-// screenshot, save the camera, probe a point, center on one, measure between two, wait until the view has
-// converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free; any thread.
+// named UI actions (set the isovalue, mode, crop box, clip plane or time point, load a transfer function,
+// take a screenshot, save the camera, probe a point, center on one, measure between two, wait until the view
+// has converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free; any thread.
 //
 // File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
 // "at" (seconds after the first frame; default: the event before's, 0 for the first). Events run in file
@@ -22,26 +22,27 @@
 namespace ropecast::tools {
 
 enum class ViewEventKind {
-  MouseDown,      // button at pos (shift: shift held)
-  MouseMove,      // the pointer to pos
-  MouseUp,        // button at pos
-  Wheel,          // clicks (positive: closer)
-  KeyDown,        // key
-  KeyUp,          // key
-  SetIso,         // value (data units)
-  SetMode,        // mode
-  LoadTf,         // tf: a preset name or a JSON file
-  SetTfRange,     // range: LO,HI, a window as --tf-range sets it
-  SetCrop,        // crop: --crop's three voxel ranges
-  SetClipPlane,   // plane: --clip-plane's six numbers, or none
-  SetCaps,        // caps: isosurface caps at the cuts on or off, as --caps
-  Screenshot,     // file; panels: the whole window with its panels, else the 3D view alone
-  SaveCamera,     // file: appended to as a camera path `render --path` reads
-  ResetCamera,    // back to the starting view
-  SetView,        // view: a named side of the patient, as --view (at the current distance)
-  Probe,          // pos: prints what the probe finds there (voxel and value) to stdout, once converged
-  CenterAt,       // pos: the point there becomes the orbit's center (a double click), once converged
-  Measure,        // pos, to: the ruler between the points there (two right clicks), printed; once converged
+  MouseDown,     // button at pos (shift: shift held)
+  MouseMove,     // the pointer to pos
+  MouseUp,       // button at pos
+  Wheel,         // clicks (positive: closer)
+  KeyDown,       // key
+  KeyUp,         // key
+  SetIso,        // value (data units)
+  SetMode,       // mode
+  LoadTf,        // tf: a preset name or a JSON file
+  SetTfRange,    // range: LO,HI, a window as --tf-range sets it
+  SetCrop,       // crop: --crop's three voxel ranges
+  SetClipPlane,  // plane: --clip-plane's six numbers, or none
+  SetCaps,       // caps: isosurface caps at the cuts on or off, as --caps
+  SetTimePoint,  // timePoint: a series' time point, as --time picks one; what waits for the view waits for it
+  Screenshot,    // file; panels: the whole window with its panels, else the 3D view alone
+  SaveCamera,    // file: appended to as a camera path `render --path` reads
+  ResetCamera,   // back to the starting view
+  SetView,       // view: a named side of the patient, as --view (at the current distance)
+  Probe,         // pos: prints what the probe finds there (voxel and value) to stdout, once converged
+  CenterAt,      // pos: the point there becomes the orbit's center (a double click), once converged
+  Measure,       // pos, to: the ruler between the points there (two right clicks), printed; once converged
   WaitConverged,  // nothing but waiting
   Quit,
 };
@@ -63,6 +64,7 @@ struct ViewEvent {
   std::vector<std::string> crop;
   std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
   bool caps = true;
+  uint32_t timePoint = 0;
   AnatomicalView view = AnatomicalView::Anterior;
   glm::dvec2 range{0.0};  // LO < HI, data units
   std::string file;

@@ -198,6 +198,47 @@ same "crop change = render --crop" "$dir/v3.png" "$dir/r3.png"
 differs "the crop changed the view" "$dir/v3.png" "$dir/v0.png"
 run "view --crop" xview $vol --crop 10:,:30,4:40 --screenshot "$dir/v4.png"
 same "view --crop = render --crop" "$dir/v4.png" "$dir/r3.png"
+
+# A time series (a NIfTI file of two volumes, spheres of two sizes): set_time_point shows the other, as render
+# --time draws it, and back; --time picks the one shown first; a time point past the series, or one of an input
+# of one, fails the script, naming it.
+python3 - "$dir/series.nii" <<'PY' || exit 1
+import struct, sys
+header = bytearray(348)
+struct.pack_into("<i", header, 0, 348)
+struct.pack_into("<8h", header, 40, 4, 24, 20, 16, 2, 1, 1, 1)
+struct.pack_into("<hh", header, 70, 512, 16)
+struct.pack_into("<8f", header, 76, 1, 1, 1, 1, 1, 1, 1, 1)
+struct.pack_into("<f", header, 108, 352)
+header[344:348] = b"n+1\0"
+volumes = []
+for slope in (300, 600):
+    volumes += [max(0, int(4000 - slope * ((x - 12) ** 2 + (y - 10) ** 2 + (z - 8) ** 2) ** 0.5))
+                for z in range(16) for y in range(20) for x in range(24)]
+open(sys.argv[1], "wb").write(bytes(header) + bytes(4) + struct.pack("<%dH" % len(volumes), *volumes))
+PY
+series="$dir/series.nii --size 96x96 --iso 1500"
+cat > "$dir/time.json" << JSON
+[{"event": "screenshot", "file": "$dir/t0.png"},
+ {"event": "set_time_point", "time_point": 1}, {"event": "screenshot", "file": "$dir/t1.png"},
+ {"event": "set_time_point", "time_point": 0}, {"event": "screenshot", "file": "$dir/t0b.png"}]
+JSON
+run "view --script set_time_point" xview $series --script "$dir/time.json"
+run "render --time 0" "$ropecast" render $series --converge -o "$dir/rt0.png"
+run "render --time 1" "$ropecast" render $series --converge --time 1 -o "$dir/rt1.png"
+same "time point 0 = render" "$dir/t0.png" "$dir/rt0.png"
+same "time point 1 = render --time 1" "$dir/t1.png" "$dir/rt1.png"
+same "back to time point 0" "$dir/t0b.png" "$dir/rt0.png"
+differs "the time point changed the view" "$dir/t1.png" "$dir/t0.png"
+run "view --time 1" xview $series --time 1 --screenshot "$dir/t1s.png"
+same "view --time 1 = render --time 1" "$dir/t1s.png" "$dir/rt1.png"
+echo '[{"event": "set_time_point", "time_point": 2}, {"event": "screenshot", "file": "'"$dir"'/x.png"}]' > "$dir/time2.json"
+xview $series --script "$dir/time2.json" > /dev/null 2> "$dir/err.txt" && fail "set_time_point 2 of 2"
+grep -qF "event 0 (set_time_point): view: time point 2: the input $dir/series.nii holds 2 (0 to 1)" "$dir/err.txt" ||
+  fail "no refusal of time point 2: $(cat "$dir/err.txt")"
+xview $vol --script "$dir/time2.json" > /dev/null 2> "$dir/err.txt" && fail "set_time_point of a procedural input"
+grep -qF "holds one time point" "$dir/err.txt" || fail "no refusal of a time point of one: $(cat "$dir/err.txt")"
+[ ! -e "$dir/x.png" ] || fail "a refused time point left a screenshot"
 # set_clip_plane, then a screenshot: render with --clip-plane; then without caps: render --caps off.
 cat > "$dir/plane.json" << JSON
 [{"event": "set_clip_plane", "plane": [24, 24, 24, -1, -0.5, 0.2]}, {"event": "screenshot", "file": "$dir/v5.png"},

@@ -54,9 +54,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_tf_range", "range": [-160, 240]}, {"event": "set_caps", "caps": false},
           {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"},
           {"event": "probe", "pos": [120, 80.5]}, {"event": "center_at", "pos": [3, 4]},
-          {"event": "measure", "from": [1, 2], "to": [30, 40]}, {"event": "set_mode", "mode": "aip"}])",
+          {"event": "measure", "from": [1, 2], "to": [30, 40]}, {"event": "set_mode", "mode": "aip"},
+          {"event": "set_time_point", "time_point": 3}])",
       "t");
-  ASSERT_EQ(s.events.size(), 21u);
+  ASSERT_EQ(s.events.size(), 22u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -88,6 +89,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[19].pos, glm::dvec2(1, 2));
   EXPECT_EQ(s.events[19].to, glm::dvec2(30, 40));
   EXPECT_EQ(s.events[20].mode, RenderMode::Aip);
+  EXPECT_EQ(s.events[21].kind, ViewEventKind::SetTimePoint);
+  EXPECT_EQ(s.events[21].timePoint, 3u);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -137,6 +140,10 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "probe", "pos": [1, 2], "file": "p.txt"}])",
                 "event 0 (probe): unknown key \"file\"");
   expectRefused(R"([{"event": "set_caps", "caps": "off"}])", "\"caps\" must be true or false");
+  expectRefused(R"([{"event": "set_time_point"}])", "event 0 (set_time_point): \"time_point\" is required");
+  for (const char* t : {"-1", "1.5", "1e10", "\"2\""})
+    expectRefused(std::string(R"([{"event": "set_time_point", "time_point": )") + t + "}]",
+                  "event 0 (set_time_point): \"time_point\" must be");
 }
 
 TEST(ViewScript, HugeCoordinatesAndTimesAreRefusedAtLoad) {
