@@ -39,6 +39,7 @@
 #include "render/window_context.h"
 #include "store/async_voxel_reader.h"
 #include "store/extract.h"
+#include "store/store.h"
 #include "store/value_histogram.h"
 #include "tools/cli_values.h"
 #include "tools/gl_view_tf_editor.h"
@@ -208,6 +209,14 @@ class Viewer {
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *shown_; }
   uint32_t shownTime_ = 0, wantedTime_ = 0;  // of a series: the time point shown, and the one asked for
   bool timePointPending() const { return shownTime_ != wantedTime_; }
+  uint32_t nextTimePoint() const { return (shownTime_ + 1) % timePoints_->count(); }
+  // Playing, the series is shown time point after time point, each until its view has converged and
+  // playSecondsEach_ have passed, the next made while it shows; after the last comes the first.
+  bool playing_ = false;
+  double playSecondsEach_ = 0.5;
+  double shownAtSeconds_ = 0.0;  // script seconds when the shown time point was first drawn
+  void setPlaying(bool playing);
+  void playOn(bool viewConverged);
   // The panel's and the script's choice: time point t is shown once it is made.
   void askTimePoint(uint32_t t);
   // Shows the wanted time point once it is made (its conversion's failure turns it back to the shown one).
@@ -317,11 +326,20 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
       SourceOptions picked = read;
       picked.timePoint = t;
       // Quietly: the panel shows the progress, and the first conversion told the source's notes.
-      return std::unique_ptr<BrickSource>(openVolumeAsStore(
-          input, picked, brick, {.quiet = true, .notes = false, .progress = progress}, "view"));
+      std::unique_ptr<Store> store = openVolumeAsStore(
+          input, picked, brick, {.quiet = true, .notes = false, .progress = progress}, "view");
+      const uint64_t bytes = store->fileBytes();
+      return TimePointStores::Made{std::move(store), bytes};
     };
+    // The time points kept take at most half the temporary folder's free space, and 4 GiB.
+    std::error_code ec;
+    const uint64_t free = std::filesystem::space(std::filesystem::temp_directory_path(), ec).available;
+    const uint64_t keepBytes = std::min<uint64_t>(ec ? 0 : free / 2, uint64_t(4) << 30);
+    // A volume's source is a store (tools/temporary_store.h).
+    const uint64_t bytes = dynamic_cast<const Store&>(*source_).fileBytes();
     // A time point made wakes the window, which may be waiting for events.
-    timePoints_.emplace(uint32_t(volume.timePoints), shownTime_, std::move(source_), std::move(convert),
+    timePoints_.emplace(uint32_t(volume.timePoints), shownTime_,
+                        TimePointStores::Made{std::move(source_), bytes}, keepBytes, std::move(convert),
                         [] { glfwPostEmptyEvent(); });
   }
   attachShownSource();
@@ -432,6 +450,7 @@ void Viewer::followTimePoint() {
   if (!timePoints_) return;
   if (const auto failure = timePoints_->takeFailure(); failure && failure->timePoint == wantedTime_) {
     wantedTime_ = shownTime_;
+    playing_ = false;  // it would fail again at each turn
     message_ = "time point " + std::to_string(failure->timePoint) + ": " + failure->message;
     std::fprintf(stderr, "ropecast view: %s\n", message_.c_str());
     // A script asked for it: what it does next would not show what it expects.
@@ -443,7 +462,24 @@ void Viewer::followTimePoint() {
   shown_ = made;
   shownTime_ = wantedTime_;
   attachShownSource();
-  lastRequest_.reset();  // the new time point is drawn, whatever the camera
+  lastRequest_.reset();            // the new time point is drawn, whatever the camera
+  timePoints_->shown(shownTime_);  // nothing reads the one before now
+  shownAtSeconds_ = secondsSince(start_);
+  if (playing_) timePoints_->ask(nextTimePoint());  // made while this one shows
+}
+
+void Viewer::setPlaying(bool playing) {
+  if (!timePoints_)
+    throw Error("view: the input " + o_.input + " holds one time point; there is nothing to play");
+  playing_ = playing;
+  if (playing_ && !timePointPending()) timePoints_->ask(nextTimePoint());
+}
+
+void Viewer::playOn(bool viewConverged) {
+  if (!playing_ || timePointPending() || !viewConverged ||
+      secondsSince(start_) - shownAtSeconds_ < playSecondsEach_)
+    return;
+  askTimePoint(nextTimePoint());
 }
 
 void Viewer::setTransferFunction(const std::string& spec) {
@@ -534,7 +570,7 @@ void Viewer::renderFrame(const FrameRequest& request) {
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
-  if (stats_) stats_->write(lastStats_);
+  if (stats_) stats_->write(lastStats_, timePoints_ ? "\"time_point\":" + std::to_string(shownTime_) : "");
   frameMsHistory_.push_back(float(lastStats_.frameMs));
   if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
 
@@ -736,6 +772,10 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetTimePoint:
       askTimePoint(e.timePoint);
       break;
+    case ViewEventKind::Play:
+      if (e.secondsEach >= 0.0) playSecondsEach_ = e.secondsEach;
+      setPlaying(e.playing);
+      break;
     case ViewEventKind::LoadTf:
       setTransferFunction(e.tf);
       break;
@@ -853,7 +893,8 @@ void Viewer::drawCropControls(const BrickSourceInfo& info) {
 void Viewer::drawTimePointControls() {
   const int last = int(timePoints_->count() - 1);
   int t = int(wantedTime_);
-  bool changed = ImGui::SliderInt("time point", &t, 0, last);
+  const std::string format = "%d of " + std::to_string(timePoints_->count());
+  bool changed = ImGui::SliderInt("time point", &t, 0, last, format.c_str(), ImGuiSliderFlags_AlwaysClamp);
   ImGui::SameLine();
   if (ImGui::ArrowButton("##earlier", ImGuiDir_Left)) {
     t = std::max(t - 1, 0);
@@ -865,6 +906,14 @@ void Viewer::drawTimePointControls() {
     changed = true;
   }
   if (changed && t != int(wantedTime_)) askTimePoint(uint32_t(t));
+  ImGui::SameLine();
+  bool playing = playing_;
+  if (ImGui::Checkbox("play", &playing)) setPlaying(playing);
+  if (playing_) {
+    float seconds = float(playSecondsEach_);
+    if (ImGui::SliderFloat("seconds each", &seconds, 0.0f, 5.0f, "%.1f", ImGuiSliderFlags_AlwaysClamp))
+      playSecondsEach_ = seconds;
+  }
   if (const auto converting = timePoints_->converting())
     ImGui::TextDisabled("converting time point %u: %.0f%%", converting->timePoint,
                         100.0 * converting->fraction);
@@ -1309,6 +1358,7 @@ int Viewer::run() {
         renderer_->waitForReads(std::chrono::milliseconds(100));
     }
     viewConverged = !moving && !needsFrame(currentRequest(false));
+    playOn(viewConverged);
     // A time point asked for and still being made: what waits for the view waits for it too.
     converged = viewConverged && !timePointPending();
 

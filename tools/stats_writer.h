@@ -20,9 +20,12 @@ class StatsWriter {
   StatsWriter(const std::string& path, const std::string& who) {
     if (!path.empty()) file_.emplace(path, who);
   }
-  void write(const FrameStats& s) {
+  // `moreFields`: the caller's own, as JSON members ("\"time_point\":2"), after FrameStats' in the line.
+  void write(const FrameStats& s, const std::string& moreFields = "") {
     if (!file_) return;
-    const std::string line = toJsonLine(s) + '\n';
+    std::string line = toJsonLine(s);
+    if (!moreFields.empty()) line.insert(line.size() - 1, "," + moreFields);
+    line += '\n';
     file_->writeAt(offset_, std::as_bytes(std::span(line)));
     offset_ += line.size();
   }

@@ -252,6 +252,14 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
         r.fail("\"time_point\" must be a whole number from 0, counted as --time counts them");
       e.timePoint = uint32_t(t);
       add(e);
+    } else if (kind == "play") {
+      e.kind = ViewEventKind::Play;
+      if (!r.j.contains("playing")) r.fail("\"playing\" is required");
+      e.playing = r.flag("playing");
+      e.secondsEach = r.number("seconds_each", -1.0);
+      if (r.j.contains("seconds_each") && !(e.secondsEach >= 0.0 && e.secondsEach <= kMaxScriptSeconds))
+        r.fail("\"seconds_each\" must be seconds from 0 to 1e6");
+      add(e);
     } else if (kind == "load_tf") {
       e.kind = ViewEventKind::LoadTf;
       e.tf = r.text("tf");

@@ -2,6 +2,7 @@
 
 #include <exception>
 #include <utility>
+#include <vector>
 
 namespace ropecast::tools {
 namespace {
@@ -11,10 +12,10 @@ struct Stopped {};
 
 }  // namespace
 
-TimePointStores::TimePointStores(uint32_t count, uint32_t shown, std::unique_ptr<BrickSource> shownSource,
+TimePointStores::TimePointStores(uint32_t count, uint32_t shown, Made shownSource, uint64_t keepBytes,
                                  Convert convert, std::function<void()> ready)
-    : count_(count), convert_(std::move(convert)), ready_(std::move(ready)) {
-  made_[shown] = std::move(shownSource);
+    : count_(count), convert_(std::move(convert)), ready_(std::move(ready)), keepBytes_(keepBytes) {
+  made_[shown] = Kept{std::move(shownSource), ++shows_};
   thread_ = std::thread([this] { work(); });
 }
 
@@ -39,7 +40,41 @@ void TimePointStores::ask(uint32_t t) {
 BrickSource* TimePointStores::find(uint32_t t) const {
   std::lock_guard lock(mutex_);
   const auto it = made_.find(t);
-  return it == made_.end() ? nullptr : it->second.get();
+  return it == made_.end() ? nullptr : it->second.made.source.get();
+}
+
+void TimePointStores::shown(uint32_t t) {
+  std::vector<Made> dropped;  // closed outside the lock
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = made_.find(t);
+    if (it == made_.end()) return;
+    it->second.lastShown = ++shows_;
+    uint64_t bytes = 0;
+    for (const auto& [time, kept] : made_) bytes += kept.made.bytes;
+    while (bytes > keepBytes_) {
+      auto oldest = made_.end();
+      for (auto k = made_.begin(); k != made_.end(); ++k)
+        if (k->first != t && (oldest == made_.end() || k->second.lastShown < oldest->second.lastShown))
+          oldest = k;
+      if (oldest == made_.end()) break;
+      bytes -= oldest->second.made.bytes;
+      dropped.push_back(std::move(oldest->second.made));
+      made_.erase(oldest);
+    }
+  }
+}
+
+size_t TimePointStores::keptCount() const {
+  std::lock_guard lock(mutex_);
+  return made_.size();
+}
+
+uint64_t TimePointStores::keptBytes() const {
+  std::lock_guard lock(mutex_);
+  uint64_t bytes = 0;
+  for (const auto& [time, kept] : made_) bytes += kept.made.bytes;
+  return bytes;
 }
 
 std::optional<TimePointStores::Converting> TimePointStores::converting() const {
@@ -60,10 +95,10 @@ void TimePointStores::work() {
     const uint32_t t = *std::exchange(queued_, std::nullopt);
     inFlight_ = Converting{t, 0.0};
     lock.unlock();
-    std::unique_ptr<BrickSource> source;
+    Made made;
     std::optional<Failure> failure;
     try {
-      source = convert_(t, [&](double fraction) {
+      made = convert_(t, [&](double fraction) {
         std::lock_guard progressLock(mutex_);
         if (stopping_) throw Stopped{};
         inFlight_->fraction = fraction;
@@ -75,7 +110,7 @@ void TimePointStores::work() {
     }
     lock.lock();
     inFlight_.reset();
-    if (source) made_[t] = std::move(source);
+    if (made.source) made_[t] = Kept{std::move(made), 0};
     if (failure) failure_ = std::move(failure);
     lock.unlock();
     ready_();

@@ -1,8 +1,9 @@
 // The time points of a series the viewer shows (`ropecast view` of a file of several time points): each made
 // into a brick source (a temporary store, tools/temporary_store.h) the first time it is asked for, on a
-// thread of the class's own, one at a time, and kept for the session, so that stepping back and forth
-// through a series converts each time point once. Asking for another while one is converted queues it in
-// place of any asked for before that has not started: a slider dragged across a series converts the time
+// thread of the class's own, one at a time, and kept while the kept ones' bytes (their temporary stores, on
+// disk) stay within a budget, the least recently shown dropped first: stepping back and forth through a
+// series converts each time point once where they fit. Asking for another while one is converted queues it
+// in place of any asked for before that has not started: a slider dragged across a series converts the time
 // point in flight and the last one asked for, not every one it passed.
 //
 // Threads: every member from one thread (the viewer's main thread). `convert` runs on the class's thread, and
@@ -25,13 +26,17 @@ namespace ropecast::tools {
 
 class TimePointStores {
  public:
+  // A time point's source and the bytes it keeps (its temporary store's).
+  struct Made {
+    std::unique_ptr<BrickSource> source;
+    uint64_t bytes = 0;
+  };
   // Makes time point t's source; reports the fraction done through `progress`, which throws once the class
   // stops (the conversion then ends, leaving nothing behind). Throws ropecast::Error when it cannot.
-  using Convert =
-      std::function<std::unique_ptr<BrickSource>(uint32_t t, const std::function<void(double)>& progress)>;
+  using Convert = std::function<Made(uint32_t t, const std::function<void(double)>& progress)>;
 
-  // `count` time points, of which `shown` is already made (`shownSource`).
-  TimePointStores(uint32_t count, uint32_t shown, std::unique_ptr<BrickSource> shownSource, Convert convert,
+  // `count` time points, of which `shown` is made already; `keepBytes`: the budget of the kept ones.
+  TimePointStores(uint32_t count, uint32_t shown, Made shownSource, uint64_t keepBytes, Convert convert,
                   std::function<void()> ready);
   // Stops a conversion in flight and waits for its thread.
   ~TimePointStores();
@@ -42,8 +47,15 @@ class TimePointStores {
 
   // Time point t is made next, unless it is made or being made.
   void ask(uint32_t t);
-  // Time point t's source once made (it lives as long as the class), else nullptr.
+  // Time point t's source once made, else nullptr. It is kept until shown() names another and then drops it
+  // to keep within the budget.
   BrickSource* find(uint32_t t) const;
+  // Time point t (made) is shown now, and nothing uses another's source: the least recently shown others are
+  // dropped while the kept ones' bytes pass the budget.
+  void shown(uint32_t t);
+  // How many time points are kept, and their bytes.
+  size_t keptCount() const;
+  uint64_t keptBytes() const;
 
   // The conversion in flight, if any: its time point and the fraction done.
   struct Converting {
@@ -67,7 +79,13 @@ class TimePointStores {
   const std::function<void()> ready_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
-  std::map<uint32_t, std::unique_ptr<BrickSource>> made_;
+  struct Kept {
+    Made made;
+    uint64_t lastShown = 0;  // the value of shows_ when it was last shown, 0: never
+  };
+  const uint64_t keepBytes_;
+  std::map<uint32_t, Kept> made_;
+  uint64_t shows_ = 0;
   std::optional<uint32_t> queued_;  // the next to make
   std::optional<Converting> inFlight_;
   std::optional<Failure> failure_;

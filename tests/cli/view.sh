@@ -8,6 +8,8 @@
 # is an error; the probe names the voxel under a pixel and the value extract reads there.
 # Usage: bash view.sh /path/to/ropecast
 set -uo pipefail
+# shellcheck source=tests/cli/lib/nifti_series.sh
+source "$(dirname "$0")/lib/nifti_series.sh"
 ropecast=$(realpath "$1")  # the panel check runs in its own folder
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
@@ -202,21 +204,7 @@ same "view --crop = render --crop" "$dir/v4.png" "$dir/r3.png"
 # A time series (a NIfTI file of two volumes, spheres of two sizes): set_time_point shows the other, as render
 # --time draws it, and back; --time picks the one shown first; a time point past the series, or one of an input
 # of one, fails the script, naming it.
-python3 - "$dir/series.nii" <<'PY' || exit 1
-import struct, sys
-header = bytearray(348)
-struct.pack_into("<i", header, 0, 348)
-struct.pack_into("<8h", header, 40, 4, 24, 20, 16, 2, 1, 1, 1)
-struct.pack_into("<hh", header, 70, 512, 16)
-struct.pack_into("<8f", header, 76, 1, 1, 1, 1, 1, 1, 1, 1)
-struct.pack_into("<f", header, 108, 352)
-header[344:348] = b"n+1\0"
-volumes = []
-for slope in (300, 600):
-    volumes += [max(0, int(4000 - slope * ((x - 12) ** 2 + (y - 10) ** 2 + (z - 8) ** 2) ** 0.5))
-                for z in range(16) for y in range(20) for x in range(24)]
-open(sys.argv[1], "wb").write(bytes(header) + bytes(4) + struct.pack("<%dH" % len(volumes), *volumes))
-PY
+write_nifti_series "$dir/series.nii" || exit 1
 series="$dir/series.nii --size 96x96 --iso 1500"
 cat > "$dir/time.json" << JSON
 [{"event": "screenshot", "file": "$dir/t0.png"},
@@ -232,12 +220,24 @@ same "back to time point 0" "$dir/t0b.png" "$dir/rt0.png"
 differs "the time point changed the view" "$dir/t1.png" "$dir/t0.png"
 run "view --time 1" xview $series --time 1 --screenshot "$dir/t1s.png"
 same "view --time 1 = render --time 1" "$dir/t1s.png" "$dir/rt1.png"
+# Playing: the stats say which time point each frame drew; it comes back to the first after the last.
+echo '[{"event": "play", "playing": true, "seconds_each": 0.1}, {"event": "quit", "at": 6}]' > "$dir/play.json"
+run "view --script play" xview $series --script "$dir/play.json" --stats "$dir/play.jsonl"
+python3 - "$dir/play.jsonl" <<'PY' || fail "playing did not go 0, 1, 0: $(cut -c1-60 "$dir/play.jsonl" | head -5)"
+import json, sys
+shown = [json.loads(line)["time_point"] for line in open(sys.argv[1])]
+changes = [t for i, t in enumerate(shown) if i == 0 or t != shown[i - 1]]
+sys.exit(0 if changes[:3] == [0, 1, 0] else 1)
+PY
 echo '[{"event": "set_time_point", "time_point": 2}, {"event": "screenshot", "file": "'"$dir"'/x.png"}]' > "$dir/time2.json"
 xview $series --script "$dir/time2.json" > /dev/null 2> "$dir/err.txt" && fail "set_time_point 2 of 2"
 grep -qF "event 0 (set_time_point): view: time point 2: the input $dir/series.nii holds 2 (0 to 1)" "$dir/err.txt" ||
   fail "no refusal of time point 2: $(cat "$dir/err.txt")"
 xview $vol --script "$dir/time2.json" > /dev/null 2> "$dir/err.txt" && fail "set_time_point of a procedural input"
 grep -qF "holds one time point" "$dir/err.txt" || fail "no refusal of a time point of one: $(cat "$dir/err.txt")"
+echo '[{"event": "play", "playing": true}]' > "$dir/play1.json"
+xview $vol --script "$dir/play1.json" > /dev/null 2> "$dir/err.txt" && fail "play of a procedural input"
+grep -qF "holds one time point; there is nothing to play" "$dir/err.txt" || fail "no refusal of play: $(cat "$dir/err.txt")"
 [ ! -e "$dir/x.png" ] || fail "a refused time point left a screenshot"
 # set_clip_plane, then a screenshot: render with --clip-plane; then without caps: render --caps off.
 cat > "$dir/plane.json" << JSON

@@ -5,6 +5,8 @@
 # pointing at convert; the volume is an input no output may overwrite.
 # Usage: bash volume_inputs.sh /path/to/ropecast
 set -uo pipefail
+# shellcheck source=tests/cli/lib/nifti_series.sh
+source "$(dirname "$0")/lib/nifti_series.sh"
 ropecast="$1"
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
@@ -67,21 +69,7 @@ grep -qF -- "--spacing applies to a volume read from its file; the store" "$dir/
 
 # A file of several volumes (a NIfTI time series of two): the first read, with a warning naming --time; --time
 # picks the other; an index past the series, and --time for a store or a single volume, refused.
-python3 - "$dir/series.nii" <<'PY' || exit 1
-import struct, sys
-header = bytearray(348)
-struct.pack_into("<i", header, 0, 348)
-struct.pack_into("<8h", header, 40, 4, 24, 20, 16, 2, 1, 1, 1)
-struct.pack_into("<hh", header, 70, 512, 16)
-struct.pack_into("<8f", header, 76, 1, 1, 1, 1, 1, 1, 1, 1)
-struct.pack_into("<f", header, 108, 352)
-header[344:348] = b"n+1\0"
-volumes = []
-for slope in (300, 600):
-    volumes += [max(0, int(4000 - slope * ((x - 12) ** 2 + (y - 10) ** 2 + (z - 8) ** 2) ** 0.5))
-                for z in range(16) for y in range(20) for x in range(24)]
-open(sys.argv[1], "wb").write(bytes(header) + bytes(4) + struct.pack("<%dH" % len(volumes), *volumes))
-PY
+write_nifti_series "$dir/series.nii" || exit 1
 "$ropecast" info "$dir/series.nii" > "$dir/info.txt" 2>&1 || fail "info of a time series"
 grep -qF "holds 2 time points: time point 0 of 2 is read; --time T (0 to 1) picks another" "$dir/info.txt" ||
   { fail "info of a time series gave no warning:"; cat "$dir/info.txt"; }

@@ -55,9 +55,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_caps", "caps": true}, {"event": "set_view", "view": "superior"},
           {"event": "probe", "pos": [120, 80.5]}, {"event": "center_at", "pos": [3, 4]},
           {"event": "measure", "from": [1, 2], "to": [30, 40]}, {"event": "set_mode", "mode": "aip"},
-          {"event": "set_time_point", "time_point": 3}])",
+          {"event": "set_time_point", "time_point": 3}, {"event": "play", "playing": true},
+          {"event": "play", "playing": false, "seconds_each": 0.25}])",
       "t");
-  ASSERT_EQ(s.events.size(), 22u);
+  ASSERT_EQ(s.events.size(), 24u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -91,6 +92,11 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[20].mode, RenderMode::Aip);
   EXPECT_EQ(s.events[21].kind, ViewEventKind::SetTimePoint);
   EXPECT_EQ(s.events[21].timePoint, 3u);
+  EXPECT_EQ(s.events[22].kind, ViewEventKind::Play);
+  EXPECT_TRUE(s.events[22].playing);
+  EXPECT_EQ(s.events[22].secondsEach, -1.0);
+  EXPECT_FALSE(s.events[23].playing);
+  EXPECT_EQ(s.events[23].secondsEach, 0.25);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -144,6 +150,10 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   for (const char* t : {"-1", "1.5", "1e10", "\"2\""})
     expectRefused(std::string(R"([{"event": "set_time_point", "time_point": )") + t + "}]",
                   "event 0 (set_time_point): \"time_point\" must be");
+  expectRefused(R"([{"event": "play"}])", "event 0 (play): \"playing\" is required");
+  expectRefused(R"([{"event": "play", "playing": 1}])", "\"playing\" must be true or false");
+  expectRefused(R"([{"event": "play", "playing": true, "seconds_each": -1}])",
+                "event 0 (play): \"seconds_each\" must be seconds from 0 to 1e6");
 }
 
 TEST(ViewScript, HugeCoordinatesAndTimesAreRefusedAtLoad) {

@@ -18,9 +18,12 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::unique_ptr<BrickSource> smallSource() {
-  return openProceduralBricks("procedural:sphere:8", 8);
+// A source said to keep `bytes`.
+TimePointStores::Made smallSource(uint64_t bytes = 10) {
+  return {openProceduralBricks("procedural:sphere:8", 8), bytes};
 }
+
+constexpr uint64_t kRoomForAll = UINT64_MAX;
 
 // What the conversions did, and a gate that holds them until it opens.
 struct Log {
@@ -45,7 +48,7 @@ struct Log {
 };
 
 TimePointStores::Convert convertLogged(Log& log, uint32_t failing = UINT32_MAX) {
-  return [&log, failing](uint32_t t, const std::function<void(double)>& progress) {
+  return [&log, failing](uint32_t t, const std::function<void(double)>& progress) -> TimePointStores::Made {
     {
       std::unique_lock lock(log.mutex);
       log.started.push_back(t);
@@ -69,8 +72,8 @@ std::function<void()> countReadies(Log& log) {
 TEST(TimePointStores, EachTimePointIsMadeOnceWhenAskedFor) {
   Log log;
   auto shown = smallSource();
-  BrickSource* const first = shown.get();
-  TimePointStores stores(4, 2, std::move(shown), convertLogged(log), countReadies(log));
+  BrickSource* const first = shown.source.get();
+  TimePointStores stores(4, 2, std::move(shown), kRoomForAll, convertLogged(log), countReadies(log));
   EXPECT_EQ(stores.count(), 4u);
   EXPECT_EQ(stores.find(2), first);
   EXPECT_EQ(stores.find(1), nullptr);
@@ -93,7 +96,7 @@ TEST(TimePointStores, EachTimePointIsMadeOnceWhenAskedFor) {
 TEST(TimePointStores, ALaterRequestReplacesAQueuedOne) {
   Log log;
   log.gateOpen = false;
-  TimePointStores stores(6, 0, smallSource(), convertLogged(log), countReadies(log));
+  TimePointStores stores(6, 0, smallSource(), kRoomForAll, convertLogged(log), countReadies(log));
   stores.ask(1);
   ASSERT_TRUE(log.waitFor([&] { return log.started.size() == 1; }));
   const auto converting = stores.converting();
@@ -117,7 +120,8 @@ TEST(TimePointStores, ALaterRequestReplacesAQueuedOne) {
 
 TEST(TimePointStores, AFailureIsToldOnceAndTheTimePointMayBeAskedForAgain) {
   Log log;
-  TimePointStores stores(3, 0, smallSource(), convertLogged(log, /*failing=*/2), countReadies(log));
+  TimePointStores stores(3, 0, smallSource(), kRoomForAll, convertLogged(log, /*failing=*/2),
+                         countReadies(log));
   EXPECT_FALSE(stores.takeFailure());
   stores.ask(2);
   ASSERT_TRUE(log.waitFor([&] { return log.readies == 1; }));
@@ -132,14 +136,42 @@ TEST(TimePointStores, AFailureIsToldOnceAndTheTimePointMayBeAskedForAgain) {
   EXPECT_TRUE(stores.takeFailure());
 }
 
+// Stores of 10 bytes in a budget of 25: the third shown drops the least recently shown, and it is converted
+// again when asked for; those made but never shown go before the shown ones.
+TEST(TimePointStores, TheLeastRecentlyShownAreDroppedToKeepWithinTheBudget) {
+  Log log;
+  TimePointStores stores(5, 0, smallSource(), 25, convertLogged(log), countReadies(log));
+  const auto make = [&](uint32_t t, int readies) {
+    stores.ask(t);
+    return log.waitFor([&] { return log.readies == readies; });
+  };
+  ASSERT_TRUE(make(1, 1));
+  stores.shown(1);
+  EXPECT_EQ(stores.keptCount(), 2u);
+  ASSERT_TRUE(make(2, 2));
+  EXPECT_EQ(stores.keptCount(), 3u);  // dropped only when one is shown
+  stores.shown(2);
+  EXPECT_EQ(stores.keptBytes(), 20u);
+  EXPECT_EQ(stores.find(0), nullptr);
+  EXPECT_NE(stores.find(1), nullptr);
+  EXPECT_NE(stores.find(2), nullptr);
+  ASSERT_TRUE(make(3, 3));  // made, never shown
+  stores.shown(1);
+  EXPECT_EQ(stores.find(3), nullptr);
+  EXPECT_NE(stores.find(2), nullptr);
+  ASSERT_TRUE(make(0, 4));
+  std::lock_guard lock(log.mutex);
+  EXPECT_EQ(log.started, (std::vector<uint32_t>{1, 2, 3, 0}));
+}
+
 // The class going while a conversion runs stops it at its next progress report: the destructor does not wait
 // for the whole conversion, and nothing is kept.
 TEST(TimePointStores, GoingStopsAConversionInFlight) {
   Log log;
   {
     TimePointStores stores(
-        2, 0, smallSource(),
-        [&log](uint32_t, const std::function<void(double)>& progress) -> std::unique_ptr<BrickSource> {
+        2, 0, smallSource(), kRoomForAll,
+        [&log](uint32_t, const std::function<void(double)>& progress) -> TimePointStores::Made {
           {
             std::lock_guard lock(log.mutex);
             log.started.push_back(1);
