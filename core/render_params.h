@@ -83,14 +83,22 @@ enum class GradientSource { Stored, Computed };
 
 // Phong headlight constants of docs/RENDERING.md ("Isosurface", "Direct volume rendering").
 struct LightingParams {
-  glm::dvec3 isoBaseColor{0.9, 0.85, 0.75};
-  double ambient = 0.15;   // ka
-  double diffuse = 0.75;   // kd
-  double specular = 0.25;  // ks
+  glm::dvec3 isoBaseColor{0.9, 0.85, 0.75};  // --iso-color
+  double ambient = 0.15;                     // ka  (--material KA,KD,KS,SHININESS)
+  double diffuse = 0.75;                     // kd
+  double specular = 0.25;                    // ks
   double shininess = 32.0;
+  // --shading (DVR): off keeps the transfer function's colors unlit, as VTK's and ParaView's volume mappers
+  // draw by default (appliedLighting).
+  bool dvrShading = true;
 
   friend bool operator==(const LightingParams&, const LightingParams&) = default;
 };
+
+struct RenderParams;
+// The lighting the ray casters apply for `params`: its lighting, but for DVR without shading, whose samples
+// keep the transfer function's colors (ka 1, kd 0, ks 0: color·(1 + 0·|N·L|) + 0 is the color itself).
+LightingParams appliedLighting(const RenderParams& params);
 
 // Gradient magnitude (times min spacing) below which DVR samples are left unshaded.
 inline constexpr double kDvrShadeGradientThreshold = 1e-4;
@@ -165,6 +173,16 @@ inline uint32_t capBoundsOf(const RenderParams& params, glm::u32vec3 dims) {
     if (params.crop.hi[a] < double(dims[a])) bits |= 1u << (3 + a);
   }
   return bits;
+}
+
+inline LightingParams appliedLighting(const RenderParams& params) {
+  LightingParams lighting = params.lighting;
+  if (params.mode == RenderMode::Dvr && !lighting.dvrShading) {
+    lighting.ambient = 1.0;
+    lighting.diffuse = 0.0;
+    lighting.specular = 0.0;
+  }
+  return lighting;
 }
 
 // Whether a GL ray caster samples a GradientPool for these params.

@@ -52,6 +52,22 @@ CLI::Option* addPlaneOption(CLI::App& app, const std::string& name, std::vector<
   return addListOption(app, name, values, help, ',', 6, "FLOAT", finiteIn(-HUGE_VAL, HUGE_VAL));
 }
 
+CLI::Option* addMaterialOption(CLI::App& app, const std::string& name, std::vector<double>& values,
+                               const std::string& help) {
+  return addListOption(app, name, values, help, ',', 4, "FLOAT", finiteIn(0.0, 1024.0));
+}
+
+std::string materialProblem(const std::string& name, const std::vector<double>& values) {
+  if (values.size() != 4) return name + ": expected four numbers KA,KD,KS,SHININESS";
+  const char* fields[] = {"KA", "KD", "KS"};
+  for (size_t i = 0; i < 3; ++i)
+    if (!(values[i] >= 0.0 && values[i] <= 1.0))
+      return name + ": " + fields[i] + " must lie in [0, 1], got " + formatNumber(values[i]);
+  if (!(values[3] >= 1.0 && values[3] <= 1024.0))
+    return name + ": SHININESS must lie in [1, 1024], got " + formatNumber(values[3]);
+  return "";
+}
+
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help) {
   return addListOption(app, name, xyz, help, ',', 3, "UINT", integerIn(1, kMaxDimsPerAxis));

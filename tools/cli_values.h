@@ -30,6 +30,13 @@ CLI::Option* addRangeOption(CLI::App& app, const std::string& name, std::vector<
 // "X,Y,Z,NX,NY,NZ" -> six finite numbers (a plane: a point and a normal).
 CLI::Option* addPlaneOption(CLI::App& app, const std::string& name, std::vector<double>& values,
                             const std::string& help);
+// "KA,KD,KS,SHININESS" -> four finite numbers in [0, 1024] (a material; the caller checks each field's own
+// range: materialProblem).
+CLI::Option* addMaterialOption(CLI::App& app, const std::string& name, std::vector<double>& values,
+                               const std::string& help);
+// What is wrong with a material (ambient, diffuse and specular in [0, 1], shininess in [1, 1024]) named
+// `name`, or "".
+std::string materialProblem(const std::string& name, const std::vector<double>& values);
 // "301,370,316" -> three integers in [1, 2^32 - 1].
 CLI::Option* addDimsOption(CLI::App& app, const std::string& name, std::vector<uint32_t>& xyz,
                            const std::string& help);

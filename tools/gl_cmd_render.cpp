@@ -248,11 +248,13 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
       std::fprintf(stderr, "%sropecast render: warning: %s: no effect %s\n", o.messagePrefix.c_str(),
                    given.c_str(), context.c_str());
   };
-  if (o.mode == RenderMode::Dvr) warn({"--iso", "--caps"}, "with --mode dvr (the transfer function decides)");
-  if (o.mode == RenderMode::Iso) warn({"--tf", "--tf-range", "--ert", "--gradients"}, "with --mode iso");
+  if (o.mode == RenderMode::Dvr)
+    warn({"--iso", "--caps", "--iso-color"}, "with --mode dvr (the transfer function decides)");
+  if (o.mode == RenderMode::Iso)
+    warn({"--tf", "--tf-range", "--ert", "--gradients", "--shading"}, "with --mode iso");
   if (showsOneValue(o.mode)) {
     const std::string mode = "with --mode " + std::string(renderModeName(o.mode));
-    warn({"--iso", "--ert", "--gradients", "--caps"},
+    warn({"--iso", "--ert", "--gradients", "--caps", "--iso-color", "--shading", "--material"},
          mode + " (one value per ray through the transfer function)");
     warn({"--occlusion", "--query-budget", "--visibility-threshold"},
          mode + " (nothing opaque stops its rays: no occlusion queries)");

@@ -102,6 +102,20 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
   addEnumOption(app, "--caps", o.caps, kOnOffNames,
                 "isosurface: where --crop or --clip-plane cuts the surface, close it with the cut's face "
                 "(on), or leave it open to show it from within (off)");
+  const LightingParams lighting;
+  addTripleOptionIn(
+      app, "--iso-color", o.isoColor,
+      "isosurface color R,G,B in [0,1] (default " +
+          formatTriple({lighting.isoBaseColor.x, lighting.isoBaseColor.y, lighting.isoBaseColor.z}) + ")",
+      0.0, 1.0);
+  addEnumOption(app, "--shading", o.shading, kOnOffNames,
+                "DVR: light the transfer function's colors by the gradient (on), or keep them unlit (off, "
+                "VTK's and ParaView's default for volumes)");
+  addMaterialOption(app, "--material", o.material,
+                    "KA,KD,KS,SHININESS: ambient, diffuse and specular weights in [0,1] and specular "
+                    "exponent in [1,1024] of the headlight's shading, isosurface and DVR (default " +
+                        formatNumber(lighting.ambient) + "," + formatNumber(lighting.diffuse) + "," +
+                        formatNumber(lighting.specular) + "," + formatNumber(lighting.shininess) + ")");
   std::vector<std::pair<std::string, RenderBackend>> backends = backendNames();
   if (command == SceneCommand::View)
     std::erase_if(backends, [](const auto& named) { return named.second == RenderBackend::Brute; });
@@ -217,6 +231,9 @@ glm::dvec3 orbitFor(const RenderOptions& o, const VolumeInfo& volume) {
 void checkSceneOptions(const RenderOptions& o) {
   checkBrickOption(o.input, o.brick);
   checkTfRange(o.tfRange);
+  if (!o.material.empty())
+    if (const std::string problem = materialProblem("--material", o.material); !problem.empty())
+      throw UsageError(problem);
   if (o.bruteStage && o.backend != RenderBackend::Brute)
     throw UsageError("--brute-stage " + std::string(renderBackendName(*o.bruteStage)) +
                      " applies to --backend brute; the octree ray caster's stage is --backend fragment or "
@@ -331,6 +348,14 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.crop = cropBoxOf(o.crop, info);
   params.clipPlane = clipPlaneOf(o.clipPlane);
   params.isoCaps = o.caps;
+  if (!o.isoColor.empty()) params.lighting.isoBaseColor = toVec3(o.isoColor);
+  if (!o.material.empty()) {
+    params.lighting.ambient = o.material.at(0);
+    params.lighting.diffuse = o.material.at(1);
+    params.lighting.specular = o.material.at(2);
+    params.lighting.shininess = o.material.at(3);
+  }
+  params.lighting.dvrShading = o.shading;
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
     std::fprintf(stderr,
                  "%sropecast %s: warning: --iso %g lies outside the volume's value range [%g, %g]: the "

@@ -168,6 +168,7 @@ class Viewer {
   void drawPanels();
   void drawCropControls(const BrickSourceInfo& info);
   void drawTimePointControls();
+  void drawLightingControls();
   void drawCutOutlines(const VolumeInfo& volume);
   // The sides of the patient at the 3D view's edges and the volume's axes at its bottom.
   void drawOrientationMarks();
@@ -772,6 +773,16 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetTimePoint:
       askTimePoint(e.timePoint);
       break;
+    case ViewEventKind::SetLighting:
+      if (e.isoColor) params_.lighting.isoBaseColor = *e.isoColor;
+      if (e.shading) params_.lighting.dvrShading = *e.shading;
+      if (!e.material.empty()) {
+        params_.lighting.ambient = e.material[0];
+        params_.lighting.diffuse = e.material[1];
+        params_.lighting.specular = e.material[2];
+        params_.lighting.shininess = e.material[3];
+      }
+      break;
     case ViewEventKind::Play:
       if (e.secondsEach >= 0.0) playSecondsEach_ = e.secondsEach;
       setPlaying(e.playing);
@@ -918,6 +929,26 @@ void Viewer::drawTimePointControls() {
     ImGui::TextDisabled("converting time point %u: %.0f%%", converting->timePoint,
                         100.0 * converting->fraction);
   if (timePointPending()) ImGui::TextDisabled("showing time point %u meanwhile", shownTime_);
+}
+
+// --iso-color, --shading and --material: the headlight's shading of the isosurface and of DVR.
+void Viewer::drawLightingControls() {
+  LightingParams& l = params_.lighting;
+  float color[3] = {float(l.isoBaseColor.r), float(l.isoBaseColor.g), float(l.isoBaseColor.b)};
+  if (ImGui::ColorEdit3("isosurface color", color)) l.isoBaseColor = {color[0], color[1], color[2]};
+  ImGui::Checkbox("DVR shading", &l.dvrShading);
+  const auto weight = [](const char* label, double& value) {
+    float v = float(value);
+    if (ImGui::SliderFloat(label, &v, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp)) value = v;
+  };
+  weight("ambient", l.ambient);
+  weight("diffuse", l.diffuse);
+  weight("specular", l.specular);
+  float shininess = float(l.shininess);
+  if (ImGui::SliderFloat("shininess", &shininess, 1.0f, 1024.0f, "%.0f",
+                         ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic))
+    l.shininess = shininess;
+  if (ImGui::Button("default lighting")) l = LightingParams{};
 }
 
 void Viewer::showAnatomicalView(AnatomicalView view) {
@@ -1254,6 +1285,8 @@ void Viewer::drawPanels() {
     }
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("the sides of the patient at the view's edges, the volume's axes at the bottom");
+    // Last, folded: the buttons above keep their places.
+    if (ImGui::CollapsingHeader("lighting")) drawLightingControls();
     if (!message_.empty()) {
       ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 320.0f);
       ImGui::TextUnformatted(message_.c_str());

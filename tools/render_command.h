@@ -37,6 +37,9 @@ struct RenderOptions {
   std::vector<std::string> crop;  // --crop: three voxel ranges "A:B" (cli_values.h); empty: the whole volume
   std::vector<double> clipPlane;  // --clip-plane: X,Y,Z,NX,NY,NZ; empty: none
   bool caps = true;               // --caps: isosurface caps at the cuts (RenderParams::isoCaps)
+  std::vector<double> isoColor;   // --iso-color R,G,B; empty: LightingParams' default
+  std::vector<double> material;   // --material KA,KD,KS,SHININESS; empty: LightingParams' defaults
+  bool shading = true;            // --shading (DVR): LightingParams::dvrShading
   RenderBackend backend = RenderBackend::Auto;
   // --brute-stage: the entry point of --backend brute, Auto, Fragment or Compute; unset: not given (Auto).
   std::optional<RenderBackend> bruteStage;

@@ -252,6 +252,33 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
         r.fail("\"time_point\" must be a whole number from 0, counted as --time counts them");
       e.timePoint = uint32_t(t);
       add(e);
+    } else if (kind == "set_lighting") {
+      e.kind = ViewEventKind::SetLighting;
+      if (r.j.contains("iso_color")) {
+        const json& c = r.j["iso_color"];
+        const auto unit = [](const json& v) {
+          return v.is_number() && v.get<double>() >= 0.0 && v.get<double>() <= 1.0;  // NaN compares false
+        };
+        if (!c.is_array() || c.size() != 3 || !unit(c[0]) || !unit(c[1]) || !unit(c[2]))
+          r.fail("\"iso_color\" must be [r, g, b], each in [0, 1], as --iso-color takes it");
+        e.isoColor = glm::dvec3(c[0].get<double>(), c[1].get<double>(), c[2].get<double>());
+      }
+      r.read.insert("iso_color");
+      if (r.j.contains("shading")) e.shading = r.flag("shading");
+      r.read.insert("shading");
+      if (r.j.contains("material")) {
+        const json& m = r.j["material"];
+        if (m.is_array() && m.size() == 4)
+          for (const json& v : m)
+            if (v.is_number()) e.material.push_back(v.get<double>());
+        const std::string problem = e.material.size() == 4 ? materialProblem("\"material\"", e.material)
+                                                           : "\"material\" must be [ka, kd, ks, shininess]";
+        if (!problem.empty()) r.fail(problem + ", as --material takes them");
+      }
+      r.read.insert("material");
+      if (!e.isoColor && !e.shading && e.material.empty())
+        r.fail("give \"iso_color\", \"shading\" or \"material\"");
+      add(e);
     } else if (kind == "play") {
       e.kind = ViewEventKind::Play;
       if (!r.j.contains("playing")) r.fail("\"playing\" is required");

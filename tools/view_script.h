@@ -1,7 +1,7 @@
 // ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
 // tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
-// named UI actions (set the isovalue, mode, crop box, clip plane or time point, play a series, load a
-// transfer function, take a screenshot, save the camera, probe a point, center on one, measure between two,
+// named UI actions (set the isovalue, mode, crop box, clip plane, time point or lighting, play a series, load
+// a transfer function, take a screenshot, save the camera, probe a point, center on one, measure between two,
 // wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free;
 // any thread.
 //
@@ -12,10 +12,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include "core/orientation.h"
 #include "core/render_params.h"
@@ -38,6 +40,7 @@ enum class ViewEventKind {
   SetCaps,       // caps: isosurface caps at the cuts on or off, as --caps
   SetTimePoint,  // timePoint: a series' time point, as --time picks one; what waits for the view waits for it
   Play,          // playing: a series played or stopped; secondsEach (-1: as it was)
+  SetLighting,   // isoColor, shading, material, as --iso-color, --shading and --material: those given
   Screenshot,    // file; panels: the whole window with its panels, else the 3D view alone
   SaveCamera,    // file: appended to as a camera path `render --path` reads
   ResetCamera,   // back to the starting view
@@ -69,6 +72,9 @@ struct ViewEvent {
   uint32_t timePoint = 0;
   bool playing = false;
   double secondsEach = -1.0;
+  std::optional<glm::dvec3> isoColor;
+  std::optional<bool> shading;
+  std::vector<double> material;  // KA,KD,KS,SHININESS, or empty
   AnatomicalView view = AnatomicalView::Anterior;
   glm::dvec2 range{0.0};  // LO < HI, data units
   std::string file;

@@ -92,6 +92,11 @@ expect_usage "clip plane too far out" "--clip-plane: expected six numbers within
 expect_usage "clip plane without a normal" "--clip-plane: the normal 0,0,0 has no direction" "$vol" --clip-plane 16,16,16,0,0,0
 expect_usage "crop starting past the volume" "--crop: the x range 32: does not lie" "$vol" --crop 32:,:,:
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
+expect_usage "iso color out of range" "--iso-color: expected a finite number in [0, 1], got '2'" "$vol" --iso-color 1,2,0
+expect_usage "material of three numbers" "--material" "$vol" --material 0.1,0.5,0.5
+expect_usage "material weight past 1" "--material: KD must lie in [0, 1], got 1.5" "$vol" --material 0.1,1.5,0.5,8
+expect_usage "material shininess below 1" "--material: SHININESS must lie in [1, 1024], got 0.5" "$vol" --material 0.1,0.5,0.5,0.5
+expect_usage "shading neither on nor off" "--shading" "$vol" --shading maybe
 expect_usage "every zero" "--every" "$vol" --every 0 --frames 3
 expect_usage "every with the reference" "--every has nothing to do with --reference" "$vol" --reference --every 1 --frames 3
 expect_usage "frame files of one frame" "--every 2 writes frames of a progressive render" "$vol" --every 2

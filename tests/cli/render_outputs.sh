@@ -222,5 +222,23 @@ d=$("$ropecast" compare "$dir/range.png" "$dir/window.png" --min-psnr 60) || fai
 run "--tf-range with --mode iso" "$ropecast" render $small --tf-range 50,150 -o "$dir/iso_range.png"
 grep -qF "warning: --tf-range: no effect with --mode iso" "$dir/err.txt" || fail "--tf-range with --mode iso: $(cat "$dir/err.txt")"
 
+# Lighting: --shading off is DVR lit by ambient light of weight 1 alone (--material 1,0,0,1), and unlike the
+# shaded default; --iso-color and --material change an isosurface; options a mode does not read are said.
+run "--shading off" "$ropecast" render $small --mode dvr --shading off -o "$dir/unlit.png"
+run "--material 1,0,0,1" "$ropecast" render $small --mode dvr --material 1,0,0,1 -o "$dir/ambient.png"
+run "--mode dvr" "$ropecast" render $small --mode dvr -o "$dir/dvr.png"
+grep -q '"max_abs":0' <<< "$("$ropecast" compare "$dir/unlit.png" "$dir/ambient.png")" ||
+  fail "--shading off is not ambient light alone: $("$ropecast" compare "$dir/unlit.png" "$dir/ambient.png")"
+"$ropecast" compare "$dir/unlit.png" "$dir/dvr.png" --min-psnr 40 > /dev/null && fail "--shading off changed nothing"
+run "--iso-color" "$ropecast" render $small --iso-color 1,0,0 -o "$dir/red.png"
+at_least "$(channel_avg "$dir/red.png" 0)" "$(awk -v g="$(channel_avg "$dir/red.png" 1)" 'BEGIN { print 3 * g }')" ||
+  fail "--iso-color 1,0,0 is not red: $(channel_avg "$dir/red.png" 0) red, $(channel_avg "$dir/red.png" 1) green"
+run "--material" "$ropecast" render $small --material 0.5,0.2,0,1 -o "$dir/matte.png"
+"$ropecast" compare "$dir/matte.png" "$dir/a.png" --min-psnr 40 > /dev/null && fail "--material changed nothing"
+run "--shading with --mode iso" "$ropecast" render $small --shading off -o "$dir/iso_shading.png"
+grep -qF "warning: --shading: no effect with --mode iso" "$dir/err.txt" || fail "--shading with --mode iso: $(cat "$dir/err.txt")"
+run "--iso-color with --mode mip" "$ropecast" render $small --mode mip --iso-color 1,0,0 -o "$dir/mip_color.png"
+grep -qF "warning: --iso-color: no effect with --mode mip" "$dir/err.txt" || fail "--iso-color with --mode mip: $(cat "$dir/err.txt")"
+
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"
 [ "$failures" -eq 0 ]

@@ -201,6 +201,22 @@ differs "the crop changed the view" "$dir/v3.png" "$dir/v0.png"
 run "view --crop" xview $vol --crop 10:,:30,4:40 --screenshot "$dir/v4.png"
 same "view --crop = render --crop" "$dir/v4.png" "$dir/r3.png"
 
+# set_lighting: the isosurface's color and material, and DVR unlit, as render's options draw them.
+cat > "$dir/lighting.json" << JSON
+[{"event": "set_lighting", "iso_color": [1, 0.2, 0.1], "material": [0.4, 0.5, 0.1, 8]},
+ {"event": "screenshot", "file": "$dir/vlit.png"},
+ {"event": "set_mode", "mode": "dvr"}, {"event": "set_lighting", "shading": false},
+ {"event": "screenshot", "file": "$dir/vunlit.png"}]
+JSON
+run "view --script set_lighting" xview $vol --script "$dir/lighting.json"
+run "render --iso-color --material" "$ropecast" render $vol --converge --iso-color 1,0.2,0.1 --material 0.4,0.5,0.1,8 \
+  -o "$dir/rlit.png"
+run "render --mode dvr --shading off" "$ropecast" render $vol --converge --mode dvr --shading off --material 0.4,0.5,0.1,8 \
+  -o "$dir/runlit.png"
+same "set_lighting = render --iso-color --material" "$dir/vlit.png" "$dir/rlit.png"
+differs "the lighting changed the view" "$dir/vlit.png" "$dir/v0.png"
+same "DVR unlit = render --shading off" "$dir/vunlit.png" "$dir/runlit.png"
+
 # A time series (a NIfTI file of two volumes, spheres of two sizes): set_time_point shows the other, as render
 # --time draws it, and back; --time picks the one shown first; a time point past the series, or one of an input
 # of one, fails the script, naming it.

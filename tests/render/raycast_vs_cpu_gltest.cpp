@@ -177,6 +177,47 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
   }
 }
 
+// --iso-color, --material and --shading off reach the shaders as the mirror applies them (appliedLighting),
+// and change the image.
+TEST(RaycastVsCpu, LightingMatchesTheMirror) {
+  SceneSpec spec = wavyScene();
+  spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y) % 2 == 0; };
+  const test::GlScene scene = test::buildScene(spec);
+  const TfTable tf = wavyTf();
+  LightingParams material;
+  material.isoBaseColor = {0.2, 0.5, 0.9};
+  material.ambient = 0.3;
+  material.diffuse = 0.5;
+  material.specular = 0.6;
+  material.shininess = 8.0;
+  LightingParams unlit;
+  unlit.dvrShading = false;
+  struct Case {
+    const char* name;
+    RenderMode mode;
+    LightingParams lighting;
+  };
+  for (const Case& c : {Case{"iso, a material", RenderMode::Iso, material},
+                        Case{"dvr, a material", RenderMode::Dvr, material},
+                        Case{"dvr, no shading", RenderMode::Dvr, unlit}}) {
+    RaycastFrame frame;
+    frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
+    frame.width = frame.height = 80;
+    frame.params.mode = c.mode;
+    frame.params.isoValue = 0.6 * 65535;
+    frame.tf = &tf;
+    RaycastPass pass;
+    test::renderScene(pass, scene, frame);
+    const FloatImage lit = pass.readColor();
+    frame.params.lighting = c.lighting;
+    test::renderScene(pass, scene, frame);
+    const FloatImage glColor = pass.readColor();
+    const CpuImage cpu = renderMirror(scene.index, scene.bricks, scene.info, test::cpuInputOf(frame));
+    EXPECT_GE(test::psnrDb(glColor, colorOf(cpu), 4), test::onHardwareGpu() ? 38.0 : 45.0) << c.name;
+    EXPECT_LT(test::psnrDb(glColor, lit, 3), 35.0) << c.name << ": the lighting changed nothing";
+  }
+}
+
 // With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side: the GL
 // image is the mirror's, every hit lies there, and the cut took something away.
 TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) {

@@ -56,9 +56,11 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "probe", "pos": [120, 80.5]}, {"event": "center_at", "pos": [3, 4]},
           {"event": "measure", "from": [1, 2], "to": [30, 40]}, {"event": "set_mode", "mode": "aip"},
           {"event": "set_time_point", "time_point": 3}, {"event": "play", "playing": true},
-          {"event": "play", "playing": false, "seconds_each": 0.25}])",
+          {"event": "play", "playing": false, "seconds_each": 0.25},
+          {"event": "set_lighting", "iso_color": [1, 0.5, 0], "shading": false, "material": [0.1, 0.8, 0, 4]},
+          {"event": "set_lighting", "shading": true}])",
       "t");
-  ASSERT_EQ(s.events.size(), 24u);
+  ASSERT_EQ(s.events.size(), 26u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -97,6 +99,13 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[22].secondsEach, -1.0);
   EXPECT_FALSE(s.events[23].playing);
   EXPECT_EQ(s.events[23].secondsEach, 0.25);
+  EXPECT_EQ(s.events[24].kind, ViewEventKind::SetLighting);
+  EXPECT_EQ(s.events[24].isoColor, glm::dvec3(1, 0.5, 0));
+  EXPECT_EQ(s.events[24].shading, false);
+  EXPECT_EQ(s.events[24].material, (std::vector<double>{0.1, 0.8, 0, 4}));
+  EXPECT_FALSE(s.events[25].isoColor);
+  EXPECT_EQ(s.events[25].shading, true);
+  EXPECT_TRUE(s.events[25].material.empty());
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -151,6 +160,17 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
     expectRefused(std::string(R"([{"event": "set_time_point", "time_point": )") + t + "}]",
                   "event 0 (set_time_point): \"time_point\" must be");
   expectRefused(R"([{"event": "play"}])", "event 0 (play): \"playing\" is required");
+  expectRefused(R"([{"event": "set_lighting"}])",
+                "event 0 (set_lighting): give \"iso_color\", \"shading\" or \"material\"");
+  expectRefused(R"([{"event": "set_lighting", "iso_color": [1, 2, 0]}])",
+                "\"iso_color\" must be [r, g, b], each in [0, 1], as --iso-color takes it");
+  expectRefused(R"([{"event": "set_lighting", "material": [0.1, 0.2, 0.3]}])",
+                "\"material\" must be [ka, kd, ks, shininess], as --material takes them");
+  expectRefused(R"([{"event": "set_lighting", "material": [0.1, 0.2, 0.3, 0]}])",
+                "\"material\": SHININESS must lie in [1, 1024], got 0, as --material takes them");
+  expectRefused(R"([{"event": "set_lighting", "shading": "off"}])", "\"shading\" must be true or false");
+  expectRefused(R"([{"event": "set_lighting", "shading": true, "color": [1, 0, 0]}])",
+                "unknown key \"color\"");
   expectRefused(R"([{"event": "play", "playing": 1}])", "\"playing\" must be true or false");
   expectRefused(R"([{"event": "play", "playing": true, "seconds_each": -1}])",
                 "event 0 (play): \"seconds_each\" must be seconds from 0 to 1e6");
