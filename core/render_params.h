@@ -89,16 +89,11 @@ struct LightingParams {
   double specular = 0.25;                    // ks
   double shininess = 32.0;
   // --shading (DVR): off keeps the transfer function's colors unlit, as VTK's and ParaView's volume mappers
-  // draw by default (appliedLighting).
+  // draw by default (dvrLightingOf).
   bool dvrShading = true;
 
   friend bool operator==(const LightingParams&, const LightingParams&) = default;
 };
-
-struct RenderParams;
-// The lighting the ray casters apply for `params`: its lighting, but for DVR without shading, whose samples
-// keep the transfer function's colors (ka 1, kd 0, ks 0: color·(1 + 0·|N·L|) + 0 is the color itself).
-LightingParams appliedLighting(const RenderParams& params);
 
 // Gradient magnitude (times min spacing) below which DVR samples are left unshaded.
 inline constexpr double kDvrShadeGradientThreshold = 1e-4;
@@ -175,19 +170,19 @@ inline uint32_t capBoundsOf(const RenderParams& params, glm::u32vec3 dims) {
   return bits;
 }
 
-inline LightingParams appliedLighting(const RenderParams& params) {
-  LightingParams lighting = params.lighting;
-  if (params.mode == RenderMode::Dvr && !lighting.dvrShading) {
-    lighting.ambient = 1.0;
-    lighting.diffuse = 0.0;
-    lighting.specular = 0.0;
-  }
-  return lighting;
+// How a DVR sample's color is lit, which picks the ray casters' program: by gradients stored beside the pool
+// (--gradients stored), by gradients computed per sample (computed), or not at all (--shading off: no
+// gradient is taken). Computed for the other modes, which light no DVR sample.
+enum class DvrLighting { Stored, Computed, Unlit };
+inline DvrLighting dvrLightingOf(const RenderParams& params) {
+  if (params.mode != RenderMode::Dvr) return DvrLighting::Computed;
+  if (!params.lighting.dvrShading) return DvrLighting::Unlit;
+  return params.gradients == GradientSource::Stored ? DvrLighting::Stored : DvrLighting::Computed;
 }
 
 // Whether a GL ray caster samples a GradientPool for these params.
 inline bool usesStoredGradients(const RenderParams& params) {
-  return params.mode == RenderMode::Dvr && params.gradients == GradientSource::Stored;
+  return dvrLightingOf(params) == DvrLighting::Stored;
 }
 
 }  // namespace ropecast

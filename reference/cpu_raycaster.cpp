@@ -28,7 +28,6 @@ constexpr double kLeafEndTracedFromTexels = 0.5;
 // Per-frame constants of the ray loop (docs/RENDERING.md).
 struct FrameConstants {
   RenderParams params;
-  LightingParams lighting;  // appliedLighting(params)
   const TfTable* tf = nullptr;
   double isoNormalized = 0.0;  // vIso = mapping.toStored(iso) / storedMax
   double sign = 1.0;           // intensity projections: projectionSign(mode)
@@ -40,7 +39,7 @@ struct FrameConstants {
   glm::dvec3 forward{0.0};
 
   FrameConstants(const BrickSourceInfo& volume, const CpuRenderInput& input)
-      : params(input.params), lighting(appliedLighting(input.params)), tf(input.tf) {
+      : params(input.params), tf(input.tf) {
     if (usesTransferFunction(params.mode) && tf == nullptr)
       throw Error("CPU ray caster: " + std::string(renderModeName(params.mode)) +
                   " mode needs a baked transfer function (CpuRenderInput::tf)");
@@ -333,7 +332,7 @@ class RayIntegrator {
     const double len = glm::length(g);
     glm::dvec3 n = len > 0.0 ? -g / len : -ray_.dir;
     if (glm::dot(n, -ray_.dir) < 0.0) n = -n;
-    const LightingParams& lp = fc_.lighting;
+    const LightingParams& lp = fc_.params.lighting;
     const glm::dvec2 terms = headlight(n);
     color_ = lp.isoBaseColor * (lp.ambient + lp.diffuse * std::max(terms.x, 0.0)) +
              glm::dvec3(lp.specular * std::pow(std::max(terms.y, 0.0), lp.shininess));
@@ -365,10 +364,11 @@ class RayIntegrator {
     const double a = 1.0 - std::pow(1.0 - tf.a, dt / fc_.minSpacing);
     if (!(a > 0.0)) return false;
     glm::dvec3 c(tf);
-    const glm::dvec3 g = gradientAt(sampler, x, cell);
+    // --shading off: the color as it is, no gradient taken.
+    const glm::dvec3 g = fc_.params.lighting.dvrShading ? gradientAt(sampler, x, cell) : glm::dvec3(0.0);
     const double len = glm::length(g);
     if (len * fc_.minSpacing > kDvrShadeGradientThreshold) {
-      const LightingParams& lp = fc_.lighting;
+      const LightingParams& lp = fc_.params.lighting;
       const glm::dvec2 terms = headlight(-g / len);
       c = c * (lp.ambient + lp.diffuse * std::abs(terms.x)) +
           glm::dvec3(lp.specular * std::pow(std::abs(terms.y), lp.shininess));

@@ -74,7 +74,7 @@ BruteForcePass::~BruteForcePass() {
 }
 
 const ShaderProgram& BruteForcePass::program(const RenderParams& params) {
-  std::unique_ptr<ShaderProgram>& p = programs_[{params.backend, params.mode, usesStoredGradients(params)}];
+  std::unique_ptr<ShaderProgram>& p = programs_[{params.backend, params.mode, dvrLightingOf(params)}];
   if (!p) {
     const std::vector<ShaderFile> files =
         params.backend == RenderBackend::Compute

@@ -66,7 +66,7 @@ class BruteForcePass {
 
   BrickSourceInfo info_;
   // (entry point, mode, stored gradients) -> program
-  std::map<std::tuple<RenderBackend, RenderMode, bool>, std::unique_ptr<ShaderProgram>> programs_;
+  std::map<std::tuple<RenderBackend, RenderMode, DvrLighting>, std::unique_ptr<ShaderProgram>> programs_;
   std::unique_ptr<GradientPool> gradients_;  // derived from the volume at the first use
   uint32_t volumeTexture_ = 0, tfTexture_ = 0;
   uint64_t volumeBytes_ = 0;

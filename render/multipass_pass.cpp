@@ -90,7 +90,7 @@ MultipassPass::~MultipassPass() {
 }
 
 const ShaderProgram& MultipassPass::program(const RenderParams& params, Stage stage) {
-  std::unique_ptr<ShaderProgram>& p = programs_[{params.mode, usesStoredGradients(params), stage}];
+  std::unique_ptr<ShaderProgram>& p = programs_[{params.mode, dvrLightingOf(params), stage}];
   if (!p) {
     const char* fragment = stage == Stage::Block  ? "shaders/multipass_block.frag"
                            : stage == Stage::Mark ? "shaders/multipass_mark.frag"

@@ -91,7 +91,7 @@ class MultipassPass {
   void resize(uint32_t width, uint32_t height);
 
   // (mode, stored gradients, stage) -> program
-  std::map<std::tuple<RenderMode, bool, Stage>, std::unique_ptr<ShaderProgram>> programs_;
+  std::map<std::tuple<RenderMode, DvrLighting, Stage>, std::unique_ptr<ShaderProgram>> programs_;
   RenderTarget target_{"MultipassPass", false};  // color = the accumulation, depth = the world depth
   uint32_t marchTexture_ = 0;  // RGBA32F: the isosurface march's state (has previous, t, f, ended)
   uint32_t beforeTexture_ =

@@ -71,8 +71,7 @@ const ShaderProgram& RaycastPass::program(const RenderParams& params, bool feedb
   const RenderBackend backend = params.backend;
   const RenderMode mode = params.mode;
   const bool leafBatch = dvrLeafBatch_ && mode == RenderMode::Dvr;
-  std::unique_ptr<ShaderProgram>& p =
-      programs_[{backend, mode, usesStoredGradients(params), leafBatch, feedback}];
+  std::unique_ptr<ShaderProgram>& p = programs_[{backend, mode, dvrLightingOf(params), leafBatch, feedback}];
   if (!p) {
     std::vector<std::string> defines = raycastDefines(params);
     if (leafBatch) defines.push_back("LLVMPIPE_DVR_LEAF_BATCH");

@@ -153,7 +153,8 @@ class RaycastPass {
   void writeMisses(const RaycastFrame& frame, const TileSchedule& schedule);
 
   // (backend, mode, stored gradients, leaf batch, feedback) -> program
-  std::map<std::tuple<RenderBackend, RenderMode, bool, bool, bool>, std::unique_ptr<ShaderProgram>> programs_;
+  std::map<std::tuple<RenderBackend, RenderMode, DvrLighting, bool, bool>, std::unique_ptr<ShaderProgram>>
+      programs_;
   bool dvrLeafBatch_ = false;
   RenderTarget target_{"RaycastPass", true};
   RaycastBlockBuffer blockBuffer_;

@@ -38,7 +38,8 @@ std::vector<std::string> raycastDefines(const RenderParams& params) {
       floatDefine("DVR_DEPTH_OPACITY", kDvrDepthOpacity),
       "TF_ENTRIES " + std::to_string(TfTable::kDefaultEntries),
   };
-  if (usesStoredGradients(params)) defines.push_back("DVR_STORED_GRADIENTS");
+  if (dvrLightingOf(params) == DvrLighting::Stored) defines.push_back("DVR_STORED_GRADIENTS");
+  if (dvrLightingOf(params) == DvrLighting::Unlit) defines.push_back("DVR_UNLIT");
   return defines;
 }
 
@@ -100,7 +101,7 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   b.ert = float(rp.ert);
   b.background = glm::vec3(rp.background);
   b.isoValue = float(mapping.toStored(rp.isoValue) / storedMax);
-  const LightingParams lighting = appliedLighting(rp);
+  const LightingParams& lighting = rp.lighting;
   b.isoBaseColor = glm::vec3(lighting.isoBaseColor);
   b.ambient = float(lighting.ambient);
   b.diffuse = float(lighting.diffuse);

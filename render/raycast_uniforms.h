@@ -28,7 +28,7 @@ std::string floatDefine(const char* name, double value);
 
 // The defines of a ray-cast program: docs/RENDERING.md's constants (BRICK_BORDER, ISO_BISECTION_STEPS,
 // DVR_SHADE_GRADIENT_THRESHOLD, TF_ENTRIES) and the variant of `params` (RAYCAST_MODE_ISO, _DVR, _MIP with
-// MIP_SIGN 1 or -1 for MinIP, or _AIP; DVR_STORED_GRADIENTS).
+// MIP_SIGN 1 or -1 for MinIP, or _AIP; DVR_STORED_GRADIENTS or DVR_UNLIT, dvrLightingOf).
 std::vector<std::string> raycastDefines(const RenderParams& params);
 
 // Throws ropecast::Error, prefixed by `where`, for a non-positive step, DVR or MIP without a baked transfer

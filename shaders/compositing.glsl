@@ -141,7 +141,11 @@ bool compositeDvrSample(inout DvrAccum acc, Segment s, Ray ray, float k) {
   vec4 tf = transferFunction(voxel.value);
   float alpha = correctedOpacity(tf.a, s.opacityExponent);
   if (!(alpha > 0.0)) return false;
+#ifdef DVR_UNLIT
+  vec3 color = tf.rgb;  // --shading off: no gradient is taken
+#else
   vec3 color = shadeDvr(tf.rgb, dvrSampleDifferences(voxel) * s.gradientScale, ray.dir);
+#endif
   acc.lastDepth = t * ray.depthPerT;
   if (acc.alpha < DVR_DEPTH_OPACITY) acc.depth = acc.lastDepth;
   acc.color += (1.0 - acc.alpha) * alpha * color;

@@ -252,6 +252,8 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
     warn({"--iso", "--caps", "--iso-color"}, "with --mode dvr (the transfer function decides)");
   if (o.mode == RenderMode::Iso)
     warn({"--tf", "--tf-range", "--ert", "--gradients", "--shading"}, "with --mode iso");
+  if (o.mode == RenderMode::Dvr && !o.shading)
+    warn({"--gradients"}, "with --shading off (no gradient is taken)");
   if (showsOneValue(o.mode)) {
     const std::string mode = "with --mode " + std::string(renderModeName(o.mode));
     warn({"--iso", "--ert", "--gradients", "--caps", "--iso-color", "--shading", "--material"},

@@ -237,6 +237,9 @@ run "--material" "$ropecast" render $small --material 0.5,0.2,0,1 -o "$dir/matte
 "$ropecast" compare "$dir/matte.png" "$dir/a.png" --min-psnr 40 > /dev/null && fail "--material changed nothing"
 run "--shading with --mode iso" "$ropecast" render $small --shading off -o "$dir/iso_shading.png"
 grep -qF "warning: --shading: no effect with --mode iso" "$dir/err.txt" || fail "--shading with --mode iso: $(cat "$dir/err.txt")"
+run "--gradients with --shading off" "$ropecast" render $small --mode dvr --shading off --gradients computed -o "$dir/unlit2.png"
+grep -qF "warning: --gradients: no effect with --shading off" "$dir/err.txt" || fail "--gradients with --shading off: $(cat "$dir/err.txt")"
+grep -q '"max_abs":0' <<< "$("$ropecast" compare "$dir/unlit.png" "$dir/unlit2.png")" || fail "unlit DVR depends on --gradients"
 run "--iso-color with --mode mip" "$ropecast" render $small --mode mip --iso-color 1,0,0 -o "$dir/mip_color.png"
 grep -qF "warning: --iso-color: no effect with --mode mip" "$dir/err.txt" || fail "--iso-color with --mode mip: $(cat "$dir/err.txt")"
 

@@ -177,8 +177,8 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
   }
 }
 
-// --iso-color, --material and --shading off reach the shaders as the mirror applies them (appliedLighting),
-// and change the image.
+// --iso-color, --material and --shading off reach the shaders as the mirror applies them, and change the
+// image; unlit DVR takes no gradient, so stored gradients are not asked for.
 TEST(RaycastVsCpu, LightingMatchesTheMirror) {
   SceneSpec spec = wavyScene();
   spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y) % 2 == 0; };
@@ -197,6 +197,11 @@ TEST(RaycastVsCpu, LightingMatchesTheMirror) {
     RenderMode mode;
     LightingParams lighting;
   };
+  RenderParams unlitParams;
+  unlitParams.mode = RenderMode::Dvr;
+  unlitParams.gradients = GradientSource::Stored;
+  unlitParams.lighting = unlit;
+  EXPECT_FALSE(usesStoredGradients(unlitParams));
   for (const Case& c : {Case{"iso, a material", RenderMode::Iso, material},
                         Case{"dvr, a material", RenderMode::Dvr, material},
                         Case{"dvr, no shading", RenderMode::Dvr, unlit}}) {
