@@ -48,7 +48,7 @@
 #include "tools/temporary_store.h"
 #include "tools/view_outline.h"
 #include "tools/view_probe.h"
-#include "tools/view_time_points.h"
+#include "tools/view_series.h"
 #include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
@@ -167,7 +167,7 @@ class Viewer {
   void reportPanelError(const std::exception& e);
   void drawPanels();
   void drawCropControls(const BrickSourceInfo& info);
-  void drawTimePointControls();
+  void drawSeriesControls();
   void drawLightingControls();
   void drawCutOutlines(const VolumeInfo& volume);
   // The sides of the patient at the 3D view's edges and the volume's axes at its bottom.
@@ -202,26 +202,38 @@ class Viewer {
   // The inputs and every output of the command line and script, checked before the window opened: what the
   // panels write is checked against them.
   OutputGuard guard_;
-  // The input; a series' time points each as a source of their own, made as they are asked for.
+  // The input; the volumes of a file of several (time points, channels) each as a source of their own, made
+  // as they are asked for.
   std::unique_ptr<BrickSource> source_;
-  std::optional<TimePointStores> timePoints_;
-  BrickSource* shown_ = nullptr;          // source_, or the shown time point's
+  std::optional<SeriesStores> series_;
+  uint32_t timePoints_ = 1, channels_ = 1;  // of the input
+  struct Pick {
+    uint32_t time = 0, channel = 0;
+    friend bool operator==(const Pick&, const Pick&) = default;
+  };
+  uint32_t indexOf(Pick p) const { return p.channel * timePoints_ + p.time; }  // in series_
+  BrickSource* shown_ = nullptr;          // source_, or the shown volume's
   std::unique_ptr<BrickSource> delayed_;  // --io-delay-ms over shown_
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *shown_; }
-  uint32_t shownTime_ = 0, wantedTime_ = 0;  // of a series: the time point shown, and the one asked for
-  bool timePointPending() const { return shownTime_ != wantedTime_; }
-  uint32_t nextTimePoint() const { return (shownTime_ + 1) % timePoints_->count(); }
-  // Playing, the series is shown time point after time point, each until its view has converged and
-  // playSecondsEach_ have passed, the next made while it shows; after the last comes the first.
+  Pick shownPick_, wantedPick_;  // of a series: the volume shown, and the one asked for
+  bool pickPending() const { return shownPick_ != wantedPick_; }
+  Pick nextTimePoint() const { return {(shownPick_.time + 1) % timePoints_, shownPick_.channel}; }
+  // "time point 3, channel 1", naming what the input has several of.
+  std::string pickName(Pick p) const;
+  // Playing, the series is shown time point after time point (of the channel shown), each until its view has
+  // converged and playSecondsEach_ have passed, the next made while it shows; after the last comes the first.
   bool playing_ = false;
   double playSecondsEach_ = 0.5;
-  double shownAtSeconds_ = 0.0;  // script seconds when the shown time point was first drawn
+  double shownAtSeconds_ = 0.0;  // script seconds when the shown volume was first drawn
   void setPlaying(bool playing);
   void playOn(bool viewConverged);
-  // The panel's and the script's choice: time point t is shown once it is made.
+  // The panel's and the script's choice: that time point, or channel, of the volume asked for last is shown
+  // once it is made.
   void askTimePoint(uint32_t t);
-  // Shows the wanted time point once it is made (its conversion's failure turns it back to the shown one).
-  void followTimePoint();
+  void askChannel(uint32_t c);
+  void askPick(Pick p);
+  // Shows the wanted volume once it is made (its conversion's failure turns it back to the shown one).
+  void followPick();
   // What depends on the shown source: the probe's reader, the value range and histogram, the baked transfer
   // function; the renderer is made again for it at the next frame.
   void attachShownSource();
@@ -316,32 +328,35 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
     throw Error(
         "view: --backend brute is render's benchmark baseline; the viewer draws with the octree ray caster "
         "(auto, fragment, compute or multipass)");
-  VolumeInfo volume;  // what a volume's source read: a series' time points
+  VolumeInfo volume;  // what a volume's source read: the time points and channels of its file
   source_ = openBrickSource(o, "view", &volume);
   shown_ = source_.get();
-  if (volume.timePoints > 1 && volume.timePoints <= UINT32_MAX) {
-    shownTime_ = wantedTime_ = uint32_t(volume.timePoint);
+  if ((volume.timePoints > 1 || volume.channels > 1) && volume.timePoints * volume.channels <= UINT32_MAX) {
+    timePoints_ = uint32_t(volume.timePoints);
+    channels_ = uint32_t(volume.channels);
+    shownPick_ = wantedPick_ = {uint32_t(volume.timePoint), uint32_t(volume.channel)};
     const SourceOptions read = sourceOptionsOf(o.read, "view");
-    auto convert = [input = o.input, read, brick = o.brick](uint32_t t,
-                                                            const std::function<void(double)>& progress) {
+    auto convert = [input = o.input, read, brick = o.brick, timePoints = timePoints_](
+                       uint32_t v, const std::function<void(double)>& progress) {
       SourceOptions picked = read;
-      picked.timePoint = t;
+      picked.timePoint = v % timePoints;
+      picked.channel = v / timePoints;
       // Quietly: the panel shows the progress, and the first conversion told the source's notes.
       std::unique_ptr<Store> store = openVolumeAsStore(
           input, picked, brick, {.quiet = true, .notes = false, .progress = progress}, "view");
       const uint64_t bytes = store->fileBytes();
-      return TimePointStores::Made{std::move(store), bytes};
+      return SeriesStores::Made{std::move(store), bytes};
     };
-    // The time points kept take at most half the temporary folder's free space, and 4 GiB.
+    // The volumes kept take at most half the temporary folder's free space, and 4 GiB.
     std::error_code ec;
     const uint64_t free = std::filesystem::space(std::filesystem::temp_directory_path(), ec).available;
     const uint64_t keepBytes = std::min<uint64_t>(ec ? 0 : free / 2, uint64_t(4) << 30);
     // A volume's source is a store (tools/temporary_store.h).
     const uint64_t bytes = dynamic_cast<const Store&>(*source_).fileBytes();
-    // A time point made wakes the window, which may be waiting for events.
-    timePoints_.emplace(uint32_t(volume.timePoints), shownTime_,
-                        TimePointStores::Made{std::move(source_), bytes}, keepBytes, std::move(convert),
-                        [] { glfwPostEmptyEvent(); });
+    // A volume made wakes the window, which may be waiting for events.
+    series_.emplace(timePoints_ * channels_, indexOf(shownPick_),
+                    SeriesStores::Made{std::move(source_), bytes}, keepBytes, std::move(convert),
+                    [] { glfwPostEmptyEvent(); });
   }
   attachShownSource();
   const BrickSourceInfo& info = bricks().info();
@@ -402,11 +417,11 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
 }
 
 Viewer::~Viewer() {
-  // The time points' sources outlive what reads them; their thread, which wakes the window, stops first.
+  // The series' sources outlive what reads them; their thread, which wakes the window, stops first.
   renderer_.reset();
   probeReader_.reset();
   delayed_.reset();
-  timePoints_.reset();
+  series_.reset();
   if (!window_) return;
   glDeleteFramebuffers(1, &viewFramebuffer_);
   glDeleteTextures(1, &viewTexture_);
@@ -431,56 +446,76 @@ void Viewer::attachShownSource() {
   double top = 0.0;
   for (uint64_t c : h.counts) top = std::max(top, std::log1p(double(c)));
   for (uint64_t c : h.counts) histogram_.push_back(top > 0.0 ? float(std::log1p(double(c)) / top) : 0.0f);
-  // The function stays in data units across time points; its table follows the store's value mapping.
+  // The function stays in data units across volumes; its table follows the store's value mapping.
   if (tfTable_) setTransferFunction(tf_, tfSpec_);
 }
 
 void Viewer::askTimePoint(uint32_t t) {
-  if (!timePoints_)
+  if (timePoints_ == 1)
     throw Error("view: the input " + o_.input + " holds one time point; time point " + std::to_string(t) +
                 " does not exist");
-  if (t >= timePoints_->count())
+  if (t >= timePoints_)
     throw Error("view: time point " + std::to_string(t) + ": the input " + o_.input + " holds " +
-                std::to_string(timePoints_->count()) + " (0 to " + std::to_string(timePoints_->count() - 1) +
-                ")");
-  wantedTime_ = t;
-  timePoints_->ask(t);
+                std::to_string(timePoints_) + " (0 to " + std::to_string(timePoints_ - 1) + ")");
+  askPick({t, wantedPick_.channel});
 }
 
-void Viewer::followTimePoint() {
-  if (!timePoints_) return;
-  if (const auto failure = timePoints_->takeFailure(); failure && failure->timePoint == wantedTime_) {
-    wantedTime_ = shownTime_;
+void Viewer::askChannel(uint32_t c) {
+  if (channels_ == 1)
+    throw Error("view: the input " + o_.input + " holds one channel; channel " + std::to_string(c) +
+                " does not exist");
+  if (c >= channels_)
+    throw Error("view: channel " + std::to_string(c) + ": the input " + o_.input + " holds " +
+                std::to_string(channels_) + " (0 to " + std::to_string(channels_ - 1) + ")");
+  askPick({wantedPick_.time, c});
+}
+
+void Viewer::askPick(Pick p) {
+  wantedPick_ = p;
+  series_->ask(indexOf(p));
+}
+
+std::string Viewer::pickName(Pick p) const {
+  std::string name;
+  if (timePoints_ > 1) name = "time point " + std::to_string(p.time);
+  if (channels_ > 1) name += (name.empty() ? "" : ", ") + std::string("channel ") + std::to_string(p.channel);
+  return name;
+}
+
+void Viewer::followPick() {
+  if (!series_) return;
+  if (const auto failure = series_->takeFailure(); failure && failure->volume == indexOf(wantedPick_)) {
+    message_ = pickName(wantedPick_) + ": " + failure->message;
+    wantedPick_ = shownPick_;
     playing_ = false;  // it would fail again at each turn
-    message_ = "time point " + std::to_string(failure->timePoint) + ": " + failure->message;
     std::fprintf(stderr, "ropecast view: %s\n", message_.c_str());
     // A script asked for it: what it does next would not show what it expects.
     if (script_) throw Error("view: " + message_);
   }
-  if (!timePointPending()) return;
-  BrickSource* made = timePoints_->find(wantedTime_);
+  if (!pickPending()) return;
+  BrickSource* made = series_->find(indexOf(wantedPick_));
   if (!made) return;
   shown_ = made;
-  shownTime_ = wantedTime_;
+  shownPick_ = wantedPick_;
   attachShownSource();
-  lastRequest_.reset();            // the new time point is drawn, whatever the camera
-  timePoints_->shown(shownTime_);  // nothing reads the one before now
+  lastRequest_.reset();                 // the new volume is drawn, whatever the camera
+  series_->shown(indexOf(shownPick_));  // nothing reads the one before now
   shownAtSeconds_ = secondsSince(start_);
-  if (playing_) timePoints_->ask(nextTimePoint());  // made while this one shows
+  if (playing_) series_->ask(indexOf(nextTimePoint()));  // made while this one shows
 }
 
 void Viewer::setPlaying(bool playing) {
-  if (!timePoints_)
+  if (timePoints_ == 1)
     throw Error("view: the input " + o_.input + " holds one time point; there is nothing to play");
   playing_ = playing;
-  if (playing_ && !timePointPending()) timePoints_->ask(nextTimePoint());
+  if (playing_ && !pickPending()) series_->ask(indexOf(nextTimePoint()));
 }
 
 void Viewer::playOn(bool viewConverged) {
-  if (!playing_ || timePointPending() || !viewConverged ||
+  if (!playing_ || pickPending() || !viewConverged ||
       secondsSince(start_) - shownAtSeconds_ < playSecondsEach_)
     return;
-  askTimePoint(nextTimePoint());
+  askPick(nextTimePoint());
 }
 
 void Viewer::setTransferFunction(const std::string& spec) {
@@ -571,7 +606,14 @@ void Viewer::renderFrame(const FrameRequest& request) {
   lastRequest_ = request;
   lastTfVersion_ = tfVersion_;
   color_ = renderer_->readColor();
-  if (stats_) stats_->write(lastStats_, timePoints_ ? "\"time_point\":" + std::to_string(shownTime_) : "");
+  if (stats_) {
+    std::string fields;  // which volume of a series the frame drew
+    if (timePoints_ > 1) fields = "\"time_point\":" + std::to_string(shownPick_.time);
+    if (channels_ > 1)
+      fields +=
+          (fields.empty() ? "" : ",") + std::string("\"channel\":") + std::to_string(shownPick_.channel);
+    stats_->write(lastStats_, fields);
+  }
   frameMsHistory_.push_back(float(lastStats_.frameMs));
   if (frameMsHistory_.size() > kFrameHistory) frameMsHistory_.pop_front();
 
@@ -678,7 +720,7 @@ void Viewer::runScript(bool converged) {
     if (e.atSeconds > now) break;
     if (waitsForConvergence(e.kind) && (!converged || changedHere)) {
       // Frames are counted, not the wait for a time point being made (it draws none).
-      if (changedHere || timePointPending() || ++waitedFrames_ <= o_.maxFrames) break;
+      if (changedHere || pickPending() || ++waitedFrames_ <= o_.maxFrames) break;
       std::fprintf(stderr, "ropecast view: %s: not converged after %u frames (--max-frames); going on\n",
                    e.where.c_str(), o_.maxFrames);
     }
@@ -772,6 +814,9 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::SetTimePoint:
       askTimePoint(e.timePoint);
+      break;
+    case ViewEventKind::SetChannel:
+      askChannel(e.channel);
       break;
     case ViewEventKind::SetLighting:
       if (e.isoColor) params_.lighting.isoBaseColor = *e.isoColor;
@@ -899,36 +944,43 @@ void Viewer::drawCropControls(const BrickSourceInfo& info) {
   if (ImGui::Button("whole volume")) params_.crop = CropBox{};
 }
 
-// A series' time point: a slider and a step each way. One not shown yet is converted first, its progress
-// shown, the view showing the one before meanwhile.
-void Viewer::drawTimePointControls() {
-  const int last = int(timePoints_->count() - 1);
-  int t = int(wantedTime_);
-  const std::string format = "%d of " + std::to_string(timePoints_->count());
-  bool changed = ImGui::SliderInt("time point", &t, 0, last, format.c_str(), ImGuiSliderFlags_AlwaysClamp);
-  ImGui::SameLine();
-  if (ImGui::ArrowButton("##earlier", ImGuiDir_Left)) {
-    t = std::max(t - 1, 0);
-    changed = true;
+// A series' time point and channel: a slider each, for what the input has several of, and for time a step
+// each way and play. A volume not shown yet is converted first, its progress shown, the view showing the one
+// before meanwhile.
+void Viewer::drawSeriesControls() {
+  const auto slider = [](const char* label, uint32_t value, uint32_t count) -> std::optional<uint32_t> {
+    int v = int(value);
+    const std::string format = "%d of " + std::to_string(count);
+    if (ImGui::SliderInt(label, &v, 0, int(count - 1), format.c_str(), ImGuiSliderFlags_AlwaysClamp) &&
+        uint32_t(v) != value)
+      return uint32_t(v);
+    return std::nullopt;
+  };
+  if (timePoints_ > 1) {
+    std::optional<uint32_t> t = slider("time point", wantedPick_.time, timePoints_);
+    ImGui::SameLine();
+    if (ImGui::ArrowButton("##earlier", ImGuiDir_Left) && wantedPick_.time > 0) t = wantedPick_.time - 1;
+    ImGui::SameLine();
+    if (ImGui::ArrowButton("##later", ImGuiDir_Right) && wantedPick_.time + 1 < timePoints_)
+      t = wantedPick_.time + 1;
+    if (t) askTimePoint(*t);
+    ImGui::SameLine();
+    bool playing = playing_;
+    if (ImGui::Checkbox("play", &playing)) setPlaying(playing);
+    if (playing_) {
+      float seconds = float(playSecondsEach_);
+      if (ImGui::SliderFloat("seconds each", &seconds, 0.0f, 5.0f, "%.1f", ImGuiSliderFlags_AlwaysClamp))
+        playSecondsEach_ = seconds;
+    }
   }
-  ImGui::SameLine();
-  if (ImGui::ArrowButton("##later", ImGuiDir_Right)) {
-    t = std::min(t + 1, last);
-    changed = true;
-  }
-  if (changed && t != int(wantedTime_)) askTimePoint(uint32_t(t));
-  ImGui::SameLine();
-  bool playing = playing_;
-  if (ImGui::Checkbox("play", &playing)) setPlaying(playing);
-  if (playing_) {
-    float seconds = float(playSecondsEach_);
-    if (ImGui::SliderFloat("seconds each", &seconds, 0.0f, 5.0f, "%.1f", ImGuiSliderFlags_AlwaysClamp))
-      playSecondsEach_ = seconds;
-  }
-  if (const auto converting = timePoints_->converting())
-    ImGui::TextDisabled("converting time point %u: %.0f%%", converting->timePoint,
-                        100.0 * converting->fraction);
-  if (timePointPending()) ImGui::TextDisabled("showing time point %u meanwhile", shownTime_);
+  if (channels_ > 1)
+    if (const std::optional<uint32_t> c = slider("channel", wantedPick_.channel, channels_)) askChannel(*c);
+  if (const auto converting = series_->converting())
+    ImGui::TextDisabled(
+        "converting %s: %.0f%%",
+        pickName({converting->volume % timePoints_, converting->volume / timePoints_}).c_str(),
+        100.0 * converting->fraction);
+  if (pickPending()) ImGui::TextDisabled("showing %s meanwhile", pickName(shownPick_).c_str());
 }
 
 // --iso-color, --shading and --material: the headlight's shading of the isosurface and of DVR.
@@ -1133,7 +1185,7 @@ void Viewer::drawPanels() {
                 valueRange_.first, valueRange_.second);
     if (info.volume.axes != AxisDirections(1.0))  // where a turned volume's axes point (core/orientation.h)
       ImGui::Text("axes %s", orientationCode(info.volume.axes).c_str());
-    if (timePoints_) drawTimePointControls();
+    if (series_) drawSeriesControls();
     int mode = int(params_.mode);
     ImGui::RadioButton("iso", &mode, int(RenderMode::Iso));
     ImGui::SameLine();
@@ -1374,7 +1426,7 @@ int Viewer::run() {
     lastCamera_ = camera;
     const bool moving = secondsSince(start_) - lastMoveSeconds_ < kStillAfterSeconds;
     if (!moving) coarser_ = false;
-    followTimePoint();
+    followPick();
     ensureRenderer(moving);  // may fall back to computed gradients (params_)
     const FrameRequest request = currentRequest(moving);
     if (needsFrame(request)) {
@@ -1393,7 +1445,7 @@ int Viewer::run() {
     viewConverged = !moving && !needsFrame(currentRequest(false));
     playOn(viewConverged);
     // A time point asked for and still being made: what waits for the view waits for it too.
-    converged = viewConverged && !timePointPending();
+    converged = viewConverged && !pickPending();
 
     present(viewWidth_, viewHeight_);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -1409,7 +1461,7 @@ int Viewer::run() {
 
     if (scriptDone()) {
       if (o_.screenshot.empty()) break;
-      if (converged || (!timePointPending() && ++waitedFrames_ > o_.maxFrames)) {
+      if (converged || (!pickPending() && ++waitedFrames_ > o_.maxFrames)) {
         if (!converged)
           std::fprintf(stderr,
                        "ropecast view: --screenshot: not converged after %u frames (--max-frames); writing "

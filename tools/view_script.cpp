@@ -245,12 +245,15 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
       if (!r.j.contains("caps")) r.fail("\"caps\" is required");
       e.caps = r.flag("caps");
       add(e);
-    } else if (kind == "set_time_point") {
-      e.kind = ViewEventKind::SetTimePoint;
-      const double t = r.number("time_point", 0.0, true);
-      if (!(t >= 0.0 && t <= double(UINT32_MAX) && t == std::floor(t)))
-        r.fail("\"time_point\" must be a whole number from 0, counted as --time counts them");
-      e.timePoint = uint32_t(t);
+    } else if (kind == "set_time_point" || kind == "set_channel") {
+      const bool time = kind == "set_time_point";
+      e.kind = time ? ViewEventKind::SetTimePoint : ViewEventKind::SetChannel;
+      const char* key = time ? "time_point" : "channel";
+      const double index = r.number(key, 0.0, true);
+      if (!(index >= 0.0 && index <= double(UINT32_MAX) && index == std::floor(index)))
+        r.fail(std::string("\"") + key + "\" must be a whole number from 0, counted as " +
+               (time ? "--time" : "--channel") + " counts them");
+      (time ? e.timePoint : e.channel) = uint32_t(index);
       add(e);
     } else if (kind == "set_lighting") {
       e.kind = ViewEventKind::SetLighting;
@@ -332,9 +335,10 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else {
       r.fail(
           "unknown event; expected mouse_down, mouse_move, mouse_up, drag, wheel, key, key_down, key_up, "
-          "set_iso, set_mode, set_crop, set_clip_plane, set_caps, set_time_point, load_tf, set_tf_range, "
-          "screenshot, save_camera, set_view, probe, center_at, measure, reset_camera, wait_converged or "
-          "quit");
+          "set_iso, set_mode, set_crop, set_clip_plane, set_caps, set_time_point, set_channel, play, "
+          "set_lighting, load_tf, set_tf_range, screenshot, save_camera, set_view, probe, center_at, "
+          "measure, "
+          "reset_camera, wait_converged or quit");
     }
     r.refuseOtherKeys();
   }

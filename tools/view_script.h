@@ -1,9 +1,9 @@
 // ViewScript: the timed input events of `ropecast view --script EVENTS.json` (docs/VIEWER.md "Scripts"), for
 // tests and demos: mouse presses, moves and releases (and drags made of them), wheel clicks, held keys, and
-// named UI actions (set the isovalue, mode, crop box, clip plane, time point or lighting, play a series, load
-// a transfer function, take a screenshot, save the camera, probe a point, center on one, measure between two,
-// wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain data; GL-free;
-// any thread.
+// named UI actions (set the isovalue, mode, crop box, clip plane, time point, channel or lighting, play a
+// series, load a transfer function, take a screenshot, save the camera, probe a point, center on one, measure
+// between two, wait until the view has converged, quit). Parsing only: the viewer applies the events. Plain
+// data; GL-free; any thread.
 //
 // File format: a JSON array of events, or {"events": [...]}; each an object with "event" (its kind) and
 // "at" (seconds after the first frame; default: the event before's, 0 for the first). Events run in file
@@ -39,6 +39,7 @@ enum class ViewEventKind {
   SetClipPlane,  // plane: --clip-plane's six numbers, or none
   SetCaps,       // caps: isosurface caps at the cuts on or off, as --caps
   SetTimePoint,  // timePoint: a series' time point, as --time picks one; what waits for the view waits for it
+  SetChannel,    // channel: a file's channel, as --channel picks one; what waits for the view waits for it
   Play,          // playing: a series played or stopped; secondsEach (-1: as it was)
   SetLighting,   // isoColor, shading, material, as --iso-color, --shading and --material: those given
   Screenshot,    // file; panels: the whole window with its panels, else the 3D view alone
@@ -70,6 +71,7 @@ struct ViewEvent {
   std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
   bool caps = true;
   uint32_t timePoint = 0;
+  uint32_t channel = 0;
   bool playing = false;
   double secondsEach = -1.0;
   std::optional<glm::dvec3> isoColor;

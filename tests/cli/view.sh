@@ -245,6 +245,18 @@ shown = [json.loads(line)["time_point"] for line in open(sys.argv[1])]
 changes = [t for i, t in enumerate(shown) if i == 0 or t != shown[i - 1]]
 sys.exit(0 if changes[:3] == [0, 1, 0] else 1)
 PY
+# A file of two channels: set_channel shows the other, as render --channel draws it; the stats say which.
+write_nifti_series "$dir/channels.nii" channels || exit 1
+channels="$dir/channels.nii --size 96x96 --iso 1500"
+cat > "$dir/channel.json" << JSON
+[{"event": "screenshot", "file": "$dir/c0.png"},
+ {"event": "set_channel", "channel": 1}, {"event": "screenshot", "file": "$dir/c1.png"}]
+JSON
+run "view --script set_channel" xview $channels --script "$dir/channel.json" --stats "$dir/channel.jsonl"
+run "render --channel 1" "$ropecast" render $channels --converge --channel 1 -o "$dir/rc1.png"
+same "channel 0 = render" "$dir/c0.png" "$dir/rt0.png"
+same "channel 1 = render --channel 1" "$dir/c1.png" "$dir/rc1.png"
+grep -q '"channel":1' <<< "$(tail -n 1 "$dir/channel.jsonl")" || fail "the stats do not say channel 1: $(tail -n 1 "$dir/channel.jsonl")"
 echo '[{"event": "set_time_point", "time_point": 2}, {"event": "screenshot", "file": "'"$dir"'/x.png"}]' > "$dir/time2.json"
 xview $series --script "$dir/time2.json" > /dev/null 2> "$dir/err.txt" && fail "set_time_point 2 of 2"
 grep -qF "event 0 (set_time_point): view: time point 2: the input $dir/series.nii holds 2 (0 to 1)" "$dir/err.txt" ||
@@ -254,6 +266,9 @@ grep -qF "holds one time point" "$dir/err.txt" || fail "no refusal of a time poi
 echo '[{"event": "play", "playing": true}]' > "$dir/play1.json"
 xview $vol --script "$dir/play1.json" > /dev/null 2> "$dir/err.txt" && fail "play of a procedural input"
 grep -qF "holds one time point; there is nothing to play" "$dir/err.txt" || fail "no refusal of play: $(cat "$dir/err.txt")"
+echo '[{"event": "set_channel", "channel": 1}]' > "$dir/channel1.json"
+xview $series --script "$dir/channel1.json" > /dev/null 2> "$dir/err.txt" && fail "set_channel of a time series"
+grep -qF "holds one channel; channel 1 does not exist" "$dir/err.txt" || fail "no refusal of a channel of one: $(cat "$dir/err.txt")"
 [ ! -e "$dir/x.png" ] || fail "a refused time point left a screenshot"
 # set_clip_plane, then a screenshot: render with --clip-plane; then without caps: render --caps off.
 cat > "$dir/plane.json" << JSON

@@ -58,9 +58,9 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_time_point", "time_point": 3}, {"event": "play", "playing": true},
           {"event": "play", "playing": false, "seconds_each": 0.25},
           {"event": "set_lighting", "iso_color": [1, 0.5, 0], "shading": false, "material": [0.1, 0.8, 0, 4]},
-          {"event": "set_lighting", "shading": true}])",
+          {"event": "set_lighting", "shading": true}, {"event": "set_channel", "channel": 2}])",
       "t");
-  ASSERT_EQ(s.events.size(), 26u);
+  ASSERT_EQ(s.events.size(), 27u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -106,6 +106,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_FALSE(s.events[25].isoColor);
   EXPECT_EQ(s.events[25].shading, true);
   EXPECT_TRUE(s.events[25].material.empty());
+  EXPECT_EQ(s.events[26].kind, ViewEventKind::SetChannel);
+  EXPECT_EQ(s.events[26].channel, 2u);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -126,6 +128,7 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "set_iso", "value": 1e999}])", "s.json: not JSON");
   expectRefused(R"({"cameras": []})", "s.json: expected an array of events");
   expectRefused(R"([{"event": "spin"}])", "s.json: event 0 (spin): unknown event");
+  expectRefused(R"([{"event": "spin"}])", "set_time_point, set_channel, play, set_lighting, load_tf");
   expectRefused(R"([{"event": "quit"}, {"event": "set_iso"}])", "event 1 (set_iso): \"value\" is required");
   expectRefused(R"([{"event": "drag", "from": [0, 0], "to": [1]}])", "\"to\" must be [x, y]");
   expectRefused(R"([{"event": "set_mode", "mode": "average"}])",
@@ -159,6 +162,9 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   for (const char* t : {"-1", "1.5", "1e10", "\"2\""})
     expectRefused(std::string(R"([{"event": "set_time_point", "time_point": )") + t + "}]",
                   "event 0 (set_time_point): \"time_point\" must be");
+  expectRefused(
+      R"([{"event": "set_channel", "channel": 0.5}])",
+      "event 0 (set_channel): \"channel\" must be a whole number from 0, counted as --channel counts them");
   expectRefused(R"([{"event": "play"}])", "event 0 (play): \"playing\" is required");
   expectRefused(R"([{"event": "set_lighting"}])",
                 "event 0 (set_lighting): give \"iso_color\", \"shading\" or \"material\"");

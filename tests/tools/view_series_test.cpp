@@ -1,7 +1,7 @@
-// TimePointStores (tools/view_time_points.h): a series' time points made on the class's thread as they are
-// asked for, each once; a later request replacing a queued one; failures told once; a conversion in flight
-// stopped when the class goes. The conversions here are procedural brick sources, some held on a gate.
-#include "tools/view_time_points.h"
+// SeriesStores (tools/view_series.h): a series' volumes made on the class's thread as they are asked for,
+// each once; a later request replacing a queued one; failures told once; a conversion in flight stopped when
+// the class goes. The conversions here are procedural brick sources, some held on a gate.
+#include "tools/view_series.h"
 
 #include <chrono>
 #include <condition_variable>
@@ -19,7 +19,7 @@ namespace {
 using namespace std::chrono_literals;
 
 // A source said to keep `bytes`.
-TimePointStores::Made smallSource(uint64_t bytes = 10) {
+SeriesStores::Made smallSource(uint64_t bytes = 10) {
   return {openProceduralBricks("procedural:sphere:8", 8), bytes};
 }
 
@@ -47,8 +47,8 @@ struct Log {
   }
 };
 
-TimePointStores::Convert convertLogged(Log& log, uint32_t failing = UINT32_MAX) {
-  return [&log, failing](uint32_t t, const std::function<void(double)>& progress) -> TimePointStores::Made {
+SeriesStores::Convert convertLogged(Log& log, uint32_t failing = UINT32_MAX) {
+  return [&log, failing](uint32_t t, const std::function<void(double)>& progress) -> SeriesStores::Made {
     {
       std::unique_lock lock(log.mutex);
       log.started.push_back(t);
@@ -56,7 +56,7 @@ TimePointStores::Convert convertLogged(Log& log, uint32_t failing = UINT32_MAX) 
       log.changed.wait(lock, [&] { return log.gateOpen; });
     }
     progress(0.5);
-    if (t == failing) throw std::runtime_error("time point " + std::to_string(t) + " is unreadable");
+    if (t == failing) throw std::runtime_error("volume " + std::to_string(t) + " is unreadable");
     return smallSource();
   };
 }
@@ -69,11 +69,11 @@ std::function<void()> countReadies(Log& log) {
   };
 }
 
-TEST(TimePointStores, EachTimePointIsMadeOnceWhenAskedFor) {
+TEST(SeriesStores, EachVolumeIsMadeOnceWhenAskedFor) {
   Log log;
   auto shown = smallSource();
   BrickSource* const first = shown.source.get();
-  TimePointStores stores(4, 2, std::move(shown), kRoomForAll, convertLogged(log), countReadies(log));
+  SeriesStores stores(4, 2, std::move(shown), kRoomForAll, convertLogged(log), countReadies(log));
   EXPECT_EQ(stores.count(), 4u);
   EXPECT_EQ(stores.find(2), first);
   EXPECT_EQ(stores.find(1), nullptr);
@@ -91,17 +91,17 @@ TEST(TimePointStores, EachTimePointIsMadeOnceWhenAskedFor) {
   EXPECT_EQ(log.readies, 1);
 }
 
-// A slider dragged across the series: the time point in flight and the last asked for are made, not the
+// A slider dragged across the series: the volume in flight and the last asked for are made, not the
 // ones between; the one in flight says how far it is.
-TEST(TimePointStores, ALaterRequestReplacesAQueuedOne) {
+TEST(SeriesStores, ALaterRequestReplacesAQueuedOne) {
   Log log;
   log.gateOpen = false;
-  TimePointStores stores(6, 0, smallSource(), kRoomForAll, convertLogged(log), countReadies(log));
+  SeriesStores stores(6, 0, smallSource(), kRoomForAll, convertLogged(log), countReadies(log));
   stores.ask(1);
   ASSERT_TRUE(log.waitFor([&] { return log.started.size() == 1; }));
   const auto converting = stores.converting();
   ASSERT_TRUE(converting);
-  EXPECT_EQ(converting->timePoint, 1u);
+  EXPECT_EQ(converting->volume, 1u);
   EXPECT_EQ(converting->fraction, 0.0);
   stores.ask(2);
   stores.ask(3);
@@ -118,17 +118,16 @@ TEST(TimePointStores, ALaterRequestReplacesAQueuedOne) {
   EXPECT_EQ(log.started, (std::vector<uint32_t>{1, 4}));
 }
 
-TEST(TimePointStores, AFailureIsToldOnceAndTheTimePointMayBeAskedForAgain) {
+TEST(SeriesStores, AFailureIsToldOnceAndTheVolumeMayBeAskedForAgain) {
   Log log;
-  TimePointStores stores(3, 0, smallSource(), kRoomForAll, convertLogged(log, /*failing=*/2),
-                         countReadies(log));
+  SeriesStores stores(3, 0, smallSource(), kRoomForAll, convertLogged(log, /*failing=*/2), countReadies(log));
   EXPECT_FALSE(stores.takeFailure());
   stores.ask(2);
   ASSERT_TRUE(log.waitFor([&] { return log.readies == 1; }));
   const auto failure = stores.takeFailure();
   ASSERT_TRUE(failure);
-  EXPECT_EQ(failure->timePoint, 2u);
-  EXPECT_EQ(failure->message, "time point 2 is unreadable");
+  EXPECT_EQ(failure->volume, 2u);
+  EXPECT_EQ(failure->message, "volume 2 is unreadable");
   EXPECT_FALSE(stores.takeFailure());
   EXPECT_EQ(stores.find(2), nullptr);
   stores.ask(2);
@@ -138,9 +137,9 @@ TEST(TimePointStores, AFailureIsToldOnceAndTheTimePointMayBeAskedForAgain) {
 
 // Stores of 10 bytes in a budget of 25: the third shown drops the least recently shown, and it is converted
 // again when asked for; those made but never shown go before the shown ones.
-TEST(TimePointStores, TheLeastRecentlyShownAreDroppedToKeepWithinTheBudget) {
+TEST(SeriesStores, TheLeastRecentlyShownAreDroppedToKeepWithinTheBudget) {
   Log log;
-  TimePointStores stores(5, 0, smallSource(), 25, convertLogged(log), countReadies(log));
+  SeriesStores stores(5, 0, smallSource(), 25, convertLogged(log), countReadies(log));
   const auto make = [&](uint32_t t, int readies) {
     stores.ask(t);
     return log.waitFor([&] { return log.readies == readies; });
@@ -166,12 +165,12 @@ TEST(TimePointStores, TheLeastRecentlyShownAreDroppedToKeepWithinTheBudget) {
 
 // The class going while a conversion runs stops it at its next progress report: the destructor does not wait
 // for the whole conversion, and nothing is kept.
-TEST(TimePointStores, GoingStopsAConversionInFlight) {
+TEST(SeriesStores, GoingStopsAConversionInFlight) {
   Log log;
   {
-    TimePointStores stores(
+    SeriesStores stores(
         2, 0, smallSource(), kRoomForAll,
-        [&log](uint32_t, const std::function<void(double)>& progress) -> TimePointStores::Made {
+        [&log](uint32_t, const std::function<void(double)>& progress) -> SeriesStores::Made {
           {
             std::lock_guard lock(log.mutex);
             log.started.push_back(1);
