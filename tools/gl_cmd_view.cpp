@@ -98,7 +98,7 @@ const CommandRegistration viewCommand("view", 55, [](CLI::App& app) -> std::func
   app.description(
       "view a store, a volume or procedural:NAME:SIZE in a window (X11, OpenGL 4.5): orbit, pan, zoom, fly, "
       "center on a point; probe and ruler; panels for mode, isovalue, transfer function, rendering settings, "
-      "stats");
+      "lighting, time points and channels, stats");
   app.add_option("input", o->input,
                  "store file (.rcast), a volume as convert reads it (converted to a temporary store first), "
                  "or procedural:NAME:SIZE")
