@@ -335,6 +335,13 @@ ClipPlane clipPlaneOf(const std::vector<double>& values) {
   return {point, normal / length};
 }
 
+void setMaterial(LightingParams& lighting, const std::vector<double>& material) {
+  lighting.ambient = material.at(0);
+  lighting.diffuse = material.at(1);
+  lighting.specular = material.at(2);
+  lighting.shininess = material.at(3);
+}
+
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command) {
   const auto [lo, hi] = valueRangeOf(info);
   RenderParams params;
@@ -349,12 +356,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.clipPlane = clipPlaneOf(o.clipPlane);
   params.isoCaps = o.caps;
   if (!o.isoColor.empty()) params.lighting.isoBaseColor = toVec3(o.isoColor);
-  if (!o.material.empty()) {
-    params.lighting.ambient = o.material.at(0);
-    params.lighting.diffuse = o.material.at(1);
-    params.lighting.specular = o.material.at(2);
-    params.lighting.shininess = o.material.at(3);
-  }
+  if (!o.material.empty()) setMaterial(params.lighting, o.material);
   params.lighting.dvrShading = o.shading;
   if (params.mode == RenderMode::Iso && !(params.isoValue >= lo && params.isoValue <= hi))
     std::fprintf(stderr,

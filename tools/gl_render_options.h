@@ -72,6 +72,9 @@ std::unique_ptr<BrickSource> openBrickSource(const std::string& input, std::opti
                                              const VolumeReadArgs& read, bool quiet, const std::string& who,
                                              VolumeInfo* volume = nullptr);
 
+// --material's KA,KD,KS,SHININESS (materialProblem has checked them) into `lighting`.
+void setMaterial(LightingParams& lighting, const std::vector<double>& material);
+
 // --orbit, else the default orbit of `volume` (kPatientDefaultOrbit for a patient's, else kDefaultOrbit).
 // Throws UsageError for a distance that is not positive.
 glm::dvec3 orbitFor(const RenderOptions& o, const VolumeInfo& volume);

@@ -232,6 +232,7 @@ class Viewer {
   void askTimePoint(uint32_t t);
   void askChannel(uint32_t c);
   void askPick(Pick p);
+  void checkPickable(const std::string& what, uint32_t index, uint32_t count) const;
   // Shows the wanted volume once it is made (its conversion's failure turns it back to the shown one).
   void followPick();
   // What depends on the shown source: the probe's reader, the value range and histogram, the baked transfer
@@ -450,23 +451,25 @@ void Viewer::attachShownSource() {
   if (tfTable_) setTransferFunction(tf_, tfSpec_);
 }
 
-void Viewer::askTimePoint(uint32_t t) {
-  if (timePoints_ == 1)
-    throw Error("view: the input " + o_.input + " holds one time point; time point " + std::to_string(t) +
+// Throws naming `what` ("time point", "channel") when the input holds no `index`-th of them (it holds
+// `count`).
+void Viewer::checkPickable(const std::string& what, uint32_t index, uint32_t count) const {
+  const std::string i = std::to_string(index);
+  if (count == 1)
+    throw Error("view: the input " + o_.input + " holds one " + what + "; " + what + " " + i +
                 " does not exist");
-  if (t >= timePoints_)
-    throw Error("view: time point " + std::to_string(t) + ": the input " + o_.input + " holds " +
-                std::to_string(timePoints_) + " (0 to " + std::to_string(timePoints_ - 1) + ")");
+  if (index >= count)
+    throw Error("view: " + what + " " + i + ": the input " + o_.input + " holds " + std::to_string(count) +
+                " (0 to " + std::to_string(count - 1) + ")");
+}
+
+void Viewer::askTimePoint(uint32_t t) {
+  checkPickable("time point", t, timePoints_);
   askPick({t, wantedPick_.channel});
 }
 
 void Viewer::askChannel(uint32_t c) {
-  if (channels_ == 1)
-    throw Error("view: the input " + o_.input + " holds one channel; channel " + std::to_string(c) +
-                " does not exist");
-  if (c >= channels_)
-    throw Error("view: channel " + std::to_string(c) + ": the input " + o_.input + " holds " +
-                std::to_string(channels_) + " (0 to " + std::to_string(channels_ - 1) + ")");
+  checkPickable("channel", c, channels_);
   askPick({wantedPick_.time, c});
 }
 
@@ -821,12 +824,7 @@ void Viewer::runEvent(const ViewEvent& e) {
     case ViewEventKind::SetLighting:
       if (e.isoColor) params_.lighting.isoBaseColor = *e.isoColor;
       if (e.shading) params_.lighting.dvrShading = *e.shading;
-      if (!e.material.empty()) {
-        params_.lighting.ambient = e.material[0];
-        params_.lighting.diffuse = e.material[1];
-        params_.lighting.specular = e.material[2];
-        params_.lighting.shininess = e.material[3];
-      }
+      if (!e.material.empty()) setMaterial(params_.lighting, e.material);
       break;
     case ViewEventKind::Play:
       if (e.secondsEach >= 0.0) playSecondsEach_ = e.secondsEach;
