@@ -86,6 +86,9 @@ class StackedSource final : public VolumeSource {
 
 }  // namespace
 
+// A note lists the channels' names up to this many.
+constexpr size_t kListedChannelNames = 16;
+
 PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file) {
   PickedVolume picked;
   picked.timePoint = pickIndex(options.timePoint, counts.timePoints, "--time", "time point", file);
@@ -102,8 +105,14 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
     if (!options.timePoint) add(unpicked, "--time T (0 to " + std::to_string(counts.timePoints - 1) + ")");
   }
   if (counts.channels > 1) {
-    add(described, channel + " " + std::to_string(picked.channel) + " of " + std::to_string(counts.channels));
-    add(held, countOf(counts.channels, channel), " and ");
+    const std::vector<std::string>& names = counts.channelNames;
+    const bool named = names.size() == counts.channels;
+    add(described, channel + " " + std::to_string(picked.channel) + " of " + std::to_string(counts.channels) +
+                       (named ? ": '" + names[picked.channel] + "'" : ""));
+    std::string listed;  // the names, where they are few enough to read
+    for (size_t i = 0; named && names.size() <= kListedChannelNames && i < names.size(); ++i)
+      listed += (i ? ", '" : " ('") + names[i] + "'" + (i + 1 == names.size() ? ")" : "");
+    add(held, countOf(counts.channels, channel) + listed, " and ");
     if (!options.channel)
       add(unpicked, "--channel C (0 to " + std::to_string(counts.channels - 1) + ")", " or ");
   }

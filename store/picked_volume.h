@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "store/volume_source.h"
 
@@ -20,6 +21,9 @@ struct VolumeCounts {
   // What the file calls what --channel picks, for messages: "channel", or "view setup" (BigDataViewer's
   // channels, angles and tiles).
   std::string channelWord = "channel";
+  // Each channel's name where the file names them all (BigDataViewer's view setups), else empty: said beside
+  // the channel's number.
+  std::vector<std::string> channelNames = {};
 };
 
 struct PickedVolume {

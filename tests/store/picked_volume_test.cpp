@@ -43,6 +43,20 @@ TEST(PickedVolume, TheOptionsPickAndTheNoteSaysWhatElseTheFileHolds) {
   EXPECT_EQ(pickVolume(options, {4, 3}, "F").note, "");
   EXPECT_EQ(pickVolume({}, {1, 2, "view setup"}, "F").note,
             "F holds 2 view setups: view setup 0 of 2 is read; --channel C (0 to 1) picks another");
+  // Named channels: the one read, and all of them where few enough; names for some only are not said.
+  options.timePoint.reset();
+  options.channel = 1;
+  const PickedVolume named = pickVolume(options, {2, 2, "view setup", {"DAPI", "GFP, angle 90"}}, "F");
+  EXPECT_EQ(named.described, " (time point 0 of 2, view setup 1 of 2: 'GFP, angle 90')");
+  EXPECT_EQ(
+      named.note,
+      "F holds 2 time points and 2 view setups ('DAPI', 'GFP, angle 90'): time point 0 of 2, view setup 1 "
+      "of 2: 'GFP, angle 90' is read; --time T (0 to 1) picks another");
+  EXPECT_EQ(pickVolume({}, {1, 3, "channel", {"a", "b"}}, "F").described, " (channel 0 of 3)");
+  std::vector<std::string> many(17, "c");
+  EXPECT_EQ(pickVolume({}, {1, 17, "channel", many}, "F").note,
+            "F holds 17 channels: channel 0 of 17: 'c' is read; --channel C (0 to 16) picks another");
+  options.channel = 2;
 
   options.timePoint = 4;
   EXPECT_EQ(pickError(options, {4, 3}), "--time 4: F holds 4 time points (--time 0 to 3)");

@@ -470,14 +470,14 @@ TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
   ASSERT_EQ(first->info().notes.size(), 1u);
   EXPECT_EQ(first->info().notes[0],
             "BigDataViewer dataset " + xml +
-                " holds 2 view setups: view setup 0 of 2 is read; --channel C (0 to 1) "
-                "picks another");
+                " holds 2 view setups ('beads', 'beads, other angle'): view setup 0 of 2: 'beads' is read; "
+                "--channel C (0 to 1) picks another");
   SourceOptions angle;
   angle.channel = 1;
   const auto picked = openVolumeSource(xml, angle);
   EXPECT_EQ(picked->info().spacing, glm::dvec3(0.5, 0.5, 2.0));
   EXPECT_EQ(picked->info().description,
-            "bdv:" + xml + " (" + h5 + ":/t00000/s03/0/cells) (view setup 1 of 2)");
+            "bdv:" + xml + " (" + h5 + ":/t00000/s03/0/cells) (view setup 1 of 2: 'beads, other angle')");
   std::vector<uint16_t> otherValues(other.begin(), other.end());
   EXPECT_EQ(readSlab<uint16_t>(*picked, 0, 5), otherValues);
   angle.channel = 2;

@@ -320,7 +320,9 @@ void expectPagesReadAtTheirDirectories(const std::string& path, const PageStorag
   ASSERT_TRUE(layouts);
   ASSERT_EQ((*layouts)[2].compression, compression) << path;
   ASSERT_EQ((*layouts)[2].tiled, storage.tile > 0) << path;
-  if (storage.rowsPerStrip) ASSERT_EQ((*layouts)[2].rowsPerStrip, uint64_t(storage.rowsPerStrip)) << path;
+  if (storage.rowsPerStrip) {
+    ASSERT_EQ((*layouts)[2].rowsPerStrip, uint64_t(storage.rowsPerStrip)) << path;
+  }
   ASSERT_TRUE(TiffPageReader::reads((*layouts)[2])) << path;
   expectSlices<T>(*openVolumeSource(path), w, h, 4);
 }
