@@ -440,8 +440,11 @@ std::unique_ptr<VolumeSource> openMultiPageTiffSource(const std::string& path, c
   const std::string kind = !layout                      ? "TIFF "
                            : layout->writer == "ImageJ" ? "ImageJ hyperstack "
                                                         : "OME-TIFF image ";
-  const PickedVolume picked = pickVolume(
-      options, layout ? VolumeCounts{layout->frames, layout->channels} : VolumeCounts{}, kind + path);
+  const PickedVolume picked =
+      pickVolume(options,
+                 layout ? VolumeCounts{layout->frames, layout->channels, "channel", layout->channelNames}
+                        : VolumeCounts{},
+                 kind + path);
   std::vector<SliceRef> slices;
   const uint64_t count = layout ? layout->slices : uint64_t(pages);
   for (uint64_t z = 0; z < count; ++z)

@@ -23,8 +23,9 @@ std::optional<uint64_t> count(std::string_view text) {
   return n;
 }
 
-// The attributes of the first Pixels element of OME-XML, by name; empty when there is none. A problem stops
-// the parser (exceptions must not cross expat's frames).
+// The attributes of the first Pixels element of OME-XML, by name, and the names of its Channel elements
+// (empty for one without a Name); empty when there is none. A problem stops the parser (exceptions must not
+// cross expat's frames).
 class OmePixelsReader {
  public:
   std::map<std::string, std::string> read(std::string_view xml) {
@@ -34,20 +35,32 @@ class OmePixelsReader {
     XML_Parse(parser_, xml.data(), int(xml.size()), XML_TRUE);
     return omeRoot_ ? pixels_ : std::map<std::string, std::string>{};
   }
+  const std::vector<std::string>& channelNames() const { return channelNames_; }
 
   void startElement(std::string_view name, const XML_Char** attributes) {
-    if (depth_++ == 0) omeRoot_ = name == "OME" || name.ends_with(":OME");
-    if (!omeRoot_ || !(name == "Pixels" || name.ends_with(":Pixels"))) return;
-    for (size_t i = 0; attributes[i]; i += 2) pixels_[attributes[i]] = attributes[i + 1];
-    XML_StopParser(parser_, XML_FALSE);
+    const int depth = depth_++;
+    if (depth == 0) omeRoot_ = name == "OME" || name.ends_with(":OME");
+    if (!omeRoot_) return;
+    if (pixelsDepth_ < 0 && (name == "Pixels" || name.ends_with(":Pixels"))) {
+      pixelsDepth_ = depth;
+      for (size_t i = 0; attributes[i]; i += 2) pixels_[attributes[i]] = attributes[i + 1];
+    } else if (pixelsDepth_ >= 0 && depth == pixelsDepth_ + 1 &&
+               (name == "Channel" || name.ends_with(":Channel"))) {
+      channelNames_.emplace_back();
+      for (size_t i = 0; attributes[i]; i += 2)
+        if (std::string_view(attributes[i]) == "Name") channelNames_.back() = attributes[i + 1];
+    }
   }
-  void endElement(std::string_view) { --depth_; }
+  void endElement(std::string_view) {
+    if (--depth_ == pixelsDepth_) XML_StopParser(parser_, XML_FALSE);  // the first image's Pixels end
+  }
 
  private:
   XML_Parser parser_ = nullptr;
-  int depth_ = 0;
+  int depth_ = 0, pixelsDepth_ = -1;
   bool omeRoot_ = false;
   std::map<std::string, std::string> pixels_;
+  std::vector<std::string> channelNames_;
 };
 
 }  // namespace
@@ -107,6 +120,9 @@ std::optional<TiffStackLayout> omeLayout(std::string_view description, uint64_t 
   TiffStackLayout layout;
   layout.writer = "OME-TIFF";
   layout.slices = *z, layout.channels = *c, layout.frames = *t;
+  const std::vector<std::string>& names = reader.channelNames();
+  if (names.size() == layout.channels && std::ranges::none_of(names, &std::string::empty))
+    layout.channelNames = names;
   if (layout.slices > pages || layout.channels > pages / layout.slices ||
       layout.frames > pages / (layout.slices * layout.channels) ||
       layout.slices * layout.channels * layout.frames != pages)

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -20,6 +21,7 @@ struct TiffStackLayout {
   std::optional<glm::dvec3> spacing;  // x, y, z where the description gives them
   std::string unit;                   // of the spacing ("micron", "µm", ...), where named
   uint64_t channels = 1, slices = 1, frames = 1;
+  std::vector<std::string> channelNames;  // where the description names every channel (OME's Channel Name)
   // Pages between one slice, channel and frame and the next.
   uint64_t sliceStride = 1, channelStride = 1, frameStride = 1;
 

@@ -408,6 +408,57 @@ TEST(SourceImages, APageThatDoesNotDecodeIsNamed) {
   }
 }
 
+// Pages of w x h uint16 samples, the first described by `description` (ImageJ's or OME's) and, where
+// `resolution` > 0, that many pixels per unit along x and y.
+void writeDescribedPages(const std::string& path, int w, int h,
+                         const std::vector<std::vector<uint16_t>>& pages, const std::string& description,
+                         float resolution = 0.0f) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out);
+  std::vector<OIIO::ImageSpec> specs(pages.size(), OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::UINT16));
+  specs[0].attribute("ImageDescription", description);
+  if (resolution > 0.0f) {
+    specs[0].attribute("XResolution", resolution);
+    specs[0].attribute("YResolution", resolution);
+    specs[0].attribute("ResolutionUnit", "none");
+  }
+  ASSERT_TRUE(out->open(path, int(pages.size()), specs.data())) << out->geterror();
+  for (size_t z = 0; z < pages.size(); ++z) {
+    if (z > 0) {
+      ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
+    }
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, pages[z].data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close());
+}
+
+// An OME-TIFF of 2 named channels of 3 slices (XYZCT: a channel's slices one after another): the names are
+// said in the warning and the description; --channel 1 reads the second channel's pages.
+TEST(SourceImages, AnOmeTiffsNamedChannels) {
+  TempDir dir;
+  const std::string path = dir.file("cells.ome.tif");
+  std::vector<std::vector<uint16_t>> pages;
+  for (uint32_t page = 0; page < 6; ++page) pages.push_back(slicePattern<uint16_t>(5, 4, page));
+  writeDescribedPages(
+      path, 5, 4, pages,
+      "<?xml version=\"1.0\"?><OME xmlns=\"http://www.openmicroscopy.org/Schemas/OME/2016-06\"><Image "
+      "ID=\"Image:0\"><Pixels ID=\"Pixels:0\" DimensionOrder=\"XYZCT\" Type=\"uint16\" SizeX=\"5\" "
+      "SizeY=\"4\" SizeZ=\"3\" SizeC=\"2\" SizeT=\"1\"><Channel ID=\"Channel:0:0\" Name=\"DAPI\"/><Channel "
+      "ID=\"Channel:0:1\" Name=\"GFP\"/><TiffData/></Pixels></Image></OME>");
+  const auto first = openVolumeSource(path);
+  ASSERT_EQ(first->info().notes.size(), 1u);
+  EXPECT_EQ(first->info().notes[0], "OME-TIFF image " + path +
+                                        " holds 2 channels ('DAPI', 'GFP'): channel 0 of 2: 'DAPI' is read; "
+                                        "--channel C (0 to 1) picks another");
+  SourceOptions second;
+  second.channel = 1;
+  const auto gfp = openVolumeSource(path, second);
+  EXPECT_EQ(gfp->info().description, "tiff:" + path + " (channel 1 of 2: 'GFP')");
+  std::vector<uint16_t> expected;
+  for (uint32_t page : {3u, 4u, 5u}) expected.insert(expected.end(), pages[page].begin(), pages[page].end());
+  EXPECT_EQ(readSlab<uint16_t>(*gfp, 0, 3), expected);
+}
+
 // An ImageJ hyperstack of 2 channels, 3 slices and 2 frames (pages c0 z0 t0, c1 z0 t0, c0 z1 t0, ..., c0 z0
 // t1, ...), calibrated: its first channel's first frame is read, at its calibration, said in the description;
 // --channel and --time pick another; --spacing overrides the calibration.
@@ -416,25 +467,10 @@ TEST(SourceImages, AnImageJHyperstacksChannelAndFrameAtItsCalibration) {
   const std::string path = dir.file("stack.tif");
   std::vector<std::vector<uint16_t>> pages;
   for (uint32_t page = 0; page < 12; ++page) pages.push_back(slicePattern<uint16_t>(5, 4, page));
-  {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out);
-    std::vector<OIIO::ImageSpec> specs(12, OIIO::ImageSpec(5, 4, 1, OIIO::TypeDesc::UINT16));
-    specs[0].attribute("ImageDescription",
-                       "ImageJ=1.54f\nimages=12\nchannels=2\nslices=3\nframes=2\nhyperstack=true\nunit="
-                       "micron\nspacing=2\n");
-    specs[0].attribute("XResolution", 4.0f);
-    specs[0].attribute("YResolution", 4.0f);
-    specs[0].attribute("ResolutionUnit", "none");
-    ASSERT_TRUE(out->open(path, 12, specs.data())) << out->geterror();
-    for (size_t z = 0; z < pages.size(); ++z) {
-      if (z > 0) {
-        ASSERT_TRUE(out->open(path, specs[z], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
-      }
-      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, pages[z].data())) << out->geterror();
-    }
-    ASSERT_TRUE(out->close());
-  }
+  writeDescribedPages(path, 5, 4, pages,
+                      "ImageJ=1.54f\nimages=12\nchannels=2\nslices=3\nframes=2\nhyperstack=true\nunit="
+                      "micron\nspacing=2\n",
+                      4.0f);
   const auto pagesOf = [&](std::initializer_list<uint32_t> numbers) {
     std::vector<uint16_t> expected;
     for (const uint32_t page : numbers)

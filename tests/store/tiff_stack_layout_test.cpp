@@ -83,5 +83,27 @@ TEST(TiffStackLayout, AnOmeTiffsPixels) {
   EXPECT_FALSE(plain->spacing);
 }
 
+// The first image's channels' names, where every one has a Name; another image's channels are not its.
+TEST(TiffStackLayout, AnOmeTiffsChannelNames) {
+  const auto ome = [](const std::string& channels) {
+    return "<OME xmlns=\"http://www.openmicroscopy.org/Schemas/OME/2016-06\"><Image ID=\"Image:0\">"
+           "<Pixels ID=\"Pixels:0\" DimensionOrder=\"XYZCT\" SizeX=\"8\" SizeY=\"6\" SizeZ=\"3\" SizeC=\"2\" "
+           "SizeT=\"1\" Type=\"uint8\">" +
+           channels +
+           "<TiffData/></Pixels></Image><Image ID=\"Image:1\"><Pixels ID=\"Pixels:1\"><Channel "
+           "Name=\"other\"/></Pixels></Image></OME>";
+  };
+  const auto named = omeLayout(ome("<Channel ID=\"Channel:0:0\" Name=\"DAPI\" SamplesPerPixel=\"1\"/>"
+                                   "<Channel ID=\"Channel:0:1\" Name=\"GFP\" SamplesPerPixel=\"1\"/>"),
+                               6);
+  ASSERT_TRUE(named);
+  EXPECT_EQ(named->channelNames, (std::vector<std::string>{"DAPI", "GFP"}));
+  const auto unnamed =
+      omeLayout(ome("<Channel ID=\"Channel:0:0\" Name=\"DAPI\"/><Channel ID=\"Channel:0:1\"/>"), 6);
+  ASSERT_TRUE(unnamed);
+  EXPECT_TRUE(unnamed->channelNames.empty());
+  EXPECT_TRUE(omeLayout(ome(""), 6)->channelNames.empty());
+}
+
 }  // namespace
 }  // namespace ropecast
