@@ -383,7 +383,8 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
   }
   const PickedVolume picked = pickVolume(options,
                                          {axes.time < 0 ? 1 : array.shape[size_t(axes.time)],
-                                          axes.channel < 0 ? 1 : array.shape[size_t(axes.channel)]},
+                                          axes.channel < 0 ? 1 : array.shape[size_t(axes.channel)], "channel",
+                                          ome ? ome->channelLabels : std::vector<std::string>{}},
                                          (ome ? "OME-Zarr image " : "Zarr array ") + path);
   std::vector<uint64_t> pickedIndex(array.shape.size(), 0);
   if (axes.time >= 0) pickedIndex[size_t(axes.time)] = picked.timePoint;

@@ -339,6 +339,18 @@ std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std
     }
     return std::nullopt;
   };
+  // Labels are for messages alone: an omero block that names no channel, or not every one, is passed over.
+  const json omero = j.value("omero", json());
+  if (omero.is_object() && omero.contains("channels") && omero.at("channels").is_array()) {
+    for (const json& channel : omero.at("channels")) {
+      const json label = channel.is_object() ? channel.value("label", json()) : json();
+      if (!label.is_string() || label.get<std::string>().empty()) {
+        ome.channelLabels.clear();
+        break;
+      }
+      ome.channelLabels.push_back(label.get<std::string>());
+    }
+  }
   ome.scale = transformOf(datasets.at(0), "scale");
   ome.translation = transformOf(datasets.at(0), "translation");
   const auto imageScale = transformOf(m, "scale");

@@ -66,6 +66,8 @@ struct OmeMultiscale {
   std::optional<std::vector<double>> scale;  // per axis, the dataset's scale times the image's
   // Per axis, where the first sample lies: the dataset's translation, then the image's scale and translation
   std::optional<std::vector<double>> translation;
+  // The `omero` block's channel labels, in order, where it labels every channel; else empty.
+  std::vector<std::string> channelLabels;
 };
 
 // The first multiscale image of a `.zattrs` (OME-NGFF 0.1 to 0.4) or of a group's `zarr.json` (0.5: under

@@ -155,6 +155,18 @@ TEST(SourceZarr, OmeZarrImagesReadTheirFirstDatasetWithNamedAxesAndScale) {
   second.timePoint = 1;
   EXPECT_EQ(errorOf(swapped.string(), second),
             "--time 1: OME-Zarr image " + swapped.string() + " holds 1 time point (--time 0 alone)");
+  // The omero block's labels name the channels, where it labels every one.
+  second.timePoint.reset();
+  writeFile(swapped / ".zattrs",
+            R"({"multiscales": [{"axes": ["c", "z", "y", "x"], "datasets": [{"path": "0"}]}],
+                "omero": {"channels": [{"label": "DAPI", "color": "0000FF"}, {"label": "GFP"}]}})");
+  EXPECT_EQ(openVolumeSource(swapped.string(), second)->info().description,
+            "zarr:" + (swapped / "0").string() + " (channel 1 of 2: 'GFP')");
+  writeFile(swapped / ".zattrs",
+            R"({"multiscales": [{"axes": ["c", "z", "y", "x"], "datasets": [{"path": "0"}]}],
+                "omero": {"channels": [{"label": "DAPI"}, {"color": "00FF00"}]}})");
+  EXPECT_EQ(openVolumeSource(swapped.string(), second)->info().description,
+            "zarr:" + (swapped / "0").string() + " (channel 1 of 2)");
 
   // Another axis longer than 1 is refused.
   const fs::path other = dir / "qzyx.zarr";
