@@ -66,6 +66,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (layout->slices * layout->channels * layout->frames != kPages) std::abort();
         const uint64_t last = layout->page(layout->slices - 1, layout->channels - 1, layout->frames - 1);
         if (last >= kPages) std::abort();
+        // Channel names: none, or one (not empty) for every channel.
+        if (!layout->channelNames.empty() && layout->channelNames.size() != layout->channels) std::abort();
+        for (const std::string& name : layout->channelNames)
+          if (name.empty()) std::abort();
         if (layout->spacing)
           for (int a = 0; a < 3; ++a)
             if (!((*layout->spacing)[a] > 0.0 && std::isfinite((*layout->spacing)[a]))) std::abort();

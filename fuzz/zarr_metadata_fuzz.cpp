@@ -45,6 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       checkArray(ropecast::parseZarrV3Array(text, "fuzz/zarr.json"));
     } else if (const auto ome = ropecast::parseOmeMultiscale(text, "fuzz/.zattrs")) {
       if (ome->scale && !ome->axisNames.empty() && ome->scale->size() != ome->axisNames.size()) std::abort();
+      for (const std::string& label : ome->channelLabels)
+        if (label.empty()) std::abort();  // labels are all given or none
     }
   } catch (const ropecast::Error&) {
   }

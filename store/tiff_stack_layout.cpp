@@ -1,5 +1,6 @@
 #include "store/tiff_stack_layout.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
