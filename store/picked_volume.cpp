@@ -128,6 +128,8 @@ void describePicked(VolumeInfo& info, const PickedVolume& picked) {
   info.channels = picked.counts.channels;
   info.timePoint = picked.timePoint;
   info.channel = picked.channel;
+  if (picked.counts.channelNames.size() == picked.counts.channels)
+    info.channelNames = picked.counts.channelNames;
   info.description += picked.described;
   if (!picked.note.empty()) info.notes.push_back(picked.note);
 }

@@ -48,6 +48,7 @@ struct VolumeInfo {
   // which of each this volume is; 1, 1 and 0, 0 for a file of one volume.
   uint64_t timePoints = 1, channels = 1;
   uint32_t timePoint = 0, channel = 0;
+  std::vector<std::string> channelNames;  // each channel's, where the file names them all; else empty
   std::string description;  // e.g. "raw:/data/bonsai_256x256x256_uint8.raw", "procedural:sphere:256"
   // What the source noticed about its input that a person should hear, though the samples are read as
   // described (the converter prints them as warnings): a NRRD's turned axes, gaps in a slice numbering.

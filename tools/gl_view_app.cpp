@@ -207,6 +207,7 @@ class Viewer {
   std::unique_ptr<BrickSource> source_;
   std::optional<SeriesStores> series_;
   uint32_t timePoints_ = 1, channels_ = 1;  // of the input
+  std::vector<std::string> channelNames_;   // where the file names each channel
   struct Pick {
     uint32_t time = 0, channel = 0;
     friend bool operator==(const Pick&, const Pick&) = default;
@@ -218,7 +219,8 @@ class Viewer {
   Pick shownPick_, wantedPick_;  // of a series: the volume shown, and the one asked for
   bool pickPending() const { return shownPick_ != wantedPick_; }
   Pick nextTimePoint() const { return {(shownPick_.time + 1) % timePoints_, shownPick_.channel}; }
-  // "time point 3, channel 1", naming what the input has several of.
+  // "time point 3, channel 1 'GFP'", naming what the input has several of (a channel's name where the file
+  // names it).
   std::string pickName(Pick p) const;
   // Playing, the series is shown time point after time point (of the channel shown), each until its view has
   // converged and playSecondsEach_ have passed, the next made while it shows; after the last comes the first.
@@ -335,6 +337,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   if ((volume.timePoints > 1 || volume.channels > 1) && volume.timePoints * volume.channels <= UINT32_MAX) {
     timePoints_ = uint32_t(volume.timePoints);
     channels_ = uint32_t(volume.channels);
+    channelNames_ = volume.channelNames;
     shownPick_ = wantedPick_ = {uint32_t(volume.timePoint), uint32_t(volume.channel)};
     const SourceOptions read = sourceOptionsOf(o.read, "view");
     auto convert = [input = o.input, read, brick = o.brick, timePoints = timePoints_](
@@ -481,7 +484,10 @@ void Viewer::askPick(Pick p) {
 std::string Viewer::pickName(Pick p) const {
   std::string name;
   if (timePoints_ > 1) name = "time point " + std::to_string(p.time);
-  if (channels_ > 1) name += (name.empty() ? "" : ", ") + std::string("channel ") + std::to_string(p.channel);
+  if (channels_ > 1) {
+    name += (name.empty() ? "" : ", ") + std::string("channel ") + std::to_string(p.channel);
+    if (p.channel < channelNames_.size()) name += " '" + channelNames_[p.channel] + "'";
+  }
   return name;
 }
 
@@ -971,8 +977,13 @@ void Viewer::drawSeriesControls() {
         playSecondsEach_ = seconds;
     }
   }
-  if (channels_ > 1)
+  if (channels_ > 1) {
     if (const std::optional<uint32_t> c = slider("channel", wantedPick_.channel, channels_)) askChannel(*c);
+    if (wantedPick_.channel < channelNames_.size()) {
+      ImGui::SameLine();
+      ImGui::TextUnformatted(channelNames_[wantedPick_.channel].c_str());
+    }
+  }
   if (const auto converting = series_->converting())
     ImGui::TextDisabled(
         "converting %s: %.0f%%",

@@ -74,6 +74,10 @@ TEST(PickedVolume, DescribePickedSaysWhichVolumeInTheInfo) {
   EXPECT_EQ(info.description, "nifti:a.nii (time point 2 of 5, channel 0 of 3)");
   EXPECT_EQ(info.timePoints, 5u);
   EXPECT_EQ(info.channels, 3u);
+  EXPECT_TRUE(info.channelNames.empty());
+  VolumeInfo named;
+  describePicked(named, pickVolume({}, {1, 2, "channel", {"DAPI", "GFP"}}, "F"));
+  EXPECT_EQ(named.channelNames, (std::vector<std::string>{"DAPI", "GFP"}));
   EXPECT_EQ(info.timePoint, 2u);
   EXPECT_EQ(info.channel, 0u);
   ASSERT_EQ(info.notes.size(), 1u);
