@@ -101,12 +101,11 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   b.ert = float(rp.ert);
   b.background = glm::vec3(rp.background);
   b.isoValue = float(mapping.toStored(rp.isoValue) / storedMax);
-  const LightingParams& lighting = rp.lighting;
-  b.isoBaseColor = glm::vec3(lighting.isoBaseColor);
-  b.ambient = float(lighting.ambient);
-  b.diffuse = float(lighting.diffuse);
-  b.specular = float(lighting.specular);
-  b.shininess = float(lighting.shininess);
+  b.isoBaseColor = glm::vec3(rp.lighting.isoBaseColor);
+  b.ambient = float(rp.lighting.ambient);
+  b.diffuse = float(rp.lighting.diffuse);
+  b.specular = float(rp.lighting.specular);
+  b.shininess = float(rp.lighting.shininess);
   b.leafMaximaLargest = 2.0f;  // no leaf's largest value known: no MIP ray ends early (values lie in [0, 1])
   return b;
 }

@@ -89,6 +89,12 @@ class StackedSource final : public VolumeSource {
 // A note lists the channels' names up to this many.
 constexpr size_t kListedChannelNames = 16;
 
+// Whether the file names every channel (a name for each, none empty): only then are names said.
+bool namesEveryChannel(const VolumeCounts& counts) {
+  return counts.channelNames.size() == counts.channels &&
+         std::ranges::none_of(counts.channelNames, &std::string::empty);
+}
+
 PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const std::string& file) {
   PickedVolume picked;
   picked.timePoint = pickIndex(options.timePoint, counts.timePoints, "--time", "time point", file);
@@ -106,7 +112,7 @@ PickedVolume pickVolume(const SourceOptions& options, VolumeCounts counts, const
   }
   if (counts.channels > 1) {
     const std::vector<std::string>& names = counts.channelNames;
-    const bool named = names.size() == counts.channels;
+    const bool named = namesEveryChannel(counts);
     add(described, channel + " " + std::to_string(picked.channel) + " of " + std::to_string(counts.channels) +
                        (named ? ": '" + names[picked.channel] + "'" : ""));
     std::string listed;  // the names, where they are few enough to read
@@ -128,8 +134,7 @@ void describePicked(VolumeInfo& info, const PickedVolume& picked) {
   info.channels = picked.counts.channels;
   info.timePoint = picked.timePoint;
   info.channel = picked.channel;
-  if (picked.counts.channelNames.size() == picked.counts.channels)
-    info.channelNames = picked.counts.channelNames;
+  if (namesEveryChannel(picked.counts)) info.channelNames = picked.counts.channelNames;
   info.description += picked.described;
   if (!picked.note.empty()) info.notes.push_back(picked.note);
 }

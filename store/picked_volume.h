@@ -21,8 +21,8 @@ struct VolumeCounts {
   // What the file calls what --channel picks, for messages: "channel", or "view setup" (BigDataViewer's
   // channels, angles and tiles).
   std::string channelWord = "channel";
-  // Each channel's name where the file names them all (BigDataViewer's view setups), else empty: said beside
-  // the channel's number.
+  // Each channel's name (BigDataViewer's view setups, OME's channels): said beside the channel's number where
+  // every channel has one.
   std::vector<std::string> channelNames = {};
 };
 

@@ -595,10 +595,9 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
 // (--channel), by default the first of each.
 std::unique_ptr<VolumeSource> openBdvXml(const std::string& xml, const SourceOptions& options) {
   const BdvDataset dataset = parseBdvXml(readTextInput(xml, "BigDataViewer XML " + xml), xml);
-  // The setups' names say what each is (a channel, an angle, a tile), where the XML names them all.
+  // The setups' names say what each is (a channel, an angle, a tile).
   std::vector<std::string> names;
   for (const BdvSetup& setup : dataset.setups) names.push_back(setup.name);
-  if (std::ranges::any_of(names, [](const std::string& name) { return name.empty(); })) names.clear();
   const PickedVolume picked =
       pickVolume(options, {dataset.timepoints.size(), dataset.setups.size(), "view setup", std::move(names)},
                  "BigDataViewer dataset " + xml);
