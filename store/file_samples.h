@@ -1,8 +1,9 @@
 // A volume's samples stored as one block of a file, plain or deflated (a gzip or zlib stream), as NRRD,
 // MetaImage and NIfTI files hold them; read by byte range as the sources' slabs ask. Plain blocks are read
-// with pread; deflated ones as a forward stream, which restarts from the block's start when an earlier range
-// is asked for. Also what the sources of such files share once their header is read: the data file a header
-// names, and the VolumeSource over a block. Used by the file-format VolumeSources (store/).
+// with pread; deflated ones as a forward stream, which resumes from the file's nearest access point
+// (store/deflate_index.h), else from the stream's start, when a range behind it or far ahead is asked for.
+// Also what the sources of such files share once their header is read: the data file a header names, and the
+// VolumeSource over a block. Used by the file-format VolumeSources (store/).
 //
 // Threads: FileSamples and the block source, one thread at a time per object (a deflated stream is
 // per-object state); the functions, any thread.
@@ -50,6 +51,8 @@ class FileSamples {
   void read(uint64_t offset, std::span<std::byte> out);
 
   const PosixFile& file() const { return *file_; }
+  // Decompressed bytes inflated so far, those skipped to reach a range included (0 for raw samples).
+  uint64_t inflatedBytes() const;
 
  private:
   std::unique_ptr<PosixFile> file_;

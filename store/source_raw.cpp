@@ -131,7 +131,10 @@ PosixFile::PosixFile(std::string path) : path_(std::move(path)) {
     ::close(fd_);
     throw Error("cannot read " + path_ + ": is a directory");
   }
-  sizeBytes_ = uint64_t(st.st_size);
+  identity_ = {.device = uint64_t(st.st_dev),
+               .inode = uint64_t(st.st_ino),
+               .sizeBytes = uint64_t(st.st_size),
+               .modifiedNs = int64_t(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec};
 }
 
 PosixFile::~PosixFile() {
@@ -154,7 +157,7 @@ size_t PosixFile::readSomeAt(uint64_t offsetBytes, std::span<std::byte> out) con
 }
 
 std::string PosixFile::readStart(size_t maxBytes) const {
-  std::string text(size_t(std::min<uint64_t>(sizeBytes_, maxBytes)), '\0');
+  std::string text(size_t(std::min<uint64_t>(identity_.sizeBytes, maxBytes)), '\0');
   text.resize(readSomeAt(0, std::as_writable_bytes(std::span(text))));
   return text;
 }

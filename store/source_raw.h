@@ -37,6 +37,15 @@ inline constexpr uint64_t kMaxRawHeaderBytes = uint64_t(1) << 53;
 // unknown or the file size is not the header plus dims * bytes per sample (saying expected and actual size).
 std::unique_ptr<VolumeSource> openRawSource(const std::string& path, const SourceOptions& options);
 
+// Which file, as it was when opened: two opens of a file unchanged between them compare equal.
+struct FileIdentity {
+  uint64_t device = 0;
+  uint64_t inode = 0;
+  uint64_t sizeBytes = 0;
+  int64_t modifiedNs = 0;
+  bool operator==(const FileIdentity&) const = default;
+};
+
 // A read-only file descriptor, closed on destruction. Errors name the path.
 class PosixFile {
  public:
@@ -46,7 +55,8 @@ class PosixFile {
   PosixFile& operator=(const PosixFile&) = delete;
 
   const std::string& path() const { return path_; }
-  uint64_t sizeBytes() const { return sizeBytes_; }
+  uint64_t sizeBytes() const { return identity_.sizeBytes; }
+  const FileIdentity& identity() const { return identity_; }
   // Reads exactly out.size() bytes at `offsetBytes` (pread; no shared file offset). Throws if the file ends
   // first.
   void readAt(uint64_t offsetBytes, std::span<std::byte> out) const;
@@ -58,7 +68,7 @@ class PosixFile {
  private:
   std::string path_;
   int fd_ = -1;
-  uint64_t sizeBytes_ = 0;
+  FileIdentity identity_;
 };
 
 // Converts samples of `type` stored in the given byte order to native order, in place.
