@@ -3,8 +3,9 @@
 # TIMES time points of SIZE^3 uint16 (a ball with noise, moving along z), written by a script and gzip.
 # Per build, the wall seconds of `ropecast convert --time T` for the first, middle and last time point (each its
 # own run), and of the viewer (under xvfb-run, a 64x64 view) shown every time point in turn by a script that
-# waits for each to be converted and drawn; with BEFORE_DIR's ropecast beside BUILD_DIR's when given (the same
-# file, from the page cache).
+# waits for each to be converted and drawn, and of `ropecast render` (64x64) of every time point: by one run of
+# `--times :` (where the build has it) and by a run of `--time T` each; with BEFORE_DIR's ropecast beside
+# BUILD_DIR's when given (the same file, from the page cache).
 # Usage: bench/gzip_series.sh [BUILD_DIR] [BEFORE_DIR]   (default build/perf; either a tools folder or a build)
 # Environment: SIZE (256), TIMES (24), SCRATCH (a temporary directory).
 set -euo pipefail
@@ -68,5 +69,15 @@ for tool in "${builds[@]}"; do
   done
   view=$(seconds xvfb-run -a -s "-screen 0 320x240x24" "$tool" view "$series" --size 64x64 --iso 2000 \
     --script "$scratch/steps.json")
-  echo "$line view through $times time points $view s"
+  line+=" view through $times time points $view s,"
+  if "$tool" render --help | grep -q -- --times; then
+    lapse=$(seconds "$tool" render "$series" --size 64x64 --iso 2000 --times : -o "$scratch/lapse.png" -q)
+    line+=" render --times : $lapse s,"
+  fi
+  start=$(date +%s.%N)
+  for ((t = 0; t < times; ++t)); do
+    "$tool" render "$series" --size 64x64 --iso 2000 --time "$t" -o "$scratch/one.png" -q 2> /dev/null
+  done
+  echo "$line render --time T each $(python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.2f}')" \
+    "$start" "$(date +%s.%N)") s"
 done

@@ -1,4 +1,5 @@
-// `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence.
+// `ropecast render`: renders a store or a procedural volume headless, one image or a progressive sequence,
+// or each time point of a series (--times).
 // renderFrames and the options (tools/render_command.h) are shared with `ropecast regress`.
 #include <cmath>
 #include <cstdio>
@@ -24,6 +25,9 @@
 #include "render/frame_renderer.h"
 #include "render/gl_context.h"
 #include "render/step_pacer.h"
+#include "store/procedural.h"
+#include "store/store.h"
+#include "store/volume_source.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
 #include "tools/command.h"
@@ -34,6 +38,7 @@
 #include "tools/progress_bar.h"
 #include "tools/render_command.h"
 #include "tools/stats_writer.h"
+#include "tools/volume_read_options.h"
 
 namespace ropecast::tools {
 namespace {
@@ -78,15 +83,59 @@ void checkImageOutputs(const RenderOptions& o) {
   check("--depth", o.depth, ImageOutputKind::FloatExr);
 }
 
+// --times A:B: time points A to B - 1 of the input, from 0.
+struct TimeRange {
+  uint32_t begin = 0, end = 0;
+};
+
+// The time points --times names, checked against the input's (its header read, nothing converted).
+TimeRange timeRangeOf(const RenderOptions& o) {
+  const std::optional<VoxelRange> range = parseVoxelRange(o.times);
+  if (!range)
+    throw UsageError("render: --times " + o.times +
+                     ": expected A:B, A:, :B or : (time points A to B - 1, from 0, as Python's slices)");
+  if (isProceduralSpec(o.input) || isStoreInput(o.input))
+    throw UsageError("render: --times: the input " + o.input + " holds one time point (" +
+                     (isProceduralSpec(o.input) ? "it is generated" : "a store keeps one volume") + ")");
+  const uint64_t held = openVolumeSource(o.input, sourceOptionsOf(o.read, "render"))->info().timePoints;
+  if (held <= 1) throw UsageError("render: --times: the input " + o.input + " holds one time point");
+  const uint64_t begin = range->begin.value_or(0), end = range->end.value_or(held);
+  if (begin >= end || end > held)
+    throw UsageError("render: --times " + o.times + ": the input " + o.input + " holds " +
+                     std::to_string(held) + " time points (0 to " + std::to_string(held - 1) + ")");
+  return {uint32_t(begin), uint32_t(end)};
+}
+
+// The options that render time point `t` of --times as `render --time T` would, to numbered outputs
+// (OUT_TTTT.png, as --every numbers frames).
+RenderOptions timePointOptions(const RenderOptions& o, uint32_t t, bool first) {
+  RenderOptions at = o;
+  at.times.clear();
+  at.read.timePoint = t;
+  // The file's note on its channels is said once, by the first time point's conversion; the time-lapse has
+  // its own progress line.
+  if (!first) at.read.channel = o.read.channel.value_or(0);
+  at.quiet = true;
+  at.output = framePath(o.output, t);
+  if (!o.exr.empty()) at.exr = framePath(o.exr, t);
+  if (!o.depth.empty()) at.depth = framePath(o.depth, t);
+  at.messagePrefix = o.messagePrefix + "time point " + std::to_string(t) + ": ";
+  return at;
+}
+
 // No output may be an input (the store, --tf, --path) or another output; checked before anything is written.
-void checkOutputsAreNew(const RenderOptions& o) {
+// With --times, the outputs are each time point's.
+void checkOutputsAreNew(const RenderOptions& o, const std::optional<TimeRange>& times) {
   OutputGuard guard("render");
   guard.addVolumeInput("the input", o.input);
   if (std::filesystem::is_regular_file(o.tf)) guard.addInput("--tf", o.tf);
   guard.addInput("--path", o.path);
-  guard.addOutput("-o", o.output);
-  guard.addOutput("--exr", o.exr);
-  guard.addOutput("--depth", o.depth);
+  for (uint32_t t = times ? times->begin : 0; t < (times ? times->end : 1); ++t) {
+    const RenderOptions at = times ? timePointOptions(o, t, true) : o;
+    guard.addOutput("-o", at.output);
+    guard.addOutput("--exr", at.exr);
+    guard.addOutput("--depth", at.depth);
+  }
   guard.addOutput("--stats", o.stats);
   if (o.every > 0) {
     const std::filesystem::path out(o.output);
@@ -111,7 +160,11 @@ class RenderSetup {
   std::optional<CameraPath> path_;
 
  public:
-  explicit RenderSetup(const RenderOptions& o) : o_(o), source_(openBrickSource(o, "render")) {
+  // `sharedStats`: a time-lapse's --stats, each line with `statsFields` (its time point); null: the setup
+  // writes -o's own --stats.
+  explicit RenderSetup(const RenderOptions& o, StatsWriter* sharedStats = nullptr,
+                       std::string statsFields = {})
+      : o_(o), source_(openBrickSource(o, "render")), statsFields_(std::move(statsFields)) {
     if (o.ioDelayMs > 0.0) delayed_ = std::make_unique<DelayedBrickSource>(*source_, o.ioDelayMs);
     const BrickSourceInfo& info = bricks().info();
     width = o.size.at(0);
@@ -133,8 +186,15 @@ class RenderSetup {
         throw Error("camera path " + o.path + ", frame " + std::to_string(frame) + " of " +
                     std::to_string(frames) + ": " + problem);
     }
-    stats.emplace(o.stats, "--stats");
+    if (!sharedStats) ownStats_.emplace(o.stats, "--stats");
+    stats_ = sharedStats ? sharedStats : &*ownStats_;
     series.emplace(o.output, o.every > 0);
+  }
+
+  void writeStats(const FrameStats& frame) { stats_->write(frame, statsFields_); }
+  // Moves the setup's own --stats into place (a shared one is its owner's to finish).
+  void finishStats() {
+    if (ownStats_) ownStats_->finish();
   }
 
   const BrickSource& bricks() const { return delayed_ ? *delayed_ : *source_; }
@@ -156,8 +216,12 @@ class RenderSetup {
   uint32_t width = 0, height = 0;
   RenderParams params;
   uint32_t frames = 1;
-  std::optional<StatsWriter> stats;   // set once everything above is checked
-  std::optional<FrameSeries> series;  // --every's frames, likewise
+  std::optional<FrameSeries> series;  // --every's frames, set once everything above is checked
+
+ private:
+  std::optional<StatsWriter> ownStats_;  // likewise
+  StatsWriter* stats_ = nullptr;
+  std::string statsFields_;
 };
 
 // --reference: the CPU ray marcher over the full-resolution data, the last frame's camera.
@@ -202,7 +266,7 @@ RenderedFrame renderBrute(const RenderOptions& o, RenderSetup& s) {
     stats.fragments = uint64_t(bf.width) * bf.height;
     stats.frameMs = millisecondsSince(start);
     stats.converged = true;
-    s.stats->write(stats);
+    s.writeStats(stats);
     if (o.every > 0 && (frame % o.every == 0 || frame + 1 == s.frames))
       s.series->write(frame, s.seriesImage(frame, brute.readColor()));
   }
@@ -288,7 +352,7 @@ RenderedFrame renderSingleFrame(const RenderOptions& o, RenderSetup& s) {
     };
   }
   const FrameStats stats = octree.renderer->render(octree.request, showLoad);
-  s.stats->write(stats);
+  s.writeStats(stats);
   warnIfPoolLimited(o, stats, "render");
   return renderedFrame(octree.renderer->readColor(), octree.renderer->readDepth());
 }
@@ -310,7 +374,7 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
     // A converged view holds its step: its frames cost less (no queries, no feedback), and a step they made
     // smaller would be a new view whose queries answer differently, undoing the convergence.
     if (stats.drawn && !stats.converged) stepPacer.record(stats.frameMs, stats.raycastMs);
-    s.stats->write(stats);
+    s.writeStats(stats);
     const bool last = o.converge ? (frame + 1 >= s.frames && stats.converged) || frame + 1 >= frameCap
                                  : frame + 1 >= s.frames;
     bytesRead += stats.bytesRead;
@@ -347,8 +411,10 @@ RenderedFrame renderProgressive(const RenderOptions& o, RenderSetup& s) {
 
 }  // namespace
 
-RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImages) {
-  RenderSetup setup(o);
+namespace {
+
+// The last frame of the render `setup` was made for, by the path its options choose.
+RenderedFrame renderWith(const RenderOptions& o, RenderSetup& setup) {
   RenderedFrame frame;
   if (o.reference)
     frame = renderReference(setup);
@@ -360,13 +426,21 @@ RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImage
     frame = renderSingleFrame(o, setup);
   frame.camera = setup.cameraOf(setup.frames - 1);
   frame.axes = setup.bricks().info().volume.axes;
+  return frame;
+}
+
+}  // namespace
+
+RenderedFrame renderFrames(const RenderOptions& o, const StageImages& stageImages) {
+  RenderSetup setup(o);
+  const RenderedFrame frame = renderWith(o, setup);
   // Every output is written before any is renamed; the renames that can fail for a reason found on disk (a
   // folder where a frame goes) are checked first.
   std::vector<StagedImage> staged;
   if (stageImages) staged = stageImages(frame);
   setup.series->checkTargets();
   for (StagedImage& image : staged) image->commit();
-  setup.stats->finish();
+  setup.finishStats();
   setup.series->commit();
   return frame;
 }
@@ -378,6 +452,34 @@ FloatImage colorOutputOf(const RenderOptions& o, const RenderedFrame& frame) {
 }
 
 namespace {
+
+// --times: each time point rendered as `render --time T` would, one after another (a compressed file's later
+// time points start from the access points its first took, store/deflate_index.h), every image staged until
+// the last is rendered; one --stats file, each line with its time_point.
+void renderTimeLapse(const RenderOptions& o, TimeRange times) {
+  StatsWriter stats(o.stats, "--stats");
+  std::vector<StagedImage> staged;
+  if (!o.quiet)
+    std::fprintf(stderr,
+                 "%sropecast render: time points %u to %u of %s, each converted to a temporary store\n",
+                 o.messagePrefix.c_str(), times.begin, times.end - 1, o.input.c_str());
+  ProgressBar progress("render", "", o.quiet);
+  for (uint32_t t = times.begin; t < times.end; ++t) {
+    if (progress.enabled()) {
+      char text[96];
+      std::snprintf(text, sizeof text, "time point %u (%u of %u)", t, t - times.begin + 1,
+                    times.end - times.begin);
+      progress.status(text, false);
+    }
+    const RenderOptions at = timePointOptions(o, t, t == times.begin);
+    RenderSetup setup(at, &stats, "\"time_point\":" + std::to_string(t));
+    const RenderedFrame frame = renderWith(at, setup);
+    for (StagedImage& image : stageOutputs(at, frame)) staged.push_back(std::move(image));
+  }
+  progress.finish();
+  for (StagedImage& image : staged) image->commit();
+  stats.finish();
+}
 
 int runRender(const CLI::App& app, const RenderOptions& o) {
   if (o.output.empty()) throw UsageError("render: -o OUT.png is required");
@@ -393,12 +495,21 @@ int runRender(const CLI::App& app, const RenderOptions& o) {
   if (o.every > 0 && !(o.converge || o.frames > 1))
     throw UsageError("render: --every " + std::to_string(o.every) +
                      " writes frames of a progressive render: add --frames N or --converge");
+  if (!o.times.empty() && o.every > 0)
+    throw UsageError(
+        "render: --every numbers a progressive render's frames OUT_NNNN.png, as --times numbers its time "
+        "points; leave one of them out");
   checkSceneOptions(o);
   warnUnusedOptions(app, o);
   checkImageOutputs(o);
-  checkOutputsAreNew(o);
+  std::optional<TimeRange> times;
+  if (!o.times.empty()) times = timeRangeOf(o);
+  checkOutputsAreNew(o, times);
   removeTemporaryFilesOnSignals();  // an interrupted render leaves no temporary behind
-  renderFrames(o, [&o](const RenderedFrame& frame) { return stageOutputs(o, frame); });
+  if (times)
+    renderTimeLapse(o, *times);
+  else
+    renderFrames(o, [&o](const RenderedFrame& frame) { return stageOutputs(o, frame); });
   return 0;
 }
 
@@ -448,6 +559,11 @@ const CommandRegistration renderCommand("render", 50, [](CLI::App& app) -> std::
       ->required();
   app.add_option("-o,--output", o->output, "output PNG")->required()->check(nonEmptyPath("a file"));
   addRenderOptions(app, *o);
+  app.add_option("--times", o->times,
+                 "render time points A to B - 1 of a time series, from 0 (A:B, A:, :B or :, as Python's "
+                 "slices), each as --time T would, to OUT_TTTT.png (--exr's and --depth's numbered alike; "
+                 "--stats lines say their time_point)")
+      ->excludes(app.get_option("--time"));
   return [o, &app] { return runRender(app, *o); };
 });
 

@@ -64,6 +64,7 @@ struct RenderOptions {
   uint32_t ioThreads = 0;         // 0: FrameRendererConfig's default
   std::optional<uint32_t> brick;  // procedural inputs only (default kDefaultBrickSize)
   VolumeReadArgs read;            // --dims, --type, ..., --spacing: for a volume read from its file
+  std::string times;              // render's --times A:B: a time-lapse of time points A to B - 1; "": none
   bool occlusion = true;
   bool feedback = true;
   uint32_t queryBudget = VisibilityConfig{}.tiles.queryBudget;
