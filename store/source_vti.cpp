@@ -1,5 +1,7 @@
 #include "store/source_vti.h"
 
+#include <lz4.h>
+#include <lzma.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -73,6 +75,61 @@ uint64_t wordAt(const std::vector<std::byte>& bytes, size_t index, size_t width,
   return value;
 }
 
+const char* compressorName(VtiCompressor compressor) {
+  switch (compressor) {
+    case VtiCompressor::ZLib:
+      return "zlib";
+    case VtiCompressor::LZ4:
+      return "LZ4";
+    case VtiCompressor::LZMA:
+      return "LZMA";
+    case VtiCompressor::None:
+      break;
+  }
+  return "uncompressed";
+}
+
+// Decompresses one block of a compressed array into exactly out.size() bytes, as VTK's compressors store a
+// block: a zlib stream (vtkZLibDataCompressor), an LZ4 block (vtkLZ4DataCompressor), an xz stream
+// (vtkLZMADataCompressor). Returns "" or what went wrong.
+std::string decompressBlock(VtiCompressor compressor, std::span<const std::byte> in,
+                            std::span<std::byte> out) {
+  const auto sizeProblem = [&](uint64_t produced) {
+    return produced == out.size()
+               ? std::string()
+               : std::to_string(produced) + " bytes instead of " + std::to_string(out.size());
+  };
+  switch (compressor) {
+    case VtiCompressor::ZLib: {
+      uLongf produced = uLongf(out.size());
+      const int status = uncompress(reinterpret_cast<Bytef*>(out.data()), &produced,
+                                    reinterpret_cast<const Bytef*>(in.data()), uLong(in.size()));
+      return status == Z_OK ? sizeProblem(produced) : std::string(zError(status));
+    }
+    case VtiCompressor::LZ4: {
+      if (in.size() > size_t(LZ4_MAX_INPUT_SIZE) || out.size() > size_t(INT32_MAX)) return "too large";
+      const int produced =
+          LZ4_decompress_safe(reinterpret_cast<const char*>(in.data()), reinterpret_cast<char*>(out.data()),
+                              int(in.size()), int(out.size()));
+      return produced < 0 ? "not an LZ4 block of that size" : sizeProblem(uint64_t(produced));
+    }
+    case VtiCompressor::LZMA: {
+      uint64_t memoryLimit = uint64_t(1) << 30;  // a damaged header may ask for any dictionary
+      size_t inPosition = 0, outPosition = 0;
+      const lzma_ret status = lzma_stream_buffer_decode(
+          &memoryLimit, 0, nullptr, reinterpret_cast<const uint8_t*>(in.data()), &inPosition, in.size(),
+          reinterpret_cast<uint8_t*>(out.data()), &outPosition, out.size());
+      if (status == LZMA_OK) return sizeProblem(outPosition);
+      if (status == LZMA_MEMLIMIT_ERROR) return "it needs more than 1 GiB to decode";
+      if (status == LZMA_BUF_ERROR) return "more data than the block holds, or a block cut short";
+      return "not an xz stream, or a damaged one (liblzma error " + std::to_string(int(status)) + ")";
+    }
+    case VtiCompressor::None:
+      break;
+  }
+  return "not compressed";
+}
+
 class VtiSource final : public VolumeSource {
  public:
   VtiSource(const std::string& path, const SourceOptions& options)
@@ -89,7 +146,7 @@ class VtiSource final : public VolumeSource {
     info_.axes = header_.axes;
     info_.origin = header_.origin;
     if (header_.directionNotApplied) info_.notes.push_back(unappliedTransformNote(path, "its Direction"));
-    if (header_.zlib)
+    if (header_.compressor != VtiCompressor::None)
       readCompressionHeader();
     else
       readByteCount();
@@ -165,21 +222,17 @@ class VtiSource final : public VolumeSource {
     blocks_->read(blockOffsets_[index], compressed);
     const uint64_t expected = index + 2 == blockOffsets_.size() ? lastBlockBytes_ : blockBytes_;
     blockData_.resize(expected);
-    uLongf produced = uLongf(expected);
-    const int status = uncompress(reinterpret_cast<Bytef*>(blockData_.data()), &produced,
-                                  reinterpret_cast<const Bytef*>(compressed.data()), uLong(compressedBytes));
-    if (status != Z_OK || produced != expected)
-      fail("zlib block " + std::to_string(index) + " of the array '" + header_.arrayName + "' is damaged (" +
-           (status == Z_OK ? std::to_string(produced) + " bytes instead of " + std::to_string(expected)
-                           : std::string(zError(status))) +
-           ")");
+    if (const std::string problem = decompressBlock(header_.compressor, compressed, blockData_);
+        !problem.empty())
+      fail(std::string(compressorName(header_.compressor)) + " block " + std::to_string(index) +
+           " of the array '" + header_.arrayName + "' is damaged (" + problem + ")");
     cachedBlock_ = index;
     return blockData_;
   }
 
   void readSlices(uint32_t z0, uint32_t, std::span<std::byte> out) override {
     const uint64_t offset = uint64_t(z0) * info_.sliceBytes();
-    if (!header_.zlib) {
+    if (header_.compressor == VtiCompressor::None) {
       data_.read(header_.headerWordBytes + offset, out);
     } else {
       for (uint64_t done = 0; done < out.size();) {

@@ -133,11 +133,15 @@ class VtiParser {
     header_.headerWordBytes = headerType == "UInt64" ? 8 : 4;
     const std::string_view compressor = xmlAttribute(attributes, "compressor").value_or("");
     if (compressor == "vtkZLibDataCompressor")
-      header_.zlib = true;
+      header_.compressor = VtiCompressor::ZLib;
+    else if (compressor == "vtkLZ4DataCompressor")
+      header_.compressor = VtiCompressor::LZ4;
+    else if (compressor == "vtkLZMADataCompressor")
+      header_.compressor = VtiCompressor::LZMA;
     else if (!compressor.empty())
       return stop("compressor '" + std::string(compressor) +
-                  "' is not read; save without compression or with ZLib (ParaView: the writer's Compressor "
-                  "Type), or as .vtk, .nrrd or .mha");
+                  "' is not read; save without compression or with ZLib, LZ4 or LZMA (ParaView: the "
+                  "writer's Compressor Type), or as .vtk, .nrrd or .mha");
   }
 
   void imageData(const XML_Char** attributes) {

@@ -3,10 +3,10 @@
 // fuzz/volume_headers_fuzz.cpp. Used by the .vti volume source (store/). Pure function; any thread.
 //
 // Supported: VTKFile of type ImageData, either byte order, UInt32 or UInt64 headers, no compressor or
-// vtkZLibDataCompressor; one Piece covering the WholeExtent; the point data's active scalars (its Scalars
-// attribute, else its first DataArray) of one component and a scalar type of ropecast's, stored appended
-// (raw or base64) or inline (format "binary", base64). Spacing, Direction (only whether it turns the axes)
-// and Origin are read.
+// vtkZLibDataCompressor, vtkLZ4DataCompressor or vtkLZMADataCompressor; one Piece covering the WholeExtent;
+// the point data's active scalars (its Scalars attribute, else its first DataArray) of one component and a
+// scalar type of ropecast's, stored appended (raw or base64) or inline (format "binary", base64). Spacing,
+// Direction (only whether it turns the axes) and Origin are read.
 #pragma once
 
 #include <cstddef>
@@ -25,6 +25,10 @@ namespace ropecast {
 // The most of a file read as its header (readVtiHeaderFile in store/source_vti.h).
 constexpr size_t kMaxVtiHeaderBytes = size_t(1) << 20;
 
+// The VTKFile's compressor: how each block of a compressed array is stored (zlib, an LZ4 block, an xz
+// stream).
+enum class VtiCompressor : uint8_t { None, ZLib, LZ4, LZMA };
+
 struct VtiHeader {
   SampleType type = SampleType::UInt8;
   glm::u32vec3 sizes{0};    // from WholeExtent: samples per axis, axis 0 fastest
@@ -37,8 +41,8 @@ struct VtiHeader {
       origin;                  // where the first sample lies: Origin, moved to the WholeExtent's low corner
   bool bigEndian = false;      // byte_order: of the samples and of the data's header words
   size_t headerWordBytes = 4;  // header_type UInt32 (4) or UInt64 (8)
-  bool zlib = false;           // compressor vtkZLibDataCompressor: the data is in zlib blocks
-  bool base64 = false;         // the data is base64 text (inline, or appended with encoding base64)
+  VtiCompressor compressor = VtiCompressor::None;  // the data in blocks each compressed alone, or not
+  bool base64 = false;  // the data is base64 text (inline, or appended with encoding base64)
   // File offset of the array's data: its header words first (the byte count, or the compression header).
   uint64_t dataStart = 0;
   std::string arrayName;
@@ -53,7 +57,7 @@ struct VtiHeader {
 // Parses the XML at the start of `text` (the file's first bytes; the appended data may follow). `fileName`
 // is only used in messages. Throws ropecast::Error naming the file for: text that is not well-formed XML
 // (with expat's message and line), a VTKFile of another type, an unknown byte order, header type or
-// compressor (LZ4 and LZMA are refused), a WholeExtent that is not 6 integers or holds no samples, several
+// compressor, a WholeExtent that is not 6 integers or holds no samples, several
 // pieces or one that does not cover the whole extent, point data without a DataArray, components past 65536
 // or whose samples pass 2^62 bytes, unsupported types (64-bit integers, strings), ASCII data, and data that
 // starts past `text`.

@@ -1,7 +1,9 @@
 // Tests of the VTK XML image data (.vti) header parser and source: the point data's active scalars read from
-// appended raw and base64 data and inline base64 data, plain and in zlib blocks (slabs across blocks, in any
-// order), both byte orders and header word sizes, and each unsupported or damaged file giving an error that
-// names the file.
+// appended raw and base64 data and inline base64 data, plain and in zlib, LZ4 and LZMA blocks (slabs across
+// blocks, in any order), both byte orders and header word sizes, files VTK wrote with each compressor, and
+// each unsupported or damaged file giving an error that names the file.
+#include <lz4.h>
+#include <lzma.h>
 #include <zlib.h>
 
 #include <bit>
@@ -44,11 +46,55 @@ std::string base64Of(const std::string& bytes) {
   return out;
 }
 
-// How a writer stores the array: inline or appended, base64 or raw, plain or in zlib blocks of `blockBytes`.
+// How a writer stores the array: inline or appended, base64 or raw, plain or in compressed blocks of
+// `blockBytes`.
 struct VtiLayout {
-  bool inlined = false, base64 = false, zlib = false, bigEndian = false, wideHeader = false;
+  bool inlined = false, base64 = false;
+  VtiCompressor compressor = VtiCompressor::None;
+  bool bigEndian = false, wideHeader = false;
   size_t blockBytes = 100;
 };
+
+// One block as VTK's compressors store it: a zlib stream, an LZ4 block, an xz stream.
+std::string compressedBlock(const std::string& block, VtiCompressor compressor) {
+  std::string out;
+  if (compressor == VtiCompressor::ZLib) {
+    uLongf size = compressBound(uLong(block.size()));
+    out.resize(size);
+    EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(out.data()), &size,
+                        reinterpret_cast<const Bytef*>(block.data()), uLong(block.size()), 6),
+              Z_OK);
+    out.resize(size);
+  } else if (compressor == VtiCompressor::LZ4) {
+    out.resize(size_t(LZ4_compressBound(int(block.size()))));
+    const int size = LZ4_compress_default(block.data(), out.data(), int(block.size()), int(out.size()));
+    EXPECT_GT(size, 0);
+    out.resize(size_t(size));
+  } else {
+    out.resize(lzma_stream_buffer_bound(block.size()));
+    size_t size = 0;
+    EXPECT_EQ(
+        lzma_easy_buffer_encode(6, LZMA_CHECK_CRC32, nullptr, reinterpret_cast<const uint8_t*>(block.data()),
+                                block.size(), reinterpret_cast<uint8_t*>(out.data()), &size, out.size()),
+        LZMA_OK);
+    out.resize(size);
+  }
+  return out;
+}
+
+const char* compressorAttribute(VtiCompressor compressor) {
+  switch (compressor) {
+    case VtiCompressor::ZLib:
+      return " compressor=\"vtkZLibDataCompressor\"";
+    case VtiCompressor::LZ4:
+      return " compressor=\"vtkLZ4DataCompressor\"";
+    case VtiCompressor::LZMA:
+      return " compressor=\"vtkLZMADataCompressor\"";
+    case VtiCompressor::None:
+      break;
+  }
+  return "";
+}
 
 // `value` as a header word of the layout.
 std::string word(uint64_t value, const VtiLayout& layout) {
@@ -62,20 +108,15 @@ std::string word(uint64_t value, const VtiLayout& layout) {
 // the blocks in a run of their own (each run base64-encoded apart when base64).
 std::string encodedData(const std::string& samples, const VtiLayout& layout) {
   const auto encode = [&](const std::string& run) { return layout.base64 ? base64Of(run) : run; };
-  if (!layout.zlib) return encode(word(samples.size(), layout) + samples);
+  if (layout.compressor == VtiCompressor::None) return encode(word(samples.size(), layout) + samples);
   std::string header, blocks;
   const size_t count = (samples.size() + layout.blockBytes - 1) / layout.blockBytes;
   header += word(count, layout) + word(layout.blockBytes, layout) +
             word(samples.size() % layout.blockBytes, layout);
   for (size_t b = 0; b < count; ++b) {
-    const std::string block = samples.substr(b * layout.blockBytes, layout.blockBytes);
-    uLongf size = compressBound(uLong(block.size()));
-    std::string compressed(size, '\0');
-    EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(compressed.data()), &size,
-                        reinterpret_cast<const Bytef*>(block.data()), uLong(block.size()), 6),
-              Z_OK);
-    compressed.resize(size);
-    header += word(size, layout);
+    const std::string compressed =
+        compressedBlock(samples.substr(b * layout.blockBytes, layout.blockBytes), layout.compressor);
+    header += word(compressed.size(), layout);
     blocks += compressed;
   }
   return encode(header) + encode(blocks);
@@ -96,8 +137,7 @@ std::string vtiFile(const std::string& type, const std::vector<T>& values, const
   std::string xml =
       std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"") +
       (layout.bigEndian ? "BigEndian" : "LittleEndian") + "\" header_type=\"" +
-      (layout.wideHeader ? "UInt64" : "UInt32") + "\"" +
-      (layout.zlib ? " compressor=\"vtkZLibDataCompressor\"" : "") +
+      (layout.wideHeader ? "UInt64" : "UInt32") + "\"" + compressorAttribute(layout.compressor) +
       ">\n  <ImageData WholeExtent=\"-4 4 10 15 0 4\" Origin=\"0 0 0\" Spacing=\"0.5 0.75 2\">\n"
       "    <Piece Extent=\"-4 4 10 15 0 4\">\n      <PointData Scalars=\"density\">\n        " +
       array("other", "Float32", other, 0) + "        " + array("density", type, data, other.size()) +
@@ -114,15 +154,16 @@ TEST(SourceVti, EveryLayoutAWriterLeaves) {
   int file = 0;
   for (const bool inlined : {false, true})
     for (const bool base64 : {false, true})
-      for (const bool zlib : {false, true})
+      for (const VtiCompressor compressor :
+           {VtiCompressor::None, VtiCompressor::ZLib, VtiCompressor::LZ4, VtiCompressor::LZMA})
         for (const bool bigEndian : {false, true})
           for (const bool wideHeader : {false, true}) {
             if (inlined && !base64) continue;  // inline binary data is base64
-            const VtiLayout layout{inlined, base64, zlib, bigEndian, wideHeader};
+            const VtiLayout layout{inlined, base64, compressor, bigEndian, wideHeader};
             const std::string path = dir.file("v" + std::to_string(file++) + ".vti");
             writeFile(path, vtiFile("Int16", values, layout));
             SCOPED_TRACE(path + (inlined ? " inline" : " appended") + (base64 ? " base64" : " raw") +
-                         (zlib ? " zlib" : "") + (bigEndian ? " big-endian" : "") +
+                         compressorAttribute(compressor) + (bigEndian ? " big-endian" : "") +
                          (wideHeader ? " UInt64" : ""));
             auto source = openVolumeSource(path);
             expectVolume(*source,
@@ -138,6 +179,28 @@ TEST(SourceVti, EveryLayoutAWriterLeaves) {
 
 // An array of 3 components per point (a vector field, VTK's interleaved tuples), appended in zlib blocks or
 // inline in base64, big-endian: component 0 by default, with a warning; --channel picks another.
+// Files VTK's own writer made (tests/data/vti/write_fixtures.py), one per compressor: the LZ4 one in blocks
+// of 128 bytes, raw; the others in one block each, base64.
+TEST(SourceVti, FilesVtkWroteWithEachCompressor) {
+  std::vector<double> expected;
+  for (uint32_t z = 0; z < 5; ++z)
+    for (uint32_t y = 0; y < 7; ++y)
+      for (uint32_t x = 0; x < 9; ++x) expected.push_back(x + 10.0 * y + 100.0 * z);
+  for (const std::string name : {"vtk_zlib_uint16", "vtk_lz4_uint16_blocks", "vtk_lzma_float32"}) {
+    SCOPED_TRACE(name);
+    auto source = openVolumeSource(std::string(ROPECAST_TEST_DATA_DIR) + "/vti/" + name + ".vti");
+    ASSERT_EQ(source->info().dims, glm::u32vec3(9, 7, 5));
+    std::vector<double> got;
+    if (source->info().type == SampleType::UInt16) {
+      for (const uint16_t v : readSlab<uint16_t>(*source, 0, 5)) got.push_back(v);
+    } else {
+      ASSERT_EQ(source->info().type, SampleType::Float32);
+      for (const float v : readSlab<float>(*source, 0, 5)) got.push_back(v);
+    }
+    EXPECT_EQ(got, expected);
+  }
+}
+
 TEST(SourceVti, ComponentsArePickedByChannel) {
   TempDir dir;
   const auto tuples = samplePattern<float>(kVtiSamples * 3);
@@ -146,7 +209,8 @@ TEST(SourceVti, ComponentsArePickedByChannel) {
     for (size_t i = c; i < tuples.size(); i += 3) values.push_back(tuples[i]);
     return values;
   };
-  for (const VtiLayout& layout : {VtiLayout{.zlib = true, .bigEndian = true}, VtiLayout{true, true}}) {
+  for (const VtiLayout& layout :
+       {VtiLayout{.compressor = VtiCompressor::ZLib, .bigEndian = true}, VtiLayout{true, true}}) {
     std::string xml = vtiFile("Float32", tuples, layout);
     const size_t at = xml.find("Name=\"density\"");
     ASSERT_NE(at, std::string::npos);
@@ -182,7 +246,7 @@ TEST(SourceVti, EveryType) {
     using T = decltype(tag);
     const auto values = samplePattern<T>(kVtiSamples);
     const std::string path = dir.file(vtiType + ".vti");
-    writeFile(path, vtiFile(vtiType, values, {.zlib = true}));
+    writeFile(path, vtiFile(vtiType, values, {.compressor = VtiCompressor::ZLib}));
     expectVolume(*openVolumeSource(path), {{9, 6, 5}, type, {0.5, 0.75, 2.0}, "vti:" + path + " (density)"},
                  values);
   };
@@ -237,9 +301,9 @@ TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
       {"poly data", replaced("type=\"ImageData\"", "type=\"PolyData\""), "only ImageData (.vti) is read"},
       {"byte order", replaced("LittleEndian", "MiddleEndian"), "expected LittleEndian or BigEndian"},
       {"header type", replaced("UInt32", "UInt16"), "expected UInt32 or UInt64"},
-      {"LZ4",
-       replaced("header_type=\"UInt32\"", "header_type=\"UInt32\" compressor=\"vtkLZ4DataCompressor\""),
-       "compressor 'vtkLZ4DataCompressor' is not read"},
+      {"another compressor",
+       replaced("header_type=\"UInt32\"", "header_type=\"UInt32\" compressor=\"vtkZstdDataCompressor\""),
+       "compressor 'vtkZstdDataCompressor' is not read"},
       {"extent", replaced("WholeExtent=\"-4 4 10 15 0 4\"", "WholeExtent=\"-4 4 10 15 4 0\""),
        "each low <= high"},
       {"spacing", replaced("Spacing=\"0.5 0.75 2\"", "Spacing=\"0.5 0 2\""), "expected 3 non-zero numbers"},
@@ -279,7 +343,7 @@ TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
   };
   const std::string appendedEnd = "\n  </AppendedData>\n</VTKFile>\n";
   expectFailure("cut.vti", good.substr(0, good.size() - appendedEnd.size() - 3), "truncated", false);
-  const std::string zlibFile = vtiFile("Int16", values, {.zlib = true});
+  const std::string zlibFile = vtiFile("Int16", values, {.compressor = VtiCompressor::ZLib});
   expectFailure("cutblocks.vti", zlibFile.substr(0, zlibFile.size() - appendedEnd.size() - 3), "truncated",
                 false);
   // A byte count for another size.
@@ -289,8 +353,8 @@ TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
   expectFailure("count.vti", wrongCount, "says it holds 542 bytes", false);
   // A compression header counting more blocks than the file holds sizes for: 2^62 blocks of 1 byte, for a
   // float64 volume of 2^59 samples, whose size words alone would be 2^65 bytes.
-  std::string manyBlocks =
-      vtiFile("Float64", samplePattern<double>(kVtiSamples), {.zlib = true, .wideHeader = true});
+  std::string manyBlocks = vtiFile("Float64", samplePattern<double>(kVtiSamples),
+                                   {.compressor = VtiCompressor::ZLib, .wideHeader = true});
   for (const std::string extent : {"WholeExtent=", "Piece Extent="}) {
     const std::string small = "\"-4 4 10 15 0 4\"";
     manyBlocks.replace(manyBlocks.find(extent + small) + extent.size(), small.size(),
@@ -304,7 +368,17 @@ TEST(SourceVti, UnsupportedAndDamagedFilesNameTheFile) {
   // A damaged block, and a base64 character that is none.
   std::string damaged = zlibFile;
   damaged[damaged.size() - appendedEnd.size() - 20] ^= 0x55;
-  expectFailure("damaged.vti", damaged, "is damaged", true);
+  expectFailure("damaged.vti", damaged, "zlib block", true);
+  for (const auto& [compressor, name] :
+       {std::pair{VtiCompressor::LZ4, "LZ4 block"}, std::pair{VtiCompressor::LZMA, "LZMA block"}}) {
+    // The density array's first block changed: past its compression header of 3 words and 6 block sizes.
+    std::string changed = vtiFile("Int16", values, {.compressor = compressor});
+    const size_t offset = changed.find("offset=\"", changed.find("Name=\"density\"")) + 8;
+    const size_t blocksAt = changed.find("\n   _") + 5 + std::stoull(changed.substr(offset)) + 4 * (3 + 6);
+    for (size_t i = 0; i < 8; ++i) changed[blocksAt + i] = char(0xff);
+    expectFailure(std::string(name) + ".vti", changed,
+                  std::string(name) + " 0 of the array 'density' is damaged", true);
+  }
   std::string notBase64 = vtiFile("Int16", values, {.base64 = true});
   notBase64[notBase64.size() - appendedEnd.size() - 40] = '#';
   expectFailure("notbase64.vti", notBase64, "not base64 data", true);
