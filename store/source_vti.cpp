@@ -1,7 +1,5 @@
 #include "store/source_vti.h"
 
-#include <lz4.h>
-#include <lzma.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "store/chunk_codecs.h"
 #include "store/picked_volume.h"
 #include "store/source_raw.h"
 
@@ -94,36 +93,20 @@ const char* compressorName(VtiCompressor compressor) {
 // (vtkLZMADataCompressor). Returns "" or what went wrong.
 std::string decompressBlock(VtiCompressor compressor, std::span<const std::byte> in,
                             std::span<std::byte> out) {
-  const auto sizeProblem = [&](uint64_t produced) {
-    return produced == out.size()
-               ? std::string()
-               : std::to_string(produced) + " bytes instead of " + std::to_string(out.size());
-  };
   switch (compressor) {
     case VtiCompressor::ZLib: {
       uLongf produced = uLongf(out.size());
       const int status = uncompress(reinterpret_cast<Bytef*>(out.data()), &produced,
                                     reinterpret_cast<const Bytef*>(in.data()), uLong(in.size()));
-      return status == Z_OK ? sizeProblem(produced) : std::string(zError(status));
+      if (status != Z_OK) return zError(status);
+      return produced == out.size()
+                 ? ""
+                 : std::to_string(produced) + " bytes instead of " + std::to_string(out.size());
     }
-    case VtiCompressor::LZ4: {
-      if (in.size() > size_t(LZ4_MAX_INPUT_SIZE) || out.size() > size_t(INT32_MAX)) return "too large";
-      const int produced =
-          LZ4_decompress_safe(reinterpret_cast<const char*>(in.data()), reinterpret_cast<char*>(out.data()),
-                              int(in.size()), int(out.size()));
-      return produced < 0 ? "not an LZ4 block of that size" : sizeProblem(uint64_t(produced));
-    }
-    case VtiCompressor::LZMA: {
-      uint64_t memoryLimit = uint64_t(1) << 30;  // a damaged header may ask for any dictionary
-      size_t inPosition = 0, outPosition = 0;
-      const lzma_ret status = lzma_stream_buffer_decode(
-          &memoryLimit, 0, nullptr, reinterpret_cast<const uint8_t*>(in.data()), &inPosition, in.size(),
-          reinterpret_cast<uint8_t*>(out.data()), &outPosition, out.size());
-      if (status == LZMA_OK) return sizeProblem(outPosition);
-      if (status == LZMA_MEMLIMIT_ERROR) return "it needs more than 1 GiB to decode";
-      if (status == LZMA_BUF_ERROR) return "more data than the block holds, or a block cut short";
-      return "not an xz stream, or a damaged one (liblzma error " + std::to_string(int(status)) + ")";
-    }
+    case VtiCompressor::LZ4:
+      return lz4BlockExactly(in, out);
+    case VtiCompressor::LZMA:
+      return lzmaExactly(in, out);
     case VtiCompressor::None:
       break;
   }

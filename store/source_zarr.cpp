@@ -90,6 +90,24 @@ std::string decompress(ZarrCodec codec, std::span<const std::byte> in, std::span
       if (n != out.size()) return "decompresses to " + std::to_string(n) + " bytes" + expected;
       return "";
     }
+    case ZarrCodec::Lz4: {
+      // numcodecs' LZ4: the decompressed size, 4 bytes little-endian, before the block.
+      if (in.size() < 4) return "is too short for numcodecs' LZ4 (its size header)";
+      uint32_t size = 0;
+      for (size_t i = 0; i < 4; ++i) size |= uint32_t(std::to_integer<uint8_t>(in[i])) << (8 * i);
+      if (size != out.size()) return "says it holds " + std::to_string(size) + " bytes" + expected;
+      if (std::string problem = lz4BlockExactly(in.subspan(4), out); !problem.empty())
+        return "is damaged (lz4: " + problem + ")";
+      return "";
+    }
+    case ZarrCodec::Lzma:
+      if (std::string problem = lzmaExactly(in, out); !problem.empty())
+        return "is damaged (lzma: " + problem + ")";
+      return "";
+    case ZarrCodec::Bz2:
+      if (std::string problem = bzip2Exactly(in, out); !problem.empty())
+        return "is damaged (bz2: " + problem + ")";
+      return "";
     case ZarrCodec::Crc32c:
       break;
   }

@@ -90,8 +90,20 @@ void readCompressor(const json& j, const std::string& where, ZarrArray& a) {
     a.codecs = {ZarrCodec::Gzip};
   else if (id == "zstd")
     a.codecs = {ZarrCodec::Zstd};
-  else
-    throw Error(where + ": compressor '" + id + "' is not read (blosc, zlib, gzip and zstd are)");
+  else if (id == "lz4")
+    a.codecs = {ZarrCodec::Lz4};
+  else if (id == "bz2")
+    a.codecs = {ZarrCodec::Bz2};
+  else if (id == "lzma") {
+    // numcodecs' formats: 1 .xz (its default), 2 .lzma, 3 raw (whose filters only the metadata would give).
+    const json format = c.value("format", json(1));
+    if (!format.is_number_integer() || (format.get<int64_t>() != 1 && format.get<int64_t>() != 2))
+      throw Error(where + ": compressor lzma of format " + format.dump() +
+                  " is not read (1, .xz, and 2, .lzma, are; 3 is raw LZMA data)");
+    a.codecs = {ZarrCodec::Lzma};
+  } else
+    throw Error(where + ": compressor '" + id +
+                "' is not read (blosc, zlib, gzip, zstd, lz4, lzma and bz2 are)");
 }
 
 // v3's data type names.

@@ -16,7 +16,9 @@
 namespace ropecast {
 
 // A bytes-to-bytes codec: a v2 array's compressor, or one of a v3 array's codecs.
-enum class ZarrCodec : uint8_t { Blosc, Zlib, Gzip, Zstd, Crc32c };
+// Lz4: numcodecs' (the decompressed size as 4 bytes, little-endian, then an LZ4 block); Lzma: an .xz or
+// .lzma stream; Bz2: a bzip2 stream.
+enum class ZarrCodec : uint8_t { Blosc, Zlib, Gzip, Zstd, Lz4, Lzma, Bz2, Crc32c };
 
 // A v3 array's `sharding_indexed` codec: each stored chunk (a shard) holds inner chunks, each encoded on its
 // own, and an index of where they lie.
@@ -47,7 +49,8 @@ struct ZarrArray {
 // The `.zarray` of a v2 array at `where` (named in messages), parsed. Throws ropecast::Error naming `where`
 // and the field: not JSON, not zarr_format 2, shapes of different lengths or with zero chunks, a sample type
 // other than 8-, 16- and 32-bit integers and 32- and 64-bit floats (bool, 64-bit integers, half floats,
-// complex, records), a compressor other than blosc, zlib, gzip and zstd, filters.
+// complex, records), a compressor other than blosc, zlib, gzip, zstd, lz4, lzma (not its raw format) and bz2,
+// filters.
 ZarrArray parseZarrArray(std::string_view text, const std::string& where);
 
 // What a v3 `zarr.json` describes: "array", "group", or another node_type as written ("" when none).

@@ -1,9 +1,13 @@
 // Writes Zarr arrays for the Zarr source's tests (tests/store/source_zarr_test.cpp): v2 of any shape,
-// chunking, C or F order, chunk key separator, byte order and compressor (blosc, zlib, gzip, zstd, none), and
+// chunking, C or F order, chunk key separator, byte order and compressor (blosc, zlib, gzip, zstd, lz4, lzma,
+// bz2, none), and
 // v3, sharded or not, with chosen chunks left unwritten. Test code only; one thread.
 #pragma once
 
 #include <blosc.h>
+#include <bzlib.h>
+#include <lz4.h>
+#include <lzma.h>
 #include <zlib.h>
 #include <zstd.h>
 
@@ -23,7 +27,7 @@ namespace ropecast::testing {
 struct ZarrArraySpec {
   std::vector<uint64_t> shape, chunks;
   std::string dtype = "<u2";        // numpy's: byte order, kind, bytes
-  std::string compressor = "none";  // none, blosc, zlib, gzip, zstd
+  std::string compressor = "none";  // none, blosc, zlib, gzip, zstd, lz4, lzma, bz2
   bool fortranOrder = false;
   char separator = '.';
   nlohmann::json fill = 0;
@@ -48,6 +52,28 @@ inline std::string compressedChunk(const std::string& compressor, const std::str
     return out;
   }
   if (compressor == "gzip") return gzipOf(raw);
+  if (compressor == "lz4") {  // numcodecs': the size, 4 bytes little-endian, then the block
+    std::string out(4 + size_t(LZ4_compressBound(int(raw.size()))), '\0');
+    for (size_t i = 0; i < 4; ++i) out[i] = char(raw.size() >> (8 * i));
+    out.resize(
+        4 + size_t(LZ4_compress_default(raw.data(), out.data() + 4, int(raw.size()), int(out.size() - 4))));
+    return out;
+  }
+  if (compressor == "lzma") {  // an .xz stream, numcodecs' default format
+    std::string out(lzma_stream_buffer_bound(raw.size()), '\0');
+    size_t size = 0;
+    lzma_easy_buffer_encode(6, LZMA_CHECK_CRC64, nullptr, reinterpret_cast<const uint8_t*>(raw.data()),
+                            raw.size(), reinterpret_cast<uint8_t*>(out.data()), &size, out.size());
+    out.resize(size);
+    return out;
+  }
+  if (compressor == "bz2") {
+    std::string out(raw.size() + raw.size() / 100 + 600, '\0');
+    unsigned size = unsigned(out.size());
+    BZ2_bzBuffToBuffCompress(out.data(), &size, const_cast<char*>(raw.data()), unsigned(raw.size()), 9, 0, 0);
+    out.resize(size);
+    return out;
+  }
   std::string out(ZSTD_compressBound(raw.size()), '\0');
   out.resize(ZSTD_compress(out.data(), out.size(), raw.data(), raw.size(), 3));
   return out;
