@@ -36,7 +36,8 @@ ArrayAxes volumeAxes(std::span<const uint64_t> extent) {
   if (chosen.size() > 3) {
     axes.problem = "it has " + std::to_string(chosen.size()) + " axes longer than 1 (" +
                    formatExtent(extent) +
-                   "); a volume has three (a time series or several channels are not read)";
+                   ") and does not name them: name them with --axes, slowest first (e.g. --axes tzyx for a "
+                   "time series, czyx for channels; one volume of t and c is read)";
     return axes;
   }
   if (rank == 3) chosen = {0, 1, 2};
@@ -81,6 +82,48 @@ ArrayAxes volumeAxesNamed(std::span<const uint64_t> extent, const std::vector<st
   }
   axes.problem = emptyProblem(extent, axes.zyx);
   return axes;
+}
+
+GivenAxisNames axisNamesOf(const std::string& letters) {
+  GivenAxisNames given;
+  for (const char letter : letters) {
+    if (std::string("tczyx").find(letter) == std::string::npos) {
+      given.problem = "'" + std::string(1, letter) + "' is not an axis: expected t, c, z, y or x for each";
+      return given;
+    }
+    if (std::find(given.names.begin(), given.names.end(), std::string(1, letter)) != given.names.end()) {
+      given.problem = "'" + std::string(1, letter) + "' is named twice";
+      return given;
+    }
+    given.names.emplace_back(1, letter);
+  }
+  for (const char* wanted : {"z", "y", "x"})
+    if (std::find(given.names.begin(), given.names.end(), wanted) == given.names.end())
+      given.problem = std::string("no axis is named ") + wanted + " (z, y and x are needed)";
+  return given;
+}
+
+ArrayAxes arrayAxesOf(std::span<const uint64_t> extent, const std::vector<std::string>& names,
+                      const std::string& given) {
+  if (given.empty()) return names.empty() ? volumeAxes(extent) : volumeAxesNamed(extent, names);
+  ArrayAxes axes;
+  if (!names.empty()) {
+    std::string named;
+    for (const std::string& name : names) named += (named.empty() ? "" : ", ") + name;
+    axes.problem = "it names its axes itself (" + named + "); --axes is for arrays that do not";
+    return axes;
+  }
+  const GivenAxisNames letters = axisNamesOf(given);
+  if (!letters.problem.empty()) {
+    axes.problem = "--axes " + given + ": " + letters.problem;
+    return axes;
+  }
+  if (letters.names.size() != extent.size()) {
+    axes.problem = "--axes " + given + " names " + std::to_string(letters.names.size()) + " axes; it has " +
+                   std::to_string(extent.size()) + " (" + formatExtent(extent) + ")";
+    return axes;
+  }
+  return volumeAxesNamed(extent, letters.names);
 }
 
 }  // namespace ropecast

@@ -28,4 +28,18 @@ ArrayAxes volumeAxes(std::span<const uint64_t> extent);
 // By name (lower case): the axes named z, y and x; one named t, one named c, and every other of length 1.
 ArrayAxes volumeAxesNamed(std::span<const uint64_t> extent, const std::vector<std::string>& names);
 
+// --axes's letters ("tzyx") as names, one per axis; a problem when they are not each of t, c, z, y and x at
+// most once with z, y and x among them.
+struct GivenAxisNames {
+  std::vector<std::string> names;
+  std::string problem;
+};
+GivenAxisNames axisNamesOf(const std::string& letters);
+
+// The axes of an array that names none itself (`names` empty) or names them (an OME-Zarr image's, ilastik's
+// axistags), with --axes (`given`) where given: by its names, else by length. `where` names the array in
+// the refusal of --axes for an array that names its axes, or of letters of another count than its axes.
+ArrayAxes arrayAxesOf(std::span<const uint64_t> extent, const std::vector<std::string>& names,
+                      const std::string& given);
+
 }  // namespace ropecast

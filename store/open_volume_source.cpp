@@ -73,6 +73,9 @@ bool isSlicePattern(const std::string& spec) {
 }
 
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
+  if (!options.axes.empty() && !hdf5SpecOf(spec) && !isZarrFolder(spec))
+    throw UsageError("openVolumeSource: " + spec +
+                     ": --axes applies to HDF5 datasets and Zarr arrays only (other files state their axes)");
   if (isProceduralSpec(spec)) {
     rejectRawOptions(spec, options, "a procedural volume");
     requireSingleVolume(spec, options);

@@ -201,7 +201,8 @@ std::vector<std::string> axisTagNames(hid_t dataset) {
   return names;
 }
 
-VolumeShape volumeShapeOf(hid_t dataset) {
+// `givenAxes`: --axes's letters, for a dataset without axistags (store/array_axes.h).
+VolumeShape volumeShapeOf(hid_t dataset, const std::string& givenAxes) {
   VolumeShape shape;
   const Handle datatype(H5Dget_type(dataset), H5Tclose);
   const TypeMatch match = datatype ? sampleTypeOf(datatype.get()) : TypeMatch{std::nullopt, hdf5Problem()};
@@ -221,8 +222,8 @@ VolumeShape volumeShapeOf(hid_t dataset) {
   shape.extent.assign(extent.begin(), extent.end());
   shape.picked.assign(shape.extent.size(), 0);
   const std::vector<std::string> names = axisTagNames(dataset);
-  const ArrayAxes axes =
-      names.size() == shape.extent.size() ? volumeAxesNamed(shape.extent, names) : volumeAxes(shape.extent);
+  const ArrayAxes axes = arrayAxesOf(
+      shape.extent, names.size() == shape.extent.size() ? names : std::vector<std::string>{}, givenAxes);
   shape.axes = axes.zyx;
   shape.time = axes.time;
   shape.channel = axes.channel;
@@ -250,19 +251,20 @@ struct DatasetList {
   std::vector<std::string> others;   // "/path (why not)" of the rest
 };
 
-DatasetList listDatasets(hid_t file) {
+DatasetList listDatasets(hid_t file, const std::string& givenAxes) {
   DatasetList list;
   struct Visit {
     hid_t file;
     DatasetList* list;
-  } visit{file, &list};
+    const std::string& givenAxes;
+  } visit{file, &list, givenAxes};
   // The link-info argument's type differs between HDF5 1.10 and 1.12; it is not used.
   const auto onLink = [](hid_t, const char* name, const auto*, void* data) -> herr_t {
     auto& v = *static_cast<Visit*>(data);
     const std::string path = std::string("/") + name;
     const Handle object = openObject(v.file, path);
     if (!object || H5Iget_type(object.get()) != H5I_DATASET) return 0;
-    const VolumeShape shape = volumeShapeOf(object.get());
+    const VolumeShape shape = volumeShapeOf(object.get(), v.givenAxes);
     if (shape.problem.empty())
       v.list->volumes.push_back(path);
     else
@@ -613,7 +615,13 @@ std::unique_ptr<VolumeSource> openBdvXml(const std::string& xml, const SourceOpt
 
 std::unique_ptr<VolumeSource> openHdf5Source(const std::string& spec, const SourceOptions& options) {
   silenceHdf5Errors();
-  if (lowerExtension(spec) == ".xml") return openBdvXml(spec, options);
+  if (lowerExtension(spec) == ".xml") {
+    if (!options.axes.empty())
+      throw UsageError(spec +
+                       ": --axes: a BigDataViewer dataset names its axes itself (--axes is for arrays "
+                       "that do not)");
+    return openBdvXml(spec, options);
+  }
   const std::optional<Hdf5Spec> parts = hdf5SpecOf(spec);
   if (!parts) throw Error(spec + ": not an HDF5 file (nor FILE:/DATASET of one)");
   return openDataset(parts->file, parts->dataset, options, std::nullopt);
@@ -637,13 +645,17 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
   bool imaris = false;
   if (datasetPath.empty()) {
     if (openObject(file.get(), imarisDataset(0, 0))) {
+      if (!options.axes.empty())
+        throw UsageError(inFile +
+                         ": --axes: an Imaris file names its axes itself (--axes is for arrays that "
+                         "do not)");
       imaris = true;
       picked = pickVolume(
           options, {countNumbered(file.get(), kImarisTimePoint), countNumbered(file.get(), imarisChannel(0))},
           "Imaris file " + path);
       datasetPath = imarisDataset(picked.timePoint, picked.channel);
     } else {
-      const DatasetList list = listDatasets(file.get());
+      const DatasetList list = listDatasets(file.get(), options.axes);
       if (list.volumes.size() > 1)
         throw Error(inFile + ": holds " + std::to_string(list.volumes.size()) +
                     " datasets that are volumes: " + listedNames(list.volumes) + "; name one, as in " + path +
@@ -661,7 +673,7 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
   if (const H5I_type_t kind = H5Iget_type(object.get()); kind != H5I_DATASET)
     throw Error(where + (kind == H5I_GROUP ? ": is a group, not a dataset (name a dataset inside it)"
                                            : ": is not a dataset"));
-  VolumeShape shape = volumeShapeOf(object.get());
+  VolumeShape shape = volumeShapeOf(object.get(), options.axes);
   if (!shape.problem.empty()) throw Error(where + ": not a volume: " + shape.problem);
   if (bdv) {
     picked = bdv->picked;

@@ -372,7 +372,7 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
   const std::vector<std::string> names = ome && !ome->axisNames.empty()   ? ome->axisNames
                                          : namesZyx(array.dimensionNames) ? array.dimensionNames
                                                                           : std::vector<std::string>{};
-  const ArrayAxes axes = names.empty() ? volumeAxes(array.shape) : volumeAxesNamed(array.shape, names);
+  const ArrayAxes axes = arrayAxesOf(array.shape, names, options.axes);
   if (!axes.problem.empty())
     throw Error("Zarr array " + arrayFolder.string() + ": not a volume: " + axes.problem);
   const auto along = [&](int i) { return array.shape[size_t(axes.zyx[size_t(i)])]; };

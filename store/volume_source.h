@@ -161,6 +161,9 @@ struct SourceOptions {
   // --time T, --channel C: which of a file's volumes to read (store/picked_volume.h); default the first.
   std::optional<uint32_t> timePoint;
   std::optional<uint32_t> channel;
+  // --axes: an HDF5 dataset's or a Zarr array's axes named, slowest first, one of t, c, z, y, x each
+  // (store/array_axes.h), for an array that does not name them itself; empty: not given.
+  std::string axes;
 };
 
 // Opens a source from a command-line spec:

@@ -1,6 +1,7 @@
 #include "tools/volume_read_options.h"
 
 #include "core/error.h"
+#include "store/array_axes.h"
 #include "store/source_raw.h"
 #include "tools/cli_checks.h"
 #include "tools/cli_values.h"
@@ -26,6 +27,7 @@ std::string VolumeReadArgs::firstGiven() const {
   if (!spacing.empty()) return "--spacing";
   if (timePoint) return "--time";
   if (channel) return "--channel";
+  if (!axes.empty()) return "--axes";
   return "";
 }
 
@@ -57,6 +59,11 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
          ".vti array's components; default 0)")
       ->type_name("C")
       ->transform(integerRange(0, double(UINT32_MAX)));
+  app.add_option("--axes", a.axes,
+                 "an HDF5 dataset's or a Zarr array's axes, slowest first, for one that does not name them: "
+                 "a letter per axis, t (time), c (channel), z, y or x (e.g. tzyx, czyx, tczyx)")
+      ->type_name("LETTERS")
+      ->check(notEmpty("axis letters"));
 }
 
 SourceOptions sourceOptionsOf(const VolumeReadArgs& a, const std::string& who) {
@@ -72,6 +79,11 @@ SourceOptions sourceOptionsOf(const VolumeReadArgs& a, const std::string& who) {
   options.headerBytes = a.headerBytes;
   options.timePoint = a.timePoint;
   options.channel = a.channel;
+  if (!a.axes.empty()) {
+    if (const GivenAxisNames given = axisNamesOf(a.axes); !given.problem.empty())
+      throw UsageError(who + ": --axes " + a.axes + ": " + given.problem);
+    options.axes = a.axes;
+  }
   return options;
 }
 

@@ -217,17 +217,47 @@ TEST(SourceHdf5, LengthOneAxesAroundZyxAreTimePointsAndChannels) {
   }
   EXPECT_EQ(openVolumeSource(flat)->info().dims, glm::u32vec3(9, 6, 1));
 
-  // Two channels (or time points) are not one volume.
-  const std::string channels = dir.file("channels.h5");
+  // Two volumes along a fourth axis that the file does not name: refused, asking for --axes; with --axes,
+  // the volume picked along the axis named t (--time) or c (--channel). The second volume is the first
+  // plus 1.
+  const std::string series = dir.file("series.h5");
+  std::vector<uint16_t> twice(values);
+  for (const uint16_t v : values) twice.push_back(uint16_t(v + 1));
   {
-    std::vector<uint16_t> twice(values);
-    twice.insert(twice.end(), values.begin(), values.end());
-    Hdf5Writer writer(channels);
+    Hdf5Writer writer(series);
     writer.write({"/data", {2, 5, 6, 9}, H5T_STD_U16LE, H5T_NATIVE_UINT16, twice.data(), {}, false});
   }
-  const std::string refused = errorOf(channels + ":/data");
-  for (const char* word : {"/data", "4 axes longer than 1", "2x5x6x9", "several channels"})
+  const std::string refused = errorOf(series);
+  for (const char* word : {"/data", "4 axes longer than 1", "2x5x6x9", "--axes", "tzyx"})
     EXPECT_NE(refused.find(word), std::string::npos) << word << " in: " << refused;
+  const std::vector<uint16_t> second(twice.begin() + long(values.size()), twice.end());
+  SourceOptions options;
+  options.axes = "tzyx";
+  options.timePoint = 1;
+  auto picked = openVolumeSource(series, options);
+  EXPECT_EQ(readSlab<uint16_t>(*picked, 0, 5), second);
+  EXPECT_NE(picked->info().description.find("time point 1 of 2"), std::string::npos)
+      << picked->info().description;
+  options.axes = "czyx";
+  options.timePoint.reset();
+  options.channel = 1;
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(series + ":/data", options), 0, 5), second);
+  options.channel.reset();
+  options.axes = "zyx";
+  EXPECT_NE(errorOf(series, options).find("--axes zyx names 3 axes; it has 4 (2x5x6x9)"), std::string::npos)
+      << errorOf(series, options);
+  // A file that names its axes keeps them; other files take none.
+  const std::string named = dir.file("named.h5");
+  {
+    Hdf5Writer writer(named);
+    const hid_t dataset =
+        writer.write({"/data", {5, 6, 9}, H5T_STD_U16LE, H5T_NATIVE_UINT16, values.data(), {}, false});
+    testing::writeCharsAttribute(dataset, "axistags",
+                                 R"({"axes": [{"key": "z"}, {"key": "y"}, {"key": "x"}]})");
+  }
+  options.axes = "zyx";
+  EXPECT_NE(errorOf(named + ":/data", options).find("names its axes itself (z, y, x)"), std::string::npos)
+      << errorOf(named + ":/data", options);
 }
 
 // ilastik's exports name their axes in an `axistags` attribute: a probability map of 2 time points and 3

@@ -108,6 +108,32 @@ TEST(SourceZarr, NumcodecsCompressorsAsNumcodecsWritesThem) {
       << errorOf(raw.string());
 }
 
+// A plain array of two volumes along a fourth axis, which it does not name: refused, asking for --axes; read
+// with --axes tzyx, its second time point; an NRRD takes no --axes.
+TEST(SourceZarr, AxesNamedOnTheCommandLine) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(2 * 5 * 6 * 9);
+  ZarrArraySpec spec = smallSpec("<u2", "zstd");
+  spec.shape = {2, 5, 6, 9};
+  spec.chunks = {1, 2, 4, 4};
+  const fs::path folder = dir / "series.zarr";
+  writeZarrArray(folder, spec, values.data(), 2);
+  EXPECT_NE(errorOf(folder.string()).find("name them with --axes"), std::string::npos)
+      << errorOf(folder.string());
+  SourceOptions options;
+  options.axes = "tzyx";
+  options.timePoint = 1;
+  const std::vector<uint16_t> second(values.begin() + 5 * 6 * 9, values.end());
+  EXPECT_EQ(readSlab<uint16_t>(*openVolumeSource(folder.string(), options), 0, 5), second);
+
+  const std::string nrrd = (dir / "a.nrrd").string();
+  writeFile(nrrd,
+            "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n" + std::string(8, '\0'));
+  EXPECT_NE(errorOf(nrrd, options).find(nrrd + ": --axes applies to HDF5 datasets and Zarr arrays only"),
+            std::string::npos)
+      << errorOf(nrrd, options);
+}
+
 TEST(SourceZarr, BigEndianFortranOrderNestedKeysAndChunksNotStored) {
   TempDir dir;
   const auto values = samplePattern<int16_t>(9 * 6 * 5);
@@ -404,6 +430,23 @@ TEST(ArrayAxes, LengthOneAxesFallAwayAroundZyx) {
   EXPECT_EQ(zyx({9, 1, 1, 1}), "012");
   EXPECT_EQ(zyx({6, 9}), "it has 2 axes (6x9); a volume has three");
   EXPECT_NE(zyx({2, 5, 6, 9}).find("4 axes longer than 1"), std::string::npos);
+  EXPECT_NE(zyx({2, 5, 6, 9}).find("--axes"), std::string::npos);
+
+  // --axes: letters for an array that names none; refused for one that names its own, or of another count.
+  const std::vector<uint64_t> fourAxes{3, 5, 6, 9};
+  const ArrayAxes given = arrayAxesOf(fourAxes, {}, "czyx");
+  EXPECT_EQ(given.zyx, (std::array<int, 3>{1, 2, 3}));
+  EXPECT_EQ(given.channel, 0);
+  EXPECT_EQ(given.time, -1);
+  EXPECT_EQ(arrayAxesOf(fourAxes, {}, "zyxt").time, 3);
+  EXPECT_EQ(arrayAxesOf(fourAxes, {"t", "z", "y", "x"}, "czyx").problem,
+            "it names its axes itself (t, z, y, x); --axes is for arrays that do not");
+  EXPECT_EQ(arrayAxesOf(fourAxes, {}, "tczyx").problem, "--axes tczyx names 5 axes; it has 4 (3x5x6x9)");
+  EXPECT_EQ(arrayAxesOf(fourAxes, {"t", "z", "y", "x"}, "").time, 0);
+  EXPECT_EQ(axisNamesOf("tqyx").problem, "'q' is not an axis: expected t, c, z, y or x for each");
+  EXPECT_EQ(axisNamesOf("zyxz").problem, "'z' is named twice");
+  EXPECT_EQ(axisNamesOf("tcyx").problem, "no axis is named z (z, y and x are needed)");
+  EXPECT_TRUE(axisNamesOf("tczyx").problem.empty());
   EXPECT_NE(zyx({0, 6, 9}).find("empty"), std::string::npos);
 
   EXPECT_EQ(volumeAxesNamed(std::vector<uint64_t>{9, 6, 5}, {"x", "y", "z"}).zyx,
