@@ -12,7 +12,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include "core/error.h"
 #include "store/file_samples.h"
@@ -21,6 +20,7 @@
 namespace ropecast {
 namespace {
 
+using testing::deflatedOf;
 using testing::TempDir;
 using testing::writeFile;
 
@@ -36,21 +36,6 @@ std::string compressibleBytes(size_t size, uint32_t seed) {
   std::string data(size, '\0');
   for (size_t i = 0; i < size; ++i) data[i] = char(tile[i % tile.size()] + char(i / tile.size()));
   return data;
-}
-
-// `data` deflated as one member: gzip or zlib wrapped.
-std::string deflated(const std::string& data, int level, bool gzip) {
-  z_stream zs{};
-  EXPECT_EQ(deflateInit2(&zs, level, Z_DEFLATED, gzip ? 15 + 16 : 15, 8, Z_DEFAULT_STRATEGY), Z_OK);
-  std::string out(deflateBound(&zs, uLong(data.size())) + 64, '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
-  zs.avail_in = uInt(data.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = uInt(out.size());
-  EXPECT_EQ(deflate(&zs, Z_FINISH), Z_STREAM_END);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
 }
 
 // The samples `bytes` long after `skip` decompressed bytes of the stream at `start`.
@@ -101,7 +86,7 @@ TEST_P(DeflateIndexRead, RangesInAnyOrderEqualTheDataAndStartNearTheirPoint) {
   const std::string data = compressibleBytes(6 * kMiB + 12345, 7);
   const std::string header = "a header of some bytes before the stream";
   const std::string path = dir.file("volume.gz");
-  writeFile(path, header + deflated(data, GetParam().level, GetParam().gzip));
+  writeFile(path, header + deflatedOf(data, GetParam().level, GetParam().gzip));
 
   readAllInOrder(path, header.size(), data);
   EXPECT_GE(deflateIndexFor(PosixFile(path), header.size())->pointCount(), 4u);
@@ -137,7 +122,7 @@ TEST(DeflateIndex, ConcatenatedMembersReadOnFromAPointInTheFirst) {
   const std::string second = compressibleBytes(4 * kMiB + 5, 2);
   const std::string data = first + second;
   const std::string path = dir.file("members.gz");
-  writeFile(path, deflated(first, 1, true) + deflated(second, 1, true));
+  writeFile(path, deflatedOf(first, 1, true) + deflatedOf(second, 1, true));
   readAllInOrder(path, 0, data);
 
   // From a point in the first member through its trailer (checked here, by this reader) into the second.
@@ -154,7 +139,7 @@ TEST(DeflateIndex, AVolumeBeforeTheStreamsEndInflatesToTheTrailerOnce) {
   TempDir dir;
   const std::string data = compressibleBytes(8 * kMiB, 5);
   const std::string path = dir.file("series.gz");
-  writeFile(path, deflated(data, 1, true));
+  writeFile(path, deflatedOf(data, 1, true));
   const uint64_t volume = kMiB;
   auto first = samplesOf(path, 0, volume, volume);
   EXPECT_EQ(readRange(*first, 0, volume), data.substr(volume, volume));
@@ -169,7 +154,7 @@ TEST(DeflateIndex, AVolumeBeforeTheStreamsEndInflatesToTheTrailerOnce) {
 TEST(DeflateIndex, ATrailerThatDoesNotMatchIsRefusedAfterAResume) {
   TempDir dir;
   const std::string data = compressibleBytes(6 * kMiB, 3);
-  const std::string good = deflated(data, 1, true);
+  const std::string good = deflatedOf(data, 1, true);
   for (const auto& [name, flippedFromEnd, why] :
        {std::tuple{"crc", 8, "incorrect data check"}, std::tuple{"length", 2, "incorrect length check"}}) {
     SCOPED_TRACE(name);
@@ -206,7 +191,7 @@ TEST(DeflateIndex, AFileRewrittenSinceGetsAFreshIndex) {
   std::string after = before;  // other data of the same length
   std::reverse(after.begin(), after.end());
   // Both streams stored at one size, padded with zeros (which a reader never reaches).
-  std::string first = deflated(before, 1, true), second = deflated(after, 1, true);
+  std::string first = deflatedOf(before, 1, true), second = deflatedOf(after, 1, true);
   first.resize(std::max(first.size(), second.size()), '\0');
   second.resize(first.size(), '\0');
   writeFile(path, first);

@@ -31,10 +31,10 @@
 
 namespace ropecast::testing {
 
-// `data` as one gzip member, as NRRD's gzip encoding and .nii.gz files hold it.
-inline std::string gzipOf(const std::string& data) {
+// `data` deflated at `level` as one gzip member (else a zlib stream).
+inline std::string deflatedOf(const std::string& data, int level, bool gzip) {
   z_stream zs{};
-  EXPECT_EQ(deflateInit2(&zs, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY), Z_OK);
+  EXPECT_EQ(deflateInit2(&zs, level, Z_DEFLATED, gzip ? 15 + 16 : 15, 8, Z_DEFAULT_STRATEGY), Z_OK);
   std::string out(deflateBound(&zs, uLong(data.size())) + 64, '\0');
   zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
   zs.avail_in = uInt(data.size());
@@ -44,6 +44,11 @@ inline std::string gzipOf(const std::string& data) {
   out.resize(zs.total_out);
   deflateEnd(&zs);
   return out;
+}
+
+// `data` as one gzip member, as NRRD's gzip encoding and .nii.gz files hold it.
+inline std::string gzipOf(const std::string& data) {
+  return deflatedOf(data, 6, true);
 }
 
 // `values` as a file holds them: after `header` bytes, in the given byte order.
