@@ -83,13 +83,13 @@ class DeflateIndexRead : public ::testing::TestWithParam<Stream> {};
 
 TEST_P(DeflateIndexRead, RangesInAnyOrderEqualTheDataAndStartNearTheirPoint) {
   TempDir dir;
-  const std::string data = compressibleBytes(6 * kMiB + 12345, 7);
+  const std::string data = compressibleBytes(4 * kMiB + 12345, 7);
   const std::string header = "a header of some bytes before the stream";
   const std::string path = dir.file("volume.gz");
   writeFile(path, header + deflatedOf(data, GetParam().level, GetParam().gzip));
 
   readAllInOrder(path, header.size(), data);
-  EXPECT_GE(deflateIndexFor(PosixFile(path), header.size())->pointCount(), 4u);
+  EXPECT_GE(deflateIndexFor(PosixFile(path), header.size())->pointCount(), 3u);
 
   // A fresh reader (as the next volume's source is) reads the last half MiB: from the point before it, not
   // from the stream's start, and its end does not inflate to the trailer again.
@@ -101,7 +101,7 @@ TEST_P(DeflateIndexRead, RangesInAnyOrderEqualTheDataAndStartNearTheirPoint) {
   // Ranges in a shuffled order, some across points, some behind the last read.
   std::mt19937 random(11);
   auto samples = samplesOf(path, header.size(), data.size());
-  for (int i = 0; i < 20; ++i) {
+  for (int i = 0; i < 12; ++i) {
     const uint64_t offset = random() % data.size();
     const size_t size = size_t(std::min<uint64_t>(1 + random() % (2 * kMiB), data.size() - offset));
     ASSERT_EQ(readRange(*samples, offset, size), data.substr(offset, size)) << offset << " + " << size;
@@ -118,8 +118,8 @@ INSTANTIATE_TEST_SUITE_P(Streams, DeflateIndexRead,
 
 TEST(DeflateIndex, ConcatenatedMembersReadOnFromAPointInTheFirst) {
   TempDir dir;
-  const std::string first = compressibleBytes(5 * kMiB + 3, 1);
-  const std::string second = compressibleBytes(4 * kMiB + 5, 2);
+  const std::string first = compressibleBytes(3 * kMiB + 3, 1);
+  const std::string second = compressibleBytes(2 * kMiB + 5, 2);
   const std::string data = first + second;
   const std::string path = dir.file("members.gz");
   writeFile(path, deflatedOf(first, 1, true) + deflatedOf(second, 1, true));
@@ -137,14 +137,14 @@ TEST(DeflateIndex, ConcatenatedMembersReadOnFromAPointInTheFirst) {
 // volumes after it the first time only.
 TEST(DeflateIndex, AVolumeBeforeTheStreamsEndInflatesToTheTrailerOnce) {
   TempDir dir;
-  const std::string data = compressibleBytes(8 * kMiB, 5);
+  const std::string data = compressibleBytes(5 * kMiB, 5);
   const std::string path = dir.file("series.gz");
   writeFile(path, deflatedOf(data, 1, true));
-  const uint64_t volume = kMiB;
+  const uint64_t volume = kMiB / 2;
   auto first = samplesOf(path, 0, volume, volume);
   EXPECT_EQ(readRange(*first, 0, volume), data.substr(volume, volume));
   EXPECT_EQ(first->inflatedBytes(), data.size());
-  for (uint64_t t : {5, 2, 6}) {
+  for (uint64_t t : {7, 2, 8}) {
     auto later = samplesOf(path, 0, volume, t * volume);
     EXPECT_EQ(readRange(*later, 0, volume), data.substr(t * volume, volume)) << t;
     EXPECT_LE(later->inflatedBytes(), 2 * volume + DeflateIndex::kFirstSpacingBytes) << t;
@@ -153,7 +153,7 @@ TEST(DeflateIndex, AVolumeBeforeTheStreamsEndInflatesToTheTrailerOnce) {
 
 TEST(DeflateIndex, ATrailerThatDoesNotMatchIsRefusedAfterAResume) {
   TempDir dir;
-  const std::string data = compressibleBytes(6 * kMiB, 3);
+  const std::string data = compressibleBytes(4 * kMiB, 3);
   const std::string good = deflatedOf(data, 1, true);
   for (const auto& [name, flippedFromEnd, why] :
        {std::tuple{"crc", 8, "incorrect data check"}, std::tuple{"length", 2, "incorrect length check"}}) {
@@ -165,7 +165,7 @@ TEST(DeflateIndex, ATrailerThatDoesNotMatchIsRefusedAfterAResume) {
     // The first reader reads the whole stream, taking points, and finds the trailer wrong (zlib's check).
     auto whole = samplesOf(path, 0, data.size());
     EXPECT_NE(errorOfRead(*whole, 0, data.size()).find(why), std::string::npos);
-    EXPECT_GE(deflateIndexFor(PosixFile(path), 0)->pointCount(), 4u);
+    EXPECT_GE(deflateIndexFor(PosixFile(path), 0)->pointCount(), 3u);
     // The next reads the end alone, resuming from a point: the trailer is checked by the stream, not zlib.
     auto tail = samplesOf(path, 0, data.size());
     const std::string message = errorOfRead(*tail, data.size() - 1000, 1000);

@@ -74,7 +74,7 @@ std::string compressedBlock(const std::string& block, VtiCompressor compressor) 
     out.resize(lzma_stream_buffer_bound(block.size()));
     size_t size = 0;
     EXPECT_EQ(
-        lzma_easy_buffer_encode(6, LZMA_CHECK_CRC32, nullptr, reinterpret_cast<const uint8_t*>(block.data()),
+        lzma_easy_buffer_encode(0, LZMA_CHECK_CRC32, nullptr, reinterpret_cast<const uint8_t*>(block.data()),
                                 block.size(), reinterpret_cast<uint8_t*>(out.data()), &size, out.size()),
         LZMA_OK);
     out.resize(size);

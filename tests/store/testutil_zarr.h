@@ -62,7 +62,7 @@ inline std::string compressedChunk(const std::string& compressor, const std::str
   if (compressor == "lzma") {  // an .xz stream, numcodecs' default format
     std::string out(lzma_stream_buffer_bound(raw.size()), '\0');
     size_t size = 0;
-    lzma_easy_buffer_encode(6, LZMA_CHECK_CRC64, nullptr, reinterpret_cast<const uint8_t*>(raw.data()),
+    lzma_easy_buffer_encode(0, LZMA_CHECK_CRC64, nullptr, reinterpret_cast<const uint8_t*>(raw.data()),
                             raw.size(), reinterpret_cast<uint8_t*>(out.data()), &size, out.size());
     out.resize(size);
     return out;
