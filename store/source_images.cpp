@@ -412,11 +412,35 @@ std::unique_ptr<VolumeSource> openImageStackSource(const std::string& directoryO
                                                    const SourceOptions& options) {
   std::vector<std::string> files = listSliceFiles(directoryOrPattern);
   const std::string numbering = sliceNumberingNote(files);
+  // Slices that ImageJ saved (File > Save As > Image Sequence) keep the stack's calibration: the pixel's size
+  // in the resolution tags, which an ImageJ description vouches for. A slice rarely says how far apart they
+  // lie (`spacing=`); where none does, as ImageJ's own layout of a stack without it, the pixel's width.
+  SourceOptions placed = options;
+  std::string description = "images:" + directoryOrPattern, calibrationNote;
+  if (!options.spacing && !files.empty()) {
+    const auto first = openImage(files.front());
+    const OIIO::ImageSpec& spec = first->spec();
+    const std::string imageJ = spec.get_string_attribute("ImageDescription");
+    const std::optional<TiffStackLayout> layout =
+        imageJLayout(imageJ, spec.get_float_attribute("XResolution", 0.0f),
+                     spec.get_float_attribute("YResolution", 0.0f), 1);
+    if (layout && layout->spacing && isValidSpacing(*layout->spacing)) {
+      placed.spacing = layout->spacing;
+      const std::string unit = layout->unit.empty() ? "" : " " + layout->unit;
+      description += " (ImageJ calibration: " + formatSpacing(*placed.spacing) + unit + ")";
+      if (imageJ.find("\nspacing=") == std::string::npos)
+        calibrationNote = files.front() + ": ImageJ calibrated its slices at " +
+                          formatSpacing(*placed.spacing) + unit +
+                          "; no slice says how far apart they lie, so their spacing is taken as the pixel's "
+                          "width (--spacing gives all three)";
+    }
+  }
   std::vector<SliceRef> slices;
   for (auto& file : files) slices.push_back({std::move(file), 0});
-  auto source = std::make_unique<ImageSliceSource>(std::move(slices), nullptr, std::nullopt,
-                                                   "images:" + directoryOrPattern, options);
+  auto source =
+      std::make_unique<ImageSliceSource>(std::move(slices), nullptr, std::nullopt, description, placed);
   if (!numbering.empty()) source->addNote(numbering);
+  if (!calibrationNote.empty()) source->addNote(calibrationNote);
   return source;
 }
 

@@ -432,6 +432,44 @@ void writeDescribedPages(const std::string& path, int w, int h,
   ASSERT_TRUE(out->close());
 }
 
+// A folder of slices ImageJ saved (an image sequence): each file's resolution tags, vouched for by its ImageJ
+// description, give the pixel's size; the spacing between slices is the pixel's width unless a description
+// says it (`spacing=`), which a note says; --spacing overrides; resolution tags without an ImageJ description
+// (a scanner's 72 dots per inch) say nothing.
+TEST(SourceImages, AnImageJSliceFoldersCalibration) {
+  TempDir dir;
+  const auto sequence = [&](const std::string& name, const std::string& description, float resolution) {
+    const fs::path folder = dir / name;
+    fs::create_directories(folder);
+    for (uint32_t z = 0; z < 3; ++z)
+      writeDescribedPages((folder / ("slice" + std::to_string(z) + ".tif")).string(), 5, 4,
+                          {slicePattern<uint16_t>(5, 4, z)}, description, resolution);
+    return folder.string();
+  };
+  const std::string calibrated = sequence("calibrated", "ImageJ=1.54f\nunit=micron\nloop=false\n", 4.0f);
+  const auto source = openVolumeSource(calibrated);
+  EXPECT_EQ(source->info().spacing, glm::dvec3(0.25, 0.25, 0.25));
+  EXPECT_NE(source->info().description.find("(ImageJ calibration: 0.25,0.25,0.25 micron)"), std::string::npos)
+      << source->info().description;
+  ASSERT_EQ(source->info().notes.size(), 1u);
+  EXPECT_NE(source->info().notes[0].find("no slice says how far apart they lie"), std::string::npos)
+      << source->info().notes[0];
+
+  const std::string spaced = sequence("spaced", "ImageJ=1.54f\nunit=micron\nspacing=2\nloop=false\n", 4.0f);
+  const auto withSpacing = openVolumeSource(spaced);
+  EXPECT_EQ(withSpacing->info().spacing, glm::dvec3(0.25, 0.25, 2.0));
+  EXPECT_TRUE(withSpacing->info().notes.empty());
+
+  SourceOptions given;
+  given.spacing = glm::dvec3(1.0, 1.0, 3.0);
+  const auto overridden = openVolumeSource(calibrated, given);
+  EXPECT_EQ(overridden->info().spacing, glm::dvec3(1.0, 1.0, 3.0));
+  EXPECT_TRUE(overridden->info().notes.empty());
+
+  const std::string scanned = sequence("scanned", "a scanner's page", 72.0f);
+  EXPECT_EQ(openVolumeSource(scanned)->info().spacing, glm::dvec3(1.0));
+}
+
 // An OME-TIFF of 2 named channels of 3 slices (XYZCT: a channel's slices one after another): the names are
 // said in the warning and the description; --channel 1 reads the second channel's pages.
 TEST(SourceImages, AnOmeTiffsNamedChannels) {
