@@ -272,8 +272,6 @@ class MetaImageHeaderParser {
     if (header_.headerSize == -1 && header_.compressed)
       fail("key 'HeaderSize': -1 (data at the end of the file) is only allowed for uncompressed data");
     if (listed_ || !header_.sliceFiles.empty()) {
-      if (header_.compressed)
-        fail("key 'CompressedData': data in a file per slice is read uncompressed only");
       if (header_.sliceFiles.size() != header_.sizes.z)
         fail("key 'ElementDataFile': " + std::to_string(header_.sliceFiles.size()) + " data files for " +
              std::to_string(header_.sizes.z) + " slices (DimSize); expected a file per slice");

@@ -6,10 +6,11 @@
 // says it must (but for LIST's file names, which follow it): ObjectType Image, NDims 3, DimSize, ElementType
 // (MET_CHAR, MET_UCHAR, MET_SHORT, MET_USHORT, MET_INT, MET_UINT, MET_LONG, MET_ULONG (32-bit in MetaIO),
 // MET_FLOAT, MET_DOUBLE), ElementSpacing (else ElementSize), BinaryData, BinaryDataByteOrderMSB or
-// ElementByteOrderMSB, CompressedData (a zlib stream; not with a file per slice), HeaderSize (-1: the data
-// ends the file; with a file per slice, each file's), ElementNumberOfChannels (interleaved), TransformMatrix
-// (or Rotation or Orientation: only whether it turns the axes), Offset (or Origin, Position), ElementDataFile
-// LOCAL, one file, or a file per slice (LIST, or a file name pattern). Other keys are ignored.
+// ElementByteOrderMSB, CompressedData (a zlib stream; with a file per slice, one each), HeaderSize (-1: the
+// data ends the file; with a file per slice, each file's), ElementNumberOfChannels (interleaved),
+// TransformMatrix (or Rotation or Orientation: only whether it turns the axes), Offset (or Origin, Position),
+// ElementDataFile LOCAL, one file, or a file per slice (LIST, or a file name pattern). Other keys are
+// ignored.
 #pragma once
 
 #include <array>
@@ -46,7 +47,7 @@ struct MetaImageHeader {
   // AnatomicalOrientation names a patient's frame: three letters, one of R or L, A or P, S or I ("RAI"); ITK
   // writes "???" where it does not know.
   bool anatomicalOrientation = false;
-  bool compressed = false;  // CompressedData: the data is one zlib stream
+  bool compressed = false;  // CompressedData: the data is one zlib stream (a file per slice: one each)
   bool bigEndian = false;   // the data's byte order (irrelevant for 1-byte types)
   int64_t headerSize = 0;   // bytes of the data file skipped before the data; -1: data at the end
   std::string dataFile;     // ElementDataFile as written (relative to the header's folder); empty: LOCAL

@@ -15,16 +15,23 @@ namespace ropecast {
 namespace {
 
 // A MetaImage whose slices are each a file of their own (ElementDataFile LIST, or a pattern): raw samples,
-// after HeaderSize bytes (or ending the file, for -1). Every file is opened, and its size checked, when the
-// source opens, so that a missing or short one is named before any conversion work.
+// after HeaderSize bytes (or ending the file, for -1), or with CompressedData a zlib stream of the slice each
+// (as MetaIO writes them). Every file is opened when the source opens, and a raw one's size checked, so that
+// a missing or short one is named before any conversion work; a compressed one is inflated when its slice is
+// read (its stream then, not a file handle and buffers for each of thousands of slices).
 class ListedSlicesSource final : public VolumeSource {
  public:
   ListedSlicesSource(VolumeInfo info, const MetaImageHeader& header, const std::string& headerPath)
-      : info_(std::move(info)), bigEndian_(header.bigEndian) {
+      : info_(std::move(info)), bigEndian_(header.bigEndian), compressed_(header.compressed) {
     const uint64_t sliceBytes = info_.sliceBytes();
     for (const std::string& name : header.sliceFiles) {
       auto file = openDataFile(pathBesideHeader(headerPath, name), "MetaImage header", headerPath, name);
       const uint64_t skip = header.headerSize == -1 ? 0 : uint64_t(header.headerSize);
+      if (compressed_) {
+        paths_.push_back(file->path());
+        starts_.push_back(skip);
+        continue;
+      }
       const bool fits =
           header.headerSize == -1 ? file->sizeBytes() >= sliceBytes : file->sizeBytes() == skip + sliceBytes;
       if (!fits)
@@ -43,16 +50,31 @@ class ListedSlicesSource final : public VolumeSource {
  protected:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
     const size_t sliceBytes = info_.sliceBytes();
-    for (uint32_t i = 0; i < count; ++i)
-      files_[z0 + i]->readAt(starts_[z0 + i], out.subspan(i * sliceBytes, sliceBytes));
+    for (uint32_t i = 0; i < count; ++i) {
+      const std::span<std::byte> slice = out.subspan(i * sliceBytes, sliceBytes);
+      if (!compressed_) {
+        files_[z0 + i]->readAt(starts_[z0 + i], slice);
+        continue;
+      }
+      SampleBlock block;
+      block.encoding = SampleEncoding::Deflated;
+      block.start = starts_[z0 + i];
+      block.bytes = sliceBytes;
+      block.fileKind = "MetaImage data file";
+      block.volume =
+          formatDims({info_.dims.x, info_.dims.y, 1}) + " " + std::string(sampleTypeName(info_.type));
+      FileSamples(std::make_unique<PosixFile>(paths_[z0 + i]), std::move(block)).read(0, slice);
+    }
     samplesToNative(out, info_.type, bigEndian_);
   }
 
  private:
   VolumeInfo info_;
   bool bigEndian_;
-  std::vector<std::unique_ptr<PosixFile>> files_;  // a slice's each
-  std::vector<uint64_t> starts_;                   // where each file's slice starts
+  bool compressed_;
+  std::vector<std::unique_ptr<PosixFile>> files_;  // a slice's each (raw slices)
+  std::vector<std::string> paths_;                 // a slice's each (compressed slices)
+  std::vector<uint64_t> starts_;                   // where each file's slice (or its stream) starts
 };
 
 }  // namespace

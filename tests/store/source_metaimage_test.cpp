@@ -297,9 +297,6 @@ TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
       {"pattern of %s", metaImageHeader("MET_SHORT", "", "s%s.raw 1 5 1"), "must hold one %d"},
       {"pattern step 0", metaImageHeader("MET_SHORT", "", "s%d.raw 1 5 0"), "by a step that reaches it"},
       {"pattern backwards", metaImageHeader("MET_SHORT", "", "s%d.raw 5 1 1"), "by a step that reaches it"},
-      {"compressed list",
-       withValue(metaImageHeader("MET_SHORT", "", "s%d.raw 1 5 1"), "CompressedData", "True"),
-       "read uncompressed only"},
       {"no equals sign", "NDims 3\n" + good, "expected 'Key = Value'"},
   };
   expectHeadersRefused(cases, "/some/dir/bad.mha",
@@ -307,7 +304,8 @@ TEST(SourceMetaImage, MalformedHeadersNameFileAndKey) {
 }
 
 // A file per slice: LIST (big-endian, each file after a 4-byte header), LIST 2D of two interleaved channels,
-// and a pattern counting down (each slice ending its file, HeaderSize -1): read as one file of them would be.
+// a pattern counting down (each slice ending its file, HeaderSize -1), and LIST of zlib-compressed slices:
+// read as one file of them would be.
 TEST(SourceMetaImage, AFilePerSliceListedOrByPattern) {
   TempDir dir;
   const auto values = samplePattern<int16_t>(kMetaImageSamples);
@@ -350,6 +348,30 @@ TEST(SourceMetaImage, AFilePerSliceListedOrByPattern) {
   const std::string pattern = dir.file("pattern.mhd");
   writeFile(pattern, metaImageHeader("MET_SHORT", "HeaderSize = -1\n", "img%03d.raw 9 5 -1"));
   EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(pattern), 0, 5), values);
+
+  // CompressedData with a file per slice: a zlib stream of its slice in each, as MetaIO writes them; one
+  // damaged is named when its slice is read.
+  names.clear();
+  for (size_t z = 0; z < 5; ++z) {
+    writeFile(dir.file("zlib_" + std::to_string(z) + ".raw"), zlibOf(fileBytes(sliceOf(values, z, 54))));
+    names += "zlib_" + std::to_string(z) + ".raw\n";
+  }
+  const std::string compressed = dir.file("compressed.mhd");
+  writeFile(compressed,
+            withValue(metaImageHeader("MET_SHORT", "", "LIST"), "CompressedData", "True") + names);
+  EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(compressed), 0, 5), values);
+  EXPECT_EQ(readSlab<int16_t>(*openVolumeSource(compressed), 3, 1),
+            std::vector<int16_t>(values.begin() + 162, values.begin() + 216));
+  std::string damaged = zlibOf(fileBytes(sliceOf(values, 2, 54)));
+  damaged[damaged.size() - 2] ^= 0x40;  // the Adler-32 at its end
+  writeFile(dir.file("zlib_2.raw"), damaged);
+  std::string failure;
+  try {
+    readSlab<int16_t>(*openVolumeSource(compressed), 0, 5);
+  } catch (const Error& e) {
+    failure = e.what();
+  }
+  EXPECT_NE(failure.find("MetaImage data file " + dir.file("zlib_2.raw")), std::string::npos) << failure;
 
   // A missing or short slice file is named when the source opens.
   fs::remove(dir.file("list_3.raw"));
