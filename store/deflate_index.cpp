@@ -17,12 +17,13 @@ struct IndexKey {
 
 }  // namespace
 
-std::optional<DeflateAccessPoint> DeflateIndex::pointBefore(uint64_t output) const {
+std::optional<DeflateAccessPoint> DeflateIndex::pointBefore(uint64_t output,
+                                                            std::optional<uint64_t> past) const {
   std::lock_guard lock(mutex_);
   const auto after =
       std::upper_bound(points_.begin(), points_.end(), output,
                        [](uint64_t value, const DeflateAccessPoint& point) { return value < point.output; });
-  if (after == points_.begin()) return std::nullopt;
+  if (after == points_.begin() || (past && std::prev(after)->output <= *past)) return std::nullopt;
   return *std::prev(after);
 }
 

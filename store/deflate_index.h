@@ -38,8 +38,9 @@ class DeflateIndex {
   static constexpr size_t kMaxPoints = 256;
   static constexpr uint64_t kFirstSpacingBytes = uint64_t(1) << 20;
 
-  // The last point at or before `output` (decompressed bytes); nullopt when there is none.
-  std::optional<DeflateAccessPoint> pointBefore(uint64_t output) const;
+  // The last point at or before `output` (decompressed bytes); nullopt when there is none, or when it does
+  // not lie past `past` (a reader there gains nothing from it, and its window is not copied).
+  std::optional<DeflateAccessPoint> pointBefore(uint64_t output, std::optional<uint64_t> past = {}) const;
   // Whether a point at `output` would be kept: past the last point by the spacing.
   bool wantsPointAt(uint64_t output) const;
   // Keeps `point` if wantsPointAt(point.output) still holds.

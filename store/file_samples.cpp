@@ -45,8 +45,10 @@ class DeflateStream {
   // Makes the next read start at decompressed byte `target`.
   void seek(uint64_t target) {
     const bool behind = target < produced_;
-    const std::optional<DeflateAccessPoint> point = index_->pointBefore(target);
-    if (point && (behind || point->output > produced_))
+    // Reading on reaches the target unless a point lies between: only then is one worth its window's copy.
+    const std::optional<DeflateAccessPoint> point =
+        index_->pointBefore(target, behind ? std::nullopt : std::optional(produced_));
+    if (point)
       resumeAt(*point);
     else if (behind)
       restart();
