@@ -1,9 +1,12 @@
 #include "store/chunk_codecs.h"
 
+#include <blosc.h>
 #include <bzlib.h>
 #include <lz4.h>
 #include <lzma.h>
+#include <xxhash.h>
 #include <zlib.h>
+#include <zstd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -72,6 +75,105 @@ std::string bzip2Exactly(std::span<const std::byte> in, std::span<std::byte> out
   if (produced != out.size())
     return std::to_string(produced) + " bytes instead of " + std::to_string(out.size());
   return "";
+}
+
+namespace {
+
+uint32_t littleEndian32(const std::byte* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// lz4-java's LZ4BlockOutputStream (N5's lz4 compression): blocks, each after a header of 21 bytes
+// ("LZ4Block", a token whose high bits say raw 0x10 or LZ4 0x20, the stored and the decompressed length and
+// the xxHash32 of the decompressed bytes (seed 0x9747b28c) masked to 28 bits, little-endian), ended by an
+// empty raw block.
+std::string lz4JavaBlocksExactly(std::span<const std::byte> in, std::span<std::byte> out) {
+  constexpr size_t kHeaderBytes = 21;
+  constexpr int kRaw = 0x10, kLz4 = 0x20;
+  constexpr uint32_t kSeed = 0x9747b28c, kChecksumMask = 0x0fffffff;
+  size_t read = 0, produced = 0;
+  for (;;) {
+    if (in.size() - read < kHeaderBytes) return "cut short (a block header, or the stream's end, is missing)";
+    const std::byte* header = in.data() + read;
+    if (std::memcmp(header, "LZ4Block", 8) != 0)
+      return "not lz4-java's block stream (no LZ4Block header at byte " + std::to_string(read) + ")";
+    const int method = std::to_integer<int>(header[8]) & 0xf0;
+    const uint32_t stored = littleEndian32(header + 9), size = littleEndian32(header + 13);
+    const uint32_t checksum = littleEndian32(header + 17);
+    read += kHeaderBytes;
+    if (method != kRaw && method != kLz4)
+      return "a block of unknown method " + std::to_string(method) + " at byte " + std::to_string(read);
+    if (stored == 0 && size == 0) break;  // the stream's end
+    if (stored > in.size() - read) return "cut short (a block of " + std::to_string(stored) + " bytes)";
+    if (size > out.size() - produced) return "more than " + std::to_string(out.size()) + " bytes";
+    const std::span<const std::byte> block = in.subspan(read, stored);
+    const std::span<std::byte> into = out.subspan(produced, size);
+    if (method == kRaw) {
+      if (stored != size)
+        return "a raw block of " + std::to_string(stored) + " bytes holding " + std::to_string(size);
+      std::memcpy(into.data(), block.data(), size);
+    } else if (std::string problem = lz4BlockExactly(block, into); !problem.empty()) {
+      return problem;
+    }
+    if ((XXH32(into.data(), into.size(), kSeed) & kChecksumMask) != checksum)
+      return "a block's checksum does not match its bytes";
+    read += stored;
+    produced += size;
+  }
+  if (produced != out.size())
+    return std::to_string(produced) + " bytes instead of " + std::to_string(out.size());
+  return "";
+}
+
+}  // namespace
+
+std::string decompressExactly(Compressor compressor, std::span<const std::byte> in,
+                              std::span<std::byte> out) {
+  const std::string expected = "; expected " + std::to_string(out.size()) + " bytes";
+  switch (compressor) {
+    case Compressor::Blosc: {
+      size_t bytes = 0;
+      if (blosc_cbuffer_validate(in.data(), in.size(), &bytes) != 0) return "is not blosc data" + expected;
+      if (bytes != out.size()) return "decompresses to " + std::to_string(bytes) + " bytes" + expected;
+      if (blosc_decompress_ctx(in.data(), out.data(), out.size(), 1) != int(out.size()))
+        return "is damaged (blosc)";
+      return "";
+    }
+    case Compressor::Zlib:
+    case Compressor::Gzip:
+      if (!inflateExactly(in, out, compressor == Compressor::Gzip))
+        return std::string("is damaged or of another size (") +
+               (compressor == Compressor::Gzip ? "gzip" : "zlib") + ")" + expected;
+      return "";
+    case Compressor::Zstd: {
+      const size_t n = ZSTD_decompress(out.data(), out.size(), in.data(), in.size());
+      if (ZSTD_isError(n)) return std::string("is damaged (zstd: ") + ZSTD_getErrorName(n) + ")";
+      if (n != out.size()) return "decompresses to " + std::to_string(n) + " bytes" + expected;
+      return "";
+    }
+    case Compressor::Lz4Sized: {
+      // numcodecs' LZ4: the decompressed size, 4 bytes little-endian, before the block.
+      if (in.size() < 4) return "is too short for numcodecs' LZ4 (its size header)";
+      const uint32_t size = littleEndian32(in.data());
+      if (size != out.size()) return "says it holds " + std::to_string(size) + " bytes" + expected;
+      if (std::string problem = lz4BlockExactly(in.subspan(4), out); !problem.empty())
+        return "is damaged (lz4: " + problem + ")";
+      return "";
+    }
+    case Compressor::Xz:
+      if (std::string problem = lzmaExactly(in, out); !problem.empty())
+        return "is damaged (lzma: " + problem + ")";
+      return "";
+    case Compressor::Bzip2:
+      if (std::string problem = bzip2Exactly(in, out); !problem.empty())
+        return "is damaged (bz2: " + problem + ")";
+      return "";
+    case Compressor::Lz4Blocks:
+      if (std::string problem = lz4JavaBlocksExactly(in, out); !problem.empty())
+        return "is damaged (lz4: " + problem + ")";
+      return "";
+  }
+  return "has an unknown compressor";
 }
 
 void unshuffleBytes(std::span<const std::byte> in, std::span<std::byte> out, size_t width) {

@@ -1,8 +1,8 @@
 // openVolumeSource: chooses the VolumeSource for a command-line spec (see store/volume_source.h):
 //   "procedural:" prefix -> procedural; .nrrd/.nhdr -> NRRD; .mha/.mhd -> MetaImage;
 //   .nii/.nii.gz/.hdr/.hdr.gz, or an .img(.gz) beside a .hdr(.gz) -> NIfTI; .vtk -> legacy VTK; .vti -> VTK
-//   image data; a pattern with * or ? -> image stack; a directory -> Zarr if it holds Zarr metadata, else a
-//   DICOM series if it holds DICOM files, or
+//   image data; a pattern with * or ? -> image stack; a directory -> Zarr if it holds Zarr metadata, else N5
+//   if it holds attributes.json, else a DICOM series if it holds DICOM files, or
 //   no slices and DICOM files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff ->
 //   multi-page TIFF (a single page alone is an error); an HDF5 file (.h5, .hdf5, .ims, ... or its signature),
 //   alone or as FILE:/DATASET -> HDF5; a BigDataViewer XML -> HDF5 (its dataset's one view); a single .png or
@@ -22,6 +22,7 @@
 #include "store/source_hdf5.h"
 #include "store/source_images.h"
 #include "store/source_metaimage.h"
+#include "store/source_n5.h"
 #include "store/source_nifti.h"
 #include "store/source_nrrd.h"
 #include "store/source_procedural.h"
@@ -73,9 +74,10 @@ bool isSlicePattern(const std::string& spec) {
 }
 
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options) {
-  if (!options.axes.empty() && !hdf5SpecOf(spec) && !isZarrFolder(spec))
+  if (!options.axes.empty() && !hdf5SpecOf(spec) && !isZarrFolder(spec) && !isN5Folder(spec))
     throw UsageError("openVolumeSource: " + spec +
-                     ": --axes applies to HDF5 datasets and Zarr arrays only (other files state their axes)");
+                     ": --axes applies to HDF5 datasets, Zarr arrays and N5 datasets only (other files state "
+                     "their axes)");
   if (isProceduralSpec(spec)) {
     rejectRawOptions(spec, options, "a procedural volume");
     requireSingleVolume(spec, options);
@@ -97,6 +99,10 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
     if (isZarrFolder(spec)) {
       rejectRawOptions(spec, options, "a Zarr array");
       return openZarrSource(spec, options);
+    }
+    if (isN5Folder(spec)) {
+      rejectRawOptions(spec, options, "an N5 dataset");
+      return openN5Source(spec, options);
     }
     if (!listDicomFiles(spec).empty()) {
       if (holdsSliceImages(spec))

@@ -1,8 +1,5 @@
 #include "store/source_zarr.h"
 
-#include <blosc.h>
-#include <zstd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -66,52 +63,27 @@ std::vector<std::string> arraysBelow(const fs::path& group) {
   return arrays;
 }
 
-// Decompresses `in` with one compressor into exactly out.size() bytes, or says why it cannot.
-std::string decompress(ZarrCodec codec, std::span<const std::byte> in, std::span<std::byte> out) {
-  const std::string expected = "; expected " + std::to_string(out.size()) + " bytes";
+// The compressor of a bytes-to-bytes codec other than a checksum.
+Compressor compressorOf(ZarrCodec codec) {
   switch (codec) {
-    case ZarrCodec::Blosc: {
-      size_t bytes = 0;
-      if (blosc_cbuffer_validate(in.data(), in.size(), &bytes) != 0) return "is not blosc data" + expected;
-      if (bytes != out.size()) return "decompresses to " + std::to_string(bytes) + " bytes" + expected;
-      if (blosc_decompress_ctx(in.data(), out.data(), out.size(), 1) != int(out.size()))
-        return "is damaged (blosc)";
-      return "";
-    }
+    case ZarrCodec::Blosc:
+      return Compressor::Blosc;
     case ZarrCodec::Zlib:
+      return Compressor::Zlib;
     case ZarrCodec::Gzip:
-      if (!inflateExactly(in, out, codec == ZarrCodec::Gzip))
-        return std::string("is damaged or of another size (") + (codec == ZarrCodec::Gzip ? "gzip" : "zlib") +
-               ")" + expected;
-      return "";
-    case ZarrCodec::Zstd: {
-      const size_t n = ZSTD_decompress(out.data(), out.size(), in.data(), in.size());
-      if (ZSTD_isError(n)) return std::string("is damaged (zstd: ") + ZSTD_getErrorName(n) + ")";
-      if (n != out.size()) return "decompresses to " + std::to_string(n) + " bytes" + expected;
-      return "";
-    }
-    case ZarrCodec::Lz4: {
-      // numcodecs' LZ4: the decompressed size, 4 bytes little-endian, before the block.
-      if (in.size() < 4) return "is too short for numcodecs' LZ4 (its size header)";
-      uint32_t size = 0;
-      for (size_t i = 0; i < 4; ++i) size |= uint32_t(std::to_integer<uint8_t>(in[i])) << (8 * i);
-      if (size != out.size()) return "says it holds " + std::to_string(size) + " bytes" + expected;
-      if (std::string problem = lz4BlockExactly(in.subspan(4), out); !problem.empty())
-        return "is damaged (lz4: " + problem + ")";
-      return "";
-    }
+      return Compressor::Gzip;
+    case ZarrCodec::Zstd:
+      return Compressor::Zstd;
+    case ZarrCodec::Lz4:
+      return Compressor::Lz4Sized;
     case ZarrCodec::Lzma:
-      if (std::string problem = lzmaExactly(in, out); !problem.empty())
-        return "is damaged (lzma: " + problem + ")";
-      return "";
+      return Compressor::Xz;
     case ZarrCodec::Bz2:
-      if (std::string problem = bzip2Exactly(in, out); !problem.empty())
-        return "is damaged (bz2: " + problem + ")";
-      return "";
-    case ZarrCodec::Crc32c:
+      return Compressor::Bzip2;
+    case ZarrCodec::Crc32c:  // decodeBytes drops its bytes before any compressor
       break;
   }
-  return "has an unknown compressor";
+  throw Error("a Zarr checksum codec has no compressor");
 }
 
 // Decodes stored bytes through `codecs` (in encoding order: undone in reverse) into exactly out.size() bytes,
@@ -129,9 +101,10 @@ std::string decodeBytes(const std::vector<ZarrCodec>& codecs, std::span<const st
     // CRC-32C codecs applied before the compressor: their bytes end its output.
     const size_t checksumsBefore =
         size_t(std::count(codecs.begin(), codecs.begin() + long(i), ZarrCodec::Crc32c));
-    if (checksumsBefore == 0) return decompress(codecs[i], in, out);
+    if (checksumsBefore == 0) return decompressExactly(compressorOf(codecs[i]), in, out);
     scratch.resize(out.size() + kChecksumBytes * checksumsBefore);
-    if (const std::string problem = decompress(codecs[i], in, scratch); !problem.empty()) return problem;
+    if (const std::string problem = decompressExactly(compressorOf(codecs[i]), in, scratch); !problem.empty())
+      return problem;
     in = std::span<const std::byte>(scratch).first(out.size());
     break;
   }

@@ -1,5 +1,5 @@
 // VolumeSource: a scalar volume read slab by slab, the input of the converter (raw, NRRD, MetaImage, NIfTI,
-// VTK (.vti, .vtk), image stacks, DICOM, HDF5, Zarr, procedural). Sources never hold the whole volume;
+// VTK (.vti, .vtk), image stacks, DICOM, HDF5, Zarr, N5, procedural). Sources never hold the whole volume;
 // procedural ones generate what is asked for.
 //
 // Threads: info() any thread. readSlab() may be called from one thread at a time per source object
@@ -161,8 +161,8 @@ struct SourceOptions {
   // --time T, --channel C: which of a file's volumes to read (store/picked_volume.h); default the first.
   std::optional<uint32_t> timePoint;
   std::optional<uint32_t> channel;
-  // --axes: an HDF5 dataset's or a Zarr array's axes named, slowest first, one of t, c, z, y, x each
-  // (store/array_axes.h), for an array that does not name them itself; empty: not given.
+  // --axes: an HDF5 dataset's, a Zarr array's or an N5 dataset's axes named, slowest first, one of t, c, z,
+  // y, x each (store/array_axes.h), for an array that does not name them itself; empty: not given.
   std::string axes;
 };
 
@@ -170,8 +170,8 @@ struct SourceOptions {
 //   path/to/name_XxYxZ_type.raw or any raw file with options.dims/type (and byteOrder, headerBytes),
 //   path.nrrd / path.nhdr, path.mha / path.mhd, path.nii / path.nii.gz / a .hdr and .img pair, path.vti,
 //   path.vtk, a directory or glob of 2D slices (TIFF/PNG), a multi-page TIFF, a folder of a DICOM series or
-//   one of its images, an HDF5 file or FILE:/DATASET of one, a Zarr array or OME-Zarr image's folder,
-//   procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
+//   one of its images, an HDF5 file or FILE:/DATASET of one, a Zarr array or OME-Zarr image's folder, an N5
+//   dataset's or multiscale group's folder, procedural:NAME:SIZE  (sphere, menger, noise, marschner-lobb).
 // Throws ropecast::Error naming the spec and what was expected.
 std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const SourceOptions& options = {});
 

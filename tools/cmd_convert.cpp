@@ -94,14 +94,14 @@ int runConvert(const ConvertArgs& a) {
 const CommandRegistration convertCommand("convert", 10, [](CLI::App& app) -> std::function<int()> {
   app.description(
       "build an octree store from a volume (raw, NRRD, MetaImage, NIfTI, VTK, image stack, DICOM series, "
-      "HDF5, Zarr, procedural:NAME:SIZE)");
+      "HDF5, Zarr, N5, procedural:NAME:SIZE)");
   auto a = std::make_shared<ConvertArgs>();
-  app.add_option(
-         "input", a->input,
-         "volume: file.raw (name_XxYxZ_type.raw or --dims/--type), .nrrd/.nhdr, .mha/.mhd, "
-         ".nii/.nii.gz/.hdr, .vti, legacy .vtk, "
-         "directory or glob of slices, multi-page TIFF, DICOM folder or image, HDF5 file (.h5, .ims, "
-         "...; FILE:/DATASET names a dataset), Zarr array or OME-Zarr image folder, procedural:NAME:SIZE")
+  app.add_option("input", a->input,
+                 "volume: file.raw (name_XxYxZ_type.raw or --dims/--type), .nrrd/.nhdr, .mha/.mhd, "
+                 ".nii/.nii.gz/.hdr, .vti, legacy .vtk, "
+                 "directory or glob of slices, multi-page TIFF, DICOM folder or image, HDF5 file (.h5, .ims, "
+                 "...; FILE:/DATASET names a dataset), Zarr array or OME-Zarr image folder, N5 dataset or "
+                 "multiscale group folder, procedural:NAME:SIZE")
       ->required();
   app.add_option("-o,--output", a->output, "the store file to write")
       ->required()

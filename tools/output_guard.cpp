@@ -15,6 +15,7 @@
 #include "store/procedural.h"
 #include "store/source_dicom.h"
 #include "store/source_metaimage.h"
+#include "store/source_n5.h"
 #include "store/source_nifti.h"
 #include "store/source_nrrd.h"
 #include "store/source_zarr.h"
@@ -164,7 +165,9 @@ void OutputGuard::check() const {
 std::vector<std::string> volumeSpecFiles(const std::string& spec) {
   if (isProceduralSpec(spec)) return {};
   if (const std::optional<Hdf5Spec> hdf5 = hdf5SpecOf(spec)) return {hdf5->file};
-  if (isZarrFolder(spec)) {  // its metadata and chunk files, at any depth ("/"-separated keys nest them)
+  // A Zarr or N5 folder: its metadata and chunk files, at any depth ("/"-separated keys nest them, N5's
+  // blocks lie a folder per axis deep).
+  if (isZarrFolder(spec) || isN5Folder(spec)) {
     std::vector<std::string> files{spec};
     std::error_code ec;
     for (auto it = fs::recursive_directory_iterator(spec, ec);

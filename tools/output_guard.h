@@ -61,8 +61,8 @@ class OutputGuard {
 std::string fileIdentity(const std::string& path);
 
 // The input files named by a volume spec as `ropecast convert` reads it (store/volume_source.h): nothing for
-// procedural:NAME:SIZE, a raw, TIFF or HDF5 file itself (FILE:/DATASET its file), a Zarr folder and every
-// file below it, an NRRD, MetaImage or NIfTI
+// procedural:NAME:SIZE, a raw, TIFF or HDF5 file itself (FILE:/DATASET its file), a Zarr or N5 folder and
+// every file below it, an NRRD, MetaImage or NIfTI
 // header and its detached data file (and a NIfTI image its header), a DICOM image and the DICOM files of its
 // folder (its series is among them), a directory or glob pattern as given (addVolumeInput expands them); for
 // a directory or a DICOM file, the DICOM files of the folders below (a disc's series).

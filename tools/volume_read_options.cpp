@@ -48,7 +48,9 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
   app.add_option(
          "--time", a.timePoint,
          "which time point of a time series to read, from 0 (NIfTI, NRRD, DICOM, TIFF hyperstacks, OME-Zarr, "
-         "HDF5: Imaris, BigDataViewer, ilastik; an HDF5 dataset's or a Zarr array's t axis of --axes; "
+         "HDF5: Imaris, BigDataViewer, ilastik; an HDF5 dataset's, a Zarr array's or an N5 dataset's t axis "
+         "of "
+         "--axes; "
          "default "
          "0)")
       ->type_name("T")
@@ -57,12 +59,15 @@ void addVolumeReadOptions(CLI::App& app, VolumeReadArgs& a) {
          "--channel", a.channel,
          "which channel or component of several to read, from 0 (TIFF hyperstacks, OME-TIFF, OME-Zarr, "
          "MetaImage, HDF5: Imaris, ilastik, BigDataViewer view setups; a NIfTI's 5th dimension, a NRRD's or "
-         "a .vti array's components; an HDF5 dataset's or a Zarr array's c axis of --axes; default 0)")
+         "a .vti array's components; an HDF5 dataset's, a Zarr array's or an N5 dataset's c axis of --axes; "
+         "default 0)")
       ->type_name("C")
       ->transform(integerRange(0, double(UINT32_MAX)));
-  app.add_option("--axes", a.axes,
-                 "an HDF5 dataset's or a Zarr array's axes, slowest first, for one that does not name them: "
-                 "a letter per axis, t (time), c (channel), z, y or x (e.g. tzyx, czyx, tczyx)")
+  app.add_option(
+         "--axes", a.axes,
+         "an HDF5 dataset's, a Zarr array's or an N5 dataset's axes, slowest first, for one that does not "
+         "name them: "
+         "a letter per axis, t (time), c (channel), z, y or x (e.g. tzyx, czyx, tczyx)")
       ->type_name("LETTERS")
       ->check(notEmpty("axis letters"));
 }

@@ -1,6 +1,6 @@
 // The options that say how to read a volume: --dims, --type, --byte-order and --header-bytes of a raw file,
-// --spacing of any volume, --time and --channel of a file of several volumes, --axes of an HDF5 dataset or a
-// Zarr array that does not name its axes. `convert` and `info` take them,
+// --spacing of any volume, --time and --channel of a file of several volumes, --axes of an HDF5 dataset, a
+// Zarr array or an N5 dataset that does not name its axes. `convert` and `info` take them,
 // and so do render, view and bench modes for a volume given where a store is read (tools/temporary_store.h).
 // Main thread.
 #pragma once

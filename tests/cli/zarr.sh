@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # `ropecast convert` of a Zarr array end to end: an uncompressed array with nested chunk keys ("/") and edge
 # chunks converts to a store of its size, type and values; a group of two arrays is refused, listing them, and
-# writes nothing; no output may land on the array's metadata or on a chunk file at any depth.
+# writes nothing; no output may land on the array's metadata or on a chunk file at any depth. The same of an
+# N5 dataset zarr-python wrote (tests/data/n5): its store, its container refused listing the datasets, no
+# output onto its attributes or a block.
 # Usage: bash zarr.sh /path/to/ropecast
 set -uo pipefail
 ropecast="$1"
@@ -60,6 +62,26 @@ for output in "group.zarr/a/.zarray" "group.zarr/a/2/1/2"; do
   sum=$(md5sum < "$dir/$output")
   "$ropecast" convert "$dir/group.zarr/a" -o "$dir/$output" --quiet 2> "$dir/err.txt" &&
     fail "convert wrote its store onto $output of the array it read"
+  grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal for $output:"; cat "$dir/err.txt"; }
+  [ "$(md5sum < "$dir/$output")" = "$sum" ] || fail "$output was changed"
+done
+
+cp -r "$(dirname "$0")/../data/n5/zarr.n5" "$dir/zarr.n5"
+"$ropecast" convert "$dir/zarr.n5/gzip" -o "$dir/n5.rcast" --quiet 2> "$dir/err.txt" ||
+  { fail "convert of an N5 dataset"; cat "$dir/err.txt"; }
+"$ropecast" info "$dir/n5.rcast" > "$dir/info.txt" || fail "info of the converted N5 dataset"
+for expected in "9 x 7 x 5 samples, spacing 1 x 1 x 1" "type       uint16" "values     [0, 468]" "n5:$dir/zarr.n5/gzip"; do
+  grep -qF -- "$expected" "$dir/info.txt" || { fail "info does not say '$expected':"; cat "$dir/info.txt"; }
+done
+"$ropecast" convert "$dir/zarr.n5" -o "$dir/container.rcast" --quiet 2> "$dir/err.txt" &&
+  fail "an N5 container of datasets was converted"
+grep -qF "give one of its datasets' folders: blosc, bzip2, gzip, lz4, raw, xz, zlib, zstd" "$dir/err.txt" ||
+  { fail "the datasets are not listed:"; cat "$dir/err.txt"; }
+[ ! -e "$dir/container.rcast" ] || fail "a refused container left $dir/container.rcast"
+for output in "zarr.n5/gzip/attributes.json" "zarr.n5/gzip/1/1/1"; do
+  sum=$(md5sum < "$dir/$output")
+  "$ropecast" convert "$dir/zarr.n5/gzip" -o "$dir/$output" --quiet 2> "$dir/err.txt" &&
+    fail "convert wrote its store onto $output of the dataset it read"
   grep -qF "refusing to overwrite an input" "$dir/err.txt" || { fail "no refusal for $output:"; cat "$dir/err.txt"; }
   [ "$(md5sum < "$dir/$output")" = "$sum" ] || fail "$output was changed"
 done

@@ -129,7 +129,8 @@ TEST(SourceZarr, AxesNamedOnTheCommandLine) {
   const std::string nrrd = (dir / "a.nrrd").string();
   writeFile(nrrd,
             "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n" + std::string(8, '\0'));
-  EXPECT_NE(errorOf(nrrd, options).find(nrrd + ": --axes applies to HDF5 datasets and Zarr arrays only"),
+  EXPECT_NE(errorOf(nrrd, options)
+                .find(nrrd + ": --axes applies to HDF5 datasets, Zarr arrays and N5 datasets only"),
             std::string::npos)
       << errorOf(nrrd, options);
 }
