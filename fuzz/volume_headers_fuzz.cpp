@@ -76,7 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
     } else if (parser == 4) {
       const ropecast::BdvDataset dataset = ropecast::parseBdvXml(text, "fuzz.xml");
-      if (dataset.setups.empty() || dataset.timepoints.empty() || dataset.hdf5File.empty()) std::abort();
+      if (dataset.setups.empty() || dataset.timepoints.empty() || dataset.images.empty()) std::abort();
       for (const ropecast::BdvSetup& setup : dataset.setups)
         if (setup.voxelSize && !(std::isfinite(setup.voxelSize->x) && std::isfinite(setup.voxelSize->y) &&
                                  std::isfinite(setup.voxelSize->z)))

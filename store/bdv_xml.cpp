@@ -31,18 +31,23 @@ class BdvParser {
     if (status == XML_STATUS_ERROR)
       fail("not well-formed XML at line " + std::to_string(XML_GetCurrentLineNumber(parser_)) + " (" +
            XML_ErrorString(XML_GetErrorCode(parser_)) + ")");
-    if (loader_ != "bdv.hdf5")
-      fail(loader_.empty() ? "no ImageLoader element"
-                           : "its images are loaded by '" + loader_ +
-                                 "'; BigDataViewer's HDF5 (format \"bdv.hdf5\") is read");
-    if (hdf5_.empty()) fail("its ImageLoader names no hdf5 file");
+    if (loader_ != "bdv.hdf5" && loader_ != "bdv.n5")
+      fail(loader_.empty()
+               ? "no ImageLoader element"
+               : "its images are loaded by '" + loader_ +
+                     "'; BigDataViewer's HDF5 (format \"bdv.hdf5\") and N5 (\"bdv.n5\") are read");
+    dataset_.format = loader_ == "bdv.n5" ? BdvImageFormat::N5 : BdvImageFormat::Hdf5;
+    const std::string& images = dataset_.format == BdvImageFormat::N5 ? n5_ : hdf5_;
+    if (images.empty())
+      fail(std::string("its ImageLoader names no ") +
+           (dataset_.format == BdvImageFormat::N5 ? "n5 container" : "hdf5 file"));
     if (dataset_.setups.empty()) fail("no ViewSetup");
     if (dataset_.timepoints.empty()) fail("no Timepoints");
     const fs::path folder = fs::path(path_).parent_path();
     fs::path base = basePath_.empty() ? fs::path(".") : fs::path(basePath_);
     if (base.is_relative()) base = folder / base;
-    const fs::path file(hdf5_);
-    dataset_.hdf5File = (file.is_relative() ? base / file : file).lexically_normal().string();
+    const fs::path file(images);
+    dataset_.images = (file.is_relative() ? base / file : file).lexically_normal().string();
     return dataset_;
   }
 
@@ -89,6 +94,7 @@ class BdvParser {
     const std::string text(trimBlanks(chars_));
     if (within({"SpimData", "BasePath"})) basePath_ = text;
     if (within({"ImageLoader", "hdf5"})) hdf5_ = text;
+    if (within({"ImageLoader", "n5"})) n5_ = text;
     if (within({"ViewSetups", "ViewSetup", "id"}))
       dataset_.setups.back().id = integer(text, "a ViewSetup's id");
     if (within({"ViewSetups", "ViewSetup", "name"})) dataset_.setups.back().name = text;
@@ -142,7 +148,7 @@ class BdvParser {
   const std::string& path_;
   XML_Parser parser_ = nullptr;
   std::vector<std::string> open_;
-  std::string problem_, loader_, hdf5_, basePath_, timepointsType_;
+  std::string problem_, loader_, hdf5_, n5_, basePath_, timepointsType_;
   int first_ = 0;
   BdvDataset dataset_;
 };
@@ -161,10 +167,23 @@ BdvDataset parseBdvXml(std::string_view text, const std::string& path) {
   return BdvParser(text, path).parse();
 }
 
+PickedVolume pickBdvView(const BdvDataset& dataset, const SourceOptions& options, const std::string& xml) {
+  // The setups' names say what each is (a channel, an angle, a tile).
+  std::vector<std::string> names;
+  for (const BdvSetup& setup : dataset.setups) names.push_back(setup.name);
+  return pickVolume(options,
+                    {dataset.timepoints.size(), dataset.setups.size(), "view setup", std::move(names)},
+                    "BigDataViewer dataset " + xml);
+}
+
 std::string bdvCellsPath(int timepoint, int setup) {
   char path[64];
   std::snprintf(path, sizeof path, "/t%05d/s%02d/0/cells", timepoint, setup);
   return path;
+}
+
+std::string bdvN5DatasetPath(int timepoint, int setup) {
+  return "setup" + std::to_string(setup) + "/timepoint" + std::to_string(timepoint) + "/s0";
 }
 
 bool isBdvCellsPath(std::string_view path) {

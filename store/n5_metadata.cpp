@@ -66,7 +66,10 @@ std::optional<Compressor> readCompression(const json& j, const std::string& wher
     if (!c.is_object() || !c.contains("type"))
       throw Error(where + ": 'compression' " + c.dump() + " has no 'type'");
     type = c.at("type");
-    zlib = c.value("useZlib", false);
+    const json useZlib = c.value("useZlib", json(false));
+    if (!useZlib.is_boolean())
+      throw Error(where + ": 'compression' 'useZlib' must be true or false, got " + useZlib.dump());
+    zlib = useZlib.get<bool>();
   }
   const std::string name = type.is_string() ? type.get<std::string>() : type.dump();
   if (name == "raw") return std::nullopt;
@@ -123,7 +126,10 @@ N5Calibration parseN5Calibration(std::string_view attributes, const std::string&
     const json& t = j.at("transform");
     if (!t.is_object()) throw Error(where + ": 'transform' is not an object: " + t.dump());
     // Lists in C order (slowest first) as they stand; in F order reversed, as N5's own.
-    const bool fortran = t.value("ordering", std::string("C")) == "F";
+    const json ordering = t.value("ordering", json("C"));
+    if (ordering != "C" && ordering != "F")
+      throw Error(where + ": 'transform' 'ordering' must be \"C\" or \"F\", got " + ordering.dump());
+    const bool fortran = ordering == "F";
     const auto inOrder = [&](const char* key) {
       std::vector<double> v =
           slowestFirst<double>(t.at(key), key, where + " 'transform'", "a list of numbers");

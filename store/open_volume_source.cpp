@@ -5,7 +5,8 @@
 //   if it holds attributes.json, else a DICOM series if it holds DICOM files, or
 //   no slices and DICOM files in its subfolders, else image stack; a DICOM file -> its series; .tif/.tiff ->
 //   multi-page TIFF (a single page alone is an error); an HDF5 file (.h5, .hdf5, .ims, ... or its signature),
-//   alone or as FILE:/DATASET -> HDF5; a BigDataViewer XML -> HDF5 (its dataset's one view); a single .png or
+//   alone or as FILE:/DATASET -> HDF5; a BigDataViewer XML -> HDF5 or N5, as its image loader says (its
+//   dataset's one view); a single .png or
 //   a store is an error; anything else -> raw.
 #include <algorithm>
 #include <filesystem>
@@ -151,6 +152,8 @@ std::unique_ptr<VolumeSource> openVolumeSource(const std::string& spec, const So
                   " is XML but no BigDataViewer dataset (no SpimData element); of XML files, BigDataViewer's "
                   "(beside its HDF5 file) and VTK image data (.vti) are read");
     rejectRawOptions(spec, options, "a BigDataViewer dataset");
+    const BdvDataset dataset = parseBdvXml(readTextInput(spec, "BigDataViewer XML " + spec), spec);
+    if (dataset.format == BdvImageFormat::N5) return openBdvN5Source(spec, dataset, options);
     return openHdf5Source(spec, options);
   }
   if (ext == ".vtk") {

@@ -597,17 +597,15 @@ std::unique_ptr<VolumeSource> openDataset(const std::string& path, std::string d
 // (--channel), by default the first of each.
 std::unique_ptr<VolumeSource> openBdvXml(const std::string& xml, const SourceOptions& options) {
   const BdvDataset dataset = parseBdvXml(readTextInput(xml, "BigDataViewer XML " + xml), xml);
-  // The setups' names say what each is (a channel, an angle, a tile).
-  std::vector<std::string> names;
-  for (const BdvSetup& setup : dataset.setups) names.push_back(setup.name);
-  const PickedVolume picked =
-      pickVolume(options, {dataset.timepoints.size(), dataset.setups.size(), "view setup", std::move(names)},
-                 "BigDataViewer dataset " + xml);
+  if (dataset.format != BdvImageFormat::Hdf5)
+    throw Error("BigDataViewer XML " + xml +
+                ": its images are not in an HDF5 file (the N5 source reads them)");
+  const PickedVolume picked = pickBdvView(dataset, options, xml);
   const BdvSetup& setup = dataset.setups[picked.channel];
   SourceOptions picking = options;  // the dataset itself is one volume
   picking.timePoint.reset();
   picking.channel.reset();
-  return openDataset(dataset.hdf5File, bdvCellsPath(dataset.timepoints[picked.timePoint], setup.id), picking,
+  return openDataset(dataset.images, bdvCellsPath(dataset.timepoints[picked.timePoint], setup.id), picking,
                      BdvView{xml, setup.voxelSize, picked});
 }
 

@@ -199,6 +199,17 @@ class N5Source final : public VolumeSource {
   ChunkLayer layer_;
 };
 
+// What a BigDataViewer XML says of the view it reads that the N5 container does not.
+struct BdvView {
+  std::string xml;
+  std::optional<glm::dvec3> voxelSize;
+  PickedVolume picked;  // of its time points and view setups
+};
+
+std::unique_ptr<VolumeSource> openDataset(const std::string& path, const fs::path& datasetFolder,
+                                          const std::string& groupAttributes, const SourceOptions& options,
+                                          uint64_t maxBufferedBytes, const std::optional<BdvView>& bdv);
+
 }  // namespace
 
 bool isN5Folder(const std::string& path) {
@@ -210,10 +221,11 @@ std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const Source
                                            uint64_t maxBufferedBytes) {
   const fs::path folder(path);
   fs::path datasetFolder = folder;
-  std::string groupAttributes, attributes = readAttributes(folder);
-  if (!isN5Dataset(attributes, attributesOf(folder).string())) {
+  std::string groupAttributes = readAttributes(folder);
+  if (isN5Dataset(groupAttributes, attributesOf(folder).string())) {
+    groupAttributes.clear();
+  } else {
     // A group: its multiscale pyramid's first dataset, named by `multiscales` or as s0.
-    groupAttributes = std::move(attributes);
     const std::optional<std::string> multiscale =
         n5MultiscaleDataset(groupAttributes, attributesOf(folder).string());
     datasetFolder = folder / multiscale.value_or("s0");
@@ -226,13 +238,38 @@ std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const Source
                   (datasets.empty() ? std::string("no dataset lies below it")
                                     : "give one of its datasets' folders: " + listedNames(datasets)));
     }
-    attributes = readAttributes(datasetFolder);
   }
+  return openDataset(path, datasetFolder, groupAttributes, options, maxBufferedBytes, std::nullopt);
+}
+
+std::unique_ptr<VolumeSource> openBdvN5Source(const std::string& xml, const BdvDataset& dataset,
+                                              const SourceOptions& options) {
+  const PickedVolume picked = pickBdvView(dataset, options, xml);
+  const BdvSetup& setup = dataset.setups[picked.channel];
+  const fs::path folder =
+      fs::path(dataset.images) / bdvN5DatasetPath(dataset.timepoints[picked.timePoint], setup.id);
+  if (!holdsDataset(folder))
+    throw Error("BigDataViewer XML " + xml + ": its view (time point " +
+                std::to_string(dataset.timepoints[picked.timePoint]) + ", setup " + std::to_string(setup.id) +
+                ") has no N5 dataset " + folder.string());
+  SourceOptions picking = options;  // the dataset itself is one volume
+  picking.timePoint.reset();
+  picking.channel.reset();
+  return openDataset(folder.string(), folder, "", picking, kN5MaxBufferedBytes,
+                     BdvView{xml, setup.voxelSize, picked});
+}
+
+namespace {
+
+std::unique_ptr<VolumeSource> openDataset(const std::string& path, const fs::path& datasetFolder,
+                                          const std::string& groupAttributes, const SourceOptions& options,
+                                          uint64_t maxBufferedBytes, const std::optional<BdvView>& bdv) {
+  const std::string attributes = readAttributes(datasetFolder);
   const std::string where = attributesOf(datasetFolder).string();
   N5Dataset dataset = parseN5Dataset(attributes, where);
   N5Calibration calibration = parseN5Calibration(attributes, where);
   if (calibration.attribute.empty() && !groupAttributes.empty())
-    calibration = parseN5Calibration(groupAttributes, attributesOf(folder).string());
+    calibration = parseN5Calibration(groupAttributes, attributesOf(path).string());
   const ArrayAxes axes = arrayAxesOf(dataset.shape, calibration.axisNames, options.axes);
   if (!axes.problem.empty())
     throw Error("N5 dataset " + datasetFolder.string() + ": not a volume: " + axes.problem);
@@ -262,24 +299,28 @@ std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const Source
       spacing = zyxOf(*calibration.scale);
     }
   }
+  if (bdv && bdv->voxelSize) spacing = *bdv->voxelSize;
   info.spacing = options.spacing.value_or(spacing);
   if (calibration.translation && calibration.translation->size() == dataset.shape.size()) {
     const glm::dvec3 origin = zyxOf(*calibration.translation);
     if (std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)) info.origin = origin;
   }
-  const PickedVolume picked = pickVolume(options,
-                                         {axes.time < 0 ? 1 : dataset.shape[size_t(axes.time)],
-                                          axes.channel < 0 ? 1 : dataset.shape[size_t(axes.channel)],
-                                          "channel",
-                                          {}},
-                                         "N5 dataset " + path);
+  const PickedVolume picked = bdv ? bdv->picked
+                                  : pickVolume(options,
+                                               {axes.time < 0 ? 1 : dataset.shape[size_t(axes.time)],
+                                                axes.channel < 0 ? 1 : dataset.shape[size_t(axes.channel)],
+                                                "channel",
+                                                {}},
+                                               "N5 dataset " + path);
   std::vector<uint64_t> pickedIndex(dataset.shape.size(), 0);
   if (axes.time >= 0) pickedIndex[size_t(axes.time)] = picked.timePoint;
   if (axes.channel >= 0) pickedIndex[size_t(axes.channel)] = picked.channel;
   info.description = "n5:" + datasetFolder.lexically_normal().string();
+  if (bdv) info.description = "bdv:" + bdv->xml + " (" + info.description + ")";
   describePicked(info, picked);
   return std::make_unique<N5Source>(std::move(info), datasetFolder, std::move(dataset), axes.zyx,
                                     std::move(pickedIndex), maxBufferedBytes);
 }
 
+}  // namespace
 }  // namespace ropecast

@@ -6,6 +6,9 @@
 // on worker threads; a block that is not stored holds zeros. Edge blocks may be stored whole or cut at the
 // dataset's edge, as the N5 format allows. Owned by loader/.
 //
+// A BigDataViewer XML whose images are in N5 (BigStitcher's "bdv.n5") reads one view, as the HDF5 source
+// reads those in HDF5.
+//
 // Axes: COSEM's transform names them; else as store/array_axes.h chooses (--axes for more than three long
 // axes). Spacing: --spacing, else the calibration store/n5_metadata.h reads (the dataset's, else its
 // group's), else 1.
@@ -17,6 +20,7 @@
 #include <memory>
 #include <string>
 
+#include "store/bdv_xml.h"
 #include "store/volume_source.h"
 
 namespace ropecast {
@@ -33,5 +37,11 @@ inline constexpr uint64_t kN5MaxBufferedBytes = uint64_t(256) << 20;
 // place. `maxBufferedBytes` bounds the decoded slices (tests make it small).
 std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const SourceOptions& options,
                                            uint64_t maxBufferedBytes = kN5MaxBufferedBytes);
+
+// One view of a BigDataViewer dataset whose images are in an N5 container (`dataset`, parsed from the XML
+// `xml`: format bdv.n5): its time point and view setup as pickBdvView picks them, the full resolution
+// (setupS/timepointT/s0), at the setup's voxel size unless --spacing is given. Throws as openN5Source.
+std::unique_ptr<VolumeSource> openBdvN5Source(const std::string& xml, const BdvDataset& dataset,
+                                              const SourceOptions& options);
 
 }  // namespace ropecast

@@ -206,8 +206,13 @@ std::vector<std::string> volumeSpecFiles(const std::string& spec) {
     } else if (hasNiftiName(spec)) {
       const std::string data = niftiDataPath(readNiftiHeaderFile(spec), spec);
       if (!data.empty() && data != spec) files.push_back(data);
-    } else if (ext == ".xml" && isBdvXml(spec)) {  // a BigDataViewer dataset: the XML and its HDF5 file
-      files.push_back(parseBdvXml(readTextInput(spec, "BigDataViewer XML " + spec), spec).hdf5File);
+    } else if (ext == ".xml" && isBdvXml(spec)) {  // a BigDataViewer dataset: the XML, its HDF5 file or N5
+      const BdvDataset dataset = parseBdvXml(readTextInput(spec, "BigDataViewer XML " + spec), spec);
+      if (dataset.format == BdvImageFormat::N5) {
+        for (std::string& file : volumeSpecFiles(dataset.images)) files.push_back(std::move(file));
+      } else {
+        files.push_back(dataset.images);
+      }
     }
   } catch (const Error&) {
   }

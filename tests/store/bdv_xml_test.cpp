@@ -1,6 +1,6 @@
-// BigDataViewer's dataset XML (store/bdv_xml.h): the HDF5 file resolved from the XML's folder and BasePath,
-// setups with their voxel sizes, time points of each kind, the cells' dataset paths, and each malformed XML
-// refused naming the file (a ViewSetup outside ViewSetups among them: no setup).
+// BigDataViewer's dataset XML (store/bdv_xml.h): the HDF5 file or N5 container resolved from the XML's folder
+// and BasePath, setups with their voxel sizes, time points of each kind, the cells' dataset paths, and each
+// malformed XML refused naming the file (a ViewSetup outside ViewSetups among them: no setup).
 #include "store/bdv_xml.h"
 
 #include <gtest/gtest.h>
@@ -38,7 +38,7 @@ TEST(BdvXml, TheFileSetupsAndTimepoints) {
                               kBdvSetup + "<ViewSetup><id>5</id></ViewSetup>",
                               "<Timepoints type=\"range\"><first>3</first><last>5</last></Timepoints>"),
                   "/data/xml/d.xml");
-  EXPECT_EQ(d.hdf5File, "/data/raw/d.h5");
+  EXPECT_EQ(d.images, "/data/raw/d.h5");
   ASSERT_EQ(d.setups.size(), 2u);
   EXPECT_EQ(d.setups[0].id, 2);
   EXPECT_EQ(d.setups[0].name, "left");
@@ -48,11 +48,21 @@ TEST(BdvXml, TheFileSetupsAndTimepoints) {
   EXPECT_FALSE(d.setups[1].voxelSize);
   EXPECT_EQ(d.timepoints, (std::vector<int>{3, 4, 5}));
 
+  EXPECT_EQ(d.format, BdvImageFormat::Hdf5);
+  // BigStitcher's N5 export: the container's folder.
+  std::string n5 = bdvSpimData("", "", kBdvSetup, kBdvOneTimepoint);
+  n5.replace(n5.find("<ImageLoader"), n5.find("</ImageLoader>") - n5.find("<ImageLoader"),
+             "<ImageLoader format=\"bdv.n5\" version=\"1.0\"><n5 type=\"relative\">d.n5</n5>");
+  const BdvDataset inN5 = parseBdvXml(n5, "/data/d.xml");
+  EXPECT_EQ(inN5.format, BdvImageFormat::N5);
+  EXPECT_EQ(inN5.images, "/data/d.n5");
+  EXPECT_EQ(bdvN5DatasetPath(7, 12), "setup12/timepoint7/s0");
+
   // No BasePath: the XML's folder; an absolute file as it is; a pattern's range and a list of ids.
-  EXPECT_EQ(parseBdvXml(bdvSpimData("", "d.h5", kBdvSetup, kBdvOneTimepoint), "/data/d.xml").hdf5File,
+  EXPECT_EQ(parseBdvXml(bdvSpimData("", "d.h5", kBdvSetup, kBdvOneTimepoint), "/data/d.xml").images,
             "/data/d.h5");
   EXPECT_EQ(
-      parseBdvXml(bdvSpimData("", "/elsewhere/d.h5", kBdvSetup, kBdvOneTimepoint), "/data/d.xml").hdf5File,
+      parseBdvXml(bdvSpimData("", "/elsewhere/d.h5", kBdvSetup, kBdvOneTimepoint), "/data/d.xml").images,
       "/elsewhere/d.h5");
   EXPECT_EQ(parseBdvXml(
                 bdvSpimData("", "d.h5", kBdvSetup,
@@ -89,8 +99,9 @@ TEST(BdvXml, MalformedXmlIsRefusedNamingTheFile) {
        "a ViewSetup's voxel size '1 nan 1' is not three numbers"},
       {bdvSpimData("", "d.h5", kBdvSetup, "<Timepoints type=\"other\"/>"),
        "its Timepoints are of type 'other'"},
-      {"<SpimData><SequenceDescription><ImageLoader format=\"bdv.n5\"/></SequenceDescription></SpimData>",
-       "loaded by 'bdv.n5'"},
+      {"<SpimData><SequenceDescription><ImageLoader "
+       "format=\"bdv.ome.zarr\"/></SequenceDescription></SpimData>",
+       "loaded by 'bdv.ome.zarr'"},
   };
   for (const auto& c : cases) {
     const std::string message = bdvErrorOf(c.text);

@@ -517,8 +517,10 @@ TEST(SourceHdf5, ABigDataViewerXmlReadsItsViewAtItsVoxelSize) {
   angle.timePoint = 1;
   EXPECT_EQ(errorOf(xml, angle),
             "--time 1: BigDataViewer dataset " + xml + " holds 1 time point (--time 0 alone)");
-  writeFile(xml, xmlWith(setup(0, "beads"), "bdv.n5"));
-  EXPECT_NE(errorOf(xml).find("loaded by 'bdv.n5'; BigDataViewer's HDF5"), std::string::npos) << errorOf(xml);
+  writeFile(xml, xmlWith(setup(0, "beads"), "bdv.ome.zarr"));
+  EXPECT_NE(errorOf(xml).find("loaded by 'bdv.ome.zarr'; BigDataViewer's HDF5 (format \"bdv.hdf5\") and N5"),
+            std::string::npos)
+      << errorOf(xml);
   writeFile(xml, "<VTKFile type=\"ImageData\"/>\n");
   EXPECT_NE(errorOf(xml).find("is XML but no BigDataViewer dataset"), std::string::npos) << errorOf(xml);
 }

@@ -293,6 +293,49 @@ TEST(SourceN5, TimePointsAndChannelsAlongMoreAxes) {
       << errorOf(folder.string(), options);
 }
 
+// BigStitcher's N5 export: an XML beside an N5 container of setupS/timepointT/sL datasets.
+TEST(SourceN5, ABigDataViewerXmlReadsItsViewFromItsN5Container) {
+  TempDir dir;
+  const auto first = samplePattern<uint16_t>(9 * 6 * 5);
+  std::vector<uint16_t> last(first.rbegin(), first.rend());
+  const fs::path container = dir / "dataset.n5";
+  for (const std::string setup : {"0", "3"})
+    for (const std::string timepoint : {"0", "1"}) {
+      const bool isLast = setup == "3" && timepoint == "1";
+      writeN5Dataset(container / ("setup" + setup) / ("timepoint" + timepoint) / "s0",
+                     smallN5Spec("uint16", "gzip"), (isLast ? last : first).data(), 2);
+    }
+  const std::string xml = (dir / "dataset.xml").string();
+  const auto writeXml = [&](const std::string& n5) {
+    writeFile(xml, R"(<?xml version="1.0" encoding="UTF-8"?>
+<SpimData version="0.2"><BasePath type="relative">.</BasePath><SequenceDescription>
+<ImageLoader format="bdv.n5" version="1.0"><n5 type="relative">)" +
+                       n5 + R"(</n5></ImageLoader>
+<ViewSetups>
+<ViewSetup><id>0</id><name>tile 0</name><voxelSize><unit>um</unit><size>0.5 0.5 2</size></voxelSize></ViewSetup>
+<ViewSetup><id>3</id><name>tile 3</name><voxelSize><unit>um</unit><size>0.25 0.25 1</size></voxelSize></ViewSetup>
+</ViewSetups><Timepoints type="range"><first>0</first><last>1</last></Timepoints>
+</SequenceDescription></SpimData>)");
+  };
+  writeXml("dataset.n5");
+  SourceOptions options;
+  options.timePoint = 1;
+  options.channel = 1;
+  const auto source = openVolumeSource(xml, options);
+  const fs::path view = container / "setup3" / "timepoint1" / "s0";
+  EXPECT_EQ(source->info().spacing, glm::dvec3(0.25, 0.25, 1.0));
+  EXPECT_EQ(source->info().description,
+            "bdv:" + xml + " (n5:" + view.string() + ") (time point 1 of 2, view setup 1 of 2: 'tile 3')");
+  EXPECT_EQ(readSlab<uint16_t>(*source, 0, 5), last);
+  EXPECT_EQ(openVolumeSource(xml)->info().spacing, glm::dvec3(0.5, 0.5, 2.0));
+  fs::remove_all(view);
+  EXPECT_EQ(
+      errorOf(xml, options),
+      "BigDataViewer XML " + xml + ": its view (time point 1, setup 3) has no N5 dataset " + view.string());
+  writeXml("");
+  EXPECT_EQ(errorOf(xml), "BigDataViewer XML " + xml + ": its ImageLoader names no n5 container");
+}
+
 // Reads the whole volume of `folder`; the error's message, or "".
 std::string n5ReadError(const fs::path& folder) {
   try {
@@ -375,6 +418,12 @@ TEST(SourceN5, DamagedBlocksAndAttributesNameTheFileAndWhy) {
   refused(R"({"dimensions": [9, 6, 5], "blockSize": [65536, 65536, 1], "dataType": "uint8"})",
           "blocks of more than 2 GiB are not read");
   refused("[1, 2]", "not a JSON object of attributes");
+  refused(R"({"dimensions": [9, 6, 5], "blockSize": [4, 4, 2], "dataType": "uint16",
+              "compression": {"type": "gzip", "useZlib": "yes"}})",
+          "'compression' 'useZlib' must be true or false, got \"yes\"");
+  refused(R"({"dimensions": [9, 6, 5], "blockSize": [4, 4, 2], "dataType": "uint16",
+              "transform": {"axes": ["z", "y", "x"], "ordering": [1], "scale": [1, 1, 1]}})",
+          "'transform' 'ordering' must be \"C\" or \"F\", got [1]");
   // N5 before 1.0 named its compression alone.
   writeFile(
       attributes / "attributes.json",
