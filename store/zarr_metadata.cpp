@@ -76,6 +76,14 @@ void readDtype(const json& j, const std::string& where, ZarrArray& a) {
   }
 }
 
+// numcodecs' LZMA formats: 1 .xz (its default), 2 .lzma, 3 raw (whose filters only the metadata would give).
+void checkLzmaFormat(const json& configuration, const std::string& where) {
+  const json format = configuration.value("format", json(1));
+  if (!format.is_number_integer() || (format.get<int64_t>() != 1 && format.get<int64_t>() != 2))
+    throw Error(where + ": compressor lzma of format " + format.dump() +
+                " is not read (1, .xz, and 2, .lzma, are; 3 is raw LZMA data)");
+}
+
 void readCompressor(const json& j, const std::string& where, ZarrArray& a) {
   const json c = j.value("compressor", json());
   if (c.is_null()) return;
@@ -95,11 +103,7 @@ void readCompressor(const json& j, const std::string& where, ZarrArray& a) {
   else if (id == "bz2")
     a.codecs = {ZarrCodec::Bz2};
   else if (id == "lzma") {
-    // numcodecs' formats: 1 .xz (its default), 2 .lzma, 3 raw (whose filters only the metadata would give).
-    const json format = c.value("format", json(1));
-    if (!format.is_number_integer() || (format.get<int64_t>() != 1 && format.get<int64_t>() != 2))
-      throw Error(where + ": compressor lzma of format " + format.dump() +
-                  " is not read (1, .xz, and 2, .lzma, are; 3 is raw LZMA data)");
+    checkLzmaFormat(c, where);
     a.codecs = {ZarrCodec::Lzma};
   } else
     throw Error(where + ": compressor '" + id +
@@ -140,6 +144,23 @@ bool bigEndianOf(const json& configuration, const std::string& where) {
 
 void readSharding(const json& configuration, const std::string& where, ZarrArray& a);
 
+// numcodecs' compressors as v3 codecs (numcodecs.zarr3, which zarr-python 3 writes: "numcodecs.zlib", ...),
+// their configurations those of v2's compressors; nullopt for another name.
+std::optional<ZarrCodec> numcodecsCodec(const std::string& name, const json& configuration,
+                                        const std::string& where) {
+  const std::pair<const char*, ZarrCodec> known[] = {
+      {"numcodecs.zlib", ZarrCodec::Zlib}, {"numcodecs.gzip", ZarrCodec::Gzip},
+      {"numcodecs.zstd", ZarrCodec::Zstd}, {"numcodecs.blosc", ZarrCodec::Blosc},
+      {"numcodecs.lz4", ZarrCodec::Lz4},   {"numcodecs.lzma", ZarrCodec::Lzma},
+      {"numcodecs.bz2", ZarrCodec::Bz2}};
+  for (const auto& [n, codec] : known) {
+    if (name != n) continue;
+    if (codec == ZarrCodec::Lzma) checkLzmaFormat(configuration, where);
+    return codec;
+  }
+  return std::nullopt;
+}
+
 // A v3 codec chain: one array-to-bytes codec (bytes, or sharding_indexed outside a shard; no array-to-array
 // codec is read), then bytes-to-bytes codecs. Sets the codecs and byte order of `a`, or of its shards' inner
 // chunks.
@@ -166,8 +187,13 @@ void readCodecs(const json& chain, const std::string& where, ZarrArray& a, bool 
       codecs.push_back(ZarrCodec::Zstd);
     } else if (name == "crc32c") {
       codecs.push_back(ZarrCodec::Crc32c);
+    } else if (const std::optional<ZarrCodec> numcodec = numcodecsCodec(name, configuration, where)) {
+      codecs.push_back(*numcodec);
     } else {
-      throw Error(where + ": codec '" + name + "' is not read (blosc, gzip, zstd and crc32c are)");
+      throw Error(
+          where + ": codec '" + name +
+          "' is not read (blosc, gzip, zstd, crc32c, and numcodecs' zlib, gzip, zstd, blosc, lz4, lzma "
+          "and bz2 are)");
     }
   }
   if (std::count_if(codecs.begin(), codecs.end(), [](ZarrCodec c) { return c != ZarrCodec::Crc32c; }) > 1)

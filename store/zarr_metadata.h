@@ -59,7 +59,8 @@ std::string zarrV3NodeType(std::string_view text, const std::string& where);
 
 // The `zarr.json` of a v3 array, parsed, with the same refusals and: a node that is not an array, a chunk
 // grid other than "regular", a chunk key encoding other than "default" and "v2", codecs other than bytes,
-// blosc, gzip, zstd, crc32c and sharding_indexed (transpose, nested sharding), more than one compressor in a
+// blosc, gzip, zstd, crc32c, sharding_indexed and numcodecs' compressors (numcodecs.zlib, .gzip, .zstd,
+// .blosc, .lz4, .lzma, .bz2) (transpose, nested sharding, numcodecs' filters), more than one compressor in a
 // chain.
 ZarrArray parseZarrV3Array(std::string_view text, const std::string& where);
 

@@ -301,6 +301,23 @@ TEST(SourceZarr, TimePointsAndChannelsArePickedWithinChunksAndShards) {
   }
 }
 
+// zarr-python 3 writes numcodecs' compressors into v3 chains by numcodecs.zarr3's names; its filters are
+// refused, naming them.
+TEST(SourceZarr, V3ArraysWithNumcodecsCompressors) {
+  TempDir dir;
+  const auto values = samplePattern<uint16_t>(9 * 6 * 5);
+  for (const std::string name : {"zlib", "gzip", "zstd", "blosc", "lz4", "lzma", "bz2"}) {
+    const fs::path folder = dir / (name + ".zarr");
+    writeZarrV3Array(folder, smallSpec("uint16", "numcodecs." + name), {}, values.data(), 2);
+    expectVolume(*openVolumeSource(folder.string()),
+                 {{9, 6, 5}, SampleType::UInt16, {1.0, 1.0, 1.0}, "zarr:" + folder.string()}, values);
+  }
+  const fs::path filtered = dir / "delta.zarr";
+  writeZarrV3Array(filtered, smallSpec("uint16", "numcodecs.delta"), {}, values.data(), 2);
+  EXPECT_NE(errorOf(filtered.string()).find("codec 'numcodecs.delta' is not read"), std::string::npos)
+      << errorOf(filtered.string());
+}
+
 TEST(SourceZarr, V3ArraysShardedOrNotAndOmeZarr05Images) {
   TempDir dir;
   const auto values = samplePattern<int16_t>(9 * 6 * 5);

@@ -161,7 +161,8 @@ inline void writeZarrArray(const std::filesystem::path& folder, const ZarrArrayS
   });
 }
 
-// A v3 array: spec.dtype is a v3 data type ("uint16"); spec.compressor one of none, blosc, gzip, zstd, with a
+// A v3 array: spec.dtype is a v3 data type ("uint16"); spec.compressor one of none, blosc, gzip, zstd, or
+// numcodecs' as numcodecs.zarr3 names them ("numcodecs.lz4": the compressors of compressedChunk), with a
 // crc32c codec after it; keys "c/0/1/2". With `innerChunks`, spec.chunks are shards of such inner chunks
 // (index at the end, with a checksum), and spec.unwritten names inner chunks (global indices) left out (a
 // shard all of whose inner chunks are left out is not written).
@@ -206,8 +207,10 @@ inline void writeZarrV3Array(const std::filesystem::path& folder, const ZarrArra
   if (!v3.dimensionNames.empty()) meta["dimension_names"] = v3.dimensionNames;
   writeFile(folder / "zarr.json", meta.dump());
   const auto encoded = [&](const std::vector<uint64_t>& chunks, const std::vector<uint64_t>& index) {
+    const std::string compressor =
+        spec.compressor.starts_with("numcodecs.") ? spec.compressor.substr(10) : spec.compressor;
     std::string bytes = compressedChunk(
-        spec.compressor, rawChunk(spec.shape, chunks, index, values, width, false, v3.bigEndian), width);
+        compressor, rawChunk(spec.shape, chunks, index, values, width, false, v3.bigEndian), width);
     return bytes + "CRC!";  // a checksum's 4 bytes (not checked by the reader)
   };
   forEachIndex(chunkGrid(spec.shape, spec.chunks), [&](const std::vector<uint64_t>& index) {
