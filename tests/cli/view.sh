@@ -237,7 +237,7 @@ differs "the time point changed the view" "$dir/t1.png" "$dir/t0.png"
 run "view --time 1" xview $series --time 1 --screenshot "$dir/t1s.png"
 same "view --time 1 = render --time 1" "$dir/t1s.png" "$dir/rt1.png"
 # Playing: the stats say which time point each frame drew; it comes back to the first after the last.
-echo '[{"event": "play", "playing": true, "seconds_each": 0.1}, {"event": "quit", "at": 6}]' > "$dir/play.json"
+echo '[{"event": "play", "playing": true, "seconds_each": 0.1}, {"event": "quit", "at": 3}]' > "$dir/play.json"
 run "view --script play" xview $series --script "$dir/play.json" --stats "$dir/play.jsonl"
 python3 - "$dir/play.jsonl" <<'PY' || fail "playing did not go 0, 1, 0: $(cut -c1-60 "$dir/play.jsonl" | head -5)"
 import json, sys
