@@ -1,7 +1,6 @@
 #include "store/n5_metadata.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 
 #include <nlohmann/json.hpp>

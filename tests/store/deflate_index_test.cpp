@@ -2,13 +2,15 @@
 // order equal the data, for gzip and zlib streams of any compression level and for concatenated gzip members;
 // a reader after the first starts near its range instead of at the stream's start, and does not inflate to
 // the trailer again once it was checked; a trailer that does not match is still refused when inflation
-// resumed from a point; a file rewritten since gets a fresh index.
+// resumed from a point; a file rewritten since gets a fresh index; readers on two threads share one index.
 #include "store/deflate_index.h"
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -205,6 +207,34 @@ TEST(DeflateIndex, AFileRewrittenSinceGetsAFreshIndex) {
   EXPECT_NE(deflateIndexFor(PosixFile(path), 0), firstIndex);
   auto samples = samplesOf(path, 0, after.size());
   EXPECT_EQ(readRange(*samples, 3 * kMiB, kMiB), after.substr(3 * kMiB, kMiB));
+}
+
+// Two readers of one file on two threads at once, as two sources of a series may be: one takes the points as
+// it inflates front to back while the other reads ranges, resuming from those already taken. Each reads the
+// data.
+TEST(DeflateIndexThreads, ReadersOnTwoThreadsShareOneIndex) {
+  TempDir dir;
+  const std::string data = compressibleBytes(3 * kMiB, 11);
+  const std::string path = (dir / "shared.gz").string();
+  writeFile(path, deflatedOf(data, 6, true));
+  std::string problem;
+  std::atomic<bool> done = false;
+  std::thread front([&] {
+    try {
+      readAllInOrder(path, 0, data);
+    } catch (const Error& e) {
+      problem = e.what();
+    }
+    done = true;
+  });
+  std::mt19937 random(5);
+  for (int reads = 0; !done || reads < 4; ++reads) {
+    auto samples = samplesOf(path, 0, data.size());
+    const uint64_t at = random() % (data.size() - 4096);
+    EXPECT_EQ(readRange(*samples, at, 4096), data.substr(at, 4096)) << "at " << at;
+  }
+  front.join();
+  EXPECT_EQ(problem, "");
 }
 
 TEST(DeflateIndex, PointsAreThinnedPastTheirLimitAndStillSpanTheStream) {
