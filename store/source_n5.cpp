@@ -10,6 +10,7 @@
 #include "core/header_text.h"
 #include "core/input_file.h"
 #include "store/array_axes.h"
+#include "store/array_groups.h"
 #include "store/chunk_codecs.h"
 #include "store/chunk_layer.h"
 #include "store/n5_metadata.h"
@@ -24,8 +25,6 @@ namespace fs = std::filesystem;
 
 // Attributes are small JSON; a larger file is not N5's.
 constexpr size_t kMaxAttributesBytes = size_t(16) << 20;
-// How far below a group its datasets are looked for, for the message that lists them.
-constexpr int kDatasetSearchDepth = 4;
 
 fs::path attributesOf(const fs::path& folder) {
   return folder / "attributes.json";
@@ -40,24 +39,6 @@ bool holdsDataset(const fs::path& folder) {
   std::error_code ec;
   return fs::exists(attributesOf(folder), ec) &&
          isN5Dataset(readAttributes(folder), attributesOf(folder).string());
-}
-
-// The folders holding a dataset below `group` (relative to it), not looking inside datasets.
-std::vector<std::string> datasetsBelow(const fs::path& group) {
-  std::vector<std::string> datasets;
-  std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(group, fs::directory_options::skip_permission_denied, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    if (!it->is_directory(ec)) continue;
-    if (holdsDataset(it->path())) {
-      datasets.push_back(fs::relative(it->path(), group, ec).string());
-      it.disable_recursion_pending();
-    } else if (it.depth() + 1 >= kDatasetSearchDepth) {
-      it.disable_recursion_pending();
-    }
-  }
-  std::sort(datasets.begin(), datasets.end());
-  return datasets;
 }
 
 // Strides, in samples, of a block of `size` samples per axis (slowest first) whose first axis varies slowest.
@@ -233,7 +214,8 @@ std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const Source
       if (multiscale)
         throw Error(path + ": its first multiscale dataset, " + datasetFolder.string() +
                     ", holds no N5 dataset (attributes.json with dimensions)");
-      const std::vector<std::string> datasets = datasetsBelow(folder);
+      const std::vector<std::string> datasets =
+          arraysBelow(folder.string(), [](const std::string& f) { return holdsDataset(f); });
       throw Error(path + ": an N5 group that is no multiscale image (no 'multiscales', no s0 dataset); " +
                   (datasets.empty() ? std::string("no dataset lies below it")
                                     : "give one of its datasets' folders: " + listedNames(datasets)));

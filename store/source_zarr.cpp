@@ -11,6 +11,7 @@
 #include "core/header_text.h"
 #include "core/input_file.h"
 #include "store/array_axes.h"
+#include "store/array_groups.h"
 #include "store/chunk_codecs.h"
 #include "store/chunk_layer.h"
 #include "store/picked_volume.h"
@@ -24,8 +25,6 @@ namespace fs = std::filesystem;
 
 // Metadata files are small JSON; a larger one is not Zarr's.
 constexpr size_t kMaxMetadataBytes = size_t(16) << 20;
-// How far below a group its arrays are looked for, for the message that lists them.
-constexpr int kArraySearchDepth = 4;
 
 bool present(const fs::path& path) {
   std::error_code ec;
@@ -43,24 +42,6 @@ fs::path arrayMetadata(const fs::path& folder) {
   const fs::path v3 = folder / "zarr.json";
   if (present(v3) && zarrV3NodeType(readMetadata(v3), v3.string()) == "array") return v3;
   return {};
-}
-
-// The folders holding an array below `group` (relative to it), not looking inside arrays.
-std::vector<std::string> arraysBelow(const fs::path& group) {
-  std::vector<std::string> arrays;
-  std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(group, fs::directory_options::skip_permission_denied, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    if (!it->is_directory(ec)) continue;
-    if (!arrayMetadata(it->path()).empty()) {
-      arrays.push_back(fs::relative(it->path(), group, ec).string());
-      it.disable_recursion_pending();
-    } else if (it.depth() + 1 >= kArraySearchDepth) {
-      it.disable_recursion_pending();
-    }
-  }
-  std::sort(arrays.begin(), arrays.end());
-  return arrays;
 }
 
 // The compressor of a bytes-to-bytes codec other than a checksum.
@@ -322,7 +303,8 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
       if (!ome && present(folder / name))
         ome = parseOmeMultiscale(readMetadata(folder / name), (folder / name).string());
     if (!ome) {
-      const std::vector<std::string> arrays = arraysBelow(folder);
+      const std::vector<std::string> arrays =
+          arraysBelow(folder.string(), [](const std::string& f) { return !arrayMetadata(f).empty(); });
       throw Error(path + ": a Zarr group that is no OME-Zarr image (no 'multiscales' in its metadata); " +
                   (arrays.empty() ? std::string("no array lies below it")
                                   : "give one of its arrays' folders: " + listedNames(arrays)));
