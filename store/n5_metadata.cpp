@@ -168,6 +168,13 @@ N5Calibration parseN5Calibration(std::string_view attributes, const std::string&
   return c;
 }
 
+std::optional<std::vector<double>> parseN5DownsamplingFactors(std::string_view attributes,
+                                                              const std::string& where) {
+  const json j = parseObject(attributes, where);
+  if (!j.contains("downsamplingFactors")) return std::nullopt;
+  return slowestFirst<double>(j.at("downsamplingFactors"), "downsamplingFactors", where, "a list of numbers");
+}
+
 std::optional<std::string> n5MultiscaleDataset(std::string_view attributes, const std::string& where) {
   const json j = parseObject(attributes, where);
   if (!j.contains("multiscales")) return std::nullopt;

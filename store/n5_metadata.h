@@ -48,6 +48,13 @@ struct N5Calibration {
 // one of them is there but malformed (not a list of numbers, axes and scale of different lengths).
 N5Calibration parseN5Calibration(std::string_view attributes, const std::string& where);
 
+// A pyramid level's `downsamplingFactors` (N5 Viewer's, Paintera's, BigDataViewer's: per axis, how many of
+// the full resolution's samples one of the level's spans), slowest first; nullopt when the attributes hold
+// none. Their pixelResolution or resolution, on the group, is the full resolution's. Throws ropecast::Error
+// naming `where` when they are not a list of numbers.
+std::optional<std::vector<double>> parseN5DownsamplingFactors(std::string_view attributes,
+                                                              const std::string& where);
+
 // The path of a group's first multiscale dataset from its attributes' `multiscales` (as OME-NGFF's, which
 // COSEM writes into N5 groups), or nullopt when there is none. Throws ropecast::Error naming `where` when
 // `multiscales` is malformed.

@@ -187,8 +187,10 @@ struct BdvView {
   PickedVolume picked;  // of its time points and view setups
 };
 
+// The dataset in `datasetFolder` (`path` as given, for messages), one of the levels of the group in
+// `groupFolder` where that holds group attributes (empty: none).
 std::unique_ptr<VolumeSource> openDataset(const std::string& path, const fs::path& datasetFolder,
-                                          const std::string& groupAttributes, const SourceOptions& options,
+                                          const fs::path& groupFolder, const SourceOptions& options,
                                           uint64_t maxBufferedBytes, const std::optional<BdvView>& bdv);
 
 }  // namespace
@@ -201,27 +203,24 @@ bool isN5Folder(const std::string& path) {
 std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const SourceOptions& options,
                                            uint64_t maxBufferedBytes) {
   const fs::path folder(path);
-  fs::path datasetFolder = folder;
-  std::string groupAttributes = readAttributes(folder);
-  if (isN5Dataset(groupAttributes, attributesOf(folder).string())) {
-    groupAttributes.clear();
-  } else {
-    // A group: its multiscale pyramid's first dataset, named by `multiscales` or as s0.
-    const std::optional<std::string> multiscale =
-        n5MultiscaleDataset(groupAttributes, attributesOf(folder).string());
-    datasetFolder = folder / multiscale.value_or("s0");
-    if (!holdsDataset(datasetFolder)) {
-      if (multiscale)
-        throw Error(path + ": its first multiscale dataset, " + datasetFolder.string() +
-                    ", holds no N5 dataset (attributes.json with dimensions)");
-      const std::vector<std::string> datasets =
-          arraysBelow(folder.string(), [](const std::string& f) { return holdsDataset(f); });
-      throw Error(path + ": an N5 group that is no multiscale image (no 'multiscales', no s0 dataset); " +
-                  (datasets.empty() ? std::string("no dataset lies below it")
-                                    : "give one of its datasets' folders: " + listedNames(datasets)));
-    }
+  if (holdsDataset(folder))  // perhaps a level of a group, which then says its calibration
+    return openDataset(path, folder, folder.lexically_normal().parent_path(), options, maxBufferedBytes,
+                       std::nullopt);
+  // A group: its multiscale pyramid's first dataset, named by `multiscales` or as s0.
+  const std::optional<std::string> multiscale =
+      n5MultiscaleDataset(readAttributes(folder), attributesOf(folder).string());
+  const fs::path datasetFolder = folder / multiscale.value_or("s0");
+  if (!holdsDataset(datasetFolder)) {
+    if (multiscale)
+      throw Error(path + ": its first multiscale dataset, " + datasetFolder.string() +
+                  ", holds no N5 dataset (attributes.json with dimensions)");
+    const std::vector<std::string> datasets =
+        arraysBelow(folder.string(), [](const std::string& f) { return holdsDataset(f); });
+    throw Error(path + ": an N5 group that is no multiscale image (no 'multiscales', no s0 dataset); " +
+                (datasets.empty() ? std::string("no dataset lies below it")
+                                  : "give one of its datasets' folders: " + listedNames(datasets)));
   }
-  return openDataset(path, datasetFolder, groupAttributes, options, maxBufferedBytes, std::nullopt);
+  return openDataset(path, datasetFolder, folder, options, maxBufferedBytes, std::nullopt);
 }
 
 std::unique_ptr<VolumeSource> openBdvN5Source(const std::string& xml, const BdvDataset& dataset,
@@ -237,21 +236,45 @@ std::unique_ptr<VolumeSource> openBdvN5Source(const std::string& xml, const BdvD
   SourceOptions picking = options;  // the dataset itself is one volume
   picking.timePoint.reset();
   picking.channel.reset();
-  return openDataset(folder.string(), folder, "", picking, kN5MaxBufferedBytes,
+  return openDataset(folder.string(), folder, {}, picking, kN5MaxBufferedBytes,
                      BdvView{xml, setup.voxelSize, picked});
 }
 
 namespace {
 
+// The calibration of the group in `groupFolder` at the level whose attributes are `level` (its
+// pixelResolution or resolution is the full resolution's: times the level's downsamplingFactors); empty where
+// the folder holds no group's attributes. Attributes that cannot be read throw where the group was given
+// (`groupGiven`), and count for nothing where the dataset alone was.
+N5Calibration groupCalibration(const fs::path& groupFolder, bool groupGiven, const std::string& level,
+                               const std::string& where) {
+  std::error_code ec;
+  if (groupFolder.empty() || !fs::exists(attributesOf(groupFolder), ec)) return {};
+  N5Calibration calibration;
+  try {
+    const std::string attributes = readAttributes(groupFolder);
+    if (isN5Dataset(attributes, attributesOf(groupFolder).string())) return {};
+    calibration = parseN5Calibration(attributes, attributesOf(groupFolder).string());
+  } catch (const Error&) {
+    if (groupGiven) throw;
+    return {};
+  }
+  const std::optional<std::vector<double>> factors = parseN5DownsamplingFactors(level, where);
+  if (factors && calibration.scale && calibration.attribute != "transform" &&
+      factors->size() == calibration.scale->size())
+    for (size_t a = 0; a < factors->size(); ++a) (*calibration.scale)[a] *= (*factors)[a];
+  return calibration;
+}
+
 std::unique_ptr<VolumeSource> openDataset(const std::string& path, const fs::path& datasetFolder,
-                                          const std::string& groupAttributes, const SourceOptions& options,
+                                          const fs::path& groupFolder, const SourceOptions& options,
                                           uint64_t maxBufferedBytes, const std::optional<BdvView>& bdv) {
   const std::string attributes = readAttributes(datasetFolder);
   const std::string where = attributesOf(datasetFolder).string();
   N5Dataset dataset = parseN5Dataset(attributes, where);
   N5Calibration calibration = parseN5Calibration(attributes, where);
-  if (calibration.attribute.empty() && !groupAttributes.empty())
-    calibration = parseN5Calibration(groupAttributes, attributesOf(path).string());
+  if (calibration.attribute.empty())
+    calibration = groupCalibration(groupFolder, datasetFolder != fs::path(path), attributes, where);
   const ArrayAxes axes = arrayAxesOf(dataset.shape, calibration.axisNames, options.axes);
   if (!axes.problem.empty())
     throw Error("N5 dataset " + datasetFolder.string() + ": not a volume: " + axes.problem);

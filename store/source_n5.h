@@ -11,7 +11,7 @@
 //
 // Axes: COSEM's transform names them; else as store/array_axes.h chooses (--axes for more than three long
 // axes). Spacing: --spacing, else the calibration store/n5_metadata.h reads (the dataset's, else its
-// group's), else 1.
+// group's times the dataset's downsampling factors, for a pyramid's level given alone), else 1.
 //
 // Threads: as VolumeSource (readSlab from one thread at a time: the decoded layer is per-source state).
 #pragma once

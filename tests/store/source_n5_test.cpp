@@ -219,12 +219,16 @@ TEST(SourceN5, GroupsReadTheirFirstMultiscaleDatasetAndItsCalibration) {
   // N5 Viewer's pyramid: s0, s1 below a group that states the pixel's size, x first.
   const fs::path viewer = dir / "viewer.n5";
   writeN5Dataset(viewer / "s0", smallN5Spec("uint16", "gzip"), values.data(), 2);
-  writeN5Dataset(viewer / "s1", smallN5Spec("uint16", "gzip"), values.data(), 2);
   writeFile(viewer / "attributes.json",
             R"({"n5": "2.5.1", "pixelResolution": {"unit": "um", "dimensions": [0.5, 0.25, 2.0]},
                 "scales": [[1, 1, 1], [2, 2, 2]]})");
   expectVolume(*openVolumeSource(viewer.string()),
                {{9, 6, 5}, SampleType::UInt16, {0.5, 0.25, 2.0}, "n5:" + (viewer / "s0").string()}, values);
+  // A level given alone: its group's full-resolution pixel times its downsamplingFactors (x, y, z).
+  N5Spec level = smallN5Spec("uint16", "gzip");
+  level.attributes = {{"downsamplingFactors", {2, 2, 1}}};
+  writeN5Dataset(viewer / "s1", level, values.data(), 2);
+  EXPECT_EQ(openVolumeSource((viewer / "s1").string())->info().spacing, glm::dvec3(1.0, 0.5, 2.0));
   // COSEM's: `multiscales` names the first dataset; its transform names the axes, in C order.
   const fs::path cosem = dir / "cosem.n5";
   N5Spec named = smallN5Spec("uint16", "raw");
