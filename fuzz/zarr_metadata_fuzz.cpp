@@ -74,7 +74,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const ropecast::N5Calibration c = ropecast::parseN5Calibration(text, "fuzz/attributes.json");
       if (!c.axisNames.empty() && c.scale && c.scale->size() != c.axisNames.size()) std::abort();
       ropecast::n5MultiscaleDataset(text, "fuzz/attributes.json");
-    } else if (const auto ome = ropecast::parseOmeMultiscale(text, "fuzz/.zattrs")) {
+      ropecast::parseN5DownsamplingFactors(text, "fuzz/attributes.json");
+    } else if (const auto ome = ropecast::parseOmeMultiscale(text, "fuzz/.zattrs", size % 2 ? "1" : "")) {
       if (ome->scale && !ome->axisNames.empty() && ome->scale->size() != ome->axisNames.size()) std::abort();
       for (const std::string& label : ome->channelLabels)
         if (label.empty()) std::abort();  // labels are all given or none

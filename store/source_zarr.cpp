@@ -314,6 +314,19 @@ std::unique_ptr<VolumeSource> openZarrSource(const std::string& path, const Sour
     if (metadata.empty())
       throw Error(path + ": its OME-Zarr image's first dataset, " + arrayFolder.string() +
                   ", holds no Zarr array (.zarray or zarr.json)");
+  } else {  // an array: perhaps a level of an OME-Zarr image, which then says its axes, scale and place
+    fs::path level = folder.lexically_normal();
+    if (!level.has_filename()) level = level.parent_path();
+    const fs::path image = level.parent_path();
+    for (const char* name : {".zattrs", "zarr.json"}) {
+      std::error_code ec;
+      if (ome || image.empty() || !fs::is_regular_file(image / name, ec)) continue;
+      try {
+        ome = parseOmeMultiscale(readMetadata(image / name), (image / name).string(),
+                                 level.filename().string());
+      } catch (const Error&) {  // the array alone was asked for: its image's metadata counts for nothing then
+      }
+    }
   }
   ZarrArray array = metadata.filename() == ".zarray"
                         ? parseZarrArray(readMetadata(metadata), metadata.string())

@@ -1,8 +1,9 @@
 // The Zarr VolumeSource: a Zarr array, v2 (a folder holding `.zarray` and its chunk files) or v3
 // (`zarr.json`, sharded or not), or an OME-Zarr image (a folder whose `.zattrs`, or v3 `zarr.json`, holds
-// `multiscales`: its first, full-resolution dataset), as microscopy (OME-NGFF 0.1 to 0.5, napari, webKnossos
-// exports) and simulation pipelines write them. Chunks (or shards) are read and decompressed (blosc, zlib,
-// gzip, zstd, or none) a layer at a time (up to kZarrMaxBufferedBytes), on worker threads; a chunk that is
+// `multiscales`: its first, full-resolution dataset; an array that is one of an image's levels takes the
+// image's axes and that level's scale), as microscopy (OME-NGFF 0.1 to 0.5, napari, webKnossos
+// exports) and simulation pipelines write them. Chunks (or shards) are read and decompressed
+// (store/chunk_codecs.h) a layer at a time (up to kZarrMaxBufferedBytes), on worker threads; a chunk that is
 // not stored holds the array's fill value. Owned by loader/.
 //
 // Axes: an OME-Zarr image's named z, y, x (its other axes, time and channel, of length 1), else a v3 array's

@@ -333,7 +333,8 @@ ZarrArray parseZarrV3Array(std::string_view text, const std::string& where) {
   return a;
 }
 
-std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std::string& where) {
+std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std::string& where,
+                                                std::string_view datasetPath) {
   json j = parseJson(text, where);
   // OME-NGFF 0.5 keeps its metadata in a v3 group's attributes, under "ome".
   if (j.is_object() && j.contains("attributes") && j.at("attributes").is_object() &&
@@ -346,11 +347,21 @@ std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std
     throw Error(where + ": 'multiscales' is not a list of images");
   const json& m = all.at(0);
   const json datasets = m.value("datasets", json());
-  if (!datasets.is_array() || datasets.empty() || !datasets.at(0).is_object() ||
-      !datasets.at(0).contains("path") || !datasets.at(0).at("path").is_string())
+  const auto hasPath = [](const json& d) {
+    return d.is_object() && d.contains("path") && d.at("path").is_string();
+  };
+  if (!datasets.is_array() || datasets.empty() || !hasPath(datasets.at(0)))
     throw Error(where + ": 'multiscales' names no dataset with a 'path'");
+  size_t level = 0;
+  if (!datasetPath.empty()) {
+    while (level < datasets.size() &&
+           !(hasPath(datasets.at(level)) && datasets.at(level).at("path") == datasetPath))
+      ++level;
+    if (level == datasets.size()) return std::nullopt;
+  }
+  const json& dataset = datasets.at(level);
   OmeMultiscale ome;
-  ome.datasetPath = datasets.at(0).at("path").get<std::string>();
+  ome.datasetPath = dataset.at("path").get<std::string>();
   for (const json& axis : m.value("axes", json::array())) {
     const std::string name =
         axis.is_string() ? axis.get<std::string>()
@@ -389,8 +400,8 @@ std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std
       ome.channelLabels.push_back(label.get<std::string>());
     }
   }
-  ome.scale = transformOf(datasets.at(0), "scale");
-  ome.translation = transformOf(datasets.at(0), "translation");
+  ome.scale = transformOf(dataset, "scale");
+  ome.translation = transformOf(dataset, "translation");
   const auto imageScale = transformOf(m, "scale");
   const auto imageTranslation = transformOf(m, "translation");
   for (const auto& image : {imageScale, imageTranslation, ome.translation})

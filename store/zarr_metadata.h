@@ -65,7 +65,7 @@ std::string zarrV3NodeType(std::string_view text, const std::string& where);
 ZarrArray parseZarrV3Array(std::string_view text, const std::string& where);
 
 struct OmeMultiscale {
-  std::string datasetPath;                   // the first (full-resolution) dataset's path
+  std::string datasetPath;  // the dataset's path: the first (full resolution), or the one asked for
   std::vector<std::string> axisNames;        // lower case; empty when the image names no axes
   std::optional<std::vector<double>> scale;  // per axis, the dataset's scale times the image's
   // Per axis, where the first sample lies: the dataset's translation, then the image's scale and translation
@@ -78,6 +78,9 @@ struct OmeMultiscale {
 // attributes.ome), or nullopt when it holds none. Throws
 // ropecast::Error naming `where` when `multiscales` is there but malformed (no datasets, a path that is not
 // a string, a scale of another length than the axes).
-std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std::string& where);
+// With `datasetPath`, the image's dataset of that path instead (a level given alone), or nullopt when the
+// image lists none such.
+std::optional<OmeMultiscale> parseOmeMultiscale(std::string_view text, const std::string& where,
+                                                std::string_view datasetPath = "");
 
 }  // namespace ropecast

@@ -195,8 +195,12 @@ TEST(SourceZarr, OmeZarrImagesReadTheirFirstDatasetWithNamedAxesAndScale) {
                {{9, 6, 5}, SampleType::UInt16, {0.25, 0.5, 2.0}, "zarr:" + (image / "0").string()}, values);
   // The first sample: the dataset's translation, scaled and moved by the image's (x -3 * 2 + 30, ...).
   EXPECT_EQ(openVolumeSource(image.string())->info().origin, glm::dvec3(24.0, 22.0, 20.0));
-  // A level named by its folder reads as a plain array.
-  EXPECT_EQ(openVolumeSource((image / "1").string())->info().dims, glm::u32vec3(5, 3, 3));
+  // A level named by its folder: its scale in the image, the level's times the image's, and the image's
+  // place.
+  const auto level = openVolumeSource((image / "1").string());
+  EXPECT_EQ(level->info().dims, glm::u32vec3(5, 3, 3));
+  EXPECT_EQ(level->info().spacing, glm::dvec3(0.5, 1.0, 4.0));
+  EXPECT_EQ(level->info().origin, glm::dvec3(30.0, 20.0, 10.0));
 
   // Axes named in another order than t, c, z, y, x: x, y, z by name, wherever they lie; of 2 channels the
   // first, with a warning, or the one --channel picks.
