@@ -203,9 +203,11 @@ bool isN5Folder(const std::string& path) {
 std::unique_ptr<VolumeSource> openN5Source(const std::string& path, const SourceOptions& options,
                                            uint64_t maxBufferedBytes) {
   const fs::path folder(path);
-  if (holdsDataset(folder))  // perhaps a level of a group, which then says its calibration
-    return openDataset(path, folder, folder.lexically_normal().parent_path(), options, maxBufferedBytes,
-                       std::nullopt);
+  if (holdsDataset(folder)) {  // perhaps a level of a group, which then says its calibration
+    fs::path level = folder.lexically_normal();
+    if (!level.has_filename()) level = level.parent_path();  // "s2/"
+    return openDataset(path, folder, level.parent_path(), options, maxBufferedBytes, std::nullopt);
+  }
   // A group: its multiscale pyramid's first dataset, named by `multiscales` or as s0.
   const std::optional<std::string> multiscale =
       n5MultiscaleDataset(readAttributes(folder), attributesOf(folder).string());

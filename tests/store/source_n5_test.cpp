@@ -229,6 +229,7 @@ TEST(SourceN5, GroupsReadTheirFirstMultiscaleDatasetAndItsCalibration) {
   level.attributes = {{"downsamplingFactors", {2, 2, 1}}};
   writeN5Dataset(viewer / "s1", level, values.data(), 2);
   EXPECT_EQ(openVolumeSource((viewer / "s1").string())->info().spacing, glm::dvec3(1.0, 0.5, 2.0));
+  EXPECT_EQ(openVolumeSource((viewer / "s1").string() + "/")->info().spacing, glm::dvec3(1.0, 0.5, 2.0));
   // COSEM's: `multiscales` names the first dataset; its transform names the axes, in C order.
   const fs::path cosem = dir / "cosem.n5";
   N5Spec named = smallN5Spec("uint16", "raw");

@@ -201,6 +201,7 @@ TEST(SourceZarr, OmeZarrImagesReadTheirFirstDatasetWithNamedAxesAndScale) {
   EXPECT_EQ(level->info().dims, glm::u32vec3(5, 3, 3));
   EXPECT_EQ(level->info().spacing, glm::dvec3(0.5, 1.0, 4.0));
   EXPECT_EQ(level->info().origin, glm::dvec3(30.0, 20.0, 10.0));
+  EXPECT_EQ(openVolumeSource((image / "1").string() + "/")->info().spacing, glm::dvec3(0.5, 1.0, 4.0));
 
   // Axes named in another order than t, c, z, y, x: x, y, z by name, wherever they lie; of 2 channels the
   // first, with a warning, or the one --channel picks.
