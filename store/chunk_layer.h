@@ -3,8 +3,8 @@
 // of samples into the layer, so that a slab costs one decode per chunk however thin it is. A layer deeper
 // than the bytes allowed is held in bands of slices, its chunks decoded again for each band.
 //
-// Threads: read() and begin() from the source's reading thread; place() from the workers at once, each for
-// boxes of its own.
+// Threads: read(), begin() and decodeLayer() from the source's reading thread; place() from the workers at
+// once, each for boxes of its own.
 #pragma once
 
 #include <algorithm>
@@ -44,6 +44,13 @@ class ChunkLayer {
   // Whether a box starting at slice `z`, `depth` slices deep, reaches into the slices held.
   bool reaches(uint64_t z, uint64_t depth) const { return z < end_ && z + depth > begin_; }
 
+  // Decodes the slices from slice `z` on that one decode holds (begin(z)): task(layer, row, column, state)
+  // for each chunk of z's chunk layer, chunks `chunkX` by `chunkY` samples, on worker threads (runOnWorkers,
+  // below).
+  template <typename State>
+  void decodeLayer(uint64_t z, uint64_t chunkX, uint64_t chunkY,
+                   const std::function<std::string(uint64_t, uint64_t, uint64_t, State&)>& task);
+
   // Copies a decoded box of samples whose first sample lies at `origin` of the volume (`stride`: samples
   // between neighbours along x, y and z within the box) into the slices held: its part inside the volume and
   // among them.
@@ -79,6 +86,15 @@ void runOnWorkers(uint64_t tasks, const std::function<std::string(uint64_t, Stat
   }
   for (const std::string& problem : problems)
     if (!problem.empty()) throw Error(problem);
+}
+
+template <typename State>
+void ChunkLayer::decodeLayer(uint64_t z, uint64_t chunkX, uint64_t chunkY,
+                             const std::function<std::string(uint64_t, uint64_t, uint64_t, State&)>& task) {
+  const uint64_t layer = begin(z);
+  const uint64_t across = (dims_.x + chunkX - 1) / chunkX, down = (dims_.y + chunkY - 1) / chunkY;
+  runOnWorkers<State>(across * down,
+                      [&](uint64_t i, State& state) { return task(layer, i / across, i % across, state); });
 }
 
 }  // namespace ropecast

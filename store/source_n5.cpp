@@ -64,7 +64,13 @@ class N5Source final : public VolumeSource {
 
  protected:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    layer_.read(z0, count, out, [this](uint64_t z) { decodeSlices(z); });
+    layer_.read(z0, count, out, [this](uint64_t z) {
+      layer_.decodeLayer<BlockBuffers>(
+          z, dataset_.blockSize[size_t(zyx_[2])], dataset_.blockSize[size_t(zyx_[1])],
+          [this](uint64_t layer, uint64_t by, uint64_t bx, BlockBuffers& buffers) {
+            return copyBlock(layer, by, bx, buffers);
+          });
+    });
   }
 
  private:
@@ -157,19 +163,6 @@ class N5Source final : public VolumeSource {
     const glm::u64vec3 origin = glm::u64vec3(bx, by, layer) * zyxOf(dataset_.blockSize);
     layer_.place(b.decoded.data() + first * bytesPerSample(info_.type), zyxOf(strides), origin, zyxOf(size));
     return "";
-  }
-
-  // Decodes the slices from z on that the layer holds, each block of z's block layer on a worker thread.
-  void decodeSlices(uint64_t z) {
-    const uint64_t layer = layer_.begin(z);
-    const auto blocksAlong = [&](int i, uint32_t samples) {
-      const uint64_t block = dataset_.blockSize[size_t(zyx_[size_t(i)])];
-      return (samples + block - 1) / block;
-    };
-    const uint64_t across = blocksAlong(2, info_.dims.x), down = blocksAlong(1, info_.dims.y);
-    runOnWorkers<BlockBuffers>(across * down, [&](uint64_t i, BlockBuffers& buffers) {
-      return copyBlock(layer, i / across, i % across, buffers);
-    });
   }
 
   VolumeInfo info_;

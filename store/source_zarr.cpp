@@ -136,7 +136,13 @@ class ZarrSource final : public VolumeSource {
 
  protected:
   void readSlices(uint32_t z0, uint32_t count, std::span<std::byte> out) override {
-    layer_.read(z0, count, out, [this](uint64_t z) { decodeSlices(z); });
+    layer_.read(z0, count, out, [this](uint64_t z) {
+      layer_.decodeLayer<ChunkBuffers>(
+          z, array_.chunks[size_t(zyx_[2])], array_.chunks[size_t(zyx_[1])],
+          [this](uint64_t layer, uint64_t cy, uint64_t cx, ChunkBuffers& buffers) {
+            return copyChunk(layer, cy, cx, buffers);
+          });
+    });
   }
 
  private:
@@ -260,18 +266,6 @@ class ZarrSource final : public VolumeSource {
     for (size_t a = 0; a < index.size(); ++a) first += picked_[a] % array_.chunks[a] * strides_[a];
     layer_.place(b.decoded.data() + first * bytesPerSample(info_.type), zyxOf(strides_), origin, chunk);
     return "";
-  }
-
-  // Decodes the slices from z on that the layer holds, each chunk of z's chunk layer on a worker thread.
-  void decodeSlices(uint64_t z) {
-    const uint64_t layer = layer_.begin(z);
-    const uint64_t across =
-        (info_.dims.x + array_.chunks[size_t(zyx_[2])] - 1) / array_.chunks[size_t(zyx_[2])];
-    const uint64_t down =
-        (info_.dims.y + array_.chunks[size_t(zyx_[1])] - 1) / array_.chunks[size_t(zyx_[1])];
-    runOnWorkers<ChunkBuffers>(across * down, [&](uint64_t i, ChunkBuffers& buffers) {
-      return copyChunk(layer, i / across, i % across, buffers);
-    });
   }
 
   VolumeInfo info_;
