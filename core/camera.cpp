@@ -125,6 +125,15 @@ bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t
   return t0 < t1;
 }
 
+bool startAtPlane(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double t1) {
+  const double along = glm::dot(normal, ray.dir);
+  if (along == 0.0) return false;
+  const double t = -(glm::dot(normal, ray.origin) - offset) / along;
+  if (!(t >= t0 && t < t1)) return false;
+  t0 = t;
+  return true;
+}
+
 int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double offset) {
   double t0 = 0.0, t1 = 0.0;
   int bound = kEntryNone;

@@ -78,6 +78,11 @@ inline bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1)
 bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1,
                      int* entry = nullptr);
 
+// --mode slice: where the ray, clipped to [t0, t1) (clipToBox), crosses the plane dot(normal, x) = offset:
+// t0 moves to the crossing, t1 stays. False where it crosses outside [t0, t1), runs parallel to the plane, or
+// the normal is zero.
+bool startAtPlane(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double t1);
+
 // The bound of the region clipToBox and clipToHalfSpace keep that a ray enters it through: 0, 1, 2 the box's
 // lower face on that axis, 3, 4, 5 its upper face, kEntryPlane the half-space's plane; kEntryNone when the
 // ray starts inside the region (t0 clamped to 0) or misses it. A tie goes to the box, and among its faces to

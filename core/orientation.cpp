@@ -98,6 +98,13 @@ ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm
   return {center + toVolume * (world.point - center), toVolume * world.normal};
 }
 
+ClipPlane defaultSlicePlane(const RenderParams& params, glm::u32vec3 dims, glm::dvec3 spacing,
+                            const AxisDirections& d) {
+  const WorldBox drawn = sampledWorldBox(params, dims, spacing);
+  const glm::dvec3 center = 0.5 * glm::dvec3(dims) * spacing;
+  return {center + d * (0.5 * (drawn.lo + drawn.hi) - center), glm::dvec3(0.0, 0.0, 1.0)};
+}
+
 Camera anatomicalViewCamera(AnatomicalView view, double distance, glm::dvec3 boxMin, glm::dvec3 boxMax,
                             double fovYDeg) {
   // Where the eye lies from the center, and the up vector.

@@ -57,6 +57,12 @@ Camera cameraInVolume(const Camera& world, const AxisDirections& d, glm::dvec3 c
 // The same for a clip plane (its point moved, its normal turned).
 ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm::dvec3 center);
 
+// The plane --mode slice shows where none is given: the axial plane (normal +z: superior in a patient's
+// frame, across a stack's own slices otherwise) through the world center of the box `params` draw (the volume
+// box [0, dims spacing] cut to --crop, turned by `d` about the extent's center).
+ClipPlane defaultSlicePlane(const RenderParams& params, glm::u32vec3 dims, glm::dvec3 spacing,
+                            const AxisDirections& d);
+
 // The six views radiology viewers name (3D Slicer's A, P, L, R, S and I): the eye on that side of the
 // patient in the world's LPS frame (anterior: toward -y; left: toward +x; superior: toward +z), looking at
 // the center of the box [boxMin, boxMax] from `distance` bounding-sphere radii (as orbitCamera's). Superior

@@ -29,15 +29,17 @@ constexpr std::string_view nameIn(const std::array<std::pair<std::string_view, E
 // What a ray computes (docs/RENDERING.md): the first isosurface crossing, shaded; the transfer function's
 // colors composited front to back (direct volume rendering); the largest or the smallest value along the
 // ray mapped through the transfer function (maximum or minimum intensity projection); or the mean value along
-// the ray mapped through it (average intensity projection, a radiograph's look).
-enum class RenderMode { Iso, Dvr, Mip, MinIp, Aip };
+// the ray mapped through it (average intensity projection, a radiograph's look); or the value where the ray
+// crosses the clip plane mapped through it (a slice of the volume, oblique or not, in the 3D view).
+enum class RenderMode { Iso, Dvr, Mip, MinIp, Aip, Slice };
 // The names of `--mode`, of the viewer's script events and of --stats and bench settings.
-inline constexpr std::array<std::pair<std::string_view, RenderMode>, 5> kRenderModeNames{
+inline constexpr std::array<std::pair<std::string_view, RenderMode>, 6> kRenderModeNames{
     {{"iso", RenderMode::Iso},
      {"dvr", RenderMode::Dvr},
      {"mip", RenderMode::Mip},
      {"minip", RenderMode::MinIp},
-     {"aip", RenderMode::Aip}}};
+     {"aip", RenderMode::Aip},
+     {"slice", RenderMode::Slice}}};
 constexpr std::string_view renderModeName(RenderMode mode) {
   return nameIn(kRenderModeNames, mode);
 }
@@ -53,10 +55,11 @@ constexpr bool isIntensityProjection(RenderMode mode) {
 constexpr double projectionSign(RenderMode mode) {
   return mode == RenderMode::MinIp ? -1.0 : 1.0;
 }
-// Whether a ray shows one value of the transfer function without compositing it: an intensity projection's
-// or the average's. They have the gray preset by default, and no occlusion: no ray stops at an opaque sample.
+// Whether a ray shows one value of the transfer function without compositing it: an intensity projection's,
+// the average's or the slice's. They have the gray preset by default, and no occlusion queries: no ray stops
+// at an opaque sample (a slice's rays stop at the plane, and nothing behind it is drawn or loaded).
 constexpr bool showsOneValue(RenderMode mode) {
-  return isIntensityProjection(mode) || mode == RenderMode::Aip;
+  return isIntensityProjection(mode) || mode == RenderMode::Aip || mode == RenderMode::Slice;
 }
 // How the GL renderer draws (the CPU renderers ignore it): the octree ray caster's fragment or compute entry
 // point (render/raycast_pass), brute force over level 0 in one 3D texture without an index (the benchmark
@@ -118,6 +121,8 @@ struct CropBox {
 // --clip-plane: a plane through `point` (world units) that cuts away the half-space its normal points away
 // from: the rays sample only where dot(normal, x - point) >= 0, and the refiner culls nodes wholly on the
 // other side. None while the normal is zero (the default). Like the crop box, it caps an isosurface it cuts.
+// With --mode slice it is the slice: each ray takes one sample where it crosses the plane inside the drawn
+// box, and the refiner culls every node the plane does not cross.
 struct ClipPlane {
   glm::dvec3 point{0.0};
   glm::dvec3 normal{0.0};  // unit length, or zero for none

@@ -48,6 +48,12 @@ const std::vector<PresetPoint> kGray = {
     {0.2, 0.111, 0.111, 0.111, 1.0},
     {1.0, 1.0, 1.0, 1.0, 1.0},
 };
+// Black to white over the range, opaque everywhere: a slice shows every value, as a radiology window (placed
+// with --tf-range) does.
+const std::vector<PresetPoint> kWindow = {
+    {0.0, 0.0, 0.0, 0.0, 1.0},
+    {1.0, 1.0, 1.0, 1.0, 1.0},
+};
 
 // Signed 16- and 32-bit integers are taken as CT data, and floats that reach below -500; the other types
 // (unsigned, or int8's [-128, 127]) are not.
@@ -142,7 +148,7 @@ TransferFunction TransferFunction::fromFile(const std::string& path) {
 }
 
 std::vector<std::string> TransferFunction::presetNames() {
-  return {"ct-bone", "ct-soft", "mri", "linear", "gray"};
+  return {"ct-bone", "ct-soft", "mri", "linear", "gray", "window"};
 }
 
 bool TransferFunction::isPreset(std::string_view name) {
@@ -164,6 +170,7 @@ TransferFunction TransferFunction::preset(std::string_view name, const TfDataRan
   if (name == "mri") return fromPresetPoints(kMri, placeFraction, data);
   if (name == "linear") return fromPresetPoints(kLinear, placeFraction, data);
   if (name == "gray") return fromPresetPoints(kGray, placeFraction, data);
+  if (name == "window") return fromPresetPoints(kWindow, placeFraction, data);
   throw Error("TransferFunction: unknown preset '" + std::string(name) + "' (expected one of " +
               presetList() + ")");
 }

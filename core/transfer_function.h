@@ -47,10 +47,12 @@ class TransferFunction {
   static TransferFunction preset(std::string_view name, const TfDataRange& data);
   static std::vector<std::string> presetNames();
   static bool isPreset(std::string_view name);
-  // The preset `--tf` defaults to: for direct volume rendering, which composites many faint samples, and
-  // for a maximum intensity projection, which shows one value per pixel, opaque.
+  // The preset `--tf` defaults to: for direct volume rendering, which composites many faint samples; for a
+  // maximum intensity projection, which shows one value per pixel, opaque; for a slice, which shows every
+  // value of its plane.
   static constexpr std::string_view kDefaultPreset = "linear";
   static constexpr std::string_view kMipDefaultPreset = "gray";
+  static constexpr std::string_view kSliceDefaultPreset = "window";
   // `--tf T`: a preset name, else a file path. An empty spec gives kDefaultPreset.
   static TransferFunction fromSpec(const std::string& spec, const TfDataRange& data);
 

@@ -65,10 +65,12 @@ ProjectedVoxelSize::ProjectedVoxelSize(const OctreeLayout& layout, glm::dvec3 sp
       spacing_(spacing),
       eye_(view.camera.eye),
       sampled_(view.sampled),
-      // An eye on the side the plane cuts away is at least this far from everything drawn.
-      planeDistance_(view.clipPlane.enabled()
-                         ? std::max(0.0, view.clipPlane.offset() - glm::dot(view.clipPlane.normal, eye_))
-                         : 0.0),
+      // An eye on the side the plane cuts away is at least this far from everything drawn; any eye is from a
+      // slice.
+      planeDistance_(!view.clipPlane.enabled() ? 0.0
+                     : view.slice
+                         ? std::abs(view.clipPlane.offset() - glm::dot(view.clipPlane.normal, eye_))
+                         : std::max(0.0, view.clipPlane.offset() - glm::dot(view.clipPlane.normal, eye_))),
       minSpacing_(std::min({spacing.x, spacing.y, spacing.z})),
       maxSpacing_(std::max({spacing.x, spacing.y, spacing.z})),
       tanHalfFov_(std::tan(glm::radians(view.camera.fovYDeg) * 0.5)),
@@ -105,6 +107,17 @@ bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane) {
   const glm::dvec3 corner(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
                           n.z >= 0 ? box.hi.z : box.lo.z);
   return glm::dot(n, corner) >= plane.offset();
+}
+
+bool boxMeetsPlane(const WorldBox& box, const ClipPlane& plane) {
+  if (!plane.enabled()) return true;
+  const glm::dvec3& n = plane.normal;
+  // The corners nearest and farthest along n: the plane lies between them.
+  const glm::dvec3 farthest(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
+                            n.z >= 0 ? box.hi.z : box.lo.z);
+  const glm::dvec3 nearest(n.x >= 0 ? box.lo.x : box.hi.x, n.y >= 0 ? box.lo.y : box.hi.y,
+                           n.z >= 0 ? box.lo.z : box.hi.z);
+  return glm::dot(n, nearest) <= plane.offset() && glm::dot(n, farthest) >= plane.offset();
 }
 
 bool boxInFrustum(const WorldBox& box, const ViewFrustum& frustum) {
@@ -161,6 +174,7 @@ class RefineRun {
         frustum_(viewFrustum(view)),
         sampled_(view.sampled),
         clipPlane_(view.clipPlane),
+        slice_(view.slice),
         voxelPixels_(layout_, spacing_, view),
         adequatePixels_(1.0 / std::max(view.voxelsPerPixel, 1e-9)) {}
 
@@ -298,7 +312,7 @@ class RefineRun {
     }
     const WorldBox box = nodeWorldBox(layout_, spacing_, k);
     if (!hasVolume(intersection(box, sampled_)) || !boxKeptByPlane(box, clipPlane_) ||
-        !boxInFrustum(box, frustum_))
+        (slice_ && !boxMeetsPlane(box, clipPlane_)) || !boxInFrustum(box, frustum_))
       return {Class::NoBrick, LeafReason::Culled};
     return {info.kind == NodeKind::Constant ? Class::ConstantBrick : Class::DataBrick, LeafReason::Adequate};
   }
@@ -337,6 +351,7 @@ class RefineRun {
   ViewFrustum frustum_;
   WorldBox sampled_;
   ClipPlane clipPlane_;
+  bool slice_;
   ProjectedVoxelSize voxelPixels_;
   double adequatePixels_;
   std::priority_queue<Candidate, std::vector<Candidate>, LowerPriority> heap_;

@@ -41,6 +41,9 @@ struct RefineView {
   // --clip-plane: nodes wholly on the side it cuts away are culled too, and from an eye on that side a node's
   // projected voxel size is measured no nearer than the plane. None by default.
   ClipPlane clipPlane;
+  // --mode slice: the clip plane is the slice, the rays' only samples: nodes it does not cross are culled on
+  // either side, and from any eye a node's projected voxel size is measured no nearer than the plane.
+  bool slice = false;
 };
 
 // True when a node whose stored values span [storedMin, storedMax] cannot contribute to the image: for an
@@ -186,6 +189,8 @@ ViewFrustum viewFrustum(const RefineView& view);
 
 // False only when the box lies wholly on the side the plane cuts away (touching it counts as kept).
 bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane);
+// Whether the plane passes through the closed box (true for no plane).
+bool boxMeetsPlane(const WorldBox& box, const ClipPlane& plane);
 
 // False only when the box lies entirely outside the view frustum (behind the eye or beyond a side plane);
 // conservative, so a visible box is never culled.

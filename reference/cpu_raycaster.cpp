@@ -57,9 +57,13 @@ struct FrameConstants {
   }
 };
 
-// The ray's part inside the crop box and on the kept side of the clip plane (docs/RENDERING.md "Rays").
-// `entry`: the bound it enters through (core/camera.h entryBound).
+// The ray's part inside the crop box and on the kept side of the clip plane (docs/RENDERING.md "Rays"); a
+// slice's from the plane on. `entry`: the bound it enters through (core/camera.h entryBound).
 bool clipToSampled(const FrameConstants& fc, const Ray& ray, double& t0, double& t1, int& entry) {
+  // A slice's ray starts where it crosses the plane inside the box, its one sample.
+  if (fc.params.mode == RenderMode::Slice)
+    return clipToBox(ray, fc.sampled, t0, t1) &&
+           startAtPlane(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1);
   return clipToBox(ray, fc.sampled, t0, t1, &entry) &&
          clipToHalfSpace(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1, &entry);
 }
@@ -203,6 +207,20 @@ class RayIntegrator {
     return !ended_;
   }
 
+  // --mode slice: the ray's one sample, at t0 where it crosses the plane, at level `level` with `sampler`, as
+  // shaders/raycast_common.glsl castRay. With `visit`, records it.
+  template <class Sampler>
+  void sliceSample(uint32_t level, const Sampler& sampler, MirrorLeafVisit* visit = nullptr) {
+    const double v = sampler.value(ray_.origin + t0_ * ray_.dir);
+    mipValue_ = v;
+    mipT_ = t0_;
+    if (visit) {
+      visit->dt = levelStep(level);
+      visit->kBegin = 0.0;
+      visit->samples.push_back({t0_, v - fc_.isoNormalized, 0.0, false});
+    }
+  }
+
   // The sample step at level L: dt = step 2^L min(s).
   double levelStep(uint32_t level) const {
     return fc_.params.stepVoxels * std::ldexp(1.0, int(level)) * fc_.minSpacing;
@@ -230,7 +248,8 @@ class RayIntegrator {
     double alpha = alpha_, rayDepth = depth_;
     // An average intensity projection's are the function's at the mean over the ray's part in the drawn box
     // (aipResult), its depth the first sample above zero's.
-    const bool oneValue = (isIntensityProjection(fc_.params.mode) && mipValue_ >= -1.0) ||
+    const bool oneValue = ((isIntensityProjection(fc_.params.mode) || fc_.params.mode == RenderMode::Slice) &&
+                           mipValue_ >= -1.0) ||
                           (fc_.params.mode == RenderMode::Aip && aipSampled_ && t1_ > t0_);
     if (oneValue) {
       const double value = fc_.params.mode == RenderMode::Aip ? std::clamp(aipSum_ / (t1_ - t0_), 0.0, 1.0)
@@ -403,7 +422,7 @@ class RayIntegrator {
   double alpha_ = 0.0;
   double depth_ = kInf;
   // Intensity projections: the largest signed value (sign v, in [-1, 1]) so far, -2 before the first sample,
-  // and its t; the average intensity projection's t of its first sample above zero.
+  // and its t; the average intensity projection's t of its first sample above zero; a slice's sample.
   double mipValue_ = -2.0;
   double mipT_ = kInf;
   // The average intensity projection: the sum of v dt, and whether a sample was taken.
@@ -505,6 +524,7 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
           if (!rayLoop.solidLeaf(leaf.tEnter, leaf.tExit, layout.levelOfDepth(leaf.depth), firstLeaf)) break;
           continue;
         }
+        if (leaf.kind != kRopeTagDataLeaf && fc.params.mode == RenderMode::Slice) break;
         if (leaf.kind != kRopeTagDataLeaf) continue;  // empty leaves are skipped without sampling
         if (leaf.depth > layout.maxDepth)
           throw Error("renderMirror: a leaf at depth " + std::to_string(leaf.depth) +
@@ -523,6 +543,11 @@ CpuImage renderMirror(const RopeIndex& index, const BricksBySlot& bricks, const 
           visit->tEnter = leaf.tEnter;
           visit->tExit = leaf.tExit;
           visit->firstLeaf = firstLeaf;
+        }
+        // A slice's first leaf holds its one sample (an empty one, none); the ray goes no further.
+        if (fc.params.mode == RenderMode::Slice) {
+          rayLoop.sliceSample(layout.levelOfDepth(leaf.depth), sampler, visit);
+          break;
         }
         // As shaders/raycast_common.glsl leafBelowMaximum, in float: a leaf that cannot raise the maximum is
         // not sampled (a traced ray's visit has no sample).
@@ -571,7 +596,10 @@ CpuImage ReferenceRenderer::render(const CpuRenderInput& worldInput) const {
     int entry = kEntryNone;
     if (!clipToSampled(fc, ray, t0, t1, entry)) return writeMiss(fc, rgba, depth);
     RayIntegrator rayLoop(fc, ray, t0, t1, entry);
-    rayLoop.march(t0, t1, 0, sampler, true);
+    if (fc.params.mode == RenderMode::Slice)
+      rayLoop.sliceSample(0, sampler);
+    else
+      rayLoop.march(t0, t1, 0, sampler, true);
     rayLoop.finish(rgba, depth);
   });
 }

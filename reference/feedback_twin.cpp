@@ -54,6 +54,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
   const bool iso = input.params.mode == RenderMode::Iso;
   const bool mip = isIntensityProjection(input.params.mode);  // rays that end only where nothing is left
   const bool aip = input.params.mode == RenderMode::Aip;      // rays that never end before their exit
+  const bool slice = input.params.mode == RenderMode::Slice;  // rays of one sample, which stops nothing
   const double ert = input.params.ert;
   const glm::dvec3 spacing = volume.volume.spacing;
   const double cubeExtent = double(volume.layout.cubeSamples()) * std::max({spacing.x, spacing.y, spacing.z});
@@ -175,7 +176,7 @@ FeedbackBounds feedbackOfTraces(const std::vector<MirrorRayTrace>& traces, const
             hasPrev = true;
             fPrev = s.f;
             prevUncertain = uncertain;
-          } else if (!mip && !aip) {
+          } else if (!mip && !aip && !slice) {
             // An uncertain sample's opacity is unknown, and so is the opacity accumulated from it on.
             opacityUnknown = opacityUnknown || uncertain;
             possible = uncertain || (s.addsOpacity && s.alpha >= ert - tol.alpha);

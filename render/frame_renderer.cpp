@@ -134,6 +134,7 @@ FrameInput viewInputOf(const FrameRequest& request, const BrickSourceInfo& info)
   input.view.voxelsPerPixel = request.voxelsPerPixel;
   input.view.sampled = sampledWorldBox(request.params, info.volume.dims, info.volume.spacing);
   input.view.clipPlane = request.params.clipPlane;
+  input.view.slice = request.params.mode == RenderMode::Slice;
   input.isEmpty = emptinessFor(request.params, info, request.tf);
   return input;
 }

@@ -27,10 +27,11 @@ std::string floatDefine(const char* name, double value) {
 
 std::vector<std::string> raycastDefines(const RenderParams& params) {
   std::vector<std::string> defines = {
-      params.mode == RenderMode::Iso   ? "RAYCAST_MODE_ISO"
-      : params.mode == RenderMode::Dvr ? "RAYCAST_MODE_DVR"
-      : params.mode == RenderMode::Aip ? "RAYCAST_MODE_AIP"
-                                       : "RAYCAST_MODE_MIP",
+      params.mode == RenderMode::Iso     ? "RAYCAST_MODE_ISO"
+      : params.mode == RenderMode::Dvr   ? "RAYCAST_MODE_DVR"
+      : params.mode == RenderMode::Aip   ? "RAYCAST_MODE_AIP"
+      : params.mode == RenderMode::Slice ? "RAYCAST_MODE_SLICE"
+                                         : "RAYCAST_MODE_MIP",
       floatDefine("MIP_SIGN", projectionSign(params.mode)),
       "BRICK_BORDER " + std::to_string(kBrickBorder),
       "ISO_BISECTION_STEPS " + std::to_string(kIsoBisectionSteps),

@@ -3,9 +3,9 @@
 // one 3D texture, every ray sampled from the volume entry t0 to its exit t1 on the grid t0 + k dt,
 // dt = step min(s), with no index and no empty-space skipping. The volume is one segment of the shared sampling
 // and compositing (shaders/compositing.glsl), so rays, interpolation, bisection, gradients, transfer function,
-// shading, maximum, mean and early ray termination are those of the rope ray caster at level 0. No #version
-// line: the entry point has it. Variants: the defines of shaders/raycast_common.glsl but RAYCAST_FEEDBACK and
-// LLVMPIPE_DVR_LEAF_BATCH.
+// shading, maximum, mean, slice and early ray termination are those of the rope ray caster at level 0. No
+// #version line: the entry point has it. Variants: the defines of shaders/raycast_common.glsl but
+// RAYCAST_FEEDBACK and LLVMPIPE_DVR_LEAF_BATCH.
 
 #include "shaders/compositing.glsl"
 
@@ -40,6 +40,8 @@ RayResult castBrute(uvec2 pixel) {
   MipMax m = mipBegin();
   marchMip(m, s, ray.t0, 0.0, firstSampleIndex(ray.t0, ray.t1, s.dt, false));
   return mipResult(m, ray.depthPerT);
+#elif defined(RAYCAST_MODE_SLICE)
+  return sliceResult(sampleValue(segmentCoord(s, ray.t0)), ray.t0 * ray.depthPerT);
 #elif defined(RAYCAST_MODE_AIP)
   AipSum a = aipBegin();
   marchAip(a, s, ray.t0, 0.0, firstSampleIndex(ray.t0, ray.t1, s.dt, false), ray.t0, ray.t1);

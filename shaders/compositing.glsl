@@ -240,3 +240,11 @@ RayResult aipResult(AipSum a, float length, float depthPerT) {
   return RayResult(vec4(tf.a * tf.rgb + (1.0 - tf.a) * raycast.background, tf.a), a.firstT * depthPerT,
                    kInfinity);
 }
+
+// --mode slice: the value v at the ray's one sample, where it crosses the plane, through the transfer
+// function, over the background by its opacity (as mipResult); depth there. Nothing stops behind it.
+RayResult sliceResult(float v, float depth) {
+  vec4 tf = transferFunction(v);
+  if (!(tf.a > 0.0)) return missedRay();
+  return RayResult(vec4(tf.a * tf.rgb + (1.0 - tf.a) * raycast.background, tf.a), depth, kInfinity);
+}

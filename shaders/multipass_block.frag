@@ -156,6 +156,14 @@ void main() {
   imageStore(uMarch, pixel, vec4(a.sum, ray.t1 - ray.t0, 1.0, 0.0));
   float firstDepth = a.firstT * ray.depthPerT;
   if (firstDepth < imageLoad(uDepth, pixel).r) imageStore(uDepth, pixel, vec4(firstDepth));
+#elif defined(RAYCAST_MODE_SLICE)
+  // The block holding the ray's start, its crossing of the plane, takes the one sample; the resolve pass puts
+  // the background under it.
+  if (!entry) return;
+  vec4 tf = transferFunction(sampleValue(segmentCoord(s, ray.t0)));
+  if (!(tf.a > 0.0)) return;
+  imageStore(uAccum, pixel, vec4(tf.a * tf.rgb, tf.a));
+  imageStore(uDepth, pixel, vec4(ray.t0 * ray.depthPerT));
 #else
   vec4 accum = imageLoad(uAccum, pixel);
   if (accum.a >= raycast.ert) return;

@@ -19,8 +19,8 @@ void main() {
 #elif defined(RAYCAST_MODE_MIP)
   vec4 state = imageLoad(uMarch, pixel);  // a maximum that reaches the cut's largest value is final
   bool ended = state.y != 0.0 && state.x >= raycast.leafMaximaLargest;
-#elif defined(RAYCAST_MODE_AIP)
-  bool ended = false;  // a mean takes every sample
+#elif defined(RAYCAST_MODE_AIP) || defined(RAYCAST_MODE_SLICE)
+  bool ended = false;  // a mean takes every sample; a slice's one sample lies in one block
 #else
   bool ended = imageLoad(uAccum, pixel).a >= raycast.ert;
 #endif

@@ -5,7 +5,7 @@
 // leaf's level on the step grid anchored at the volume entry. No #version line: the entry point has it.
 //
 // Variants (defines, from render/raycast_uniforms.cpp raycastDefines): RAYCAST_MODE_ISO, _DVR, _MIP (MIP_SIGN
-// 1, or -1 for a minimum intensity projection) or _AIP;
+// 1, or -1 for a minimum intensity projection), _AIP or _SLICE;
 // BRICK_BORDER; ISO_BISECTION_STEPS; TF_ENTRIES; DVR_SHADE_GRADIENT_THRESHOLD; DVR_DEPTH_OPACITY;
 // DVR_STORED_GRADIENTS (DVR samples a GradientPool, render/gradient_pool.h); RAYCAST_FEEDBACK (rays mark the
 // leaves they used and request finer ones, shaders/feedback.glsl).
@@ -274,6 +274,15 @@ RayResult castRay(uvec2 pixel) {
     marchAip(a, s, ray.t0, kBegin, kEnd, tEnter, min(leaf.tExit, ray.t1));
   }
   return aipResult(a, ray.t1 - ray.t0, ray.depthPerT);
+#elif defined(RAYCAST_MODE_SLICE)
+  // The walk starts where the ray crosses the plane (cameraRay): its first leaf holds the one sample, at its
+  // level. An empty leaf's values have no opacity there.
+  if (!ropeNextLeaf(cursor, leaf) || leaf.kind != kRopeTagDataLeaf) return missedRay();
+#ifdef RAYCAST_FEEDBACK
+  feedbackSampled(fb, leaf.leafIndex, feedbackWantsFiner(leaf.depth, leaf.tEnter, ray.t0));
+#endif
+  return sliceResult(sampleValue(segmentCoord(leafSegment(leaf, originCube, dirCube), ray.t0)),
+                     ray.t0 * ray.depthPerT);
 #elif defined(LLVMPIPE_DVR_LEAF_BATCH)
   return dvrResult(walkDvrBatched(cursor, ray, originCube, dirCube));
 #else

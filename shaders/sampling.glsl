@@ -33,7 +33,8 @@ vec3 pixelRayDir(uvec2 pixel) {
 }
 
 // The pixel's ray clipped to the box its samples lie in, [clipMin, clipMax] (the volume box cut to --crop), by
-// the slab test, and to the kept side of --clip-plane; t0 clamped to 0. False on a miss. Notes the bound it
+// the slab test, and to the kept side of --clip-plane (a slice: started at the plane); t0 clamped to 0. False
+// on a miss. Notes the bound it
 // enters through, as core/camera.h entryBound (ties to the box, then to the lower axis).
 bool cameraRay(uvec2 pixel, out Ray ray) {
   ray.origin = raycast.eye;
@@ -56,8 +57,19 @@ bool cameraRay(uvec2 pixel, out Ray ray) {
     }
     ray.t1 = min(ray.t1, max(tNear, tFar));
   }
-  // --clip-plane: the part where dot(n, x) >= offset (core/camera.h clipToHalfSpace).
   vec3 n = raycast.clipPlaneNormal;
+#ifdef RAYCAST_MODE_SLICE
+  // --mode slice: the ray starts where it crosses the plane inside the box (core/camera.h startAtPlane), its
+  // one sample; t1 stays, the traversal's end.
+  ray.t0 = max(ray.t0, 0.0);
+  float along = dot(n, ray.dir);
+  if (along == 0.0) return false;
+  float t = -(dot(n, ray.origin) - raycast.clipPlaneOffset) / along;
+  if (!(t >= ray.t0 && t < ray.t1)) return false;
+  ray.t0 = t;
+  return true;
+#endif
+  // --clip-plane: the part where dot(n, x) >= offset (core/camera.h clipToHalfSpace).
   if (n != vec3(0.0)) {
     float along = dot(n, ray.dir);
     float above = dot(n, ray.origin) - raycast.clipPlaneOffset;

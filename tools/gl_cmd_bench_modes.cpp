@@ -24,6 +24,7 @@
 
 #include "core/camera_path.h"
 #include "core/error.h"
+#include "core/orientation.h"
 #include "core/temporary_file.h"
 #include "core/transfer_function.h"
 #include "reference/image_compare.h"
@@ -242,6 +243,9 @@ int runModesBench(const Options& o) {
   const double lo = info.volume.valueMin.value_or(info.mapping.toData(0));
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   request.params.isoValue = o.iso.value_or(0.5 * (lo + hi));
+  if (o.mode == RenderMode::Slice)  // the axial plane through the center, as render's default
+    request.params.clipPlane =
+        defaultSlicePlane(request.params, info.volume.dims, info.volume.spacing, info.volume.axes);
   std::optional<TfTable> tf;
   const std::string tfSpec = !o.tf.empty() ? o.tf : showsOneValue(o.mode) ? defaultTfSpec(o.mode) : "ct-soft";
   const TransferFunction function =
@@ -468,7 +472,8 @@ std::function<int()> setupModesBench(CLI::App& app) {
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o->tf, tfOptionHelp("ct-soft; gray with --mode mip, minip or aip"))
+  app.add_option("--tf", o->tf,
+                 tfOptionHelp("ct-soft; gray with --mode mip, minip or aip; window with --mode slice"))
       ->check(notEmpty("a preset or a JSON file"));
   addRangeOption(
       app, "--tf-range", o->tfRange,

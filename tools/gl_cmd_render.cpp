@@ -323,7 +323,8 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
     warn({"--iso", "--ert", "--gradients", "--caps", "--iso-color", "--shading", "--material"},
          mode + " (one value per ray through the transfer function)");
     warn({"--occlusion", "--query-budget", "--visibility-threshold"},
-         mode + " (nothing opaque stops its rays: no occlusion queries)");
+         mode + (o.mode == RenderMode::Slice ? " (nothing behind the plane is drawn: no occlusion queries)"
+                                             : " (nothing opaque stops its rays: no occlusion queries)"));
   }
   if (o.reference || o.backend == RenderBackend::Brute)
     warn({"--voxels-per-pixel", "--gpu-budget", "--cpu-cache", "--upload-budget", "--upload-time-budget",

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/orientation.h"
 #include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
 #include "store/store.h"
@@ -35,7 +36,7 @@ std::vector<std::pair<std::string, Enum>> optionNames(
 const std::vector<std::pair<std::string, RenderMode>> kModeNames = optionNames(kRenderModeNames);
 const char* const kModeHelp =
     "iso: isosurface; dvr: direct volume rendering; mip, minip, aip: maximum, minimum, average intensity "
-    "projection";
+    "projection; slice: the values on the --clip-plane plane (default: the axial plane through the center)";
 const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
@@ -55,7 +56,8 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
       ->check(finiteIn(-HUGE_VAL, HUGE_VAL));
-  app.add_option("--tf", o.tf, tfOptionHelp("linear; gray with --mode mip, minip or aip"))
+  app.add_option("--tf", o.tf,
+                 tfOptionHelp("linear; gray with --mode mip, minip or aip; window with --mode slice"))
       ->check(notEmpty("a preset or a JSON file"));
   addRangeOption(
       app, "--tf-range", o.tfRange,
@@ -98,7 +100,7 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       app, "--clip-plane", o.clipPlane,
       "X,Y,Z,NX,NY,NZ: cut the volume with the plane through the point X,Y,Z (world units) and "
       "draw the side its normal NX,NY,NZ points to; bricks wholly on the other side are neither read "
-      "nor drawn (default: none)");
+      "nor drawn (default: none); with --mode slice, the plane shown, and only bricks it crosses are read");
   addEnumOption(app, "--caps", o.caps, kOnOffNames,
                 "isosurface: where --crop or --clip-plane cuts the surface, close it with the cut's face "
                 "(on), or leave it open to show it from within (off)");
@@ -354,6 +356,8 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.gradients = o.gradients;
   params.crop = cropBoxOf(o.crop, info);
   params.clipPlane = clipPlaneOf(o.clipPlane);
+  if (params.mode == RenderMode::Slice && !params.clipPlane.enabled())
+    params.clipPlane = defaultSlicePlane(params, info.volume.dims, info.volume.spacing, info.volume.axes);
   params.isoCaps = o.caps;
   if (!o.isoColor.empty()) params.lighting.isoBaseColor = toVec3(o.isoColor);
   if (!o.material.empty()) setMaterial(params.lighting, o.material);
@@ -374,8 +378,9 @@ std::string tfOptionHelp(const std::string& defaultText) {
 }
 
 std::string defaultTfSpec(RenderMode mode) {
-  return std::string(showsOneValue(mode) ? TransferFunction::kMipDefaultPreset
-                                         : TransferFunction::kDefaultPreset);
+  return std::string(mode == RenderMode::Slice ? TransferFunction::kSliceDefaultPreset
+                     : showsOneValue(mode)     ? TransferFunction::kMipDefaultPreset
+                                               : TransferFunction::kDefaultPreset);
 }
 
 void checkTfRange(const std::vector<double>& tfRange) {

@@ -98,8 +98,9 @@ CropBox fileCropOf(const CropBox& crop, const BrickSourceInfo& info);
 // Throws UsageError when the normal has no direction.
 ClipPlane clipPlaneOf(const std::vector<double>& values);
 
-// RenderParams of the options (isovalue default: the middle of the value range). Warns on stderr, as
-// `command`, when an isovalue lies outside the value range.
+// RenderParams of the options (isovalue default: the middle of the value range; --mode slice's plane
+// core/orientation.h defaultSlicePlane). Warns on stderr, as `command`, when an isovalue lies outside the
+// value range.
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command);
 
 // The transfer function of --tf (a preset or a JSON file; empty: the linear preset), placed for the data.

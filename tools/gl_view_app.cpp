@@ -31,6 +31,7 @@
 #include "core/file_names.h"
 #include "core/input_file.h"
 #include "core/orbit_controller.h"
+#include "core/orientation.h"
 #include "core/temporary_file.h"
 #include "loader/io_queue.h"
 #include "reference/image_io.h"
@@ -140,6 +141,7 @@ class Viewer {
   // one chosen later.
   void setTfRange(double lo, double hi);
   void setMode(RenderMode mode);
+  void keepSlicePlane();
   void ensureRenderer(bool moving);
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
@@ -544,6 +546,18 @@ void Viewer::setMode(RenderMode mode) {
   const bool newDefault = !tfChosen_ && defaultTfSpec(mode) != defaultTfSpec(params_.mode);
   params_.mode = mode;
   if (newDefault) setTransferFunction("");
+  // A slice shows the clip plane: its controls move it.
+  if (mode == RenderMode::Slice) {
+    keepSlicePlane();
+    unfoldCutControls_ = true;
+  }
+}
+
+// A slice needs a plane: the axial one through the center where none is set (as render's default).
+void Viewer::keepSlicePlane() {
+  const VolumeInfo& volume = bricks().info().volume;
+  if (params_.mode == RenderMode::Slice && !params_.clipPlane.enabled())
+    params_.clipPlane = defaultSlicePlane(params_, volume.dims, volume.spacing, volume.axes);
 }
 
 void Viewer::setTransferFunction(TransferFunction function, const std::string& name) {
@@ -815,6 +829,7 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::SetClipPlane:
       params_.clipPlane = clipPlaneOf(e.plane);
+      keepSlicePlane();
       unfoldCutControls_ = true;
       break;
     case ViewEventKind::SetCaps:
@@ -1025,9 +1040,12 @@ void Viewer::drawClipPlaneControls(const VolumeInfo& volume) {
   const float reach = float(0.5 * glm::length(volume.worldMax()));
   ClipPlane& plane = params_.clipPlane;
   bool on = plane.enabled();
-  if (ImGui::Checkbox("clip plane", &on))
+  if (params_.mode == RenderMode::Slice) {
+    ImGui::Text("slice plane");  // always on: the slice is drawn where it lies
+  } else if (ImGui::Checkbox("clip plane", &on)) {
     plane = on ? ClipPlane{center, cameraFrame(controller_->camera()).forward} : ClipPlane{};
-  if (!on) return;
+  }
+  if (!plane.enabled()) return;
   const glm::dvec3 n = plane.normal;
   float azimuth = float(glm::degrees(std::atan2(n.y, n.x)));
   float elevation = float(glm::degrees(std::asin(std::clamp(n.z, -1.0, 1.0))));
@@ -1205,6 +1223,8 @@ void Viewer::drawPanels() {
     ImGui::RadioButton("MinIP", &mode, int(RenderMode::MinIp));
     ImGui::SameLine();
     ImGui::RadioButton("AIP", &mode, int(RenderMode::Aip));
+    ImGui::SameLine();
+    ImGui::RadioButton("slice", &mode, int(RenderMode::Slice));
     if (mode != int(params_.mode)) setMode(RenderMode(mode));
     double iso = params_.isoValue;
     if (ImGui::SliderScalar("isovalue", ImGuiDataType_Double, &iso, &valueRange_.first, &valueRange_.second,
@@ -1264,7 +1284,8 @@ void Viewer::drawPanels() {
     }
     // Folded unless a cut is set (the options, a script): the panel stays short in a small window.
     if (std::exchange(unfoldCutControls_, false)) ImGui::SetNextItemOpen(true);
-    if (ImGui::CollapsingHeader("crop box and clip plane")) {
+    if (ImGui::CollapsingHeader(params_.mode == RenderMode::Slice ? "crop box and slice plane###cuts"
+                                                                  : "crop box and clip plane###cuts")) {
       drawCropControls(info);
       drawClipPlaneControls(info.volume);
       // --caps: an isosurface closed where the cuts cut it, or left open to show it from within.

@@ -1,8 +1,8 @@
 // The viewer's probe (docs/VIEWER.md "Probe"), which its ruler and centering use too: what lies under a pixel
 // of the 3D view. The point where the pixel's ray stopped in the drawn frame, as its depth image holds it (an
 // isosurface's hit, a DVR's sample that made it half opaque, a MIP's or MinIP's extreme, an AIP's first
-// sample above zero), and the full-resolution voxel nearest that point, whose value the viewer reads from the
-// store (store/async_voxel_reader.h). GL-free; main thread.
+// sample above zero, a slice's point on its plane), and the full-resolution voxel nearest that point, whose
+// value the viewer reads from the store (store/async_voxel_reader.h). GL-free; main thread.
 #pragma once
 
 #include <cstdint>

@@ -252,6 +252,23 @@ TEST(ClipToBox, GivesTheIntervalInsideTheBox) {
   EXPECT_FALSE(clipToBox(Ray{{-3, 0, 0.5}, glm::normalize(glm::dvec3(1, 1, 0))}, {4, 2, 1}, t0, t1));
 }
 
+// A slice's ray starts where it crosses the plane inside the box, seen from either side of the plane.
+TEST(StartAtPlane, MovesTheStartToTheCrossingInsideTheInterval) {
+  const glm::dvec3 n = glm::normalize(glm::dvec3(1, 0, 1));
+  const double offset = glm::dot(n, glm::dvec3(2, 0, 0));  // the plane x + z = 2
+  for (double sign : {1.0, -1.0}) {  // the normal toward the eye or away: the same plane
+    double t0 = 1.0;
+    ASSERT_TRUE(startAtPlane(Ray{{-1, 1, 0.5}, {1, 0, 0}}, sign * n, sign * offset, t0, 5.0));
+    EXPECT_DOUBLE_EQ(t0, 2.5);  // x = 1.5
+  }
+  double t0 = 1.0;
+  EXPECT_FALSE(startAtPlane(Ray{{-1, 1, 0.5}, {1, 0, 0}}, n, offset, t0, 2.0));  // past the interval's end
+  EXPECT_FALSE(startAtPlane(Ray{{-1, 1, 0.5}, {1, 0, 0}}, n, offset, t0 = 3.0, 5.0));   // before its start
+  EXPECT_FALSE(startAtPlane(Ray{{-1, 1, 0.5}, {1, 0, -1}}, n, offset, t0 = 0.0, 5.0));  // parallel
+  EXPECT_FALSE(startAtPlane(Ray{{-1, 1, 0.5}, {1, 0, 0}}, glm::dvec3(0.0), 0.0, t0 = 0.0, 5.0));  // no plane
+  EXPECT_EQ(t0, 0.0);  // untouched where it fails
+}
+
 // The bound a ray enters the kept region through, which isosurface caps shade with its inward normal.
 TEST(EntryBound, NamesTheFaceOrThePlaneTheRayEntersThrough) {
   const WorldBox box{{0, 0, 0}, {4, 2, 1}};

@@ -91,6 +91,25 @@ TEST(Orientation, AWorldCameraSeesTheTurnedVolumeAsTheVolumesAxesSeeIt) {
   EXPECT_EQ(clipPlaneInVolume(worldPlane, AxisDirections(1.0), center), worldPlane);
 }
 
+// A slice's default plane is axial (world +z) through the drawn box's center: the volume's center, or a crop
+// box's, carried into the world as the volume is turned.
+TEST(Orientation, TheDefaultSliceIsAxialThroughTheDrawnBoxsCenter) {
+  const glm::u32vec3 dims(20, 40, 10);
+  const glm::dvec3 spacing(1.0, 1.0, 2.0);
+  RenderParams params;
+  ClipPlane plane = defaultSlicePlane(params, dims, spacing, AxisDirections(1.0));
+  expectNear(plane.point, glm::dvec3(10, 20, 10), "center");
+  expectNear(plane.normal, glm::dvec3(0, 0, 1), "normal");
+  params.crop = {glm::dvec3(0, 0, 6), glm::dvec3(20, 10, 10)};  // voxels; z of spacing 2: 12..20
+  plane = defaultSlicePlane(params, dims, spacing, AxisDirections(1.0));
+  expectNear(plane.point, glm::dvec3(10, 5, 16), "crop's center");
+  // Turned 90 degrees about x (y toward world z) about the extent's center (10, 20, 10).
+  const AxisDirections aboutX(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+  plane = defaultSlicePlane(params, dims, spacing, aboutX);
+  expectNear(plane.point, glm::dvec3(10, 20 - 6, 10 - 15), "turned crop's center");
+  expectNear(plane.normal, glm::dvec3(0, 0, 1), "turned normal");
+}
+
 // The named views: the eye on that side of the patient (LPS), superior up, anterior up from above and below;
 // seen from the front and from below, the patient's right lies on the image's left, as radiology shows it.
 TEST(Orientation, NamedViewsLookFromTheirSideOfThePatient) {

@@ -154,6 +154,7 @@ TEST(TransferFunction, CtPresetsStayInHounsfieldForInt16AndScaleOtherwise) {
   EXPECT_EQ(boneU8.evaluate(1024.0 * 255.0 / 4095.0).a, 0.0);
   EXPECT_NEAR(boneU8.evaluate((700.0 + 1024.0) * 255.0 / 4095.0).a, boneCt.evaluate(700.0).a, 1e-9);
   for (const std::string& name : TransferFunction::presetNames()) {
+    if (name == "window") continue;  // a slice's: opaque everywhere (TheWindowPresetIs...)
     const auto tf = TransferFunction::fromSpec(name, u8);
     EXPECT_EQ(tf.evaluate(0.0).a, 0.0) << name << ": the minimum (background) must be transparent";
     EXPECT_GT(tf.evaluate(255.0).a, 0.0) << name;
@@ -180,6 +181,16 @@ TEST(TransferFunction, WiderTypesPlaceCtPresetsAsTheirNarrowerKin) {
             boneAlpha(SampleType::UInt16, -1024.0, 5000.0, 700.0));
   EXPECT_NE(boneAlpha(SampleType::Int8, -128.0, 127.0, 50.0),
             boneAlpha(SampleType::Int16, -128.0, 127.0, 50.0));
+}
+
+// The slice's default: every value opaque, black at the range's low end to white at its high end (a window).
+TEST(TransferFunction, TheWindowPresetIsOpaqueBlackToWhiteOverTheRange) {
+  const TransferFunction window =
+      TransferFunction::preset("window", TfDataRange{SampleType::UInt16, 100.0, 300.0});
+  EXPECT_EQ(window.evaluate(100.0), glm::dvec4(0.0, 0.0, 0.0, 1.0));
+  EXPECT_EQ(window.evaluate(300.0), glm::dvec4(1.0, 1.0, 1.0, 1.0));
+  EXPECT_NEAR(window.evaluate(250.0).r, 0.75, 1e-12);
+  EXPECT_EQ(window.evaluate(0.0).a, 1.0);  // below the range: black, still opaque
 }
 
 TEST(TransferFunction, PresetsAreKnownByTheirExactNames) {

@@ -440,6 +440,34 @@ TEST(Refiner, NodesWhollyOnTheSideAClipPlaneCutsAwayAreCulled) {
   EXPECT_TRUE(boxKeptByPlane({glm::dvec3(0), glm::dvec3(1)}, ClipPlane{}));  // no plane keeps everything
 }
 
+TEST(Refiner, ASliceKeepsOnlyTheNodesItsPlaneCrosses) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency res;
+  RefineView view = viewFrom({32, 32, -60}, {32, 32, 32}, 4000);
+  // x + z = 64 (normal (1, 0, 1) / sqrt 2 through (32, 0, 32)), shown on its own.
+  view.clipPlane = {glm::dvec3(32, 0, 32), glm::normalize(glm::dvec3(1, 0, 1))};
+  view.slice = true;
+  const RefineResult r = refine(src, view, {}, res);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  const auto crossed = [&](const NodeKey& k) {
+    const WorldBox b = nodeWorldBox(src.info().layout, glm::dvec3(1.0), k);
+    return b.lo.x + b.lo.z <= 64.0 && b.hi.x + b.hi.z >= 64.0;
+  };
+  size_t bricks = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    EXPECT_EQ(l.content == LeafContent::Brick, crossed(l.key))
+        << "depth " << l.key.depth << " x " << l.key.coord.x << " z " << l.key.coord.z;
+    bricks += l.content == LeafContent::Brick;
+  }
+  // Depth-2 nodes (16 a side) of the 4 x 4 columns with x + z <= 4 <= (x + 1) + (z + 1): 4 + 3 + 2 (the
+  // diagonal x + z = 3 and the columns touching the plane along an edge, x + z = 2 and 4), 4 high.
+  EXPECT_EQ(bricks, 4u * (4 + 3 + 3));
+  for (const NodeKey& k : res.acquired) EXPECT_TRUE(crossed(k));
+  EXPECT_TRUE(boxMeetsPlane({glm::dvec3(0), glm::dvec3(1)}, ClipPlane{}));  // no plane: everything
+  EXPECT_TRUE(boxMeetsPlane({glm::dvec3(0), glm::dvec3(1)}, {glm::dvec3(1, 0, 0), glm::dvec3(1, 0, 0)}));
+  EXPECT_FALSE(boxMeetsPlane({glm::dvec3(0), glm::dvec3(1)}, {glm::dvec3(1.5, 0, 0), glm::dvec3(-1, 0, 0)}));
+}
+
 TEST(Refiner, FromAnEyeOnTheCutSideAProjectedSizeIsMeasuredNoNearerThanTheClipPlane) {
   const FakeBrickSource src = makeSource();
   RefineView view = viewFrom({32, 32, -100}, {32, 32, 32});
@@ -450,6 +478,9 @@ TEST(Refiner, FromAnEyeOnTheCutSideAProjectedSizeIsMeasuredNoNearerThanTheClipPl
   // Keeping z <= 20 instead, the eye is on the kept side: the box's nearest point counts.
   view.clipPlane = {glm::dvec3(0, 0, 20), glm::dvec3(0, 0, -1)};
   EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 1.0, 1e-9);
+  // A slice's samples all lie on its plane, 120 from the eye, whichever side the normal points to.
+  view.slice = true;
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, view), 100.0 / 120.0, 1e-9);
 }
 
 TEST(Refiner, ANodesProjectedSizeIsMeasuredOnItsPartInsideTheCropBox) {

@@ -33,15 +33,18 @@ TEST(Emptiness, IsoSkipsTheRangesThatMissTheIsovalue) {
   EXPECT_TRUE(isEmpty(101, 200));
 }
 
-TEST(Emptiness, DvrSkipsTheRangesTheFunctionLeavesTransparent) {
+// DVR, and a slice, whose one sample shows its value through the function.
+TEST(Emptiness, DvrAndSlicesSkipTheRangesTheFunctionLeavesTransparent) {
   const TfTable tf = bandTf();
-  RenderParams params;
-  params.mode = RenderMode::Dvr;
-  const EmptinessPredicate isEmpty = emptinessFor(params, uint8Info(), &tf);
-  EXPECT_TRUE(isEmpty(0, 50));
-  EXPECT_FALSE(isEmpty(0, 120));
-  EXPECT_FALSE(isEmpty(120, 130));
-  EXPECT_TRUE(isEmpty(170, 250));
+  for (RenderMode mode : {RenderMode::Dvr, RenderMode::Slice}) {
+    RenderParams params;
+    params.mode = mode;
+    const EmptinessPredicate isEmpty = emptinessFor(params, uint8Info(), &tf);
+    EXPECT_TRUE(isEmpty(0, 50)) << renderModeName(mode);
+    EXPECT_FALSE(isEmpty(0, 120)) << renderModeName(mode);
+    EXPECT_FALSE(isEmpty(120, 130)) << renderModeName(mode);
+    EXPECT_TRUE(isEmpty(170, 250)) << renderModeName(mode);
+  }
 }
 
 // A maximum intensity projection skips a node only when no value up to its maximum has opacity: a node
@@ -86,7 +89,8 @@ TEST(Emptiness, AipSkipsOnlyZeros) {
 }
 
 TEST(Emptiness, DvrAndProjectionsNeedATransferFunction) {
-  for (RenderMode mode : {RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp, RenderMode::Aip}) {
+  for (RenderMode mode :
+       {RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp, RenderMode::Aip, RenderMode::Slice}) {
     RenderParams params;
     params.mode = mode;
     EXPECT_THROW(emptinessFor(params, uint8Info(), nullptr), Error) << renderModeName(mode);

@@ -205,9 +205,10 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
     const glm::dvec3 volumeMax = glm::dvec3(spec.dims) * spec.spacing;
     for (const CameraCase& cam : randomCameras(seed, volumeMax)) {
       // Iso at a step above a voxel too, where a leaf's end takes a sample (docs/RENDERING.md "Isosurface").
-      for (auto [mode, step] : {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5},
-                                std::pair{RenderMode::Iso, 2.5}, std::pair{RenderMode::Mip, 0.5},
-                                std::pair{RenderMode::MinIp, 0.5}, std::pair{RenderMode::Aip, 0.5}}) {
+      for (auto [mode, step] :
+           {std::pair{RenderMode::Iso, 0.5}, std::pair{RenderMode::Dvr, 0.5}, std::pair{RenderMode::Iso, 2.5},
+            std::pair{RenderMode::Mip, 0.5}, std::pair{RenderMode::MinIp, 0.5},
+            std::pair{RenderMode::Aip, 0.5}, std::pair{RenderMode::Slice, 0.5}}) {
         RaycastFrame frame;
         frame.camera = cam.camera;
         frame.width = 96;
@@ -217,6 +218,14 @@ TEST(Feedback, GlslSetsMatchTheCpuTwinOnRandomCutsAndCameras) {
         frame.params.isoValue = isoNormalized * 65535;
         frame.params.ert = 0.95;
         if (crop) frame.params.crop = *crop;
+        // A slice in front of the camera (through the volume's center from outside), turned by the seed.
+        if (mode == RenderMode::Slice) {
+          const glm::dvec3 forward = cameraFrame(cam.camera).forward;
+          const double ahead = 0.2 * std::min({volumeMax.x, volumeMax.y, volumeMax.z});
+          frame.params.clipPlane = {
+              std::string(cam.name) == "inside" ? cam.camera.eye + ahead * forward : 0.5 * volumeMax,
+              glm::normalize(forward + glm::dvec3(0.1 * double(seed), -0.3, 0.2))};
+        }
         frame.tf = &tf;
         const std::vector<float> bounds = scene.leafBounds(mode);
         frame.leafMaxima = bounds;

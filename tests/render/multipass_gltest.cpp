@@ -1,6 +1,6 @@
 // The multi-pass block renderer (render/multipass_pass.h) against the single-pass ray caster on the same cut:
 // one FrameRenderer renders a synchronous frame with the fragment entry point, then the same request with
-// --backend multipass (the same cut, the same pool slots), for iso and DVR, procedural sphere, Menger sponge
+// --backend multipass (the same cut, the same pool slots), for every mode, procedural sphere, Menger sponge
 // and noise (the CT-like one), from outside the volume and from inside it, and with rays along the faces two
 // boxes share. Both take the same samples of the same global grid in the same order, so the images agree far
 // above the 40 dB asked (identical here); what could differ sits on block silhouettes, where a pixel's
@@ -71,6 +71,9 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
   if (c.cropped) {
     request.params.crop = {glm::dvec3(7, 3, 9), glm::dvec3(40, 50, 45)};
     request.params.clipPlane = {0.5 * info.volume.worldMax(), glm::normalize(glm::dvec3(-1.0, 0.4, -0.5))};
+  } else if (c.mode == RenderMode::Slice) {
+    // Through the center, facing the camera's side, oblique to the leaves.
+    request.params.clipPlane = {0.5 * info.volume.worldMax(), glm::normalize(glm::dvec3(0.6, 0.5, 0.6))};
   }
   std::optional<TfTable> tf;
   if (c.mode == RenderMode::MinIp) {
@@ -80,7 +83,7 @@ TEST_P(MultipassTest, MatchesTheSinglePassOnTheSameCut) {
         info.mapping, storedMaxOf(info.storedType));
     request.tf = &*tf;
   } else if (usesTransferFunction(c.mode)) {
-    const std::string preset = c.mode == RenderMode::Mip || c.mode == RenderMode::Aip ? "gray" : "ct-soft";
+    const std::string preset = showsOneValue(c.mode) ? "gray" : "ct-soft";
     tf = TfTable::bake(TransferFunction::fromSpec(preset, tfDataRangeFor(info)), info.mapping,
                        storedMaxOf(info.storedType));
     request.tf = &*tf;
@@ -177,7 +180,10 @@ INSTANTIATE_TEST_SUITE_P(
                       MultipassCase{"procedural:sphere:64", RenderMode::MinIp, false, false, true},
                       MultipassCase{"procedural:noise:48", RenderMode::Aip, false},
                       MultipassCase{"procedural:sphere:64", RenderMode::Aip, true},
-                      MultipassCase{"procedural:noise:48", RenderMode::Aip, false, false, true}),
+                      MultipassCase{"procedural:noise:48", RenderMode::Aip, false, false, true},
+                      MultipassCase{"procedural:noise:48", RenderMode::Slice, false},
+                      MultipassCase{"procedural:sphere:64", RenderMode::Slice, true},
+                      MultipassCase{"procedural:marschner-lobb:48", RenderMode::Slice, false, false, true}),
     [](const ::testing::TestParamInfo<MultipassCase>& info) {
       std::string name = multipassCaseName(info.param).substr(std::string("procedural:").size());
       for (char& ch : name)

@@ -1,7 +1,7 @@
 // The GL ray caster against its CPU mirror (reference/cpu_raycaster renderMirror: the same cut, the same
-// bricks, the same sampling in double) at >= 45 dB PSNR, for iso, DVR, MIP and MinIP, through both entry
-// points, whole, cut by a crop box and a clip plane, and with the isosurface's caps on the cuts; and the
-// isosurface of a sphere against its analytic silhouette.
+// bricks, the same sampling in double) at >= 45 dB PSNR, for iso, DVR, MIP, MinIP, AIP and slices, through
+// both entry points, whole, cut by a crop box and a clip plane, and with the isosurface's caps on the cuts;
+// and the isosurface of a sphere against its analytic silhouette.
 #include <cmath>
 #include <limits>
 
@@ -117,7 +117,8 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
         Variant{RenderMode::Dvr, GradientSource::Computed}, Variant{RenderMode::Dvr, GradientSource::Stored},
         Variant{RenderMode::Mip, GradientSource::Computed},
         Variant{RenderMode::MinIp, GradientSource::Computed},
-        Variant{RenderMode::Aip, GradientSource::Computed}}) {
+        Variant{RenderMode::Aip, GradientSource::Computed},
+        Variant{RenderMode::Slice, GradientSource::Computed}}) {
     const RenderMode mode = v.mode;
     std::optional<FloatImage> plainWalk;  // DVR: the image of the walk without leaf batches
     for (auto [backend, leafBatch] :
@@ -134,6 +135,9 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       frame.params.gradients = v.gradients;
       frame.params.stepVoxels = v.step;
       frame.tf = mode == RenderMode::MinIp ? &minTf : &tf;
+      // A slice through the center facing the camera, oblique to the axes and the leaves.
+      if (mode == RenderMode::Slice)
+        frame.params.clipPlane = {glm::dvec3(18, 12, 14.3), glm::normalize(glm::dvec3(0.7, 0.5, 0.5))};
       // The projections skip the leaves that cannot change them.
       const std::vector<float> bounds = scene.leafBounds(mode);
       frame.leafMaxima = bounds;
@@ -158,9 +162,10 @@ TEST(RaycastVsCpu, MatchesTheMirrorAbove45Db) {
       const double psnr = test::psnrDb(glColor, colorOf(cpu), 3);
       std::printf("%s: PSNR %.1f dB vs the CPU mirror\n", what.c_str(), psnr);
       EXPECT_GE(psnr, 45.0) << what;
-      // A mean has no threshold to flip: on llvmpipe the images agree to rounding (a leaf corner's sample
-      // left out shows at 75 dB).
-      if (mode == RenderMode::Aip && !test::onHardwareGpu()) EXPECT_GE(psnr, 100.0) << what;
+      // A mean or a slice's one sample has no threshold to flip: on llvmpipe the images agree to rounding (a
+      // leaf corner's sample left out shows at 75 dB).
+      if ((mode == RenderMode::Aip || mode == RenderMode::Slice) && !test::onHardwareGpu())
+        EXPECT_GE(psnr, 100.0) << what;
       // Hardware filtering weights are fixed point (8 fractional bits on NVIDIA), so a grazing ray's sample
       // near the isovalue may land on the other side and a silhouette pixel flip; the coverage check below
       // bounds how many.
@@ -223,8 +228,9 @@ TEST(RaycastVsCpu, LightingMatchesTheMirror) {
   }
 }
 
-// With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side: the GL
-// image is the mirror's, every hit lies there, and the cut took something away.
+// With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side (a
+// slice's, on the plane): the GL image is the mirror's, every hit lies there, and the cut took something
+// away.
 TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) {
   SceneSpec spec = wavyScene();
   spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y + n.coord.z) % 2 == 0; };
@@ -241,8 +247,9 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
   };
   for (const Cut cut :
        {Cut{"crop", true, false}, Cut{"plane", false, true}, Cut{"crop and plane", true, true}})
-    for (RenderMode mode :
-         {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp, RenderMode::Aip}) {
+    for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp,
+                            RenderMode::Aip, RenderMode::Slice}) {
+      if (mode == RenderMode::Slice && !cut.plane) continue;  // a slice is of a plane
       for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
         RaycastFrame frame;
         frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
@@ -277,7 +284,8 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         for (const glm::dvec3& hit : hits)
           outside += glm::any(glm::lessThan(hit, box.lo - 0.05)) ||
                      glm::any(glm::greaterThan(hit, box.hi + 0.05)) ||
-                     (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05);
+                     (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05) ||
+                     (mode == RenderMode::Slice && glm::dot(plane.normal, hit - plane.point) > 0.05);
         EXPECT_GT(hits.size(), 300u) << what;
         EXPECT_EQ(outside, 0) << what;
       }

@@ -132,7 +132,7 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
   expectRefused(R"([{"event": "quit"}, {"event": "set_iso"}])", "event 1 (set_iso): \"value\" is required");
   expectRefused(R"([{"event": "drag", "from": [0, 0], "to": [1]}])", "\"to\" must be [x, y]");
   expectRefused(R"([{"event": "set_mode", "mode": "average"}])",
-                "\"mode\" must be iso, dvr, mip, minip or aip");
+                "\"mode\" must be iso, dvr, mip, minip, aip or slice");
   expectRefused(R"([{"event": "key", "key": "x"}])", "\"key\" must be one of w a s d q e r");
   expectRefused(R"([{"event": "quit", "at": -1}])", "\"at\" must not be negative");
   expectRefused(R"([{"event": "set_crop", "crop": "0:4,:"}])",
