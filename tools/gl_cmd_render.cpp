@@ -318,6 +318,9 @@ void warnUnusedOptions(const CLI::App& app, const RenderOptions& o) {
     warn({"--tf", "--tf-range", "--ert", "--gradients", "--shading"}, "with --mode iso");
   if (o.mode == RenderMode::Dvr && !o.shading)
     warn({"--gradients"}, "with --shading off (no gradient is taken)");
+  if (o.mode == RenderMode::Slice)
+    warn({"--step", "--target-frame-ms"},
+         "with --mode slice (one sample per ray, where it crosses the plane)");
   if (showsOneValue(o.mode)) {
     const std::string mode = "with --mode " + std::string(renderModeName(o.mode));
     warn({"--iso", "--ert", "--gradients", "--caps", "--iso-color", "--shading", "--material"},

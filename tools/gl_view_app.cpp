@@ -142,6 +142,7 @@ class Viewer {
   void setTfRange(double lo, double hi);
   void setMode(RenderMode mode);
   void keepSlicePlane();
+  void stepPlane(double voxels);
   void ensureRenderer(bool moving);
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
@@ -311,6 +312,7 @@ class Viewer {
   std::map<char, ScriptKey> scriptKeys_;
   void flyScriptKeys(double nowSeconds);
   bool resetKeyDown_ = false;
+  int pageKeyDown_ = 0;  // Page Up (1) or Page Down (-1) held: one plane step per press
   double lastMoveSeconds_ = -1e9;
   Camera lastCamera_;
 
@@ -368,7 +370,7 @@ Viewer::Viewer(const ViewOptions& o, std::optional<ViewScript> script, OutputGua
   const BrickSourceInfo& info = bricks().info();
   boxMax_ = info.volume.worldMax();
   params_ = renderParamsOf(o, info, "view");
-  unfoldCutControls_ = !o.crop.empty() || !o.clipPlane.empty();
+  unfoldCutControls_ = !o.crop.empty() || !o.clipPlane.empty() || o.mode == RenderMode::Slice;
   voxelsPerPixel_ = o.voxelsPerPixel;
   targetFrameMs_ = o.targetFrameMs;
   tfRange_ = o.tfRange;
@@ -553,6 +555,22 @@ void Viewer::setMode(RenderMode mode) {
   }
 }
 
+// Shift + wheel, Page Up and Page Down: the clip plane (a slice's plane) moved along its normal by `voxels`
+// of the smallest spacing, positive toward the eye, as a radiology viewer scrolls through slices; it stays
+// within the reach of the panel's offset slider. Nothing without a plane.
+void Viewer::stepPlane(double voxels) {
+  ClipPlane& plane = params_.clipPlane;
+  if (!plane.enabled()) return;
+  const VolumeInfo& volume = bricks().info().volume;
+  const glm::dvec3 center = 0.5 * volume.worldMax();
+  const double reach = 0.5 * glm::length(volume.worldMax());
+  const double voxel = std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z});
+  const double towardEye = glm::dot(plane.normal, controller_->camera().eye - plane.point) < 0.0 ? -1.0 : 1.0;
+  const double offset = glm::dot(plane.normal, plane.point - center) + towardEye * voxels * voxel;
+  plane.point = center + std::clamp(offset, -reach, reach) * plane.normal;
+  unfoldCutControls_ = true;
+}
+
 // A slice needs a plane: the axial one through the center where none is set (as render's default).
 void Viewer::keepSlicePlane() {
   const VolumeInfo& volume = bricks().info().volume;
@@ -712,7 +730,12 @@ void Viewer::readWindowInput(double dtSeconds) {
   if (windowDragOwned_) drive(windowPointer_, now);
   if (!now.left && !now.middle) windowDragOwned_ = false;
   windowPointer_ = now;
-  if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) controller_->zoom(wheelClicks_);
+  if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) {
+    if (now.shift)
+      stepPlane(wheelClicks_);
+    else
+      controller_->zoom(wheelClicks_);
+  }
   if (!io.WantCaptureMouse && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
     message_ = centerAt(now.pos).message;
   if (!io.WantCaptureMouse && ImGui::IsMouseClicked(ImGuiMouseButton_Right))
@@ -731,6 +754,10 @@ void Viewer::readWindowInput(double dtSeconds) {
     const bool reset = glfwGetKey(w, GLFW_KEY_R) == GLFW_PRESS;
     if (reset && !resetKeyDown_) controller_->reset();
     resetKeyDown_ = reset;
+    const int page = int(glfwGetKey(w, GLFW_KEY_PAGE_UP) == GLFW_PRESS) -
+                     int(glfwGetKey(w, GLFW_KEY_PAGE_DOWN) == GLFW_PRESS);
+    if (page != 0 && page != pageKeyDown_) stepPlane(page);
+    pageKeyDown_ = page;
   }
 }
 
@@ -792,7 +819,10 @@ void Viewer::runEvent(const ViewEvent& e) {
       scriptPointer_ = next;
       break;
     case ViewEventKind::Wheel:
-      controller_->zoom(e.clicks);
+      if (e.shift)
+        stepPlane(e.clicks);
+      else
+        controller_->zoom(e.clicks);
       break;
     case ViewEventKind::KeyDown:
       if (e.key == 'r') {

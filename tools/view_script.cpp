@@ -206,6 +206,7 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else if (kind == "wheel") {
       e.kind = ViewEventKind::Wheel;
       e.clicks = r.number("clicks", 0.0, true);
+      e.shift = r.flag("shift");
       add(e);
     } else if (kind == "key" || kind == "key_down" || kind == "key_up") {
       e.key = r.key();

@@ -28,7 +28,7 @@ enum class ViewEventKind {
   MouseDown,     // button at pos (shift: shift held)
   MouseMove,     // the pointer to pos
   MouseUp,       // button at pos
-  Wheel,         // clicks (positive: closer)
+  Wheel,         // clicks (positive: closer; shift: the clip plane a voxel per click toward the eye)
   KeyDown,       // key
   KeyUp,         // key
   SetIso,        // value (data units)

@@ -223,6 +223,8 @@ warned "iso and occlusion options with --mode aip" "warning: --iso, --caps: no e
   --mode aip --iso 100 --caps off
 warned "occlusion options with --mode slice" "--occlusion: no effect with --mode slice (nothing behind the plane" \
   "$vol" --mode slice --occlusion on
+warned "--step with --mode slice" "warning: --step: no effect with --mode slice (one sample per ray" "$vol" \
+  --mode slice --step 2
 # With --path, --frames says which camera is the last frame's, the one --reference renders: no warning.
 printf '[{"orbit": [0, 20, 2.5]}, {"orbit": [90, 20, 2.5]}]' > "$dir/turn.json"
 printf '[{"orbit": [90, 20, 2.5]}]' > "$dir/last.json"

@@ -119,11 +119,15 @@ grep -q '"orbit"' "$dir/cameras.json" 2> /dev/null || fail "save_camera wrote no
 run "render --path the saved camera" "$ropecast" render $vol --converge --path "$dir/cameras.json" -o "$dir/r1p.png"
 same "saved camera = the dragged view" "$dir/v1.png" "$dir/r1p.png"
 
-# Two wheel clicks: the distance 3 * 0.9^2; then a middle-button pan, saved as an eye/target keyframe.
+# Two wheel clicks: the distance 3 * 0.9^2; then a middle-button pan, saved as an eye/target keyframe; then a
+# slice, its plane (the axial one through the center, z = 24) moved three voxels toward the eye (above it) by
+# three clicks with shift.
 cat > "$dir/zoom_pan.json" << JSON
 [{"event": "wheel", "clicks": 2}, {"event": "screenshot", "file": "$dir/v4.png"},
  {"event": "drag", "button": "middle", "from": [48, 48], "to": [60, 40], "steps": 3},
- {"event": "screenshot", "file": "$dir/v5.png"}, {"event": "save_camera", "file": "$dir/panned.json"}]
+ {"event": "screenshot", "file": "$dir/v5.png"}, {"event": "save_camera", "file": "$dir/panned.json"},
+ {"event": "set_mode", "mode": "slice"}, {"event": "wheel", "clicks": 3, "shift": true},
+ {"event": "screenshot", "file": "$dir/v7.png"}]
 JSON
 run "view --script wheel, pan" xview $vol --script "$dir/zoom_pan.json"
 run "render --orbit 30,20,2.43" "$ropecast" render $vol --converge --orbit 30,20,2.43 -o "$dir/r4.png"
@@ -132,6 +136,9 @@ grep -q '"eye"' "$dir/panned.json" 2> /dev/null || fail "a panned camera saves e
 run "render --path the panned camera" "$ropecast" render $vol --converge --path "$dir/panned.json" -o "$dir/r5.png"
 same "saved panned camera = the panned view" "$dir/v5.png" "$dir/r5.png"
 differs "the pan moved the view" "$dir/v5.png" "$dir/v4.png"
+run "render a slice at z = 27" "$ropecast" render $vol --converge --path "$dir/panned.json" --mode slice \
+  --clip-plane 24,24,27,0,0,1 -o "$dir/r7.png"
+same "a slice moved by shift + wheel = render --clip-plane there" "$dir/v7.png" "$dir/r7.png"
 
 # Holding W for 0.5 s of the script's clock flies 0.25 bounding-sphere radii forward, whatever the frame times;
 # the saved eye/target camera draws the same.

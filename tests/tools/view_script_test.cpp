@@ -58,9 +58,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "set_time_point", "time_point": 3}, {"event": "play", "playing": true},
           {"event": "play", "playing": false, "seconds_each": 0.25},
           {"event": "set_lighting", "iso_color": [1, 0.5, 0], "shading": false, "material": [0.1, 0.8, 0, 4]},
-          {"event": "set_lighting", "shading": true}, {"event": "set_channel", "channel": 2}])",
+          {"event": "set_lighting", "shading": true}, {"event": "set_channel", "channel": 2},
+          {"event": "set_mode", "mode": "slice"}, {"event": "wheel", "clicks": 3, "shift": true}])",
       "t");
-  ASSERT_EQ(s.events.size(), 27u);
+  ASSERT_EQ(s.events.size(), 29u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -68,6 +69,7 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_TRUE(s.events[3].panels);
   EXPECT_EQ(s.events[4].kind, ViewEventKind::SaveCamera);
   EXPECT_EQ(s.events[5].clicks, -2.0);
+  EXPECT_FALSE(s.events[5].shift);
   EXPECT_EQ(s.events[6].kind, ViewEventKind::ResetCamera);
   EXPECT_EQ(s.events[7].kind, ViewEventKind::WaitConverged);
   EXPECT_EQ(s.events[8].kind, ViewEventKind::SetCrop);
@@ -108,6 +110,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_TRUE(s.events[25].material.empty());
   EXPECT_EQ(s.events[26].kind, ViewEventKind::SetChannel);
   EXPECT_EQ(s.events[26].channel, 2u);
+  EXPECT_EQ(s.events[27].mode, RenderMode::Slice);
+  EXPECT_EQ(s.events[28].kind, ViewEventKind::Wheel);
+  EXPECT_EQ(s.events[28].clicks, 3.0);
+  EXPECT_TRUE(s.events[28].shift);
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
