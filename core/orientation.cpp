@@ -98,6 +98,15 @@ ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm
   return {center + toVolume * (world.point - center), toVolume * world.normal};
 }
 
+ClipPlane voxelSlicePlane(const RenderParams& params, int axis, uint32_t index, glm::u32vec3 dims,
+                          glm::dvec3 spacing, const AxisDirections& d) {
+  const WorldBox drawn = sampledWorldBox(params, dims, spacing);
+  const glm::dvec3 center = 0.5 * glm::dvec3(dims) * spacing;
+  glm::dvec3 point = 0.5 * (drawn.lo + drawn.hi);
+  point[axis] = (double(index) + 0.5) * spacing[axis];
+  return {center + d * (point - center), d[axis]};
+}
+
 ClipPlane defaultSlicePlane(const RenderParams& params, glm::u32vec3 dims, glm::dvec3 spacing,
                             const AxisDirections& d) {
   const WorldBox drawn = sampledWorldBox(params, dims, spacing);

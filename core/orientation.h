@@ -63,6 +63,12 @@ ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm
 ClipPlane defaultSlicePlane(const RenderParams& params, glm::u32vec3 dims, glm::dvec3 spacing,
                             const AxisDirections& d);
 
+// The plane of --slice AXIS:INDEX: through the centers of the voxels `index` along the volume's axis `axis`
+// (0, 1, 2: x, y, z; voxel i spans [i, i + 1) s, its center at (i + 0.5) s) and the center of the box
+// `params` draw, its normal that axis, all turned into the world by `d` about the extent's center.
+ClipPlane voxelSlicePlane(const RenderParams& params, int axis, uint32_t index, glm::u32vec3 dims,
+                          glm::dvec3 spacing, const AxisDirections& d);
+
 // The six views radiology viewers name (3D Slicer's A, P, L, R, S and I): the eye on that side of the
 // patient in the world's LPS frame (anterior: toward -y; left: toward +x; superior: toward +z), looking at
 // the center of the box [boxMin, boxMax] from `distance` bounding-sphere radii (as orbitCamera's). Superior

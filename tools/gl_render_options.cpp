@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/number_text.h"
 #include "core/orientation.h"
 #include "loader/io_queue.h"
 #include "store/procedural_bricks.h"
@@ -51,7 +52,7 @@ std::vector<std::pair<std::string, RenderBackend>> backendNames() {
 }
 
 void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
-  addEnumOption(app, "--mode", o.mode, kModeNames, kModeHelp);
+  CLI::Option* mode = addEnumOption(app, "--mode", o.mode, kModeNames, kModeHelp);
   app.add_option("--iso", o.iso,
                  "isovalue in data units (default: middle of the value range: a store's recorded one, the "
                  "sample type's for procedural inputs)")
@@ -101,6 +102,18 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
       "X,Y,Z,NX,NY,NZ: cut the volume with the plane through the point X,Y,Z (world units) and "
       "draw the side its normal NX,NY,NZ points to; bricks wholly on the other side are neither read "
       "nor drawn (default: none); with --mode slice, the plane shown, and only bricks it crosses are read");
+  // Given alone, --slice means --mode slice (options are parsed in the order they are added: --mode first).
+  app.add_option_function<std::string>(
+         "--slice",
+         [&o, mode](const std::string& value) {
+           o.slice = value;
+           if (mode->count() == 0) o.mode = RenderMode::Slice;
+         },
+         "AXIS:INDEX: the slice of voxels INDEX along the volume's x, y or z axis (from 0, as --crop "
+         "counts), "
+         "its plane through their centers; --mode slice unless --mode says otherwise (instead of "
+         "--clip-plane)")
+      ->check(notEmpty("AXIS:INDEX, e.g. z:100"));
   addEnumOption(app, "--caps", o.caps, kOnOffNames,
                 "isosurface: where --crop or --clip-plane cuts the surface, close it with the cut's face "
                 "(on), or leave it open to show it from within (off)");
@@ -344,6 +357,30 @@ void setMaterial(LightingParams& lighting, const std::vector<double>& material) 
   lighting.shininess = material.at(3);
 }
 
+namespace {
+// The plane of --slice AXIS:INDEX, checked against the volume's voxels and the crop box `params` draw.
+ClipPlane slicePlaneOf(const std::string& slice, const RenderParams& params, const VolumeInfo& volume) {
+  const size_t colon = slice.find(':');
+  const std::string axisName = colon == std::string::npos ? "" : slice.substr(0, colon);
+  const int axis = axisName == "x" ? 0 : axisName == "y" ? 1 : axisName == "z" ? 2 : -1;
+  const std::optional<uint32_t> index =
+      colon == std::string::npos ? std::nullopt : parseWholeNumber<uint32_t>(slice.substr(colon + 1));
+  if (axis < 0 || !index)
+    throw UsageError("--slice " + slice +
+                     ": expected AXIS:INDEX, AXIS x, y or z and INDEX a voxel counted from 0, e.g. z:100");
+  const uint32_t voxels = volume.dims[axis];
+  if (*index >= voxels)
+    throw UsageError("--slice " + slice + ": the volume has " + std::to_string(voxels) + " voxels along " +
+                     axisName + ", 0 to " + std::to_string(voxels - 1));
+  if (!(double(*index) >= params.crop.lo[axis] && double(*index) < params.crop.hi[axis]))
+    throw UsageError("--slice " + slice + " lies outside --crop, which keeps voxels " +
+                     formatNumber(params.crop.lo[axis]) + " to " +
+                     formatNumber(std::min(params.crop.hi[axis], double(voxels)) - 1.0) + " along " +
+                     axisName);
+  return voxelSlicePlane(params, axis, *index, volume.dims, volume.spacing, volume.axes);
+}
+}  // namespace
+
 RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info, const char* command) {
   const auto [lo, hi] = valueRangeOf(info);
   RenderParams params;
@@ -356,6 +393,15 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   params.gradients = o.gradients;
   params.crop = cropBoxOf(o.crop, info);
   params.clipPlane = clipPlaneOf(o.clipPlane);
+  if (!o.slice.empty()) {
+    if (!o.clipPlane.empty())
+      throw UsageError("--slice and --clip-plane both give the slice's plane: give one");
+    if (params.mode != RenderMode::Slice)
+      throw UsageError("--slice " + o.slice + " shows a slice, and --mode " +
+                       std::string(renderModeName(params.mode)) +
+                       " draws something else: leave --mode out, or give --mode slice");
+    params.clipPlane = slicePlaneOf(o.slice, params, info.volume);
+  }
   if (params.mode == RenderMode::Slice && !params.clipPlane.enabled())
     params.clipPlane = defaultSlicePlane(params, info.volume.dims, info.volume.spacing, info.volume.axes);
   params.isoCaps = o.caps;

@@ -90,6 +90,16 @@ expect_usage "clip plane of five numbers" "--clip-plane" "$vol" --clip-plane 1,2
 expect_usage "clip plane not numbers" "--clip-plane" "$vol" --clip-plane 1,2,3,0,1,x
 expect_usage "clip plane too far out" "--clip-plane: expected six numbers within +-1e15, got 1e+300,0,0,1,-1,0" "$vol" --clip-plane 1e300,0,0,1,-1,0
 expect_usage "clip plane without a normal" "--clip-plane: the normal 0,0,0 has no direction" "$vol" --clip-plane 16,16,16,0,0,0
+expect_usage "--slice of no axis" "--slice w:3: expected AXIS:INDEX, AXIS x, y or z" "$vol" --slice w:3
+expect_usage "--slice without an index" "--slice z: expected AXIS:INDEX" "$vol" --slice z
+expect_usage "--slice between voxels" "--slice z:1.5: expected AXIS:INDEX" "$vol" --slice z:1.5
+expect_usage "--slice past the volume" "--slice z:32: the volume has 32 voxels along z, 0 to 31" "$vol" --slice z:32
+expect_usage "--slice outside --crop" "--slice y:3 lies outside --crop, which keeps voxels 10 to 19 along y" "$vol" \
+  --slice y:3 --crop :,10:20,:
+expect_usage "--slice with another mode" "--slice z:3 shows a slice, and --mode dvr draws something else" "$vol" \
+  --slice z:3 --mode dvr
+expect_usage "--slice and --clip-plane" "--slice and --clip-plane both give the slice's plane" "$vol" --slice z:3 \
+  --clip-plane 1,1,1,0,0,1
 expect_usage "crop starting past the volume" "--crop: the x range 32: does not lie" "$vol" --crop 32:,:,:
 expect_usage "background out of range" "--background: expected a finite number in [0, 1]" "$vol" --background -1,5,0.5
 expect_usage "iso color out of range" "--iso-color: expected a finite number in [0, 1], got '2'" "$vol" --iso-color 1,2,0

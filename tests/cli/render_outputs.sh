@@ -21,6 +21,13 @@ psnr() { oiiotool "$1" "$2" --diff 2>/dev/null | awk '/Peak SNR/ {print $4; exit
 at_least() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a >= b) }'; }
 
 small="procedural:sphere:48 --size 64x64 --brick 16"
+
+# --slice AXIS:INDEX: the plane through that slice of voxel centers, --mode slice implied.
+run "--slice z:30" "$ropecast" render procedural:marschner-lobb:48 --size 64x64 --slice z:30 -o "$dir/slice_z.png"
+run "the same plane by --clip-plane" "$ropecast" render procedural:marschner-lobb:48 --size 64x64 --mode slice \
+  --clip-plane 24,24,30.5,0,0,1 -o "$dir/slice_plane.png"
+d=$("$ropecast" compare "$dir/slice_z.png" "$dir/slice_plane.png") && grep -q '"max_abs":0.0,' <<< "$d" ||
+  fail "--slice z:30 is not the plane z = 30.5: $d"
 run "png+exr+depth+stats" "$ropecast" render $small -o "$dir/a.png" --exr "$dir/a.exr" --depth "$dir/a_depth.exr" \
   --stats "$dir/a.jsonl"
 for f in a.png a.exr a_depth.exr a.jsonl; do [ -s "$dir/$f" ] || fail "missing output $f"; done

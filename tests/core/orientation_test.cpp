@@ -110,6 +110,27 @@ TEST(Orientation, TheDefaultSliceIsAxialThroughTheDrawnBoxsCenter) {
   expectNear(plane.normal, glm::dvec3(0, 0, 1), "turned normal");
 }
 
+// --slice AXIS:INDEX: the plane through that slice's voxel centers, (i + 0.5) s along the axis, through the
+// drawn box's center across it, its normal the axis; turned with the volume.
+TEST(Orientation, AVoxelSlicePassesThroughItsVoxelsCentersAlongItsAxis) {
+  const glm::u32vec3 dims(20, 40, 10);
+  const glm::dvec3 spacing(1.0, 1.0, 2.0);
+  RenderParams params;
+  ClipPlane plane = voxelSlicePlane(params, 2, 3, dims, spacing, AxisDirections(1.0));
+  expectNear(plane.point, glm::dvec3(10, 20, 7), "z slice 3");
+  expectNear(plane.normal, glm::dvec3(0, 0, 1), "z normal");
+  params.crop = {glm::dvec3(4, 0, 0), glm::dvec3(8, 40, 10)};
+  plane = voxelSlicePlane(params, 1, 0, dims, spacing, AxisDirections(1.0));
+  expectNear(plane.point, glm::dvec3(6, 0.5, 10), "y slice 0 of a crop");
+  expectNear(plane.normal, glm::dvec3(0, 1, 0), "y normal");
+  // Turned 90 degrees about x (y toward world z) about the extent's center (10, 20, 10): the y slice's normal
+  // is world z, and its point (6, 0.5, 10) goes to (6, 20, 10 - 19.5).
+  const AxisDirections aboutX(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+  plane = voxelSlicePlane(params, 1, 0, dims, spacing, aboutX);
+  expectNear(plane.point, glm::dvec3(6, 20, -9.5), "turned y slice 0");
+  expectNear(plane.normal, glm::dvec3(0, 0, 1), "turned y normal");
+}
+
 // The named views: the eye on that side of the patient (LPS), superior up, anterior up from above and below;
 // seen from the front and from below, the patient's right lies on the image's left, as radiology shows it.
 TEST(Orientation, NamedViewsLookFromTheirSideOfThePatient) {
