@@ -438,8 +438,8 @@ FrameStats FrameRenderer::render(const FrameRequest& worldRequest, const LoadPro
   if (request.width == 0 || request.height == 0) throw Error("FrameRenderer::render: empty image size");
   FrameStats stats;
   const bool multipass = backendFor(request.params) == RenderBackend::Multipass;
-  // Nothing opaque stops an intensity projection's or an average's rays, so no box lies hidden behind them:
-  // no query.
+  // Nothing opaque stops an intensity projection's or an average's rays, so no box lies hidden behind them,
+  // and nothing behind a slice's plane is drawn: no query.
   const bool occlusion =
       visibility_ && !request.synchronous && !multipass && !showsOneValue(request.params.mode);
   const bool feedback = feedback_ && !request.synchronous && !multipass;
