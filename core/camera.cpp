@@ -110,7 +110,8 @@ bool clipToBox(const Ray& ray, const WorldBox& box, double& t0, double& t1, int*
   return t0 < t1;
 }
 
-bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1, int* entry) {
+bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1, int* entry,
+                     int bound) {
   if (normal == glm::dvec3(0.0)) return t0 < t1;
   const double along = glm::dot(normal, ray.dir);
   const double above = glm::dot(normal, ray.origin) - offset;  // >= 0: the origin is kept
@@ -118,7 +119,7 @@ bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t
   const double t = -above / along;
   if (along > 0.0 && t > t0) {
     t0 = t;
-    if (entry) *entry = kEntryPlane;
+    if (entry) *entry = bound;
   } else if (along < 0.0) {
     t1 = std::min(t1, t);
   }
@@ -144,6 +145,7 @@ int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double of
 
 glm::dvec3 boundInwardNormal(int bound, glm::dvec3 planeNormal) {
   if (bound == kEntryPlane) return planeNormal;
+  if (bound == kEntryPlaneBack) return -planeNormal;
   glm::dvec3 n(0.0);
   n[bound % 3] = bound < 3 ? 1.0 : -1.0;
   return n;

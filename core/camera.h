@@ -63,6 +63,8 @@ Camera centeredOn(const Camera& c, glm::dvec3 point);
 
 // The bounds of a box and a half-space a ray may enter their common part through (entryBound).
 inline constexpr int kEntryPlane = 6;
+inline constexpr int kEntryPlaneBack =
+    7;  // a slab's far face (--slab): its inward normal is minus the plane's
 inline constexpr int kEntryNone = -1;
 
 // The ray's parameter interval [t0, t1] inside the box (slab test), t0 clamped to 0 (the eye may be inside);
@@ -74,9 +76,9 @@ inline bool clipToBox(const Ray& ray, glm::dvec3 boxMax, double& t0, double& t1)
   return clipToBox(ray, WorldBox{glm::dvec3(0.0), boxMax}, t0, t1);
 }
 // Narrows [t0, t1] to the part of the ray where dot(normal, x) >= offset (--clip-plane); false when nothing
-// is left. A zero normal keeps everything. With `entry`, notes kEntryPlane where the plane moves t0 up.
+// is left. A zero normal keeps everything. With `entry`, notes `bound` where the plane moves t0 up.
 bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double& t1,
-                     int* entry = nullptr);
+                     int* entry = nullptr, int bound = kEntryPlane);
 
 // --mode slice: where the ray, clipped to [t0, t1) (clipToBox), crosses the plane dot(normal, x) = offset:
 // t0 moves to the crossing, t1 stays. False where it crosses outside [t0, t1), runs parallel to the plane, or
@@ -84,12 +86,13 @@ bool clipToHalfSpace(const Ray& ray, glm::dvec3 normal, double offset, double& t
 bool startAtPlane(const Ray& ray, glm::dvec3 normal, double offset, double& t0, double t1);
 
 // The bound of the region clipToBox and clipToHalfSpace keep that a ray enters it through: 0, 1, 2 the box's
-// lower face on that axis, 3, 4, 5 its upper face, kEntryPlane the half-space's plane; kEntryNone when the
+// lower face on that axis, 3, 4, 5 its upper face, kEntryPlane the half-space's plane (kEntryPlaneBack is a
+// slab's far face, core/render_params.h clipToPlane); kEntryNone when the
 // ray starts inside the region (t0 clamped to 0) or misses it. A tie goes to the box, and among its faces to
 // the lower axis, as shaders/sampling.glsl cameraRay decides.
 int entryBound(const Ray& ray, const WorldBox& box, glm::dvec3 normal, double offset);
 // The unit normal of bound `bound` (not kEntryNone) pointing into the region; `planeNormal` is the
-// half-space's.
+// half-space's (minus it for kEntryPlaneBack).
 glm::dvec3 boundInwardNormal(int bound, glm::dvec3 planeNormal);
 
 }  // namespace ropecast

@@ -95,7 +95,7 @@ Camera cameraInVolume(const Camera& world, const AxisDirections& d, glm::dvec3 c
 ClipPlane clipPlaneInVolume(const ClipPlane& world, const AxisDirections& d, glm::dvec3 center) {
   if (d == AxisDirections(1.0) || !world.enabled()) return world;
   const glm::dmat3 toVolume = glm::transpose(d);
-  return {center + toVolume * (world.point - center), toVolume * world.normal};
+  return {center + toVolume * (world.point - center), toVolume * world.normal, world.slab};
 }
 
 ClipPlane voxelSlicePlane(const RenderParams& params, int axis, uint32_t index, glm::u32vec3 dims,

@@ -122,16 +122,34 @@ struct CropBox {
 // from: the rays sample only where dot(normal, x - point) >= 0, and the refiner culls nodes wholly on the
 // other side. None while the normal is zero (the default). Like the crop box, it caps an isosurface it cuts.
 // With --mode slice it is the slice: each ray takes one sample where it crosses the plane inside the drawn
-// box, and the refiner culls every node the plane does not cross.
+// box, and the refiner culls every node the plane does not cross. With --slab T it keeps the slab of
+// thickness T centered on the plane instead of a half-space (a thick-slab MIP of radiology), whichever way
+// the normal points; a slice has no slab.
 struct ClipPlane {
   glm::dvec3 point{0.0};
   glm::dvec3 normal{0.0};  // unit length, or zero for none
+  double slab = 0.0;       // world units; 0: the half-space
 
   bool enabled() const { return normal != glm::dvec3(0.0); }
-  // dot(normal, x): the points kept have at least this.
+  // dot(normal, x) at the plane: the points kept have at least this (within slab / 2 of it, with a slab).
   double offset() const { return normal.x * point.x + normal.y * point.y + normal.z * point.z; }
+  // The least and the largest dot(normal, x) kept: [offset, +inf), or offset -+ slab / 2.
+  double keptFrom() const { return offset() - 0.5 * slab; }
+  double keptTo() const {
+    return slab > 0.0 ? offset() + 0.5 * slab : std::numeric_limits<double>::infinity();
+  }
   friend bool operator==(const ClipPlane&, const ClipPlane&) = default;
 };
+
+// Narrows [t0, t1] to the part of the ray `plane` keeps (core/camera.h clipToHalfSpace, twice for a slab: its
+// near face kEntryPlane, where the normal points in, its far face kEntryPlaneBack); false when nothing is
+// left. No plane keeps everything.
+inline bool clipToPlane(const Ray& ray, const ClipPlane& plane, double& t0, double& t1,
+                        int* entry = nullptr) {
+  if (!clipToHalfSpace(ray, plane.normal, plane.keptFrom(), t0, t1, entry)) return false;
+  return !(plane.slab > 0.0) ||
+         clipToHalfSpace(ray, -plane.normal, -plane.keptTo(), t0, t1, entry, kEntryPlaneBack);
+}
 
 struct RenderParams {
   RenderMode mode = RenderMode::Iso;
@@ -164,10 +182,12 @@ inline WorldBox sampledWorldBox(const RenderParams& params, glm::u32vec3 dims, g
 
 // The bounds of the drawn part that cap an isosurface (core/camera.h entryBound numbers them): bit b for the
 // crop box's face b where it lies inside the volume (a face on the volume's own boundary is no cut), bit
-// kEntryPlane for the clip plane. Zero unless an isosurface is drawn with caps.
+// kEntryPlane for the clip plane (and kEntryPlaneBack for a slab's far face). Zero unless an isosurface is
+// drawn with caps.
 inline uint32_t capBoundsOf(const RenderParams& params, glm::u32vec3 dims) {
   if (params.mode != RenderMode::Iso || !params.isoCaps) return 0;
   uint32_t bits = params.clipPlane.enabled() ? 1u << kEntryPlane : 0u;
+  if (params.clipPlane.enabled() && params.clipPlane.slab > 0.0) bits |= 1u << kEntryPlaneBack;
   for (int a = 0; a < 3; ++a) {
     if (params.crop.lo[a] > 0.0) bits |= 1u << a;
     if (params.crop.hi[a] < double(dims[a])) bits |= 1u << (3 + a);

@@ -60,17 +60,24 @@ WorldBox boundingBox(const NodeDataParts& parts) {
   return box;
 }
 
+namespace {
+// How far the eye is at least from everything drawn: from the side a clip plane cuts away, or beyond a slab's
+// face, the plane's (or the face's) distance; from a slice, the plane's on either side.
+double keptDistance(const RefineView& view) {
+  const ClipPlane& plane = view.clipPlane;
+  if (!plane.enabled()) return 0.0;
+  const double along = glm::dot(plane.normal, view.camera.eye);
+  if (view.slice) return std::abs(plane.offset() - along);
+  return std::max({0.0, plane.keptFrom() - along, along - plane.keptTo()});
+}
+}  // namespace
+
 ProjectedVoxelSize::ProjectedVoxelSize(const OctreeLayout& layout, glm::dvec3 spacing, const RefineView& view)
     : layout_(layout),
       spacing_(spacing),
       eye_(view.camera.eye),
       sampled_(view.sampled),
-      // An eye on the side the plane cuts away is at least this far from everything drawn; any eye is from a
-      // slice.
-      planeDistance_(!view.clipPlane.enabled() ? 0.0
-                     : view.slice
-                         ? std::abs(view.clipPlane.offset() - glm::dot(view.clipPlane.normal, eye_))
-                         : std::max(0.0, view.clipPlane.offset() - glm::dot(view.clipPlane.normal, eye_))),
+      planeDistance_(keptDistance(view)),
       minSpacing_(std::min({spacing.x, spacing.y, spacing.z})),
       maxSpacing_(std::max({spacing.x, spacing.y, spacing.z})),
       tanHalfFov_(std::tan(glm::radians(view.camera.fovYDeg) * 0.5)),
@@ -103,10 +110,13 @@ ViewFrustum viewFrustum(const RefineView& view) {
 bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane) {
   if (!plane.enabled()) return true;
   const glm::dvec3& n = plane.normal;
-  // The box corner farthest along n: if even it is on the cut side, the whole box is.
-  const glm::dvec3 corner(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
-                          n.z >= 0 ? box.hi.z : box.lo.z);
-  return glm::dot(n, corner) >= plane.offset();
+  // The box corner farthest along n: if even it is on the cut side, the whole box is; with a slab, the corner
+  // nearest likewise beyond its far face.
+  const glm::dvec3 farthest(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
+                            n.z >= 0 ? box.hi.z : box.lo.z);
+  const glm::dvec3 nearest(n.x >= 0 ? box.lo.x : box.hi.x, n.y >= 0 ? box.lo.y : box.hi.y,
+                           n.z >= 0 ? box.lo.z : box.hi.z);
+  return glm::dot(n, farthest) >= plane.keptFrom() && glm::dot(n, nearest) <= plane.keptTo();
 }
 
 bool boxMeetsPlane(const WorldBox& box, const ClipPlane& plane) {

@@ -187,7 +187,8 @@ struct ViewFrustum {
 };
 ViewFrustum viewFrustum(const RefineView& view);
 
-// False only when the box lies wholly on the side the plane cuts away (touching it counts as kept).
+// False only when the box lies wholly on the side the plane cuts away, or beyond a face of its slab (touching
+// counts as kept).
 bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane);
 // Whether the plane passes through the closed box (true for no plane).
 bool boxMeetsPlane(const WorldBox& box, const ClipPlane& plane);

@@ -57,15 +57,15 @@ struct FrameConstants {
   }
 };
 
-// The ray's part inside the crop box and on the kept side of the clip plane (docs/RENDERING.md "Rays"); a
-// slice's from the plane on. `entry`: the bound it enters through (core/camera.h entryBound).
+// The ray's part inside the crop box and on the kept side of the clip plane, or in its slab
+// (docs/RENDERING.md "Rays"); a slice's from the plane on. `entry`: the bound it enters through
+// (core/camera.h entryBound).
 bool clipToSampled(const FrameConstants& fc, const Ray& ray, double& t0, double& t1, int& entry) {
   // A slice's ray starts where it crosses the plane inside the box, its one sample.
   if (fc.params.mode == RenderMode::Slice)
     return clipToBox(ray, fc.sampled, t0, t1) &&
            startAtPlane(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1);
-  return clipToBox(ray, fc.sampled, t0, t1, &entry) &&
-         clipToHalfSpace(ray, fc.params.clipPlane.normal, fc.params.clipPlane.offset(), t0, t1, &entry);
+  return clipToBox(ray, fc.sampled, t0, t1, &entry) && clipToPlane(ray, fc.params.clipPlane, t0, t1, &entry);
 }
 
 // Central differences with h_i = s_i * 2^L (docs/RENDERING.md "Isosurface").

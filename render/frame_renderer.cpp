@@ -41,6 +41,7 @@ uint64_t emptinessKeyOf(const FrameRequest& request) {
   const ClipPlane& plane = request.params.clipPlane;
   for (const glm::dvec3& v : {request.params.crop.lo, request.params.crop.hi, plane.point, plane.normal})
     for (int axis = 0; axis < 3; ++axis) h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(v[axis]);
+  h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>{}(plane.slab);
   return h;
 }
 

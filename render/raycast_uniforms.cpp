@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include <epoxy/gl.h>
@@ -90,9 +91,13 @@ RaycastBlock raycastBlock(const Camera& camera, uint32_t width, uint32_t height,
   const WorldBox sampled = sampledWorldBox(rp, dims, spacing);
   b.clipMin = glm::vec3(sampled.lo);
   b.clipMax = glm::vec3(sampled.hi);
+  b.clipPlaneFar = std::numeric_limits<float>::infinity();
   if (rp.clipPlane.enabled()) {
     b.clipPlaneNormal = glm::vec3(rp.clipPlane.normal);
-    b.clipPlaneOffset = float(rp.clipPlane.offset());
+    // A slice's rays start at the plane itself; it has no slab.
+    const bool slice = rp.mode == RenderMode::Slice;
+    b.clipPlaneOffset = float(slice ? rp.clipPlane.offset() : rp.clipPlane.keptFrom());
+    if (!slice) b.clipPlaneFar = float(rp.clipPlane.keptTo());
   }
   b.capBounds = capBoundsOf(rp, dims);
   b.spacing = glm::vec3(spacing);

@@ -93,8 +93,8 @@ RAYCAST_BLOCK_BEGIN
   float feedbackRequestDistance;  // 200: voxelsPerPixel maxSpacing imageHeight / (2 tanHalfFov)
   float feedbackMinDistance;      // 204: 0.5 minSpacing
   vec3 clipMin;                   // 208
-  // --clip-plane (ClipPlane): the rays sample where dot(clipPlaneNormal, x) >= clipPlaneOffset; a zero normal
-  // clips nothing.
+  // --clip-plane (ClipPlane): the rays sample where dot(clipPlaneNormal, x) >= clipPlaneOffset (a slice: the
+  // plane itself) and, with --slab, <= clipPlaneFar (+inf without); a zero normal clips nothing.
   float clipPlaneOffset;          // 220
   vec3 clipPlaneNormal;           // 224
   // MIP: the leaves [0, leafMaximaCount) of the cut have their largest value in uLeafMaxima; 0: none known.
@@ -102,9 +102,11 @@ RAYCAST_BLOCK_BEGIN
   // MIP: the largest of those values (above 1 when none is known): a ray whose maximum reaches it ends.
   float leafMaximaLargest;        // 240
   // Isosurface caps (core/render_params.h capBoundsOf): bit b when a ray entering through bound b of the
-  // drawn part (0-2 the crop box's lower faces, 3-5 its upper faces, 6 the clip plane) is capped; 0: none.
+  // drawn part (0-2 the crop box's lower faces, 3-5 its upper faces, 6 the clip plane, 7 a slab's far face) is
+  // capped; 0: none.
   uint capBounds;                 // 244
-  float unused1, unused2;         // 248: std140 padding
+  float clipPlaneFar;             // 248
+  float unused2;                  // 252: std140 padding
 RAYCAST_BLOCK_END
 
 #ifdef __cplusplus
@@ -129,7 +131,7 @@ static_assert(offsetof(RaycastBlock, clipMin) == 208 && offsetof(RaycastBlock, c
 static_assert(offsetof(RaycastBlock, clipPlaneNormal) == 224 &&
               offsetof(RaycastBlock, leafMaximaCount) == 236);
 static_assert(offsetof(RaycastBlock, leafMaximaLargest) == 240 && offsetof(RaycastBlock, capBounds) == 244 &&
-              offsetof(RaycastBlock, unused1) == 248 && offsetof(RaycastBlock, unused2) == 252);
+              offsetof(RaycastBlock, clipPlaneFar) == 248 && offsetof(RaycastBlock, unused2) == 252);
 }  // namespace glsl
 using glsl::RaycastBlock;
 }  // namespace ropecast

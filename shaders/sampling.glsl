@@ -83,10 +83,24 @@ bool cameraRay(uvec2 pixel, out Ray ray) {
     } else {
       ray.t1 = min(ray.t1, -above / along);
     }
+    // --slab: and where dot(n, x) <= clipPlaneFar, its far face (core/render_params.h clipToPlane).
+    if (raycast.clipPlaneFar < kInfinity) {
+      float farAbove = raycast.clipPlaneFar - dot(n, ray.origin);
+      if (along == 0.0) {
+        if (farAbove < 0.0) return false;
+      } else if (along < 0.0) {
+        if (farAbove / along > ray.t0) {
+          ray.t0 = farAbove / along;
+          bound = 7;
+        }
+      } else {
+        ray.t1 = min(ray.t1, farAbove / along);
+      }
+    }
   }
   if (ray.t0 > 0.0 && bound >= 0 && (raycast.capBounds & (1u << uint(bound))) != 0u) {
-    if (bound == 6) {
-      ray.capNormal = n;
+    if (bound >= 6) {
+      ray.capNormal = bound == 6 ? n : -n;
     } else {
       ray.capNormal[bound % 3] = bound < 3 ? 1.0 : -1.0;
     }

@@ -110,10 +110,14 @@ void addSceneOptions(CLI::App& app, RenderOptions& o, SceneCommand command) {
            if (mode->count() == 0) o.mode = RenderMode::Slice;
          },
          "AXIS:INDEX: the slice of voxels INDEX along the volume's x, y or z axis (from 0, as --crop "
-         "counts), "
-         "its plane through their centers; --mode slice unless --mode says otherwise (instead of "
-         "--clip-plane)")
+         "counts), its plane through their centers; --mode slice unless --mode says otherwise (instead "
+         "of --clip-plane)")
       ->check(notEmpty("AXIS:INDEX, e.g. z:100"));
+  app.add_option(
+         "--slab", o.slab,
+         "T: keep the slab of thickness T (world units) centered on --clip-plane's or --slice's plane, "
+         "not a half-space: a thick-slab MIP, MinIP, AIP or DVR (default: none)")
+      ->check(finiteIn(1e-12, 1e15));
   addEnumOption(app, "--caps", o.caps, kOnOffNames,
                 "isosurface: where --crop or --clip-plane cuts the surface, close it with the cut's face "
                 "(on), or leave it open to show it from within (off)");
@@ -396,11 +400,20 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
   if (!o.slice.empty()) {
     if (!o.clipPlane.empty())
       throw UsageError("--slice and --clip-plane both give the slice's plane: give one");
-    if (params.mode != RenderMode::Slice)
+    if (params.mode != RenderMode::Slice && !(o.slab > 0.0))
       throw UsageError("--slice " + o.slice + " shows a slice, and --mode " +
                        std::string(renderModeName(params.mode)) +
-                       " draws something else: leave --mode out, or give --mode slice");
+                       " draws something else: leave --mode out, give --mode slice, or add --slab T for the "
+                       "slab about it");
     params.clipPlane = slicePlaneOf(o.slice, params, info.volume);
+  }
+  if (o.slab > 0.0) {
+    if (params.mode == RenderMode::Slice)
+      throw UsageError("--slab " + formatNumber(o.slab) +
+                       ": a slice has no thickness; for a slab's projection give --mode mip, minip or aip");
+    if (!params.clipPlane.enabled())
+      throw UsageError("--slab " + formatNumber(o.slab) + " is about a plane: give --clip-plane or --slice");
+    params.clipPlane.slab = o.slab;
   }
   if (params.mode == RenderMode::Slice && !params.clipPlane.enabled())
     params.clipPlane = defaultSlicePlane(params, info.volume.dims, info.volume.spacing, info.volume.axes);

@@ -1083,6 +1083,10 @@ void Viewer::drawClipPlaneControls(const VolumeInfo& volume) {
   bool changed = ImGui::SliderFloat("azimuth", &azimuth, -180.0f, 180.0f, "%.0f");
   changed |= ImGui::SliderFloat("elevation", &elevation, -90.0f, 90.0f, "%.0f");
   changed |= ImGui::SliderFloat("offset", &offset, -reach, reach, "%.1f");
+  // --slab: the slab of that thickness about the plane (0: the half-space); a slice has none.
+  float slab = float(plane.slab);
+  if (params_.mode != RenderMode::Slice && ImGui::SliderFloat("slab", &slab, 0.0f, 2.0f * reach, "%.1f"))
+    plane.slab = std::max(0.0, double(slab));
   if (changed) {
     const double az = glm::radians(double(azimuth)), el = glm::radians(double(elevation));
     plane.normal = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};

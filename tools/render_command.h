@@ -37,6 +37,7 @@ struct RenderOptions {
   std::vector<std::string> crop;  // --crop: three voxel ranges "A:B" (cli_values.h); empty: the whole volume
   std::vector<double> clipPlane;  // --clip-plane: X,Y,Z,NX,NY,NZ; empty: none
   std::string slice;              // --slice AXIS:INDEX (a slice's plane through voxel centers); "": none
+  double slab = 0.0;              // --slab T: the slab of thickness T about the plane (world units); 0: none
   bool caps = true;               // --caps: isosurface caps at the cuts (RenderParams::isoCaps)
   std::vector<double> isoColor;   // --iso-color R,G,B; empty: LightingParams' default
   std::vector<double> material;   // --material KA,KD,KS,SHININESS; empty: LightingParams' defaults

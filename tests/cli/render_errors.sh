@@ -98,6 +98,10 @@ expect_usage "--slice outside --crop" "--slice y:3 lies outside --crop, which ke
   --slice y:3 --crop :,10:20,:
 expect_usage "--slice with another mode" "--slice z:3 shows a slice, and --mode dvr draws something else" "$vol" \
   --slice z:3 --mode dvr
+expect_usage "--slab without a plane" "--slab 4 is about a plane: give --clip-plane or --slice" "$vol" --mode mip \
+  --slab 4
+expect_usage "--slab of a slice" "--slab 4: a slice has no thickness" "$vol" --slice z:3 --slab 4
+expect_usage "--slab of zero" "--slab" "$vol" --mode mip --slice z:3 --slab 0
 expect_usage "--slice and --clip-plane" "--slice and --clip-plane both give the slice's plane" "$vol" --slice z:3 \
   --clip-plane 1,1,1,0,0,1
 expect_usage "crop starting past the volume" "--crop: the x range 32: does not lie" "$vol" --crop 32:,:,:

@@ -28,6 +28,13 @@ run "the same plane by --clip-plane" "$ropecast" render procedural:marschner-lob
   --clip-plane 24,24,30.5,0,0,1 -o "$dir/slice_plane.png"
 d=$("$ropecast" compare "$dir/slice_z.png" "$dir/slice_plane.png") && grep -q '"max_abs":0.0,' <<< "$d" ||
   fail "--slice z:30 is not the plane z = 30.5: $d"
+# --slab: a MIP of the slab of slices 27 to 33 about slice 30 is the MIP of the same slab cropped.
+run "--mode mip --slice z:30 --slab 7" "$ropecast" render procedural:marschner-lobb:48 --size 64x64 --mode mip \
+  --slice z:30 --slab 7 --view superior -o "$dir/slab.png"
+run "the same slab by --crop" "$ropecast" render procedural:marschner-lobb:48 --size 64x64 --mode mip \
+  --crop :,:,27:34 --view superior -o "$dir/slab_crop.png"
+d=$("$ropecast" compare "$dir/slab.png" "$dir/slab_crop.png" --min-psnr 60) ||
+  fail "a slab of 7 about slice 30 is not the crop of slices 27 to 33: $d"
 run "png+exr+depth+stats" "$ropecast" render $small -o "$dir/a.png" --exr "$dir/a.exr" --depth "$dir/a_depth.exr" \
   --stats "$dir/a.jsonl"
 for f in a.png a.exr a_depth.exr a.jsonl; do [ -s "$dir/$f" ] || fail "missing output $f"; done

@@ -269,6 +269,30 @@ TEST(StartAtPlane, MovesTheStartToTheCrossingInsideTheInterval) {
   EXPECT_EQ(t0, 0.0);  // untouched where it fails
 }
 
+// --slab: the part of the ray within half the slab of the plane, entered through the face the ray meets
+// first (the near face, where the normal points in, or the far one), whichever way the normal points.
+TEST(ClipToPlane, ASlabKeepsWithinHalfItsThicknessOfThePlane) {
+  const ClipPlane slab{{3, 0, 0}, {1, 0, 0}, 2.0};  // 2 <= x <= 4
+  for (double sign : {1.0, -1.0}) {                 // from -x, then from +x
+    const Ray from{{sign > 0 ? -1.0 : 7.0, 1, 0.5}, {sign, 0, 0}};
+    double t0 = 0.0, t1 = 100.0;
+    int entry = kEntryNone;
+    ASSERT_TRUE(clipToPlane(from, slab, t0, t1, &entry)) << sign;
+    EXPECT_DOUBLE_EQ(t0, 3.0) << sign;
+    EXPECT_DOUBLE_EQ(t1, 5.0) << sign;
+    EXPECT_EQ(entry, sign > 0 ? kEntryPlane : kEntryPlaneBack) << sign;
+    EXPECT_EQ(boundInwardNormal(entry, slab.normal), glm::dvec3(sign, 0, 0));
+  }
+  double t0 = 0.0, t1 = 100.0;
+  EXPECT_FALSE(clipToPlane(Ray{{-1, 1, 0.5}, {0, 1, 0}}, slab, t0, t1));  // along the slab, outside it
+  ClipPlane halfSpace = slab;
+  halfSpace.slab = 0.0;  // x >= 3: no far face
+  t0 = 0.0, t1 = 100.0;
+  ASSERT_TRUE(clipToPlane(Ray{{-1, 1, 0.5}, {1, 0, 0}}, halfSpace, t0, t1));
+  EXPECT_DOUBLE_EQ(t0, 4.0);
+  EXPECT_DOUBLE_EQ(t1, 100.0);
+}
+
 // The bound a ray enters the kept region through, which isosurface caps shade with its inward normal.
 TEST(EntryBound, NamesTheFaceOrThePlaneTheRayEntersThrough) {
   const WorldBox box{{0, 0, 0}, {4, 2, 1}};

@@ -440,6 +440,33 @@ TEST(Refiner, NodesWhollyOnTheSideAClipPlaneCutsAwayAreCulled) {
   EXPECT_TRUE(boxKeptByPlane({glm::dvec3(0), glm::dvec3(1)}, ClipPlane{}));  // no plane keeps everything
 }
 
+TEST(Refiner, ASlabKeepsOnlyTheNodesWithinItsFaces) {
+  const FakeBrickSource src = makeSource();
+  FakeResidency res;
+  RefineView view = viewFrom({32, 32, -60}, {32, 32, 32}, 4000);
+  view.clipPlane = {glm::dvec3(0, 0, 40), glm::dvec3(0, 0, -1), 8.0};  // 36 <= z <= 44, the normal either way
+  const RefineResult r = refine(src, view, {}, res);
+  EXPECT_TRUE(isFullTiling(r.leaves, 2));
+  const auto kept = [&](const NodeKey& k) {
+    const WorldBox b = nodeWorldBox(src.info().layout, glm::dvec3(1.0), k);
+    return b.hi.z >= 36.0 && b.lo.z <= 44.0;
+  };
+  size_t bricks = 0;
+  for (const PlannedLeaf& l : r.leaves) {
+    EXPECT_EQ(l.content == LeafContent::Brick, kept(l.key))
+        << "depth " << l.key.depth << " z " << l.key.coord.z;
+    bricks += l.content == LeafContent::Brick;
+  }
+  EXPECT_EQ(bricks, 16u);  // the depth-2 layer z in [32, 48), 4 x 4 nodes
+  for (const NodeKey& k : res.acquired) EXPECT_TRUE(kept(k));
+  // From an eye 100 below the slab's near face (z = 36), a node is measured no nearer than it.
+  const NodeKey child{1,
+                      {0, 0, 0}};  // box [0,32]^3, nearest point (32,32,0) at distance 100 from (32,32,-100)
+  RefineView below = viewFrom({32, 32, -100}, {32, 32, 32});
+  below.clipPlane = view.clipPlane;
+  EXPECT_NEAR(projectedVoxelPixels(src.info().layout, glm::dvec3(1.0), child, below), 100.0 / 136.0, 1e-9);
+}
+
 TEST(Refiner, ASliceKeepsOnlyTheNodesItsPlaneCrosses) {
   const FakeBrickSource src = makeSource();
   FakeResidency res;

@@ -55,7 +55,7 @@ const std::map<std::string, size_t> kCppOffsets = {
     FIELD(leafMaximaCount),
     FIELD(leafMaximaLargest),
     FIELD(capBounds),
-    FIELD(unused1),
+    FIELD(clipPlaneFar),
     FIELD(unused2),
 };
 #undef FIELD

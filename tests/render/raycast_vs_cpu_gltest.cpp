@@ -228,9 +228,9 @@ TEST(RaycastVsCpu, LightingMatchesTheMirror) {
   }
 }
 
-// With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side (a
-// slice's, on the plane): the GL image is the mirror's, every hit lies there, and the cut took something
-// away.
+// With --crop and --clip-plane the rays sample only inside the crop box and on the plane's kept side (with
+// --slab, within its slab; a slice's, on the plane): the GL image is the mirror's, every hit lies there, and
+// the cut took something away.
 TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) {
   SceneSpec spec = wavyScene();
   spec.refine = [](const NodeKey& n) { return n.depth < 2 || (n.coord.x + n.coord.y + n.coord.z) % 2 == 0; };
@@ -244,12 +244,13 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
   struct Cut {
     const char* name;
     bool crop, plane;
+    double slab = 0.0;  // --slab about the plane
   };
-  for (const Cut cut :
-       {Cut{"crop", true, false}, Cut{"plane", false, true}, Cut{"crop and plane", true, true}})
+  for (const Cut cut : {Cut{"crop", true, false}, Cut{"plane", false, true},
+                        Cut{"crop and plane", true, true}, Cut{"slab", false, true, 7.0}})
     for (RenderMode mode : {RenderMode::Iso, RenderMode::Dvr, RenderMode::Mip, RenderMode::MinIp,
                             RenderMode::Aip, RenderMode::Slice}) {
-      if (mode == RenderMode::Slice && !cut.plane) continue;  // a slice is of a plane
+      if (mode == RenderMode::Slice && (!cut.plane || cut.slab > 0.0)) continue;  // a slice: a plane, no slab
       for (RenderBackend backend : {RenderBackend::Fragment, RenderBackend::Compute}) {
         RaycastFrame frame;
         frame.camera = orbitCamera(35, 25, 1.9, glm::dvec3(0), glm::dvec3(36, 24, 28.6));
@@ -265,6 +266,7 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         const FloatImage whole = pass.readColor();
         if (cut.crop) frame.params.crop = crop;
         if (cut.plane) frame.params.clipPlane = plane;
+        frame.params.clipPlane.slab = cut.slab;
         test::renderScene(pass, scene, frame);
         const FloatImage glColor = pass.readColor(), glDepth = pass.readDepth();
 
@@ -284,7 +286,8 @@ TEST(RaycastVsCpu, ACropBoxAndAClipPlaneMatchTheMirrorAndHitsOnlyWhereTheyKeep) 
         for (const glm::dvec3& hit : hits)
           outside += glm::any(glm::lessThan(hit, box.lo - 0.05)) ||
                      glm::any(glm::greaterThan(hit, box.hi + 0.05)) ||
-                     (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05) ||
+                     (cut.plane && glm::dot(plane.normal, hit - plane.point) < -0.05 - 0.5 * cut.slab) ||
+                     (cut.slab > 0.0 && glm::dot(plane.normal, hit - plane.point) > 0.05 + 0.5 * cut.slab) ||
                      (mode == RenderMode::Slice && glm::dot(plane.normal, hit - plane.point) > 0.05);
         EXPECT_GT(hits.size(), 300u) << what;
         EXPECT_EQ(outside, 0) << what;
