@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # What a slice reads (docs/BENCHMARKS.md "Slices"): the same view of the CT-like store of converge_vs_sync.sh as
-# a MIP (which reads every brick in view that holds a value), a DVR and slices (--mode slice: the default axial plane through the center, an oblique plane through
-# it, and the axial plane seen from above with --view superior), synchronously and with --converge, each from a
-# cold cache. The refiner keeps only the nodes a slice's plane crosses, so a slice reads and uploads the bricks
-# of its plane, at the level the view needs there.
+# a MIP (which reads every brick in view that holds a value), a DVR, slices (--mode slice: the default axial
+# plane through the center, an oblique plane through it, and the axial plane seen from above with --view
+# superior) and a MIP of the slab of SLAB world units about the middle slice (--slab), synchronously and with
+# --converge, each from a cold cache. The refiner keeps only the nodes a slice's plane crosses, or a slab's
+# faces bound, so a slice reads and uploads the bricks of its plane, at the level the view needs there.
 # Prints per run: wall seconds, frames, bricks in the working set, bricks uploaded, MiB read, and the ratios of
 # wall time, bricks uploaded and bytes read to the MIP's.
 # Usage: bench/slice.sh [BUILD_DIR]   (default build/perf)
-# env: DIMS (1024x1024x864), ORBIT (30,20,1.6), IMAGE (512x512), GPU (256M), CPU (256M), REPS (1),
+# env: DIMS (1024x1024x864), ORBIT (30,20,1.6), IMAGE (512x512), GPU (256M), CPU (256M), REPS (1), SLAB (40),
 #      WORK (a folder kept between runs: the store is converted once).
 # The page cache is dropped before each render when the script runs as root ("cold"), else it is warm.
 set -euo pipefail
@@ -19,14 +20,15 @@ GPU=${GPU:-256M}
 CPU=${CPU:-256M}
 ORBIT=${ORBIT:-30,20,1.6}
 REPS=${REPS:-1}
+SLAB=${SLAB:-40}
 store=$(ct_store "$DIMS")
 IFS=x read -r nx ny nz <<<"$DIMS"
 read -r sx sy sz < <("$ROPECAST" info "$store" --json | python3 -c 'import json, sys; print(*json.load(sys.stdin)["spacing"])')
 center=$(python3 -c "print(f'{$nx * $sx / 2:g},{$ny * $sy / 2:g},{$nz * $sz / 2:g}')")
 declare -A views=([dvr]="--mode dvr --tf ct-soft --orbit $ORBIT" [mip]="--mode mip --orbit $ORBIT"
   [axial]="--mode slice --orbit $ORBIT" [oblique]="--mode slice --orbit $ORBIT --clip-plane $center,1,0.5,0.8"
-  [from_above]="--mode slice --view superior")
-names="mip dvr axial oblique from_above"
+  [from_above]="--mode slice --view superior" [slab]="--mode mip --orbit $ORBIT --slice z:$((nz / 2)) --slab $SLAB")
+names="mip dvr axial oblique from_above slab"
 
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); store $store ($(du -m "$store" | cut -f1) MiB)"
 for rep in $(seq 1 "$REPS"); do
