@@ -6,6 +6,7 @@
 #include <iterator>
 #include <queue>
 #include <tuple>
+#include <utility>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -107,27 +108,27 @@ ViewFrustum viewFrustum(const RefineView& view) {
            f.forward * ty + f.up}};
 }
 
-bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane) {
-  if (!plane.enabled()) return true;
-  const glm::dvec3& n = plane.normal;
-  // The box corner farthest along n: if even it is on the cut side, the whole box is; with a slab, the corner
-  // nearest likewise beyond its far face.
-  const glm::dvec3 farthest(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
-                            n.z >= 0 ? box.hi.z : box.lo.z);
+namespace {
+// The least and the largest dot(n, x) over the box: at its corners nearest and farthest along n.
+std::pair<double, double> rangeAlong(const WorldBox& box, glm::dvec3 n) {
   const glm::dvec3 nearest(n.x >= 0 ? box.lo.x : box.hi.x, n.y >= 0 ? box.lo.y : box.hi.y,
                            n.z >= 0 ? box.lo.z : box.hi.z);
-  return glm::dot(n, farthest) >= plane.keptFrom() && glm::dot(n, nearest) <= plane.keptTo();
+  const glm::dvec3 farthest(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
+                            n.z >= 0 ? box.hi.z : box.lo.z);
+  return {glm::dot(n, nearest), glm::dot(n, farthest)};
+}
+}  // namespace
+
+bool boxKeptByPlane(const WorldBox& box, const ClipPlane& plane) {
+  if (!plane.enabled()) return true;
+  const auto [least, largest] = rangeAlong(box, plane.normal);
+  return largest >= plane.keptFrom() && least <= plane.keptTo();
 }
 
 bool boxMeetsPlane(const WorldBox& box, const ClipPlane& plane) {
   if (!plane.enabled()) return true;
-  const glm::dvec3& n = plane.normal;
-  // The corners nearest and farthest along n: the plane lies between them.
-  const glm::dvec3 farthest(n.x >= 0 ? box.hi.x : box.lo.x, n.y >= 0 ? box.hi.y : box.lo.y,
-                            n.z >= 0 ? box.hi.z : box.lo.z);
-  const glm::dvec3 nearest(n.x >= 0 ? box.lo.x : box.hi.x, n.y >= 0 ? box.lo.y : box.hi.y,
-                           n.z >= 0 ? box.lo.z : box.hi.z);
-  return glm::dot(n, nearest) <= plane.offset() && glm::dot(n, farthest) >= plane.offset();
+  const auto [least, largest] = rangeAlong(box, plane.normal);
+  return least <= plane.offset() && largest >= plane.offset();
 }
 
 bool boxInFrustum(const WorldBox& box, const ViewFrustum& frustum) {
