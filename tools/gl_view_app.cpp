@@ -859,6 +859,7 @@ void Viewer::runEvent(const ViewEvent& e) {
       break;
     case ViewEventKind::SetClipPlane:
       params_.clipPlane = clipPlaneOf(e.plane);
+      params_.clipPlane.slab = e.slab;
       keepSlicePlane();
       unfoldCutControls_ = true;
       break;

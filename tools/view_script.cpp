@@ -240,6 +240,10 @@ ViewScript parseViewScript(const std::string& text, const std::string& sourceNam
     } else if (kind == "set_clip_plane") {
       e.kind = ViewEventKind::SetClipPlane;
       e.plane = r.plane("plane");
+      e.slab = r.number("slab", 0.0);
+      if (!(e.slab >= 0.0 && e.slab <= 1e15))
+        r.fail("\"slab\" must be a thickness from 0 (none) to 1e15, as --slab takes it");
+      if (e.slab > 0.0 && e.plane.empty()) r.fail("\"slab\" is about a plane: give \"plane\" too");
       add(e);
     } else if (kind == "set_caps") {
       e.kind = ViewEventKind::SetCaps;

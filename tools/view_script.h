@@ -36,7 +36,7 @@ enum class ViewEventKind {
   LoadTf,        // tf: a preset name or a JSON file
   SetTfRange,    // range: LO,HI, a window as --tf-range sets it
   SetCrop,       // crop: --crop's three voxel ranges
-  SetClipPlane,  // plane: --clip-plane's six numbers, or none
+  SetClipPlane,  // plane: --clip-plane's six numbers, or none; slab: --slab's thickness (0: none)
   SetCaps,       // caps: isosurface caps at the cuts on or off, as --caps
   SetTimePoint,  // timePoint: a series' time point, as --time picks one; what waits for the view waits for it
   SetChannel,    // channel: a file's channel, as --channel picks one; what waits for the view waits for it
@@ -69,6 +69,7 @@ struct ViewEvent {
   std::string tf;
   std::vector<std::string> crop;
   std::vector<double> plane;  // X,Y,Z,NX,NY,NZ, or empty
+  double slab = 0.0;          // set_clip_plane: --slab's thickness about the plane; 0: the half-space
   bool caps = true;
   uint32_t timePoint = 0;
   uint32_t channel = 0;

@@ -121,13 +121,15 @@ same "saved camera = the dragged view" "$dir/v1.png" "$dir/r1p.png"
 
 # Two wheel clicks: the distance 3 * 0.9^2; then a middle-button pan, saved as an eye/target keyframe; then a
 # slice, its plane (the axial one through the center, z = 24) moved three voxels toward the eye (above it) by
-# three clicks with shift.
+# three clicks with shift; then a MIP of the slab 6 thick about it, set by a script.
 cat > "$dir/zoom_pan.json" << JSON
 [{"event": "wheel", "clicks": 2}, {"event": "screenshot", "file": "$dir/v4.png"},
  {"event": "drag", "button": "middle", "from": [48, 48], "to": [60, 40], "steps": 3},
  {"event": "screenshot", "file": "$dir/v5.png"}, {"event": "save_camera", "file": "$dir/panned.json"},
  {"event": "set_mode", "mode": "slice"}, {"event": "wheel", "clicks": 3, "shift": true},
- {"event": "screenshot", "file": "$dir/v7.png"}]
+ {"event": "screenshot", "file": "$dir/v7.png"}, {"event": "set_mode", "mode": "mip"},
+ {"event": "set_clip_plane", "plane": [24, 24, 27, 0, 0, 1], "slab": 6},
+ {"event": "screenshot", "file": "$dir/v8.png"}]
 JSON
 run "view --script wheel, pan" xview $vol --script "$dir/zoom_pan.json"
 run "render --orbit 30,20,2.43" "$ropecast" render $vol --converge --orbit 30,20,2.43 -o "$dir/r4.png"
@@ -139,6 +141,9 @@ differs "the pan moved the view" "$dir/v5.png" "$dir/v4.png"
 run "render a slice at z = 27" "$ropecast" render $vol --converge --path "$dir/panned.json" --mode slice \
   --clip-plane 24,24,27,0,0,1 -o "$dir/r7.png"
 same "a slice moved by shift + wheel = render --clip-plane there" "$dir/v7.png" "$dir/r7.png"
+run "render a slab's MIP" "$ropecast" render $vol --converge --path "$dir/panned.json" --mode mip \
+  --clip-plane 24,24,27,0,0,1 --slab 6 -o "$dir/r8.png"
+same "a scripted slab = render --slab" "$dir/v8.png" "$dir/r8.png"
 
 # Holding W for 0.5 s of the script's clock flies 0.25 bounding-sphere radii forward, whatever the frame times;
 # the saved eye/target camera draws the same.

@@ -59,9 +59,10 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
           {"event": "play", "playing": false, "seconds_each": 0.25},
           {"event": "set_lighting", "iso_color": [1, 0.5, 0], "shading": false, "material": [0.1, 0.8, 0, 4]},
           {"event": "set_lighting", "shading": true}, {"event": "set_channel", "channel": 2},
-          {"event": "set_mode", "mode": "slice"}, {"event": "wheel", "clicks": 3, "shift": true}])",
+          {"event": "set_mode", "mode": "slice"}, {"event": "wheel", "clicks": 3, "shift": true},
+          {"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, 1], "slab": 4.5}])",
       "t");
-  ASSERT_EQ(s.events.size(), 29u);
+  ASSERT_EQ(s.events.size(), 30u);
   EXPECT_EQ(s.events[0].value, 0.25);
   EXPECT_EQ(s.events[1].mode, RenderMode::Dvr);
   EXPECT_EQ(s.events[2].tf, "ct-bone");
@@ -114,6 +115,8 @@ TEST(ViewScript, UiActionsCarryTheirValues) {
   EXPECT_EQ(s.events[28].kind, ViewEventKind::Wheel);
   EXPECT_EQ(s.events[28].clicks, 3.0);
   EXPECT_TRUE(s.events[28].shift);
+  EXPECT_EQ(s.events[29].slab, 4.5);
+  EXPECT_EQ(s.events[9].slab, 0.0);  // none unless given
 }
 
 void expectRefused(const std::string& text, const std::string& expected) {
@@ -152,6 +155,9 @@ TEST(ViewScript, BadEventsAreRefusedNamingTheFileAndTheEvent) {
     expectRefused(std::string(R"([{"event": "set_tf_range", "range": )") + range + "}]",
                   "event 0 (set_tf_range): \"range\" must be [lo, hi] in data units, lo < hi");
   expectRefused(R"([{"event": "set_clip_plane"}])", "\"plane\" is required");
+  expectRefused(R"([{"event": "set_clip_plane", "plane": [1, 2, 3, 0, 0, 1], "slab": -1}])",
+                "\"slab\" must be a thickness from 0 (none) to 1e15");
+  expectRefused(R"([{"event": "set_clip_plane", "plane": [], "slab": 2}])", "\"slab\" is about a plane");
   expectRefused(R"([{"event": "set_caps"}])", "event 0 (set_caps): \"caps\" is required");
   expectRefused(
       R"([{"event": "set_view", "view": "front"}])",
