@@ -63,8 +63,8 @@ Camera centeredOn(const Camera& c, glm::dvec3 point);
 
 // The bounds of a box and a half-space a ray may enter their common part through (entryBound).
 inline constexpr int kEntryPlane = 6;
-inline constexpr int kEntryPlaneBack =
-    7;  // a slab's far face (--slab): its inward normal is minus the plane's
+// A slab's far face (--slab): its inward normal is minus the plane's.
+inline constexpr int kEntryPlaneBack = 7;
 inline constexpr int kEntryNone = -1;
 
 // The ray's parameter interval [t0, t1] inside the box (slab test), t0 clamped to 0 (the eye may be inside);

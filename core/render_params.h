@@ -56,8 +56,9 @@ constexpr double projectionSign(RenderMode mode) {
   return mode == RenderMode::MinIp ? -1.0 : 1.0;
 }
 // Whether a ray shows one value of the transfer function without compositing it: an intensity projection's,
-// the average's or the slice's. They have the gray preset by default, and no occlusion queries: no ray stops
-// at an opaque sample (a slice's rays stop at the plane, and nothing behind it is drawn or loaded).
+// the average's or the slice's. They have an opaque preset by default (gray; a slice's window), and no
+// occlusion queries: no ray stops at an opaque sample (a slice's rays stop at the plane, and nothing behind
+// it is drawn or loaded).
 constexpr bool showsOneValue(RenderMode mode) {
   return isIntensityProjection(mode) || mode == RenderMode::Aip || mode == RenderMode::Slice;
 }
