@@ -37,7 +37,8 @@ std::vector<std::pair<std::string, Enum>> optionNames(
 const std::vector<std::pair<std::string, RenderMode>> kModeNames = optionNames(kRenderModeNames);
 const char* const kModeHelp =
     "iso: isosurface; dvr: direct volume rendering; mip, minip, aip: maximum, minimum, average intensity "
-    "projection; slice: the values on the --clip-plane plane (default: the axial plane through the center)";
+    "projection; slice: the values on a plane, --clip-plane's or --slice's (default: the axial plane through "
+    "the center)";
 const std::vector<std::pair<std::string, bool>> kOnOffNames{{"on", true}, {"off", false}};
 const std::vector<std::pair<std::string, GradientSource>> kGradientNames{
     {"stored", GradientSource::Stored}, {"computed", GradientSource::Computed}};
