@@ -68,6 +68,10 @@ inline Camera cameraInVolume(const Camera& world, const VolumeInfo& v) {
 inline ClipPlane clipPlaneInVolume(const ClipPlane& world, const VolumeInfo& v) {
   return clipPlaneInVolume(world, v.axes, 0.5 * v.worldMax());
 }
+// The plane --mode slice shows where none is given, for this volume (core/orientation.h).
+inline ClipPlane defaultSlicePlane(const RenderParams& params, const VolumeInfo& v) {
+  return defaultSlicePlane(params, v.dims, v.spacing, v.axes);
+}
 
 // The file's frame (where `origin` places the samples) less the renderers' world, which turns the volume
 // about its extent's center and puts sample i at (i + 0.5) s: the two differ by this translation, zero

@@ -244,8 +244,7 @@ int runModesBench(const Options& o) {
   const double hi = info.volume.valueMax.value_or(info.mapping.toData(storedMax));
   request.params.isoValue = o.iso.value_or(0.5 * (lo + hi));
   if (o.mode == RenderMode::Slice)  // the axial plane through the center, as render's default
-    request.params.clipPlane =
-        defaultSlicePlane(request.params, info.volume.dims, info.volume.spacing, info.volume.axes);
+    request.params.clipPlane = defaultSlicePlane(request.params, info.volume);
   std::optional<TfTable> tf;
   const std::string tfSpec = !o.tf.empty() ? o.tf : showsOneValue(o.mode) ? defaultTfSpec(o.mode) : "ct-soft";
   const TransferFunction function =

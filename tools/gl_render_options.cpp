@@ -417,7 +417,7 @@ RenderParams renderParamsOf(const RenderOptions& o, const BrickSourceInfo& info,
     params.clipPlane.slab = o.slab;
   }
   if (params.mode == RenderMode::Slice && !params.clipPlane.enabled())
-    params.clipPlane = defaultSlicePlane(params, info.volume.dims, info.volume.spacing, info.volume.axes);
+    params.clipPlane = defaultSlicePlane(params, info.volume);
   params.isoCaps = o.caps;
   if (!o.isoColor.empty()) params.lighting.isoBaseColor = toVec3(o.isoColor);
   if (!o.material.empty()) setMaterial(params.lighting, o.material);

@@ -143,6 +143,7 @@ class Viewer {
   void setMode(RenderMode mode);
   void keepSlicePlane();
   void stepPlane(double voxels);
+  void wheel(double clicks, bool shift);
   void ensureRenderer(bool moving);
   FrameRequest currentRequest(bool moving);
   bool sameAsLast(const FrameRequest& request) const;
@@ -555,6 +556,20 @@ void Viewer::setMode(RenderMode mode) {
   }
 }
 
+// The farthest the clip plane's point lies from the volume's center along its normal: half the extent's
+// diagonal, beyond which it cuts nothing in any direction.
+double planeOffsetReach(const VolumeInfo& volume) {
+  return 0.5 * glm::length(volume.worldMax());
+}
+
+// The wheel: zoom, or with shift the clip plane a voxel per click (stepPlane).
+void Viewer::wheel(double clicks, bool shift) {
+  if (shift)
+    stepPlane(clicks);
+  else
+    controller_->zoom(clicks);
+}
+
 // Shift + wheel, Page Up and Page Down: the clip plane (a slice's plane) moved along its normal by `voxels`
 // of the smallest spacing, positive toward the eye, as a radiology viewer scrolls through slices; it stays
 // within the reach of the panel's offset slider. Nothing without a plane.
@@ -563,7 +578,7 @@ void Viewer::stepPlane(double voxels) {
   if (!plane.enabled()) return;
   const VolumeInfo& volume = bricks().info().volume;
   const glm::dvec3 center = 0.5 * volume.worldMax();
-  const double reach = 0.5 * glm::length(volume.worldMax());
+  const double reach = planeOffsetReach(volume);
   const double voxel = std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z});
   const double towardEye = glm::dot(plane.normal, controller_->camera().eye - plane.point) < 0.0 ? -1.0 : 1.0;
   const double offset = glm::dot(plane.normal, plane.point - center) + towardEye * voxels * voxel;
@@ -573,9 +588,8 @@ void Viewer::stepPlane(double voxels) {
 
 // A slice needs a plane: the axial one through the center where none is set (as render's default).
 void Viewer::keepSlicePlane() {
-  const VolumeInfo& volume = bricks().info().volume;
   if (params_.mode == RenderMode::Slice && !params_.clipPlane.enabled())
-    params_.clipPlane = defaultSlicePlane(params_, volume.dims, volume.spacing, volume.axes);
+    params_.clipPlane = defaultSlicePlane(params_, bricks().info().volume);
 }
 
 void Viewer::setTransferFunction(TransferFunction function, const std::string& name) {
@@ -730,12 +744,7 @@ void Viewer::readWindowInput(double dtSeconds) {
   if (windowDragOwned_) drive(windowPointer_, now);
   if (!now.left && !now.middle) windowDragOwned_ = false;
   windowPointer_ = now;
-  if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) {
-    if (now.shift)
-      stepPlane(wheelClicks_);
-    else
-      controller_->zoom(wheelClicks_);
-  }
+  if (wheelClicks_ != 0.0 && !io.WantCaptureMouse) wheel(wheelClicks_, now.shift);
   if (!io.WantCaptureMouse && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
     message_ = centerAt(now.pos).message;
   if (!io.WantCaptureMouse && ImGui::IsMouseClicked(ImGuiMouseButton_Right))
@@ -819,10 +828,7 @@ void Viewer::runEvent(const ViewEvent& e) {
       scriptPointer_ = next;
       break;
     case ViewEventKind::Wheel:
-      if (e.shift)
-        stepPlane(e.clicks);
-      else
-        controller_->zoom(e.clicks);
+      wheel(e.clicks, e.shift);
       break;
     case ViewEventKind::KeyDown:
       if (e.key == 'r') {
@@ -1068,7 +1074,7 @@ void Viewer::showAnatomicalView(AnatomicalView view) {
 // eye.
 void Viewer::drawClipPlaneControls(const VolumeInfo& volume) {
   const glm::dvec3 center = 0.5 * volume.worldMax();
-  const float reach = float(0.5 * glm::length(volume.worldMax()));
+  const float reach = float(planeOffsetReach(volume));
   ClipPlane& plane = params_.clipPlane;
   bool on = plane.enabled();
   if (params_.mode == RenderMode::Slice) {
